@@ -1,0 +1,229 @@
+/*
+ * core.h -- disim's common code: logging callback, vectors, quaternions,
+ * frame transforms (S, E, B), units, the wind-over-deck convention, an INI
+ * reader with schema checking, and the ship geometry file.
+ *
+ * Conventions (../shared/CONVENTIONS.md):
+ *  - SI inside; names carry unit and frame where not obvious (vel_S_mps).
+ *  - Frames are right-handed: ship frame S (x bow, y starboard, z down, origin
+ *    at the landing spot on the deck), Earth frame E (NED), body frame B
+ *    (x forward, y right, z down). Euler angles are 3-2-1 (psi, theta, phi).
+ *  - WOD direction is where the wind comes FROM, measured from the bow,
+ *    positive to starboard, in (-180, 180] deg; the wind velocity in S is
+ *    -V (cos dir, sin dir, 0).
+ *  - Functions return int: 0 ok, < 0 fatal, > 0 recoverable. The library
+ *    never prints; it reports through a core_log callback.
+ */
+#ifndef DISIM_CORE_H
+#define DISIM_CORE_H
+
+#include <stddef.h>
+#include <stdarg.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------ units */
+#define CORE_KT_TO_MPS 0.514444
+#define CORE_KMH_TO_MPS (1.0 / 3.6)
+#define CORE_FT_TO_M 0.3048
+#define CORE_IN_TO_M 0.0254
+#define CORE_SLUGFT2_TO_KGM2 1.35582
+#define CORE_LB_TO_KG 0.453592
+#define CORE_LBF_TO_N 4.44822
+#define CORE_PI 3.14159265358979323846
+#define CORE_DEG_TO_RAD (CORE_PI / 180.0)
+#define CORE_RAD_TO_DEG (180.0 / CORE_PI)
+/* Standard sea-level air (CONVENTIONS.md). */
+#define CORE_RHO_SL_KGPM3 1.225
+#define CORE_NU_SL_M2PS 1.46e-5
+#define CORE_G_MPS2 9.80665
+
+/* ---------------------------------------------------------------- logging */
+enum { CORE_LOG_ERROR = 0, CORE_LOG_WARN = 1, CORE_LOG_INFO = 2, CORE_LOG_DEBUG = 3 };
+
+/* A log sink: level is one of CORE_LOG_*, msg is one line without '\n'. */
+typedef void (*core_log_fn)(void *user, int level, const char *msg);
+
+typedef struct core_log {
+    core_log_fn fn; /* NULL: messages are dropped */
+    void *user;
+    int max_level; /* messages above this level are dropped */
+} core_log;
+
+/* Format and send one message; safe with log == NULL or log->fn == NULL. */
+void core_log_msg(const core_log *log, int level, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* An error message buffer that functions fill on failure ("file:line: ..."). */
+typedef struct core_err {
+    char msg[1024];
+} core_err;
+
+/* printf into err (if err != NULL); returns code, so `return core_err_set(...)`. */
+int core_err_set(core_err *err, int code, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* ------------------------------------------------------- vectors, matrices */
+typedef struct core_vec3 {
+    double x, y, z;
+} core_vec3;
+
+/* Unit quaternion (w, x, y, z); q_AB rotates vectors from frame B to frame A:
+ * v_A = q_AB * v_B * conj(q_AB). */
+typedef struct core_quat {
+    double w, x, y, z;
+} core_quat;
+
+/* Euler angles 3-2-1 (yaw psi, pitch theta, roll phi), radians. */
+typedef struct core_euler {
+    double phi_rad, theta_rad, psi_rad;
+} core_euler;
+
+/* 3x3 matrix, row major: m[r][c]. */
+typedef struct core_mat3 {
+    double m[3][3];
+} core_mat3;
+
+core_vec3 core_vec3_make(double x, double y, double z);
+core_vec3 core_vec3_add(core_vec3 a, core_vec3 b);
+core_vec3 core_vec3_sub(core_vec3 a, core_vec3 b);
+core_vec3 core_vec3_scale(core_vec3 a, double s);
+double core_vec3_dot(core_vec3 a, core_vec3 b);
+core_vec3 core_vec3_cross(core_vec3 a, core_vec3 b);
+double core_vec3_norm(core_vec3 a);
+
+core_quat core_quat_identity(void);
+core_quat core_quat_mul(core_quat a, core_quat b);
+core_quat core_quat_conj(core_quat q);
+core_quat core_quat_normalize(core_quat q);
+/* Rotate v by q: returns q v q*. */
+core_vec3 core_quat_rotate(core_quat q, core_vec3 v);
+/* Inverse rotation: returns q* v q. */
+core_vec3 core_quat_rotate_inv(core_quat q, core_vec3 v);
+/* q_AB from 3-2-1 Euler angles of frame B relative to frame A (e.g. A = E,
+ * B = body: the aircraft attitude). */
+core_quat core_quat_from_euler(core_euler e);
+/* Inverse of core_quat_from_euler; theta in [-pi/2, pi/2], phi, psi in (-pi, pi]. */
+core_euler core_quat_to_euler(core_quat q);
+/* Quaternion time derivative for body rates w_B (rad/s) of frame B in A:
+ * qdot = 0.5 q (0, w_B). */
+core_quat core_quat_deriv(core_quat q, core_vec3 w_B_radps);
+
+/* Direction cosine matrix C_AB (v_A = C_AB v_B) from Euler angles. */
+core_mat3 core_mat3_from_euler(core_euler e);
+core_vec3 core_mat3_mul_vec(core_mat3 m, core_vec3 v);
+core_vec3 core_mat3_tmul_vec(core_mat3 m, core_vec3 v); /* m^T v */
+
+/* ---------------------------------------------------------- frame poses */
+/* Pose of a moving frame F in E: origin position and attitude q_EF. */
+typedef struct core_pose {
+    core_vec3 pos_E_m;
+    core_quat q_EF;
+} core_pose;
+
+/* Point in frame F -> point in E, and back. */
+core_vec3 core_pose_point_to_E(const core_pose *f, core_vec3 p_F_m);
+core_vec3 core_pose_point_from_E(const core_pose *f, core_vec3 p_E_m);
+/* Free vector (no translation) F -> E and back. */
+core_vec3 core_pose_vec_to_E(const core_pose *f, core_vec3 v_F);
+core_vec3 core_pose_vec_from_E(const core_pose *f, core_vec3 v_E);
+
+/* ------------------------------------------------------- wind over deck */
+/* Wrap an angle in degrees into (-180, 180]. */
+double core_wod_wrap_deg(double dir_deg);
+/* Wind velocity in S for a WOD of speed V (m/s) from dir (rad, from the bow,
+ * + to starboard): -V (cos dir, sin dir, 0). */
+core_vec3 core_wod_vel_S_mps(double speed_mps, double dir_rad);
+/* Name of a WOD direction as seamen say it: "green 30", "red 90", "head", "stern". */
+void core_wod_name(double dir_deg, char *buf, size_t n);
+
+/* ----------------------------------------------------------- INI reader */
+/* An INI file read whole (libinih), each entry with its line number, and a
+ * schema checker that reports the file, line, key and what was expected. */
+typedef struct core_ini core_ini;
+
+typedef struct core_ini_entry {
+    const char *section;
+    const char *key;
+    const char *value;
+    int line;
+    int used; /* set when a schema or getter consumed it */
+} core_ini_entry;
+
+/* Read path; NULL with err filled on failure (missing file, syntax error). */
+core_ini *core_ini_load(const char *path, core_err *err);
+void core_ini_destroy(core_ini *ini);
+const char *core_ini_path(const core_ini *ini);
+size_t core_ini_count(const core_ini *ini);
+const core_ini_entry *core_ini_at(const core_ini *ini, size_t i);
+/* Last entry for section/key, or NULL. */
+const core_ini_entry *core_ini_find(const core_ini *ini, const char *section, const char *key);
+/* 1 if the file has a section of that name. */
+int core_ini_has_section(const core_ini *ini, const char *section);
+
+/* Typed getters. Each returns 0 on success, 1 if the key is absent and not
+ * required (out untouched), < 0 with err "file:line: [section] key: ..." on
+ * a wrong type, an out-of-range value, or a missing required key. */
+int core_ini_get_double(core_ini *ini, const char *section, const char *key, int required,
+                        double min, double max, double *out, core_err *err);
+int core_ini_get_int(core_ini *ini, const char *section, const char *key, int required, long min,
+                     long max, long *out, core_err *err);
+int core_ini_get_bool(core_ini *ini, const char *section, const char *key, int required, int *out,
+                      core_err *err);
+/* choices is "a|b|c"; *out gets the index of the match. */
+int core_ini_get_enum(core_ini *ini, const char *section, const char *key, int required,
+                      const char *choices, int *out, core_err *err);
+/* String copied into out (size n). */
+int core_ini_get_string(core_ini *ini, const char *section, const char *key, int required,
+                        char *out, size_t n, core_err *err);
+/* A comma-separated list of up to nmax numbers in [min, max]; *count set. */
+int core_ini_get_doubles(core_ini *ini, const char *section, const char *key, int required,
+                         double min, double max, double *out, int nmax, int *count,
+                         core_err *err);
+/* A path relative to the INI file's folder; out gets the resolved path, and
+ * the file must exist. */
+int core_ini_get_path(core_ini *ini, const char *section, const char *key, int required,
+                      char *out, size_t n, core_err *err);
+/* After all getters ran: the first entry nothing consumed is an error
+ * ("unknown key" or "unknown section"), naming its line. */
+int core_ini_check_unused(const core_ini *ini, core_err *err);
+
+/* Parse "a:b:c" (start:stop:step) or a single number into up to nmax values. */
+int core_parse_range(const char *s, double *out, int nmax, int *count);
+
+/* -------------------------------------------------------- ship geometry */
+/* A ship as blocks in S (x bow, y starboard, z down, origin at the landing
+ * spot on the deck). A block is an axis-aligned box; a taper narrows its
+ * beam linearly to zero over the last taper_m toward +x (a bow). */
+typedef struct core_ship_block {
+    char name[32];
+    double x0_m, x1_m; /* aft and forward ends, x0 < x1 */
+    double y0_m, y1_m; /* port and starboard sides */
+    double z0_m, z1_m; /* top (more negative) and bottom, z0 < z1 */
+    double bow_taper_m; /* 0: a plain box */
+} core_ship_block;
+
+#define CORE_SHIP_MAX_BLOCKS 32
+
+typedef struct core_ship {
+    char name[64];
+    double length_m, beam_m, draft_m;
+    double deck_height_m;   /* flight deck above the waterline */
+    double deck_x0_m, deck_x1_m, deck_halfwidth_m; /* flight deck extent in S */
+    double anemometer_S_m[3];
+    int nblocks;
+    core_ship_block blocks[CORE_SHIP_MAX_BLOCKS];
+} core_ship;
+
+/* Load a ship file (INI, [ship] and one [block NAME] per block). */
+int core_ship_load(const char *path, core_ship *ship, core_err *err);
+/* 1 if point p (S) lies inside one of the ship's blocks. The sea surface is
+ * a boundary of the CFD domain, not a block, so it does not count here. */
+int core_ship_contains(const core_ship *ship, core_vec3 p_S_m);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

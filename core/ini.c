@@ -1,0 +1,412 @@
+/* ini.c -- INI files read whole with libinih, every entry kept with its line
+ * number, and typed getters that name file, line, section, key and what was
+ * expected. Consumed entries are marked so that a final check reports the
+ * first unknown key or section (a typo never passes silently). */
+#include "core.h"
+
+#include <ini.h>
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+struct core_ini {
+    char *path;
+    char *dir; /* folder of path, for relative paths */
+    core_ini_entry *e;
+    size_t n, cap;
+};
+
+typedef struct reader_state {
+    FILE *f;
+    int line;
+    int too_long_line; /* first line that did not fit inih's buffer */
+} reader_state;
+
+/* inih calls the reader once per line; counting calls gives the line number
+ * the handler is about to see (the Debian build has no INI_HANDLER_LINENO). */
+static char *reader(char *str, int num, void *stream)
+{
+    reader_state *rs = stream;
+    char *r = fgets(str, num, rs->f);
+    if (!r)
+        return NULL;
+    rs->line++;
+    size_t len = strlen(str);
+    if (len == (size_t)num - 1 && str[len - 1] != '\n' && !feof(rs->f)) {
+        if (!rs->too_long_line)
+            rs->too_long_line = rs->line;
+        int c;
+        while ((c = fgetc(rs->f)) != EOF && c != '\n')
+            ;
+    }
+    return r;
+}
+
+typedef struct load_ctx {
+    core_ini *ini;
+    reader_state *rs;
+    int oom;
+} load_ctx;
+
+static int handler(void *user, const char *section, const char *name, const char *value)
+{
+    load_ctx *c = user;
+    core_ini *ini = c->ini;
+    if (ini->n == ini->cap) {
+        size_t cap = ini->cap ? 2 * ini->cap : 32;
+        core_ini_entry *e = realloc(ini->e, cap * sizeof *e);
+        if (!e) {
+            c->oom = 1;
+            return 0;
+        }
+        ini->e = e;
+        ini->cap = cap;
+    }
+    core_ini_entry *e = &ini->e[ini->n];
+    e->section = strdup(section);
+    e->key = strdup(name);
+    e->value = strdup(value);
+    e->line = c->rs->line;
+    e->used = 0;
+    if (!e->section || !e->key || !e->value) {
+        free((void *)e->section);
+        free((void *)e->key);
+        free((void *)e->value);
+        c->oom = 1;
+        return 0;
+    }
+    ini->n++;
+    return 1;
+}
+
+core_ini *core_ini_load(const char *path, core_err *err)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        core_err_set(err, -1, "%s: cannot open: %s", path, strerror(errno));
+        return NULL;
+    }
+    core_ini *ini = calloc(1, sizeof *ini);
+    if (!ini) {
+        fclose(f);
+        core_err_set(err, -1, "%s: out of memory", path);
+        return NULL;
+    }
+    ini->path = strdup(path);
+    ini->dir = strdup(path);
+    if (!ini->path || !ini->dir) {
+        fclose(f);
+        core_ini_destroy(ini);
+        core_err_set(err, -1, "%s: out of memory", path);
+        return NULL;
+    }
+    char *slash = strrchr(ini->dir, '/');
+    if (slash)
+        slash[1] = '\0';
+    else
+        ini->dir[0] = '\0';
+    reader_state rs = {f, 0, 0};
+    load_ctx c = {ini, &rs, 0};
+    int rc = ini_parse_stream(reader, &rs, handler, &c);
+    fclose(f);
+    if (c.oom) {
+        core_ini_destroy(ini);
+        core_err_set(err, -1, "%s: out of memory", path);
+        return NULL;
+    }
+    if (rs.too_long_line) {
+        core_err_set(err, -1, "%s:%d: line longer than %d characters", path, rs.too_long_line,
+                     INI_MAX_LINE - 1);
+        core_ini_destroy(ini);
+        return NULL;
+    }
+    if (rc != 0) {
+        core_err_set(err, -1,
+                     "%s:%d: syntax error: expected '[section]', 'key = value' or a comment", path,
+                     rc);
+        core_ini_destroy(ini);
+        return NULL;
+    }
+    return ini;
+}
+
+void core_ini_destroy(core_ini *ini)
+{
+    if (!ini)
+        return;
+    for (size_t i = 0; i < ini->n; i++) {
+        free((void *)ini->e[i].section);
+        free((void *)ini->e[i].key);
+        free((void *)ini->e[i].value);
+    }
+    free(ini->e);
+    free(ini->path);
+    free(ini->dir);
+    free(ini);
+}
+
+const char *core_ini_path(const core_ini *ini) { return ini->path; }
+size_t core_ini_count(const core_ini *ini) { return ini->n; }
+const core_ini_entry *core_ini_at(const core_ini *ini, size_t i) { return i < ini->n ? &ini->e[i] : NULL; }
+
+static core_ini_entry *find(const core_ini *ini, const char *section, const char *key)
+{
+    for (size_t i = ini->n; i-- > 0;)
+        if (strcmp(ini->e[i].section, section) == 0 && strcmp(ini->e[i].key, key) == 0)
+            return &ini->e[i];
+    return NULL;
+}
+
+const core_ini_entry *core_ini_find(const core_ini *ini, const char *section, const char *key)
+{
+    return find(ini, section, key);
+}
+
+int core_ini_has_section(const core_ini *ini, const char *section)
+{
+    for (size_t i = 0; i < ini->n; i++)
+        if (strcmp(ini->e[i].section, section) == 0)
+            return 1;
+    return 0;
+}
+
+/* Look up a key, mark every duplicate used, handle absence. Returns 0 with *e
+ * set, 1 if absent and optional, < 0 if absent and required. */
+static int lookup(core_ini *ini, const char *section, const char *key, int required,
+                  core_ini_entry **e, core_err *err)
+{
+    *e = NULL;
+    for (size_t i = 0; i < ini->n; i++)
+        if (strcmp(ini->e[i].section, section) == 0 && strcmp(ini->e[i].key, key) == 0) {
+            ini->e[i].used = 1;
+            *e = &ini->e[i];
+        }
+    if (*e)
+        return 0;
+    if (required)
+        return core_err_set(err, -1, "%s: [%s] %s: missing required key", ini->path, section, key);
+    return 1;
+}
+
+static int parse_double(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || errno == ERANGE || !isfinite(v))
+        return -1;
+    while (*end == ' ' || *end == '\t')
+        end++;
+    if (*end)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int core_ini_get_double(core_ini *ini, const char *section, const char *key, int required,
+                        double min, double max, double *out, core_err *err)
+{
+    core_ini_entry *e;
+    int rc = lookup(ini, section, key, required, &e, err);
+    if (rc)
+        return rc;
+    double v;
+    if (parse_double(e->value, &v))
+        return core_err_set(err, -1, "%s:%d: [%s] %s = '%s': expected a number", ini->path,
+                            e->line, section, key, e->value);
+    if (v < min || v > max)
+        return core_err_set(err, -1, "%s:%d: [%s] %s = %g: out of range, expected %g to %g",
+                            ini->path, e->line, section, key, v, min, max);
+    *out = v;
+    return 0;
+}
+
+int core_ini_get_int(core_ini *ini, const char *section, const char *key, int required, long min,
+                     long max, long *out, core_err *err)
+{
+    core_ini_entry *e;
+    int rc = lookup(ini, section, key, required, &e, err);
+    if (rc)
+        return rc;
+    char *end;
+    errno = 0;
+    long v = strtol(e->value, &end, 10);
+    if (end == e->value || *end || errno == ERANGE)
+        return core_err_set(err, -1, "%s:%d: [%s] %s = '%s': expected an integer", ini->path,
+                            e->line, section, key, e->value);
+    if (v < min || v > max)
+        return core_err_set(err, -1, "%s:%d: [%s] %s = %ld: out of range, expected %ld to %ld",
+                            ini->path, e->line, section, key, v, min, max);
+    *out = v;
+    return 0;
+}
+
+int core_ini_get_bool(core_ini *ini, const char *section, const char *key, int required, int *out,
+                      core_err *err)
+{
+    core_ini_entry *e;
+    int rc = lookup(ini, section, key, required, &e, err);
+    if (rc)
+        return rc;
+    const char *v = e->value;
+    if (!strcasecmp(v, "true") || !strcasecmp(v, "yes") || !strcasecmp(v, "on") || !strcmp(v, "1"))
+        *out = 1;
+    else if (!strcasecmp(v, "false") || !strcasecmp(v, "no") || !strcasecmp(v, "off") ||
+             !strcmp(v, "0"))
+        *out = 0;
+    else
+        return core_err_set(err, -1, "%s:%d: [%s] %s = '%s': expected true or false", ini->path,
+                            e->line, section, key, v);
+    return 0;
+}
+
+int core_ini_get_enum(core_ini *ini, const char *section, const char *key, int required,
+                      const char *choices, int *out, core_err *err)
+{
+    core_ini_entry *e;
+    int rc = lookup(ini, section, key, required, &e, err);
+    if (rc)
+        return rc;
+    size_t vl = strlen(e->value);
+    const char *p = choices;
+    for (int idx = 0;; idx++) {
+        const char *bar = strchr(p, '|');
+        size_t len = bar ? (size_t)(bar - p) : strlen(p);
+        if (len == vl && strncmp(p, e->value, len) == 0) {
+            *out = idx;
+            return 0;
+        }
+        if (!bar)
+            break;
+        p = bar + 1;
+    }
+    return core_err_set(err, -1, "%s:%d: [%s] %s = '%s': expected one of %s", ini->path, e->line,
+                        section, key, e->value, choices);
+}
+
+int core_ini_get_string(core_ini *ini, const char *section, const char *key, int required,
+                        char *out, size_t n, core_err *err)
+{
+    core_ini_entry *e;
+    int rc = lookup(ini, section, key, required, &e, err);
+    if (rc)
+        return rc;
+    if (!e->value[0])
+        return core_err_set(err, -1, "%s:%d: [%s] %s: expected a non-empty value", ini->path,
+                            e->line, section, key);
+    if (strlen(e->value) >= n)
+        return core_err_set(err, -1, "%s:%d: [%s] %s: value longer than %zu characters",
+                            ini->path, e->line, section, key, n - 1);
+    strcpy(out, e->value);
+    return 0;
+}
+
+int core_ini_get_doubles(core_ini *ini, const char *section, const char *key, int required,
+                         double min, double max, double *out, int nmax, int *count, core_err *err)
+{
+    core_ini_entry *e;
+    int rc = lookup(ini, section, key, required, &e, err);
+    if (rc)
+        return rc;
+    char buf[INI_MAX_LINE + 1];
+    snprintf(buf, sizeof buf, "%s", e->value);
+    int k = 0;
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        while (*tok == ' ' || *tok == '\t')
+            tok++;
+        double v;
+        if (k >= nmax)
+            return core_err_set(err, -1, "%s:%d: [%s] %s: more than %d values", ini->path,
+                                e->line, section, key, nmax);
+        if (parse_double(tok, &v))
+            return core_err_set(err, -1, "%s:%d: [%s] %s: item %d '%s': expected a number",
+                                ini->path, e->line, section, key, k + 1, tok);
+        if (v < min || v > max)
+            return core_err_set(err, -1,
+                                "%s:%d: [%s] %s: item %d = %g: out of range, expected %g to %g",
+                                ini->path, e->line, section, key, k + 1, v, min, max);
+        out[k++] = v;
+    }
+    if (k == 0)
+        return core_err_set(err, -1, "%s:%d: [%s] %s: expected a comma-separated list of numbers",
+                            ini->path, e->line, section, key);
+    *count = k;
+    return 0;
+}
+
+int core_ini_get_path(core_ini *ini, const char *section, const char *key, int required,
+                      char *out, size_t n, core_err *err)
+{
+    core_ini_entry *e;
+    int rc = lookup(ini, section, key, required, &e, err);
+    if (rc)
+        return rc;
+    int w = e->value[0] == '/' ? snprintf(out, n, "%s", e->value)
+                               : snprintf(out, n, "%s%s", ini->dir, e->value);
+    if (w < 0 || (size_t)w >= n)
+        return core_err_set(err, -1, "%s:%d: [%s] %s: path too long", ini->path, e->line,
+                            section, key);
+    struct stat st;
+    if (stat(out, &st) != 0 || !S_ISREG(st.st_mode))
+        return core_err_set(err, -1, "%s:%d: [%s] %s = '%s': file not found (looked for %s)",
+                            ini->path, e->line, section, key, e->value, out);
+    return 0;
+}
+
+int core_ini_check_unused(const core_ini *ini, core_err *err)
+{
+    for (size_t i = 0; i < ini->n; i++) {
+        const core_ini_entry *e = &ini->e[i];
+        if (e->used)
+            continue;
+        int known_section = 0;
+        for (size_t j = 0; j < ini->n; j++)
+            if (ini->e[j].used && strcmp(ini->e[j].section, e->section) == 0)
+                known_section = 1;
+        if (known_section)
+            return core_err_set(err, -1, "%s:%d: [%s] %s: unknown key", ini->path, e->line,
+                                e->section, e->key);
+        return core_err_set(err, -1, "%s:%d: [%s]: unknown section (key '%s')", ini->path,
+                            e->line, e->section, e->key);
+    }
+    return 0;
+}
+
+int core_parse_range(const char *s, double *out, int nmax, int *count)
+{
+    double a[3];
+    int k = 0;
+    char buf[128];
+    if (strlen(s) >= sizeof buf)
+        return -1;
+    strcpy(buf, s);
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ":", &save); tok; tok = strtok_r(NULL, ":", &save)) {
+        if (k == 3 || parse_double(tok, &a[k]))
+            return -1;
+        k++;
+    }
+    if (k == 1) {
+        if (nmax < 1)
+            return -1;
+        out[0] = a[0];
+        *count = 1;
+        return 0;
+    }
+    if (k != 3 || a[2] <= 0.0 || a[1] < a[0])
+        return -1;
+    int m = (int)floor((a[1] - a[0]) / a[2] + 1e-9) + 1;
+    if (m > nmax)
+        return -1;
+    for (int i = 0; i < m; i++)
+        out[i] = a[0] + i * a[2];
+    *count = m;
+    return 0;
+}

@@ -1,0 +1,33 @@
+/* wod.c -- the wind-over-deck convention (CONVENTIONS.md): direction the wind
+ * comes FROM, measured from the bow, positive to starboard ("green"), negative
+ * to port ("red"), in (-180, 180]; velocity in S = -V (cos dir, sin dir, 0). */
+#include "core.h"
+
+#include <math.h>
+#include <stdio.h>
+
+double core_wod_wrap_deg(double d)
+{
+    d = fmod(d, 360.0);
+    if (d > 180.0)
+        d -= 360.0;
+    if (d <= -180.0)
+        d += 360.0;
+    return d;
+}
+
+core_vec3 core_wod_vel_S_mps(double speed_mps, double dir_rad)
+{
+    return core_vec3_make(-speed_mps * cos(dir_rad), -speed_mps * sin(dir_rad), 0.0);
+}
+
+void core_wod_name(double dir_deg, char *buf, size_t n)
+{
+    double d = core_wod_wrap_deg(dir_deg);
+    if (fabs(d) < 1e-9)
+        snprintf(buf, n, "head");
+    else if (fabs(d - 180.0) < 1e-9)
+        snprintf(buf, n, "stern");
+    else
+        snprintf(buf, n, "%s %g", d > 0 ? "green" : "red", fabs(d));
+}

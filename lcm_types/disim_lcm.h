@@ -1,0 +1,36 @@
+/*
+ * disim_lcm.h -- the LCM message types of package disim and their channels.
+ *
+ * Channel names are upper case with the DISIM_ prefix (CONVENTIONS.md). Every
+ * message carries utime (simulation microseconds) and a sequence number.
+ * disim_lcm_check_* validate a received message before use: they return 0 if
+ * every field is finite and in range, else < 0 with err naming the field.
+ */
+#ifndef DISIM_LCM_H
+#define DISIM_LCM_H
+
+#include "disim_heli_state_t.h"
+#include "disim_ship_state_t.h"
+#include "disim_pilot_input_t.h"
+#include "disim_sim_control_t.h"
+#include "disim_sim_status_t.h"
+#include "disim_airwake_request_t.h"
+#include "disim_airwake_status_t.h"
+#include "disim_shol_point_t.h"
+
+#include <stddef.h>
+
+#define DISIM_CH_HELI_STATE "DISIM_HELI_STATE"
+#define DISIM_CH_SHIP_STATE "DISIM_SHIP_STATE"
+#define DISIM_CH_PILOT_INPUT "DISIM_PILOT_INPUT"
+#define DISIM_CH_SIM_CONTROL "DISIM_SIM_CONTROL"
+#define DISIM_CH_SIM_STATUS "DISIM_SIM_STATUS"
+#define DISIM_CH_AIRWAKE_REQUEST "DISIM_AIRWAKE_REQUEST"
+#define DISIM_CH_AIRWAKE_STATUS "DISIM_AIRWAKE_STATUS"
+#define DISIM_CH_SHOL_POINT "DISIM_SHOL_POINT"
+
+int disim_lcm_check_pilot_input(const disim_pilot_input_t *m, char *err, size_t n);
+int disim_lcm_check_sim_control(const disim_sim_control_t *m, char *err, size_t n);
+int disim_lcm_check_airwake_request(const disim_airwake_request_t *m, char *err, size_t n);
+
+#endif

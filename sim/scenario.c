@@ -1,0 +1,230 @@
+/* scenario.c -- scenario files: parse with the core INI reader, check every
+ * key against its type and range, resolve the referenced aircraft and ship
+ * files, and refuse anything unknown. Every error names file, line and key. */
+#include "sim.h"
+
+#include <math.h>
+#include <string.h>
+
+#define GRIDS "coarse|default|fine"
+#define ROTORS "off|uniform|loaded"
+
+const char *sim_grid_name(sim_grid g)
+{
+    static const char *n[] = {"coarse", "default", "fine"};
+    return (unsigned)g < 3 ? n[g] : "?";
+}
+
+const char *sim_rotor_name(sim_rotor r)
+{
+    static const char *n[] = {"off", "uniform", "loaded"};
+    return (unsigned)r < 3 ? n[r] : "?";
+}
+
+/* The aircraft file is owned by hfm; here only its identity is read so that a
+ * scenario names a real aircraft. hfm_aircraft_load checks the physics. */
+static int peek_aircraft(const char *path, char *name, size_t n, core_err *err)
+{
+    core_ini *ini = core_ini_load(path, err);
+    if (!ini)
+        return -1;
+    int rc = core_ini_get_string(ini, "aircraft", "name", 1, name, n, err);
+    core_ini_destroy(ini);
+    return rc;
+}
+
+static int wod_section(core_ini *ini, sim_scenario *sc, core_err *err)
+{
+    const char *W = "wod";
+    int mode = 0, rc;
+    if ((rc = core_ini_get_enum(ini, W, "mode", 1, "single|sweep", &mode, err)))
+        return rc;
+    sc->wod_mode = (sim_wod_mode)mode;
+    if (sc->wod_mode == SIM_WOD_SINGLE) {
+        double kt = 0, dir = 0;
+        if ((rc = core_ini_get_double(ini, W, "speed_kt", 1, 0.0, 80.0, &kt, err)) ||
+            (rc = core_ini_get_double(ini, W, "dir_deg", 1, -180.0, 180.0, &dir, err)))
+            return rc;
+        sc->wod_speed_mps = kt * CORE_KT_TO_MPS;
+        sc->wod_dir_rad = core_wod_wrap_deg(dir) * CORE_DEG_TO_RAD;
+        sc->n_dirs = 1;
+        sc->dirs_rad[0] = sc->wod_dir_rad;
+        return 0;
+    }
+    char range[128];
+    if ((rc = core_ini_get_string(ini, W, "dir_deg", 1, range, sizeof range, err)))
+        return rc;
+    double dirs[SIM_MAX_WOD];
+    int nd = 0;
+    if (core_parse_range(range, dirs, SIM_MAX_WOD, &nd) != 0)
+        return core_err_set(err, -1,
+                            "%s:%d: [wod] dir_deg = '%s': expected START:STOP:STEP in degrees "
+                            "(e.g. -90:90:30) or one number",
+                            core_ini_path(ini), core_ini_find(ini, W, "dir_deg")->line, range);
+    for (int i = 0; i < nd; i++) {
+        if (dirs[i] < -180.0 || dirs[i] > 180.0)
+            return core_err_set(err, -1, "%s:%d: [wod] dir_deg: %g out of range, expected -180 to 180",
+                                core_ini_path(ini), core_ini_find(ini, W, "dir_deg")->line, dirs[i]);
+        sc->dirs_rad[i] = core_wod_wrap_deg(dirs[i]) * CORE_DEG_TO_RAD;
+    }
+    sc->n_dirs = nd;
+    double step = 5.0, max = 150.0;
+    if ((rc = core_ini_get_double(ini, W, "speed_step_kmh", 0, 0.5, 50.0, &step, err)) < 0 ||
+        (rc = core_ini_get_double(ini, W, "speed_max_kmh", 0, 5.0, 300.0, &max, err)) < 0)
+        return rc;
+    sc->speed_step_mps = step * CORE_KMH_TO_MPS;
+    sc->speed_max_mps = max * CORE_KMH_TO_MPS;
+    return 0;
+}
+
+int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
+{
+    memset(sc, 0, sizeof *sc);
+    snprintf(sc->path, sizeof sc->path, "%s", path);
+    core_ini *ini = core_ini_load(path, err);
+    if (!ini)
+        return -1;
+    int rc = 0, v = 0;
+    const char *S = "scenario";
+    if ((rc = core_ini_get_string(ini, S, "name", 1, sc->name, sizeof sc->name, err)) ||
+        (rc = core_ini_get_string(ini, S, "description", 0, sc->description,
+                                  sizeof sc->description, err)) < 0 ||
+        (rc = core_ini_get_path(ini, S, "aircraft", 1, sc->aircraft_path,
+                                sizeof sc->aircraft_path, err)) ||
+        (rc = core_ini_get_path(ini, S, "ship", 1, sc->ship_path, sizeof sc->ship_path, err)))
+        goto out;
+    if ((rc = wod_section(ini, sc, err)))
+        goto out;
+
+    /* sea */
+    long ss = 0;
+    sc->ship_speed_mps = 0.0;
+    double kt = 0.0;
+    if ((rc = core_ini_get_int(ini, "sea", "state", 1, 0, 9, &ss, err)) ||
+        (rc = core_ini_get_double(ini, "sea", "ship_speed_kt", 0, 0.0, 40.0, &kt, err)) < 0)
+        goto out;
+    sc->sea_state = (int)ss;
+    sc->ship_speed_mps = kt * CORE_KT_TO_MPS;
+
+    /* task */
+    if ((rc = core_ini_get_enum(ini, "task", "type", 1, "hover|landing|shol", &v, err)))
+        goto out;
+    sc->task = (sim_task_type)v;
+    sc->hover_height_m = 5.0;
+    if ((rc = core_ini_get_double(ini, "task", "hover_height_m", 0, 0.5, 100.0,
+                                  &sc->hover_height_m, err)) < 0)
+        goto out;
+    sc->station_S_m[0] = 0.0;
+    sc->station_S_m[1] = 0.0;
+    sc->station_S_m[2] = -sc->hover_height_m;
+    sc->approach_dir_deg = 180.0;
+    if ((rc = core_ini_get_double(ini, "task", "approach_dir_deg", 0, -180.0, 180.0,
+                                  &sc->approach_dir_deg, err)) < 0)
+        goto out;
+
+    /* pilot */
+    if ((rc = core_ini_get_enum(ini, "pilot", "type", 1, "automated|replay|station", &v, err)))
+        goto out;
+    sc->pilot = (sim_pilot_type)v;
+    if (sc->pilot == SIM_PILOT_REPLAY &&
+        (rc = core_ini_get_path(ini, "pilot", "replay_file", 1, sc->replay_path,
+                                sizeof sc->replay_path, err)))
+        goto out;
+    if (sc->pilot == SIM_PILOT_STATION &&
+        (rc = core_ini_get_string(ini, "pilot", "station_id", 1, sc->station_id,
+                                  sizeof sc->station_id, err)))
+        goto out;
+
+    /* cfd */
+    long it = 3000;
+    sc->residual_tol = 1e-4;
+    sc->grid = SIM_GRID_DEFAULT;
+    sc->rotor = SIM_ROTOR_UNIFORM;
+    if ((rc = core_ini_get_enum(ini, "cfd", "engine", 0, "embedded|openfoam", &v, err)) < 0)
+        goto out;
+    sc->engine = rc == 0 ? (sim_engine)v : SIM_ENGINE_EMBEDDED;
+    if ((rc = core_ini_get_enum(ini, "cfd", "grid", 0, GRIDS, &v, err)) < 0)
+        goto out;
+    if (rc == 0)
+        sc->grid = (sim_grid)v;
+    if ((rc = core_ini_get_enum(ini, "cfd", "rotor", 0, ROTORS, &v, err)) < 0)
+        goto out;
+    if (rc == 0)
+        sc->rotor = (sim_rotor)v;
+    if ((rc = core_ini_get_enum(ini, "cfd", "coupling", 0, "two-way|one-way", &v, err)) < 0)
+        goto out;
+    sc->coupling = rc == 0 ? (sim_coupling)v : SIM_COUPLING_TWO_WAY;
+    if ((rc = core_ini_get_int(ini, "cfd", "max_iterations", 0, 10, 1000000, &it, err)) < 0 ||
+        (rc = core_ini_get_double(ini, "cfd", "residual_tol", 0, 1e-10, 1e-1, &sc->residual_tol,
+                                  err)) < 0)
+        goto out;
+    sc->max_iterations = (int)it;
+
+    /* output */
+    snprintf(sc->output_dir, sizeof sc->output_dir, "out/%s", sc->name);
+    sc->write_csv = 1;
+    sc->write_plots = 1;
+    if ((rc = core_ini_get_string(ini, "output", "dir", 0, sc->output_dir, sizeof sc->output_dir,
+                                  err)) < 0 ||
+        (rc = core_ini_get_bool(ini, "output", "csv", 0, &sc->write_csv, err)) < 0 ||
+        (rc = core_ini_get_bool(ini, "output", "plots", 0, &sc->write_plots, err)) < 0)
+        goto out;
+
+    if ((rc = core_ini_check_unused(ini, err)))
+        goto out;
+
+    /* referenced files */
+    if ((rc = peek_aircraft(sc->aircraft_path, sc->aircraft_name, sizeof sc->aircraft_name, err)))
+        goto out;
+    rc = core_ship_load(sc->ship_path, &sc->ship, err);
+out:
+    core_ini_destroy(ini);
+    return rc < 0 ? rc : 0;
+}
+
+void sim_scenario_print(const sim_scenario *sc, FILE *f)
+{
+    static const char *tasks[] = {"hover", "landing", "shol"};
+    static const char *pilots[] = {"automated", "replay", "station"};
+    char wn[32];
+    fprintf(f, "[scenario]\nfile = %s\nname = %s\n", sc->path, sc->name);
+    if (sc->description[0])
+        fprintf(f, "description = %s\n", sc->description);
+    fprintf(f, "aircraft = %s (%s)\n", sc->aircraft_name, sc->aircraft_path);
+    fprintf(f, "ship = %s (%s)\n", sc->ship.name, sc->ship_path);
+    fprintf(f, "ship_length_m = %.2f\nship_beam_m = %.2f\ndeck_height_m = %.2f\nship_blocks = %d\n",
+            sc->ship.length_m, sc->ship.beam_m, sc->ship.deck_height_m, sc->ship.nblocks);
+    fprintf(f, "\n[wod]\n");
+    if (sc->wod_mode == SIM_WOD_SINGLE) {
+        core_wod_name(sc->wod_dir_rad * CORE_RAD_TO_DEG, wn, sizeof wn);
+        core_vec3 w = core_wod_vel_S_mps(sc->wod_speed_mps, sc->wod_dir_rad);
+        fprintf(f, "mode = single\nspeed_kt = %.2f (%.3f m/s)\ndir_deg = %.1f (%s)\n",
+                sc->wod_speed_mps / CORE_KT_TO_MPS, sc->wod_speed_mps,
+                sc->wod_dir_rad * CORE_RAD_TO_DEG, wn);
+        fprintf(f, "wind_vel_S_mps = %.3f, %.3f, %.3f\n", w.x, w.y, w.z);
+    } else {
+        fprintf(f, "mode = sweep\ndir_deg =");
+        for (int i = 0; i < sc->n_dirs; i++)
+            fprintf(f, "%s %.1f", i ? "," : "", sc->dirs_rad[i] * CORE_RAD_TO_DEG);
+        fprintf(f, "\nspeed_step_kmh = %.2f\nspeed_max_kmh = %.1f\n", sc->speed_step_mps * 3.6,
+                sc->speed_max_mps * 3.6);
+    }
+    fprintf(f, "\n[sea]\nstate = %d\nship_speed_kt = %.1f\n", sc->sea_state,
+            sc->ship_speed_mps / CORE_KT_TO_MPS);
+    fprintf(f, "\n[task]\ntype = %s\nhover_height_m = %.2f\nstation_S_m = %.2f, %.2f, %.2f\n"
+               "approach_dir_deg = %.1f\n",
+            tasks[sc->task], sc->hover_height_m, sc->station_S_m[0], sc->station_S_m[1],
+            sc->station_S_m[2], sc->approach_dir_deg);
+    fprintf(f, "\n[pilot]\ntype = %s\n", pilots[sc->pilot]);
+    if (sc->pilot == SIM_PILOT_REPLAY)
+        fprintf(f, "replay_file = %s\n", sc->replay_path);
+    if (sc->pilot == SIM_PILOT_STATION)
+        fprintf(f, "station_id = %s\n", sc->station_id);
+    fprintf(f, "\n[cfd]\nengine = %s\ngrid = %s\nrotor = %s\ncoupling = %s\nmax_iterations = %d\n"
+               "residual_tol = %g\n",
+            sc->engine == SIM_ENGINE_EMBEDDED ? "embedded" : "openfoam", sim_grid_name(sc->grid),
+            sim_rotor_name(sc->rotor), sc->coupling == SIM_COUPLING_TWO_WAY ? "two-way" : "one-way",
+            sc->max_iterations, sc->residual_tol);
+    fprintf(f, "\n[output]\ndir = %s\ncsv = %s\nplots = %s\n", sc->output_dir,
+            sc->write_csv ? "true" : "false", sc->write_plots ? "true" : "false");
+}

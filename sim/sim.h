@@ -1,0 +1,91 @@
+/*
+ * sim.h -- the simulation layer: scenario files (and, in later work, the
+ * fixed-rate flight loop, ship motion, deck contact and LCM stations).
+ *
+ * A scenario (INI, see scenarios/README.md) names the ship-aircraft
+ * combination, the WOD or WOD sweep, the sea state, the landing task, the
+ * pilot, CFD settings and outputs. Paths inside are relative to the file.
+ */
+#ifndef DISIM_SIM_H
+#define DISIM_SIM_H
+
+#include "core.h"
+
+#include <stdio.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SIM_PATH_MAX 512
+#define SIM_MAX_WOD 128
+
+typedef enum { SIM_WOD_SINGLE = 0, SIM_WOD_SWEEP = 1 } sim_wod_mode;
+typedef enum { SIM_TASK_HOVER = 0, SIM_TASK_LANDING = 1, SIM_TASK_SHOL = 2 } sim_task_type;
+typedef enum { SIM_PILOT_AUTOMATED = 0, SIM_PILOT_REPLAY = 1, SIM_PILOT_STATION = 2 } sim_pilot_type;
+typedef enum { SIM_GRID_COARSE = 0, SIM_GRID_DEFAULT = 1, SIM_GRID_FINE = 2 } sim_grid;
+typedef enum { SIM_ROTOR_OFF = 0, SIM_ROTOR_UNIFORM = 1, SIM_ROTOR_LOADED = 2 } sim_rotor;
+typedef enum { SIM_COUPLING_TWO_WAY = 0, SIM_COUPLING_ONE_WAY = 1 } sim_coupling;
+typedef enum { SIM_ENGINE_EMBEDDED = 0, SIM_ENGINE_OPENFOAM = 1 } sim_engine;
+
+/* A resolved scenario: plain data. */
+typedef struct sim_scenario {
+    char path[SIM_PATH_MAX];
+    char name[64];
+    char description[160];
+    char aircraft_path[SIM_PATH_MAX];
+    char aircraft_name[64];
+    char ship_path[SIM_PATH_MAX];
+    core_ship ship;
+
+    /* wind over deck */
+    sim_wod_mode wod_mode;
+    double wod_speed_mps, wod_dir_rad; /* single */
+    int n_dirs;                        /* sweep: directions, speeds */
+    double dirs_rad[SIM_MAX_WOD];
+    double speed_step_mps, speed_max_mps;
+
+    /* sea */
+    int sea_state;      /* WMO code 0-9 */
+    double ship_speed_mps;
+
+    /* task */
+    sim_task_type task;
+    double hover_height_m; /* CG height above the landing spot for the hover-over-spot station */
+    double station_S_m[3]; /* hover-over-spot station in S (CG position) */
+    double approach_dir_deg;
+
+    /* pilot */
+    sim_pilot_type pilot;
+    char replay_path[SIM_PATH_MAX];
+    char station_id[64];
+
+    /* CFD */
+    sim_engine engine;
+    sim_grid grid;
+    sim_rotor rotor;
+    sim_coupling coupling;
+    int max_iterations;
+    double residual_tol;
+
+    /* outputs */
+    char output_dir[SIM_PATH_MAX];
+    int write_csv, write_plots;
+} sim_scenario;
+
+/* Parse and resolve a scenario file. Returns 0, or < 0 with err naming the
+ * file, line, key and what was expected (unknown keys and sections, wrong
+ * types, values out of range, missing files, errors in referenced files). */
+int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err);
+
+/* Print the resolved configuration as INI-like text. */
+void sim_scenario_print(const sim_scenario *sc, FILE *out);
+
+/* Names of the enum values, as written in scenario files. */
+const char *sim_grid_name(sim_grid g);
+const char *sim_rotor_name(sim_rotor r);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
