@@ -186,6 +186,9 @@ int core_ini_get_doubles(core_ini *ini, const char *section, const char *key, in
  * the file must exist. */
 int core_ini_get_path(core_ini *ini, const char *section, const char *key, int required,
                       char *out, size_t n, core_err *err);
+/* Mark every entry of a section consumed: for a section another module reads
+ * (e.g. an aircraft file's [rejection] criteria, read by shol). */
+void core_ini_skip_section(core_ini *ini, const char *section);
 /* After all getters ran: the first entry nothing consumed is an error
  * ("unknown key" or "unknown section"), naming its line. */
 int core_ini_check_unused(const core_ini *ini, core_err *err);

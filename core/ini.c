@@ -360,6 +360,13 @@ int core_ini_get_path(core_ini *ini, const char *section, const char *key, int r
     return 0;
 }
 
+void core_ini_skip_section(core_ini *ini, const char *section)
+{
+    for (size_t i = 0; i < ini->n; i++)
+        if (strcmp(ini->e[i].section, section) == 0)
+            ini->e[i].used = 1;
+}
+
 int core_ini_check_unused(const core_ini *ini, core_err *err)
 {
     for (size_t i = 0; i < ini->n; i++) {
