@@ -176,6 +176,29 @@ int core_ini_has_section(const core_ini *ini, const char *section)
     return 0;
 }
 
+/* Levenshtein distance, capped: keys are short. */
+static int edit_distance(const char *a, const char *b)
+{
+    size_t la = strlen(a), lb = strlen(b);
+    if (la > 63 || lb > 63)
+        return 99;
+    int d[64][64];
+    for (size_t i = 0; i <= la; i++)
+        d[i][0] = (int)i;
+    for (size_t j = 0; j <= lb; j++)
+        d[0][j] = (int)j;
+    for (size_t i = 1; i <= la; i++)
+        for (size_t j = 1; j <= lb; j++) {
+            int c = d[i - 1][j - 1] + (a[i - 1] != b[j - 1]);
+            if (d[i - 1][j] + 1 < c)
+                c = d[i - 1][j] + 1;
+            if (d[i][j - 1] + 1 < c)
+                c = d[i][j - 1] + 1;
+            d[i][j] = c;
+        }
+    return d[la][lb];
+}
+
 /* Look up a key, mark every duplicate used, handle absence. Returns 0 with *e
  * set, 1 if absent and optional, < 0 if absent and required. */
 static int lookup(core_ini *ini, const char *section, const char *key, int required,
@@ -189,9 +212,26 @@ static int lookup(core_ini *ini, const char *section, const char *key, int requi
         }
     if (*e)
         return 0;
-    if (required)
-        return core_err_set(err, -1, "%s: [%s] %s: missing required key", ini->path, section, key);
-    return 1;
+    if (!required)
+        return 1;
+    /* A required key is often missing because it was mistyped: point at the
+     * unconsumed key of the same section that is closest to it. */
+    const core_ini_entry *best = NULL;
+    int best_d = 3;
+    for (size_t i = 0; i < ini->n; i++) {
+        const core_ini_entry *c = &ini->e[i];
+        if (c->used || strcmp(c->section, section) != 0)
+            continue;
+        int d = edit_distance(c->key, key);
+        if (d < best_d) {
+            best_d = d;
+            best = c;
+        }
+    }
+    if (best)
+        return core_err_set(err, -1, "%s:%d: [%s] %s: unknown key (a typo of the required key '%s'?)",
+                            ini->path, best->line, section, best->key, key);
+    return core_err_set(err, -1, "%s: [%s] %s: missing required key", ini->path, section, key);
 }
 
 static int parse_double(const char *s, double *out)

@@ -1,0 +1,260 @@
+/* test_core.c -- core: frames, quaternions, Euler angles, WOD convention,
+ * units, INI getters, ship geometry. Expected values are worked by hand. */
+#include "check.h"
+#include "core.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define TOL 1e-12
+
+static void vec_near(core_vec3 a, double x, double y, double z, double tol)
+{
+    CHECK_NEAR(a.x, x, tol);
+    CHECK_NEAR(a.y, y, tol);
+    CHECK_NEAR(a.z, z, tol);
+}
+
+static void test_wod(void)
+{
+    /* Green 30 at 10 m/s: from 30 deg starboard of the bow; air moves aft and
+     * to port: -10 (cos 30, sin 30, 0) = (-8.660254, -5, 0). */
+    vec_near(core_wod_vel_S_mps(10.0, 30.0 * CORE_DEG_TO_RAD), -8.660254037844386, -5.0, 0.0, 1e-12);
+    /* Headwind: air from bow to stern (-x). */
+    vec_near(core_wod_vel_S_mps(5.0, 0.0), -5.0, 0.0, 0.0, TOL);
+    /* Red 90: from port, air moves to starboard (+y). */
+    vec_near(core_wod_vel_S_mps(4.0, -90.0 * CORE_DEG_TO_RAD), 0.0, 4.0, 0.0, 1e-12);
+    CHECK_NEAR(core_wod_wrap_deg(270.0), -90.0, TOL);
+    CHECK_NEAR(core_wod_wrap_deg(-180.0), 180.0, TOL);
+    CHECK_NEAR(core_wod_wrap_deg(180.0), 180.0, TOL);
+    CHECK_NEAR(core_wod_wrap_deg(-190.0), 170.0, TOL);
+    char b[32];
+    core_wod_name(30.0, b, sizeof b);
+    CHECK(strcmp(b, "green 30") == 0);
+    core_wod_name(-90.0, b, sizeof b);
+    CHECK(strcmp(b, "red 90") == 0);
+    core_wod_name(0.0, b, sizeof b);
+    CHECK(strcmp(b, "head") == 0);
+    /* Units: 1 kt = 0.514444 m/s, 54 km/h = 15 m/s. */
+    CHECK_NEAR(20.0 * CORE_KT_TO_MPS, 10.28888, 1e-9);
+    CHECK_NEAR(54.0 * CORE_KMH_TO_MPS, 15.0, 1e-12);
+}
+
+static void test_rotations(void)
+{
+    /* Yaw 90 deg: body x (nose) points east in NED. */
+    core_euler e = {0.0, 0.0, 90.0 * CORE_DEG_TO_RAD};
+    core_quat q = core_quat_from_euler(e);
+    vec_near(core_quat_rotate(q, core_vec3_make(1, 0, 0)), 0, 1, 0, 1e-12);
+    /* Pitch 30 deg nose up: body x points forward and up (-z in NED). */
+    core_euler p = {0.0, 30.0 * CORE_DEG_TO_RAD, 0.0};
+    vec_near(core_quat_rotate(core_quat_from_euler(p), core_vec3_make(1, 0, 0)), cos(M_PI / 6), 0,
+             -0.5, 1e-12);
+    /* Roll 90 deg right wing down: body y (right wing) points down (+z). */
+    core_euler r = {90.0 * CORE_DEG_TO_RAD, 0.0, 0.0};
+    vec_near(core_quat_rotate(core_quat_from_euler(r), core_vec3_make(0, 1, 0)), 0, 0, 1, 1e-12);
+    /* Gravity in body axes for pitch theta, roll phi: g (-sin t, sin f cos t, cos f cos t). */
+    core_euler pr = {0.2, 0.1, 1.3};
+    core_vec3 gB = core_quat_rotate_inv(core_quat_from_euler(pr), core_vec3_make(0, 0, 1));
+    vec_near(gB, -sin(0.1), sin(0.2) * cos(0.1), cos(0.2) * cos(0.1), 1e-12);
+    /* DCM and quaternion agree; Euler round trip. */
+    core_euler a = {-0.7, 0.4, 2.5};
+    core_quat qa = core_quat_from_euler(a);
+    core_mat3 m = core_mat3_from_euler(a);
+    core_vec3 v = core_vec3_make(0.3, -1.2, 2.0);
+    core_vec3 v1 = core_quat_rotate(qa, v), v2 = core_mat3_mul_vec(m, v);
+    vec_near(v1, v2.x, v2.y, v2.z, 1e-12);
+    core_vec3 w1 = core_quat_rotate_inv(qa, v), w2 = core_mat3_tmul_vec(m, v);
+    vec_near(w1, w2.x, w2.y, w2.z, 1e-12);
+    core_euler b = core_quat_to_euler(qa);
+    CHECK_NEAR(b.phi_rad, a.phi_rad, 1e-12);
+    CHECK_NEAR(b.theta_rad, a.theta_rad, 1e-12);
+    CHECK_NEAR(b.psi_rad, a.psi_rad, 1e-12);
+    /* Composition: yaw then pitch equals the 3-2-1 product. */
+    core_quat qy = core_quat_from_euler((core_euler){0, 0, 2.5});
+    core_quat qp = core_quat_from_euler((core_euler){0, 0.4, 0});
+    core_quat qr = core_quat_from_euler((core_euler){-0.7, 0, 0});
+    core_quat qc = core_quat_mul(core_quat_mul(qy, qp), qr);
+    vec_near(core_quat_rotate(qc, v), v1.x, v1.y, v1.z, 1e-12);
+    /* Kinematics: integrating qdot for a constant yaw rate 0.5 rad/s for 2 s gives yaw 1 rad. */
+    core_quat qi = core_quat_identity();
+    double dt = 1e-4;
+    for (int i = 0; i < 20000; i++) {
+        core_quat k1 = core_quat_deriv(qi, core_vec3_make(0, 0, 0.5));
+        core_quat mid = {qi.w + 0.5 * dt * k1.w, qi.x + 0.5 * dt * k1.x, qi.y + 0.5 * dt * k1.y,
+                         qi.z + 0.5 * dt * k1.z};
+        core_quat k2 = core_quat_deriv(mid, core_vec3_make(0, 0, 0.5));
+        qi.w += dt * k2.w;
+        qi.x += dt * k2.x;
+        qi.y += dt * k2.y;
+        qi.z += dt * k2.z;
+    }
+    CHECK_NEAR(core_quat_to_euler(qi).psi_rad, 1.0, 1e-7);
+}
+
+static void test_frames(void)
+{
+    /* Ship heading east (yaw 90 deg) at (100, 50, 0) in E. A point 10 m
+     * forward, 2 m to starboard and 3 m up in S lies at (98, 60, -3) in E. */
+    core_pose ship = {core_vec3_make(100, 50, 0), core_quat_from_euler((core_euler){0, 0, M_PI / 2})};
+    core_vec3 pE = core_pose_point_to_E(&ship, core_vec3_make(10, 2, -3));
+    vec_near(pE, 98, 60, -3, 1e-12);
+    vec_near(core_pose_point_from_E(&ship, pE), 10, 2, -3, 1e-12);
+    /* A headwind over the deck of a ship heading east blows toward the west in E. */
+    core_vec3 wE = core_pose_vec_to_E(&ship, core_wod_vel_S_mps(10.0, 0.0));
+    vec_near(wE, 0, -10, 0, 1e-12);
+    vec_near(core_pose_vec_from_E(&ship, wE), -10, 0, 0, 1e-12);
+    /* Helicopter body B relative to S: chain B -> E -> S for a ship rolled 5 deg. */
+    core_pose ship2 = {core_vec3_make(0, 0, 0), core_quat_from_euler((core_euler){5 * CORE_DEG_TO_RAD, 0, 0})};
+    core_vec3 zS = core_pose_vec_from_E(&ship2, core_vec3_make(0, 0, 1));
+    vec_near(zS, 0, sin(5 * CORE_DEG_TO_RAD), cos(5 * CORE_DEG_TO_RAD), 1e-12);
+}
+
+static void test_range(void)
+{
+    double v[16];
+    int n = 0;
+    CHECK(core_parse_range("-90:90:30", v, 16, &n) == 0);
+    CHECK(n == 7);
+    CHECK_NEAR(v[0], -90, TOL);
+    CHECK_NEAR(v[6], 90, TOL);
+    CHECK(core_parse_range("0:150:10", v, 16, &n) == 0 && n == 16);
+    CHECK(core_parse_range("12.5", v, 16, &n) == 0 && n == 1 && v[0] == 12.5);
+    CHECK(core_parse_range("0:10:0", v, 16, &n) < 0);
+    CHECK(core_parse_range("10:0:1", v, 16, &n) < 0);
+    CHECK(core_parse_range("a:b:c", v, 16, &n) < 0);
+    CHECK(core_parse_range("0:1000:1", v, 16, &n) < 0);
+}
+
+static const char *write_tmp(const char *name, const char *text)
+{
+    static char path[256];
+    snprintf(path, sizeof path, "%s/%s", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp", name);
+    FILE *f = fopen(path, "w");
+    fputs(text, f);
+    fclose(f);
+    return path;
+}
+
+static void test_ini(void)
+{
+    core_err err = {{0}};
+    const char *p = write_tmp("disim_core_ini.ini",
+                              "; comment\n[a]\nx = 1.5\nn = 7\nb = yes\ne = beta\n"
+                              "list = 1, 2, 3\ns = hello world ; inline comment\n\n[b]\ny = oops\n");
+    core_ini *ini = core_ini_load(p, &err);
+    CHECK(ini != NULL);
+    if (!ini)
+        return;
+    double x = 0;
+    long n = 0;
+    int b = 0, e = -1, cnt = 0;
+    double l[4];
+    char s[32];
+    CHECK(core_ini_get_double(ini, "a", "x", 1, 0, 2, &x, &err) == 0 && x == 1.5);
+    CHECK(core_ini_get_int(ini, "a", "n", 1, 0, 10, &n, &err) == 0 && n == 7);
+    CHECK(core_ini_get_bool(ini, "a", "b", 1, &b, &err) == 0 && b == 1);
+    CHECK(core_ini_get_enum(ini, "a", "e", 1, "alpha|beta|gamma", &e, &err) == 0 && e == 1);
+    CHECK(core_ini_get_doubles(ini, "a", "list", 1, 0, 5, l, 4, &cnt, &err) == 0 && cnt == 3 &&
+          l[2] == 3.0);
+    CHECK(core_ini_get_string(ini, "a", "s", 1, s, sizeof s, &err) == 0 && !strcmp(s, "hello world"));
+    /* Optional absent key: 1, value untouched. */
+    x = 42;
+    CHECK(core_ini_get_double(ini, "a", "absent", 0, 0, 1, &x, &err) == 1 && x == 42);
+    /* Required absent key. */
+    CHECK(core_ini_get_double(ini, "a", "absent", 1, 0, 1, &x, &err) < 0);
+    CHECK(strstr(err.msg, "[a] absent: missing required key") != NULL);
+    /* Wrong type names the line. */
+    CHECK(core_ini_get_double(ini, "b", "y", 1, 0, 1, &x, &err) < 0);
+    CHECK(strstr(err.msg, ":11: [b] y = 'oops': expected a number") != NULL);
+    /* Out of range. */
+    CHECK(core_ini_get_double(ini, "a", "x", 1, 0, 1, &x, &err) < 0);
+    CHECK(strstr(err.msg, ":3: [a] x = 1.5: out of range, expected 0 to 1") != NULL);
+    core_ini_destroy(ini);
+
+    /* Unknown key after consuming the rest. */
+    p = write_tmp("disim_core_ini2.ini", "[a]\nx = 1\nxx = 2\n[c]\nz = 1\n");
+    ini = core_ini_load(p, &err);
+    CHECK(core_ini_get_double(ini, "a", "x", 1, 0, 2, &x, &err) == 0);
+    CHECK(core_ini_check_unused(ini, &err) < 0);
+    CHECK(strstr(err.msg, ":3: [a] xx: unknown key") != NULL);
+    CHECK(core_ini_get_double(ini, "a", "xx", 1, 0, 2, &x, &err) == 0);
+    CHECK(core_ini_check_unused(ini, &err) < 0);
+    CHECK(strstr(err.msg, ":5: [c]: unknown section") != NULL);
+    core_ini_skip_section(ini, "c");
+    CHECK(core_ini_check_unused(ini, &err) == 0);
+    core_ini_destroy(ini);
+
+    /* Syntax error and missing file. */
+    p = write_tmp("disim_core_ini3.ini", "[a]\nx = 1\nthis line has no equals sign\n");
+    CHECK(core_ini_load(p, &err) == NULL);
+    CHECK(strstr(err.msg, ":3: syntax error") != NULL);
+    CHECK(core_ini_load("/nonexistent/disim.ini", &err) == NULL);
+    CHECK(strstr(err.msg, "cannot open") != NULL);
+    core_ini_destroy(NULL);
+}
+
+static void test_ship(void)
+{
+    core_ship ship;
+    core_err err = {{0}};
+    CHECK(core_ship_load("scenarios/ships/sfs2.ini", &ship, &err) == 0);
+    if (err.msg[0])
+        fprintf(stderr, "%s\n", err.msg);
+    CHECK(ship.nblocks == 3);
+    CHECK_NEAR(ship.length_m, 138.7, 1e-9);
+    /* The landing spot is on the deck: the point just below it is inside the
+     * hull, just above it is free air. */
+    CHECK(core_ship_contains(&ship, core_vec3_make(0, 0, 0.1)));
+    CHECK(!core_ship_contains(&ship, core_vec3_make(0, 0, -0.1)));
+    /* Hangar face at x = 12 m, 7.6 m tall above the deck. */
+    CHECK(core_ship_contains(&ship, core_vec3_make(12.5, 0, -7.0)));
+    CHECK(!core_ship_contains(&ship, core_vec3_make(11.5, 0, -7.0)));
+    CHECK(!core_ship_contains(&ship, core_vec3_make(12.5, 0, -7.8)));
+    /* Bow taper: at the bow tip the hull is a point on the centre line. */
+    CHECK(core_ship_contains(&ship, core_vec3_make(126.0, 0, 1.0)));
+    CHECK(!core_ship_contains(&ship, core_vec3_make(126.0, 3.0, 1.0)));
+    CHECK(core_ship_contains(&ship, core_vec3_make(90.0, 6.0, 1.0)));
+    core_ship s2;
+    CHECK(core_ship_load("scenarios/ships/cg47.ini", &s2, &err) == 0);
+    CHECK(core_ship_load("scenarios/ships/lpd17.ini", &s2, &err) == 0);
+    /* A block whose top is below its bottom names the line. */
+    const char *p = write_tmp("disim_bad_ship.ini",
+                              "[ship]\nname = X\nlength_m = 10\nbeam_m = 2\ndraft_m = 1\n"
+                              "deck_height_m = 2\ndeck_x_m = -1, 1\ndeck_halfwidth_m = 1\n"
+                              "anemometer_S_m = 0, 0, -5\n[block hull]\nx_m = -5, 5\ny_m = -1, 1\n"
+                              "height_m = 3, 0\n");
+    CHECK(core_ship_load(p, &s2, &err) < 0);
+    CHECK(strstr(err.msg, ":13: [block hull] height_m = 3, 0: expected the first below the second") != NULL);
+}
+
+static int nlog = 0;
+static void sink(void *user, int level, const char *msg)
+{
+    (void)level;
+    nlog++;
+    snprintf(user, 64, "%s", msg);
+}
+
+static void test_log(void)
+{
+    char last[64] = "";
+    core_log log = {sink, last, CORE_LOG_INFO};
+    core_log_msg(&log, CORE_LOG_INFO, "value %d", 3);
+    core_log_msg(&log, CORE_LOG_DEBUG, "dropped");
+    core_log_msg(NULL, CORE_LOG_ERROR, "no sink");
+    CHECK(nlog == 1);
+    CHECK(strcmp(last, "value 3") == 0);
+}
+
+int main(void)
+{
+    test_wod();
+    test_rotations();
+    test_frames();
+    test_range();
+    test_ini();
+    test_ship();
+    test_log();
+    return check_done("test_core");
+}

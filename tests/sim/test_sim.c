@@ -1,0 +1,42 @@
+/* test_sim.c -- scenario files resolve to the values their keys say, in SI,
+ * with the conventions applied (WOD wrap and velocity, station in S). */
+#include "check.h"
+#include "sim.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+int main(void)
+{
+    sim_scenario *sc = malloc(sizeof *sc);
+    core_err err = {{0}};
+    CHECK(sim_scenario_load("scenarios/sfs2_validation.ini", sc, &err) == 0);
+    if (err.msg[0])
+        fprintf(stderr, "%s\n", err.msg);
+    CHECK(strcmp(sc->ship.name, "SFS2") == 0);
+    CHECK(strcmp(sc->aircraft_name, "UH-60A") == 0);
+    CHECK(sc->wod_mode == SIM_WOD_SINGLE);
+    /* 29.16 kt = 15.00 m/s (the seed paper's 54 km/h). */
+    CHECK_NEAR(sc->wod_speed_mps, 15.0, 0.01);
+    CHECK_NEAR(sc->wod_dir_rad, 0.0, 1e-12);
+    CHECK(sc->rotor == SIM_ROTOR_OFF && sc->grid == SIM_GRID_DEFAULT);
+    CHECK_NEAR(sc->station_S_m[2], -6.8, 1e-12);
+
+    CHECK(sim_scenario_load("scenarios/cg47_uh60a.ini", sc, &err) == 0);
+    CHECK(sc->wod_mode == SIM_WOD_SWEEP && sc->n_dirs == 7);
+    CHECK_NEAR(sc->dirs_rad[0], -M_PI / 2, 1e-12);
+    CHECK_NEAR(sc->dirs_rad[6], M_PI / 2, 1e-12);
+    CHECK_NEAR(sc->speed_step_mps, 5.0 / 3.6, 1e-12);
+    CHECK(sc->ship.nblocks >= 5);
+    CHECK(sc->coupling == SIM_COUPLING_TWO_WAY);
+
+    CHECK(sim_scenario_load("scenarios/lpd17_sa365n.ini", sc, &err) == 0);
+    CHECK(strcmp(sc->aircraft_name, "SA365N") == 0);
+    CHECK(strcmp(sc->ship.name, "LPD-17") == 0);
+
+    /* A load failure leaves a message naming the file. */
+    CHECK(sim_scenario_load("tests/sim/bad/typo_key.ini", sc, &err) < 0);
+    CHECK(strstr(err.msg, "typo_key.ini:10:") != NULL);
+    free(sc);
+    return check_done("test_sim");
+}
