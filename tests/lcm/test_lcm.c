@@ -1,0 +1,237 @@
+/* test_lcm.c -- every disim LCM type round-trips through publish/subscribe
+ * over memq:// bit for bit; truncated buffers are refused; the checks of
+ * received messages name the bad field. */
+#include "check.h"
+#include "disim_lcm.h"
+
+#include <lcm/lcm.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* What a handler saw: the received message re-encoded (the encoding covers
+ * every field, so equal bytes mean an exact round trip), plus one field. */
+typedef struct seen {
+    int got;
+    char buf[8192];
+    int len;
+    char channel[64];
+} seen;
+
+/* For type T: a handler that re-encodes, and a round-trip check that
+ * publishes msg, handles it, and compares the bytes with msg's encoding. */
+#define RT_DEFINE(T)                                                                         \
+    static void rt_handler_##T(const lcm_recv_buf_t *rb, const char *ch, const disim_##T *m, \
+                               void *user)                                                   \
+    {                                                                                        \
+        (void)rb;                                                                            \
+        seen *s = user;                                                                      \
+        s->got++;                                                                            \
+        snprintf(s->channel, sizeof s->channel, "%s", ch);                                  \
+        s->len = disim_##T##_encoded_size(m);                                                \
+        if (s->len > (int)sizeof s->buf || disim_##T##_encode(s->buf, 0, s->len, m) < 0)    \
+            s->len = -1;                                                                     \
+    }                                                                                        \
+    static void round_trip_##T(lcm_t *lc, const char *chan, const disim_##T *msg)            \
+    {                                                                                        \
+        seen s = {0};                                                                        \
+        disim_##T##_subscription_t *sub = disim_##T##_subscribe(lc, chan, rt_handler_##T, &s); \
+        CHECK(disim_##T##_publish(lc, chan, msg) == 0);                                      \
+        CHECK(lcm_handle_timeout(lc, 1000) > 0);                                             \
+        CHECK(s.got == 1);                                                                   \
+        CHECK(strcmp(s.channel, chan) == 0);                                                 \
+        int n = disim_##T##_encoded_size(msg);                                               \
+        char *b = malloc(n);                                                                 \
+        CHECK(disim_##T##_encode(b, 0, n, msg) == n);                                        \
+        CHECK(s.len == n && memcmp(b, s.buf, n) == 0);                                       \
+        disim_##T dec;                                                                       \
+        CHECK(disim_##T##_decode(b, 0, n - 1, &dec) < 0); /* truncated: refused */           \
+        CHECK(disim_##T##_decode(b, 0, n, &dec) == n);                                       \
+        disim_##T##_decode_cleanup(&dec);                                                    \
+        free(b);                                                                             \
+        disim_##T##_unsubscribe(lc, sub);                                                    \
+    }
+
+RT_DEFINE(heli_state_t)
+RT_DEFINE(ship_state_t)
+RT_DEFINE(pilot_input_t)
+RT_DEFINE(sim_control_t)
+RT_DEFINE(sim_status_t)
+RT_DEFINE(airwake_request_t)
+RT_DEFINE(airwake_status_t)
+RT_DEFINE(shol_point_t)
+
+/* Distinct values everywhere, so a swapped or dropped field shows. */
+static void fill(double *a, int n, double base)
+{
+    for (int i = 0; i < n; i++)
+        a[i] = base + 0.125 * i;
+}
+
+int main(void)
+{
+    lcm_t *lc = lcm_create("memq://");
+    CHECK(lc != NULL);
+    if (!lc)
+        return check_done("test_lcm");
+
+    disim_heli_state_t h = {0};
+    h.utime = 1234567;
+    h.seq = 42;
+    fill(h.pos_E_m, 3, 1.0);
+    fill(h.vel_E_mps, 3, 2.0);
+    fill(h.pos_S_m, 3, 3.0);
+    fill(h.vel_S_mps, 3, 4.0);
+    double q[4] = {0.9, 0.1, 0.2, 0.3};
+    memcpy(h.quat_EB, q, sizeof q);
+    h.roll_rad = 0.05;
+    h.pitch_rad = 0.06;
+    h.yaw_rad = -1.2;
+    fill(h.rates_B_radps, 3, 0.01);
+    h.collective_pct = 57.1;
+    h.long_cyclic_pct = 48.2;
+    h.lat_cyclic_pct = 51.3;
+    h.pedal_pct = 44.4;
+    h.rotor_thrust_N = 73000.0;
+    h.rotor_power_W = 1.2e6;
+    h.on_deck = 1;
+    double gear[3] = {1000.0, 2000.0, 3000.0};
+    h.n_gear = 3;
+    h.gear_load_N = gear;
+    round_trip_heli_state_t(lc, DISIM_CH_HELI_STATE, &h);
+
+    disim_ship_state_t s = {0};
+    s.utime = 99;
+    s.seq = 7;
+    fill(s.pos_E_m, 3, 10.0);
+    fill(s.vel_E_mps, 3, 5.0);
+    memcpy(s.quat_ES, q, sizeof q);
+    s.roll_rad = 0.02;
+    s.pitch_rad = -0.01;
+    s.yaw_rad = 0.5;
+    fill(s.rates_S_radps, 3, 0.003);
+    fill(s.spot_pos_E_m, 3, 11.0);
+    fill(s.spot_vel_E_mps, 3, 0.3);
+    fill(s.spot_acc_E_mps2, 3, -0.2);
+    round_trip_ship_state_t(lc, DISIM_CH_SHIP_STATE, &s);
+
+    disim_pilot_input_t p = {0};
+    p.utime = 5;
+    p.station_id = "station-1";
+    p.seq = 1001;
+    p.collective_pct = 60;
+    p.long_cyclic_pct = 45;
+    p.lat_cyclic_pct = 52;
+    p.pedal_pct = 38;
+    p.trim_button = 1;
+    round_trip_pilot_input_t(lc, DISIM_CH_PILOT_INPUT, &p);
+
+    disim_sim_control_t c = {0};
+    c.utime = 6;
+    c.seq = 2;
+    c.command = DISIM_SIM_CONTROL_T_LOAD_SCENARIO;
+    c.scenario_path = "scenarios/cg47_uh60a.ini";
+    round_trip_sim_control_t(lc, DISIM_CH_SIM_CONTROL, &c);
+
+    disim_sim_status_t st = {0};
+    char *ids[2] = {"station-1", "station-2"};
+    int64_t last[2] = {1001, 17};
+    st.utime = 7;
+    st.seq = 3;
+    st.sim_time_s = 12.5;
+    st.rate_hz = 199.8;
+    st.real_time_factor = 1.0;
+    st.overruns = 2;
+    st.state = DISIM_SIM_STATUS_T_RUNNING;
+    st.scenario = "cg47_uh60a";
+    st.n_stations = 2;
+    st.station_ids = ids;
+    st.station_last_seq = last;
+    round_trip_sim_status_t(lc, DISIM_CH_SIM_STATUS, &st);
+
+    disim_airwake_request_t rq = {0};
+    rq.utime = 8;
+    rq.seq = 4;
+    rq.request_id = "req-1";
+    rq.ship = "CG-47";
+    rq.aircraft = "UH-60A";
+    rq.wod_speed_mps = 15.0;
+    rq.wod_dir_rad = -0.5235987755982988;
+    rq.rotor = DISIM_AIRWAKE_REQUEST_T_ROTOR_UNIFORM;
+    rq.rotor_thrust_N = 72950.0;
+    fill(rq.station_S_m, 3, -1.0);
+    rq.grid = "default";
+    round_trip_airwake_request_t(lc, DISIM_CH_AIRWAKE_REQUEST, &rq);
+
+    disim_airwake_status_t as = {0};
+    as.utime = 9;
+    as.seq = 5;
+    as.request_id = "req-1";
+    as.ship = "CG-47";
+    as.aircraft = "UH-60A";
+    as.wod_speed_mps = 15.0;
+    as.wod_dir_rad = 0.5;
+    as.state = DISIM_AIRWAKE_STATUS_T_RUNNING;
+    as.progress = 0.37;
+    as.residual = 3.2e-3;
+    as.iterations = 412;
+    as.path = "";
+    as.message = "";
+    round_trip_airwake_status_t(lc, DISIM_CH_AIRWAKE_STATUS, &as);
+
+    disim_shol_point_t sp = {0};
+    sp.utime = 10;
+    sp.seq = 6;
+    sp.ship = "LPD-17";
+    sp.aircraft = "SA365N";
+    sp.wod_speed_mps = 12.5;
+    sp.wod_dir_rad = 0.5;
+    sp.converged = 1;
+    sp.passed = 0;
+    sp.limit = "roll";
+    sp.roll_rad = 0.09;
+    sp.pitch_rad = 0.04;
+    sp.collective_pct = 55;
+    sp.long_cyclic_pct = 50;
+    sp.lat_cyclic_pct = 60;
+    sp.pedal_pct = 70;
+    sp.margin_roll_rad = -0.003;
+    sp.margin_pitch_rad = 0.1;
+    sp.margin_long_pct = 35;
+    sp.margin_lat_pct = 25;
+    sp.margin_coll_pct = 30;
+    sp.margin_pedal_pct = 10;
+    round_trip_shol_point_t(lc, DISIM_CH_SHOL_POINT, &sp);
+
+    /* Checks of received messages. */
+    char err[160];
+    CHECK(disim_lcm_check_pilot_input(&p, err, sizeof err) == 0);
+    p.pedal_pct = 120.0;
+    CHECK(disim_lcm_check_pilot_input(&p, err, sizeof err) < 0);
+    CHECK(strstr(err, "pilot_input_t.pedal_pct = 120") != NULL);
+    p.pedal_pct = 50.0;
+    p.collective_pct = NAN;
+    CHECK(disim_lcm_check_pilot_input(&p, err, sizeof err) < 0);
+    CHECK(strstr(err, "collective_pct") != NULL);
+    p.collective_pct = 50.0;
+    p.station_id = "";
+    CHECK(disim_lcm_check_pilot_input(&p, err, sizeof err) < 0);
+    CHECK(strstr(err, "station_id") != NULL);
+    CHECK(disim_lcm_check_sim_control(&c, err, sizeof err) == 0);
+    c.command = 9;
+    CHECK(disim_lcm_check_sim_control(&c, err, sizeof err) < 0);
+    CHECK(strstr(err, "sim_control_t.command = 9") != NULL);
+    c.command = DISIM_SIM_CONTROL_T_LOAD_SCENARIO;
+    c.scenario_path = "";
+    CHECK(disim_lcm_check_sim_control(&c, err, sizeof err) < 0);
+    CHECK(disim_lcm_check_airwake_request(&rq, err, sizeof err) == 0);
+    rq.wod_speed_mps = -1;
+    CHECK(disim_lcm_check_airwake_request(&rq, err, sizeof err) < 0);
+    CHECK(strstr(err, "wod_speed_mps") != NULL);
+    rq.wod_speed_mps = 10;
+    rq.rotor_thrust_N = 0;
+    CHECK(disim_lcm_check_airwake_request(&rq, err, sizeof err) < 0);
+    CHECK(strstr(err, "rotor_thrust_N") != NULL);
+
+    lcm_destroy(lc);
+    return check_done("test_lcm");
+}
