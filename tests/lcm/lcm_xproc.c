@@ -55,12 +55,14 @@ int main(int argc, char **argv)
         }
     } else {
         rx r = {0, 0};
-        disim_heli_state_t_subscribe(lc, DISIM_CH_HELI_STATE, on_state, &r);
+        disim_heli_state_t_subscription_t *sub =
+            disim_heli_state_t_subscribe(lc, DISIM_CH_HELI_STATE, on_state, &r);
         time_t t0 = time(NULL);
         while (r.next < n && time(NULL) - t0 < 10)
             lcm_handle_timeout(lc, 200);
         printf("lcm_xproc: received %d of %d, %d out of order or wrong\n", r.next, n, r.bad);
         rc = (r.next == n && r.bad == 0) ? 0 : 1;
+        disim_heli_state_t_unsubscribe(lc, sub);
     }
     lcm_destroy(lc);
     return rc;
