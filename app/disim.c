@@ -1,6 +1,7 @@
 /* disim.c -- the disim command: a thin dispatcher over the libraries. Each
  * subcommand parses its flags, calls one library entry point and maps its
  * return code to the exit status (0 ok, 1 bad input or failure). */
+#include "cmds.h"
 #include "core.h"
 #include "sim.h"
 
@@ -40,6 +41,7 @@ static const struct {
 } cmds[] = {
     {"help", cmd_help, "help                      this text"},
     {"check", cmd_check, "check SCENARIO            parse and resolve a scenario, print it"},
+    {"render", cmd_render, "render SCENARIO -o PNG    off-screen deck view (--eye-S, --target-S, --size, --fov-deg)"},
 };
 
 static int cmd_help(int argc, char **argv)
