@@ -1,0 +1,409 @@
+/* awdb.c -- the airwake database: the folder layout, atomic writes, checked
+ * reads, requests. The layout and its crash-safety argument are in awdb.h. */
+#include "awdb_private.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/time.h>
+#include <unistd.h>
+
+int awdb_fmt(char *out, size_t n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int w = vsnprintf(out, n, fmt, ap);
+    va_end(ap);
+    return (w < 0 || (size_t)w >= n) ? -1 : w;
+}
+
+const char *awdb_state_name(awdb_state s)
+{
+    static const char *n[] = {"absent", "queued", "running", "ready", "failed"};
+    return (unsigned)s < 5 ? n[s] : "?";
+}
+
+void awdb_path(const awdb *db, char *out, size_t n, const char *sub, const char *name, const char *ext)
+{
+    awdb_fmt(out, n, "%s/%s/%s%s", db->dir, sub, name, ext);
+}
+
+int awdb_write_atomic(const char *path, const char *text, core_err *err)
+{
+    char tmp[AWDB_PATH + 32];
+    awdb_fmt(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        return core_err_set(err, -1, "%s: cannot create: %s", tmp, strerror(errno));
+    size_t len = strlen(text);
+    int ok = fwrite(text, 1, len, f) == len && fflush(f) == 0 && fsync(fileno(f)) == 0;
+    ok = (fclose(f) == 0) && ok;
+    if (!ok || rename(tmp, path) != 0) {
+        int e = errno;
+        remove(tmp);
+        return core_err_set(err, -1, "%s: cannot write: %s", path, strerror(e));
+    }
+    return 0;
+}
+
+void awdb_key_format(const awdb_key *k, char *buf, size_t n)
+{
+    awdb_fmt(buf, n,
+             "[key]\nship = %s\naircraft = %s\nwod_speed_mps = %.17g\nwod_dir_rad = %.17g\n"
+             "rotor = %d\nthrust_N = %.17g\nstation_S_m = %.17g, %.17g, %.17g\ngrid = %d\n",
+             k->ship, k->aircraft[0] ? k->aircraft : "-", k->wod_speed_mps, k->wod_dir_rad, k->rotor,
+             k->thrust_N, k->station_S_m[0], k->station_S_m[1], k->station_S_m[2], k->grid);
+}
+
+int awdb_key_read(core_ini *ini, awdb_key *k, core_err *err)
+{
+    memset(k, 0, sizeof *k);
+    long rotor = 0, grid = 0;
+    int n = 0, rc;
+    if ((rc = core_ini_get_string(ini, "key", "ship", 1, k->ship, sizeof k->ship, err)) ||
+        (rc = core_ini_get_string(ini, "key", "aircraft", 1, k->aircraft, sizeof k->aircraft, err)) ||
+        (rc = core_ini_get_double(ini, "key", "wod_speed_mps", 1, 0, 100, &k->wod_speed_mps, err)) ||
+        (rc = core_ini_get_double(ini, "key", "wod_dir_rad", 1, -7, 7, &k->wod_dir_rad, err)) ||
+        (rc = core_ini_get_int(ini, "key", "rotor", 1, 0, 2, &rotor, err)) ||
+        (rc = core_ini_get_double(ini, "key", "thrust_N", 1, 0, 1e7, &k->thrust_N, err)) ||
+        (rc = core_ini_get_doubles(ini, "key", "station_S_m", 1, -1000, 1000, k->station_S_m, 3, &n, err)) ||
+        (rc = core_ini_get_int(ini, "key", "grid", 1, 0, 2, &grid, err)))
+        return rc < 0 ? rc : -1;
+    if (n != 3)
+        return core_err_set(err, -1, "%s: [key] station_S_m: expected three numbers", core_ini_path(ini));
+    if (!strcmp(k->aircraft, "-"))
+        k->aircraft[0] = '\0';
+    k->rotor = (int)rotor;
+    k->grid = (int)grid;
+    return 0;
+}
+
+awdb *awdb_open(const char *dir, const core_log *log, core_err *err)
+{
+    if (strlen(dir) > AWDB_PATH - 200) {
+        core_err_set(err, -1, "%s: database path too long", dir);
+        return NULL;
+    }
+    awdb *db = calloc(1, sizeof *db);
+    if (!db) {
+        core_err_set(err, -1, "%s: out of memory", dir);
+        return NULL;
+    }
+    awdb_fmt(db->dir, sizeof db->dir, "%s", dir);
+    db->log = log;
+    pthread_mutex_init(&db->lock, NULL);
+    static const char *subs[] = {"", "fields", "queue", "running", "failed"};
+    for (int i = 0; i < 5; i++) {
+        char p[AWDB_PATH];
+        awdb_fmt(p, sizeof p, "%s/%s", dir, subs[i]);
+        if (mkdir(p, 0777) != 0 && errno != EEXIST) {
+            core_err_set(err, -1, "%s: cannot create folder: %s", p, strerror(errno));
+            awdb_close(db);
+            return NULL;
+        }
+        struct stat st;
+        if (stat(p, &st) != 0 || !S_ISDIR(st.st_mode)) {
+            core_err_set(err, -1, "%s: expected a folder", p);
+            awdb_close(db);
+            return NULL;
+        }
+    }
+    return db;
+}
+
+void awdb_close(awdb *db)
+{
+    if (!db)
+        return;
+    pthread_mutex_destroy(&db->lock);
+    free(db->cache);
+    free(db);
+}
+
+const char *awdb_dir(const awdb *db) { return db->dir; }
+
+/* CRC-64/ECMA-182 in its reflected form (as xz uses): polynomial
+ * 0xC96C5795D7870F42; the table is filled once for all threads. */
+static uint64_t crc_tab[256];
+static pthread_once_t crc_once = PTHREAD_ONCE_INIT;
+
+static void crc_init(void)
+{
+    for (int i = 0; i < 256; i++) {
+        uint64_t c = (uint64_t)i;
+        for (int k = 0; k < 8; k++)
+            c = (c & 1) ? (c >> 1) ^ 0xC96C5795D7870F42ULL : c >> 1;
+        crc_tab[i] = c;
+    }
+}
+
+int awdb_file_crc64(const char *path, uint64_t *crc, uint64_t *size, core_err *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return core_err_set(err, -1, "%s: cannot open: %s", path, strerror(errno));
+    pthread_once(&crc_once, crc_init);
+    const uint64_t *t = crc_tab;
+    uint64_t c = ~0ULL, total = 0;
+    unsigned char buf[1 << 16];
+    size_t got;
+    while ((got = fread(buf, 1, sizeof buf, f)) > 0) {
+        for (size_t i = 0; i < got; i++)
+            c = t[(c ^ buf[i]) & 0xff] ^ (c >> 8);
+        total += got;
+    }
+    int bad = ferror(f);
+    fclose(f);
+    if (bad)
+        return core_err_set(err, -1, "%s: read error", path);
+    *crc = ~c;
+    *size = total;
+    return 0;
+}
+
+/* Field files: NAME.h5 and NAME.sum ([field] size, crc64, then the key). */
+static int read_sum(const char *sum_path, uint64_t *size, uint64_t *crc, awdb_key *key, core_err *err)
+{
+    core_ini *ini = core_ini_load(sum_path, err);
+    if (!ini)
+        return -1;
+    char hex[32];
+    double sz = 0;
+    int rc = core_ini_get_double(ini, "field", "size", 1, 0, 1e15, &sz, err);
+    if (!rc)
+        rc = core_ini_get_string(ini, "field", "crc64", 1, hex, sizeof hex, err);
+    if (!rc && key)
+        rc = awdb_key_read(ini, key, err);
+    else
+        core_ini_skip_section(ini, "key");
+    if (!rc)
+        rc = core_ini_check_unused(ini, err);
+    core_ini_destroy(ini);
+    if (rc)
+        return rc < 0 ? rc : -1;
+    char *end;
+    *crc = strtoull(hex, &end, 16);
+    if (*end || strlen(hex) != 16)
+        return core_err_set(err, -1, "%s: [field] crc64 = '%s': expected 16 hex digits", sum_path, hex);
+    *size = (uint64_t)sz;
+    return 0;
+}
+
+/* 1 if the field is there and its checksum holds (cached by mtime and size),
+ * 0 if absent, -1 if it is there but corrupt or torn. */
+static int verify_field(awdb *db, const char *name, char *path, size_t n)
+{
+    char h5[AWDB_PATH], sum[AWDB_PATH];
+    awdb_path(db, h5, sizeof h5, "fields", name, ".h5");
+    awdb_path(db, sum, sizeof sum, "fields", name, ".sum");
+    struct stat sh, ss;
+    int have_h5 = stat(h5, &sh) == 0, have_sum = stat(sum, &ss) == 0;
+    if (!have_h5 && !have_sum)
+        return 0;
+    if (!have_h5 || !have_sum) {
+        core_log_msg(db->log, CORE_LOG_WARN, "%s: %s without its %s: a torn write", name,
+                     have_h5 ? ".h5" : ".sum", have_h5 ? ".sum" : ".h5");
+        return -1;
+    }
+    long long mt = (long long)sh.st_mtim.tv_sec * 1000000000LL + sh.st_mtim.tv_nsec;
+    pthread_mutex_lock(&db->lock);
+    for (size_t i = 0; i < db->ncache; i++)
+        if (!strcmp(db->cache[i].name, name) && db->cache[i].mtime_ns == mt &&
+            db->cache[i].size == (long long)sh.st_size) {
+            pthread_mutex_unlock(&db->lock);
+            if (path)
+                awdb_fmt(path, n, "%s", h5);
+            return 1;
+        }
+    pthread_mutex_unlock(&db->lock);
+    core_err err = {{0}};
+    uint64_t want_size, want_crc, size, crc;
+    if (read_sum(sum, &want_size, &want_crc, NULL, &err) != 0) {
+        core_log_msg(db->log, CORE_LOG_WARN, "%s", err.msg);
+        return -1;
+    }
+    if (awdb_file_crc64(h5, &crc, &size, &err) != 0) {
+        core_log_msg(db->log, CORE_LOG_WARN, "%s", err.msg);
+        return -1;
+    }
+    if (size != want_size || crc != want_crc) {
+        core_log_msg(db->log, CORE_LOG_WARN,
+                     "%s: checksum mismatch (size %llu, crc %016llx; expected %llu, %016llx)", h5,
+                     (unsigned long long)size, (unsigned long long)crc,
+                     (unsigned long long)want_size, (unsigned long long)want_crc);
+        return -1;
+    }
+    pthread_mutex_lock(&db->lock);
+    if (db->ncache == db->capcache) {
+        size_t cap = db->capcache ? 2 * db->capcache : 64;
+        struct verified *c = realloc(db->cache, cap * sizeof *c);
+        if (c) {
+            db->cache = c;
+            db->capcache = cap;
+        }
+    }
+    if (db->ncache < db->capcache) {
+        struct verified *v = &db->cache[db->ncache++];
+        awdb_fmt(v->name, sizeof v->name, "%s", name);
+        v->mtime_ns = mt;
+        v->size = (long long)sh.st_size;
+    }
+    pthread_mutex_unlock(&db->lock);
+    if (path)
+        awdb_fmt(path, n, "%s", h5);
+    return 1;
+}
+
+/* 1 if queue/ holds a request for name (file SEQ-NAME.req). */
+static int in_queue(const awdb *db, const char *name)
+{
+    char q[AWDB_PATH];
+    awdb_fmt(q, sizeof q, "%s/queue", db->dir);
+    DIR *d = opendir(q);
+    if (!d)
+        return 0;
+    struct dirent *e;
+    int found = 0;
+    size_t ln = strlen(name);
+    while (!found && (e = readdir(d))) {
+        const char *dash = strchr(e->d_name, '-');
+        size_t l = strlen(e->d_name);
+        if (dash && l > 4 && !strcmp(e->d_name + l - 4, ".req") && (size_t)(l - 4 - (dash + 1 - e->d_name)) == ln &&
+            !strncmp(dash + 1, name, ln))
+            found = 1;
+    }
+    closedir(d);
+    return found;
+}
+
+static int exists(const char *p)
+{
+    struct stat st;
+    return stat(p, &st) == 0;
+}
+
+awdb_state awdb_query(awdb *db, const awdb_key *key, char *path, size_t n)
+{
+    char name[200], p[AWDB_PATH];
+    awdb_key_name(key, name, sizeof name);
+    int v = verify_field(db, name, path, n);
+    if (v > 0)
+        return AWDB_READY;
+    awdb_path(db, p, sizeof p, "running", name, ".req");
+    int running = exists(p);
+    if (v < 0 && !running) {
+        /* Corrupt or torn, and nobody is writing it: remove it so it is rebuilt. */
+        char h5[AWDB_PATH], sum[AWDB_PATH];
+        awdb_path(db, h5, sizeof h5, "fields", name, ".h5");
+        awdb_path(db, sum, sizeof sum, "fields", name, ".sum");
+        remove(sum);
+        remove(h5);
+        core_log_msg(db->log, CORE_LOG_WARN, "%s: removed a corrupt field; it will be rebuilt", name);
+    }
+    if (running)
+        return AWDB_RUNNING;
+    if (in_queue(db, name))
+        return AWDB_QUEUED;
+    awdb_path(db, p, sizeof p, "failed", name, ".txt");
+    if (exists(p))
+        return AWDB_FAILED;
+    return AWDB_ABSENT;
+}
+
+int awdb_submit(awdb *db, const awdb_key *key_in, awdb_state *state, core_err *err)
+{
+    awdb_key key = *key_in;
+    int rc = awdb_key_canon(&key, err);
+    if (rc)
+        return rc;
+    awdb_state s = awdb_query(db, &key, NULL, 0);
+    if (state)
+        *state = s;
+    if (s == AWDB_READY || s == AWDB_QUEUED || s == AWDB_RUNNING)
+        return 0;
+    char name[200], p[AWDB_PATH], seq[64], text[1024];
+    awdb_key_name(&key, name, sizeof name);
+    if (s == AWDB_FAILED) {
+        awdb_path(db, p, sizeof p, "failed", name, ".txt");
+        remove(p);
+    }
+    /* Queue order is the file-name order: microseconds since the epoch, then pid. */
+    struct timeval tv;
+    gettimeofday(&tv, NULL);
+    awdb_fmt(seq, sizeof seq, "%016llx%06lx-", (unsigned long long)tv.tv_sec * 1000000ULL + tv.tv_usec,
+             (unsigned long)getpid() & 0xffffff);
+    char file[300];
+    awdb_fmt(file, sizeof file, "%s%s", seq, name);
+    awdb_path(db, p, sizeof p, "queue", file, ".req");
+    awdb_key_format(&key, text, sizeof text);
+    return awdb_write_atomic(p, text, err);
+}
+
+int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
+{
+    char dirp[AWDB_PATH];
+    awdb_fmt(dirp, sizeof dirp, "%s/fields", db->dir);
+    DIR *d = opendir(dirp);
+    if (!d)
+        return 1;
+    core_vec3 w = core_wod_vel_S_mps(key->wod_speed_mps, key->wod_dir_rad);
+    double best = INFINITY;
+    char best_name[256] = "";
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        size_t l = strlen(e->d_name);
+        if (l < 5 || strcmp(e->d_name + l - 4, ".sum") || e->d_name[0] == '.')
+            continue;
+        char sum[AWDB_PATH + 300], stem[256];
+        awdb_fmt(sum, sizeof sum, "%s/%s", dirp, e->d_name);
+        awdb_fmt(stem, sizeof stem, "%.*s", (int)(l - 4), e->d_name);
+        awdb_key k;
+        uint64_t sz, crc;
+        core_err err;
+        if (read_sum(sum, &sz, &crc, &k, &err) != 0)
+            continue;
+        if (strcmp(k.ship, key->ship) || strcmp(k.aircraft, key->aircraft) || k.rotor != key->rotor ||
+            k.grid != key->grid)
+            continue;
+        core_vec3 wk = core_wod_vel_S_mps(k.wod_speed_mps, k.wod_dir_rad);
+        double dist = core_vec3_norm(core_vec3_sub(w, wk));
+        if (dist < best) {
+            best = dist;
+            awdb_fmt(best_name, sizeof best_name, "%s", stem);
+        }
+    }
+    closedir(d);
+    if (!best_name[0])
+        return 1;
+    return verify_field(db, best_name, path, n) > 0 ? 0 : 1;
+}
+
+static int count_dir(const awdb *db, const char *sub)
+{
+    char p[AWDB_PATH];
+    awdb_fmt(p, sizeof p, "%s/%s", db->dir, sub);
+    DIR *d = opendir(p);
+    if (!d)
+        return 0;
+    int c = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        size_t l = strlen(e->d_name);
+        if (l > 4 && !strcmp(e->d_name + l - 4, ".req"))
+            c++;
+    }
+    closedir(d);
+    return c;
+}
+
+int awdb_pending(awdb *db, int *queued, int *running)
+{
+    *queued = count_dir(db, "queue");
+    *running = count_dir(db, "running");
+    return 0;
+}

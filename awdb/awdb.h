@@ -1,0 +1,130 @@
+/*
+ * awdb.h -- the airwake database and its background builder.
+ *
+ * A database is a folder:
+ *   fields/NAME.h5      finished fields, each with NAME.sum (size and CRC-64
+ *                       of the field file); an entry counts only when both are
+ *                       there and agree, so a torn write is never read
+ *   queue/SEQ-NAME.req  requests waiting (one small INI file each)
+ *   running/NAME.req    requests a builder has claimed (rename is the claim)
+ *   failed/NAME.txt     requests that failed, with the reason
+ *   builder.lock        flock()ed by the one running builder
+ * Every file is written to a temporary name and renamed into place, so a
+ * crash or kill at any instant leaves the database consistent; a restarted
+ * builder returns running/ requests to the queue and removes stray
+ * temporaries. Fields are keyed by ship, aircraft, WOD, rotor mode, thrust,
+ * rotor station and grid (awdb_key). Several clients (disim shol, disim
+ * airwake --queue, LCM requests relayed by the builder) share one database;
+ * a key is built once however many ask for it.
+ */
+#ifndef DISIM_AWDB_H
+#define DISIM_AWDB_H
+
+#include "core.h"
+
+#include <signal.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum { AWDB_ROTOR_OFF = 0, AWDB_ROTOR_UNIFORM = 1, AWDB_ROTOR_LOADED = 2 };
+enum { AWDB_GRID_COARSE = 0, AWDB_GRID_DEFAULT = 1, AWDB_GRID_FINE = 2 };
+
+/* What a field is. Values are rounded by awdb_key_canon (speed 0.01 m/s,
+ * direction 0.01 deg, thrust 1 N, station 1 cm) so that equal requests
+ * compare equal. */
+typedef struct awdb_key {
+    char ship[32];
+    char aircraft[32];     /* "" for a ship-only field */
+    double wod_speed_mps;
+    double wod_dir_rad;
+    int rotor;             /* AWDB_ROTOR_* */
+    double thrust_N;       /* 0 with the rotor off */
+    double station_S_m[3]; /* rotor hub in S */
+    int grid;              /* AWDB_GRID_* */
+} awdb_key;
+
+typedef enum {
+    AWDB_ABSENT = 0,
+    AWDB_QUEUED = 1,
+    AWDB_RUNNING = 2,
+    AWDB_READY = 3,
+    AWDB_FAILED = 4,
+} awdb_state;
+
+const char *awdb_state_name(awdb_state s);
+
+/* Round a key's values to their canonical resolution; checks names and
+ * ranges: returns < 0 with err naming the field. */
+int awdb_key_canon(awdb_key *key, core_err *err);
+/* File stem for a canonical key: readable parts and a 64-bit hash of all. */
+void awdb_key_name(const awdb_key *key, char *buf, size_t n);
+
+typedef struct awdb awdb;
+
+/* Open (creating the folders if needed). NULL with err on failure. */
+awdb *awdb_open(const char *dir, const core_log *log, core_err *err);
+void awdb_close(awdb *db);
+const char *awdb_dir(const awdb *db);
+
+/* State of a key. READY only after the field's checksum was verified; a
+ * field whose checksum fails is removed (logged) and reported ABSENT. With
+ * path != NULL, READY fills the field's path. */
+awdb_state awdb_query(awdb *db, const awdb_key *key, char *path, size_t n);
+/* Ask for a key: if it is not READY, QUEUED or RUNNING, queue it (a FAILED
+ * one is queued again). *state gets the state before the call. 0 or < 0. */
+int awdb_submit(awdb *db, const awdb_key *key, awdb_state *state, core_err *err);
+/* The finished field nearest to key for a warm start (same ship, aircraft,
+ * rotor mode and grid; distance in WOD velocity). 0 with path, 1 if none. */
+int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n);
+/* Number of requests queued and running. */
+int awdb_pending(awdb *db, int *queued, int *running);
+
+/* CRC-64 (ECMA-182) of a file; 0 or < 0 with err. */
+int awdb_file_crc64(const char *path, uint64_t *crc, uint64_t *size, core_err *err);
+
+/* ---------------------------------------------------------------- builder */
+/* Progress of one build: fraction done, normalised residual, iteration.
+ * Returns non-zero to ask the engine to stop. */
+typedef int (*awdb_progress_fn)(void *user, double frac, double residual, int iter);
+
+/* A CFD engine (embedded solver, OpenFOAM): build the field for key into
+ * out_path (a temporary name in fields/), warm-starting from warm_path when
+ * not NULL. Returns 0 ok, non-zero failed with err set. */
+typedef struct awdb_engine {
+    const char *name;
+    int (*build)(void *user, const awdb_key *key, const char *warm_path, const char *out_path,
+                 awdb_progress_fn progress, void *progress_user, core_err *err);
+    void *user;
+} awdb_engine;
+
+/* A change of state of a request, for the LCM status messages. */
+typedef void (*awdb_status_fn)(void *user, const awdb_key *key, awdb_state state, double frac,
+                               double residual, int iter, const char *path, const char *message);
+
+typedef struct awdb_builder_opts {
+    int jobs;               /* builds at once (>= 1) */
+    int exit_when_idle;     /* return once the queue is empty and nothing runs */
+    double poll_s;          /* queue scan interval */
+    awdb_status_fn status;  /* may be NULL */
+    void *status_user;
+    /* Called between scans from the builder's thread (e.g. to handle LCM
+     * requests); may be NULL. */
+    void (*idle)(void *user);
+    void *idle_user;
+} awdb_builder_opts;
+
+/* Run the builder on db until *stop becomes non-zero (or the queue empties
+ * with exit_when_idle). Takes builder.lock (a second builder on the same
+ * folder fails with an error naming the first one's pid), recovers from a
+ * previous crash, then builds requests in submission order. */
+int awdb_builder_run(awdb *db, const awdb_engine *engine, const awdb_builder_opts *opts,
+                     volatile sig_atomic_t *stop, core_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,323 @@
+/* builder.c -- the background airwake builder: claims queued requests (a
+ * hard link into running/ is the claim, so two claimers cannot both win),
+ * runs up to `jobs` CFD builds at once in threads, commits each field
+ * atomically (checksum file prepared, field renamed, checksum renamed), and
+ * recovers from a crash by returning running/ requests to the front of the
+ * queue and removing stray temporaries. */
+#include "awdb_private.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+typedef struct job {
+    struct builder *b;
+    pthread_t thread;
+    int active, done;
+    awdb_key key;
+    char name[200];
+} job;
+
+typedef struct builder {
+    awdb *db;
+    const awdb_engine *engine;
+    const awdb_builder_opts *opts;
+    volatile sig_atomic_t *stop;
+    pthread_mutex_t status_lock; /* one status callback at a time */
+    job *jobs;
+} builder;
+
+static void status(builder *b, const awdb_key *k, awdb_state s, double frac, double res, int it,
+                   const char *path, const char *msg)
+{
+    if (!b->opts->status)
+        return;
+    pthread_mutex_lock(&b->status_lock);
+    b->opts->status(b->opts->status_user, k, s, frac, res, it, path, msg);
+    pthread_mutex_unlock(&b->status_lock);
+}
+
+typedef struct prog {
+    job *j;
+    struct timespec last;
+} prog;
+
+static int on_progress(void *user, double frac, double residual, int iter)
+{
+    prog *p = user;
+    builder *b = p->j->b;
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    /* Status at most twice a second: enough for a display, light on LCM. */
+    if ((now.tv_sec - p->last.tv_sec) * 1e9 + (now.tv_nsec - p->last.tv_nsec) > 5e8) {
+        p->last = now;
+        status(b, &p->j->key, AWDB_RUNNING, frac, residual, iter, "", "");
+    }
+    return *b->stop != 0;
+}
+
+static int commit(awdb *db, const awdb_key *k, const char *name, const char *tmp, core_err *err)
+{
+    uint64_t crc, size;
+    int rc = awdb_file_crc64(tmp, &crc, &size, err);
+    if (rc)
+        return rc;
+    char text[1400], key[1024], sum[AWDB_PATH], sumtmp[AWDB_PATH + 8], h5[AWDB_PATH];
+    awdb_key_format(k, key, sizeof key);
+    awdb_fmt(text, sizeof text, "[field]\nsize = %llu\ncrc64 = %016llx\n\n%s", (unsigned long long)size,
+             (unsigned long long)crc, key);
+    awdb_path(db, sum, sizeof sum, "fields", name, ".sum");
+    awdb_path(db, h5, sizeof h5, "fields", name, ".h5");
+    awdb_fmt(sumtmp, sizeof sumtmp, "%s.part", sum);
+    /* The .sum is written under a temporary name first; the entry becomes
+     * valid only with the final rename, after the field is in place. */
+    if ((rc = awdb_write_atomic(sumtmp, text, err)))
+        return rc;
+    if (rename(tmp, h5) != 0 || rename(sumtmp, sum) != 0) {
+        int e = errno;
+        remove(sumtmp);
+        return core_err_set(err, -1, "%s: cannot commit: %s", h5, strerror(e));
+    }
+    return 0;
+}
+
+static void *run_job(void *arg)
+{
+    job *j = arg;
+    builder *b = j->b;
+    awdb *db = b->db;
+    char running[AWDB_PATH], tmp[AWDB_PATH + 64], warm[AWDB_PATH], path[AWDB_PATH];
+    awdb_path(db, running, sizeof running, "running", j->name, ".req");
+    awdb_fmt(tmp, sizeof tmp, "%s/fields/.tmp-%s.h5", db->dir, j->name);
+    core_err err = {{0}};
+    if (awdb_query(db, &j->key, path, sizeof path) == AWDB_READY) {
+        /* Built by someone else since it was queued (or before a crash). */
+        remove(running);
+        status(b, &j->key, AWDB_READY, 1.0, 0.0, 0, path, "");
+        j->done = 1;
+        return NULL;
+    }
+    const char *warm_path = awdb_nearest(db, &j->key, warm, sizeof warm) == 0 ? warm : NULL;
+    core_log_msg(db->log, CORE_LOG_INFO, "building %s%s%s", j->name, warm_path ? " from " : "",
+                 warm_path ? warm_path : "");
+    status(b, &j->key, AWDB_RUNNING, 0.0, 0.0, 0, "", "");
+    prog p = {j, {0, 0}};
+    remove(tmp);
+    int rc = b->engine->build(b->engine->user, &j->key, warm_path, tmp, on_progress, &p, &err);
+    if (rc == 0 && !*b->stop)
+        rc = commit(db, &j->key, j->name, tmp, &err);
+    remove(tmp);
+    if (*b->stop && rc != 0) {
+        /* Stopped, not failed: back to the front of the queue. */
+        char q[AWDB_PATH + 300], file[300];
+        awdb_fmt(file, sizeof file, "0000000000000000000000-%s", j->name);
+        awdb_path(db, q, sizeof q, "queue", file, ".req");
+        rename(running, q);
+        status(b, &j->key, AWDB_QUEUED, 0.0, 0.0, 0, "", "builder stopped");
+    } else if (rc != 0) {
+        char failed[AWDB_PATH], text[1200];
+        awdb_path(db, failed, sizeof failed, "failed", j->name, ".txt");
+        awdb_fmt(text, sizeof text, "%s\n", err.msg[0] ? err.msg : "engine failed");
+        awdb_write_atomic(failed, text, NULL);
+        remove(running);
+        core_log_msg(db->log, CORE_LOG_ERROR, "%s failed: %s", j->name, err.msg);
+        status(b, &j->key, AWDB_FAILED, 0.0, 0.0, 0, "", err.msg);
+    } else {
+        remove(running);
+        awdb_path(db, path, sizeof path, "fields", j->name, ".h5");
+        core_log_msg(db->log, CORE_LOG_INFO, "ready %s", path);
+        status(b, &j->key, AWDB_READY, 1.0, 0.0, 0, path, "");
+    }
+    j->done = 1;
+    return NULL;
+}
+
+/* After a crash: running/ back to the front of the queue, temporaries out. */
+static void recover(awdb *db)
+{
+    char p[AWDB_PATH];
+    awdb_fmt(p, sizeof p, "%s/running", db->dir);
+    DIR *d = opendir(p);
+    struct dirent *e;
+    while (d && (e = readdir(d))) {
+        size_t l = strlen(e->d_name);
+        if (l < 5 || strcmp(e->d_name + l - 4, ".req"))
+            continue;
+        char from[AWDB_PATH + 300], to[AWDB_PATH + 300];
+        awdb_fmt(from, sizeof from, "%s/%s", p, e->d_name);
+        awdb_fmt(to, sizeof to, "%s/queue/0000000000000000000000-%s", db->dir, e->d_name);
+        if (rename(from, to) == 0)
+            core_log_msg(db->log, CORE_LOG_INFO, "requeued %s (interrupted build)", e->d_name);
+    }
+    if (d)
+        closedir(d);
+    static const char *subs[] = {"fields", "queue", "failed"};
+    for (int i = 0; i < 3; i++) {
+        awdb_fmt(p, sizeof p, "%s/%s", db->dir, subs[i]);
+        d = opendir(p);
+        while (d && (e = readdir(d))) {
+            if (strncmp(e->d_name, ".tmp-", 5) && !strstr(e->d_name, ".tmp") && !strstr(e->d_name, ".part"))
+                continue;
+            char f[AWDB_PATH + 300];
+            awdb_fmt(f, sizeof f, "%s/%s", p, e->d_name);
+            remove(f);
+            core_log_msg(db->log, CORE_LOG_INFO, "removed temporary %s", f);
+        }
+        if (d)
+            closedir(d);
+    }
+}
+
+static int cmp_str(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
+
+/* Claim the oldest queued request: 1 with *j filled, 0 if the queue is empty. */
+static int claim(builder *b, job *j)
+{
+    awdb *db = b->db;
+    char qdir[AWDB_PATH];
+    awdb_fmt(qdir, sizeof qdir, "%s/queue", db->dir);
+    DIR *d = opendir(qdir);
+    if (!d)
+        return 0;
+    char **names = NULL;
+    size_t n = 0, cap = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        size_t l = strlen(e->d_name);
+        if (l < 5 || strcmp(e->d_name + l - 4, ".req") || e->d_name[0] == '.' || !strchr(e->d_name, '-'))
+            continue;
+        if (n == cap) {
+            cap = cap ? 2 * cap : 32;
+            char **nn = realloc(names, cap * sizeof *nn);
+            if (!nn)
+                break;
+            names = nn;
+        }
+        names[n++] = strdup(e->d_name);
+    }
+    closedir(d);
+    qsort(names, n, sizeof *names, cmp_str);
+    int got = 0;
+    for (size_t i = 0; i < n && !got; i++) {
+        if (!names[i])
+            continue;
+        char q[AWDB_PATH + 300], run[AWDB_PATH + 300];
+        awdb_fmt(q, sizeof q, "%s/%s", qdir, names[i]);
+        const char *stem = strchr(names[i], '-') + 1;
+        awdb_fmt(j->name, sizeof j->name, "%.*s", (int)(strlen(stem) - 4), stem);
+        awdb_path(db, run, sizeof run, "running", j->name, ".req");
+        core_ini *ini = NULL;
+        core_err err = {{0}};
+        if (link(q, run) != 0) {
+            /* Already running: this is a duplicate request. */
+            if (errno == EEXIST)
+                remove(q);
+            continue;
+        }
+        remove(q);
+        ini = core_ini_load(run, &err);
+        int rc = ini ? awdb_key_read(ini, &j->key, &err) : -1;
+        if (!rc)
+            rc = core_ini_check_unused(ini, &err);
+        core_ini_destroy(ini);
+        char check[200];
+        if (!rc) {
+            awdb_key_name(&j->key, check, sizeof check);
+            if (strcmp(check, j->name))
+                rc = core_err_set(&err, -1, "%s: the key does not match the file name", run);
+        }
+        if (rc) {
+            char failed[AWDB_PATH], text[1200];
+            awdb_path(db, failed, sizeof failed, "failed", j->name, ".txt");
+            awdb_fmt(text, sizeof text, "corrupt request: %s\n", err.msg);
+            awdb_write_atomic(failed, text, NULL);
+            remove(run);
+            core_log_msg(db->log, CORE_LOG_ERROR, "corrupt request %s: %s", names[i], err.msg);
+            continue;
+        }
+        got = 1;
+    }
+    for (size_t i = 0; i < n; i++)
+        free(names[i]);
+    free(names);
+    return got;
+}
+
+int awdb_builder_run(awdb *db, const awdb_engine *engine, const awdb_builder_opts *opts,
+                     volatile sig_atomic_t *stop, core_err *err)
+{
+    if (opts->jobs < 1 || opts->jobs > 256)
+        return core_err_set(err, -1, "builder: jobs = %d: expected 1 to 256", opts->jobs);
+    char lockp[AWDB_PATH];
+    awdb_fmt(lockp, sizeof lockp, "%s/builder.lock", db->dir);
+    int fd = open(lockp, O_RDWR | O_CREAT, 0666);
+    if (fd < 0)
+        return core_err_set(err, -1, "%s: cannot open: %s", lockp, strerror(errno));
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        char pid[32] = "";
+        ssize_t r = read(fd, pid, sizeof pid - 1);
+        pid[r > 0 ? r : 0] = '\0';
+        close(fd);
+        return core_err_set(err, -1, "%s: another builder (pid %s) already serves this database",
+                            db->dir, pid[0] ? strtok(pid, "\n") : "?");
+    }
+    char pid[32];
+    int pl = awdb_fmt(pid, sizeof pid, "%ld\n", (long)getpid());
+    if (ftruncate(fd, 0) != 0 || write(fd, pid, pl) != pl)
+        core_log_msg(db->log, CORE_LOG_WARN, "%s: cannot record the pid", lockp);
+    recover(db);
+
+    builder b = {db, engine, opts, stop, PTHREAD_MUTEX_INITIALIZER, NULL};
+    b.jobs = calloc(opts->jobs, sizeof *b.jobs);
+    if (!b.jobs) {
+        close(fd);
+        return core_err_set(err, -1, "builder: out of memory");
+    }
+    int rc = 0;
+    for (;;) {
+        int active = 0;
+        for (int i = 0; i < opts->jobs; i++) {
+            job *j = &b.jobs[i];
+            if (j->active && j->done) {
+                pthread_join(j->thread, NULL);
+                j->active = 0;
+            }
+            if (!j->active && !*stop) {
+                memset(j, 0, sizeof *j);
+                j->b = &b;
+                if (claim(&b, j)) {
+                    status(&b, &j->key, AWDB_QUEUED, 0, 0, 0, "", "");
+                    if (pthread_create(&j->thread, NULL, run_job, j) != 0) {
+                        rc = core_err_set(err, -1, "builder: cannot start a thread");
+                        *stop = 1;
+                    } else
+                        j->active = 1;
+                }
+            }
+            active += j->active;
+        }
+        if (active == 0 && (*stop || opts->exit_when_idle)) {
+            int q, r;
+            awdb_pending(db, &q, &r);
+            if (*stop || q == 0)
+                break;
+        }
+        if (opts->idle)
+            opts->idle(opts->idle_user);
+        struct timespec ts = {(time_t)opts->poll_s, (long)((opts->poll_s - (time_t)opts->poll_s) * 1e9)};
+        if (ts.tv_sec == 0 && ts.tv_nsec < 1000000)
+            ts.tv_nsec = 1000000;
+        nanosleep(&ts, NULL);
+    }
+    free(b.jobs);
+    pthread_mutex_destroy(&b.status_lock);
+    flock(fd, LOCK_UN);
+    close(fd);
+    return rc;
+}

@@ -1,0 +1,77 @@
+/* key.c -- canonical airwake keys and their file names. Two requests for the
+ * same condition must map to one file, so values are rounded to what matters
+ * physically (0.01 m/s, 0.01 deg, 1 N, 1 cm) before naming and hashing. */
+#include "awdb_private.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static double round_to(double v, double q) { return q * nearbyint(v / q); }
+
+static int name_ok(const char *s, int allow_empty)
+{
+    size_t n = strlen(s);
+    if (n == 0)
+        return allow_empty;
+    for (size_t i = 0; i < n; i++)
+        if (!isalnum((unsigned char)s[i]) && s[i] != '-' && s[i] != '_' && s[i] != '.')
+            return 0;
+    return 1;
+}
+
+int awdb_key_canon(awdb_key *k, core_err *err)
+{
+    if (!name_ok(k->ship, 0))
+        return core_err_set(err, -1, "airwake key: ship '%s': expected letters, digits, '-', '_' or '.'", k->ship);
+    if (!name_ok(k->aircraft, 1))
+        return core_err_set(err, -1, "airwake key: aircraft '%s': expected letters, digits, '-', '_' or '.'", k->aircraft);
+    if (!isfinite(k->wod_speed_mps) || k->wod_speed_mps < 0.0 || k->wod_speed_mps > 100.0)
+        return core_err_set(err, -1, "airwake key: wod_speed_mps = %g: expected 0 to 100", k->wod_speed_mps);
+    if (!isfinite(k->wod_dir_rad))
+        return core_err_set(err, -1, "airwake key: wod_dir_rad: expected a finite angle");
+    if (k->rotor < AWDB_ROTOR_OFF || k->rotor > AWDB_ROTOR_LOADED)
+        return core_err_set(err, -1, "airwake key: rotor = %d: expected 0 (off), 1 (uniform) or 2 (loaded)", k->rotor);
+    if (k->grid < AWDB_GRID_COARSE || k->grid > AWDB_GRID_FINE)
+        return core_err_set(err, -1, "airwake key: grid = %d: expected 0 (coarse), 1 (default) or 2 (fine)", k->grid);
+    if (k->rotor != AWDB_ROTOR_OFF && !(isfinite(k->thrust_N) && k->thrust_N > 0.0))
+        return core_err_set(err, -1, "airwake key: thrust_N = %g: expected a positive thrust with the rotor on", k->thrust_N);
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(k->station_S_m[i]) || fabs(k->station_S_m[i]) > 1000.0)
+            return core_err_set(err, -1, "airwake key: station_S_m[%d] = %g: expected -1000 to 1000 m", i, k->station_S_m[i]);
+    k->wod_speed_mps = round_to(k->wod_speed_mps, 0.01);
+    double d = core_wod_wrap_deg(k->wod_dir_rad * CORE_RAD_TO_DEG);
+    d = core_wod_wrap_deg(round_to(d, 0.01));
+    k->wod_dir_rad = d * CORE_DEG_TO_RAD;
+    if (k->rotor == AWDB_ROTOR_OFF) {
+        /* A ship-only field does not depend on the helicopter. */
+        k->thrust_N = 0.0;
+        k->aircraft[0] = '\0';
+        k->station_S_m[0] = k->station_S_m[1] = k->station_S_m[2] = 0.0;
+    } else {
+        k->thrust_N = round_to(k->thrust_N, 1.0);
+        for (int i = 0; i < 3; i++)
+            k->station_S_m[i] = round_to(k->station_S_m[i], 0.01) + 0.0; /* no -0 */
+    }
+    return 0;
+}
+
+void awdb_key_name(const awdb_key *k, char *buf, size_t n)
+{
+    static const char *rotor[] = {"off", "uniform", "loaded"};
+    static const char *grid[] = {"coarse", "default", "fine"};
+    char text[256];
+    double dir_deg = k->wod_dir_rad * CORE_RAD_TO_DEG;
+    awdb_fmt(text, sizeof text, "%s|%s|%.2f|%.2f|%d|%.0f|%.2f|%.2f|%.2f|%d", k->ship, k->aircraft,
+             k->wod_speed_mps, dir_deg, k->rotor, k->thrust_N, k->station_S_m[0],
+             k->station_S_m[1], k->station_S_m[2], k->grid);
+    uint64_t h = 1469598103934665603ULL; /* FNV-1a 64 */
+    for (const char *p = text; *p; p++) {
+        h ^= (unsigned char)*p;
+        h *= 1099511628211ULL;
+    }
+    awdb_fmt(buf, n, "%s_%s_v%05.2f_d%+07.2f_%s_%s_%016llx", k->ship,
+             k->aircraft[0] ? k->aircraft : "shiponly", k->wod_speed_mps, dir_deg,
+             rotor[k->rotor], grid[k->grid], (unsigned long long)h);
+}

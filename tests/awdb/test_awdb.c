@@ -1,0 +1,301 @@
+/* test_awdb.c -- the airwake database and builder: canonical keys, CRC-64,
+ * one build per key however often it is asked for, corrupt and torn fields
+ * detected and rebuilt, warm starts from the nearest field, failures kept
+ * with their reason, a second builder refused, and a builder killed with
+ * SIGKILL mid-build leaving a consistent database that a restart finishes.
+ * The engine here is a test engine that writes a small file derived from the
+ * key (the real CFD engine is exercised by the cfd tests); what is under test
+ * is the database's bookkeeping. */
+#include "awdb.h"
+#include "check.h"
+
+#include <dirent.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+typedef struct test_engine {
+    int builds;
+    int fail_speed_cmps; /* fail when the speed (cm/s) equals this */
+    double sleep_s;      /* per build, in steps, to be killed in the middle */
+    char last_warm[1024];
+} test_engine;
+
+static int te_build(void *user, const awdb_key *k, const char *warm, const char *out,
+                    awdb_progress_fn progress, void *pu, core_err *err)
+{
+    test_engine *te = user;
+    te->builds++;
+    snprintf(te->last_warm, sizeof te->last_warm, "%s", warm ? warm : "");
+    if ((int)(k->wod_speed_mps * 100 + 0.5) == te->fail_speed_cmps)
+        return core_err_set(err, -1, "diverged at iteration 17 (test)");
+    FILE *f = fopen(out, "w");
+    if (!f)
+        return core_err_set(err, -1, "%s: cannot write", out);
+    for (int i = 0; i < 10; i++) {
+        fprintf(f, "%s %.2f %.4f step %d\n", k->ship, k->wod_speed_mps, k->wod_dir_rad, i);
+        fflush(f);
+        if (te->sleep_s > 0) {
+            struct timespec ts = {0, (long)(te->sleep_s / 10 * 1e9)};
+            nanosleep(&ts, NULL);
+        }
+        if (progress(pu, (i + 1) / 10.0, 1e-3 / (i + 1), i))
+            break;
+    }
+    fclose(f);
+    return 0;
+}
+
+static awdb_key key(double v, double dir_deg)
+{
+    awdb_key k;
+    memset(&k, 0, sizeof k);
+    snprintf(k.ship, sizeof k.ship, "CG-47");
+    snprintf(k.aircraft, sizeof k.aircraft, "UH-60A");
+    k.wod_speed_mps = v;
+    k.wod_dir_rad = dir_deg * CORE_DEG_TO_RAD;
+    k.rotor = AWDB_ROTOR_UNIFORM;
+    k.thrust_N = 72950.4;
+    k.station_S_m[2] = -6.0;
+    k.grid = AWDB_GRID_COARSE;
+    return k;
+}
+
+static int count(const char *dir, const char *sub, const char *suffix)
+{
+    char p[1024];
+    snprintf(p, sizeof p, "%s/%s", dir, sub);
+    DIR *d = opendir(p);
+    int c = 0;
+    struct dirent *e;
+    while (d && (e = readdir(d))) {
+        size_t l = strlen(e->d_name), s = strlen(suffix);
+        if (e->d_name[0] != '.' && l >= s && !strcmp(e->d_name + l - s, suffix))
+            c++;
+        if (!strncmp(e->d_name, ".tmp", 4))
+            c += 1000; /* stray temporaries count loudly */
+    }
+    if (d)
+        closedir(d);
+    return c;
+}
+
+static volatile sig_atomic_t no_stop = 0;
+
+static int run_builder(awdb *db, test_engine *te, int jobs, core_err *err)
+{
+    awdb_engine eng = {"test", te_build, te};
+    awdb_builder_opts o = {jobs, 1, 0.01, NULL, NULL, NULL, NULL};
+    return awdb_builder_run(db, &eng, &o, &no_stop, err);
+}
+
+static void test_keys(void)
+{
+    core_err err = {{0}};
+    awdb_key a = key(15.0, -30.0), b = key(15.001, -30.001);
+    CHECK(awdb_key_canon(&a, &err) == 0 && awdb_key_canon(&b, &err) == 0);
+    char na[200], nb[200];
+    awdb_key_name(&a, na, sizeof na);
+    awdb_key_name(&b, nb, sizeof nb);
+    CHECK(strcmp(na, nb) == 0);
+    CHECK(strstr(na, "CG-47_UH-60A_v15.00_d-030.00_uniform_coarse_") == na);
+    awdb_key c = key(15.0, 30.0);
+    awdb_key_canon(&c, &err);
+    awdb_key_name(&c, nb, sizeof nb);
+    CHECK(strcmp(na, nb) != 0);
+    /* A ship-only field ignores the helicopter. */
+    awdb_key s1 = key(10, 0), s2 = key(10, 0);
+    s1.rotor = s2.rotor = AWDB_ROTOR_OFF;
+    snprintf(s2.aircraft, sizeof s2.aircraft, "SA365N");
+    s2.thrust_N = 1;
+    awdb_key_canon(&s1, &err);
+    awdb_key_canon(&s2, &err);
+    awdb_key_name(&s1, na, sizeof na);
+    awdb_key_name(&s2, nb, sizeof nb);
+    CHECK(strcmp(na, nb) == 0 && strstr(na, "shiponly") != NULL);
+    /* Bad keys name the field. */
+    awdb_key bad = key(-1, 0);
+    CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "wod_speed_mps") != NULL);
+    bad = key(10, 0);
+    bad.thrust_N = 0;
+    CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "thrust_N") != NULL);
+    bad = key(10, 0);
+    snprintf(bad.ship, sizeof bad.ship, "a/b");
+    CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "ship 'a/b'") != NULL);
+}
+
+static void test_crc(const char *dir)
+{
+    /* CRC-64/XZ check value of "123456789". */
+    char p[1024];
+    snprintf(p, sizeof p, "%s/crc.txt", dir);
+    FILE *f = fopen(p, "w");
+    fputs("123456789", f);
+    fclose(f);
+    uint64_t crc = 0, size = 0;
+    core_err err;
+    CHECK(awdb_file_crc64(p, &crc, &size, &err) == 0);
+    CHECK(crc == 0x995DC9BBDF1939FAULL && size == 9);
+    remove(p);
+}
+
+static void test_flow(const char *dir)
+{
+    core_err err = {{0}};
+    awdb *db = awdb_open(dir, NULL, &err);
+    awdb *db2 = awdb_open(dir, NULL, &err); /* a second client */
+    CHECK(db && db2);
+    test_engine te = {0, -1, 0, ""};
+    awdb_key k1 = key(10, 0), k2 = key(12, 0), k3 = key(10, 30);
+    awdb_state st;
+    CHECK(awdb_submit(db, &k1, &st, &err) == 0 && st == AWDB_ABSENT);
+    CHECK(awdb_submit(db2, &k1, &st, &err) == 0 && st == AWDB_QUEUED); /* not twice */
+    awdb_key_canon(&k1, &err);
+    CHECK(awdb_query(db2, &k1, NULL, 0) == AWDB_QUEUED);
+    CHECK(count(dir, "queue", ".req") == 1);
+    CHECK(run_builder(db, &te, 2, &err) == 0);
+    CHECK(te.builds == 1);
+    char path[1024];
+    CHECK(awdb_query(db2, &k1, path, sizeof path) == AWDB_READY);
+    CHECK(strstr(path, "/fields/CG-47_UH-60A_v10.00_d+000.00_") != NULL);
+    CHECK(awdb_submit(db2, &k1, &st, &err) == 0 && st == AWDB_READY);
+    CHECK(count(dir, "queue", ".req") == 0);
+
+    /* Warm start from the nearest finished field. */
+    CHECK(awdb_submit(db, &k2, &st, &err) == 0);
+    CHECK(run_builder(db, &te, 1, &err) == 0);
+    CHECK(te.builds == 2 && strcmp(te.last_warm, path) == 0);
+    CHECK(awdb_submit(db, &k3, &st, &err) == 0);
+    CHECK(run_builder(db, &te, 1, &err) == 0);
+    CHECK(strstr(te.last_warm, "v10.00_d+000.00") != NULL); /* 10 m/s head is nearer than 12 */
+
+    /* A corrupted field is detected, removed and rebuilt. */
+    FILE *f = fopen(path, "r+");
+    fseek(f, 3, SEEK_SET);
+    fputc('#', f);
+    fclose(f);
+    awdb *db3 = awdb_open(dir, NULL, &err); /* a fresh client: no verification cache */
+    CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_ABSENT);
+    CHECK(awdb_submit(db3, &k1, &st, &err) == 0 && st == AWDB_ABSENT);
+    CHECK(run_builder(db3, &te, 1, &err) == 0);
+    CHECK(te.builds == 4);
+    awdb_close(db3);
+    db3 = awdb_open(dir, NULL, &err);
+    CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_READY);
+    /* A torn entry (field without its checksum) is not READY. */
+    char sum[1100];
+    snprintf(sum, sizeof sum, "%.*s.sum", (int)(strlen(path) - 3), path);
+    CHECK(remove(sum) == 0);
+    awdb_close(db3);
+    db3 = awdb_open(dir, NULL, &err);
+    CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_ABSENT);
+    awdb_close(db3);
+
+    /* A failing build is kept with its reason and can be asked for again. */
+    te.fail_speed_cmps = 1400;
+    awdb_key k4 = key(14, 0);
+    CHECK(awdb_submit(db, &k4, &st, &err) == 0);
+    CHECK(run_builder(db, &te, 1, &err) == 0);
+    awdb_key_canon(&k4, &err);
+    CHECK(awdb_query(db, &k4, NULL, 0) == AWDB_FAILED);
+    char name[200], fp[1400], line[256] = "";
+    awdb_key_name(&k4, name, sizeof name);
+    snprintf(fp, sizeof fp, "%s/failed/%s.txt", dir, name);
+    f = fopen(fp, "r");
+    CHECK(f && fgets(line, sizeof line, f));
+    if (f)
+        fclose(f);
+    CHECK(strstr(line, "diverged at iteration 17") != NULL);
+    te.fail_speed_cmps = -1;
+    CHECK(awdb_submit(db, &k4, &st, &err) == 0 && st == AWDB_FAILED);
+    CHECK(run_builder(db, &te, 1, &err) == 0);
+    CHECK(awdb_query(db, &k4, NULL, 0) == AWDB_READY);
+
+    /* A corrupt request file goes to failed/ with the line named. */
+    snprintf(fp, sizeof fp, "%s/queue/00000001-CG-47_bad.req", dir);
+    f = fopen(fp, "w");
+    fputs("[key]\nship = CG-47\naircraft = UH-60A\nwod_speed_mps = fast\n", f);
+    fclose(f);
+    CHECK(run_builder(db, &te, 1, &err) == 0);
+    snprintf(fp, sizeof fp, "%s/failed/CG-47_bad.txt", dir);
+    f = fopen(fp, "r");
+    CHECK(f && fgets(line, sizeof line, f));
+    if (f)
+        fclose(f);
+    CHECK(strstr(line, ":4: [key] wod_speed_mps = 'fast': expected a number") != NULL);
+    awdb_close(db);
+    awdb_close(db2);
+}
+
+static void test_kill(const char *dir)
+{
+    core_err err = {{0}};
+    awdb *db = awdb_open(dir, NULL, &err);
+    awdb_state st;
+    for (int i = 0; i < 4; i++) {
+        awdb_key k = key(20 + i, -60);
+        CHECK(awdb_submit(db, &k, &st, &err) == 0);
+    }
+    pid_t pid = fork();
+    if (pid == 0) {
+        /* The builder to be killed: slow builds, two at a time. */
+        test_engine te = {0, -1, 2.0, ""};
+        awdb *dbc = awdb_open(dir, NULL, &err);
+        run_builder(dbc, &te, 2, &err);
+        _exit(0);
+    }
+    /* Wait until it is mid-build (something in running/ and a temporary). */
+    for (int t = 0; t < 500 && count(dir, "running", ".req") == 0; t++)
+        usleep(10000);
+    usleep(300000);
+    CHECK(count(dir, "running", ".req") > 0);
+    /* A second builder on the same database is refused, naming the first. */
+    test_engine te2 = {0, -1, 0, ""};
+    char want[64];
+    snprintf(want, sizeof want, "another builder (pid %ld)", (long)pid);
+    CHECK(run_builder(db, &te2, 1, &err) < 0 && strstr(err.msg, want) != NULL);
+    CHECK(te2.builds == 0);
+    kill(pid, SIGKILL);
+    int ws;
+    waitpid(pid, &ws, 0);
+    CHECK(WIFSIGNALED(ws));
+    /* Restart: interrupted builds are requeued, temporaries removed, and the
+     * queue finishes; every field's checksum holds. */
+    CHECK(run_builder(db, &te2, 2, &err) == 0);
+    CHECK(te2.builds >= 2 && te2.builds <= 4);
+    awdb *fresh = awdb_open(dir, NULL, &err);
+    for (int i = 0; i < 4; i++) {
+        awdb_key k = key(20 + i, -60);
+        awdb_key_canon(&k, &err);
+        CHECK(awdb_query(fresh, &k, NULL, 0) == AWDB_READY);
+    }
+    CHECK(count(dir, "running", ".req") == 0 && count(dir, "queue", ".req") == 0);
+    CHECK(count(dir, "fields", ".part") == 0 && count(dir, "fields", ".h5") < 1000);
+    awdb_close(fresh);
+    awdb_close(db);
+}
+
+int main(void)
+{
+    char dir[] = "/tmp/disim_awdb_XXXXXX";
+    if (!mkdtemp(dir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    test_keys();
+    test_crc(dir);
+    char d1[64], d2[64];
+    snprintf(d1, sizeof d1, "%s/db1", dir);
+    snprintf(d2, sizeof d2, "%s/db2", dir);
+    test_flow(d1);
+    test_kill(d2);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "cannot remove %s\n", dir);
+    return check_done("test_awdb");
+}
