@@ -202,7 +202,8 @@ static int claim(builder *b, job *j)
         names[n++] = strdup(e->d_name);
     }
     closedir(d);
-    qsort(names, n, sizeof *names, cmp_str);
+    if (n > 1)
+        qsort(names, n, sizeof *names, cmp_str);
     int got = 0;
     for (size_t i = 0; i < n && !got; i++) {
         if (!names[i])
