@@ -55,9 +55,11 @@ void awdb_key_format(const awdb_key *k, char *buf, size_t n)
 {
     awdb_fmt(buf, n,
              "[key]\nship = %s\naircraft = %s\nwod_speed_mps = %.17g\nwod_dir_rad = %.17g\n"
-             "rotor = %d\nthrust_N = %.17g\nstation_S_m = %.17g, %.17g, %.17g\ngrid = %d\n",
+             "rotor = %d\nthrust_N = %.17g\nstation_S_m = %.17g, %.17g, %.17g\nradius_m = %.17g\n"
+             "shaft_pitch_rad = %.17g\nshaft_roll_rad = %.17g\ngrid = %d\n",
              k->ship, k->aircraft[0] ? k->aircraft : "-", k->wod_speed_mps, k->wod_dir_rad, k->rotor,
-             k->thrust_N, k->station_S_m[0], k->station_S_m[1], k->station_S_m[2], k->grid);
+             k->thrust_N, k->station_S_m[0], k->station_S_m[1], k->station_S_m[2], k->radius_m,
+             k->shaft_pitch_rad, k->shaft_roll_rad, k->grid);
 }
 
 int awdb_key_read(core_ini *ini, awdb_key *k, core_err *err)
@@ -72,6 +74,9 @@ int awdb_key_read(core_ini *ini, awdb_key *k, core_err *err)
         (rc = core_ini_get_int(ini, "key", "rotor", 1, 0, 2, &rotor, err)) ||
         (rc = core_ini_get_double(ini, "key", "thrust_N", 1, 0, 1e7, &k->thrust_N, err)) ||
         (rc = core_ini_get_doubles(ini, "key", "station_S_m", 1, -1000, 1000, k->station_S_m, 3, &n, err)) ||
+        (rc = core_ini_get_double(ini, "key", "radius_m", 1, 0, 50, &k->radius_m, err)) ||
+        (rc = core_ini_get_double(ini, "key", "shaft_pitch_rad", 1, -1, 1, &k->shaft_pitch_rad, err)) ||
+        (rc = core_ini_get_double(ini, "key", "shaft_roll_rad", 1, -1, 1, &k->shaft_roll_rad, err)) ||
         (rc = core_ini_get_int(ini, "key", "grid", 1, 0, 2, &grid, err)))
         return rc < 0 ? rc : -1;
     if (n != 3)

@@ -34,8 +34,8 @@ enum { AWDB_ROTOR_OFF = 0, AWDB_ROTOR_UNIFORM = 1, AWDB_ROTOR_LOADED = 2 };
 enum { AWDB_GRID_COARSE = 0, AWDB_GRID_DEFAULT = 1, AWDB_GRID_FINE = 2 };
 
 /* What a field is. Values are rounded by awdb_key_canon (speed 0.01 m/s,
- * direction 0.01 deg, thrust 1 N, station 1 cm) so that equal requests
- * compare equal. */
+ * direction 0.01 deg, thrust 1 N, station and radius 1 cm, shaft tilt
+ * 0.1 deg) so that equal requests compare equal. */
 typedef struct awdb_key {
     char ship[32];
     char aircraft[32];     /* "" for a ship-only field */
@@ -44,6 +44,8 @@ typedef struct awdb_key {
     int rotor;             /* AWDB_ROTOR_* */
     double thrust_N;       /* 0 with the rotor off */
     double station_S_m[3]; /* rotor hub in S */
+    double radius_m;       /* rotor radius */
+    double shaft_pitch_rad, shaft_roll_rad; /* shaft tilt in S (0.1 deg resolution) */
     int grid;              /* AWDB_GRID_* */
 } awdb_key;
 

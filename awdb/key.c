@@ -37,6 +37,11 @@ int awdb_key_canon(awdb_key *k, core_err *err)
         return core_err_set(err, -1, "airwake key: grid = %d: expected 0 (coarse), 1 (default) or 2 (fine)", k->grid);
     if (k->rotor != AWDB_ROTOR_OFF && !(isfinite(k->thrust_N) && k->thrust_N > 0.0))
         return core_err_set(err, -1, "airwake key: thrust_N = %g: expected a positive thrust with the rotor on", k->thrust_N);
+    if (k->rotor != AWDB_ROTOR_OFF && !(isfinite(k->radius_m) && k->radius_m > 0.1 && k->radius_m < 50.0))
+        return core_err_set(err, -1, "airwake key: radius_m = %g: expected 0.1 to 50 m with the rotor on", k->radius_m);
+    if (!isfinite(k->shaft_pitch_rad) || !isfinite(k->shaft_roll_rad) || fabs(k->shaft_pitch_rad) > 1.0 ||
+        fabs(k->shaft_roll_rad) > 1.0)
+        return core_err_set(err, -1, "airwake key: shaft_pitch_rad, shaft_roll_rad: expected -1 to 1 rad");
     for (int i = 0; i < 3; i++)
         if (!isfinite(k->station_S_m[i]) || fabs(k->station_S_m[i]) > 1000.0)
             return core_err_set(err, -1, "airwake key: station_S_m[%d] = %g: expected -1000 to 1000 m", i, k->station_S_m[i]);
@@ -49,8 +54,12 @@ int awdb_key_canon(awdb_key *k, core_err *err)
         k->thrust_N = 0.0;
         k->aircraft[0] = '\0';
         k->station_S_m[0] = k->station_S_m[1] = k->station_S_m[2] = 0.0;
+        k->radius_m = k->shaft_pitch_rad = k->shaft_roll_rad = 0.0;
     } else {
         k->thrust_N = round_to(k->thrust_N, 1.0);
+        k->radius_m = round_to(k->radius_m, 0.01);
+        k->shaft_pitch_rad = round_to(k->shaft_pitch_rad * CORE_RAD_TO_DEG, 0.1) * CORE_DEG_TO_RAD + 0.0;
+        k->shaft_roll_rad = round_to(k->shaft_roll_rad * CORE_RAD_TO_DEG, 0.1) * CORE_DEG_TO_RAD + 0.0;
         for (int i = 0; i < 3; i++)
             k->station_S_m[i] = round_to(k->station_S_m[i], 0.01) + 0.0; /* no -0 */
     }
@@ -63,9 +72,10 @@ void awdb_key_name(const awdb_key *k, char *buf, size_t n)
     static const char *grid[] = {"coarse", "default", "fine"};
     char text[256];
     double dir_deg = k->wod_dir_rad * CORE_RAD_TO_DEG;
-    awdb_fmt(text, sizeof text, "%s|%s|%.2f|%.2f|%d|%.0f|%.2f|%.2f|%.2f|%d", k->ship, k->aircraft,
-             k->wod_speed_mps, dir_deg, k->rotor, k->thrust_N, k->station_S_m[0],
-             k->station_S_m[1], k->station_S_m[2], k->grid);
+    awdb_fmt(text, sizeof text, "%s|%s|%.2f|%.2f|%d|%.0f|%.2f|%.2f|%.2f|%.2f|%.1f|%.1f|%d", k->ship,
+             k->aircraft, k->wod_speed_mps, dir_deg, k->rotor, k->thrust_N, k->station_S_m[0],
+             k->station_S_m[1], k->station_S_m[2], k->radius_m, k->shaft_pitch_rad * CORE_RAD_TO_DEG,
+             k->shaft_roll_rad * CORE_RAD_TO_DEG, k->grid);
     uint64_t h = 1469598103934665603ULL; /* FNV-1a 64 */
     for (const char *p = text; *p; p++) {
         h ^= (unsigned char)*p;

@@ -61,6 +61,8 @@ static awdb_key key(double v, double dir_deg)
     k.rotor = AWDB_ROTOR_UNIFORM;
     k.thrust_N = 72950.4;
     k.station_S_m[2] = -6.0;
+    k.radius_m = 8.18;
+    k.shaft_pitch_rad = 0.05;
     k.grid = AWDB_GRID_COARSE;
     return k;
 }
@@ -123,6 +125,22 @@ static void test_keys(void)
     bad = key(10, 0);
     bad.thrust_N = 0;
     CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "thrust_N") != NULL);
+    bad = key(10, 0);
+    bad.radius_m = 0;
+    CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "radius_m") != NULL);
+    /* Shaft tilt resolves to 0.1 deg: 2.86 and 2.87 deg are one field, 3.0 another. */
+    awdb_key t1 = key(10, 0), t2 = key(10, 0), t3 = key(10, 0);
+    t1.shaft_pitch_rad = 2.86 * CORE_DEG_TO_RAD;
+    t2.shaft_pitch_rad = 2.87 * CORE_DEG_TO_RAD;
+    t3.shaft_pitch_rad = 3.0 * CORE_DEG_TO_RAD;
+    awdb_key_canon(&t1, &err);
+    awdb_key_canon(&t2, &err);
+    awdb_key_canon(&t3, &err);
+    awdb_key_name(&t1, na, sizeof na);
+    awdb_key_name(&t2, nb, sizeof nb);
+    CHECK(strcmp(na, nb) == 0);
+    awdb_key_name(&t3, nb, sizeof nb);
+    CHECK(strcmp(na, nb) != 0);
     bad = key(10, 0);
     snprintf(bad.ship, sizeof bad.ship, "a/b");
     CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "ship 'a/b'") != NULL);
