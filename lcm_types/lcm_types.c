@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 static int pct_ok(double v) { return isfinite(v) && v >= 0.0 && v <= 100.0; }
 
@@ -63,7 +64,13 @@ int disim_lcm_check_airwake_request(const disim_airwake_request_t *m, char *err,
     else if (m->rotor != DISIM_AIRWAKE_REQUEST_T_ROTOR_OFF &&
              (!isfinite(m->rotor_thrust_N) || m->rotor_thrust_N <= 0.0))
         bad = "rotor_thrust_N", want = "a positive thrust with the rotor on";
-    else if (!m->grid || !m->grid[0])
+    else if (m->rotor != DISIM_AIRWAKE_REQUEST_T_ROTOR_OFF &&
+             (!isfinite(m->rotor_radius_m) || m->rotor_radius_m <= 0.1 || m->rotor_radius_m > 50.0))
+        bad = "rotor_radius_m", want = "0.1 to 50 m with the rotor on";
+    else if (!isfinite(m->shaft_pitch_rad) || !isfinite(m->shaft_roll_rad) ||
+             fabs(m->shaft_pitch_rad) > 1.0 || fabs(m->shaft_roll_rad) > 1.0)
+        bad = "shaft_pitch_rad", want = "shaft tilt angles within -1 to 1 rad";
+    else if (!m->grid || (strcmp(m->grid, "coarse") && strcmp(m->grid, "default") && strcmp(m->grid, "fine")))
         bad = "grid", want = "coarse, default or fine";
     if (!bad)
         return 0;

@@ -164,6 +164,9 @@ int main(void)
     rq.rotor = DISIM_AIRWAKE_REQUEST_T_ROTOR_UNIFORM;
     rq.rotor_thrust_N = 72950.0;
     fill(rq.station_S_m, 3, -1.0);
+    rq.rotor_radius_m = 8.18;
+    rq.shaft_pitch_rad = 0.05;
+    rq.shaft_roll_rad = -0.01;
     rq.grid = "default";
     round_trip_airwake_request_t(lc, DISIM_CH_AIRWAKE_REQUEST, &rq);
 
@@ -236,6 +239,14 @@ int main(void)
     rq.rotor_thrust_N = 0;
     CHECK(disim_lcm_check_airwake_request(&rq, err, sizeof err) < 0);
     CHECK(strstr(err, "rotor_thrust_N") != NULL);
+    rq.rotor_thrust_N = 7e4;
+    rq.rotor_radius_m = 0;
+    CHECK(disim_lcm_check_airwake_request(&rq, err, sizeof err) < 0);
+    CHECK(strstr(err, "rotor_radius_m") != NULL);
+    rq.rotor_radius_m = 8.18;
+    rq.grid = "medium";
+    CHECK(disim_lcm_check_airwake_request(&rq, err, sizeof err) < 0);
+    CHECK(strstr(err, "grid") != NULL);
 
     lcm_destroy(lc);
     return check_done("test_lcm");

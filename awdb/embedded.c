@@ -1,0 +1,164 @@
+/* embedded.c -- the embedded CFD engine for the builder: a key becomes a
+ * cfd_airwake_spec (ship from the ships folder by name, WOD, grid level,
+ * uniform actuator disk at the key's station, radius, thrust and shaft tilt),
+ * warm-started from the nearest finished field, run to convergence and
+ * written as HDF5 to the builder's temporary path. A run that stops at the
+ * iteration limit is kept (its metadata says not converged) and logged. */
+#include "awdb.h"
+#include "cfd.h"
+
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct awdb_embedded {
+    const core_log *log;
+    int nships;
+    core_ship *ships;
+    int max_iter;
+};
+
+awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, const core_log *log,
+                                    core_err *err)
+{
+    awdb_embedded *e = calloc(1, sizeof *e);
+    if (!e) {
+        core_err_set(err, -1, "out of memory");
+        return NULL;
+    }
+    e->log = log;
+    e->max_iter = max_iter;
+    DIR *d = opendir(ships_dir);
+    if (!d) {
+        core_err_set(err, -1, "%s: cannot open the ships folder", ships_dir);
+        free(e);
+        return NULL;
+    }
+    struct dirent *de;
+    while ((de = readdir(d))) {
+        size_t l = strlen(de->d_name);
+        if (l < 5 || strcmp(de->d_name + l - 4, ".ini"))
+            continue;
+        char p[1024];
+        snprintf(p, sizeof p, "%s/%.*s", ships_dir, (int)(sizeof p - strlen(ships_dir) - 2), de->d_name);
+        core_ship *grown = realloc(e->ships, (e->nships + 1) * sizeof *grown);
+        if (!grown)
+            break;
+        e->ships = grown;
+        if (core_ship_load(p, &e->ships[e->nships], err) != 0) {
+            closedir(d);
+            awdb_embedded_destroy(e);
+            return NULL;
+        }
+        e->nships++;
+    }
+    closedir(d);
+    if (e->nships == 0) {
+        core_err_set(err, -1, "%s: no ship files (*.ini)", ships_dir);
+        awdb_embedded_destroy(e);
+        return NULL;
+    }
+    return e;
+}
+
+void awdb_embedded_destroy(awdb_embedded *e)
+{
+    if (!e)
+        return;
+    free(e->ships);
+    free(e);
+}
+
+typedef struct prog_adapter {
+    awdb_progress_fn fn;
+    void *user;
+} prog_adapter;
+
+static int on_cfd_progress(void *user, int iter, int max_iter, double residual, double elapsed_s)
+{
+    (void)elapsed_s;
+    prog_adapter *p = user;
+    return p->fn(p->user, max_iter > 0 ? (double)iter / max_iter : 0.0, residual, iter);
+}
+
+static int build(void *user, const awdb_key *k, const char *warm, const char *out,
+                 awdb_progress_fn progress, void *pu, core_err *err)
+{
+    awdb_embedded *e = user;
+    const core_ship *ship = NULL;
+    for (int i = 0; i < e->nships; i++)
+        if (!strcmp(e->ships[i].name, k->ship))
+            ship = &e->ships[i];
+    if (!ship)
+        return core_err_set(err, -1, "ship '%s': no ship file of that name", k->ship);
+    cfd_airwake_spec spec;
+    memset(&spec, 0, sizeof spec);
+    spec.ship = ship;
+    spec.wod_speed_mps = k->wod_speed_mps;
+    spec.wod_dir_rad = k->wod_dir_rad;
+    spec.level = (cfd_grid_level)k->grid;
+    spec.rotor = k->rotor == AWDB_ROTOR_OFF ? 0 : 1;
+    spec.monitor_z_m = k->rotor == AWDB_ROTOR_OFF ? -5.0 : k->station_S_m[2];
+    spec.max_iter = e->max_iter;
+    if (spec.rotor) {
+        core_euler att = {k->shaft_roll_rad, k->shaft_pitch_rad, 0.0};
+        cfd_disk_from_attitude(&spec.disk, k->station_S_m, att, k->radius_m, k->thrust_N);
+    }
+    prog_adapter pa = {progress, pu};
+    cfd_solver *s = cfd_airwake_create(&spec, e->log, on_cfd_progress, &pa, err);
+    if (!s)
+        return -1;
+    int rc = 0;
+    if (warm) {
+        cfd_field *f = cfd_field_load(warm, err);
+        rc = f ? cfd_solver_init_from_field(s, f, err) : -1;
+        cfd_field_destroy(f);
+        if (rc) {
+            core_log_msg(e->log, CORE_LOG_WARN, "warm start from %s refused (%s): starting cold", warm, err->msg);
+            cfd_solver_init_inflow(s);
+            rc = 0;
+        }
+    }
+    cfd_result res;
+    rc = cfd_solver_run(s, &res, err);
+    if (rc < 0) {
+        cfd_solver_destroy(s);
+        return rc;
+    }
+    if (rc > 0)
+        core_log_msg(e->log, CORE_LOG_WARN, "%s v=%.2f dir=%.1f: not converged after %d iterations (residual %.2e)",
+                     k->ship, k->wod_speed_mps, k->wod_dir_rad * CORE_RAD_TO_DEG, res.iterations, res.residual[0]);
+    static const char *rotor[] = {"off", "uniform", "loaded"};
+    static const char *grid[] = {"coarse", "default", "fine"};
+    cfd_meta meta;
+    memset(&meta, 0, sizeof meta);
+    meta.wod_speed_mps = k->wod_speed_mps;
+    meta.wod_dir_deg = k->wod_dir_rad * CORE_RAD_TO_DEG;
+    snprintf(meta.ship, sizeof meta.ship, "%s", k->ship);
+    snprintf(meta.rotor, sizeof meta.rotor, "%s", rotor[k->rotor]);
+    snprintf(meta.grid, sizeof meta.grid, "%s", grid[k->grid]);
+    meta.rotor_thrust_N = k->thrust_N;
+    meta.rotor_radius_m = k->radius_m;
+    memcpy(meta.rotor_centre_S_m, k->station_S_m, sizeof meta.rotor_centre_S_m);
+    meta.result = res;
+    rc = cfd_solver_write(s, &meta, out, err);
+    cfd_solver_destroy(s);
+    /* The database keeps the HDF5 file only: a side file names the temporary. */
+    char xmf[1100];
+    snprintf(xmf, sizeof xmf, "%s.xmf", out);
+    remove(xmf);
+    size_t l = strlen(out);
+    if (l > 3 && !strcmp(out + l - 3, ".h5")) {
+        snprintf(xmf, sizeof xmf, "%.*s.xmf", (int)(l - 3), out);
+        remove(xmf);
+    }
+    return rc;
+}
+
+void awdb_embedded_engine(awdb_embedded *e, awdb_engine *eng)
+{
+    eng->name = "embedded";
+    eng->build = build;
+    eng->user = e;
+}
