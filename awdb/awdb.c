@@ -9,6 +9,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/time.h>
 #include <unistd.h>
@@ -404,6 +405,22 @@ static int count_dir(const awdb *db, const char *sub)
     }
     closedir(d);
     return c;
+}
+
+int awdb_builder_alive(awdb *db)
+{
+    char p[AWDB_PATH];
+    awdb_fmt(p, sizeof p, "%s/builder.lock", db->dir);
+    int fd = open(p, O_RDONLY);
+    if (fd < 0)
+        return 0;
+    /* The builder holds an exclusive lock for its lifetime: if we can take
+     * one, nobody serves the database. */
+    int alive = flock(fd, LOCK_EX | LOCK_NB) != 0;
+    if (!alive)
+        flock(fd, LOCK_UN);
+    close(fd);
+    return alive;
 }
 
 int awdb_pending(awdb *db, int *queued, int *running)

@@ -82,6 +82,8 @@ int awdb_submit(awdb *db, const awdb_key *key, awdb_state *state, core_err *err)
 /* The finished field nearest to key for a warm start (same ship, aircraft,
  * rotor mode and grid; distance in WOD velocity). 0 with path, 1 if none. */
 int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n);
+/* 1 if a builder holds the database's lock now, 0 if none does. */
+int awdb_builder_alive(awdb *db);
 /* Number of requests queued and running. */
 int awdb_pending(awdb *db, int *queued, int *running);
 

@@ -271,6 +271,7 @@ static void test_kill(const char *dir)
         usleep(10000);
     usleep(300000);
     CHECK(count(dir, "running", ".req") > 0);
+    CHECK(awdb_builder_alive(db) == 1);
     /* A second builder on the same database is refused, naming the first. */
     test_engine te2 = {0, -1, 0, ""};
     char want[64];
@@ -281,6 +282,7 @@ static void test_kill(const char *dir)
     int ws;
     waitpid(pid, &ws, 0);
     CHECK(WIFSIGNALED(ws));
+    CHECK(awdb_builder_alive(db) == 0); /* the kernel dropped the dead builder's lock */
     /* Restart: interrupted builds are requeued, temporaries removed, and the
      * queue finishes; every field's checksum holds. */
     CHECK(run_builder(db, &te2, 2, &err) == 0);
