@@ -1,0 +1,326 @@
+/*
+ * envelope.c -- the candidate SHOL procedure over a caller's trim.
+ *
+ * Model: the seed paper's section 2.8 (Fig. 4). For each WOD direction,
+ * start at 0 km/h, trim, judge the trim against the rejection criteria,
+ * raise the speed by a fixed step (5 km/h) and repeat until a criterion is
+ * exceeded; the last passing speed is the envelope radius at that
+ * direction and the exceeded criterion is reported. A trim that does not
+ * converge counts as a rejection ("trim"). As an option the bracket
+ * [last pass, first failure] is refined by bisection.
+ * Assumptions: the trim is steady and depends only on the WOD (no ship
+ * motion, no pilot model); along a direction the criteria are crossed once,
+ * so the first failure bounds the envelope (a pass above a failure is not
+ * searched for, which is the conservative reading), and the bisection
+ * assumes a single crossing inside the bracket.
+ */
+#include "shol.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+void shol_settings_default(shol_settings *s)
+{
+    memset(s, 0, sizeof *s);
+    shol_settings_dirs(s, -90.0 * CORE_DEG_TO_RAD, 90.0 * CORE_DEG_TO_RAD, 30.0 * CORE_DEG_TO_RAD,
+                       NULL);
+    s->speed_step_mps = 5.0 * CORE_KMH_TO_MPS;
+    s->speed_max_mps = 150.0 * CORE_KMH_TO_MPS;
+    s->bisect_tol_mps = 0.0;
+    shol_criteria_default(&s->criteria);
+}
+
+static double wrap_rad(double a)
+{
+    return core_wod_wrap_deg(a * CORE_RAD_TO_DEG) * CORE_DEG_TO_RAD;
+}
+
+int shol_settings_dirs(shol_settings *s, double first_rad, double last_rad, double step_rad,
+                       core_err *err)
+{
+    if (!(step_rad > 0) || !isfinite(first_rad) || !isfinite(last_rad) || last_rad < first_rad)
+        return core_err_set(err, -1,
+                            "shol: directions %g to %g deg by %g deg: expected first <= last "
+                            "and a step > 0",
+                            first_rad * CORE_RAD_TO_DEG, last_rad * CORE_RAD_TO_DEG,
+                            step_rad * CORE_RAD_TO_DEG);
+    double n_real = floor((last_rad - first_rad) / step_rad + 1e-9) + 1;
+    if (n_real > SHOL_MAX_DIRS)
+        return core_err_set(err, -1, "shol: %.0f directions, at most %d", n_real, SHOL_MAX_DIRS);
+    s->n_dirs = (int)n_real;
+    for (int i = 0; i < s->n_dirs; i++) {
+        /* Round to 1e-9 deg so that -90 + 3 * 30 prints as 0, not -1e-15. */
+        double d = (first_rad + i * step_rad) * CORE_RAD_TO_DEG;
+        d = round(d * 1e9) / 1e9;
+        s->dirs_rad[i] = wrap_rad(d * CORE_DEG_TO_RAD);
+    }
+    return 0;
+}
+
+int shol_settings_full_circle(shol_settings *s, double step_rad, core_err *err)
+{
+    double n = 2 * CORE_PI / step_rad;
+    if (!(step_rad > 0) || fabs(n - round(n)) * step_rad > 1e-9)
+        return core_err_set(err, -1, "shol: full circle step %g deg: expected a divisor of 360",
+                            step_rad * CORE_RAD_TO_DEG);
+    return shol_settings_dirs(s, -CORE_PI + step_rad, CORE_PI, step_rad, err);
+}
+
+int shol_settings_check(const shol_settings *s, core_err *err)
+{
+    if (s->n_dirs < 1 || s->n_dirs > SHOL_MAX_DIRS)
+        return core_err_set(err, -1, "shol: n_dirs = %d: expected 1 to %d", s->n_dirs,
+                            SHOL_MAX_DIRS);
+    for (int i = 0; i < s->n_dirs; i++)
+        if (!isfinite(s->dirs_rad[i]) || s->dirs_rad[i] <= -CORE_PI - 1e-12 ||
+            s->dirs_rad[i] > CORE_PI + 1e-12)
+            return core_err_set(err, -1, "shol: dirs_rad[%d] = %g: expected (-pi, pi]", i,
+                                s->dirs_rad[i]);
+    if (!(s->speed_step_mps > 0) || !isfinite(s->speed_step_mps))
+        return core_err_set(err, -1, "shol: speed_step_mps = %g: expected > 0", s->speed_step_mps);
+    if (!(s->speed_max_mps >= 0) || !isfinite(s->speed_max_mps))
+        return core_err_set(err, -1, "shol: speed_max_mps = %g: expected >= 0", s->speed_max_mps);
+    if (!(s->bisect_tol_mps >= 0) || !isfinite(s->bisect_tol_mps))
+        return core_err_set(err, -1, "shol: bisect_tol_mps = %g: expected >= 0", s->bisect_tol_mps);
+    if (s->speed_max_mps / s->speed_step_mps > 1e6)
+        return core_err_set(err, -1, "shol: %g speeds per direction: step too small",
+                            s->speed_max_mps / s->speed_step_mps);
+    return 0;
+}
+
+void shol_result_free(shol_result *r)
+{
+    if (!r)
+        return;
+    if (r->dirs)
+        for (int i = 0; i < r->n_dirs; i++)
+            free(r->dirs[i].samples);
+    free(r->dirs);
+    r->dirs = NULL;
+    r->n_dirs = 0;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+void shol_progress_format(const shol_progress *p, char *buf, size_t n)
+{
+    char name[32], left[48];
+    core_wod_name(p->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+    if (p->done)
+        snprintf(left, sizeof left, "done in %.0f s", p->elapsed_s);
+    else if (!isfinite(p->eta_s))
+        snprintf(left, sizeof left, "time left unknown");
+    else if (p->eta_s >= 60)
+        snprintf(left, sizeof left, "%d min %02d s left", (int)(p->eta_s / 60),
+                 (int)fmod(p->eta_s, 60));
+    else
+        snprintf(left, sizeof left, "%.0f s left", p->eta_s);
+    /* Coupled trims take minutes, analytic ones microseconds: say it the
+     * readable way round. */
+    char rate[32];
+    if (!(p->rate_per_s > 0))
+        snprintf(rate, sizeof rate, "rate unknown");
+    else if (p->rate_per_s < 1.0 / 60)
+        snprintf(rate, sizeof rate, "%.1f min/trim", 1 / (60 * p->rate_per_s));
+    else if (p->rate_per_s < 1)
+        snprintf(rate, sizeof rate, "%.1f s/trim", 1 / p->rate_per_s);
+    else
+        snprintf(rate, sizeof rate, "%.0f trim/s", p->rate_per_s);
+    snprintf(buf, n, "%3.0f%% %s at %.0f km/h, %d trims, %s, %s", 100 * p->fraction, name,
+             p->speed_mps / CORE_KMH_TO_MPS, p->n_trims, rate, left);
+}
+
+/* The state of one sweep. */
+typedef struct sweep {
+    const shol_settings *s;
+    shol_trim_fn trim;
+    void *trim_user;
+    shol_progress_fn progress;
+    void *progress_user;
+    const core_log *log;
+    double t0;
+    int n_trims;
+} sweep;
+
+static void report(sweep *w, int idir, double speed_mps, double dir_fraction, int done)
+{
+    if (!w->progress)
+        return;
+    shol_progress p = {0};
+    p.dir_index = idir;
+    p.n_dirs = w->s->n_dirs;
+    p.dir_rad = w->s->dirs_rad[idir];
+    p.speed_mps = speed_mps;
+    p.n_trims = w->n_trims;
+    if (dir_fraction > 1)
+        dir_fraction = 1;
+    p.fraction = done ? 1.0 : (idir + dir_fraction) / w->s->n_dirs;
+    p.elapsed_s = now_s() - w->t0;
+    p.rate_per_s = p.elapsed_s > 0 ? w->n_trims / p.elapsed_s : 0;
+    p.eta_s = done ? 0 : (p.fraction > 0 ? p.elapsed_s * (1 - p.fraction) / p.fraction : NAN);
+    p.done = done;
+    w->progress(w->progress_user, &p);
+}
+
+/* Append a sample; < 0 on out of memory or a fatal trim error. */
+static int trim_at(sweep *w, shol_dir_result *d, int *cap, double v, core_err *err)
+{
+    if (d->n_samples == *cap) {
+        int nc = *cap ? 2 * *cap : 32;
+        shol_sample *ns = realloc(d->samples, nc * sizeof *ns);
+        if (!ns)
+            return core_err_set(err, -1, "shol: out of memory");
+        d->samples = ns;
+        *cap = nc;
+    }
+    shol_sample *sm = &d->samples[d->n_samples];
+    memset(sm, 0, sizeof *sm);
+    sm->speed_mps = v;
+    char name[32];
+    core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+    int rc = w->trim(w->trim_user, v, d->dir_rad, &sm->trim);
+    w->n_trims++;
+    if (rc < 0)
+        return core_err_set(err, -1, "shol: trim failed fatally at %s, %.3f km/h (%.3f kt)", name,
+                            v / CORE_KMH_TO_MPS, v / CORE_KT_TO_MPS);
+    sm->trim_status = rc;
+    if (rc > 0) {
+        for (int k = 0; k < SHOL_NCRIT; k++)
+            sm->eval.margin[k] = NAN;
+        sm->eval.limit = SHOL_LIMIT_TRIM;
+        core_log_msg(w->log, CORE_LOG_INFO, "shol: %s %.1f km/h: trim did not converge (%d)", name,
+                     v / CORE_KMH_TO_MPS, rc);
+    } else if (shol_criteria_eval(&w->s->criteria, &sm->trim, &sm->eval) < 0) {
+        /* A "converged" trim with NaN inside cannot clear a speed. */
+        sm->trim_status = 1;
+        core_log_msg(w->log, CORE_LOG_WARN,
+                     "shol: %s %.1f km/h: trim reported converged with a non-finite value; "
+                     "counted as not converged",
+                     name, v / CORE_KMH_TO_MPS);
+    } else {
+        sm->pass = sm->eval.n_exceeded == 0;
+        core_log_msg(w->log, CORE_LOG_DEBUG,
+                     "shol: %s %.1f km/h: roll %.2f deg pitch %.2f deg long %.1f%% lat %.1f%% "
+                     "coll %.1f%% pedal %.1f%%: %s (%s)",
+                     name, v / CORE_KMH_TO_MPS, sm->trim.phi_rad * CORE_RAD_TO_DEG,
+                     sm->trim.theta_rad * CORE_RAD_TO_DEG, sm->trim.long_cyclic_pct,
+                     sm->trim.lat_cyclic_pct, sm->trim.collective_pct, sm->trim.pedal_pct,
+                     sm->pass ? "pass" : "reject", shol_limit_name(sm->eval.limit));
+    }
+    d->n_samples++;
+    return 0;
+}
+
+static int by_speed(const void *a, const void *b)
+{
+    double x = ((const shol_sample *)a)->speed_mps, y = ((const shol_sample *)b)->speed_mps;
+    return (x > y) - (x < y);
+}
+
+static int sweep_dir(sweep *w, int idir, shol_dir_result *d, core_err *err)
+{
+    const shol_settings *s = w->s;
+    int cap = 0;
+    d->dir_rad = s->dirs_rad[idir];
+    d->fail_speed_mps = NAN;
+    d->limit = SHOL_LIMIT_NONE;
+    int ipass = -1, ifail = -1;
+
+    /* Speeds k * step, computed from k so that steps do not accumulate
+     * rounding; the top is speed_max within a 1e-9 step. */
+    long kmax = (long)floor(s->speed_max_mps / s->speed_step_mps + 1e-9);
+    for (long k = 0; k <= kmax; k++) {
+        double v = k * s->speed_step_mps;
+        if (trim_at(w, d, &cap, v, err) < 0)
+            return -1;
+        int i = d->n_samples - 1;
+        report(w, idir, v, s->speed_max_mps > 0 ? v / s->speed_max_mps : 1, 0);
+        if (d->samples[i].pass) {
+            ipass = i;
+        } else {
+            ifail = i;
+            break;
+        }
+    }
+
+    /* Bisection between the last pass and the first failure. */
+    if (ipass >= 0 && ifail >= 0 && s->bisect_tol_mps > 0) {
+        double lo = d->samples[ipass].speed_mps, hi = d->samples[ifail].speed_mps;
+        while (hi - lo > s->bisect_tol_mps) {
+            double v = 0.5 * (lo + hi);
+            if (trim_at(w, d, &cap, v, err) < 0)
+                return -1;
+            int i = d->n_samples - 1;
+            report(w, idir, hi, s->speed_max_mps > 0 ? hi / s->speed_max_mps : 1, 0);
+            if (d->samples[i].pass) {
+                lo = v;
+                ipass = i;
+            } else {
+                hi = v;
+                ifail = i;
+            }
+        }
+    }
+
+    /* Copy the verdict before the history is sorted (indices move). */
+    if (ipass >= 0) {
+        d->has_pass = 1;
+        d->max_speed_mps = d->samples[ipass].speed_mps;
+        d->margins = d->samples[ipass].eval;
+    } else {
+        d->has_pass = 0;
+        d->max_speed_mps = 0;
+        d->margins = d->samples[0].eval;
+    }
+    if (ifail >= 0) {
+        d->fail_speed_mps = d->samples[ifail].speed_mps;
+        d->limit = d->samples[ifail].eval.limit;
+    }
+    qsort(d->samples, d->n_samples, sizeof *d->samples, by_speed);
+
+    char name[32];
+    core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+    if (d->has_pass)
+        core_log_msg(w->log, CORE_LOG_INFO, "shol: %s: %.1f km/h (%.1f kt), limited by %s", name,
+                     d->max_speed_mps / CORE_KMH_TO_MPS, d->max_speed_mps / CORE_KT_TO_MPS,
+                     shol_limit_name(d->limit));
+    else
+        core_log_msg(w->log, CORE_LOG_WARN, "shol: %s: rejected already at 0 km/h (%s)", name,
+                     shol_limit_name(d->limit));
+    return 0;
+}
+
+int shol_envelope_run(const shol_settings *s, shol_trim_fn trim, void *trim_user,
+                      shol_progress_fn progress, void *progress_user, const core_log *log,
+                      shol_result *out, core_err *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!trim)
+        return core_err_set(err, -1, "shol: no trim callback");
+    if (shol_settings_check(s, err) < 0)
+        return -1;
+    sweep w = {s, trim, trim_user, progress, progress_user, log, now_s(), 0};
+    out->settings = *s;
+    out->dirs = calloc(s->n_dirs, sizeof *out->dirs);
+    if (!out->dirs)
+        return core_err_set(err, -1, "shol: out of memory");
+    out->n_dirs = s->n_dirs;
+    for (int i = 0; i < s->n_dirs; i++) {
+        if (sweep_dir(&w, i, &out->dirs[i], err) < 0) {
+            shol_result_free(out);
+            return -1;
+        }
+        report(&w, i, out->dirs[i].max_speed_mps, 1.0, i == s->n_dirs - 1);
+    }
+    out->n_trims = w.n_trims;
+    out->wall_s = now_s() - w.t0;
+    return 0;
+}

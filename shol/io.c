@@ -1,0 +1,105 @@
+/* io.c -- output folder and atomic writes (write a temporary file in the
+ * same folder, then rename: rename within one file system is atomic). */
+#include "io.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+int shol_io_mkdir(const char *dir, core_err *err)
+{
+    char p[SHOL_IO_PATH_MAX];
+    if (!dir || !*dir)
+        return core_err_set(err, -1, "shol: empty output folder name");
+    if (strlen(dir) >= sizeof p)
+        return core_err_set(err, -1, "%s: output folder name too long", dir);
+    strcpy(p, dir);
+    for (char *c = p + 1;; c++) {
+        int end = *c == '\0';
+        if (*c == '/' || end) {
+            char keep = *c;
+            *c = '\0';
+            if (mkdir(p, 0777) < 0 && errno != EEXIST)
+                return core_err_set(err, -1, "%s: cannot create folder: %s", p, strerror(errno));
+            *c = keep;
+        }
+        if (end)
+            break;
+    }
+    struct stat st;
+    if (stat(dir, &st) < 0 || !S_ISDIR(st.st_mode))
+        return core_err_set(err, -1, "%s: not a folder", dir);
+    return 0;
+}
+
+int shol_io_paths(const char *dir, const char *name, char *final, char *tmp, core_err *err)
+{
+    int n1 = snprintf(final, SHOL_IO_PATH_MAX, "%s/%s", dir, name);
+    int n2 = snprintf(tmp, SHOL_IO_PATH_MAX, "%s/.%s.tmp.%ld", dir, name, (long)getpid());
+    if (n1 < 0 || n2 < 0 || n1 >= SHOL_IO_PATH_MAX || n2 >= SHOL_IO_PATH_MAX)
+        return core_err_set(err, -1, "%s/%s: path too long", dir, name);
+    return 0;
+}
+
+FILE *shol_io_open(const char *tmp, core_err *err)
+{
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        core_err_set(err, -1, "%s: cannot write: %s", tmp, strerror(errno));
+    return f;
+}
+
+void shol_io_abort(FILE *f, const char *tmp)
+{
+    if (f)
+        fclose(f);
+    unlink(tmp);
+}
+
+int shol_io_commit(FILE *f, const char *tmp, const char *final, core_err *err)
+{
+    if (f) {
+        /* Keep the first failure's errno; fsync makes the rename publish
+         * data that is on disk (EINVAL: a file system without fsync). */
+        int saved = 0;
+        if (ferror(f))
+            saved = EIO;
+        if (fflush(f) != 0 && !saved)
+            saved = errno;
+        if (fsync(fileno(f)) != 0 && errno != EINVAL && !saved)
+            saved = errno;
+        if (fclose(f) != 0 && !saved)
+            saved = errno;
+        if (saved) {
+            unlink(tmp);
+            return core_err_set(err, -1, "%s: write failed: %s", final, strerror(saved));
+        }
+    } else {
+        /* Written by cairo: flush it to disk before it gets its name. */
+        int fd = open(tmp, O_RDONLY);
+        if (fd < 0) {
+            int saved = errno;
+            unlink(tmp);
+            return core_err_set(err, -1, "%s: cannot reopen: %s", tmp, strerror(saved));
+        }
+        fsync(fd);
+        close(fd);
+    }
+    if (rename(tmp, final) < 0) {
+        int saved = errno;
+        unlink(tmp);
+        return core_err_set(err, -1, "%s: cannot rename into place: %s", final, strerror(saved));
+    }
+    return 0;
+}
+
+void shol_io_num(FILE *f, const char *fmt, double v)
+{
+    if (isfinite(v))
+        fprintf(f, fmt, v);
+    else
+        fputs("nan", f);
+}

@@ -1,0 +1,28 @@
+/* io.h -- private: output folder and atomic file writes for shol's outputs.
+ * Each file is written under a temporary name in the same folder and
+ * renamed into place, so a reader never sees half a file. */
+#ifndef DISIM_SHOL_IO_H
+#define DISIM_SHOL_IO_H
+
+#include "shol.h"
+
+#include <stdio.h>
+
+#define SHOL_IO_PATH_MAX 1024
+
+/* Create dir and its parents if missing; < 0 with err if it cannot, or if
+ * it exists and is not a folder. */
+int shol_io_mkdir(const char *dir, core_err *err);
+/* Fill final = dir/name and tmp = a temporary name beside it. */
+int shol_io_paths(const char *dir, const char *name, char *final, char *tmp, core_err *err);
+/* Open tmp for writing (after shol_io_paths). */
+FILE *shol_io_open(const char *tmp, core_err *err);
+/* Flush and close f (if not NULL) and rename tmp to final; on any error
+ * (including a stream error seen by ferror) remove tmp and return < 0. */
+int shol_io_commit(FILE *f, const char *tmp, const char *final, core_err *err);
+/* Remove tmp after a failed write. */
+void shol_io_abort(FILE *f, const char *tmp);
+/* Write "nan" for a non-finite value, else printf(fmt, v). */
+void shol_io_num(FILE *f, const char *fmt, double v);
+
+#endif

@@ -1,0 +1,340 @@
+/*
+ * output.c -- the envelope as data files: shol.csv (one row per direction,
+ * the columns of issue 5) and shol.json (settings, criteria, results and the
+ * whole trim-versus-speed history), and the CSV reader for comparisons.
+ * Units are in the names: deg, kt, km/h, pct. Non-finite values are written
+ * as nan (CSV) or null (JSON).
+ */
+#include "io.h"
+#include "shol.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define CSV_HEADER                                                                                 \
+    "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,margin_pitch_deg,"               \
+    "margin_long_pct,margin_lat_pct,margin_coll_pct,margin_pedal_pct"
+
+static double margin_out(const shol_eval *e, int k)
+{
+    /* Attitude margins are rad inside, deg in files. */
+    return k <= SHOL_CRIT_PITCH ? e->margin[k] * CORE_RAD_TO_DEG : e->margin[k];
+}
+
+int shol_write_csv(const char *dir, const shol_result *r, core_err *err)
+{
+    char final[SHOL_IO_PATH_MAX], tmp[SHOL_IO_PATH_MAX];
+    if (shol_io_mkdir(dir, err) < 0 || shol_io_paths(dir, "shol.csv", final, tmp, err) < 0)
+        return -1;
+    FILE *f = shol_io_open(tmp, err);
+    if (!f)
+        return -1;
+    fprintf(f, "%s\n", CSV_HEADER);
+    for (int i = 0; i < r->n_dirs; i++) {
+        const shol_dir_result *d = &r->dirs[i];
+        double v = d->has_pass ? d->max_speed_mps : NAN;
+        fprintf(f, "%.6f,", d->dir_rad * CORE_RAD_TO_DEG);
+        shol_io_num(f, "%.6f", v / CORE_KT_TO_MPS);
+        fputc(',', f);
+        shol_io_num(f, "%.6f", v / CORE_KMH_TO_MPS);
+        fprintf(f, ",%s", shol_limit_name(d->limit));
+        for (int k = 0; k < SHOL_NCRIT; k++) {
+            fputc(',', f);
+            shol_io_num(f, "%.6f", margin_out(&d->margins, k));
+        }
+        fputc('\n', f);
+    }
+    return shol_io_commit(f, tmp, final, err);
+}
+
+/* Split line (modified) at commas into at most n fields; returns the count. */
+static int split(char *line, char **field, int n)
+{
+    int k = 0;
+    char *p = line;
+    while (k < n) {
+        while (*p == ' ' || *p == '\t')
+            p++;
+        field[k++] = p;
+        char *c = strchr(p, ',');
+        char *e = c ? c : p + strlen(p);
+        while (e > p && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r' || e[-1] == '\n'))
+            e--;
+        if (!c) {
+            *e = '\0';
+            return k;
+        }
+        *e = '\0';
+        p = c + 1;
+    }
+    return k + 1; /* more fields than n */
+}
+
+static int parse_num(const char *s, double *v)
+{
+    char *end;
+    *v = strtod(s, &end);
+    return end == s || *end ? -1 : 0;
+}
+
+int shol_read_csv(const char *path, shol_result *r, core_err *err)
+{
+    memset(r, 0, sizeof *r);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return core_err_set(err, -1, "%s: cannot open", path);
+    shol_settings_default(&r->settings);
+    r->dirs = calloc(SHOL_MAX_DIRS, sizeof *r->dirs);
+    if (!r->dirs) {
+        fclose(f);
+        return core_err_set(err, -1, "%s: out of memory", path);
+    }
+    char line[1024];
+    int lineno = 0, rc = 0;
+    while (fgets(line, sizeof line, f)) {
+        lineno++;
+        size_t len = strlen(line);
+        while (len && (line[len - 1] == '\n' || line[len - 1] == '\r'))
+            line[--len] = '\0';
+        if (lineno == 1) {
+            if (strcmp(line, CSV_HEADER) != 0) {
+                rc = core_err_set(err, -1, "%s:1: expected the header '%s'", path, CSV_HEADER);
+                break;
+            }
+            continue;
+        }
+        if (len == 0)
+            continue;
+        char *fld[11];
+        int nf = split(line, fld, 10);
+        if (nf != 10) {
+            rc = core_err_set(err, -1, "%s:%d: expected 10 comma-separated fields, got %d", path,
+                              lineno, nf);
+            break;
+        }
+        if (r->n_dirs == SHOL_MAX_DIRS) {
+            rc = core_err_set(err, -1, "%s:%d: more than %d directions", path, lineno,
+                              SHOL_MAX_DIRS);
+            break;
+        }
+        shol_dir_result *d = &r->dirs[r->n_dirs];
+        double v[10];
+        const char *names[10] = {"wod_dir_deg",     "max_speed_kt",    "max_speed_kmh",
+                                 "limit",           "margin_roll_deg", "margin_pitch_deg",
+                                 "margin_long_pct", "margin_lat_pct",  "margin_coll_pct",
+                                 "margin_pedal_pct"};
+        for (int k = 0; k < 10 && rc == 0; k++) {
+            if (k == 3) {
+                if (shol_limit_parse(fld[3], &d->limit) < 0)
+                    rc = core_err_set(err, -1, "%s:%d: limit '%s': unknown criterion", path, lineno,
+                                      fld[3]);
+            } else if (parse_num(fld[k], &v[k]) < 0) {
+                rc = core_err_set(err, -1, "%s:%d: %s '%s': expected a number", path, lineno,
+                                  names[k], fld[k]);
+            }
+        }
+        if (rc)
+            break;
+        if (!(v[0] > -180.0 - 1e-6 && v[0] <= 180.0 + 1e-6)) {
+            rc = core_err_set(err, -1, "%s:%d: wod_dir_deg %g: expected (-180, 180]", path, lineno,
+                              v[0]);
+            break;
+        }
+        d->has_pass = isfinite(v[1]);
+        if (d->has_pass != isfinite(v[2]) ||
+            (d->has_pass && fabs(v[1] * CORE_KT_TO_MPS - v[2] * CORE_KMH_TO_MPS) > 1e-3)) {
+            rc = core_err_set(err, -1, "%s:%d: max_speed_kt %g and max_speed_kmh %g disagree", path,
+                              lineno, v[1], v[2]);
+            break;
+        }
+        d->dir_rad = core_wod_wrap_deg(v[0]) * CORE_DEG_TO_RAD;
+        d->max_speed_mps = d->has_pass ? v[1] * CORE_KT_TO_MPS : 0;
+        d->fail_speed_mps = NAN;
+        for (int k = 0; k < SHOL_NCRIT; k++)
+            d->margins.margin[k] = k <= SHOL_CRIT_PITCH ? v[4 + k] * CORE_DEG_TO_RAD : v[4 + k];
+        d->margins.limit = d->limit;
+        for (int k = 0; k < SHOL_NCRIT; k++)
+            d->margins.n_exceeded += d->margins.margin[k] < 0;
+        r->settings.dirs_rad[r->n_dirs] = d->dir_rad;
+        r->n_dirs++;
+    }
+    fclose(f);
+    if (rc == 0 && lineno == 0)
+        rc = core_err_set(err, -1, "%s: empty file, expected the header '%s'", path, CSV_HEADER);
+    if (rc) {
+        shol_result_free(r);
+        return rc;
+    }
+    r->settings.n_dirs = r->n_dirs;
+    return 0;
+}
+
+/* JSON string with the escapes JSON needs. */
+static void json_str(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; s && *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            fprintf(f, "\\%c", c);
+        else if (c == '\n')
+            fputs("\\n", f);
+        else if (c < 0x20)
+            fprintf(f, "\\u%04x", c);
+        else
+            fputc(c, f);
+    }
+    fputc('"', f);
+}
+
+static void json_num(FILE *f, double v)
+{
+    if (isfinite(v))
+        fprintf(f, "%.9g", v);
+    else
+        fputs("null", f);
+}
+
+static void json_margins(FILE *f, const shol_eval *e)
+{
+    static const char *const key[SHOL_NCRIT] = {"roll_deg", "pitch_deg", "long_pct",
+                                                "lat_pct",  "coll_pct",  "pedal_pct"};
+    fputc('{', f);
+    for (int k = 0; k < SHOL_NCRIT; k++) {
+        fprintf(f, "%s\"%s\": ", k ? ", " : "", key[k]);
+        json_num(f, margin_out(e, k));
+    }
+    fputc('}', f);
+}
+
+int shol_write_json(const char *dir, const shol_result *r, const shol_report_info *info,
+                    core_err *err)
+{
+    char final[SHOL_IO_PATH_MAX], tmp[SHOL_IO_PATH_MAX];
+    if (shol_io_mkdir(dir, err) < 0 || shol_io_paths(dir, "shol.json", final, tmp, err) < 0)
+        return -1;
+    FILE *f = shol_io_open(tmp, err);
+    if (!f)
+        return -1;
+    const shol_settings *s = &r->settings;
+    const shol_criteria *c = &s->criteria;
+    shol_report_info none = {0};
+    if (!info)
+        info = &none;
+    fputs("{\n  \"title\": ", f);
+    json_str(f, info->title ? info->title : "Candidate SHOL");
+    fputs(",\n  \"label\": ", f);
+    json_str(f, info->label ? info->label : "");
+    fputs(",\n  \"scenario\": ", f);
+    json_str(f, info->scenario_path ? info->scenario_path : "");
+    fputs(",\n  \"aircraft\": ", f);
+    json_str(f, info->aircraft_path ? info->aircraft_path : "");
+    fputs(",\n  \"grid\": ", f);
+    json_str(f, info->grid ? info->grid : "");
+    fputs(",\n  \"coupling\": ", f);
+    json_str(f, info->coupling ? info->coupling : "");
+    fprintf(f, ",\n  \"settings\": {\"speed_step_kmh\": ");
+    json_num(f, s->speed_step_mps / CORE_KMH_TO_MPS);
+    fputs(", \"speed_max_kmh\": ", f);
+    json_num(f, s->speed_max_mps / CORE_KMH_TO_MPS);
+    fputs(", \"bisect_tol_kmh\": ", f);
+    json_num(f, s->bisect_tol_mps / CORE_KMH_TO_MPS);
+    fputs(", \"dirs_deg\": [", f);
+    for (int i = 0; i < s->n_dirs; i++) {
+        fputs(i ? ", " : "", f);
+        json_num(f, s->dirs_rad[i] * CORE_RAD_TO_DEG);
+    }
+    fprintf(f,
+            "]},\n  \"criteria\": {\"roll_deg\": %.9g, \"pitch_deg\": %.9g, "
+            "\"long_cyclic_pct\": %.9g, \"lat_cyclic_pct\": %.9g, \"collective_pct\": %.9g, "
+            "\"pedal_pct\": %.9g},\n",
+            c->roll_max_rad * CORE_RAD_TO_DEG, c->pitch_max_rad * CORE_RAD_TO_DEG,
+            c->long_cyclic_pct, c->lat_cyclic_pct, c->collective_pct, c->pedal_pct);
+    fprintf(f, "  \"n_trims\": %d,\n  \"wall_s\": ", r->n_trims);
+    json_num(f, r->wall_s);
+    fputs(",\n  \"directions\": [", f);
+    for (int i = 0; i < r->n_dirs; i++) {
+        const shol_dir_result *d = &r->dirs[i];
+        char name[32];
+        core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+        double v = d->has_pass ? d->max_speed_mps : NAN;
+        fprintf(f, "%s\n    {\"wod_dir_deg\": ", i ? "," : "");
+        json_num(f, d->dir_rad * CORE_RAD_TO_DEG);
+        fputs(", \"name\": ", f);
+        json_str(f, name);
+        fputs(", \"max_speed_kt\": ", f);
+        json_num(f, v / CORE_KT_TO_MPS);
+        fputs(", \"max_speed_kmh\": ", f);
+        json_num(f, v / CORE_KMH_TO_MPS);
+        fputs(", \"fail_speed_kmh\": ", f);
+        json_num(f, d->fail_speed_mps / CORE_KMH_TO_MPS);
+        fprintf(f, ", \"limit\": \"%s\",\n     \"margins\": ", shol_limit_name(d->limit));
+        json_margins(f, &d->margins);
+        fputs(",\n     \"history\": [", f);
+        for (int j = 0; j < d->n_samples; j++) {
+            const shol_sample *sm = &d->samples[j];
+            fprintf(f, "%s\n       {\"speed_kmh\": ", j ? "," : "");
+            json_num(f, sm->speed_mps / CORE_KMH_TO_MPS);
+            fputs(", \"speed_kt\": ", f);
+            json_num(f, sm->speed_mps / CORE_KT_TO_MPS);
+            /* limit: what rejected this trim ("none" when it passed);
+             * closest: the criterion nearest its limit (the rejecting one
+             * when rejected). */
+            fprintf(f,
+                    ", \"trim_status\": %d, \"pass\": %s, \"limit\": \"%s\", "
+                    "\"closest\": \"%s\"",
+                    sm->trim_status, sm->pass ? "true" : "false",
+                    shol_limit_name(sm->pass ? SHOL_LIMIT_NONE : sm->eval.limit),
+                    shol_limit_name(sm->eval.limit));
+            if (sm->trim_status == 0) {
+                fputs(", \"roll_deg\": ", f);
+                json_num(f, sm->trim.phi_rad * CORE_RAD_TO_DEG);
+                fputs(", \"pitch_deg\": ", f);
+                json_num(f, sm->trim.theta_rad * CORE_RAD_TO_DEG);
+                fputs(", \"long_cyclic_pct\": ", f);
+                json_num(f, sm->trim.long_cyclic_pct);
+                fputs(", \"lat_cyclic_pct\": ", f);
+                json_num(f, sm->trim.lat_cyclic_pct);
+                fputs(", \"collective_pct\": ", f);
+                json_num(f, sm->trim.collective_pct);
+                fputs(", \"pedal_pct\": ", f);
+                json_num(f, sm->trim.pedal_pct);
+                fputs(", \"margins\": ", f);
+                json_margins(f, &sm->eval);
+            }
+            fputc('}', f);
+        }
+        fputs("]}", f);
+    }
+    fputs("\n  ]\n}\n", f);
+    return shol_io_commit(f, tmp, final, err);
+}
+
+void shol_trim_plot_name(double dir_rad, char *buf, size_t n)
+{
+    double d = core_wod_wrap_deg(dir_rad * CORE_RAD_TO_DEG);
+    double a = fabs(d);
+    if (a < 1e-6)
+        snprintf(buf, n, "shol_trim_head.png");
+    else if (fabs(a - 180.0) < 1e-6)
+        snprintf(buf, n, "shol_trim_stern.png");
+    else if (fabs(a - round(a)) < 1e-6)
+        snprintf(buf, n, "shol_trim_%s%03d.png", d > 0 ? "green" : "red", (int)round(a));
+    else {
+        /* 7.5 -> 007p5: no dot inside a name that ends in .png */
+        int tenths = (int)round(a * 10);
+        snprintf(buf, n, "shol_trim_%s%03dp%d.png", d > 0 ? "green" : "red", tenths / 10,
+                 tenths % 10);
+    }
+}
+
+int shol_write_all(const char *dir, const shol_result *r, const shol_report_info *info,
+                   core_err *err)
+{
+    if (shol_write_csv(dir, r, err) < 0 || shol_write_json(dir, r, info, err) < 0 ||
+        shol_plot_polar(dir, r, info, err) < 0 || shol_plot_trim(dir, r, info, err) < 0 ||
+        shol_write_report(dir, r, info, err) < 0)
+        return -1;
+    return 0;
+}

@@ -1,0 +1,151 @@
+/*
+ * report.c -- the short Markdown report of a candidate SHOL: settings and
+ * criteria, the polar plot, the envelope table, the trim-versus-speed plots,
+ * the coupling histories (text the caller supplies) and, with a second
+ * result set, a direction-by-direction comparison (e.g. two-way coupled
+ * versus one-way airwake, as issue 5's acceptance asks).
+ */
+#include "io.h"
+#include "shol.h"
+
+#include <math.h>
+#include <string.h>
+
+static const char *or_dash(const char *s)
+{
+    return s && *s ? s : "-";
+}
+
+static const shol_dir_result *find_dir(const shol_result *c, double dir_rad)
+{
+    for (int i = 0; c && i < c->n_dirs; i++)
+        if (fabs(c->dirs[i].dir_rad - dir_rad) < 1e-6)
+            return &c->dirs[i];
+    return NULL;
+}
+
+/* "24.3 kt (45 km/h)" or "none" (rejected at 0). */
+static void speed_txt(const shol_dir_result *d, char *buf, size_t n)
+{
+    if (!d)
+        snprintf(buf, n, "not computed");
+    else if (!d->has_pass)
+        snprintf(buf, n, "none (rejected at 0)");
+    else
+        snprintf(buf, n, "%.1f kt (%.1f km/h)", d->max_speed_mps / CORE_KT_TO_MPS,
+                 d->max_speed_mps / CORE_KMH_TO_MPS);
+}
+
+int shol_write_report(const char *dir, const shol_result *r, const shol_report_info *info,
+                      core_err *err)
+{
+    char final[SHOL_IO_PATH_MAX], tmp[SHOL_IO_PATH_MAX];
+    if (shol_io_mkdir(dir, err) < 0 || shol_io_paths(dir, "report.md", final, tmp, err) < 0)
+        return -1;
+    FILE *f = shol_io_open(tmp, err);
+    if (!f)
+        return -1;
+    shol_report_info none = {0};
+    if (!info)
+        info = &none;
+    const shol_settings *s = &r->settings;
+    const shol_criteria *k = &s->criteria;
+    const char *label = info->label ? info->label : "envelope";
+
+    fprintf(f, "# Candidate SHOL: %s\n\n", info->title ? info->title : "trim-based envelope");
+    fprintf(f, "Trim-based candidate ship-helicopter operating limits (the seed paper's "
+               "section 2.8): at each wind-over-deck direction the helicopter is trimmed over the "
+               "spot at rising wind speeds; the envelope radius is the last speed at which no "
+               "rejection criterion is exceeded. A candidate envelope supports, and does not "
+               "replace, at-sea flight test.\n\n");
+
+    fprintf(f, "## Settings\n\n| setting | value |\n|---|---|\n");
+    fprintf(f, "| scenario | %s |\n| aircraft | %s |\n| grid | %s |\n| coupling | %s |\n",
+            or_dash(info->scenario_path), or_dash(info->aircraft_path), or_dash(info->grid),
+            or_dash(info->coupling));
+    fprintf(f, "| directions | %d:", s->n_dirs);
+    for (int i = 0; i < s->n_dirs; i++) {
+        char n[32];
+        core_wod_name(s->dirs_rad[i] * CORE_RAD_TO_DEG, n, sizeof n);
+        fprintf(f, "%s %s", i ? "," : "", n);
+    }
+    fprintf(f,
+            " |\n| speed step | %g km/h (%.2f kt) |\n| highest speed searched | %g km/h "
+            "(%.1f kt) |\n",
+            s->speed_step_mps / CORE_KMH_TO_MPS, s->speed_step_mps / CORE_KT_TO_MPS,
+            s->speed_max_mps / CORE_KMH_TO_MPS, s->speed_max_mps / CORE_KT_TO_MPS);
+    if (s->bisect_tol_mps > 0)
+        fprintf(f, "| bisection | to %g km/h after the first failure |\n",
+                s->bisect_tol_mps / CORE_KMH_TO_MPS);
+    else
+        fprintf(f, "| bisection | off |\n");
+    fprintf(f, "| trims | %d in %.1f s |\n\n", r->n_trims, r->wall_s);
+    fprintf(f,
+            "Rejection criteria (aircraft data file `[rejection]`; a control limit L %% "
+            "rejects above L %% or below 100 - L %%): |roll| > %g deg, |pitch| > %g deg, "
+            "longitudinal cyclic %g %%, lateral cyclic %g %%, collective %g %%, pedal %g %%.\n\n",
+            k->roll_max_rad * CORE_RAD_TO_DEG, k->pitch_max_rad * CORE_RAD_TO_DEG,
+            k->long_cyclic_pct, k->lat_cyclic_pct, k->collective_pct, k->pedal_pct);
+
+    fprintf(f, "## Envelope\n\n![Candidate SHOL polar plot](shol_polar.png)\n\n"
+               "Vector version: [shol_polar.svg](shol_polar.svg); data: [shol.csv](shol.csv), "
+               "[shol.json](shol.json).\n\n");
+    fprintf(f,
+            "| WOD | max speed (%s) | limit | margins at the last pass: roll deg, pitch deg, "
+            "long %%, lat %%, coll %%, pedal %% | trim plot |\n|---|---|---|---|---|\n",
+            label);
+    for (int i = 0; i < r->n_dirs; i++) {
+        const shol_dir_result *d = &r->dirs[i];
+        char n[32], sp[64], plot[64];
+        core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, n, sizeof n);
+        speed_txt(d, sp, sizeof sp);
+        shol_trim_plot_name(d->dir_rad, plot, sizeof plot);
+        fprintf(f, "| %s | %s | %s |", n, sp, shol_limit_name(d->limit));
+        for (int c = 0; c < SHOL_NCRIT; c++) {
+            double m = d->margins.margin[c] * (c <= SHOL_CRIT_PITCH ? CORE_RAD_TO_DEG : 1);
+            if (isfinite(m))
+                fprintf(f, "%s %.2f", c ? "," : "", m);
+            else
+                fprintf(f, "%s -", c ? "," : "");
+        }
+        fprintf(f, " | [%s](%s) |\n", plot, plot);
+    }
+    fprintf(f, "\n\"none\" means no criterion was exceeded up to the highest speed searched; "
+               "\"trim\" means the trim did not converge, which counts as a rejection.\n\n");
+
+    fprintf(f, "## Coupling histories\n\n");
+    if (info->coupling_md && *info->coupling_md)
+        fprintf(f, "%s\n\n", info->coupling_md);
+    else
+        fprintf(f, "No coupling history was supplied with this envelope.\n\n");
+
+    fprintf(f, "## Comparison\n\n");
+    if (info->compare) {
+        const char *cl = info->compare_label ? info->compare_label : "comparison";
+        fprintf(f, "| WOD | %s | limit | %s | limit | difference |\n|---|---|---|---|---|---|\n",
+                label, cl);
+        for (int i = 0; i < r->n_dirs; i++) {
+            const shol_dir_result *d = &r->dirs[i];
+            const shol_dir_result *c = find_dir(info->compare, d->dir_rad);
+            char n[32], a[64], b[64];
+            core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, n, sizeof n);
+            speed_txt(d, a, sizeof a);
+            speed_txt(c, b, sizeof b);
+            fprintf(f, "| %s | %s | %s | %s | %s | ", n, a, shol_limit_name(d->limit), b,
+                    c ? shol_limit_name(c->limit) : "-");
+            if (c) {
+                double dv = d->max_speed_mps - c->max_speed_mps;
+                fprintf(f, "%+.1f kt (%+.1f km/h) |\n", dv / CORE_KT_TO_MPS, dv / CORE_KMH_TO_MPS);
+            } else {
+                fprintf(f, "- |\n");
+            }
+        }
+        fprintf(f,
+                "\nDifference = %s minus %s; with fixed speed steps a difference below one "
+                "step (%g km/h) is not resolved.\n",
+                label, cl, s->speed_step_mps / CORE_KMH_TO_MPS);
+    } else {
+        fprintf(f, "No second envelope was supplied for comparison.\n");
+    }
+    return shol_io_commit(f, tmp, final, err);
+}

@@ -1,0 +1,257 @@
+/*
+ * shol.h -- the candidate ship-helicopter operating limits (SHOL): rejection
+ * criteria, the trim-based envelope procedure of the seed paper (section
+ * 2.8), and its outputs (CSV, JSON, polar and trim-versus-speed plots, a
+ * Markdown report).
+ *
+ * The module knows nothing about the physics: the caller supplies a trim
+ * callback (shol_trim_fn) that trims the helicopter at the hover-over-spot
+ * station for a given wind over deck, e.g. in the coupled airwake. See
+ * docs/shol.md for how a command drives it.
+ *
+ * Conventions (../shared/CONVENTIONS.md):
+ *  - SI inside: speeds in m/s, angles in rad. Degrees, knots and km/h appear
+ *    only in the data file keys and the output files, whose names say so.
+ *  - WOD direction is where the wind comes FROM, from the bow, positive to
+ *    starboard (green), negative to port (red), in (-180, 180].
+ *  - Controls are percentages of full travel, 0..100, 50 mid-travel. A limit
+ *    L% on a control rejects it above L% or below (100 - L)%.
+ *  - Functions return int: 0 ok, < 0 fatal (err filled), > 0 recoverable.
+ */
+#ifndef DISIM_SHOL_H
+#define DISIM_SHOL_H
+
+#include "core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------- criteria */
+/* The rejection criteria, in the order of the seed paper's Table 4. */
+typedef enum shol_crit {
+    SHOL_CRIT_ROLL = 0,
+    SHOL_CRIT_PITCH = 1,
+    SHOL_CRIT_LONG = 2, /* longitudinal cyclic */
+    SHOL_CRIT_LAT = 3,  /* lateral cyclic */
+    SHOL_CRIT_COLL = 4, /* collective */
+    SHOL_CRIT_PEDAL = 5,
+    SHOL_NCRIT = 6
+} shol_crit;
+
+/* What limited a direction: a criterion (0..5) or one of these. */
+enum {
+    SHOL_LIMIT_NONE = -1, /* nothing exceeded up to the highest speed searched */
+    SHOL_LIMIT_TRIM = 6   /* the trim did not converge (treated as a rejection) */
+};
+
+/* Short names used in files and plots: "roll", "pitch", "long_cyclic",
+ * "lat_cyclic", "collective", "pedal", "trim", "none"; NULL if unknown. */
+const char *shol_limit_name(int limit);
+/* Inverse of shol_limit_name; returns 0 and sets *limit, or -1. */
+int shol_limit_parse(const char *name, int *limit);
+
+typedef struct shol_criteria {
+    double roll_max_rad;    /* reject abs(phi) > roll_max_rad */
+    double pitch_max_rad;   /* reject abs(theta) > pitch_max_rad */
+    double long_cyclic_pct; /* reject above L or below 100 - L */
+    double lat_cyclic_pct;
+    double collective_pct;
+    double pedal_pct;
+} shol_criteria;
+
+/* The defaults of CONVENTIONS.md (seed paper Table 4): 5 deg, 8 deg, 85 %,
+ * 85 %, 85 %, 80 %. */
+void shol_criteria_default(shol_criteria *c);
+
+/* Read the [rejection] section of an aircraft data file that is already
+ * loaded: keys roll_deg, pitch_deg (0..90), long_cyclic_pct, lat_cyclic_pct,
+ * collective_pct, pedal_pct (50..100); an absent key keeps its default, an
+ * absent section gives all defaults. Unknown keys in [rejection] are errors;
+ * other sections are left to their owners (not consumed). Returns 0, or < 0
+ * with err "file:line: [rejection] key ...". */
+int shol_criteria_read(core_ini *ini, shol_criteria *c, core_err *err);
+/* Load path and read its [rejection] section (see shol_criteria_read). */
+int shol_criteria_load(const char *path, shol_criteria *c, core_err *err);
+
+/* A trimmed state: attitude and pilot controls. */
+typedef struct shol_trim_point {
+    double phi_rad;                                                    /* roll, right wing down + */
+    double theta_rad;                                                  /* pitch, nose up + */
+    double long_cyclic_pct, lat_cyclic_pct, collective_pct, pedal_pct; /* 0..100 */
+} shol_trim_point;
+
+/* A trim point judged against the criteria. */
+typedef struct shol_eval {
+    /* Signed margins, >= 0 inside the limits, < 0 when exceeded: roll and
+     * pitch in rad (limit - abs(angle)), controls in percentage points
+     * (min(L - c, c - (100 - L))). Indexed by shol_crit. */
+    double margin[SHOL_NCRIT];
+    int n_exceeded; /* criteria with margin < 0 */
+    /* The limiting criterion: among the exceeded ones (or, if none, among
+     * all) the one with the smallest margin as a fraction of its allowed
+     * half-band (the angle limit, or L - 50 for a control); ties go to the
+     * first in shol_crit order. */
+    int limit;
+} shol_eval;
+
+/* Judge p against c. Returns 0, or -1 if p holds a value that is not finite
+ * (out then has n_exceeded = 0 and limit = SHOL_LIMIT_TRIM). */
+int shol_criteria_eval(const shol_criteria *c, const shol_trim_point *p, shol_eval *out);
+
+/* ------------------------------------------------------------- envelope */
+/* Trim the helicopter for a WOD of speed wod_speed_mps from wod_dir_rad.
+ * Returns 0 when converged (out filled), > 0 when it did not converge (a
+ * rejection, reported as "trim"), < 0 on a fatal error (the sweep stops). */
+typedef int (*shol_trim_fn)(void *user, double wod_speed_mps, double wod_dir_rad,
+                            shol_trim_point *out);
+
+#define SHOL_MAX_DIRS 360
+
+typedef struct shol_settings {
+    int n_dirs;                     /* directions to sweep, in this order */
+    double dirs_rad[SHOL_MAX_DIRS]; /* each in (-pi, pi] */
+    double speed_step_mps;          /* > 0; default 5 km/h */
+    double speed_max_mps;           /* highest speed tried; default 150 km/h */
+    double bisect_tol_mps;          /* > 0: refine the first failure by
+                                       bisection to this width; 0: off */
+    shol_criteria criteria;
+} shol_settings;
+
+/* Defaults: red 90 to green 90 by 30 deg, 5 km/h steps up to 150 km/h, no
+ * bisection, default criteria. */
+void shol_settings_default(shol_settings *s);
+/* Directions first_rad, first_rad + step_rad, ... up to last_rad (inclusive,
+ * within 1e-9 rad), wrapped into (-pi, pi]. Returns 0, or < 0 (step <= 0,
+ * too many directions). */
+int shol_settings_dirs(shol_settings *s, double first_rad, double last_rad, double step_rad,
+                       core_err *err);
+/* The full circle: -180 + step ... 180 deg (step must divide 360 deg within
+ * 1e-9 rad). */
+int shol_settings_full_circle(shol_settings *s, double step_rad, core_err *err);
+/* Check settings; < 0 with err naming the bad field. */
+int shol_settings_check(const shol_settings *s, core_err *err);
+
+/* One trim of the sweep. */
+typedef struct shol_sample {
+    double speed_mps;
+    int trim_status;      /* what the trim callback returned: 0 or > 0 */
+    shol_trim_point trim; /* valid when trim_status == 0 */
+    shol_eval eval;       /* limit SHOL_LIMIT_TRIM when the trim failed */
+    int pass;             /* 1: converged and nothing exceeded */
+} shol_sample;
+
+/* The envelope at one direction. */
+typedef struct shol_dir_result {
+    double dir_rad;
+    int has_pass;          /* 0: even the lowest speed (0) was rejected */
+    double max_speed_mps;  /* last passing speed (0 if !has_pass) */
+    double fail_speed_mps; /* lowest failing speed found, NAN if none */
+    int limit;             /* criterion at fail_speed_mps, or SHOL_LIMIT_NONE */
+    shol_eval margins;     /* at max_speed_mps; at 0 m/s when !has_pass */
+    int n_samples;         /* the trim-versus-speed history, by speed */
+    shol_sample *samples;
+} shol_dir_result;
+
+/* A whole envelope: plain data; free the arrays with shol_result_free. */
+typedef struct shol_result {
+    shol_settings settings;
+    int n_dirs;
+    shol_dir_result *dirs; /* in the settings' order */
+    int n_trims;           /* trim calls made */
+    double wall_s;         /* wall-clock time of the sweep */
+} shol_result;
+
+void shol_result_free(shol_result *r);
+
+/* Progress of a sweep, sent after each trim. */
+typedef struct shol_progress {
+    int dir_index, n_dirs;
+    double dir_rad, speed_mps;
+    int n_trims;       /* trims so far */
+    double fraction;   /* 0..1, an estimate (a direction counts as far as its
+                          speed over speed_max, and whole once finished) */
+    double elapsed_s;  /* wall clock since the start */
+    double rate_per_s; /* trims per second */
+    double eta_s;      /* estimated time left, NAN before the first estimate */
+    int done;          /* 1 on the last call */
+} shol_progress;
+
+typedef void (*shol_progress_fn)(void *user, const shol_progress *p);
+
+/* Format one progress line ("37% red 30 at 45 km/h, 12 trims, 2.5 min/trim,
+ * 41 min 20 s left"), without newline. */
+void shol_progress_format(const shol_progress *p, char *buf, size_t n);
+
+/* Run the candidate SHOL procedure (seed paper section 2.8): for each
+ * direction, trim at 0, step, 2 step, ... up to speed_max_mps; stop at the
+ * first speed where a criterion is exceeded or the trim does not converge;
+ * then, with bisect_tol_mps > 0, bisect between the last pass and the first
+ * failure until they are at most bisect_tol_mps apart. progress and log may
+ * be NULL. On success out is filled (free with shol_result_free); on error
+ * (the callback returned < 0, bad settings, out of memory) out is empty and
+ * err names the direction and speed. */
+int shol_envelope_run(const shol_settings *s, shol_trim_fn trim, void *trim_user,
+                      shol_progress_fn progress, void *progress_user, const core_log *log,
+                      shol_result *out, core_err *err);
+
+/* -------------------------------------------------------------- outputs */
+/* Optional text and a second envelope for the report and plots. */
+typedef struct shol_report_info {
+    const char *title;         /* e.g. "CG-47 + UH-60A"; NULL: "Candidate SHOL" */
+    const char *label;         /* name of the main envelope, e.g. "two-way coupled" */
+    const char *scenario_path; /* settings listed in the report, each may be NULL */
+    const char *aircraft_path;
+    const char *grid;
+    const char *coupling;
+    /* A second result set on the same directions (e.g. one-way airwake):
+     * drawn dashed on the plots and compared direction by direction in the
+     * report. NULL: none. */
+    const shol_result *compare;
+    const char *compare_label; /* e.g. "one-way (ship-only airwake)" */
+    /* Markdown the caller writes about the coupling iterations (histories
+     * per direction and speed); NULL: the report says none was supplied. */
+    const char *coupling_md;
+} shol_report_info;
+
+/* Each writer creates DIR if needed and writes through a temporary file
+ * renamed into place, so a failure leaves no partial file. */
+
+/* DIR/shol.csv, one row per direction, columns exactly:
+ * wod_dir_deg, max_speed_kt, max_speed_kmh, limit, margin_roll_deg,
+ * margin_pitch_deg, margin_long_pct, margin_lat_pct, margin_coll_pct,
+ * margin_pedal_pct. A direction with no passing speed has "nan" speeds
+ * and the margins at 0 m/s. */
+int shol_write_csv(const char *dir, const shol_result *r, core_err *err);
+/* Read a shol.csv back (directions, speeds, limits, margins; no history,
+ * settings default apart from the directions). */
+int shol_read_csv(const char *path, shol_result *r, core_err *err);
+/* DIR/shol.json: settings, criteria and per direction the result and the
+ * whole trim-versus-speed history. */
+int shol_write_json(const char *dir, const shol_result *r, const shol_report_info *info,
+                    core_err *err);
+/* DIR/shol_polar.png and DIR/shol_polar.svg: the NATOPS-style polar plot
+ * (bow up, starboard right, speed rings in knots, one closed line, each
+ * direction's limiting criterion marked; info->compare dashed). */
+int shol_plot_polar(const char *dir, const shol_result *r, const shol_report_info *info,
+                    core_err *err);
+/* DIR/shol_trim_<dir>.png per direction (e.g. shol_trim_red030.png):
+ * roll, pitch and the four controls against WOD speed with the rejection
+ * limits, like the seed paper's Figs. 16-20. */
+int shol_plot_trim(const char *dir, const shol_result *r, const shol_report_info *info,
+                   core_err *err);
+/* File name (no folder) of the trim plot for a direction, e.g.
+ * "shol_trim_green030.png", "shol_trim_head.png". */
+void shol_trim_plot_name(double dir_rad, char *buf, size_t n);
+/* DIR/report.md: settings, the plots, the envelope table, the coupling
+ * histories and the comparison table. */
+int shol_write_report(const char *dir, const shol_result *r, const shol_report_info *info,
+                      core_err *err);
+/* All of the above into DIR. */
+int shol_write_all(const char *dir, const shol_result *r, const shol_report_info *info,
+                   core_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

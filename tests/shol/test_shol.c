@@ -1,0 +1,784 @@
+/*
+ * test_shol.c -- the candidate SHOL module: rejection criteria against
+ * hand-worked cases and data files, the envelope procedure against an
+ * analytic trim model whose exceedance speeds are known in closed form,
+ * and the output files (CSV round trip, JSON shape, PNG/SVG validity and
+ * orientation, report links, atomic writes).
+ */
+#include "check.h"
+#include "shol.h"
+
+#include <cairo.h>
+#include <dirent.h>
+#include <fontconfig/fontconfig.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define DATA "tests/shol/data/"
+#define DEG CORE_DEG_TO_RAD
+#define KMH CORE_KMH_TO_MPS
+
+/* ------------------------------------------------------------ criteria */
+static void test_criteria_eval(void)
+{
+    shol_criteria c;
+    shol_criteria_default(&c);
+    CHECK_NEAR(c.roll_max_rad, 5 * DEG, 1e-15);
+    CHECK_NEAR(c.pitch_max_rad, 8 * DEG, 1e-15);
+    CHECK(c.long_cyclic_pct == 85 && c.lat_cyclic_pct == 85 && c.collective_pct == 85);
+    CHECK(c.pedal_pct == 80);
+
+    /* Four exceeded: pitch -1/8, long -5/35, lat -5/35, pedal -1/30 of the
+     * half-band; long and lat tie and long comes first. */
+    shol_trim_point p = {3 * DEG, -9 * DEG, 90, 10, 50, 19};
+    shol_eval e;
+    CHECK(shol_criteria_eval(&c, &p, &e) == 0);
+    CHECK_NEAR(e.margin[SHOL_CRIT_ROLL] / DEG, 2.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_PITCH] / DEG, -1.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_LONG], -5.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_LAT], -5.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_COLL], 35.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_PEDAL], -1.0, 1e-12);
+    CHECK(e.n_exceeded == 4);
+    CHECK(e.limit == SHOL_CRIT_LONG);
+
+    /* Passing: the closest is collective (5/35 = 0.143 < pedal 5/30, roll 1/5 = 0.2). */
+    shol_trim_point q = {-4 * DEG, 0, 50, 50, 80, 75};
+    CHECK(shol_criteria_eval(&c, &q, &e) == 0);
+    CHECK(e.n_exceeded == 0);
+    CHECK(e.limit == SHOL_CRIT_COLL);
+    CHECK_NEAR(e.margin[SHOL_CRIT_ROLL] / DEG, 1.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_PITCH] / DEG, 8.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_COLL], 5.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_PEDAL], 5.0, 1e-12);
+
+    /* Low side of a control: pedal 22 % with limit 80 -> 2 points above 20. */
+    shol_trim_point lo = {0, 0, 50, 50, 50, 22};
+    CHECK(shol_criteria_eval(&c, &lo, &e) == 0);
+    CHECK_NEAR(e.margin[SHOL_CRIT_PEDAL], 2.0, 1e-12);
+    CHECK(e.limit == SHOL_CRIT_PEDAL);
+
+    /* Exactly at a limit is not "exceeded" (Table 4: rejected when > limit). */
+    shol_trim_point at = {-5 * DEG, 8 * DEG, 85, 15, 50, 80};
+    CHECK(shol_criteria_eval(&c, &at, &e) == 0);
+    CHECK(e.n_exceeded == 0);
+    CHECK_NEAR(e.margin[SHOL_CRIT_ROLL], 0.0, 1e-15);
+    /* Just beyond: the roll. */
+    at.phi_rad = -5.01 * DEG;
+    CHECK(shol_criteria_eval(&c, &at, &e) == 0);
+    CHECK(e.n_exceeded == 1 && e.limit == SHOL_CRIT_ROLL);
+
+    /* Non-finite input is refused. */
+    shol_trim_point bad = {NAN, 0, 50, 50, 50, 50};
+    CHECK(shol_criteria_eval(&c, &bad, &e) < 0);
+    CHECK(e.limit == SHOL_LIMIT_TRIM);
+
+    /* Names round trip. */
+    for (int l = SHOL_LIMIT_NONE; l <= SHOL_LIMIT_TRIM; l++) {
+        int back = -99;
+        CHECK(shol_limit_parse(shol_limit_name(l), &back) == 0 && back == l);
+    }
+    CHECK(shol_limit_name(42) == NULL);
+    CHECK(strcmp(shol_limit_name(SHOL_CRIT_PEDAL), "pedal") == 0);
+}
+
+static void test_criteria_files(void)
+{
+    shol_criteria c;
+    core_err err = {{0}};
+
+    CHECK(shol_criteria_load(DATA "aircraft_partial.ini", &c, &err) == 0);
+    CHECK_NEAR(c.roll_max_rad, 6 * DEG, 1e-15);
+    CHECK_NEAR(c.pitch_max_rad, 8 * DEG, 1e-15);
+    CHECK(c.pedal_pct == 75 && c.long_cyclic_pct == 85 && c.collective_pct == 85);
+
+    CHECK(shol_criteria_load(DATA "aircraft_full.ini", &c, &err) == 0);
+    CHECK_NEAR(c.roll_max_rad, 4.5 * DEG, 1e-15);
+    CHECK_NEAR(c.pitch_max_rad, 10 * DEG, 1e-15);
+    CHECK(c.long_cyclic_pct == 90 && c.lat_cyclic_pct == 88 && c.collective_pct == 95);
+    CHECK(c.pedal_pct == 82.5);
+
+    shol_criteria d;
+    shol_criteria_default(&d);
+    CHECK(shol_criteria_load(DATA "aircraft_none.ini", &c, &err) == 0);
+    CHECK(memcmp(&c, &d, sizeof c) == 0);
+
+    /* Other sections are left to their owner: not consumed. */
+    core_ini *ini = core_ini_load(DATA "aircraft_partial.ini", &err);
+    CHECK(ini != NULL);
+    if (ini) {
+        CHECK(shol_criteria_read(ini, &c, &err) == 0);
+        const core_ini_entry *r = core_ini_find(ini, "rotor", "radius_m");
+        const core_ini_entry *j = core_ini_find(ini, "rejection", "pedal_pct");
+        CHECK(r && !r->used);
+        CHECK(j && j->used);
+        core_ini_destroy(ini);
+    }
+
+    /* Errors name file:line and the key; the output is left untouched. */
+    struct {
+        const char *file, *where, *what;
+    } bad[] = {
+        {DATA "bad_number.ini", "bad_number.ini:6:", "pitch_deg"},
+        {DATA "bad_range.ini", "bad_range.ini:5:", "pedal_pct"},
+        {DATA "bad_key.ini", "bad_key.ini:6:", "rol_deg"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        shol_criteria keep = d;
+        keep.roll_max_rad = 1.0; /* a marker value */
+        err.msg[0] = '\0';
+        CHECK(shol_criteria_load(bad[i].file, &keep, &err) < 0);
+        CHECK(strstr(err.msg, bad[i].where) != NULL);
+        CHECK(strstr(err.msg, bad[i].what) != NULL);
+        CHECK(keep.roll_max_rad == 1.0);
+        if (!strstr(err.msg, bad[i].where))
+            fprintf(stderr, "  message was: %s\n", err.msg);
+    }
+    CHECK(shol_criteria_load(DATA "no_such_file.ini", &c, &err) < 0);
+    CHECK(strstr(err.msg, "no_such_file.ini") != NULL);
+}
+
+/* ------------------------------------------------------ analytic model */
+/* A trim model in closed form, in the crosswind c = V sin(dir) (+ from
+ * starboard) and headwind h = V cos(dir) components, m/s:
+ *   roll  = sign(c) 5/15^2 c^2 deg  -> |roll| > 5 deg when |c| > 15
+ *   pitch = 2 - 0.01 h^2 deg        -> < -8 deg when |h| > sqrt(1000)
+ *   long  = 50 + 1.25 h %           -> out of 15..85 when |h| > 28
+ *   lat   = 50 + 0.8 c %            -> out when |c| > 43.75
+ *   coll  = 60 - 0.1 V %            -> never below 15 in range
+ *   pedal = 60 + pedal_gain c %     -> > 80 when c > 20/gain, < 20 when c < -40/gain
+ *   no trim (return 1) when h < -20 (tailwind over 20 m/s)
+ * The pedal asymmetry is a tail rotor that likes one side. */
+typedef struct model {
+    double pedal_gain;
+    int calls;
+    int fatal_at_call; /* > 0: return -1 on that call */
+    int nan_dir_deg_set;
+    double nan_dir_deg; /* return a "converged" NaN at this direction */
+} model;
+
+static int model_trim(void *user, double v, double dir, shol_trim_point *out)
+{
+    model *m = user;
+    m->calls++;
+    if (m->fatal_at_call && m->calls == m->fatal_at_call)
+        return -1;
+    double c = v * sin(dir), h = v * cos(dir);
+    if (h < -20)
+        return 1;
+    out->phi_rad = (c < 0 ? -1 : 1) * 5.0 / 225.0 * c * c * DEG;
+    out->theta_rad = (2 - 0.01 * h * h) * DEG;
+    out->long_cyclic_pct = 50 + 1.25 * h;
+    out->lat_cyclic_pct = 50 + 0.8 * c;
+    out->collective_pct = 60 - 0.1 * v;
+    out->pedal_pct = 60 + m->pedal_gain * c;
+    if (m->nan_dir_deg_set && fabs(dir / DEG - m->nan_dir_deg) < 1e-9 && v > 10)
+        out->pedal_pct = NAN;
+    return 0;
+}
+
+/* The lowest speed at which the model leaves the default criteria at dir,
+ * and which criterion: the inverse of each line above. */
+static double model_crit(const model *m, double dir, int *limit)
+{
+    double s = fabs(sin(dir)), co = fabs(cos(dir));
+    double best = INFINITY;
+    *limit = SHOL_LIMIT_NONE;
+#define CAND(v, l)                                                                                 \
+    do {                                                                                           \
+        double v_ = (v);                                                                           \
+        if (v_ < best) {                                                                           \
+            best = v_;                                                                             \
+            *limit = (l);                                                                          \
+        }                                                                                          \
+    } while (0)
+    if (s > 1e-12) {
+        CAND(15 / s, SHOL_CRIT_ROLL);
+        CAND(43.75 / s, SHOL_CRIT_LAT);
+        CAND((sin(dir) > 0 ? 20 : 40) / m->pedal_gain / s, SHOL_CRIT_PEDAL);
+    }
+    if (co > 1e-12) {
+        CAND(sqrt(1000) / co, SHOL_CRIT_PITCH);
+        CAND(28 / co, SHOL_CRIT_LONG);
+        if (cos(dir) < 0)
+            CAND(20 / co, SHOL_LIMIT_TRIM);
+    }
+#undef CAND
+    return best;
+}
+
+static int n_progress;
+static double last_fraction;
+static int progress_monotonic = 1, progress_done;
+
+static void on_progress(void *user, const shol_progress *p)
+{
+    (void)user;
+    n_progress++;
+    if (p->fraction < last_fraction - 1e-12 || p->fraction > 1 + 1e-12)
+        progress_monotonic = 0;
+    last_fraction = p->fraction;
+    progress_done = p->done;
+    char line[160];
+    shol_progress_format(p, line, sizeof line);
+    if (strstr(line, "km/h") == NULL)
+        progress_monotonic = 0;
+}
+
+static void test_progress_format(void)
+{
+    /* Half way, a coupled-like rate of one trim per 2.5 min, 10 trims in
+     * 25 min: 25 min left. */
+    shol_progress p = {0};
+    p.dir_rad = -30 * DEG;
+    p.speed_mps = 45 * KMH;
+    p.n_trims = 10;
+    p.fraction = 0.5;
+    p.elapsed_s = 1500;
+    p.rate_per_s = 10 / 1500.0;
+    p.eta_s = 1500;
+    char line[160];
+    shol_progress_format(&p, line, sizeof line);
+    CHECK(strstr(line, " 50%") == line);
+    CHECK(strstr(line, "red 30 at 45 km/h") != NULL);
+    CHECK(strstr(line, "2.5 min/trim") != NULL);
+    CHECK(strstr(line, "25 min 00 s left") != NULL);
+    if (!strstr(line, "25 min 00 s left"))
+        fprintf(stderr, "  line was: %s\n", line);
+}
+
+static void test_envelope_steps(void)
+{
+    shol_settings s;
+    shol_settings_default(&s);
+    CHECK(s.n_dirs == 7);
+    CHECK_NEAR(s.dirs_rad[0], -90 * DEG, 1e-12);
+    CHECK_NEAR(s.dirs_rad[3], 0, 1e-15);
+    CHECK_NEAR(s.dirs_rad[6], 90 * DEG, 1e-12);
+    CHECK_NEAR(s.speed_step_mps, 5 * KMH, 1e-15);
+
+    /* The full circle by 30 deg: -150 ... 180, 12 directions. */
+    shol_settings fc = s;
+    core_err err = {{0}};
+    CHECK(shol_settings_full_circle(&fc, 30 * DEG, &err) == 0);
+    CHECK(fc.n_dirs == 12);
+    CHECK_NEAR(fc.dirs_rad[0], -150 * DEG, 1e-12);
+    CHECK_NEAR(fc.dirs_rad[11], 180 * DEG, 1e-12);
+    CHECK(shol_settings_full_circle(&fc, 35 * DEG, &err) < 0);
+
+    model m = {1.5, 0, 0, 0, 0};
+    shol_result r;
+    n_progress = 0;
+    last_fraction = 0;
+    CHECK(shol_envelope_run(&fc, model_trim, &m, on_progress, NULL, NULL, &r, &err) == 0);
+    CHECK(r.n_dirs == 12);
+    CHECK(m.calls == r.n_trims);
+    CHECK(n_progress >= r.n_trims);
+    CHECK(progress_monotonic && progress_done && fabs(last_fraction - 1) < 1e-12);
+    int saw[8] = {0};
+    for (int i = 0; i < r.n_dirs; i++) {
+        const shol_dir_result *d = &r.dirs[i];
+        int lim;
+        double vc = model_crit(&m, d->dir_rad, &lim);
+        double k = vc / fc.speed_step_mps;
+        /* The closed form must not sit on a step, or the test would be
+         * deciding a rounding question. */
+        CHECK(fabs(k - round(k)) > 1e-6);
+        double expect = floor(k) * fc.speed_step_mps;
+        CHECK(d->has_pass);
+        CHECK_NEAR(d->max_speed_mps, expect, 1e-9);
+        CHECK_NEAR(d->fail_speed_mps, expect + fc.speed_step_mps, 1e-9);
+        CHECK(d->limit == lim);
+        if (d->limit != lim)
+            fprintf(stderr, "  dir %g: limit %s, expected %s\n", d->dir_rad / DEG,
+                    shol_limit_name(d->limit), shol_limit_name(lim));
+        saw[d->limit + 1] = 1;
+        /* Stop at the first exceedance: 0 .. last pass, then one failure. */
+        CHECK(d->n_samples == (int)floor(k) + 2);
+        for (int j = 1; j < d->n_samples; j++)
+            CHECK(d->samples[j].speed_mps > d->samples[j - 1].speed_mps);
+        for (int j = 0; j + 1 < d->n_samples; j++)
+            CHECK(d->samples[j].pass);
+        CHECK(!d->samples[d->n_samples - 1].pass);
+        /* Margins at the last pass, recomputed from the model by hand. */
+        double c = d->max_speed_mps * sin(d->dir_rad), h = d->max_speed_mps * cos(d->dir_rad);
+        double pedal = 60 + 1.5 * c;
+        CHECK_NEAR(d->margins.margin[SHOL_CRIT_PEDAL], fmin(80 - pedal, pedal - 20), 1e-9);
+        CHECK_NEAR(d->margins.margin[SHOL_CRIT_ROLL] / DEG, 5 - 5.0 / 225 * c * c, 1e-9);
+        CHECK_NEAR(d->margins.margin[SHOL_CRIT_LONG], fmin(35 - 1.25 * h, 35 + 1.25 * h), 1e-9);
+        CHECK(d->margins.n_exceeded == 0);
+    }
+    /* The model is built to reach roll, pedal, long cyclic and trim limits. */
+    CHECK(saw[SHOL_CRIT_ROLL + 1] && saw[SHOL_CRIT_PEDAL + 1] && saw[SHOL_CRIT_LONG + 1]);
+    CHECK(saw[SHOL_LIMIT_TRIM + 1]);
+
+    /* A few by hand: green 90 pedal at 13.33 m/s = 48 km/h -> 45; red 90 roll
+     * at 15 m/s = 54 km/h -> 50; head long cyclic at 28 m/s = 100.8 km/h -> 100;
+     * stern no trim above 20 m/s = 72 km/h -> 70. */
+    for (int i = 0; i < r.n_dirs; i++) {
+        const shol_dir_result *d = &r.dirs[i];
+        double deg = d->dir_rad / DEG, kmh = d->max_speed_mps / KMH;
+        if (fabs(deg - 90) < 1e-9)
+            CHECK(fabs(kmh - 45) < 1e-9 && d->limit == SHOL_CRIT_PEDAL);
+        if (fabs(deg + 90) < 1e-9)
+            CHECK(fabs(kmh - 50) < 1e-9 && d->limit == SHOL_CRIT_ROLL);
+        if (fabs(deg) < 1e-9)
+            CHECK(fabs(kmh - 100) < 1e-9 && d->limit == SHOL_CRIT_LONG);
+        if (fabs(deg - 180) < 1e-9) {
+            CHECK(fabs(kmh - 70) < 1e-9 && d->limit == SHOL_LIMIT_TRIM);
+            CHECK(d->samples[d->n_samples - 1].trim_status > 0);
+        }
+    }
+    shol_result_free(&r);
+    shol_result_free(&r); /* twice is harmless */
+
+    /* Finer steps (1 km/h) find the same boundaries to 1 km/h. */
+    shol_settings fine = s;
+    fine.speed_step_mps = 1 * KMH;
+    CHECK(shol_envelope_run(&fine, model_trim, &m, NULL, NULL, NULL, &r, &err) == 0);
+    for (int i = 0; i < r.n_dirs; i++) {
+        int lim;
+        double vc = model_crit(&m, r.dirs[i].dir_rad, &lim);
+        CHECK(r.dirs[i].max_speed_mps <= vc && vc - r.dirs[i].max_speed_mps < 1 * KMH);
+        CHECK(r.dirs[i].limit == lim);
+    }
+    shol_result_free(&r);
+}
+
+static void test_envelope_bisection(void)
+{
+    shol_settings s;
+    core_err err = {{0}};
+    shol_settings_default(&s);
+    CHECK(shol_settings_full_circle(&s, 30 * DEG, &err) == 0);
+    s.bisect_tol_mps = 0.1 * KMH;
+    model m = {1.5, 0, 0, 0, 0};
+    shol_result r;
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) == 0);
+    for (int i = 0; i < r.n_dirs; i++) {
+        const shol_dir_result *d = &r.dirs[i];
+        int lim;
+        double vc = model_crit(&m, d->dir_rad, &lim);
+        CHECK(d->max_speed_mps <= vc);
+        CHECK(vc - d->max_speed_mps <= s.bisect_tol_mps);
+        CHECK(d->fail_speed_mps > vc);
+        CHECK(d->fail_speed_mps - d->max_speed_mps <= s.bisect_tol_mps + 1e-12);
+        CHECK(d->limit == lim);
+        /* The bisection did not widen the bracket's step history: sorted. */
+        for (int j = 1; j < d->n_samples; j++)
+            CHECK(d->samples[j].speed_mps > d->samples[j - 1].speed_mps);
+    }
+    shol_result_free(&r);
+}
+
+static void test_envelope_edges(void)
+{
+    shol_settings s;
+    core_err err = {{0}};
+    shol_result r;
+    model m = {1.5, 0, 0, 0, 0};
+
+    /* Nothing exceeded below the highest speed: limit none, radius = max. */
+    shol_settings_default(&s);
+    s.speed_max_mps = 40 * KMH;
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) == 0);
+    for (int i = 0; i < r.n_dirs; i++) {
+        CHECK(r.dirs[i].limit == SHOL_LIMIT_NONE);
+        CHECK_NEAR(r.dirs[i].max_speed_mps, 40 * KMH, 1e-9);
+        CHECK(isnan(r.dirs[i].fail_speed_mps));
+        CHECK(r.dirs[i].n_samples == 9);
+    }
+    shol_result_free(&r);
+
+    /* Rejected at 0: pitch 2 deg in still air against a 1 deg limit. */
+    shol_settings_default(&s);
+    s.criteria.pitch_max_rad = 1 * DEG;
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) == 0);
+    for (int i = 0; i < r.n_dirs; i++) {
+        CHECK(!r.dirs[i].has_pass);
+        CHECK(r.dirs[i].limit == SHOL_CRIT_PITCH);
+        CHECK(r.dirs[i].n_samples == 1);
+        CHECK_NEAR(r.dirs[i].margins.margin[SHOL_CRIT_PITCH] / DEG, -1.0, 1e-9);
+    }
+    shol_result_free(&r);
+
+    /* A fatal trim error stops the sweep and names where. Calls: red 90
+     * takes 12 (0..50 km/h pass, 55 fails); the 16th is red 60 at 15 km/h. */
+    shol_settings_default(&s);
+    m.calls = 0;
+    m.fatal_at_call = 16;
+    err.msg[0] = '\0';
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) < 0);
+    CHECK(strstr(err.msg, "red 60") != NULL);
+    CHECK(strstr(err.msg, "15.000 km/h") != NULL);
+    CHECK(r.dirs == NULL && r.n_dirs == 0);
+    m.fatal_at_call = 0;
+
+    /* A "converged" NaN counts as no trim, never as a pass. */
+    m.calls = 0;
+    m.nan_dir_deg_set = 1;
+    m.nan_dir_deg = 30;
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) == 0);
+    for (int i = 0; i < r.n_dirs; i++)
+        if (fabs(r.dirs[i].dir_rad / DEG - 30) < 1e-9) {
+            CHECK(r.dirs[i].limit == SHOL_LIMIT_TRIM);
+            CHECK(r.dirs[i].max_speed_mps <= 10 + 1e-9);
+        }
+    shol_result_free(&r);
+    m.nan_dir_deg_set = 0;
+
+    /* Bad settings. */
+    shol_settings_default(&s);
+    s.speed_step_mps = 0;
+    err.msg[0] = '\0';
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) < 0);
+    CHECK(strstr(err.msg, "speed_step") != NULL);
+    shol_settings_default(&s);
+    s.n_dirs = 0;
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) < 0);
+    shol_settings_default(&s);
+    CHECK(shol_envelope_run(&s, NULL, &m, NULL, NULL, NULL, &r, &err) < 0);
+}
+
+/* -------------------------------------------------------------- outputs */
+static long file_size(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 ? (long)st.st_size : -1;
+}
+
+static int read_head(const char *path, char *buf, size_t n)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return -1;
+    size_t k = fread(buf, 1, n - 1, f);
+    buf[k] = '\0';
+    fclose(f);
+    return (int)k;
+}
+
+static char *read_all(const char *path)
+{
+    long n = file_size(path);
+    if (n < 0)
+        return NULL;
+    char *b = malloc(n + 1);
+    FILE *f = fopen(path, "rb");
+    if (!b || !f) {
+        free(b);
+        if (f)
+            fclose(f);
+        return NULL;
+    }
+    size_t k = fread(b, 1, n, f);
+    b[k] = '\0';
+    fclose(f);
+    return b;
+}
+
+static int png_ok(const char *path)
+{
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    unsigned char b[8] = {0};
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return 0;
+    size_t k = fread(b, 1, 8, f);
+    fclose(f);
+    return k == 8 && memcmp(b, sig, 8) == 0;
+}
+
+/* Count non-white pixels, and pixels of the envelope's light-green fill in
+ * the upper and lower halves. */
+static long green_left, green_right; /* of the last png_stats call */
+
+static void png_stats(const char *path, double *ink_frac, long *green_up, long *green_down)
+{
+    *ink_frac = 0;
+    *green_up = *green_down = 0;
+    green_left = green_right = 0;
+    cairo_surface_t *s = cairo_image_surface_create_from_png(path);
+    if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS) {
+        cairo_surface_destroy(s);
+        return;
+    }
+    int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
+    int stride = cairo_image_surface_get_stride(s);
+    const unsigned char *d = cairo_image_surface_get_data(s);
+    long ink = 0;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            unsigned px;
+            memcpy(&px, d + y * stride + 4 * x, 4);
+            int r = (px >> 16) & 255, g = (px >> 8) & 255, b = px & 255;
+            if (r < 245 || g < 245 || b < 245)
+                ink++;
+            if (g > 200 && g > r + 8 && g > b + 5) {
+                if (y < h / 2)
+                    (*green_up)++;
+                else
+                    (*green_down)++;
+                if (x < w / 2)
+                    green_left++;
+                else
+                    green_right++;
+            }
+        }
+    *ink_frac = (double)ink / ((double)w * h);
+    cairo_surface_destroy(s);
+}
+
+static void test_outputs(void)
+{
+    char dir[] = "/tmp/disim_test_shol_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char out[512], path[640];
+    snprintf(out, sizeof out, "%s/out/nested", dir); /* created on demand */
+
+    shol_settings s;
+    core_err err = {{0}};
+    shol_settings_default(&s);
+    model m = {1.5, 0, 0, 0, 0}, m2 = {2.0, 0, 0, 0, 0};
+    shol_result r, c;
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) == 0);
+    CHECK(shol_envelope_run(&s, model_trim, &m2, NULL, NULL, NULL, &c, &err) == 0);
+    shol_report_info info = {0};
+    info.title = "TEST ship + TEST-1";
+    info.label = "two-way coupled";
+    info.scenario_path = "scenarios/test.ini";
+    info.grid = "coarse";
+    info.coupling = "two-way";
+    info.compare = &c;
+    info.compare_label = "one-way (ship-only airwake)";
+    info.coupling_md = "| WOD | speed | iterations |\n|---|---|---|\n| head | 50 km/h | 3 |";
+    CHECK(shol_write_all(out, &r, &info, &err) == 0);
+    if (err.msg[0])
+        fprintf(stderr, "  write_all: %s\n", err.msg);
+
+    /* CSV: the header exactly, then a round trip. */
+    char head[256];
+    snprintf(path, sizeof path, "%s/shol.csv", out);
+    CHECK(read_head(path, head, sizeof head) > 0);
+    const char *hdr = "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,"
+                      "margin_pitch_deg,margin_long_pct,margin_lat_pct,margin_coll_pct,"
+                      "margin_pedal_pct\n";
+    CHECK(strncmp(head, hdr, strlen(hdr)) == 0);
+    shol_result back;
+    CHECK(shol_read_csv(path, &back, &err) == 0);
+    CHECK(back.n_dirs == r.n_dirs);
+    for (int i = 0; i < r.n_dirs && i < back.n_dirs; i++) {
+        CHECK_NEAR(back.dirs[i].dir_rad, r.dirs[i].dir_rad, 1e-7);
+        CHECK_NEAR(back.dirs[i].max_speed_mps, r.dirs[i].max_speed_mps, 1e-6);
+        CHECK(back.dirs[i].limit == r.dirs[i].limit);
+        CHECK(back.dirs[i].has_pass == r.dirs[i].has_pass);
+        for (int k = 0; k < SHOL_NCRIT; k++)
+            CHECK_NEAR(back.dirs[i].margins.margin[k], r.dirs[i].margins.margin[k], 1e-6);
+    }
+    shol_result_free(&back);
+
+    /* JSON: an object with the directions and balanced brackets. */
+    snprintf(path, sizeof path, "%s/shol.json", out);
+    char *js = read_all(path);
+    CHECK(js != NULL);
+    if (js) {
+        CHECK(js[0] == '{');
+        CHECK(strstr(js, "\"directions\"") && strstr(js, "\"history\""));
+        CHECK(strstr(js, "\"limit\": \"pedal\"") != NULL);
+        int depth = 0, minimum = 0, instr = 0;
+        for (char *p = js; *p; p++) {
+            if (instr) {
+                if (*p == '\\')
+                    p++;
+                else if (*p == '"')
+                    instr = 0;
+                continue;
+            }
+            if (*p == '"')
+                instr = 1;
+            else if (*p == '{' || *p == '[')
+                depth++;
+            else if (*p == '}' || *p == ']')
+                depth--;
+            if (depth < minimum)
+                minimum = depth;
+        }
+        CHECK(depth == 0 && minimum == 0 && !instr);
+        CHECK(strstr(js, "nan") == NULL); /* JSON has null, not nan */
+        free(js);
+    }
+
+    /* Polar plot: a real PNG, not blank, the envelope above the centre (bow
+     * up, and a forward sweep closes through the centre). */
+    snprintf(path, sizeof path, "%s/shol_polar.png", out);
+    CHECK(png_ok(path));
+    CHECK(file_size(path) > 20000);
+    double ink;
+    long up, down;
+    png_stats(path, &ink, &up, &down);
+    CHECK(ink > 0.03 && ink < 0.6);
+    CHECK(up > 5000);
+    CHECK(down < up / 20);
+    /* Starboard to the right: the model clears more on the red (port) side
+     * (roll at |c| = 15 m/s) than on the green side (pedal at c = 13.3 m/s),
+     * so the fill has more area left of the centre. */
+    CHECK(green_left > 1.05 * green_right);
+    snprintf(path, sizeof path, "%s/shol_polar.svg", out);
+    CHECK(read_head(path, head, sizeof head) > 0);
+    CHECK(strncmp(head, "<?xml", 5) == 0);
+    CHECK(strstr(head, "<svg") != NULL);
+    char *svg = read_all(path);
+    CHECK(svg && strstr(svg, "</svg>") && strstr(svg, "<path"));
+    free(svg);
+    CHECK(file_size(path) > 5000);
+
+    /* A trim plot per direction. */
+    for (int i = 0; i < r.n_dirs; i++) {
+        char name[64];
+        shol_trim_plot_name(r.dirs[i].dir_rad, name, sizeof name);
+        snprintf(path, sizeof path, "%s/%s", out, name);
+        CHECK(png_ok(path));
+        png_stats(path, &ink, &up, &down);
+        CHECK(ink > 0.03);
+    }
+    char nm[64];
+    shol_trim_plot_name(-30 * DEG, nm, sizeof nm);
+    CHECK(strcmp(nm, "shol_trim_red030.png") == 0);
+    shol_trim_plot_name(0, nm, sizeof nm);
+    CHECK(strcmp(nm, "shol_trim_head.png") == 0);
+    shol_trim_plot_name(7.5 * DEG, nm, sizeof nm);
+    CHECK(strcmp(nm, "shol_trim_green007p5.png") == 0);
+
+    /* Report: every link resolves, the comparison names each direction. */
+    snprintf(path, sizeof path, "%s/report.md", out);
+    char *md = read_all(path);
+    CHECK(md != NULL);
+    if (md) {
+        int links = 0, missing = 0;
+        for (char *p = strstr(md, "]("); p; p = strstr(p + 2, "](")) {
+            char *e = strchr(p + 2, ')');
+            if (!e)
+                break;
+            char link[256];
+            snprintf(link, sizeof link, "%.*s", (int)(e - p - 2), p + 2);
+            char full[800];
+            snprintf(full, sizeof full, "%s/%s", out, link);
+            links++;
+            if (file_size(full) <= 0) {
+                missing++;
+                fprintf(stderr, "  report link missing: %s\n", link);
+            }
+        }
+        CHECK(links >= 2 + r.n_dirs);
+        CHECK(missing == 0);
+        char *cmp = strstr(md, "## Comparison");
+        CHECK(cmp != NULL);
+        CHECK(strstr(md, "iterations") != NULL); /* the caller's coupling text */
+        if (cmp)
+            for (int i = 0; i < r.n_dirs; i++) {
+                char n[32], row[48];
+                core_wod_name(r.dirs[i].dir_rad / DEG, n, sizeof n);
+                snprintf(row, sizeof row, "| %s |", n);
+                CHECK(strstr(cmp, row) != NULL);
+            }
+        /* pedal gain 2.0 vs 1.5: green 90 pedal at 10 vs 13.3 m/s, so the
+         * difference there is 45 - 35 = +10 km/h. */
+        CHECK(strstr(md, "(+10.0 km/h)") != NULL);
+        free(md);
+    }
+
+    /* No temporary file is left behind. */
+    DIR *dd = opendir(out);
+    CHECK(dd != NULL);
+    if (dd) {
+        struct dirent *de;
+        while ((de = readdir(dd)))
+            CHECK(strstr(de->d_name, ".tmp.") == NULL);
+        closedir(dd);
+    }
+
+    /* The full circle with bisection: the line goes round (green below the
+     * centre too, since the stern sector clears up to 70 km/h). */
+    shol_result full;
+    shol_settings fs = s;
+    CHECK(shol_settings_full_circle(&fs, 30 * DEG, &err) == 0);
+    fs.bisect_tol_mps = 0.5 * KMH;
+    char fdir[600];
+    snprintf(fdir, sizeof fdir, "%s/full", dir);
+    CHECK(shol_envelope_run(&fs, model_trim, &m, NULL, NULL, NULL, &full, &err) == 0);
+    info.compare = NULL;
+    CHECK(shol_write_all(fdir, &full, &info, &err) == 0);
+    snprintf(path, sizeof path, "%s/shol_polar.png", fdir);
+    png_stats(path, &ink, &up, &down);
+    CHECK(up > 5000 && down > 2000);
+    shol_result_free(&full);
+
+    /* A direction with no passing speed round-trips as nan. */
+    shol_result z;
+    s.criteria.pitch_max_rad = 1 * DEG;
+    char zdir[600];
+    snprintf(zdir, sizeof zdir, "%s/zero", dir);
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &z, &err) == 0);
+    CHECK(shol_write_all(zdir, &z, NULL, &err) == 0);
+    snprintf(path, sizeof path, "%s/shol.csv", zdir);
+    CHECK(shol_read_csv(path, &back, &err) == 0);
+    CHECK(back.n_dirs == 7);
+    for (int i = 0; i < back.n_dirs; i++) {
+        CHECK(!back.dirs[i].has_pass);
+        CHECK(back.dirs[i].limit == SHOL_CRIT_PITCH);
+    }
+    shol_result_free(&back);
+    shol_result_free(&z);
+
+    /* Bad CSVs name the line. */
+    snprintf(path, sizeof path, "%s/bad.csv", dir);
+    FILE *f = fopen(path, "w");
+    fprintf(f, "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,margin_pitch_deg,"
+               "margin_long_pct,margin_lat_pct,margin_coll_pct,margin_pedal_pct\n"
+               "0,10,18.52,roll,1,1,1,1,1,1\n"
+               "30,10,18.52,wobble,1,1,1,1,1,1\n");
+    fclose(f);
+    CHECK(shol_read_csv(path, &back, &err) < 0);
+    CHECK(strstr(err.msg, "bad.csv:3:") && strstr(err.msg, "wobble"));
+    f = fopen(path, "w");
+    fprintf(f, "dir,speed\n0,10\n");
+    fclose(f);
+    CHECK(shol_read_csv(path, &back, &err) < 0);
+    CHECK(strstr(err.msg, "bad.csv:1:") != NULL);
+
+    /* An output folder that cannot be made: an error, not a crash. */
+    snprintf(path, sizeof path, "%s/bad.csv/sub", dir);
+    err.msg[0] = '\0';
+    CHECK(shol_write_csv(path, &r, &err) < 0);
+    CHECK(err.msg[0] != '\0');
+
+    shol_result_free(&r);
+    shol_result_free(&c);
+    if (getenv("SHOL_TEST_KEEP"))
+        printf("outputs kept in %s\n", dir);
+    else {
+        char cmd[700];
+        snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+        CHECK(system(cmd) == 0);
+    }
+}
+
+int main(void)
+{
+    test_criteria_eval();
+    test_criteria_files();
+    test_progress_format();
+    test_envelope_steps();
+    test_envelope_bisection();
+    test_envelope_edges();
+    test_outputs();
+    /* Release cairo's and fontconfig's caches so LeakSanitizer sees only
+     * what this code could leak. */
+    cairo_debug_reset_static_data();
+    FcFini();
+    return check_done("test_shol");
+}
