@@ -4,5 +4,7 @@
 #define DISIM_APP_CMDS_H
 
 int cmd_render(int argc, char **argv);
+int cmd_airwaked(int argc, char **argv);
+int cmd_shol(int argc, char **argv);
 
 #endif

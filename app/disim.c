@@ -42,6 +42,12 @@ static const struct {
     {"help", cmd_help, "help                      this text"},
     {"check", cmd_check, "check SCENARIO            parse and resolve a scenario, print it"},
     {"render", cmd_render, "render SCENARIO -o PNG    off-screen deck view (--eye-S, --target-S, --size, --fov-deg)"},
+#ifdef DISIM_HAVE_AIRWAKED
+    {"airwaked", cmd_airwaked, "airwaked DB_DIR           background airwake builder (--jobs N, --ships DIR, --exit-when-idle, --no-lcm)"},
+#endif
+#ifdef DISIM_HAVE_SHOL
+    {"shol", cmd_shol, "shol SCENARIO             candidate SHOL envelope (--grid, --coupling, -o DIR, --db DIR, --full-circle)"},
+#endif
 };
 
 static int cmd_help(int argc, char **argv)

@@ -1,0 +1,225 @@
+/* cmd_airwaked.c -- `disim airwaked DB_DIR [--jobs N] [--ships DIR]
+ * [--max-iter N] [--exit-when-idle] [--no-lcm]`: the background airwake
+ * builder. It serves the database's queue (filled by `disim airwake --queue`,
+ * `disim shol` and other processes) and LCM requests on DISIM_AIRWAKE_REQUEST,
+ * and publishes DISIM_AIRWAKE_STATUS. Progress goes to a terminal as one
+ * updating line; in a log (not a terminal) only state changes are written. */
+#include "awdb.h"
+#include "cmds.h"
+#include "disim_lcm.h"
+
+#include <lcm/lcm.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/time.h>
+#include <unistd.h>
+
+static volatile sig_atomic_t stop_flag = 0;
+static void on_signal(int sig)
+{
+    (void)sig;
+    stop_flag = 1;
+}
+
+typedef struct daemon_ctx {
+    awdb *db;
+    lcm_t *lc;
+    int64_t seq;
+    int tty;
+    const core_log *log;
+} daemon_ctx;
+
+static int64_t now_us(void)
+{
+    struct timeval tv;
+    gettimeofday(&tv, NULL);
+    return (int64_t)tv.tv_sec * 1000000 + tv.tv_usec;
+}
+
+static void publish_status(daemon_ctx *c, const awdb_key *k, const char *request_id, int8_t state,
+                           double frac, double res, int it, const char *path, const char *msg)
+{
+    if (!c->lc)
+        return;
+    disim_airwake_status_t m;
+    memset(&m, 0, sizeof m);
+    char name[200];
+    awdb_key_name(k, name, sizeof name);
+    m.utime = now_us();
+    m.seq = c->seq++;
+    m.request_id = (char *)(request_id ? request_id : name);
+    m.ship = (char *)k->ship;
+    m.aircraft = (char *)k->aircraft;
+    m.wod_speed_mps = k->wod_speed_mps;
+    m.wod_dir_rad = k->wod_dir_rad;
+    m.state = state;
+    m.progress = frac;
+    m.residual = res;
+    m.iterations = it;
+    m.path = (char *)(path ? path : "");
+    m.message = (char *)(msg ? msg : "");
+    disim_airwake_status_t_publish(c->lc, DISIM_CH_AIRWAKE_STATUS, &m);
+}
+
+static void on_status(void *user, const awdb_key *k, awdb_state s, double frac, double res, int it,
+                      const char *path, const char *msg)
+{
+    daemon_ctx *c = user;
+    static const int8_t map[] = {DISIM_AIRWAKE_STATUS_T_QUEUED, DISIM_AIRWAKE_STATUS_T_QUEUED,
+                                 DISIM_AIRWAKE_STATUS_T_RUNNING, DISIM_AIRWAKE_STATUS_T_READY,
+                                 DISIM_AIRWAKE_STATUS_T_FAILED};
+    publish_status(c, k, NULL, map[s], frac, res, it, path, msg);
+    char name[200];
+    awdb_key_name(k, name, sizeof name);
+    if (s == AWDB_RUNNING && frac > 0.0) {
+        if (c->tty) /* an updating line on a terminal only */
+            fprintf(stderr, "\r  %-60.60s %5.1f%%  residual %.2e  iteration %d   ", name, 100.0 * frac, res, it);
+        return;
+    }
+    fprintf(stderr, "%sairwaked: %s %s%s%s\n", c->tty ? "\r" : "", awdb_state_name(s), name,
+            msg && msg[0] ? ": " : "", msg ? msg : "");
+}
+
+static void on_request(const lcm_recv_buf_t *rb, const char *ch, const disim_airwake_request_t *m, void *user)
+{
+    (void)rb;
+    (void)ch;
+    daemon_ctx *c = user;
+    char err[256];
+    awdb_key k;
+    memset(&k, 0, sizeof k);
+    if (disim_lcm_check_airwake_request(m, err, sizeof err) != 0) {
+        core_log_msg(c->log, CORE_LOG_WARN, "refused LCM request: %s", err);
+        snprintf(k.ship, sizeof k.ship, "%s", m->ship ? m->ship : "");
+        publish_status(c, &k, m->request_id, DISIM_AIRWAKE_STATUS_T_FAILED, 0, 0, 0, "", err);
+        return;
+    }
+    snprintf(k.ship, sizeof k.ship, "%s", m->ship);
+    snprintf(k.aircraft, sizeof k.aircraft, "%s", m->aircraft);
+    k.wod_speed_mps = m->wod_speed_mps;
+    k.wod_dir_rad = m->wod_dir_rad;
+    k.rotor = m->rotor == DISIM_AIRWAKE_REQUEST_T_ROTOR_OFF ? AWDB_ROTOR_OFF : AWDB_ROTOR_UNIFORM;
+    k.thrust_N = m->rotor_thrust_N;
+    memcpy(k.station_S_m, m->station_S_m, sizeof k.station_S_m);
+    k.radius_m = m->rotor_radius_m;
+    k.shaft_pitch_rad = m->shaft_pitch_rad;
+    k.shaft_roll_rad = m->shaft_roll_rad;
+    k.grid = !strcmp(m->grid, "coarse") ? AWDB_GRID_COARSE : !strcmp(m->grid, "fine") ? AWDB_GRID_FINE : AWDB_GRID_DEFAULT;
+    core_err e = {{0}};
+    awdb_state before;
+    if (awdb_submit(c->db, &k, &before, &e) != 0) {
+        core_log_msg(c->log, CORE_LOG_WARN, "refused LCM request %s: %s", m->request_id, e.msg);
+        publish_status(c, &k, m->request_id, DISIM_AIRWAKE_STATUS_T_FAILED, 0, 0, 0, "", e.msg);
+        return;
+    }
+    char path[1024] = "";
+    awdb_state now = awdb_query(c->db, &k, path, sizeof path);
+    publish_status(c, &k, m->request_id,
+                   now == AWDB_READY ? DISIM_AIRWAKE_STATUS_T_READY
+                   : now == AWDB_RUNNING ? DISIM_AIRWAKE_STATUS_T_RUNNING
+                                          : DISIM_AIRWAKE_STATUS_T_QUEUED,
+                   now == AWDB_READY ? 1.0 : 0.0, 0, 0, path, "");
+}
+
+static void on_idle(void *user)
+{
+    daemon_ctx *c = user;
+    if (c->lc)
+        while (lcm_handle_timeout(c->lc, 0) > 0)
+            ;
+}
+
+static void log_stderr(void *user, int level, const char *msg)
+{
+    (void)user;
+    static const char *names[] = {"error", "warning", "info", "debug"};
+    fprintf(stderr, "airwaked: %s: %s\n", names[level & 3], msg);
+}
+
+int cmd_airwaked(int argc, char **argv)
+{
+    const char *dir = NULL, *ships = "scenarios/ships";
+    long jobs = sysconf(_SC_NPROCESSORS_ONLN), max_iter = 0;
+    int once = 0, use_lcm = 1;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if ((!strcmp(a, "--jobs") || !strcmp(a, "--ships") || !strcmp(a, "--max-iter")) && i + 1 >= argc) {
+            fprintf(stderr, "disim airwaked: %s: expected a value\n", a);
+            return 2;
+        }
+        if (!strcmp(a, "--jobs")) {
+            char *end;
+            jobs = strtol(argv[++i], &end, 10);
+            if (*end || jobs < 1 || jobs > 64) {
+                fprintf(stderr, "disim airwaked: --jobs '%s': expected 1 to 64\n", argv[i]);
+                return 2;
+            }
+        } else if (!strcmp(a, "--max-iter")) {
+            char *end;
+            max_iter = strtol(argv[++i], &end, 10);
+            if (*end || max_iter < 10) {
+                fprintf(stderr, "disim airwaked: --max-iter '%s': expected an integer >= 10\n", argv[i]);
+                return 2;
+            }
+        } else if (!strcmp(a, "--ships"))
+            ships = argv[++i];
+        else if (!strcmp(a, "--exit-when-idle"))
+            once = 1;
+        else if (!strcmp(a, "--no-lcm"))
+            use_lcm = 0;
+        else if (a[0] == '-') {
+            fprintf(stderr, "disim airwaked: unknown flag '%s'\n", a);
+            return 2;
+        } else if (!dir)
+            dir = a;
+        else {
+            fprintf(stderr, "disim airwaked: unexpected argument '%s'\n", a);
+            return 2;
+        }
+    }
+    if (!dir) {
+        fprintf(stderr, "usage: disim airwaked DB_DIR [--jobs N] [--ships DIR] [--max-iter N] "
+                        "[--exit-when-idle] [--no-lcm]\n");
+        return 2;
+    }
+    if (jobs < 1)
+        jobs = 1;
+    core_log log = {log_stderr, NULL, CORE_LOG_INFO};
+    core_err err = {{0}};
+    awdb *db = awdb_open(dir, &log, &err);
+    awdb_embedded *emb = db ? awdb_embedded_create(ships, (int)max_iter, &log, &err) : NULL;
+    if (!db || !emb) {
+        fprintf(stderr, "disim airwaked: %s\n", err.msg);
+        awdb_embedded_destroy(emb);
+        awdb_close(db);
+        return 1;
+    }
+    daemon_ctx ctx = {db, NULL, 0, isatty(2), &log};
+    if (use_lcm) {
+        ctx.lc = lcm_create(NULL);
+        if (!ctx.lc)
+            fprintf(stderr, "disim airwaked: LCM unavailable: serving the folder queue only\n");
+        else
+            disim_airwake_request_t_subscribe(ctx.lc, DISIM_CH_AIRWAKE_REQUEST, on_request, &ctx);
+    }
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    awdb_engine eng;
+    awdb_embedded_engine(emb, &eng);
+    awdb_builder_opts o = {(int)jobs, once, 0.2, on_status, &ctx, on_idle, &ctx};
+    fprintf(stderr, "airwaked: serving %s with %ld job%s (ships from %s)%s\n", dir, jobs, jobs > 1 ? "s" : "",
+            ships, ctx.lc ? ", LCM requests on " DISIM_CH_AIRWAKE_REQUEST : "");
+    int rc = awdb_builder_run(db, &eng, &o, &stop_flag, &err);
+    if (rc)
+        fprintf(stderr, "disim airwaked: %s\n", err.msg);
+    if (ctx.lc)
+        lcm_destroy(ctx.lc);
+    awdb_embedded_destroy(emb);
+    awdb_close(db);
+    return rc ? 1 : 0;
+}

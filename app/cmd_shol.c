@@ -1,0 +1,328 @@
+/* cmd_shol.c -- `disim shol SCENARIO [--grid coarse|default|fine]
+ * [--coupling two-way|one-way] [-o DIR] [--db DIR] [--full-circle]
+ * [--dir-step-deg D] [--speed-step-kmh S] [--speed-max-kmh M]
+ * [--bisect-kmh T] [--direct] [--max-coupling-iter N]`.
+ *
+ * The candidate SHOL of the seed paper's section 2.8. The one-way envelope
+ * (ship-only airwake, one field per direction scaled with speed) is always
+ * computed: it is cheap, it is the comparison the report gives, and it shows
+ * where the boundary is. In two-way mode the coupled trims are concentrated
+ * near that boundary: from two speed steps below the one-way limit upward
+ * the trim is coupled; below, the one-way trim stands in (the report marks
+ * which points were coupled). */
+#include "cmds.h"
+#include "couple.h"
+#include "hfm.h"
+#include "shol.h"
+#include "sim.h"
+
+#include <libgen.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+typedef struct progress_ctx {
+    int tty;
+    const char *label;
+} progress_ctx;
+
+static void on_progress(void *user, const shol_progress *p)
+{
+    progress_ctx *pc = user;
+    if (!pc->tty && !p->done)
+        return; /* quiet in logs */
+    char line[256];
+    shol_progress_format(p, line, sizeof line);
+    fprintf(stderr, "%s%s: %s%s", pc->tty ? "\r\033[K" : "", pc->label, line, p->done || !pc->tty ? "\n" : "");
+}
+
+static void log_stderr(void *user, int level, const char *msg)
+{
+    int tty = *(int *)user;
+    static const char *names[] = {"error", "warning", "info", "debug"};
+    fprintf(stderr, "%sshol: %s: %s\n", tty ? "\r\033[K" : "", names[level & 3], msg);
+}
+
+/* Two-way with the coupled trims near the one-way boundary. */
+typedef struct split_ctx {
+    couple_ctx *one, *two;
+    const shol_result *oneway;
+    double margin_mps;
+    int coupled_points;
+    char err[1024];
+} split_ctx;
+
+static int split_trim(void *user, double v, double dir, shol_trim_point *out)
+{
+    split_ctx *s = user;
+    double from = 0.0;
+    for (int i = 0; i < s->oneway->n_dirs; i++)
+        if (fabs(s->oneway->dirs[i].dir_rad - dir) < 1e-9)
+            from = s->oneway->dirs[i].max_speed_mps - s->margin_mps;
+    couple_ctx *c = v >= from - 1e-9 ? s->two : s->one;
+    int rc = couple_shol_trim(c, v, dir, out);
+    if (c == s->two && rc >= 0)
+        s->coupled_points++;
+    if (rc < 0)
+        snprintf(s->err, sizeof s->err, "%s", couple_last_error(c));
+    return rc;
+}
+
+/* Markdown of the coupling iterations for the report. */
+static char *coupling_md(const couple_ctx *two)
+{
+    int n = 0;
+    const couple_point *h = couple_history(two, &n);
+    size_t cap = 4096 + (size_t)n * 1024, len = 0;
+    char *md = malloc(cap);
+    if (!md)
+        return NULL;
+    len += snprintf(md + len, cap - len,
+                    "Coupled points (trim -> CFD with the loaded disk -> re-trim), each row one "
+                    "iteration; `change` is the largest relative change of a control or attitude "
+                    "from the previous iteration (converged below 5 %%).\n\n"
+                    "| WOD | speed (kt) | iter | thrust (kN) | coll % | long % | lat % | pedal % | roll (deg) | pitch (deg) | change |\n"
+                    "|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for (int i = 0; i < n && len + 1024 < cap; i++) {
+        char wn[32];
+        core_wod_name(h[i].wod_dir_rad * CORE_RAD_TO_DEG, wn, sizeof wn);
+        for (int k = 0; k < h[i].n_iter; k++) {
+            const couple_iter *it = &h[i].iter[k];
+            char ch[32] = "free air";
+            if (k > 0)
+                snprintf(ch, sizeof ch, "%.1f %%", 100.0 * it->change_frac);
+            len += snprintf(md + len, cap - len,
+                            "| %s | %.1f | %d | %.2f | %.1f | %.1f | %.1f | %.1f | %.2f | %.2f | %s |\n", wn,
+                            h[i].wod_speed_mps / CORE_KT_TO_MPS, k, it->thrust_N / 1000.0, it->collective_pct,
+                            it->long_pct, it->lat_pct, it->pedal_pct, it->phi_rad * CORE_RAD_TO_DEG,
+                            it->theta_rad * CORE_RAD_TO_DEG, ch);
+        }
+    }
+    if (n == 0)
+        snprintf(md + len, cap - len, "\nNo point needed a coupled trim.\n");
+    return md;
+}
+
+static int parse_num(const char *flag, const char *v, double lo, double hi, double *out)
+{
+    char *end;
+    double d = strtod(v, &end);
+    if (*end || !(d >= lo && d <= hi)) {
+        fprintf(stderr, "disim shol: %s '%s': expected a number from %g to %g\n", flag, v, lo, hi);
+        return -1;
+    }
+    *out = d;
+    return 0;
+}
+
+int cmd_shol(int argc, char **argv)
+{
+    const char *scen = NULL, *outdir = NULL, *dbdir = NULL;
+    int grid = -1, coupling = -1, full = 0, direct = 0;
+    double dstep = 0, sstep = 0, smax = 0, bisect = 0, maxit = 6;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int takes = strcmp(a, "--full-circle") && strcmp(a, "--direct") && a[0] == '-';
+        if (takes && !v) {
+            fprintf(stderr, "disim shol: %s: expected a value\n", a);
+            return 2;
+        }
+        if (!strcmp(a, "--full-circle")) {
+            full = 1;
+            continue;
+        }
+        if (!strcmp(a, "--direct")) {
+            direct = 1;
+            continue;
+        }
+        if (!strcmp(a, "-o"))
+            outdir = v;
+        else if (!strcmp(a, "--db"))
+            dbdir = v;
+        else if (!strcmp(a, "--grid")) {
+            grid = !strcmp(v, "coarse") ? 0 : !strcmp(v, "default") ? 1 : !strcmp(v, "fine") ? 2 : -2;
+            if (grid == -2) {
+                fprintf(stderr, "disim shol: --grid '%s': expected coarse, default or fine\n", v);
+                return 2;
+            }
+        } else if (!strcmp(a, "--coupling")) {
+            coupling = !strcmp(v, "two-way") ? COUPLE_TWO_WAY : !strcmp(v, "one-way") ? COUPLE_ONE_WAY : -2;
+            if (coupling == -2) {
+                fprintf(stderr, "disim shol: --coupling '%s': expected two-way or one-way\n", v);
+                return 2;
+            }
+        } else if (!strcmp(a, "--dir-step-deg")) {
+            if (parse_num(a, v, 1, 90, &dstep))
+                return 2;
+        } else if (!strcmp(a, "--speed-step-kmh")) {
+            if (parse_num(a, v, 0.5, 50, &sstep))
+                return 2;
+        } else if (!strcmp(a, "--speed-max-kmh")) {
+            if (parse_num(a, v, 5, 300, &smax))
+                return 2;
+        } else if (!strcmp(a, "--bisect-kmh")) {
+            if (parse_num(a, v, 0.1, 50, &bisect))
+                return 2;
+        } else if (!strcmp(a, "--max-coupling-iter")) {
+            if (parse_num(a, v, 1, COUPLE_MAX_ITER - 1, &maxit))
+                return 2;
+        } else if (a[0] == '-') {
+            fprintf(stderr, "disim shol: unknown flag '%s'\n", a);
+            return 2;
+        } else if (!scen) {
+            scen = a;
+            continue;
+        } else {
+            fprintf(stderr, "disim shol: unexpected argument '%s'\n", a);
+            return 2;
+        }
+        i++;
+    }
+    if (!scen) {
+        fprintf(stderr, "usage: disim shol SCENARIO [--grid coarse|default|fine] [--coupling two-way|one-way] "
+                        "[-o DIR] [--db DIR] [--full-circle] [--dir-step-deg D] [--speed-step-kmh S] "
+                        "[--speed-max-kmh M] [--bisect-kmh T] [--direct] [--max-coupling-iter N]\n");
+        return 2;
+    }
+    int tty = isatty(2);
+    core_log log = {log_stderr, &tty, CORE_LOG_INFO};
+    core_err err = {{0}};
+    sim_scenario *sc = calloc(1, sizeof *sc);
+    hfm_aircraft *ac = NULL;
+    awdb *db = NULL;
+    couple_ctx *one = NULL, *two = NULL;
+    shol_result r1, r2;
+    memset(&r1, 0, sizeof r1);
+    memset(&r2, 0, sizeof r2);
+    char *md = NULL;
+    int rc = 1;
+    if (!sc || sim_scenario_load(scen, sc, &err) != 0)
+        goto fail;
+    if (!(ac = hfm_aircraft_load(sc->aircraft_path, &log, &err)))
+        goto fail;
+    shol_settings set;
+    shol_settings_default(&set);
+    if (shol_criteria_load(sc->aircraft_path, &set.criteria, &err) != 0)
+        goto fail;
+    if (sc->wod_mode == SIM_WOD_SWEEP) {
+        set.n_dirs = sc->n_dirs;
+        memcpy(set.dirs_rad, sc->dirs_rad, sc->n_dirs * sizeof(double));
+        set.speed_step_mps = sc->speed_step_mps;
+        set.speed_max_mps = sc->speed_max_mps;
+    } else {
+        set.n_dirs = 1;
+        set.dirs_rad[0] = sc->wod_dir_rad;
+    }
+    if (full && shol_settings_full_circle(&set, (dstep > 0 ? dstep : 30.0) * CORE_DEG_TO_RAD, &err) != 0)
+        goto fail;
+    if (!full && dstep > 0 && shol_settings_dirs(&set, -90 * CORE_DEG_TO_RAD, 90 * CORE_DEG_TO_RAD, dstep * CORE_DEG_TO_RAD, &err) != 0)
+        goto fail;
+    if (sstep > 0)
+        set.speed_step_mps = sstep * CORE_KMH_TO_MPS;
+    if (smax > 0)
+        set.speed_max_mps = smax * CORE_KMH_TO_MPS;
+    set.bisect_tol_mps = bisect * CORE_KMH_TO_MPS;
+    if (shol_settings_check(&set, &err) != 0)
+        goto fail;
+
+    char dbbuf[1024], outbuf[1024];
+    if (!outdir)
+        outdir = sc->output_dir;
+    snprintf(outbuf, sizeof outbuf, "%s", outdir);
+    if (!dbdir) {
+        snprintf(dbbuf, sizeof dbbuf, "out/airwake-db");
+        dbdir = dbbuf;
+    }
+    char mk[1100];
+    snprintf(mk, sizeof mk, "mkdir -p '%s'", dbdir);
+    if (system(mk) != 0) {
+        core_err_set(&err, -1, "%s: cannot create the database folder", dbdir);
+        goto fail;
+    }
+    if (!(db = awdb_open(dbdir, &log, &err)))
+        goto fail;
+
+    couple_settings cs;
+    couple_settings_default(&cs);
+    cs.grid = grid >= 0 ? grid : (int)sc->grid;
+    cs.direct = direct;
+    cs.max_iter = (int)maxit;
+    memcpy(cs.station_S_m, sc->station_S_m, sizeof cs.station_S_m);
+    char exe[PATH_MAX], ships[1024];
+    ssize_t el = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (el > 0) {
+        exe[el] = '\0';
+        cs.disim_exe = exe;
+    }
+    snprintf(ships, sizeof ships, "%s", sc->ship_path);
+    cs.ships_dir = dirname(ships);
+    int mode = coupling >= 0 ? coupling : (sc->coupling == SIM_COUPLING_ONE_WAY ? COUPLE_ONE_WAY : COUPLE_TWO_WAY);
+
+    cs.mode = COUPLE_ONE_WAY;
+    if (!(one = couple_create(ac, &sc->ship, db, &cs, &log, &err)))
+        goto fail;
+    progress_ctx pc = {tty, "one-way"};
+    fprintf(stderr, "shol: %s + %s, %d directions, grid %s, %s\n", sc->ship.name, hfm_aircraft_name(ac), set.n_dirs,
+            sim_grid_name((sim_grid)cs.grid), mode == COUPLE_TWO_WAY ? "two-way coupling" : "one-way");
+    if (shol_envelope_run(&set, couple_shol_trim, one, on_progress, &pc, &log, &r1, &err) != 0) {
+        if (couple_last_error(one)[0])
+            snprintf(err.msg, sizeof err.msg, "%s", couple_last_error(one));
+        goto fail;
+    }
+    char title[160];
+    snprintf(title, sizeof title, "%s + %s", sc->ship.name, hfm_aircraft_name(ac));
+    shol_report_info info;
+    memset(&info, 0, sizeof info);
+    info.title = title;
+    info.scenario_path = scen;
+    info.aircraft_path = sc->aircraft_path;
+    info.grid = sim_grid_name((sim_grid)cs.grid);
+    const shol_result *main_r = &r1;
+    if (mode == COUPLE_TWO_WAY) {
+        cs.mode = COUPLE_TWO_WAY;
+        if (!(two = couple_create(ac, &sc->ship, db, &cs, &log, &err)))
+            goto fail;
+        split_ctx sp = {one, two, &r1, 2.0 * set.speed_step_mps, 0, ""};
+        pc.label = "two-way";
+        if (shol_envelope_run(&set, split_trim, &sp, on_progress, &pc, &log, &r2, &err) != 0) {
+            if (sp.err[0])
+                snprintf(err.msg, sizeof err.msg, "%s", sp.err);
+            goto fail;
+        }
+        main_r = &r2;
+        md = coupling_md(two);
+        info.label = "two-way coupled";
+        info.coupling = cs.direct ? "two-way, coupled field used directly" : "two-way, interaction velocity (coupled - isolated rotor)";
+        info.compare = &r1;
+        info.compare_label = "one-way (ship-only airwake)";
+        info.coupling_md = md;
+    } else {
+        info.label = "one-way (ship-only airwake)";
+        info.coupling = "one-way";
+    }
+    if (shol_write_all(outbuf, main_r, &info, &err) != 0)
+        goto fail;
+    printf("wod_dir_deg,max_speed_kt,limit\n");
+    for (int i = 0; i < main_r->n_dirs; i++) {
+        const shol_dir_result *d = &main_r->dirs[i];
+        printf("%.1f,%.1f,%s\n", d->dir_rad * CORE_RAD_TO_DEG, d->max_speed_mps / CORE_KT_TO_MPS, shol_limit_name(d->limit));
+    }
+    fprintf(stderr, "shol: wrote %s/shol.csv, shol.json, shol_polar.png/.svg, trim plots and report.md\n", outbuf);
+    rc = 0;
+    goto done;
+fail:
+    fprintf(stderr, "%sdisim shol: %s\n", tty ? "\r\033[K" : "", err.msg);
+done:
+    free(md);
+    shol_result_free(&r1);
+    shol_result_free(&r2);
+    couple_destroy(two);
+    couple_destroy(one);
+    awdb_close(db);
+    hfm_aircraft_destroy(ac);
+    free(sc);
+    return rc;
+}

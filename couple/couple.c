@@ -1,0 +1,438 @@
+/* couple.c -- the coupling loop (seed paper section 2.5); see couple.h for
+ * the model. Assumptions, beyond the seed paper's:
+ *  - The actuator disk is uniform (eq. 5) with the trim's thrust, placed at
+ *    the trimmed hub and tilted with the trimmed shaft; keys round thrust to
+ *    1 N and tilt to 0.1 deg, so a converged loop re-reads its last field.
+ *  - "Change less than 5 %" is measured per quantity as |dx| / max(|x|, f)
+ *    with floors f = 10 % of travel for controls and 1 deg for attitudes, so
+ *    quantities near zero do not demand impossible relative accuracy.
+ *  - The isolated-rotor field for the interaction velocity is the same case
+ *    with the ship's cells left open (ship name + ".isolated").
+ */
+#include "couple.h"
+#include "cfd.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#define CACHE_N 8
+
+struct couple_ctx {
+    const hfm_aircraft *ac;
+    const core_ship *ship;
+    awdb *db;
+    couple_settings s;
+    const core_log *log;
+    hfm_trim *trim;
+    hfm_disk *disk;
+    struct {
+        char path[1024];
+        cfd_field *f;
+        unsigned long used;
+    } cache[CACHE_N];
+    unsigned long tick;
+    hfm_trim_result last;   /* warm start for the next trim */
+    int have_last;
+    couple_point *hist;
+    int nhist, caphist;
+    char last_error[1024];
+    pid_t builder_pid;
+};
+
+void couple_settings_default(couple_settings *s)
+{
+    memset(s, 0, sizeof *s);
+    s->mode = COUPLE_TWO_WAY;
+    s->grid = AWDB_GRID_DEFAULT;
+    s->max_iter = 6;
+    s->tol_frac = 0.05;
+    s->ref_speed_mps = 15.0;
+    s->station_S_m[2] = -6.0;
+    s->wait_timeout_s = 3 * 3600.0;
+}
+
+couple_ctx *couple_create(const hfm_aircraft *ac, const core_ship *ship, awdb *db,
+                          const couple_settings *s, const core_log *log, core_err *err)
+{
+    if (s->max_iter < 1 || s->max_iter > COUPLE_MAX_ITER) {
+        core_err_set(err, -1, "coupling: max_iter = %d: expected 1 to %d", s->max_iter, COUPLE_MAX_ITER);
+        return NULL;
+    }
+    if (!(s->tol_frac > 0.0 && s->tol_frac < 1.0) || !(s->ref_speed_mps > 0.0)) {
+        core_err_set(err, -1, "coupling: tol_frac in (0, 1) and ref_speed_mps > 0 expected");
+        return NULL;
+    }
+    couple_ctx *c = calloc(1, sizeof *c);
+    if (!c) {
+        core_err_set(err, -1, "coupling: out of memory");
+        return NULL;
+    }
+    c->ac = ac;
+    c->ship = ship;
+    c->db = db;
+    c->s = *s;
+    c->log = log;
+    c->trim = hfm_trim_create(ac, log);
+    c->disk = malloc(sizeof *c->disk);
+    if (!c->trim || !c->disk) {
+        core_err_set(err, -1, "coupling: out of memory");
+        couple_destroy(c);
+        return NULL;
+    }
+    return c;
+}
+
+void couple_destroy(couple_ctx *c)
+{
+    if (!c)
+        return;
+    for (int i = 0; i < CACHE_N; i++)
+        cfd_field_destroy(c->cache[i].f);
+    hfm_trim_destroy(c->trim);
+    free(c->disk);
+    free(c->hist);
+    if (c->builder_pid > 0)
+        waitpid(c->builder_pid, NULL, WNOHANG);
+    free(c);
+}
+
+/* Start `disim airwaked DB --exit-when-idle` in the background, its output
+ * into DB/builder.log. */
+static void spawn_builder(couple_ctx *c)
+{
+    if (!c->s.disim_exe || !c->s.ships_dir)
+        return;
+    if (c->builder_pid > 0 && waitpid(c->builder_pid, NULL, WNOHANG) == 0)
+        return; /* ours is still starting up */
+    pid_t pid = fork();
+    if (pid == 0) {
+        char logp[1100];
+        snprintf(logp, sizeof logp, "%s/builder.log", awdb_dir(c->db));
+        int fd = open(logp, O_WRONLY | O_CREAT | O_APPEND, 0666);
+        if (fd >= 0) {
+            dup2(fd, 1);
+            dup2(fd, 2);
+            close(fd);
+        }
+        setsid(); /* outlives this process if another client still waits */
+        execl(c->s.disim_exe, c->s.disim_exe, "airwaked", awdb_dir(c->db), "--exit-when-idle",
+              "--ships", c->s.ships_dir, "--no-lcm", (char *)NULL);
+        _exit(127);
+    }
+    if (pid > 0) {
+        c->builder_pid = pid;
+        core_log_msg(c->log, CORE_LOG_INFO, "started an airwake builder (pid %ld)", (long)pid);
+    }
+}
+
+static const cfd_field *load_cached(couple_ctx *c, const char *path, core_err *err)
+{
+    int lru = 0;
+    for (int i = 0; i < CACHE_N; i++) {
+        if (c->cache[i].f && !strcmp(c->cache[i].path, path)) {
+            c->cache[i].used = ++c->tick;
+            return c->cache[i].f;
+        }
+        if (c->cache[i].used < c->cache[lru].used)
+            lru = i;
+    }
+    cfd_field *f = cfd_field_load(path, err);
+    if (!f)
+        return NULL;
+    cfd_field_destroy(c->cache[lru].f);
+    c->cache[lru].f = f;
+    snprintf(c->cache[lru].path, sizeof c->cache[lru].path, "%s", path);
+    c->cache[lru].used = ++c->tick;
+    return f;
+}
+
+/* The field for key: from the database, or queued and waited for. */
+static const cfd_field *get_field(couple_ctx *c, awdb_key *key, core_err *err)
+{
+    if (awdb_key_canon(key, err))
+        return NULL;
+    char path[1024], name[200];
+    awdb_key_name(key, name, sizeof name);
+    struct timespec t0, now;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    int announced = 0;
+    for (;;) {
+        awdb_state st = awdb_query(c->db, key, path, sizeof path);
+        if (st == AWDB_READY)
+            return load_cached(c, path, err);
+        if (st == AWDB_FAILED) {
+            core_err_set(err, -1, "airwake %s failed to build (see %s/failed/%s.txt)", name, awdb_dir(c->db), name);
+            return NULL;
+        }
+        if (st == AWDB_ABSENT && awdb_submit(c->db, key, NULL, err) != 0)
+            return NULL;
+        if (!announced) {
+            core_log_msg(c->log, CORE_LOG_INFO, "waiting for airwake %s", name);
+            announced = 1;
+        }
+        if (!awdb_builder_alive(c->db)) {
+            if (!c->s.disim_exe) {
+                core_err_set(err, -1, "airwake %s is not in %s and no builder serves it (start `disim airwaked %s`)",
+                             name, awdb_dir(c->db), awdb_dir(c->db));
+                return NULL;
+            }
+            spawn_builder(c);
+        }
+        clock_gettime(CLOCK_MONOTONIC, &now);
+        if (now.tv_sec - t0.tv_sec > c->s.wait_timeout_s) {
+            core_err_set(err, -1, "airwake %s: still not built after %.0f s", name, c->s.wait_timeout_s);
+            return NULL;
+        }
+        if (c->builder_pid > 0)
+            waitpid(c->builder_pid, NULL, WNOHANG);
+        struct timespec ts = {0, 200000000};
+        nanosleep(&ts, NULL);
+    }
+}
+
+/* ---------------------------------------------------------- air sources */
+typedef struct air_scaled {
+    const cfd_field *f;
+    double scale;
+} air_scaled;
+
+static int air_scaled_fn(void *user, const double pos[3], double t, double vel[3])
+{
+    (void)t;
+    air_scaled *a = user;
+    double out[CFD_NVARS];
+    int rc = cfd_field_sample(a->f, pos, out);
+    for (int i = 0; i < 3; i++)
+        vel[i] = a->scale * out[i];
+    return rc > 0 ? 1 : rc;
+}
+
+typedef struct air_interaction {
+    const cfd_field *coupled, *isolated;
+    double wind[3];
+} air_interaction;
+
+static int air_interaction_fn(void *user, const double pos[3], double t, double vel[3])
+{
+    (void)t;
+    air_interaction *a = user;
+    double c[CFD_NVARS], i[CFD_NVARS];
+    int rc = cfd_field_sample(a->coupled, pos, c);
+    int ri = cfd_field_sample(a->isolated, pos, i);
+    for (int k = 0; k < 3; k++)
+        vel[k] = a->wind[k] + c[k] - i[k];
+    return (rc > 0 || ri > 0) ? 1 : (rc < 0 ? rc : ri);
+}
+
+static void base_key(couple_ctx *c, awdb_key *k, double v, double dir)
+{
+    memset(k, 0, sizeof *k);
+    snprintf(k->ship, sizeof k->ship, "%s", c->ship->name);
+    snprintf(k->aircraft, sizeof k->aircraft, "%s", hfm_aircraft_name(c->ac));
+    k->wod_speed_mps = v;
+    k->wod_dir_rad = dir;
+    k->grid = c->s.grid;
+}
+
+static double change(double a, double b, double floor)
+{
+    return fabs(a - b) / fmax(fmax(fabs(a), fabs(b)), floor);
+}
+
+static void record(couple_iter *it, const hfm_trim_result *r, const couple_iter *prev)
+{
+    it->thrust_N = r->loads.mr_thrust_N;
+    it->collective_pct = r->u.collective_pct;
+    it->long_pct = r->u.long_pct;
+    it->lat_pct = r->u.lat_pct;
+    it->pedal_pct = r->u.pedal_pct;
+    it->phi_rad = r->body.euler_rad[0];
+    it->theta_rad = r->body.euler_rad[1];
+    it->change_frac = NAN;
+    if (prev) {
+        const double fc = 10.0, fa = 1.0 * CORE_DEG_TO_RAD;
+        double m = change(it->collective_pct, prev->collective_pct, fc);
+        m = fmax(m, change(it->long_pct, prev->long_pct, fc));
+        m = fmax(m, change(it->lat_pct, prev->lat_pct, fc));
+        m = fmax(m, change(it->pedal_pct, prev->pedal_pct, fc));
+        m = fmax(m, change(it->phi_rad, prev->phi_rad, fa));
+        m = fmax(m, change(it->theta_rad, prev->theta_rad, fa));
+        it->change_frac = m;
+    }
+}
+
+static int solve(couple_ctx *c, const hfm_trim_cond *cond, hfm_trim_result *res)
+{
+    int rc = hfm_trim_solve(c->trim, cond, c->have_last ? &c->last : NULL, res);
+    if (rc == 1 && c->have_last) /* a cold start sometimes finds what the warm one missed */
+        rc = hfm_trim_solve(c->trim, cond, NULL, res);
+    if (rc == 0) {
+        c->last = *res;
+        c->have_last = 1;
+    }
+    return rc;
+}
+
+int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *err)
+{
+    memset(p, 0, sizeof *p);
+    p->wod_speed_mps = v;
+    p->wod_dir_rad = dir;
+    hfm_trim_cond cond;
+    memset(&cond, 0, sizeof cond);
+    cond.kind = HFM_TRIM_HOVER_SHIP;
+    cond.wod_speed_mps = v;
+    cond.wod_dir_rad = dir;
+    memcpy(cond.pos_S_m, c->s.station_S_m, sizeof cond.pos_S_m);
+
+    if (c->s.mode == COUPLE_ONE_WAY) {
+        awdb_key k;
+        base_key(c, &k, c->s.ref_speed_mps, dir);
+        k.rotor = AWDB_ROTOR_OFF;
+        const cfd_field *f = get_field(c, &k, err);
+        if (!f)
+            return -1;
+        air_scaled a = {f, v / c->s.ref_speed_mps};
+        hfm_air air = {air_scaled_fn, &a};
+        cond.air = &air;
+        int rc = solve(c, &cond, &p->trim);
+        if (rc < 0)
+            return core_err_set(err, rc, "trim at %.2f m/s from %.1f deg: fatal error", v, dir * CORE_RAD_TO_DEG);
+        p->converged = rc == 0;
+        p->coupling_converged = 1;
+        p->n_iter = 1;
+        record(&p->iter[0], &p->trim, NULL);
+        return rc;
+    }
+
+    /* Two-way: start from the free-air trim. */
+    int rc = solve(c, &cond, &p->trim);
+    if (rc != 0) {
+        if (rc < 0)
+            return core_err_set(err, rc, "free-air trim at %.2f m/s: fatal error", v);
+        p->converged = 0;
+        return 1;
+    }
+    record(&p->iter[0], &p->trim, NULL);
+    p->n_iter = 1;
+    hfm_air_uniform uni;
+    core_vec3 w = core_wod_vel_S_mps(v, dir);
+    uni.vel_S_mps[0] = w.x;
+    uni.vel_S_mps[1] = w.y;
+    uni.vel_S_mps[2] = w.z;
+    hfm_air free_air = {hfm_air_uniform_fn, &uni};
+    /* The air of the latest trim; it outlives each iteration because the next
+     * disk is evaluated in it (before any field is fetched, so the cached
+     * fields it points to are still loaded). */
+    air_interaction ai;
+    air_scaled direct;
+    hfm_air air;
+    for (int it = 1; it < c->s.max_iter + 1 && it < COUPLE_MAX_ITER; it++) {
+        /* The disk from the current trim, evaluated in the air it was trimmed in. */
+        const hfm_air *air_now = cond.air ? cond.air : &free_air;
+        if (hfm_rotor_disk(c->ac, air_now, 0.0, &p->trim.body, &p->trim.u, &p->trim.rotor, 8, 12, c->disk) != 0)
+            return core_err_set(err, -1, "rotor disk at %.2f m/s from %.1f deg: evaluation failed", v, dir * CORE_RAD_TO_DEG);
+        core_euler sh = core_quat_to_euler(c->disk->q_SH);
+        awdb_key kc;
+        base_key(c, &kc, v, dir);
+        kc.rotor = AWDB_ROTOR_UNIFORM;
+        kc.thrust_N = c->disk->thrust_N;
+        memcpy(kc.station_S_m, c->disk->hub_S_m, sizeof kc.station_S_m);
+        kc.radius_m = hfm_aircraft_rotor_radius_m(c->ac);
+        kc.shaft_pitch_rad = sh.theta_rad;
+        kc.shaft_roll_rad = sh.phi_rad;
+        const cfd_field *fc = get_field(c, &kc, err);
+        if (!fc)
+            return -1;
+        direct.f = fc;
+        direct.scale = 1.0;
+        if (c->s.direct) {
+            air.fn = air_scaled_fn;
+            air.user = &direct;
+        } else {
+            awdb_key ki = kc;
+            snprintf(ki.ship, sizeof ki.ship, "%s.isolated", c->ship->name);
+            const cfd_field *fi = get_field(c, &ki, err);
+            if (!fi)
+                return -1;
+            /* get_field may have evicted fc from the cache: fetch it again. */
+            fc = get_field(c, &kc, err);
+            if (!fc)
+                return -1;
+            ai.coupled = fc;
+            ai.isolated = fi;
+            memcpy(ai.wind, uni.vel_S_mps, sizeof ai.wind);
+            air.fn = air_interaction_fn;
+            air.user = &ai;
+        }
+        cond.air = &air;
+        hfm_trim_result next;
+        rc = solve(c, &cond, &next);
+        if (rc != 0) {
+            if (rc < 0)
+                return core_err_set(err, rc, "coupled trim at %.2f m/s: fatal error", v);
+            p->converged = 0;
+            return 1;
+        }
+        p->trim = next;
+        record(&p->iter[it], &p->trim, &p->iter[it - 1]);
+        p->n_iter = it + 1;
+        if (p->iter[it].change_frac < c->s.tol_frac) {
+            p->coupling_converged = 1;
+            break;
+        }
+    }
+    p->converged = 1;
+    if (!p->coupling_converged)
+        core_log_msg(c->log, CORE_LOG_WARN, "coupling at %.2f m/s from %.1f deg: change %.1f %% after %d iterations",
+                     v, dir * CORE_RAD_TO_DEG, 100.0 * p->iter[p->n_iter - 1].change_frac, p->n_iter - 1);
+    return 0;
+}
+
+int couple_shol_trim(void *user, double v, double dir, shol_trim_point *out)
+{
+    couple_ctx *c = user;
+    if (c->nhist == c->caphist) {
+        int cap = c->caphist ? 2 * c->caphist : 64;
+        couple_point *h = realloc(c->hist, cap * sizeof *h);
+        if (!h) {
+            snprintf(c->last_error, sizeof c->last_error, "coupling: out of memory");
+            return -1;
+        }
+        c->hist = h;
+        c->caphist = cap;
+    }
+    couple_point *p = &c->hist[c->nhist];
+    core_err err = {{0}};
+    int rc = couple_trim(c, v, dir, p, &err);
+    if (rc < 0) {
+        snprintf(c->last_error, sizeof c->last_error, "%s", err.msg);
+        return -1;
+    }
+    c->nhist++;
+    if (rc > 0 || !p->converged)
+        return 1;
+    out->phi_rad = p->trim.body.euler_rad[0];
+    out->theta_rad = p->trim.body.euler_rad[1];
+    out->collective_pct = p->trim.u.collective_pct;
+    out->long_cyclic_pct = p->trim.u.long_pct;
+    out->lat_cyclic_pct = p->trim.u.lat_pct;
+    out->pedal_pct = p->trim.u.pedal_pct;
+    return 0;
+}
+
+const couple_point *couple_history(const couple_ctx *c, int *n)
+{
+    *n = c->nhist;
+    return c->hist;
+}
+
+const char *couple_last_error(const couple_ctx *c) { return c->last_error; }

@@ -1,0 +1,99 @@
+/*
+ * couple.h -- the ship-rotor coupling loop (seed paper section 2.5) and the
+ * trim callback that the candidate SHOL procedure calls.
+ *
+ * Two-way: trim in the free-air WOD -> CFD with the actuator disk loaded from
+ * that trim (thrust, hub position and shaft tilt from hfm_rotor_disk) at the
+ * hover-over-spot station -> velocities back to the flight model -> re-trim,
+ * until controls and attitudes change less than 5 % between two iterations.
+ * The rotor's own induced velocity is not counted twice: by default the
+ * flight model keeps its Pitt-Peters inflow and takes from CFD the
+ * interaction velocity, the coupled field minus the isolated rotor (same
+ * thrust, disk, wind and grid, no ship); `direct` uses the coupled field as
+ * the air itself.
+ *
+ * One-way: the ship-only airwake (no disk). A ship-only field without the
+ * rotor is independent of the wind speed when scaled by it (high-Reynolds
+ * bluff-body flow; checked by the cfd tests), so one field per direction at
+ * a reference speed serves every speed: velocities scale with V.
+ *
+ * Fields come from the airwake database (awdb); missing ones are queued for
+ * the builder, which is started as a child process (`disim airwaked DB
+ * --exit-when-idle`) whenever none serves the database.
+ */
+#ifndef DISIM_COUPLE_H
+#define DISIM_COUPLE_H
+
+#include "awdb.h"
+#include "core.h"
+#include "hfm.h"
+#include "shol.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum { COUPLE_TWO_WAY = 0, COUPLE_ONE_WAY = 1 } couple_mode;
+
+typedef struct couple_settings {
+    couple_mode mode;
+    int direct;               /* two-way: 1 uses the coupled field directly */
+    int grid;                 /* AWDB_GRID_* */
+    int max_iter;             /* coupling iterations (default 6) */
+    double tol_frac;          /* change between iterations (default 0.05) */
+    double ref_speed_mps;     /* one-way: the speed of the ship-only fields (15 m/s) */
+    double station_S_m[3];    /* CG at the hover-over-spot station */
+    double wait_timeout_s;    /* longest wait for one field (default 3 h) */
+    /* How to start a builder when none serves the database: the disim
+     * executable and the ships folder (NULL: never start one). */
+    const char *disim_exe;
+    const char *ships_dir;
+} couple_settings;
+
+void couple_settings_default(couple_settings *s);
+
+/* One iteration of the loop: what the flight model trimmed to. */
+typedef struct couple_iter {
+    double thrust_N;
+    double collective_pct, long_pct, lat_pct, pedal_pct;
+    double phi_rad, theta_rad;
+    double change_frac;       /* largest change from the previous iteration */
+} couple_iter;
+
+#define COUPLE_MAX_ITER 16
+
+/* The result of a coupled trim at one WOD. */
+typedef struct couple_point {
+    double wod_speed_mps, wod_dir_rad;
+    int converged;            /* the last trim converged */
+    int coupling_converged;   /* changes fell below tol_frac */
+    int n_iter;
+    couple_iter iter[COUPLE_MAX_ITER];
+    hfm_trim_result trim;     /* the final trim */
+} couple_point;
+
+typedef struct couple_ctx couple_ctx;
+
+/* A coupling context over an aircraft, a ship and a database (all kept by
+ * the caller and outliving the context). NULL with err on failure. */
+couple_ctx *couple_create(const hfm_aircraft *ac, const core_ship *ship, awdb *db,
+                          const couple_settings *s, const core_log *log, core_err *err);
+void couple_destroy(couple_ctx *c);
+
+/* Trim at one WOD in the coupled (or one-way) airwake. 0: trimmed (see
+ * p->converged), > 0: the trim did not converge, < 0: fatal (err). */
+int couple_trim(couple_ctx *c, double wod_speed_mps, double wod_dir_rad, couple_point *p,
+                core_err *err);
+
+/* The shol_trim_fn for shol_envelope_run; user is a couple_ctx. Every point
+ * is kept in the context (couple_history) for the report. */
+int couple_shol_trim(void *user, double wod_speed_mps, double wod_dir_rad, shol_trim_point *out);
+/* The points trimmed so far (in call order). */
+const couple_point *couple_history(const couple_ctx *c, int *n);
+/* The last fatal error of couple_shol_trim. */
+const char *couple_last_error(const couple_ctx *c);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
