@@ -4,6 +4,12 @@
 #include "cmds.h"
 #include "core.h"
 #include "sim.h"
+#ifdef DISIM_HAVE_HFM
+#include "hfm.h"
+#endif
+#ifdef DISIM_HAVE_SHOL
+#include "shol.h"
+#endif
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,7 +35,34 @@ static int cmd_check(int argc, char **argv)
         free(sc);
         return 1;
     }
+#ifdef DISIM_HAVE_HFM
+    /* The aircraft file in full: every parameter and the rejection criteria. */
+    hfm_aircraft *ac = hfm_aircraft_load(sc->aircraft_path, NULL, &err);
+    if (!ac) {
+        fprintf(stderr, "disim check: %s\n", err.msg);
+        free(sc);
+        return 1;
+    }
+#endif
     sim_scenario_print(sc, stdout);
+#ifdef DISIM_HAVE_HFM
+    printf("\n[aircraft]\nname = %s\nmass_kg = %.1f\nrotor_radius_m = %.3f\nrotor_omega_radps = %.3f\nblades = %d\n",
+           hfm_aircraft_name(ac), hfm_aircraft_mass_kg(ac), hfm_aircraft_rotor_radius_m(ac),
+           hfm_aircraft_rotor_omega_radps(ac), hfm_aircraft_blades(ac));
+    hfm_aircraft_destroy(ac);
+#endif
+#ifdef DISIM_HAVE_SHOL
+    shol_criteria crit;
+    if (shol_criteria_load(sc->aircraft_path, &crit, &err) != 0) {
+        fprintf(stderr, "disim check: %s\n", err.msg);
+        free(sc);
+        return 1;
+    }
+    printf("\n[rejection]\nroll_deg = %g\npitch_deg = %g\nlong_cyclic_pct = %g\nlat_cyclic_pct = %g\n"
+           "collective_pct = %g\npedal_pct = %g\n",
+           crit.roll_max_rad * CORE_RAD_TO_DEG, crit.pitch_max_rad * CORE_RAD_TO_DEG, crit.long_cyclic_pct,
+           crit.lat_cyclic_pct, crit.collective_pct, crit.pedal_pct);
+#endif
     free(sc);
     return 0;
 }
@@ -45,7 +78,7 @@ static const struct {
 #ifdef DISIM_HAVE_AIRWAKED
     {"airwaked", cmd_airwaked, "airwaked DB_DIR           background airwake builder (--jobs N, --ships DIR, --exit-when-idle, --no-lcm)"},
 #endif
-#ifdef DISIM_HAVE_SHOL
+#ifdef DISIM_HAVE_SHOL_CMD
     {"shol", cmd_shol, "shol SCENARIO             candidate SHOL envelope (--grid, --coupling, -o DIR, --db DIR, --full-circle)"},
 #endif
 };
