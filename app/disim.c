@@ -18,6 +18,14 @@
 typedef int (*cmd_fn)(int argc, char **argv);
 
 static int cmd_help(int argc, char **argv);
+#ifdef DISIM_HAVE_CFD
+int cmd_airwake(int argc, char **argv);
+int cmd_probe(int argc, char **argv);
+int cmd_validate(int argc, char **argv);
+#endif
+#ifdef DISIM_HAVE_HFM
+int cmd_trim(int argc, char **argv); /* cmd_trim.c */
+#endif
 
 static int cmd_check(int argc, char **argv)
 {
@@ -74,7 +82,15 @@ static const struct {
 } cmds[] = {
     {"help", cmd_help, "help                      this text"},
     {"check", cmd_check, "check SCENARIO            parse and resolve a scenario, print it"},
+#ifdef DISIM_HAVE_HFM
+    {"trim", cmd_trim, "trim AIRCRAFT             trim sweep to CSV (--airspeed-kt A:B:S | --hover-wod-kt A:B:S, --wod-dir-deg, --trim-constraint, --csv, --modes)"},
+#endif
     {"render", cmd_render, "render SCENARIO -o PNG    off-screen deck view (--eye-S, --target-S, --size, --fov-deg)"},
+#ifdef DISIM_HAVE_CFD
+    {"airwake", cmd_airwake, "airwake SCENARIO -o F.h5   steady RANS airwake (--wod-speed-kt, --wod-dir-deg, --rotor, --grid)"},
+    {"probe", cmd_probe, "probe FIELD.h5 --line ...  CSV velocities along X0,Y0,Z0:X1,Y1,Z1:N (frame S)"},
+    {"validate", cmd_validate, "validate CASE             CFD validation case (cavity100 cavity1000 bfs disk-oge disk-ige sfs2 sfs2-grid)"},
+#endif
 #ifdef DISIM_HAVE_AIRWAKED
     {"airwaked", cmd_airwaked, "airwaked DB_DIR           background airwake builder (--jobs N, --ships DIR, --exit-when-idle, --no-lcm)"},
 #endif

@@ -37,8 +37,8 @@ enum { AWDB_GRID_COARSE = 0, AWDB_GRID_DEFAULT = 1, AWDB_GRID_FINE = 2 };
  * direction 0.01 deg, thrust 1 N, station and radius 1 cm, shaft tilt
  * 0.1 deg) so that equal requests compare equal. */
 typedef struct awdb_key {
-    char ship[32];
-    char aircraft[32];     /* "" for a ship-only field */
+    char ship[96];        /* ship name; "NAME.isolated": the same case with the ship cells open */
+    char aircraft[64];     /* "" for a ship-only field */
     double wod_speed_mps;
     double wod_dir_rad;
     int rotor;             /* AWDB_ROTOR_* */

@@ -135,7 +135,7 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
     memset(&meta, 0, sizeof meta);
     meta.wod_speed_mps = k->wod_speed_mps;
     meta.wod_dir_deg = k->wod_dir_rad * CORE_RAD_TO_DEG;
-    snprintf(meta.ship, sizeof meta.ship, "%s", k->ship);
+    snprintf(meta.ship, sizeof meta.ship, "%.63s", k->ship);
     snprintf(meta.rotor, sizeof meta.rotor, "%s", rotor[k->rotor]);
     snprintf(meta.grid, sizeof meta.grid, "%s", grid[k->grid]);
     meta.rotor_thrust_N = k->thrust_N;

@@ -1,0 +1,116 @@
+/* body.c -- the 6-DOF rigid body and the assembly of the component loads.
+ *
+ * Model: the seed paper's eqs. (6)-(9) (after Padfield, "Helicopter Flight
+ * Dynamics", ch. 3): forces and moments of main rotor, tail rotor, fuselage,
+ * horizontal and vertical tail plus gravity, summed in body axes at the CG;
+ *   [u v w]' = F/m - omega x [u v w],   [p q r]' = I^-1 (M - omega x I omega),
+ * I with Ixz; Euler rates from eq. (9) inverted. The reference frame S is
+ * taken as inertial (steady ship translation; ship motion is the coupling's
+ * business). Velocities are relative to S; the air comes from the hfm_air
+ * callback, so the aerodynamic velocity at a point is air - point velocity.
+ * Main-rotor wake on the airframe: the wake is a cylinder of radius R skewed
+ * by the wake angle chi; a point below the disk inside it (smooth edge of
+ * 0.15 R) sees k vi along the shaft, k per component from the data file.
+ */
+#include "hfm_priv.h"
+
+#include <string.h>
+
+int hfm_air_uniform_fn(void *user, const double pos_S_m[3], double t_s, double vel_S_mps[3])
+{
+    (void)pos_S_m;
+    (void)t_s;
+    const hfm_air_uniform *u = user;
+    vel_S_mps[0] = u->vel_S_mps[0];
+    vel_S_mps[1] = u->vel_S_mps[1];
+    vel_S_mps[2] = u->vel_S_mps[2];
+    return 0;
+}
+
+void hfm_kin_setup(hfm_kin *k, const hfm_air *air, double t, const hfm_body *b)
+{
+    core_euler e = {b->euler_rad[0], b->euler_rad[1], b->euler_rad[2]};
+    core_mat3 m = core_mat3_from_euler(e);
+    memcpy(k->C_SB, m.m, sizeof k->C_SB);
+    memcpy(k->vel_B, b->vel_B_mps, sizeof k->vel_B);
+    memcpy(k->rate_B, b->rate_B_radps, sizeof k->rate_B);
+    memcpy(k->pos_S, b->pos_S_m, sizeof k->pos_S);
+    k->t = t;
+    k->air = air;
+}
+
+int hfm_air_rel_B(const hfm_kin *k, const double r_B[3], double out_B[3])
+{
+    double p[3], aS[3], aB[3], w[3];
+    m3_mul(k->C_SB, r_B, p);
+    for (int i = 0; i < 3; i++)
+        p[i] += k->pos_S[i];
+    if (k->air->fn(k->air->user, p, k->t, aS))
+        return -1;
+    m3_tmul(k->C_SB, aS, aB);
+    v3_cross(k->rate_B, r_B, w);
+    for (int i = 0; i < 3; i++)
+        out_B[i] = aB[i] - (k->vel_B[i] + w[i]);
+    return 0;
+}
+
+double hfm_wake_immersion(const hfm_aircraft *ac, const hfm_wake *w, const double r_B[3])
+{
+    const hfm_mr *mr = &ac->mr;
+    double d[3] = {r_B[0] - mr->hub_B[0], r_B[1] - mr->hub_B[1], r_B[2] - mr->hub_B[2]}, h[3];
+    m3_tmul(mr->C_BH, d, h);
+    if (h[2] <= 0.0)
+        return 0.0;
+    double off = h[2] * w->tan_skew;
+    double dx = h[0] - off * w->dir_H[0], dy = h[1] - off * w->dir_H[1];
+    double dist = sqrt(dx * dx + dy * dy), edge = 0.15 * mr->R;
+    if (dist <= mr->R)
+        return 1.0;
+    if (dist >= mr->R + edge)
+        return 0.0;
+    return 0.5 * (1.0 + cos(CORE_PI * (dist - mr->R) / edge));
+}
+
+void hfm_body_accel(const hfm_aircraft *ac, const hfm_body *b, hfm_loads *L)
+{
+    const double *V = b->vel_B_mps, *w = b->rate_B_radps;
+    double wxv[3], Iw[3], wxIw[3], r[3];
+    v3_cross(w, V, wxv);
+    m3_mul(ac->I, w, Iw);
+    v3_cross(w, Iw, wxIw);
+    for (int i = 0; i < 3; i++) {
+        L->acc_B[i] = L->total.F_B_N[i] / ac->mass - wxv[i];
+        r[i] = L->total.M_B_Nm[i] - wxIw[i];
+    }
+    m3_mul(ac->Iinv, r, L->acc_B + 3);
+}
+
+int hfm_eval_rest(const hfm_aircraft *ac, const hfm_kin *k, const hfm_body *b,
+                  const hfm_controls *u, const hfm_wake *w0, hfm_loads *L)
+{
+    hfm_wake w = *w0;
+    double th0, A1, B1, thtr, spd;
+    hfm_controls_to_pitch(ac, u, &th0, &A1, &B1, &thtr);
+    if (hfm_fuselage(ac, k, &w, &L->fus, &spd))
+        return -1;
+    L->airspeed_mps = spd;
+    w.airspeed_kt = spd / CORE_KT_TO_MPS;
+    if (hfm_tailrotor(ac, k, &w, thtr, &L->tr, &L->tr_thrust_N, &L->tr_power_W))
+        return -1;
+    w.ay_g = (L->mr.F_B_N[1] + L->tr.F_B_N[1] + L->fus.F_B_N[1]) / (ac->mass * CORE_G_MPS2);
+    if (hfm_empennage(ac, k, &w, &L->stab, &L->fin, &L->stab_incidence_rad))
+        return -1;
+    double g_S[3] = {0, 0, ac->mass * CORE_G_MPS2}, g_B[3];
+    m3_tmul(k->C_SB, g_S, g_B);
+    const hfm_fm *c[5] = {&L->mr, &L->tr, &L->fus, &L->stab, &L->fin};
+    for (int i = 0; i < 3; i++) {
+        L->total.F_B_N[i] = g_B[i];
+        L->total.M_B_Nm[i] = 0.0;
+        for (int j = 0; j < 5; j++) {
+            L->total.F_B_N[i] += c[j]->F_B_N[i];
+            L->total.M_B_Nm[i] += c[j]->M_B_Nm[i];
+        }
+    }
+    hfm_body_accel(ac, b, L);
+    return 0;
+}

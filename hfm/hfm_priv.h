@@ -1,0 +1,200 @@
+/* hfm_priv.h -- the aircraft data and the component models shared inside hfm.
+ * Small vector helpers are inline here because the blade-element loop calls
+ * them a few hundred times per evaluation (core's vector functions are out of
+ * line); frames, Euler angles and quaternions come from core. */
+#ifndef DISIM_HFM_PRIV_H
+#define DISIM_HFM_PRIV_H
+
+#include "hfm.h"
+
+#include <math.h>
+
+#define HFM_MAX_SEG 32
+#define HFM_MAX_BLADES 8
+#define HFM_MAX_AZ 72
+#define HFM_TAB_MAX 40
+
+/* An airfoil table resampled on a uniform 1 deg grid over [-180, 180]. */
+typedef struct hfm_airfoil {
+    double cl[361], cd[361];
+} hfm_airfoil;
+
+/* A piecewise-linear table y(x), clamped at its ends. */
+typedef struct hfm_table {
+    int n;
+    double x[HFM_TAB_MAX], y[HFM_TAB_MAX];
+} hfm_table;
+
+typedef struct hfm_mr {
+    int nb, sense, nseg, naz;
+    double R, omega, chord, e, root, B, twist, twist_ref, shaft_tilt;
+    double I_beta, S_beta, m_blade, K_beta;
+    double hub_B[3];
+    double C_BH[3][3]; /* hub -> body */
+    double area, rho;
+    double r[HFM_MAX_SEG], drl[HFM_MAX_SEG], drd[HFM_MAX_SEG];
+    double k_fus, k_tail; /* wake velocity at fuselage / tail, of the disk value */
+    hfm_airfoil af;
+} hfm_mr;
+
+enum { HFM_TR_OPEN = 0, HFM_TR_FENESTRON = 1 };
+typedef struct hfm_tr {
+    int kind, nb;
+    double R, omega, chord, sigma, a, cd0, twist, B, tan_d3, lock, twist_ref;
+    double hub_B[3], dir_B[3]; /* thrust direction (anti-torque side, canted) */
+    double blockage, blockage_kt; /* thrust factor below that airspeed */
+    double fan_fraction;          /* fenestron: fan share of the total thrust */
+} hfm_tr;
+
+typedef struct hfm_fus {
+    double ref_B[3];
+    hfm_table drag, lift, pitch, dbeta; /* m^2, m^2, m^3 vs alpha/beta (rad) */
+    double yaw_m3_10deg;                /* N/q at beta = 10 deg, destabilizing */
+} hfm_fus;
+
+enum { HFM_STAB_FIXED = 0, HFM_STAB_UH60A = 1 };
+typedef struct hfm_surf {
+    double pos_B[3], area, a, clmax, cd0, ar, incidence;
+    int vertical, schedule;
+} hfm_surf;
+
+typedef struct hfm_rig {
+    double coll_travel, coll_pitch0, coll_gain;
+    double long_travel, long_gain;
+    double lat_travel, lat_gain;
+    double ped_travel, tr_pitch0, tr_gain;
+    double mix_cl, mix_pl, mix_ca, mix_cp, mix_cref;
+    double swash_phase;
+} hfm_rig;
+
+struct hfm_aircraft {
+    char name[64];
+    double mass, I[3][3], Iinv[3][3];
+    hfm_mr mr;
+    hfm_tr tr;
+    hfm_fus fus;
+    hfm_surf stab, fin;
+    hfm_rig rig;
+};
+
+/* Kinematics shared by the components of one evaluation. */
+typedef struct hfm_kin {
+    double C_SB[3][3]; /* body -> S */
+    double vel_B[3], rate_B[3], pos_S[3];
+    double t;
+    const hfm_air *air;
+} hfm_kin;
+
+/* Main-rotor wake quantities seen by the other components. */
+typedef struct hfm_wake {
+    double vi_mps;   /* disk-average induced velocity */
+    double skew_rad; /* wake skew from the shaft */
+    double tan_skew; /* tan of the skew, held at 89 deg */
+    double dir_H[2]; /* in-plane direction the wake is blown to (hub axes) */
+    double coll_pct, airspeed_kt, q_degps, ay_g;
+} hfm_wake;
+
+/* inline vector helpers */
+static inline void v3_cross(const double a[3], const double b[3], double o[3])
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+static inline double v3_dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+static inline void m3_mul(const double m[3][3], const double v[3], double o[3])
+{
+    o[0] = m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2];
+    o[1] = m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2];
+    o[2] = m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2];
+}
+static inline void m3_tmul(const double m[3][3], const double v[3], double o[3])
+{
+    o[0] = m[0][0] * v[0] + m[1][0] * v[1] + m[2][0] * v[2];
+    o[1] = m[0][1] * v[0] + m[1][1] * v[1] + m[2][1] * v[2];
+    o[2] = m[0][2] * v[0] + m[1][2] * v[1] + m[2][2] * v[2];
+}
+static inline double clampd(double x, double lo, double hi)
+{
+    return x < lo ? lo : (x > hi ? hi : x);
+}
+
+/* aircraft.c */
+double hfm_table_eval(const hfm_table *t, double x);
+/* Lift and drag at alpha (rad, any value; NaN reads the -180 deg entry). */
+static inline void hfm_airfoil_eval(const hfm_airfoil *af, double alpha_rad, double *cl,
+                                    double *cd)
+{
+    double a = alpha_rad * (180.0 / 3.14159265358979323846) + 180.0;
+    if (!(a > 0.0)) /* also NaN: an index must stay in the table */
+        a = 0.0;
+    if (a > 359.999999)
+        a = 359.999999;
+    int i = (int)a;
+    double f = a - i;
+    *cl = af->cl[i] + f * (af->cl[i + 1] - af->cl[i]);
+    *cd = af->cd[i] + f * (af->cd[i + 1] - af->cd[i]);
+}
+
+/* body.c: kinematics set-up and the air relative velocity at a body point
+ * (air minus point velocity, body axes). */
+void hfm_kin_setup(hfm_kin *k, const hfm_air *air, double t, const hfm_body *b);
+int hfm_air_rel_B(const hfm_kin *k, const double r_B[3], double out_B[3]);
+void hfm_body_accel(const hfm_aircraft *ac, const hfm_body *b, hfm_loads *L);
+double hfm_wake_immersion(const hfm_aircraft *ac, const hfm_wake *w, const double r_B[3]);
+
+/* rotor.c */
+typedef struct hfm_blade_out {
+    double F_H[3], M_H[3]; /* loads on the hub (hub axes), moment about the hub centre */
+    double M_flap;         /* aerodynamic flap moment about the hinge */
+    double T, Lr, Mp;      /* thrust (up) and its first moments r sin psi, r cos psi */
+    double P;              /* aerodynamic power absorbed */
+    double ddbeta;         /* flap acceleration used (solved when asked) */
+    double G;              /* non-aerodynamic flap moment (centrifugal, spring, gyro, weight) */
+} hfm_blade_out;
+typedef struct hfm_rotor_in {
+    double theta0, A1, B1;             /* blade pitch (root), cyclic */
+    double vhub_H[3], rate_H[3];       /* hub velocity rel. S and body rate, hub axes */
+    double C_SH[3][3];                 /* hub -> S */
+    double hub_S[3];
+    double lam[3];                     /* lambda0, lambda1s, lambda1c */
+    double t;
+    const hfm_air *air;
+    double g_H[3];                     /* gravity in hub axes */
+    double rel_hub_H[3];               /* air relative to the hub centre, hub axes */
+    double C_BH_z[3];                  /* shaft axis (down) in body axes */
+} hfm_rotor_in;
+int hfm_rotor_setup(const hfm_aircraft *ac, const hfm_kin *k, const hfm_controls *u,
+                    const double lam[3], hfm_rotor_in *in);
+/* ddbeta given, or (solve_dd) from the flap equation with this blade's loads */
+int hfm_rotor_blade(const hfm_aircraft *ac, const hfm_rotor_in *in, double psi, double beta,
+                    double dbeta, double ddbeta, int solve_dd, hfm_blade_out *o, double *dT,
+                    double *dS);
+void hfm_rotor_inflow(const hfm_aircraft *ac, const hfm_rotor_in *in, double CT, double CL,
+                      double CM, double Lhat[3][3], double *skew);
+void hfm_rotor_wake(const hfm_aircraft *ac, const hfm_rotor_in *in, double skew,
+                    const hfm_controls *u, const hfm_body *b, hfm_wake *w);
+void hfm_rotor_harm_beta(const hfm_rotor_harm *rh, double Om, double psi, double *b, double *db,
+                         double *ddb);
+void hfm_rotor_to_body(const hfm_aircraft *ac, const double F_H[3], const double M_H[3],
+                       hfm_fm *fm);
+
+/* tailrotor.c, fuselage.c, empennage.c */
+int hfm_tailrotor(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, double theta,
+                  hfm_fm *fm, double *thrust, double *power);
+int hfm_fuselage(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, hfm_fm *fm,
+                 double *airspeed);
+int hfm_empennage(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, hfm_fm *stab,
+                  hfm_fm *fin, double *incidence);
+double hfm_stab_schedule_uh60a(const hfm_wake *w);
+
+const hfm_aircraft *hfm_trim_aircraft(const hfm_trim *tr);
+
+/* evaluate all non-rotor components and sum with the rotor; in body.c */
+int hfm_eval_rest(const hfm_aircraft *ac, const hfm_kin *k, const hfm_body *b,
+                  const hfm_controls *u, const hfm_wake *w, hfm_loads *L);
+
+#endif

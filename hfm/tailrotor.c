@@ -1,0 +1,75 @@
+/* tailrotor.c -- tail rotor: Bailey-type closed-form thrust and torque, or a
+ * ducted fan (fenestron).
+ *
+ * Model (Bailey, NACA TR-716, 1941, in the simplified form of GenHel,
+ * Howlett NASA CR-166309, sec. 5; and Padfield ch. 3.2.3): thrust
+ * coefficient of a linearly twisted rotor with tip loss B,
+ *   CT = sigma a/2 [theta0 (B^3/3 + mu^2 B/2) + theta_tw (B^4/4 + mu^2 B^2/4) - lambda B^2/2],
+ * with delta-3 pitch-flap coupling through the coning
+ *   beta0 = gamma/8 [theta0 (1 + mu^2) + 4/5 theta_tw (1 + 5/6 mu^2) - 4/3 lambda],
+ *   theta0 -> theta0 - tan(delta3) beta0 (solved in closed form),
+ * and the momentum inflow CT = k lambda_i sqrt(mu^2 + lambda^2), k = 2 for an
+ * open rotor; for a fenestron (ideal duct, exit area = fan area) k = 1 on the
+ * total thrust and the fan carries fan_thrust_fraction of it (Vuillet and
+ * Morelli, 12th European Rotorcraft Forum, 1986). lambda = lambda_c + lambda_i.
+ * Torque CQ = lambda CT_fan + sigma cd0/8 (1 + 4.6 mu^2).
+ * Inflow: the air at the hub (hfm_air callback) plus the main-rotor wake
+ * where the tail rotor is immersed; fin blockage scales the thrust below
+ * blockage_below_kt (GenHel: 0.9 below 30 kt), blended over 10 kt.
+ * Assumptions: the tail-rotor torque reaction and H-force are neglected.
+ */
+#include "hfm_priv.h"
+
+int hfm_tailrotor(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, double theta,
+                  hfm_fm *fm, double *thrust, double *power)
+{
+    const hfm_tr *t = &ac->tr;
+    double rel[3];
+    if (hfm_air_rel_B(k, t->hub_B, rel))
+        return -1;
+    double imm = hfm_wake_immersion(ac, w, t->hub_B) * ac->mr.k_tail * w->vi_mps;
+    for (int i = 0; i < 3; i++)
+        rel[i] += imm * ac->mr.C_BH[i][2];
+    double OR = t->omega * t->R, ax = v3_dot(rel, t->dir_B);
+    double lc = -ax / OR;
+    double pe[3] = {rel[0] - ax * t->dir_B[0], rel[1] - ax * t->dir_B[1], rel[2] - ax * t->dir_B[2]};
+    double mu = sqrt(v3_dot(pe, pe)) / OR, mu2 = mu * mu;
+    double B = t->B, sa2 = 0.5 * t->sigma * t->a, K = t->tan_d3, g8 = t->lock / 8.0;
+    double tw = t->twist, th0 = theta - tw * t->twist_ref; /* pitch at the root */
+    double den = 1.0 + K * g8 * (1.0 + mu2);
+    double c1 = B * B * B / 3.0 + mu2 * B / 2.0, c2 = B * B * B * B / 4.0 + mu2 * B * B / 4.0;
+    double km = t->kind == HFM_TR_FENESTRON ? 1.0 : 2.0, ff = t->fan_fraction;
+    /* CT_fan(lambda) = a0 + a1 lambda (linear through the delta-3 solve) */
+    double thA = (th0 - K * g8 * 0.8 * tw * (1.0 + 5.0 / 6.0 * mu2)) / den;
+    double thL = K * g8 * (4.0 / 3.0) / den;
+    double a0 = sa2 * (thA * c1 + tw * c2), a1 = sa2 * (thL * c1 - B * B / 2.0);
+    double li = 0.05;
+    for (int it = 0; it < 20; it++) {
+        double l = lc + li, s = sqrt(mu2 + l * l + 1e-12);
+        double g = (a0 + a1 * l) / ff - km * li * s;
+        double dg = a1 / ff - km * (s + li * l / s);
+        double step = -g / dg;
+        if (step > 0.05)
+            step = 0.05;
+        if (step < -0.05)
+            step = -0.05;
+        li += step;
+        if (fabs(step) < 1e-12)
+            break;
+    }
+    double l = lc + li, ctf = a0 + a1 * l;
+    double q = ac->mr.rho * CORE_PI * t->R * t->R * OR * OR;
+    double bf = 1.0;
+    if (w->airspeed_kt < t->blockage_kt)
+        bf = t->blockage;
+    else if (w->airspeed_kt < t->blockage_kt + 10.0)
+        bf = t->blockage + (1.0 - t->blockage) * (w->airspeed_kt - t->blockage_kt) / 10.0;
+    double T = ctf / ff * q * bf;
+    double cq = l * ctf + t->sigma * t->cd0 / 8.0 * (1.0 + 4.6 * mu2);
+    for (int i = 0; i < 3; i++)
+        fm->F_B_N[i] = T * t->dir_B[i];
+    v3_cross(t->hub_B, fm->F_B_N, fm->M_B_Nm);
+    *thrust = T;
+    *power = cq * q * OR;
+    return 0;
+}
