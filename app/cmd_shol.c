@@ -84,7 +84,7 @@ static char *coupling_md(const couple_ctx *two)
                     "Coupled points (trim -> CFD with the loaded disk -> re-trim), each row one "
                     "iteration; `change` is the largest relative change of a control or attitude "
                     "from the previous iteration (converged below 5 %%).\n\n"
-                    "| WOD | speed (kt) | iter | thrust (kN) | coll % | long % | lat % | pedal % | roll (deg) | pitch (deg) | change |\n"
+                    "| WOD | speed (kt) | iter | thrust (kN) | coll %% | long %% | lat %% | pedal %% | roll (deg) | pitch (deg) | change |\n"
                     "|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int i = 0; i < n && len + 1024 < cap; i++) {
         char wn[32];
