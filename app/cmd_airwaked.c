@@ -141,7 +141,7 @@ static void log_stderr(void *user, int level, const char *msg)
 int cmd_airwaked(int argc, char **argv)
 {
     const char *dir = NULL, *ships = "scenarios/ships";
-    long jobs = sysconf(_SC_NPROCESSORS_ONLN), max_iter = 0;
+    long ncores = sysconf(_SC_NPROCESSORS_ONLN), jobs = ncores, max_iter = 0;
     int once = 0, use_lcm = 1;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -189,7 +189,7 @@ int cmd_airwaked(int argc, char **argv)
     core_log log = {log_stderr, NULL, CORE_LOG_INFO};
     core_err err = {{0}};
     awdb *db = awdb_open(dir, &log, &err);
-    awdb_embedded *emb = db ? awdb_embedded_create(ships, (int)max_iter, &log, &err) : NULL;
+    awdb_embedded *emb = db ? awdb_embedded_create(ships, (int)max_iter, (int)(ncores / jobs > 0 ? ncores / jobs : 1), &log, &err) : NULL;
     if (!db || !emb) {
         fprintf(stderr, "disim airwaked: %s\n", err.msg);
         awdb_embedded_destroy(emb);

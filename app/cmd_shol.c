@@ -264,6 +264,8 @@ int cmd_shol(int argc, char **argv)
     cs.mode = COUPLE_ONE_WAY;
     if (!(one = couple_create(ac, &sc->ship, db, &cs, &log, &err)))
         goto fail;
+    if (couple_prefetch(one, set.dirs_rad, set.n_dirs, &err) != 0)
+        goto fail;
     progress_ctx pc = {tty, "one-way"};
     fprintf(stderr, "shol: %s + %s, %d directions, grid %s, %s\n", sc->ship.name, hfm_aircraft_name(ac), set.n_dirs,
             sim_grid_name((sim_grid)cs.grid), mode == COUPLE_TWO_WAY ? "two-way coupling" : "one-way");

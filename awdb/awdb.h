@@ -131,10 +131,10 @@ int awdb_builder_run(awdb *db, const awdb_engine *engine, const awdb_builder_opt
 /* ------------------------------------------------------ embedded engine */
 /* The embedded RANS solver (cfd) as a builder engine. Ships are looked up
  * by name among the ship files (*.ini) of ships_dir; max_iter 0 keeps the
- * solver's default. */
+ * solver's default; each build uses `threads` OpenMP threads (cores / jobs). */
 typedef struct awdb_embedded awdb_embedded;
-awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, const core_log *log,
-                                    core_err *err);
+awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, int threads,
+                                    const core_log *log, core_err *err);
 void awdb_embedded_destroy(awdb_embedded *e);
 void awdb_embedded_engine(awdb_embedded *e, awdb_engine *eng);
 

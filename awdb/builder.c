@@ -110,11 +110,15 @@ static void *run_job(void *arg)
     prog p = {j, {0, 0}};
     remove(tmp);
     int rc = b->engine->build(b->engine->user, &j->key, warm_path, tmp, on_progress, &p, &err);
-    if (rc == 0 && !*b->stop)
+    int committed = 0;
+    if (rc == 0 && !*b->stop) {
         rc = commit(db, &j->key, j->name, tmp, &err);
+        committed = rc == 0;
+    }
     remove(tmp);
-    if (*b->stop && rc != 0) {
-        /* Stopped, not failed: back to the front of the queue. */
+    if (!committed && *b->stop) {
+        /* Stopped, not failed (whatever the engine returned): back to the
+         * front of the queue. */
         char q[AWDB_PATH + 300], file[300];
         awdb_fmt(file, sizeof file, "0000000000000000000000-%s", j->name);
         awdb_path(db, q, sizeof q, "queue", file, ".req");

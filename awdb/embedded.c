@@ -8,6 +8,7 @@
 #include "cfd.h"
 
 #include <dirent.h>
+#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,10 +18,11 @@ struct awdb_embedded {
     int nships;
     core_ship *ships;
     int max_iter;
+    int threads; /* OpenMP threads per build */
 };
 
-awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, const core_log *log,
-                                    core_err *err)
+awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, int threads,
+                                    const core_log *log, core_err *err)
 {
     awdb_embedded *e = calloc(1, sizeof *e);
     if (!e) {
@@ -29,6 +31,7 @@ awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, const c
     }
     e->log = log;
     e->max_iter = max_iter;
+    e->threads = threads > 0 ? threads : 1;
     DIR *d = opendir(ships_dir);
     if (!d) {
         core_err_set(err, -1, "%s: cannot open the ships folder", ships_dir);
@@ -86,6 +89,8 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
                  awdb_progress_fn progress, void *pu, core_err *err)
 {
     awdb_embedded *e = user;
+    /* Builds run side by side in threads: share the cores among them. */
+    omp_set_num_threads(e->threads);
     const core_ship *ship = NULL;
     for (int i = 0; i < e->nships; i++)
         if (!strcmp(e->ships[i].name, k->ship))

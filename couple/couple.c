@@ -397,6 +397,20 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
     return 0;
 }
 
+int couple_prefetch(couple_ctx *c, const double *dirs, int n, core_err *err)
+{
+    for (int i = 0; i < n; i++) {
+        awdb_key k;
+        base_key(c, &k, c->s.ref_speed_mps, dirs[i]);
+        k.rotor = AWDB_ROTOR_OFF;
+        if (awdb_submit(c->db, &k, NULL, err) != 0)
+            return -1;
+    }
+    if (n > 0 && c->s.disim_exe && !awdb_builder_alive(c->db))
+        spawn_builder(c);
+    return 0;
+}
+
 int couple_shol_trim(void *user, double v, double dir, shol_trim_point *out)
 {
     couple_ctx *c = user;

@@ -85,6 +85,10 @@ void couple_destroy(couple_ctx *c);
 int couple_trim(couple_ctx *c, double wod_speed_mps, double wod_dir_rad, couple_point *p,
                 core_err *err);
 
+/* One-way: queue the ship-only fields of these directions at once, so the
+ * builder can run them side by side while the sweep waits for the first. */
+int couple_prefetch(couple_ctx *c, const double *dirs_rad, int n, core_err *err);
+
 /* The shol_trim_fn for shol_envelope_run; user is a couple_ctx. Every point
  * is kept in the context (couple_history) for the report. */
 int couple_shol_trim(void *user, double wod_speed_mps, double wod_dir_rad, shol_trim_point *out);

@@ -87,6 +87,12 @@ static int count(const char *dir, const char *sub, const char *suffix)
 }
 
 static volatile sig_atomic_t no_stop = 0;
+static volatile sig_atomic_t term_flag = 0;
+static void on_term(int sig)
+{
+    (void)sig;
+    term_flag = 1;
+}
 
 static int run_builder(awdb *db, test_engine *te, int jobs, core_err *err)
 {
@@ -299,6 +305,42 @@ static void test_kill(const char *dir)
     awdb_close(db);
 }
 
+/* SIGTERM mid-build: the build is abandoned, not failed and not committed;
+ * its request goes back to the front of the queue. */
+static void test_term(const char *dir)
+{
+    core_err err = {{0}};
+    awdb *db = awdb_open(dir, NULL, &err);
+    awdb_key k = key(30, 90);
+    awdb_state st;
+    CHECK(awdb_submit(db, &k, &st, &err) == 0);
+    pid_t pid = fork();
+    if (pid == 0) {
+        signal(SIGTERM, on_term);
+        test_engine te = {0, -1, 3.0, ""};
+        awdb *dbc = awdb_open(dir, NULL, &err);
+        awdb_engine eng = {"test", te_build, &te};
+        awdb_builder_opts o = {1, 0, 0.01, NULL, NULL, NULL, NULL};
+        int rc = awdb_builder_run(dbc, &eng, &o, &term_flag, &err);
+        awdb_close(dbc);
+        _exit(rc == 0 ? 0 : 3);
+    }
+    for (int t = 0; t < 500 && count(dir, "running", ".req") == 0; t++)
+        usleep(10000);
+    usleep(200000);
+    kill(pid, SIGTERM);
+    int ws;
+    waitpid(pid, &ws, 0);
+    CHECK(WIFEXITED(ws) && WEXITSTATUS(ws) == 0);
+    awdb_key_canon(&k, &err);
+    awdb *fresh = awdb_open(dir, NULL, &err);
+    CHECK(awdb_query(fresh, &k, NULL, 0) == AWDB_QUEUED);
+    CHECK(count(dir, "running", ".req") == 0 && count(dir, "queue", ".req") == 1);
+    CHECK(count(dir, "fields", ".h5") == 0 && count(dir, "failed", ".txt") == 0);
+    awdb_close(fresh);
+    awdb_close(db);
+}
+
 int main(void)
 {
     char dir[] = "/tmp/disim_awdb_XXXXXX";
@@ -313,6 +355,9 @@ int main(void)
     snprintf(d2, sizeof d2, "%s/db2", dir);
     test_flow(d1);
     test_kill(d2);
+    char d3[64];
+    snprintf(d3, sizeof d3, "%s/db3", dir);
+    test_term(d3);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0)
