@@ -197,4 +197,9 @@ const hfm_aircraft *hfm_trim_aircraft(const hfm_trim *tr);
 int hfm_eval_rest(const hfm_aircraft *ac, const hfm_kin *k, const hfm_body *b,
                   const hfm_controls *u, const hfm_wake *w, hfm_loads *L);
 
+/* The air of a trim condition: its own callback, or the uniform wind it
+ * implies (still air in forward flight, the WOD in a hover over the ship);
+ * wind is the storage the uniform callback points to. */
+void hfm_trim_cond_air(const hfm_trim_cond *c, hfm_air_uniform *wind, hfm_air *air);
+
 #endif

@@ -102,16 +102,9 @@ int hfm_linearise(hfm_trim *tr, const hfm_trim_cond *c, const hfm_trim_result *t
                   hfm_linear *lin)
 {
     const hfm_aircraft *ac = hfm_trim_aircraft(tr);
-    hfm_air_uniform wind = {{0, 0, 0}};
-    hfm_air air = {hfm_air_uniform_fn, &wind};
-    if (c->air)
-        air = *c->air;
-    else if (c->kind == HFM_TRIM_HOVER_SHIP) {
-        core_vec3 v = core_wod_vel_S_mps(c->wod_speed_mps, c->wod_dir_rad);
-        wind.vel_S_mps[0] = v.x;
-        wind.vel_S_mps[1] = v.y;
-        wind.vel_S_mps[2] = v.z;
-    }
+    hfm_air_uniform wind;
+    hfm_air air;
+    hfm_trim_cond_air(c, &wind, &air);
     double x0[HFM_LIN_NX], xp[HFM_LIN_NX], fp[HFM_LIN_NX], fm[HFM_LIN_NX];
     memcpy(x0, t->body.vel_B_mps, 3 * sizeof(double));
     memcpy(x0 + 3, t->body.rate_B_radps, 3 * sizeof(double));

@@ -116,20 +116,30 @@ static void unpack(const hfm_trim_cond *c, const double *x, hfm_body *b, hfm_con
     *sideslip = be;
 }
 
+void hfm_trim_cond_air(const hfm_trim_cond *c, hfm_air_uniform *wind, hfm_air *air)
+{
+    /* Still air for forward flight, the WOD for a hover over the ship, or
+     * the condition's own air (a field) when it has one. */
+    wind->vel_S_mps[0] = wind->vel_S_mps[1] = wind->vel_S_mps[2] = 0.0;
+    air->fn = hfm_air_uniform_fn;
+    air->user = wind;
+    if (c->air)
+        *air = *c->air;
+    else if (c->kind == HFM_TRIM_HOVER_SHIP) {
+        core_vec3 v = core_wod_vel_S_mps(c->wod_speed_mps, c->wod_dir_rad);
+        wind->vel_S_mps[0] = v.x;
+        wind->vel_S_mps[1] = v.y;
+        wind->vel_S_mps[2] = v.z;
+    }
+}
+
 static int residual_loads(hfm_trim *tr, const hfm_trim_cond *c, const double *x, double *f,
                           hfm_loads *L, hfm_body *b, hfm_controls *u, hfm_rotor_harm *rh,
                           double *sideslip)
 {
-    hfm_air_uniform wind = {{0, 0, 0}};
-    hfm_air air = {hfm_air_uniform_fn, &wind};
-    if (c->air)
-        air = *c->air;
-    else if (c->kind == HFM_TRIM_HOVER_SHIP) {
-        core_vec3 v = core_wod_vel_S_mps(c->wod_speed_mps, c->wod_dir_rad);
-        wind.vel_S_mps[0] = v.x;
-        wind.vel_S_mps[1] = v.y;
-        wind.vel_S_mps[2] = v.z;
-    }
+    hfm_air_uniform wind;
+    hfm_air air;
+    hfm_trim_cond_air(c, &wind, &air);
     unpack(c, x, b, u, rh, sideslip);
     if (hfm_eval_harmonic(tr->ac, &air, 0.0, b, u, rh, L))
         return -1;
