@@ -37,13 +37,17 @@ case "${1:-}" in
 run)
     install_deps
     build build -DCMAKE_BUILD_TYPE=Release
-    # Main job: for now, check every scenario; later issues make it the SHOL run.
-    status=0
+    # Main job: check every scenario, then the candidate SHOL envelopes of
+    # both combinations (CG-47 + UH-60A first, then LPD-17 + SA365N) on the
+    # default grid, sharing one airwake database (out/airwake-db).
     for s in scenarios/*.ini; do
         echo "== disim check $s"
-        ./build/app/disim check "$s" || status=1
+        ./build/app/disim check "$s" >/dev/null
     done
-    exit $status
+    for s in scenarios/cg47_uh60a.ini scenarios/lpd17_sa365n.ini; do
+        echo "== disim shol $s"
+        ./build/app/disim shol "$s"
+    done
     ;;
 test)
     install_deps

@@ -91,9 +91,13 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
     awdb_embedded *e = user;
     /* Builds run side by side in threads: share the cores among them. */
     omp_set_num_threads(e->threads);
+    /* "NAME.isolated": the ship's grid and boundaries with its cells open. */
+    const char *iso = strstr(k->ship, ".isolated");
+    int open_ship = iso && iso[9] == '\0';
+    size_t base_len = open_ship ? (size_t)(iso - k->ship) : strlen(k->ship);
     const core_ship *ship = NULL;
     for (int i = 0; i < e->nships; i++)
-        if (!strcmp(e->ships[i].name, k->ship))
+        if (strlen(e->ships[i].name) == base_len && !strncmp(e->ships[i].name, k->ship, base_len))
             ship = &e->ships[i];
     if (!ship)
         return core_err_set(err, -1, "ship '%s': no ship file of that name", k->ship);
@@ -106,6 +110,7 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
     spec.rotor = k->rotor == AWDB_ROTOR_OFF ? 0 : 1;
     spec.monitor_z_m = k->rotor == AWDB_ROTOR_OFF ? -5.0 : k->station_S_m[2];
     spec.max_iter = e->max_iter;
+    spec.open_ship = open_ship;
     if (spec.rotor) {
         core_euler att = {k->shaft_roll_rad, k->shaft_pitch_rad, 0.0};
         cfd_disk_from_attitude(&spec.disk, k->station_S_m, att, k->radius_m, k->thrust_N);

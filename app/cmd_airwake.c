@@ -1,0 +1,395 @@
+/* cmd_airwake.c -- the CFD commands: `disim airwake` (a ship airwake with an
+ * optional actuator-disk rotor, written as HDF5 + XDMF), `disim probe`
+ * (velocities along a line of a field, CSV) and `disim validate` (one
+ * validation case, each figure beside its reference). */
+#include "cfd.h"
+#include "cmds.h"
+#include "core.h"
+#include "sim.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+static void log_stderr(void *user, int level, const char *msg)
+{
+    (void)user;
+    static const char *names[] = {"error", "warning", "info", "debug"};
+    fprintf(stderr, "%s: %s\n", names[level < 0 ? 0 : level > 3 ? 3 : level], msg);
+}
+
+typedef struct progress_state {
+    int tty;
+    double last_print_s;
+} progress_state;
+
+/* Percent, iteration rate and time left (to the iteration limit: an upper
+ * bound, since the run stops at convergence) on a terminal; a line every
+ * 200 iterations otherwise. */
+static int progress_print(void *user, int iter, int max_iter, double residual, double elapsed_s)
+{
+    progress_state *p = user;
+    double rate = elapsed_s > 0.0 ? iter / elapsed_s : 0.0;
+    double left = rate > 0.0 ? (max_iter - iter) / rate : 0.0;
+    if (p->tty) {
+        if (elapsed_s - p->last_print_s < 0.25 && iter != max_iter)
+            return 0;
+        p->last_print_s = elapsed_s;
+        fprintf(stderr, "\r  %3.0f%%  iteration %d/%d  residual %.2e  %.1f it/s  %.0f s elapsed, at most %.0f s left   ",
+                100.0 * iter / max_iter, iter, max_iter, residual, rate, elapsed_s, left);
+        fflush(stderr);
+    } else if (iter % 200 == 0) {
+        fprintf(stderr, "  iteration %d/%d  residual %.2e  %.1f it/s  %.0f s elapsed\n", iter, max_iter, residual, rate,
+                elapsed_s);
+    }
+    return 0;
+}
+
+static void progress_end(progress_state *p)
+{
+    if (p->tty)
+        fprintf(stderr, "\n");
+}
+
+/* Rotor data of the seed paper's helicopters (Tables 1 and 2): mass, main
+ * rotor radius and speed; hover thrust = weight. */
+static const struct {
+    const char *name;
+    double mass_kg, radius_m, omega_radps;
+} rotors[] = {
+    {"UH-60A", 7438.91, 8.18, 27.0},
+    {"SA365N", 3850.0, 5.97, 36.55},
+    {"SA365", 3850.0, 5.97, 36.55},
+};
+
+static int parse_vec(const char *s, double v[3])
+{
+    char *end;
+    for (int i = 0; i < 3; i++) {
+        v[i] = strtod(s, &end);
+        if (end == s || !isfinite(v[i]))
+            return -1;
+        if (i < 2) {
+            if (*end != ',')
+                return -1;
+            s = end + 1;
+        }
+    }
+    return *end == 0 || *end == ':' ? 0 : -1;
+}
+
+static int parse_double(const char *flag, const char *s, double lo, double hi, double *out)
+{
+    char *end;
+    double v = strtod(s, &end);
+    if (end == s || *end || !(v >= lo && v <= hi)) {
+        fprintf(stderr, "%s: expected a number in [%g, %g], got '%s'\n", flag, lo, hi, s);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+static void usage_airwake(void)
+{
+    fprintf(stderr,
+            "usage: disim airwake SCENARIO [--wod-speed-kt KT] [--wod-dir-deg DEG] [--rotor off|uniform|loaded]\n"
+            "                      [--grid coarse|default|fine] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
+            "                      [--thrust-n N] [--radius-m R] [--threads N] -o FIELD.h5\n");
+}
+
+int cmd_airwake(int argc, char **argv)
+{
+    const char *scen = NULL, *out = NULL, *warm = NULL;
+    double speed_kt = NAN, dir_deg = NAN, thrust = NAN, radius = NAN;
+    int rotor = -1, level = -1, abl = 0, max_iter = 0, threads = 0;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        int more = i + 1 < argc;
+        if (!strcmp(a, "-o") && more)
+            out = argv[++i];
+        else if (!strcmp(a, "--wod-speed-kt") && more) {
+            if (parse_double(a, argv[++i], 0.1, 200.0, &speed_kt))
+                return 1;
+        } else if (!strcmp(a, "--wod-dir-deg") && more) {
+            if (parse_double(a, argv[++i], -360.0, 360.0, &dir_deg))
+                return 1;
+        } else if (!strcmp(a, "--thrust-n") && more) {
+            if (parse_double(a, argv[++i], 0.0, 1e7, &thrust))
+                return 1;
+        } else if (!strcmp(a, "--radius-m") && more) {
+            if (parse_double(a, argv[++i], 0.1, 50.0, &radius))
+                return 1;
+        } else if (!strcmp(a, "--rotor") && more) {
+            const char *v = argv[++i];
+            rotor = !strcmp(v, "off") ? 0 : !strcmp(v, "uniform") ? 1 : !strcmp(v, "loaded") ? 2 : -2;
+            if (rotor == -2) {
+                fprintf(stderr, "--rotor: expected off, uniform or loaded, got '%s'\n", v);
+                return 1;
+            }
+        } else if (!strcmp(a, "--grid") && more) {
+            const char *v = argv[++i];
+            level = !strcmp(v, "coarse") ? 0 : !strcmp(v, "default") ? 1 : !strcmp(v, "fine") ? 2 : -2;
+            if (level == -2) {
+                fprintf(stderr, "--grid: expected coarse, default or fine, got '%s'\n", v);
+                return 1;
+            }
+        } else if (!strcmp(a, "--abl"))
+            abl = 1;
+        else if (!strcmp(a, "--warm") && more)
+            warm = argv[++i];
+        else if (!strcmp(a, "--max-iter") && more) {
+            double v;
+            if (parse_double(a, argv[++i], 1, 1e6, &v))
+                return 1;
+            max_iter = (int)v;
+        } else if (!strcmp(a, "--threads") && more) {
+            double v;
+            if (parse_double(a, argv[++i], 1, 1024, &v))
+                return 1;
+            threads = (int)v;
+        } else if (a[0] != '-' && !scen)
+            scen = a;
+        else {
+            fprintf(stderr, "disim airwake: unknown or incomplete argument '%s'\n", a);
+            usage_airwake();
+            return 2;
+        }
+    }
+    if (!scen || !out) {
+        usage_airwake();
+        return 2;
+    }
+#ifdef _OPENMP
+    if (threads > 0)
+        omp_set_num_threads(threads);
+#endif
+    sim_scenario *sc = malloc(sizeof *sc);
+    if (!sc)
+        return 1;
+    core_err err = {{0}};
+    if (sim_scenario_load(scen, sc, &err)) {
+        fprintf(stderr, "disim airwake: %s\n", err.msg);
+        free(sc);
+        return 1;
+    }
+    double speed = isnan(speed_kt) ? sc->wod_speed_mps : speed_kt * CORE_KT_TO_MPS;
+    double dir = isnan(dir_deg) ? sc->wod_dir_rad : core_wod_wrap_deg(dir_deg) * CORE_DEG_TO_RAD;
+    if (!(speed > 0.0)) {
+        fprintf(stderr, "disim airwake: %s: no single WOD speed; give --wod-speed-kt\n", scen);
+        free(sc);
+        return 1;
+    }
+    if (rotor < 0)
+        rotor = sc->rotor == SIM_ROTOR_OFF ? 0 : sc->rotor == SIM_ROTOR_UNIFORM ? 1 : 2;
+    if (level < 0)
+        level = sc->grid == SIM_GRID_COARSE ? 0 : sc->grid == SIM_GRID_DEFAULT ? 1 : 2;
+    cfd_airwake_spec sp;
+    memset(&sp, 0, sizeof sp);
+    sp.ship = &sc->ship;
+    sp.wod_speed_mps = speed;
+    sp.wod_dir_rad = dir;
+    sp.level = (cfd_grid_level)level;
+    sp.abl = abl;
+    sp.rotor = rotor;
+    sp.max_iter = max_iter;
+    sp.monitor_z_m = sc->station_S_m[2];
+    cfd_meta meta;
+    memset(&meta, 0, sizeof meta);
+    if (rotor) {
+        double omega = 0.0;
+        for (size_t r = 0; r < sizeof rotors / sizeof rotors[0]; r++)
+            if (!strcmp(sc->aircraft_name, rotors[r].name)) {
+                if (isnan(thrust))
+                    thrust = rotors[r].mass_kg * CORE_G_MPS2;
+                if (isnan(radius))
+                    radius = rotors[r].radius_m;
+                omega = rotors[r].omega_radps;
+            }
+        if (isnan(thrust) || isnan(radius)) {
+            fprintf(stderr, "disim airwake: no rotor data for aircraft '%s': give --thrust-n and --radius-m\n",
+                    sc->aircraft_name);
+            free(sc);
+            return 1;
+        }
+        /* the hub about 1.5 m above the CG station (estimate) */
+        double c[3] = {sc->station_S_m[0], sc->station_S_m[1], sc->station_S_m[2] - 1.5};
+        core_euler att = {0.0, 0.0, 0.0};
+        cfd_disk_from_attitude(&sp.disk, c, att, radius, thrust);
+        if (rotor == 2) {
+            /* Until the HFM supplies blade loads: the pressure jump growing
+             * linearly with radius (ideal-twist hover loading) and a swirl
+             * torque from the ideal induced power at a figure of merit of
+             * 0.75, Q = T v_h / (0.75 Omega). */
+            sp.disk.nr = 20;
+            sp.disk.npsi = 1;
+            sp.disk.root_cut = 0.15;
+            for (int i = 0; i < sp.disk.nr; i++) {
+                double rr = (i + 0.5) / sp.disk.nr;
+                sp.disk.load[i] = rr;
+                sp.disk.swirl[i] = 1.0;
+            }
+            double vh = sqrt(thrust / (2.0 * CORE_RHO_SL_KGPM3 * CORE_PI * radius * radius));
+            sp.disk.torque_Nm = omega > 0.0 ? thrust * vh / (0.75 * omega) : 0.0;
+        }
+        meta.rotor_thrust_N = thrust;
+        meta.rotor_radius_m = radius;
+        memcpy(meta.rotor_centre_S_m, c, sizeof c);
+    }
+    core_log log = {log_stderr, NULL, CORE_LOG_INFO};
+    progress_state ps = {isatty(2), -1.0};
+    cfd_solver *s = cfd_airwake_create(&sp, &log, progress_print, &ps, &err);
+    if (!s) {
+        fprintf(stderr, "disim airwake: %s\n", err.msg);
+        free(sc);
+        return 1;
+    }
+    if (warm) {
+        cfd_field *f = cfd_field_load(warm, &err);
+        if (!f || cfd_solver_init_from_field(s, f, &err)) {
+            fprintf(stderr, "disim airwake: warm start: %s\n", err.msg);
+            cfd_field_destroy(f);
+            cfd_solver_destroy(s);
+            free(sc);
+            return 1;
+        }
+        cfd_field_destroy(f);
+    }
+    cfd_result res;
+    int rc = cfd_solver_run(s, &res, &err);
+    progress_end(&ps);
+    if (rc < 0) {
+        fprintf(stderr, "disim airwake: %s (nothing written)\n", err.msg);
+        cfd_solver_destroy(s);
+        free(sc);
+        return 1;
+    }
+    if (rc > 0)
+        fprintf(stderr, "disim airwake: warning: not converged after %d iterations (residuals %.2e); the field is "
+                        "written with converged = 0\n",
+                res.iterations, res.residual[0]);
+    meta.wod_speed_mps = speed;
+    meta.wod_dir_deg = dir * CORE_RAD_TO_DEG;
+    snprintf(meta.ship, sizeof meta.ship, "%s", sc->ship.name);
+    snprintf(meta.rotor, sizeof meta.rotor, "%s", rotor == 0 ? "off" : rotor == 1 ? "uniform" : "loaded");
+    snprintf(meta.grid, sizeof meta.grid, "%s", level == 0 ? "coarse" : level == 1 ? "default" : "fine");
+    meta.result = res;
+    if (cfd_solver_write(s, &meta, out, &err)) {
+        fprintf(stderr, "disim airwake: %s\n", err.msg);
+        cfd_solver_destroy(s);
+        free(sc);
+        return 1;
+    }
+    fprintf(stderr, "disim airwake: wrote %s (%d iterations, %.1f s, %s)\n", out, res.iterations, res.wall_s,
+            res.converged ? "converged" : "not converged");
+    cfd_solver_destroy(s);
+    free(sc);
+    return 0;
+}
+
+int cmd_probe(int argc, char **argv)
+{
+    const char *path = NULL, *line = NULL;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--line") && i + 1 < argc)
+            line = argv[++i];
+        else if (argv[i][0] != '-' && !path)
+            path = argv[i];
+        else {
+            fprintf(stderr, "disim probe: unknown or incomplete argument '%s'\n", argv[i]);
+            path = NULL;
+            break;
+        }
+    }
+    if (!path || !line) {
+        fprintf(stderr, "usage: disim probe FIELD.h5 --line X0,Y0,Z0:X1,Y1,Z1:N   (ship frame S, metres)\n");
+        return 2;
+    }
+    double p0[3], p1[3];
+    const char *c1 = strchr(line, ':');
+    const char *c2 = c1 ? strchr(c1 + 1, ':') : NULL;
+    char *end = NULL;
+    long n = c2 ? strtol(c2 + 1, &end, 10) : 0;
+    if (!c1 || !c2 || parse_vec(line, p0) || parse_vec(c1 + 1, p1) || !end || *end || n < 1 || n > 1000000) {
+        fprintf(stderr, "disim probe: --line: expected X0,Y0,Z0:X1,Y1,Z1:N with N in [1, 1000000], got '%s'\n", line);
+        return 1;
+    }
+    core_err err = {{0}};
+    cfd_field *f = cfd_field_load(path, &err);
+    if (!f) {
+        fprintf(stderr, "disim probe: %s\n", err.msg);
+        return 1;
+    }
+    printf("x_m,y_m,z_m,u_mps,v_mps,w_mps,k_m2ps2\n");
+    int outside = 0;
+    for (long i = 0; i < n; i++) {
+        double t = n > 1 ? (double)i / (n - 1) : 0.0, p[3], o[CFD_NVARS];
+        for (int d = 0; d < 3; d++)
+            p[d] = p0[d] + t * (p1[d] - p0[d]);
+        outside |= cfd_field_sample(f, p, o);
+        printf("%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%.6f\n", p[0], p[1], p[2], o[CFD_VAR_U], o[CFD_VAR_V], o[CFD_VAR_W],
+               o[CFD_VAR_K]);
+    }
+    if (outside)
+        fprintf(stderr, "disim probe: warning: part of the line is outside the field; values there are clamped\n");
+    cfd_field_destroy(f);
+    return 0;
+}
+
+int cmd_validate(int argc, char **argv)
+{
+    const char *name = NULL, *data = NULL;
+    int small = 0, threads = 0;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--small"))
+            small = 1;
+        else if (!strcmp(argv[i], "--data") && i + 1 < argc)
+            data = argv[++i];
+        else if (!strcmp(argv[i], "--threads") && i + 1 < argc)
+            threads = atoi(argv[++i]);
+        else if (argv[i][0] != '-' && !name)
+            name = argv[i];
+        else {
+            name = NULL;
+            break;
+        }
+    }
+    if (!name) {
+        fprintf(stderr, "usage: disim validate CASE [--small] [--data DIR] [--threads N]\n  cases:");
+        for (int i = 0; cfd_validate_cases[i]; i++)
+            fprintf(stderr, " %s", cfd_validate_cases[i]);
+        fprintf(stderr, "\n");
+        return 2;
+    }
+#ifdef _OPENMP
+    if (threads > 0)
+        omp_set_num_threads(threads);
+#endif
+    core_log log = {log_stderr, NULL, CORE_LOG_INFO};
+    progress_state ps = {isatty(2), -1.0};
+    cfd_report *rep = malloc(sizeof *rep);
+    if (!rep)
+        return 1;
+    core_err err = {{0}};
+    int rc = cfd_validate(name, small, data, NULL, &log, progress_print, &ps, rep, &err);
+    progress_end(&ps);
+    if (rc) {
+        fprintf(stderr, "disim validate: %s\n", err.msg);
+        free(rep);
+        return 1;
+    }
+    printf("%-46s %12s %12s %10s  %s\n", "figure", "measured", "reference", "tolerance", "result");
+    for (int i = 0; i < rep->n; i++)
+        printf("%-46s %12.4f %12.4f %10.4f  %s\n", rep->c[i].name, rep->c[i].measured, rep->c[i].reference,
+               rep->c[i].tol, rep->c[i].pass ? "pass" : "FAIL");
+    printf("%s: %d passed, %d failed\n", name, rep->passed, rep->failed);
+    int failed = rep->failed;
+    free(rep);
+    return failed ? 1 : 0;
+}

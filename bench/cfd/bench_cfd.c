@@ -1,0 +1,154 @@
+/* bench_cfd.c -- the embedded CFD solver's speed and memory.
+ *
+ *   bench_cfd throughput [--threads N] [--iters N]
+ *       SFS2 at 0 deg on the coarse grid, a fixed number of SIMPLEC
+ *       iterations with 1 thread and with N threads: cell-updates per
+ *       second (fluid cells x iterations / wall time), per core, speed-up.
+ *   bench_cfd airwake [--grid coarse|default|fine] [--threads N]
+ *       [--max-iter N] [--time-limit-s S] [--dir-deg D]
+ *       SFS2, 15 m/s, UH-60A actuator disk (T = m g, R 8.18 m) hovering
+ *       one radius over the spot: wall time to convergence (normalised
+ *       residuals < 1e-4 and deck-line monitors changing < 2 %), or to the
+ *       limit; solver bytes per cell and the process's peak RSS per cell.
+ */
+#include "cfd.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+
+typedef struct limit {
+    double time_limit_s;
+    int every;
+} limit;
+
+static int progress(void *user, int iter, int max_iter, double res, double t)
+{
+    limit *l = user;
+    if (l->every && iter % l->every == 0)
+        fprintf(stderr, "  iteration %d/%d residual %.3e %.1f s\n", iter, max_iter, res, t);
+    return l->time_limit_s > 0.0 && t > l->time_limit_s;
+}
+
+static void log_fn(void *user, int level, const char *msg)
+{
+    (void)user;
+    (void)level;
+    fprintf(stderr, "  %s\n", msg);
+}
+
+static int setup(core_ship *ship, cfd_airwake_spec *sp, cfd_grid_level lv, double dir_deg, int rotor)
+{
+    core_err err;
+    if (core_ship_load(CFD_SHIPS_DIR "/sfs2.ini", ship, &err)) {
+        fprintf(stderr, "%s\n", err.msg);
+        return -1;
+    }
+    memset(sp, 0, sizeof *sp);
+    sp->ship = ship;
+    sp->wod_speed_mps = 15.0;
+    sp->wod_dir_rad = dir_deg * CORE_DEG_TO_RAD;
+    sp->level = lv;
+    sp->monitor_z_m = -6.8;
+    sp->rotor = rotor;
+    if (rotor) {
+        double c[3] = {0.0, 0.0, -8.18};
+        core_euler att = {0.0, 0.0, 0.0};
+        cfd_disk_from_attitude(&sp->disk, c, att, 8.18, 7438.91 * CORE_G_MPS2);
+    }
+    return 0;
+}
+
+static double run_iters(int threads, int iters, double *cells)
+{
+    omp_set_num_threads(threads);
+    core_ship ship;
+    cfd_airwake_spec sp;
+    if (setup(&ship, &sp, CFD_GRID_COARSE, 0.0, 1))
+        return -1;
+    sp.max_iter = iters;
+    core_err err;
+    limit l = {0.0, 0};
+    cfd_solver *s = cfd_airwake_create(&sp, NULL, progress, &l, &err);
+    if (!s) {
+        fprintf(stderr, "%s\n", err.msg);
+        return -1;
+    }
+    cfd_result res;
+    cfd_solver_run(s, &res, &err);
+    *cells = (double)cfd_grid_fluid_cells(cfd_solver_grid(s));
+    cfd_solver_destroy(s);
+    return res.cell_updates / res.wall_s;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fprintf(stderr, "usage: bench_cfd throughput|airwake [options]\n");
+        return 2;
+    }
+    int threads = 2, iters = 50, max_iter = 3000, lv = 1;
+    double tl = 0.0, dir = 0.0;
+    for (int i = 2; i + 1 < argc; i += 2) {
+        if (!strcmp(argv[i], "--threads"))
+            threads = atoi(argv[i + 1]);
+        else if (!strcmp(argv[i], "--iters"))
+            iters = atoi(argv[i + 1]);
+        else if (!strcmp(argv[i], "--max-iter"))
+            max_iter = atoi(argv[i + 1]);
+        else if (!strcmp(argv[i], "--time-limit-s"))
+            tl = atof(argv[i + 1]);
+        else if (!strcmp(argv[i], "--dir-deg"))
+            dir = atof(argv[i + 1]);
+        else if (!strcmp(argv[i], "--grid"))
+            lv = !strcmp(argv[i + 1], "coarse") ? 0 : !strcmp(argv[i + 1], "fine") ? 2 : 1;
+    }
+    if (!strcmp(argv[1], "throughput")) {
+        double cells = 0.0;
+        double r1 = run_iters(1, iters, &cells);
+        double rn = run_iters(threads, iters, &cells);
+        if (r1 < 0 || rn < 0)
+            return 1;
+        printf("throughput: SFS2 coarse grid with rotor, %.0f fluid cells, %d iterations\n", cells, iters);
+        printf("  1 thread : %.3e cell-updates/s\n", r1);
+        printf("  %d threads: %.3e cell-updates/s, %.3e per core, speed-up %.2f\n", threads, rn, rn / threads, rn / r1);
+        return 0;
+    }
+    if (!strcmp(argv[1], "airwake")) {
+        omp_set_num_threads(threads);
+        core_ship ship;
+        cfd_airwake_spec sp;
+        if (setup(&ship, &sp, (cfd_grid_level)lv, dir, 1))
+            return 1;
+        sp.max_iter = max_iter;
+        core_err err;
+        core_log log = {log_fn, NULL, CORE_LOG_INFO};
+        limit l = {tl, 100};
+        cfd_solver *s = cfd_airwake_create(&sp, &log, progress, &l, &err);
+        if (!s) {
+            fprintf(stderr, "%s\n", err.msg);
+            return 1;
+        }
+        size_t cells = cfd_grid_cells(cfd_solver_grid(s));
+        cfd_result res;
+        int rc = cfd_solver_run(s, &res, &err);
+        struct rusage ru;
+        getrusage(RUSAGE_SELF, &ru);
+        printf("airwake: SFS2 15 m/s %.0f deg, rotor UH-60A, grid level %d, %zu cells, %d threads\n", dir, lv, cells,
+               threads);
+        printf("  %s after %d iterations, wall %.1f s, %.3e cell-updates/s (%.3e per core)\n",
+               rc < 0 ? "DIVERGED" : res.converged ? "converged" : "NOT converged", res.iterations, res.wall_s,
+               res.cell_updates / res.wall_s, res.cell_updates / res.wall_s / threads);
+        printf("  final normalised residuals: continuity %.2e u %.2e v %.2e w %.2e k %.2e\n", res.residual[0],
+               res.residual[1], res.residual[2], res.residual[3], res.residual[4]);
+        printf("  memory: solver %.0f bytes/cell, peak RSS %.0f bytes/cell (%.1f MB)\n",
+               (double)cfd_solver_bytes(s) / cells, ru.ru_maxrss * 1024.0 / cells, ru.ru_maxrss / 1024.0);
+        cfd_solver_destroy(s);
+        return 0;
+    }
+    fprintf(stderr, "bench_cfd: unknown mode '%s'\n", argv[1]);
+    return 2;
+}

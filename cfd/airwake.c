@@ -1,0 +1,178 @@
+/*
+ * airwake.c -- a ship airwake case: grid, boundaries, inflow and monitors
+ * from a ship, a wind over deck and an optional rotor.
+ *
+ * Model: the seed paper's section 2.6 set-up, scaled down: a box around the
+ * ship with the sea as a no-slip wall (wall functions), a symmetry top, a
+ * velocity inlet on each side face the wind enters through and a pressure
+ * outlet on each face it leaves through (a face the wind is nearly parallel
+ * to, |component| < 5 % of the speed, is a symmetry plane), so the ship stays
+ * aligned with the grid for every WOD direction. Domain: 1 L upstream,
+ * 1.25 L downstream (L: ship length), +-0.6 L across, max(0.5 L, 5 H)
+ * high (H: the ship's highest point above the sea), against the seed
+ * paper's 4 L / 6 L / +-0.97 L / 1.5 L; the grid study (docs/validation/
+ * cfd.md) is the check that the deck region does not feel the difference.
+ * The fine-spacing box (the seed paper's mesh density box) covers the
+ * flight deck, half a deck length aft of the stern, the hangar face and
+ * two hangar heights above the deck; cells grow by 12 % per cell outside.
+ */
+#include "cfd_private.h"
+
+#include <math.h>
+#include <string.h>
+
+typedef struct ship_box {
+    double x0, x1, y0, y1, ztop, zsea, hangar_top;
+} ship_box;
+
+static void ship_bounds(const core_ship *sh, ship_box *b)
+{
+    b->x0 = b->y0 = b->ztop = 1e300;
+    b->x1 = b->y1 = -1e300;
+    b->hangar_top = 0.0;
+    for (int i = 0; i < sh->nblocks; i++) {
+        const core_ship_block *k = &sh->blocks[i];
+        b->x0 = fmin(b->x0, k->x0_m);
+        b->x1 = fmax(b->x1, k->x1_m);
+        b->y0 = fmin(b->y0, k->y0_m);
+        b->y1 = fmax(b->y1, k->y1_m);
+        b->ztop = fmin(b->ztop, k->z0_m);
+        /* the block standing on the forward end of the flight deck */
+        if (k->x0_m <= sh->deck_x1_m + 1.0 && k->x1_m > sh->deck_x1_m + 1.0 && k->z0_m < b->hangar_top)
+            b->hangar_top = k->z0_m;
+    }
+    b->zsea = sh->deck_height_m;
+    if (b->hangar_top >= 0.0)
+        b->hangar_top = -5.0;
+}
+
+cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, cfd_progress_fn progress,
+                               void *progress_user, core_err *err)
+{
+    const core_ship *sh = sp->ship;
+    if (!sh || sh->nblocks < 1 || !(sp->wod_speed_mps > 0.0) || sp->level < CFD_GRID_COARSE ||
+        sp->level > CFD_GRID_FINE) {
+        core_err_set(err, -1, "cfd airwake: expected a ship, a WOD speed > 0 and a grid level (got %g m/s)",
+                     sp->wod_speed_mps);
+        return NULL;
+    }
+    ship_box b;
+    ship_bounds(sh, &b);
+    double L = b.x1 - b.x0, H = b.zsea - b.ztop;
+    double U = sp->wod_speed_mps;
+    core_vec3 V = core_wod_vel_S_mps(U, sp->wod_dir_rad);
+    static const double hfine[3] = {1.1, 0.55, 0.43};
+    static const double hmax[3] = {12.0, 6.0, 5.0};
+    double hf = sp->h_fine_m > 0.0 ? sp->h_fine_m : hfine[sp->level];
+    double deck = sh->deck_x1_m - sh->deck_x0_m;
+    double hh = -b.hangar_top; /* hangar height above the deck */
+    cfd_axis_spec ax[3];
+    /* the wake side gets the longer reach */
+    double up = 1.0 * L, down = 1.25 * L;
+    ax[0].lo_m = b.x0 - (V.x <= 0.0 ? down : up);
+    ax[0].hi_m = b.x1 + (V.x <= 0.0 ? up : down);
+    ax[0].f0_m = sh->deck_x0_m - 0.5 * deck;
+    ax[0].f1_m = sh->deck_x1_m + 0.3 * deck;
+    ax[1].lo_m = -0.6 * L;
+    ax[1].hi_m = 0.6 * L;
+    ax[1].f0_m = b.y0 - 0.5 * (b.y1 - b.y0) * 0.5;
+    ax[1].f1_m = b.y1 + 0.5 * (b.y1 - b.y0) * 0.5;
+    ax[2].lo_m = b.zsea - fmax(0.5 * L, 5.0 * H);
+    ax[2].hi_m = b.zsea;
+    ax[2].f0_m = fmin(-2.0 * hh, sp->monitor_z_m - 0.5 * hh);
+    ax[2].f1_m = b.zsea;
+    for (int d = 0; d < 3; d++) {
+        ax[d].h_fine_m = hf;
+        ax[d].h_max_m = fmax(hmax[sp->level], 4.0 * hf);
+        ax[d].growth = 1.12;
+    }
+    cfd_grid *g = cfd_grid_create_spec(ax, err);
+    if (!g)
+        return NULL;
+    size_t nsolid = sp->open_ship ? 0 : cfd_grid_block_ship(g, sh);
+    cfd_config cfg;
+    cfd_config_default(&cfg);
+    cfg.turbulence = 1;
+    cfg.u_ref_mps = U;
+    cfg.max_iter = sp->max_iter > 0 ? sp->max_iter : 3000;
+    cfg.log = log;
+    cfg.progress = progress;
+    cfg.progress_user = progress_user;
+    const double par = 0.05 * U;
+    double comp[2] = {V.x, V.y};
+    for (int d = 0; d < 2; d++) {
+        int fmin_ = 2 * d, fmax_ = 2 * d + 1;
+        if (comp[d] < -par) {
+            cfg.bc[fmax_].type = CFD_BC_INLET;
+            cfg.bc[fmin_].type = CFD_BC_OUTLET;
+        } else if (comp[d] > par) {
+            cfg.bc[fmin_].type = CFD_BC_INLET;
+            cfg.bc[fmax_].type = CFD_BC_OUTLET;
+        } else {
+            cfg.bc[fmin_].type = CFD_BC_SYMMETRY;
+            cfg.bc[fmax_].type = CFD_BC_SYMMETRY;
+        }
+    }
+    cfg.bc[CFD_ZMIN].type = CFD_BC_SYMMETRY;
+    cfg.bc[CFD_ZMAX].type = CFD_BC_WALL; /* the sea */
+    cfg.inflow.type = sp->abl ? CFD_INFLOW_ABL : CFD_INFLOW_UNIFORM;
+    cfg.inflow.vel_mps[0] = V.x;
+    cfg.inflow.vel_mps[1] = V.y;
+    cfg.inflow.vel_mps[2] = 0.0;
+    cfg.inflow.ground_axis = 2;
+    cfg.inflow.ground_sign = 1;
+    cfg.inflow.ground_coord_m = b.zsea;
+    cfg.inflow.z_ref_m = fmax(b.zsea - sh->anemometer_S_m[2], 1.0);
+    cfg.inflow.z0_m = 2e-4;
+    cfg.inflow.intensity = 0.02;
+    cfg.inflow.length_m = 0.1 * H;
+    cfg.n_monitor = 4;
+    for (int m = 0; m < 4; m++) {
+        cfg.monitor_m[m][0] = sh->deck_x0_m + (m + 0.5) / 4.0 * deck;
+        cfg.monitor_m[m][1] = 0.0;
+        cfg.monitor_m[m][2] = sp->monitor_z_m;
+    }
+    int n[3];
+    cfd_grid_dims(g, n);
+    core_log_msg(log, CORE_LOG_INFO,
+                 "cfd airwake: %s, WOD %.1f m/s from %.1f deg, grid %d x %d x %d = %zu cells (%zu in the ship), "
+                 "h_fine %.2f m",
+                 sh->name, U, sp->wod_dir_rad * CORE_RAD_TO_DEG, n[0], n[1], n[2], cfd_grid_cells(g), nsolid, hf);
+    cfd_solver *s = cfd_solver_create(g, &cfg, err);
+    if (!s)
+        return NULL;
+    if (sp->rotor && cfd_solver_set_disk(s, &sp->disk, err)) {
+        cfd_solver_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+int cfd_airwake_reattachment(const cfd_solver *s, const core_ship *ship, double wod_dir_rad, double y_m,
+                             double z_m, double *len_m)
+{
+    core_vec3 w = core_wod_vel_S_mps(1.0, wod_dir_rad);
+    double xh = ship->deck_x1_m;
+    double step = 0.05;
+    int reversed = 0;
+    *len_m = 0.0;
+    double prev = 0.0;
+    for (double dx = 0.25; dx < 3.0 * (ship->deck_x1_m - ship->deck_x0_m); dx += step) {
+        double pos[3] = {xh - dx, y_m, z_m}, out[CFD_NVARS];
+        cfd_solver_sample(s, pos, out);
+        double along = out[0] * w.x + out[1] * w.y;
+        if (along < 0.0)
+            reversed = 1;
+        else if (reversed) {
+            /* linear interpolation of the zero crossing */
+            double f = prev / (prev - along);
+            *len_m = dx - step + f * step;
+            return 0;
+        } else if (dx > 2.0) {
+            return 0; /* no reversed flow next to the hangar */
+        }
+        prev = along;
+    }
+    *len_m = reversed ? 3.0 * (ship->deck_x1_m - ship->deck_x0_m) : 0.0;
+    return reversed ? 1 : 0;
+}

@@ -1,0 +1,378 @@
+/*
+ * io.c -- airwake fields in HDF5 with an XDMF side file, and the loader.
+ *
+ * Layout (HDF5, C API): /grid/{x,y,z}_nodes (m, frame S), /grid/solid
+ * (uint8, nz x ny x nx), /fields/{u,v,w,p,k,epsilon,nu_t} (float64,
+ * nz x ny x nx, x fastest; cell centred; m/s, Pa, m^2/s^2, m^2/s^3, m^2/s),
+ * /residuals (iterations x 5: continuity, u, v, w, k, normalised), root
+ * attributes for the metadata. The XDMF file describes a 3DRectMesh with
+ * cell-centred attributes so ParaView opens it; coordinates stay in frame
+ * S (z down, not flipped), which the file states. Both files are written to
+ * a temporary name and renamed, so a reader never sees half a field.
+ * The loader keeps the arrays and interpolates trilinearly between cell
+ * centres (the flight loop's air callback).
+ */
+#include "cfd_private.h"
+
+#include <hdf5.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+struct cfd_field {
+    cfd_grid *g;
+    double *var[CFD_NVARS];
+    cfd_meta meta;
+};
+
+static int attr_double(hid_t loc, const char *name, double v)
+{
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t a = H5Acreate2(loc, name, H5T_NATIVE_DOUBLE, sp, H5P_DEFAULT, H5P_DEFAULT);
+    herr_t rc = a >= 0 ? H5Awrite(a, H5T_NATIVE_DOUBLE, &v) : -1;
+    if (a >= 0)
+        H5Aclose(a);
+    H5Sclose(sp);
+    return rc < 0 ? -1 : 0;
+}
+
+static int attr_string(hid_t loc, const char *name, const char *v)
+{
+    hid_t t = H5Tcopy(H5T_C_S1);
+    H5Tset_size(t, strlen(v) + 1);
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t a = H5Acreate2(loc, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
+    herr_t rc = a >= 0 ? H5Awrite(a, t, v) : -1;
+    if (a >= 0)
+        H5Aclose(a);
+    H5Sclose(sp);
+    H5Tclose(t);
+    return rc < 0 ? -1 : 0;
+}
+
+static int write_ds(hid_t loc, const char *name, hid_t type, int rank, const hsize_t *dims, const void *data)
+{
+    hid_t sp = H5Screate_simple(rank, dims, NULL);
+    hid_t ds = H5Dcreate2(loc, name, type, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    herr_t rc = ds >= 0 ? H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : -1;
+    if (ds >= 0)
+        H5Dclose(ds);
+    H5Sclose(sp);
+    return rc < 0 ? -1 : 0;
+}
+
+static void xmf_path(const char *path, char *out, size_t n)
+{
+    size_t len = strlen(path);
+    if (len > 3 && strcmp(path + len - 3, ".h5") == 0)
+        snprintf(out, n, "%.*s.xmf", (int)(len - 3), path);
+    else
+        snprintf(out, n, "%s.xmf", path);
+}
+
+static int write_xmf(const char *tmp, const char *h5name, const int n[3])
+{
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        return -1;
+    fprintf(f, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n");
+    fprintf(f, "  <Grid Name=\"airwake\" GridType=\"Uniform\">\n");
+    fprintf(f, "   <Information Name=\"frame\" Value=\"ship frame S: x bow, y starboard, z down (not flipped)\"/>\n");
+    fprintf(f, "   <Topology TopologyType=\"3DRectMesh\" Dimensions=\"%d %d %d\"/>\n", n[2] + 1, n[1] + 1, n[0] + 1);
+    fprintf(f, "   <Geometry GeometryType=\"VXVYVZ\">\n");
+    const char *ax[3] = {"x", "y", "z"};
+    for (int d = 0; d < 3; d++)
+        fprintf(f,
+                "    <DataItem Dimensions=\"%d\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">%s:/grid/%s_nodes</DataItem>\n",
+                n[d] + 1, h5name, ax[d]);
+    fprintf(f, "   </Geometry>\n");
+    fprintf(f, "   <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Cell\">\n");
+    fprintf(f, "    <DataItem ItemType=\"Function\" Function=\"JOIN($0, $1, $2)\" Dimensions=\"%d %d %d 3\">\n", n[2],
+            n[1], n[0]);
+    for (int v = 0; v < 3; v++)
+        fprintf(f,
+                "     <DataItem Dimensions=\"%d %d %d\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">%s:/fields/%s</DataItem>\n",
+                n[2], n[1], n[0], h5name, cfd_var_names[v]);
+    fprintf(f, "    </DataItem>\n   </Attribute>\n");
+    for (int v = 0; v < CFD_NVARS; v++)
+        fprintf(f,
+                "   <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n    <DataItem Dimensions=\"%d %d %d\" "
+                "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">%s:/fields/%s</DataItem>\n   </Attribute>\n",
+                cfd_var_names[v], n[2], n[1], n[0], h5name, cfd_var_names[v]);
+    fprintf(f, "   <Attribute Name=\"solid\" AttributeType=\"Scalar\" Center=\"Cell\">\n    <DataItem Dimensions=\"%d %d %d\" "
+               "NumberType=\"UChar\" Precision=\"1\" Format=\"HDF\">%s:/grid/solid</DataItem>\n   </Attribute>\n",
+            n[2], n[1], n[0], h5name);
+    fprintf(f, "  </Grid>\n </Domain>\n</Xdmf>\n");
+    int bad = ferror(f);
+    return (fclose(f) || bad) ? -1 : 0;
+}
+
+int cfd_solver_write(const cfd_solver *s, const cfd_meta *meta, const char *path, core_err *err)
+{
+    if (cfd_solver_has_nan(s))
+        return core_err_set(err, -1, "%s: not written: the field holds NaN or infinite values", path);
+    const cfd_grid *g = cfd_solver_grid(s);
+    char tmp[4200], xmf[4100], xtmp[4200];
+    if (strlen(path) > 4000)
+        return core_err_set(err, -1, "%.64s...: output path too long", path);
+    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
+    xmf_path(path, xmf, sizeof xmf);
+    snprintf(xtmp, sizeof xtmp, "%s.tmp.%ld", xmf, (long)getpid());
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+    hid_t f = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (f < 0)
+        return core_err_set(err, -1, "%s: cannot create (HDF5)", tmp);
+    int rc = 0;
+    hid_t gg = H5Gcreate2(f, "grid", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t gf = H5Gcreate2(f, "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (gg < 0 || gf < 0)
+        rc = -1;
+    const char *nn[3] = {"x_nodes", "y_nodes", "z_nodes"};
+    for (int d = 0; d < 3 && !rc; d++) {
+        hsize_t dim = (hsize_t)g->n[d] + 1;
+        rc |= write_ds(gg, nn[d], H5T_NATIVE_DOUBLE, 1, &dim, g->xn[d]);
+    }
+    hsize_t dims[3] = {(hsize_t)g->n[2], (hsize_t)g->n[1], (hsize_t)g->n[0]};
+    if (!rc)
+        rc |= write_ds(gg, "solid", H5T_NATIVE_UCHAR, 3, dims, g->solid);
+    for (int v = 0; v < CFD_NVARS && !rc; v++)
+        rc |= write_ds(gf, cfd_var_names[v], H5T_NATIVE_DOUBLE, 3, dims, cfd_solver_var(s, v));
+    int nh = 0;
+    const double *hist = cfd_solver_history(s, &nh);
+    if (!rc && nh > 0) {
+        hsize_t hd[2] = {(hsize_t)nh, 5};
+        rc |= write_ds(f, "residuals", H5T_NATIVE_DOUBLE, 2, hd, hist);
+    }
+    if (!rc) {
+        rc |= attr_string(f, "solver_version", CFD_VERSION);
+        rc |= attr_string(f, "frame", "ship frame S: x bow, y starboard, z down; SI units; p in Pa gauge");
+        rc |= attr_string(f, "ship", meta->ship);
+        rc |= attr_string(f, "rotor", meta->rotor);
+        rc |= attr_string(f, "grid_level", meta->grid);
+        rc |= attr_double(f, "wod_speed_mps", meta->wod_speed_mps);
+        rc |= attr_double(f, "wod_dir_deg", meta->wod_dir_deg);
+        rc |= attr_double(f, "rotor_thrust_N", meta->rotor_thrust_N);
+        rc |= attr_double(f, "rotor_radius_m", meta->rotor_radius_m);
+        for (int q = 0; q < 3; q++) {
+            char nm[32];
+            snprintf(nm, sizeof nm, "rotor_centre_S_m_%c", 'x' + q);
+            rc |= attr_double(f, nm, meta->rotor_centre_S_m[q]);
+        }
+        rc |= attr_double(f, "iterations", meta->result.iterations);
+        rc |= attr_double(f, "converged", meta->result.converged);
+        rc |= attr_double(f, "wall_time_s", meta->result.wall_s);
+        const char *rn[5] = {"residual_continuity", "residual_u", "residual_v", "residual_w", "residual_k"};
+        for (int q = 0; q < 5; q++)
+            rc |= attr_double(f, rn[q], meta->result.residual[q]);
+        rc |= attr_double(f, "rho_kgpm3", cfd_solver_config(s)->rho_kgpm3);
+        rc |= attr_double(f, "nu_m2ps", cfd_solver_config(s)->nu_m2ps);
+    }
+    if (gg >= 0)
+        H5Gclose(gg);
+    if (gf >= 0)
+        H5Gclose(gf);
+    if (H5Fclose(f) < 0)
+        rc = -1;
+    if (rc) {
+        unlink(tmp);
+        return core_err_set(err, -1, "%s: HDF5 write failed", tmp);
+    }
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    if (write_xmf(xtmp, base, g->n)) {
+        unlink(tmp);
+        unlink(xtmp);
+        return core_err_set(err, -1, "%s: cannot write the XDMF file", xtmp);
+    }
+    if (rename(tmp, path) || rename(xtmp, xmf)) {
+        unlink(tmp);
+        unlink(xtmp);
+        return core_err_set(err, -1, "%s: cannot rename the temporary files into place", path);
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------ loader */
+static int read_attr_double(hid_t f, const char *name, double *v)
+{
+    if (H5Aexists(f, name) <= 0)
+        return -1;
+    hid_t a = H5Aopen(f, name, H5P_DEFAULT);
+    herr_t rc = H5Aread(a, H5T_NATIVE_DOUBLE, v);
+    H5Aclose(a);
+    return rc < 0 ? -1 : 0;
+}
+
+static void read_attr_string(hid_t f, const char *name, char *out, size_t n)
+{
+    out[0] = 0;
+    if (H5Aexists(f, name) <= 0)
+        return;
+    hid_t a = H5Aopen(f, name, H5P_DEFAULT);
+    hid_t t = H5Aget_type(a);
+    size_t sz = H5Tget_size(t);
+    char *buf = calloc(sz + 1, 1);
+    if (buf) {
+        hid_t mt = H5Tcopy(H5T_C_S1);
+        H5Tset_size(mt, sz);
+        if (H5Aread(a, mt, buf) >= 0)
+            snprintf(out, n, "%s", buf);
+        H5Tclose(mt);
+        free(buf);
+    }
+    H5Tclose(t);
+    H5Aclose(a);
+}
+
+/* Read a dataset of the expected number of elements; -1 on any mismatch. */
+static int read_ds(hid_t f, const char *name, hid_t type, size_t count, void *out)
+{
+    if (H5Lexists(f, name, H5P_DEFAULT) <= 0)
+        return -1;
+    hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
+    if (ds < 0)
+        return -1;
+    hid_t sp = H5Dget_space(ds);
+    hssize_t np = H5Sget_simple_extent_npoints(sp);
+    H5Sclose(sp);
+    herr_t rc = -1;
+    if (np == (hssize_t)count)
+        rc = H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out);
+    H5Dclose(ds);
+    return rc < 0 ? -1 : 0;
+}
+
+static hssize_t ds_size(hid_t f, const char *name)
+{
+    if (H5Lexists(f, "grid", H5P_DEFAULT) <= 0 || H5Lexists(f, name, H5P_DEFAULT) <= 0)
+        return -1;
+    hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
+    if (ds < 0)
+        return -1;
+    hid_t sp = H5Dget_space(ds);
+    hssize_t np = H5Sget_simple_extent_npoints(sp);
+    H5Sclose(sp);
+    H5Dclose(ds);
+    return np;
+}
+
+cfd_field *cfd_field_load(const char *path, core_err *err)
+{
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+    if (access(path, R_OK)) {
+        core_err_set(err, -1, "%s: cannot read the file", path);
+        return NULL;
+    }
+    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (f < 0) {
+        core_err_set(err, -1, "%s: not an HDF5 file", path);
+        return NULL;
+    }
+    cfd_field *fl = NULL;
+    double *xn[3] = {NULL, NULL, NULL};
+    int n[3];
+    const char *nn[3] = {"/grid/x_nodes", "/grid/y_nodes", "/grid/z_nodes"};
+    for (int d = 0; d < 3; d++) {
+        hssize_t np = ds_size(f, nn[d]);
+        if (np < 2) {
+            core_err_set(err, -1, "%s: missing or empty dataset %s (not a disim airwake field)", path, nn[d]);
+            goto fail;
+        }
+        n[d] = (int)np - 1;
+        xn[d] = malloc((size_t)np * sizeof(double));
+        if (!xn[d] || read_ds(f, nn[d], H5T_NATIVE_DOUBLE, (size_t)np, xn[d])) {
+            core_err_set(err, -1, "%s: cannot read %s", path, nn[d]);
+            goto fail;
+        }
+    }
+    fl = calloc(1, sizeof *fl);
+    if (!fl) {
+        core_err_set(err, -2, "%s: out of memory", path);
+        goto fail;
+    }
+    fl->g = cfd_grid_create(xn[0], n[0], xn[1], n[1], xn[2], n[2], err);
+    if (!fl->g)
+        goto fail;
+    size_t nc = fl->g->ncell;
+    if (read_ds(f, "/grid/solid", H5T_NATIVE_UCHAR, nc, fl->g->solid)) {
+        core_err_set(err, -1, "%s: /grid/solid missing or of the wrong size (expected %zu cells)", path, nc);
+        goto fail;
+    }
+    for (int v = 0; v < CFD_NVARS; v++) {
+        char name[64];
+        snprintf(name, sizeof name, "/fields/%s", cfd_var_names[v]);
+        fl->var[v] = malloc(nc * sizeof(double));
+        if (!fl->var[v] || read_ds(f, name, H5T_NATIVE_DOUBLE, nc, fl->var[v])) {
+            core_err_set(err, -1, "%s: %s missing or of the wrong size (expected %zu cells)", path, name, nc);
+            goto fail;
+        }
+        for (size_t c = 0; c < nc; c++)
+            if (!isfinite(fl->var[v][c])) {
+                core_err_set(err, -1, "%s: %s holds a NaN or infinity at cell %zu", path, name, c);
+                goto fail;
+            }
+    }
+    cfd_meta *m = &fl->meta;
+    read_attr_string(f, "ship", m->ship, sizeof m->ship);
+    read_attr_string(f, "rotor", m->rotor, sizeof m->rotor);
+    read_attr_string(f, "grid_level", m->grid, sizeof m->grid);
+    read_attr_double(f, "wod_speed_mps", &m->wod_speed_mps);
+    read_attr_double(f, "wod_dir_deg", &m->wod_dir_deg);
+    read_attr_double(f, "rotor_thrust_N", &m->rotor_thrust_N);
+    read_attr_double(f, "rotor_radius_m", &m->rotor_radius_m);
+    double it = 0, conv = 0;
+    read_attr_double(f, "iterations", &it);
+    read_attr_double(f, "converged", &conv);
+    read_attr_double(f, "wall_time_s", &m->result.wall_s);
+    m->result.iterations = (int)it;
+    m->result.converged = (int)conv;
+    for (int d = 0; d < 3; d++)
+        free(xn[d]);
+    H5Fclose(f);
+    return fl;
+fail:
+    for (int d = 0; d < 3; d++)
+        free(xn[d]);
+    cfd_field_destroy(fl);
+    H5Fclose(f);
+    return NULL;
+}
+
+void cfd_field_destroy(cfd_field *f)
+{
+    if (!f)
+        return;
+    for (int v = 0; v < CFD_NVARS; v++)
+        free(f->var[v]);
+    cfd_grid_destroy(f->g);
+    free(f);
+}
+
+int cfd_field_sample(const cfd_field *f, const double pos[3], double out[CFD_NVARS])
+{
+    cfd_sample_arrays(f->g, (double *const *)f->var, CFD_NVARS, pos, out);
+    int outside = 0;
+    for (int d = 0; d < 3; d++)
+        outside |= pos[d] < f->g->xn[d][0] || pos[d] > f->g->xn[d][f->g->n[d]];
+    return outside;
+}
+
+int cfd_field_air(void *user, const double pos[3], double t_s, double vel[3])
+{
+    (void)t_s; /* a steady field */
+    const cfd_field *f = user;
+    double out[3];
+    cfd_sample_arrays(f->g, (double *const *)f->var, 3, pos, out);
+    int rc = 0;
+    for (int d = 0; d < 3; d++)
+        rc |= pos[d] < f->g->xn[d][0] || pos[d] > f->g->xn[d][f->g->n[d]];
+    vel[0] = out[0];
+    vel[1] = out[1];
+    vel[2] = out[2];
+    return rc;
+}
+
+const cfd_meta *cfd_field_meta(const cfd_field *f) { return &f->meta; }
+void cfd_field_dims(const cfd_field *f, int n[3]) { cfd_grid_dims(f->g, n); }

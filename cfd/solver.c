@@ -1,0 +1,1149 @@
+/*
+ * solver.c -- steady incompressible RANS by SIMPLEC on a collocated grid.
+ *
+ * Model: continuity div u = 0 and momentum div(u u) = -grad p / rho +
+ * div((nu + nu_t) grad u) + f / rho (f: actuator-disk force per volume),
+ * finite volumes on the cells of a stretched Cartesian grid (Ferziger &
+ * Peric, Computational Methods for Fluid Dynamics, 3rd ed., ch. 7-8):
+ *  - convection: upwind implicit plus a van Leer TVD deferred correction
+ *    (bounded, second order where smooth), continuity subtracted so the
+ *    matrix stays an M-matrix while mass is not yet conserved;
+ *  - pressure-velocity coupling: SIMPLEC (Van Doormaal & Raithby 1984,
+ *    Numer. Heat Transfer 7:147) with Rhie-Chow face velocities (Rhie & Chow
+ *    1983, AIAA J. 21:1525), d = V / (a_P - sum a_nb);
+ *  - linear systems: red-black Gauss-Seidel sweeps for u, v, w, k, eps; the
+ *    pressure correction by multigrid-preconditioned CG (mg.c);
+ *  - boundaries: walls (wall functions when turbulent), velocity inlet,
+ *    pressure outlet (zero gradient, also an opening with backflow),
+ *    symmetry; blocked cells' faces are walls;
+ *  - convergence as in the seed paper (section 2.2): normalised residuals
+ *    (each divided by its largest value over the first five iterations)
+ *    below tol and monitor-point velocities changing less than tol_monitor
+ *    times u_ref between two checks;
+ *  - divergence (NaN, residuals or velocities blowing up) restarts from the
+ *    initial state with 0.6 times the under-relaxation, max_retries times.
+ */
+#include "cfd_private.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+const char *const cfd_var_names[CFD_NVARS] = {"u", "v", "w", "p", "k", "epsilon", "nu_t"};
+
+enum { NB_FLUID = 0, NB_WALL, NB_INLET, NB_OUTLET, NB_SYM };
+
+#define NSNAP 6
+#define HIST_COLS 5
+
+struct cfd_solver {
+    cfd_grid *g;
+    cfd_config cfg;
+    double *var[CFD_NVARS];
+    double *uf[3];
+    double *drc, *dc;
+    double *a[6], *ap, *b;
+    double *apsum, *anbsum;
+    double *pp;
+    double *disk_f[3];
+    double *snap[NSNAP];
+    cfd_mg *mg;
+    int singular;
+    double *hist;
+    int nhist, caphist;
+    double norm[HIST_COLS];
+    double relax[3];
+    size_t bytes;
+};
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+void cfd_config_default(cfd_config *cfg)
+{
+    memset(cfg, 0, sizeof *cfg);
+    cfg->turbulence = 1;
+    cfg->rho_kgpm3 = CORE_RHO_SL_KGPM3;
+    cfg->nu_m2ps = CORE_NU_SL_M2PS;
+    for (int f = 0; f < CFD_NFACES; f++)
+        cfg->bc[f].type = CFD_BC_WALL;
+    cfg->inflow.type = CFD_INFLOW_UNIFORM;
+    cfg->inflow.intensity = 0.01;
+    cfg->inflow.length_m = 1.0;
+    cfg->u_ref_mps = 1.0;
+    cfg->max_iter = 2000;
+    cfg->tol_residual = 1e-4;
+    cfg->tol_monitor = 0.02;
+    cfg->monitor_every = 50;
+    cfg->relax_u = 0.7;
+    cfg->relax_p = 0.9;
+    cfg->relax_turb = 0.6;
+    cfg->second_order = 1;
+    cfg->max_retries = 2;
+}
+
+/* ------------------------------------------------------------- geometry */
+static inline size_t fidx(const cfd_grid *g, int d, int i, int j, int k)
+{
+    const int nx = g->n[0], ny = g->n[1];
+    switch (d) {
+    case 0:
+        return (size_t)i + (size_t)(nx + 1) * ((size_t)j + (size_t)ny * k);
+    case 1:
+        return (size_t)i + (size_t)nx * ((size_t)j + (size_t)(ny + 1) * k);
+    default:
+        return (size_t)i + (size_t)nx * ((size_t)j + (size_t)ny * k);
+    }
+}
+
+static inline size_t nfaces(const cfd_grid *g, int d)
+{
+    return (size_t)(g->n[0] + (d == 0)) * (g->n[1] + (d == 1)) * (g->n[2] + (d == 2));
+}
+
+static const size_t *strides(const cfd_grid *g, size_t st[3])
+{
+    st[0] = 1;
+    st[1] = (size_t)g->n[0];
+    st[2] = (size_t)g->n[0] * g->n[1];
+    return st;
+}
+
+/* Kind of the neighbour across face f (0 -x, 1 +x, 2 -y, 3 +y, 4 -z, 5 +z). */
+static inline int nb_kind(const cfd_solver *s, const int ijk[3], int f, size_t c, size_t *cn)
+{
+    const cfd_grid *g = s->g;
+    int d = f >> 1, plus = f & 1;
+    int q = ijk[d] + (plus ? 1 : -1);
+    if (q < 0 || q >= g->n[d]) {
+        switch (s->cfg.bc[f].type) {
+        case CFD_BC_INLET:
+            return NB_INLET;
+        case CFD_BC_OUTLET:
+            return NB_OUTLET;
+        case CFD_BC_SYMMETRY:
+            return NB_SYM;
+        default:
+            return NB_WALL;
+        }
+    }
+    size_t st = d == 0 ? 1 : d == 1 ? (size_t)g->n[0] : (size_t)g->n[0] * g->n[1];
+    *cn = plus ? c + st : c - st;
+    return g->solid[*cn] ? NB_WALL : NB_FLUID;
+}
+
+static inline double face_area(const cfd_grid *g, int d, const int ijk[3])
+{
+    int d1 = (d + 1) % 3, d2 = (d + 2) % 3;
+    return g->h[d1][ijk[d1]] * g->h[d2][ijk[d2]];
+}
+
+/* Wall velocity of face f (a domain wall may move; blocked cells do not). */
+static inline const double *wall_vel(const cfd_solver *s, const int ijk[3], int f)
+{
+    static const double zero[3] = {0.0, 0.0, 0.0};
+    int d = f >> 1, q = ijk[d] + ((f & 1) ? 1 : -1);
+    if (q < 0 || q >= s->g->n[d])
+        return s->cfg.bc[f].vel_mps;
+    return zero;
+}
+
+/* --------------------------------------------------------------- inflow */
+static void inflow_at(const cfd_solver *s, const double pos[3], double vel[3], double *k, double *eps)
+{
+    const cfd_inflow *in = &s->cfg.inflow;
+    double umag = sqrt(in->vel_mps[0] * in->vel_mps[0] + in->vel_mps[1] * in->vel_mps[1] +
+                       in->vel_mps[2] * in->vel_mps[2]);
+    double scale = 1.0;
+    double kk, ee;
+    double h = 0.0;
+    if (in->type != CFD_INFLOW_UNIFORM) {
+        h = in->ground_sign >= 0 ? in->ground_coord_m - pos[in->ground_axis]
+                                 : pos[in->ground_axis] - in->ground_coord_m;
+        if (h < 0.0)
+            h = 0.0;
+    }
+    if (in->type == CFD_INFLOW_ABL) {
+        double z0 = in->z0_m > 0.0 ? in->z0_m : 2e-4;
+        double ustar = CFD_KAPPA * umag / log((in->z_ref_m + z0) / z0);
+        scale = log((h + z0) / z0) / log((in->z_ref_m + z0) / z0);
+        kk = ustar * ustar / sqrt(CFD_CMU);
+        ee = ustar * ustar * ustar / (CFD_KAPPA * (h + z0));
+    } else {
+        if (in->type == CFD_INFLOW_POWER && in->delta_m > 0.0)
+            scale = h >= in->delta_m ? 1.0 : pow(h / in->delta_m, 1.0 / 7.0);
+        double iu = fmax(in->intensity, 1e-4) * fmax(umag, s->cfg.u_ref_mps);
+        kk = 1.5 * iu * iu;
+        ee = pow(CFD_CMU, 0.75) * pow(kk, 1.5) / fmax(in->length_m, 1e-9);
+    }
+    for (int d = 0; d < 3; d++)
+        vel[d] = in->vel_mps[d] * scale;
+    *k = kk;
+    *eps = ee;
+}
+
+/* ---------------------------------------------------------- life cycle */
+static double *alloc_arr(cfd_solver *s, size_t n)
+{
+    double *p = calloc(n ? n : 1, sizeof(double));
+    if (p)
+        s->bytes += n * sizeof(double);
+    return p;
+}
+
+cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *err)
+{
+    if (!grid) {
+        core_err_set(err, -1, "cfd solver: no grid");
+        return NULL;
+    }
+    if (!(cfg->nu_m2ps > 0.0) || !(cfg->rho_kgpm3 > 0.0) || !(cfg->u_ref_mps > 0.0) ||
+        cfg->max_iter < 1 || cfg->n_monitor < 0 || cfg->n_monitor > CFD_MAX_MONITOR ||
+        !(cfg->relax_u > 0.0 && cfg->relax_u <= 1.0) || !(cfg->relax_p > 0.0 && cfg->relax_p <= 1.0) ||
+        !(cfg->relax_turb > 0.0 && cfg->relax_turb <= 1.0)) {
+        cfd_grid_destroy(grid);
+        core_err_set(err, -1,
+                     "cfd solver: bad configuration (need nu, rho, u_ref > 0, max_iter >= 1, "
+                     "relaxation factors in (0, 1], at most %d monitors)",
+                     CFD_MAX_MONITOR);
+        return NULL;
+    }
+    cfd_solver *s = calloc(1, sizeof *s);
+    if (!s) {
+        cfd_grid_destroy(grid);
+        core_err_set(err, -2, "cfd solver: out of memory");
+        return NULL;
+    }
+    s->g = grid;
+    s->cfg = *cfg;
+    size_t n = grid->ncell;
+    /* the grid: solid flags and three coordinate arrays per axis */
+    s->bytes = sizeof *s + n + 3 * sizeof(double) * (grid->n[0] + grid->n[1] + grid->n[2] + 3);
+    int ok = 1;
+    for (int v = 0; v < CFD_NVARS; v++)
+        ok &= (s->var[v] = alloc_arr(s, n)) != NULL;
+    for (int d = 0; d < 3; d++)
+        ok &= (s->uf[d] = alloc_arr(s, nfaces(grid, d))) != NULL;
+    for (int f = 0; f < 6; f++)
+        ok &= (s->a[f] = alloc_arr(s, n)) != NULL;
+    ok &= (s->ap = alloc_arr(s, n)) != NULL;
+    ok &= (s->b = alloc_arr(s, n)) != NULL;
+    ok &= (s->drc = alloc_arr(s, n)) != NULL;
+    ok &= (s->dc = alloc_arr(s, n)) != NULL;
+    ok &= (s->apsum = alloc_arr(s, n)) != NULL;
+    ok &= (s->anbsum = alloc_arr(s, n)) != NULL;
+    ok &= (s->pp = alloc_arr(s, n)) != NULL;
+    for (int v = 0; v < NSNAP; v++)
+        ok &= (s->snap[v] = alloc_arr(s, n)) != NULL;
+    s->mg = ok ? cfd_mg_create(grid->n) : NULL;
+    if (!ok || !s->mg) {
+        cfd_solver_destroy(s);
+        core_err_set(err, -2, "cfd solver: out of memory for %zu cells", n);
+        return NULL;
+    }
+    s->bytes += cfd_mg_bytes(s->mg);
+    s->singular = 1;
+    for (int f = 0; f < CFD_NFACES; f++)
+        if (cfg->bc[f].type == CFD_BC_OUTLET)
+            s->singular = 0;
+    cfd_solver_init_inflow(s);
+    return s;
+}
+
+void cfd_solver_destroy(cfd_solver *s)
+{
+    if (!s)
+        return;
+    for (int v = 0; v < CFD_NVARS; v++)
+        free(s->var[v]);
+    for (int d = 0; d < 3; d++) {
+        free(s->uf[d]);
+        free(s->disk_f[d]);
+    }
+    for (int f = 0; f < 6; f++)
+        free(s->a[f]);
+    free(s->ap);
+    free(s->b);
+    free(s->drc);
+    free(s->dc);
+    free(s->apsum);
+    free(s->anbsum);
+    free(s->pp);
+    for (int v = 0; v < NSNAP; v++)
+        free(s->snap[v]);
+    free(s->hist);
+    cfd_mg_destroy(s->mg);
+    cfd_grid_destroy(s->g);
+    free(s);
+}
+
+const cfd_grid *cfd_solver_grid(const cfd_solver *s) { return s->g; }
+const cfd_config *cfd_solver_config(const cfd_solver *s) { return &s->cfg; }
+const double *cfd_solver_var(const cfd_solver *s, int var)
+{
+    return (var >= 0 && var < CFD_NVARS) ? s->var[var] : NULL;
+}
+const double *cfd_solver_disk_force(const cfd_solver *s, int d)
+{
+    return (d >= 0 && d < 3) ? s->disk_f[d] : NULL;
+}
+const double *cfd_solver_history(const cfd_solver *s, int *n)
+{
+    *n = s->nhist;
+    return s->hist;
+}
+size_t cfd_solver_bytes(const cfd_solver *s) { return s->bytes; }
+
+int cfd_solver_set_disk(cfd_solver *s, const cfd_disk *disk, core_err *err)
+{
+    if (!disk) {
+        for (int d = 0; d < 3; d++) {
+            free(s->disk_f[d]);
+            s->disk_f[d] = NULL;
+        }
+        return 0;
+    }
+    for (int d = 0; d < 3; d++)
+        if (!s->disk_f[d] && !(s->disk_f[d] = alloc_arr(s, s->g->ncell)))
+            return core_err_set(err, -2, "cfd disk: out of memory");
+    return cfd_disk_distribute(s->g, disk, s->disk_f, err);
+}
+
+/* Face velocities from cell values (linear) and the boundary conditions. */
+static void faces_from_cells(cfd_solver *s)
+{
+    const cfd_grid *g = s->g;
+    for (int d = 0; d < 3; d++) {
+        const double *u = s->var[CFD_VAR_U + d];
+        #pragma omp parallel for schedule(static)
+        for (int k = 0; k < g->n[2] + (d == 2); k++)
+            for (int j = 0; j < g->n[1] + (d == 1); j++)
+                for (int i = 0; i < g->n[0] + (d == 0); i++) {
+                    int ijk[3] = {i, j, k};
+                    size_t fi = fidx(g, d, i, j, k);
+                    int q = ijk[d];
+                    int lo = q - 1, hi = q;
+                    int jm[3] = {i, j, k}, jp[3] = {i, j, k};
+                    jm[d] = lo;
+                    jp[d] = hi;
+                    int inm = lo >= 0, inp = hi < g->n[d];
+                    size_t cm = inm ? CFD_IDX(g, jm[0], jm[1], jm[2]) : 0;
+                    size_t cp = inp ? CFD_IDX(g, jp[0], jp[1], jp[2]) : 0;
+                    double v = 0.0;
+                    if (inm && inp) {
+                        if (!g->solid[cm] && !g->solid[cp])
+                            v = 0.5 * (u[cm] + u[cp]);
+                    } else {
+                        int f = 2 * d + (inp ? 0 : 1);
+                        size_t c = inp ? cp : cm;
+                        if (!g->solid[c]) {
+                            if (s->cfg.bc[f].type == CFD_BC_INLET) {
+                                double pos[3] = {g->xc[0][jp[0] < g->n[0] ? jp[0] : g->n[0] - 1],
+                                                 g->xc[1][jp[1] < g->n[1] ? jp[1] : g->n[1] - 1],
+                                                 g->xc[2][jp[2] < g->n[2] ? jp[2] : g->n[2] - 1]};
+                                pos[d] = g->xn[d][q];
+                                double vel[3], kk, ee;
+                                inflow_at(s, pos, vel, &kk, &ee);
+                                v = vel[d];
+                            } else if (s->cfg.bc[f].type == CFD_BC_OUTLET) {
+                                v = u[c];
+                            }
+                        }
+                    }
+                    s->uf[d][fi] = v;
+                }
+    }
+}
+
+void cfd_solver_init_inflow(cfd_solver *s)
+{
+    const cfd_grid *g = s->g;
+    int has_inlet = 0;
+    for (int f = 0; f < CFD_NFACES; f++)
+        has_inlet |= s->cfg.bc[f].type == CFD_BC_INLET;
+    #pragma omp parallel for schedule(static)
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++) {
+                size_t c = CFD_IDX(g, i, j, k);
+                double pos[3] = {g->xc[0][i], g->xc[1][j], g->xc[2][k]};
+                double vel[3], kk, ee;
+                inflow_at(s, pos, vel, &kk, &ee);
+                if (!has_inlet)
+                    vel[0] = vel[1] = vel[2] = 0.0;
+                if (g->solid[c])
+                    vel[0] = vel[1] = vel[2] = 0.0;
+                for (int d = 0; d < 3; d++)
+                    s->var[CFD_VAR_U + d][c] = vel[d];
+                s->var[CFD_VAR_P][c] = 0.0;
+                s->var[CFD_VAR_K][c] = kk;
+                s->var[CFD_VAR_EPS][c] = ee;
+                s->var[CFD_VAR_NUT][c] =
+                    (s->cfg.turbulence && !g->solid[c]) ? CFD_CMU * kk * kk / ee : 0.0;
+            }
+    faces_from_cells(s);
+}
+
+int cfd_solver_init_from_field(cfd_solver *s, const cfd_field *f, core_err *err)
+{
+    const cfd_grid *g = s->g;
+    cfd_solver_init_inflow(s);
+    #pragma omp parallel for schedule(static)
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++) {
+                size_t c = CFD_IDX(g, i, j, k);
+                if (g->solid[c])
+                    continue;
+                double pos[3] = {g->xc[0][i], g->xc[1][j], g->xc[2][k]}, out[CFD_NVARS];
+                cfd_field_sample(f, pos, out);
+                for (int v = 0; v < CFD_NVARS; v++)
+                    s->var[v][c] = out[v];
+                if (!(s->var[CFD_VAR_K][c] > 1e-12))
+                    s->var[CFD_VAR_K][c] = 1e-12;
+                if (!(s->var[CFD_VAR_EPS][c] > 1e-12))
+                    s->var[CFD_VAR_EPS][c] = 1e-12;
+                if (!s->cfg.turbulence)
+                    s->var[CFD_VAR_NUT][c] = 0.0;
+            }
+    faces_from_cells(s);
+    if (cfd_solver_has_nan(s))
+        return core_err_set(err, -1, "cfd warm start: the field gives NaN values");
+    return 0;
+}
+
+int cfd_solver_has_nan(const cfd_solver *s)
+{
+    int bad = 0;
+    for (int v = 0; v < CFD_NVARS; v++) {
+        const double *a = s->var[v];
+        #pragma omp parallel for reduction(| : bad) schedule(static)
+        for (size_t c = 0; c < s->g->ncell; c++)
+            bad |= !isfinite(a[c]);
+    }
+    return bad;
+}
+
+/* ----------------------------------------------------- cell gradients */
+/* Face value of phi across face f of cell c for the gradient: neighbour
+ * interpolation, the wall or inlet value, or the cell value. */
+static inline double face_value(const cfd_solver *s, const double *phi, int var, const int ijk[3], int f,
+                                size_t c)
+{
+    const cfd_grid *g = s->g;
+    size_t cn = 0;
+    int kind = nb_kind(s, ijk, f, c, &cn);
+    int d = f >> 1;
+    switch (kind) {
+    case NB_FLUID: {
+        int q = ijk[d] + ((f & 1) ? 1 : -1);
+        double xf = g->xn[d][ijk[d] + (f & 1)];
+        double w = (xf - g->xc[d][ijk[d]]) / (g->xc[d][q] - g->xc[d][ijk[d]]);
+        return (1.0 - w) * phi[c] + w * phi[cn];
+    }
+    case NB_WALL:
+        if (var >= CFD_VAR_U && var <= CFD_VAR_W)
+            return wall_vel(s, ijk, f)[var - CFD_VAR_U];
+        return phi[c];
+    case NB_INLET:
+        if (var >= CFD_VAR_U && var <= CFD_VAR_W) {
+            double pos[3] = {g->xc[0][ijk[0]], g->xc[1][ijk[1]], g->xc[2][ijk[2]]}, vel[3], kk, ee;
+            pos[d] = g->xn[d][ijk[d] + (f & 1)];
+            inflow_at(s, pos, vel, &kk, &ee);
+            return vel[var - CFD_VAR_U];
+        }
+        return phi[c];
+    case NB_OUTLET:
+        if (var == CFD_VAR_P)
+            return 0.0;
+        return phi[c];
+    default:
+        if (var - CFD_VAR_U == d)
+            return 0.0;
+        return phi[c];
+    }
+}
+
+static inline double grad_dir(const cfd_solver *s, const double *phi, int var, const int ijk[3], int d,
+                              size_t c)
+{
+    double hi = face_value(s, phi, var, ijk, 2 * d + 1, c);
+    double lo = face_value(s, phi, var, ijk, 2 * d, c);
+    return (hi - lo) / s->g->h[d][ijk[d]];
+}
+
+/* ------------------------------------------------------------ assembly */
+static inline double vanleer(double r) { return (r + fabs(r)) / (1.0 + fabs(r)); }
+
+/* Deferred-correction flux F (phi_HO - phi_C) of the face between c and its
+ * neighbour cn across f, with F the outward flux from c. */
+static inline double tvd_correction(const cfd_solver *s, const double *phi, const int ijk[3], int f, size_t c,
+                                    size_t cn, double F)
+{
+    const cfd_grid *g = s->g;
+    int d = f >> 1, plus = f & 1;
+    size_t st = d == 0 ? 1 : d == 1 ? (size_t)g->n[0] : (size_t)g->n[0] * g->n[1];
+    size_t cc, cd, cu;
+    int qu;
+    if (F >= 0.0) {
+        cc = c, cd = cn;
+        qu = ijk[d] + (plus ? -1 : 1);
+        cu = plus ? c - st : c + st;
+    } else {
+        cc = cn, cd = c;
+        qu = ijk[d] + (plus ? 2 : -2);
+        cu = plus ? cn + st : cn - st;
+    }
+    double pc = phi[cc], pd = phi[cd];
+    double delta = pd - pc;
+    if (qu < 0 || qu >= g->n[d] || g->solid[cu] || fabs(delta) < 1e-30)
+        return 0.0;
+    double r = (pc - phi[cu]) / delta;
+    return F * 0.5 * vanleer(r) * delta;
+}
+
+typedef struct wallinfo {
+    int nwall;
+    double pk_sum, ymin;
+} wallinfo;
+
+/* Assemble a_nb, a_P, b for var (U, V, W, K, EPS) with relaxation alpha. */
+static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
+{
+    const cfd_grid *g = s->g;
+    const cfd_config *cfg = &s->cfg;
+    const double nu = cfg->nu_m2ps, rho = cfg->rho_kgpm3;
+    const double *phi = s->var[var];
+    const double *nut = s->var[CFD_VAR_NUT];
+    const double *kk = s->var[CFD_VAR_K], *ee = s->var[CFD_VAR_EPS];
+    const double sigma = var == CFD_VAR_K ? CFD_SIGMA_K : var == CFD_VAR_EPS ? CFD_SIGMA_E : 1.0;
+    const int mom = var <= CFD_VAR_W;
+    const int comp = var - CFD_VAR_U;
+    const int turb = cfg->turbulence;
+    #pragma omp parallel for schedule(static)
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++) {
+                int ijk[3] = {i, j, k};
+                size_t c = CFD_IDX(g, i, j, k);
+                if (g->solid[c]) {
+                    for (int f = 0; f < 6; f++)
+                        s->a[f][c] = 0.0;
+                    s->ap[c] = 1.0;
+                    s->b[c] = phi[c];
+                    continue;
+                }
+                double V = g->h[0][i] * g->h[1][j] * g->h[2][k];
+                double ap = 0.0, bb = 0.0, anb = 0.0;
+                int nwall = 0;
+                double pkw = 0.0, ymin = 1e300;
+                for (int f = 0; f < 6; f++) {
+                    int d = f >> 1, plus = f & 1;
+                    double A = face_area(g, d, ijk);
+                    int q = ijk[d] + (plus ? 1 : -1);
+                    size_t fi = plus ? (d == 0 ? fidx(g, 0, i + 1, j, k) : d == 1 ? fidx(g, 1, i, j + 1, k) : fidx(g, 2, i, j, k + 1))
+                                     : fidx(g, d, i, j, k);
+                    double F = (plus ? 1.0 : -1.0) * s->uf[d][fi] * A;
+                    size_t cn = 0;
+                    int kind = nb_kind(s, ijk, f, c, &cn);
+                    double a_f = 0.0;
+                    if (kind == NB_FLUID) {
+                        double dist = fabs(g->xc[d][q] - g->xc[d][ijk[d]]);
+                        double gam = nu + (turb ? 0.5 * (nut[c] + nut[cn]) / sigma : 0.0);
+                        a_f = gam * A / dist + fmax(-F, 0.0);
+                        if (cfg->second_order)
+                            bb -= tvd_correction(s, phi, ijk, f, c, cn, F);
+                        anb += a_f;
+                    } else if (kind == NB_WALL) {
+                        double y = 0.5 * g->h[d][ijk[d]];
+                        if (mom && comp != d) {
+                            double nuw = turb ? cfd_wall_nu(nu, kk[c], y) : nu;
+                            double cw = nuw * A / y;
+                            ap += cw;
+                            bb += cw * wall_vel(s, ijk, f)[comp];
+                        }
+                        if (turb && var == CFD_VAR_K) {
+                            /* P_k = tau_w u* / (kappa y) from the log law */
+                            const double *uw = wall_vel(s, ijk, f);
+                            double ut2 = 0.0;
+                            for (int e = 0; e < 3; e++)
+                                if (e != d) {
+                                    double du = s->var[CFD_VAR_U + e][c] - uw[e];
+                                    ut2 += du * du;
+                                }
+                            double up = sqrt(ut2);
+                            double nuw = cfd_wall_nu(nu, kk[c], y);
+                            double us = pow(CFD_CMU, 0.25) * sqrt(fmax(kk[c], 0.0));
+                            double tau = nuw * up / y;
+                            pkw += tau * us / (CFD_KAPPA * y);
+                        }
+                        nwall++;
+                        if (y < ymin)
+                            ymin = y;
+                    } else if (kind == NB_INLET) {
+                        double pos[3] = {g->xc[0][i], g->xc[1][j], g->xc[2][k]}, vel[3], ki, ei;
+                        pos[d] = g->xn[d][ijk[d] + plus];
+                        inflow_at(s, pos, vel, &ki, &ei);
+                        double val = mom ? vel[comp] : var == CFD_VAR_K ? ki : ei;
+                        double gam = nu + (turb ? nut[c] / sigma : 0.0);
+                        double cb = gam * A / (0.5 * g->h[d][ijk[d]]) + fmax(-F, 0.0);
+                        ap += cb;
+                        bb += cb * val;
+                    } else if (kind == NB_OUTLET) {
+                        if (F < 0.0 && !mom) {
+                            double pos[3] = {g->xc[0][i], g->xc[1][j], g->xc[2][k]}, vel[3], ki, ei;
+                            inflow_at(s, pos, vel, &ki, &ei);
+                            ap += -F;
+                            bb += -F * (var == CFD_VAR_K ? ki : ei);
+                        }
+                    } else { /* symmetry */
+                        if (mom && comp == d) {
+                            double gam = nu + (turb ? nut[c] : 0.0);
+                            ap += gam * A / (0.5 * g->h[d][ijk[d]]);
+                        }
+                    }
+                    s->a[f][c] = a_f;
+                }
+                ap += anb;
+                if (mom) {
+                    bb -= V / rho * grad_dir(s, s->var[CFD_VAR_P], CFD_VAR_P, ijk, comp, c);
+                    if (s->disk_f[comp])
+                        bb += s->disk_f[comp][c] / rho;
+                } else {
+                    double kc = fmax(kk[c], 1e-30), ec = fmax(ee[c], 1e-30);
+                    double P = pk[c];
+                    if (nwall)
+                        P = pkw / nwall;
+                    /* production limiter P_k <= 10 eps (Menter 1994): keeps k
+                     * from running away while eps is still small (jets,
+                     * stagnation points) */
+                    if (P > 10.0 * ec)
+                        P = 10.0 * ec;
+                    if (var == CFD_VAR_K) {
+                        bb += P * V;
+                        ap += ec / kc * V;
+                    } else {
+                        double S = sqrt(fmax(pk[c], 0.0) / fmax(nut[c], 1e-30));
+                        double eta = S * kc / ec;
+                        double c2s = cfd_rng_c2star(eta);
+                        bb += CFD_C1 * ec / kc * P * V;
+                        if (c2s > 0.0)
+                            ap += c2s * ec / kc * V;
+                        else
+                            bb += -c2s * ec * ec / kc * V;
+                    }
+                }
+                if (var == CFD_VAR_EPS && nwall) {
+                    /* eps fixed in a wall cell by the log law */
+                    for (int f = 0; f < 6; f++)
+                        s->a[f][c] = 0.0;
+                    s->ap[c] = 1.0;
+                    s->b[c] = pow(CFD_CMU, 0.75) * pow(fmax(kk[c], 0.0), 1.5) / (CFD_KAPPA * ymin);
+                    continue;
+                }
+                double apr = ap / alpha;
+                bb += (apr - ap) * phi[c];
+                s->ap[c] = apr;
+                s->b[c] = bb;
+                if (mom) {
+                    if (comp == 0)
+                        s->apsum[c] = 0.0, s->anbsum[c] = 0.0;
+                    s->apsum[c] += apr;
+                    s->anbsum[c] += anb;
+                }
+            }
+}
+
+/* Residual sum |a_P phi - sum a_nb phi_nb - b| over fluid cells. */
+static double residual(const cfd_solver *s, const double *phi)
+{
+    const cfd_grid *g = s->g;
+    size_t st[3];
+    strides(g, st);
+    double sum = 0.0;
+    #pragma omp parallel for reduction(+ : sum) schedule(static)
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++) {
+                size_t c = CFD_IDX(g, i, j, k);
+                if (g->solid[c])
+                    continue;
+                double r = s->b[c] - s->ap[c] * phi[c];
+                if (i > 0)
+                    r += s->a[0][c] * phi[c - 1];
+                if (i + 1 < g->n[0])
+                    r += s->a[1][c] * phi[c + 1];
+                if (j > 0)
+                    r += s->a[2][c] * phi[c - st[1]];
+                if (j + 1 < g->n[1])
+                    r += s->a[3][c] * phi[c + st[1]];
+                if (k > 0)
+                    r += s->a[4][c] * phi[c - st[2]];
+                if (k + 1 < g->n[2])
+                    r += s->a[5][c] * phi[c + st[2]];
+                sum += fabs(r);
+            }
+    return sum;
+}
+
+static void gs_sweeps(cfd_solver *s, double *phi, int sweeps, double floor)
+{
+    const cfd_grid *g = s->g;
+    size_t st[3];
+    strides(g, st);
+    for (int it = 0; it < 2 * sweeps; it++) {
+        int colour = it & 1;
+        #pragma omp parallel for schedule(static)
+        for (int k = 0; k < g->n[2]; k++)
+            for (int j = 0; j < g->n[1]; j++)
+                for (int i = (j + k + colour) & 1; i < g->n[0]; i += 2) {
+                    size_t c = CFD_IDX(g, i, j, k);
+                    if (g->solid[c])
+                        continue;
+                    double r = s->b[c];
+                    if (i > 0)
+                        r += s->a[0][c] * phi[c - 1];
+                    if (i + 1 < g->n[0])
+                        r += s->a[1][c] * phi[c + 1];
+                    if (j > 0)
+                        r += s->a[2][c] * phi[c - st[1]];
+                    if (j + 1 < g->n[1])
+                        r += s->a[3][c] * phi[c + st[1]];
+                    if (k > 0)
+                        r += s->a[4][c] * phi[c - st[2]];
+                    if (k + 1 < g->n[2])
+                        r += s->a[5][c] * phi[c + st[2]];
+                    double v = r / s->ap[c];
+                    phi[c] = v > floor ? v : floor;
+                }
+    }
+}
+
+/* Production P_k = nu_t S^2 into pk (the pressure-correction array, free
+ * after the pressure step). */
+static void turbulence_prepare(cfd_solver *s, double *pk)
+{
+    const cfd_grid *g = s->g;
+    #pragma omp parallel for schedule(static)
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++) {
+                int ijk[3] = {i, j, k};
+                size_t c = CFD_IDX(g, i, j, k);
+                if (g->solid[c]) {
+                    pk[c] = 0.0;
+                    continue;
+                }
+                double gr[3][3];
+                for (int a = 0; a < 3; a++)
+                    for (int d = 0; d < 3; d++)
+                        gr[a][d] = g->n[d] > 1 ? grad_dir(s, s->var[CFD_VAR_U + a], CFD_VAR_U + a, ijk, d, c) : 0.0;
+                double s2 = 0.0;
+                for (int a = 0; a < 3; a++)
+                    for (int d = 0; d < 3; d++) {
+                        double sij = 0.5 * (gr[a][d] + gr[d][a]);
+                        s2 += 2.0 * sij * sij;
+                    }
+                pk[c] = s->var[CFD_VAR_NUT][c] * s2;
+            }
+}
+
+static void update_nut(cfd_solver *s)
+{
+    const cfd_grid *g = s->g;
+    const double numax = 1e5 * s->cfg.nu_m2ps;
+    #pragma omp parallel for schedule(static)
+    for (size_t c = 0; c < g->ncell; c++) {
+        if (g->solid[c]) {
+            s->var[CFD_VAR_NUT][c] = 0.0;
+            continue;
+        }
+        double kc = s->var[CFD_VAR_K][c], ec = s->var[CFD_VAR_EPS][c];
+        double nt = CFD_CMU * kc * kc / fmax(ec, 1e-30);
+        s->var[CFD_VAR_NUT][c] = nt < numax ? nt : numax;
+    }
+}
+
+/* Rhie-Chow face velocities after the momentum solve. */
+static void rhie_chow(cfd_solver *s)
+{
+    const cfd_grid *g = s->g;
+    const double rho = s->cfg.rho_kgpm3;
+    const double *p = s->var[CFD_VAR_P];
+    for (int d = 0; d < 3; d++) {
+        const double *u = s->var[CFD_VAR_U + d];
+        #pragma omp parallel for schedule(static)
+        for (int k = 0; k < g->n[2] + (d == 2); k++)
+            for (int j = 0; j < g->n[1] + (d == 1); j++)
+                for (int i = 0; i < g->n[0] + (d == 0); i++) {
+                    int jf[3] = {i, j, k};
+                    size_t fi = fidx(g, d, i, j, k);
+                    int q = jf[d];
+                    int jm[3] = {i, j, k}, jp[3] = {i, j, k};
+                    jm[d] = q - 1;
+                    int inm = q - 1 >= 0, inp = q < g->n[d];
+                    size_t cm = inm ? CFD_IDX(g, jm[0], jm[1], jm[2]) : 0;
+                    size_t cp = inp ? CFD_IDX(g, jp[0], jp[1], jp[2]) : 0;
+                    if (inm && inp) {
+                        if (g->solid[cm] || g->solid[cp]) {
+                            s->uf[d][fi] = 0.0;
+                            continue;
+                        }
+                        double dist = g->xc[d][q] - g->xc[d][q - 1];
+                        double w = (g->xn[d][q] - g->xc[d][q - 1]) / dist;
+                        double gm = grad_dir(s, p, CFD_VAR_P, jm, d, cm);
+                        double gp = grad_dir(s, p, CFD_VAR_P, jp, d, cp);
+                        double df = (1.0 - w) * s->drc[cm] + w * s->drc[cp];
+                        s->uf[d][fi] = (1.0 - w) * u[cm] + w * u[cp] +
+                                       df / rho * (((1.0 - w) * gm + w * gp) - (p[cp] - p[cm]) / dist);
+                    } else {
+                        int f = 2 * d + (inp ? 0 : 1);
+                        size_t c = inp ? cp : cm;
+                        int *jc = inp ? jp : jm;
+                        if (g->solid[c] || s->cfg.bc[f].type == CFD_BC_WALL ||
+                            s->cfg.bc[f].type == CFD_BC_SYMMETRY) {
+                            s->uf[d][fi] = 0.0;
+                        } else if (s->cfg.bc[f].type == CFD_BC_OUTLET) {
+                            double gc = grad_dir(s, p, CFD_VAR_P, jc, d, c);
+                            double half = 0.5 * g->h[d][jc[d]];
+                            double gf = inp ? (p[c] - 0.0) / half : (0.0 - p[c]) / half;
+                            s->uf[d][fi] = u[c] + s->drc[c] / rho * (gc - gf);
+                        } /* inlet faces keep their prescribed value */
+                    }
+                }
+    }
+}
+
+/* SIMPLEC pressure correction; returns the continuity residual (before). */
+static double pressure_correction(cfd_solver *s)
+{
+    const cfd_grid *g = s->g;
+    const double rho = s->cfg.rho_kgpm3;
+    double *cx = cfd_mg_cx(s->mg), *cy = cfd_mg_cy(s->mg), *cz = cfd_mg_cz(s->mg),
+           *dg = cfd_mg_diag(s->mg);
+    double *rhs = s->b;
+    double cont = 0.0;
+    #pragma omp parallel for reduction(+ : cont) schedule(static)
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++) {
+                int ijk[3] = {i, j, k};
+                size_t c = CFD_IDX(g, i, j, k);
+                double *cc[3] = {cx, cy, cz};
+                if (g->solid[c]) {
+                    cx[c] = cy[c] = cz[c] = dg[c] = 0.0;
+                    rhs[c] = 0.0;
+                    continue;
+                }
+                double diag = 0.0, imb = 0.0;
+                for (int f = 0; f < 6; f++) {
+                    int d = f >> 1, plus = f & 1;
+                    double A = face_area(g, d, ijk);
+                    size_t fi = plus ? (d == 0 ? fidx(g, 0, i + 1, j, k) : d == 1 ? fidx(g, 1, i, j + 1, k) : fidx(g, 2, i, j, k + 1))
+                                     : fidx(g, d, i, j, k);
+                    imb += (plus ? 1.0 : -1.0) * s->uf[d][fi] * A;
+                    size_t cn = 0;
+                    int kind = nb_kind(s, ijk, f, c, &cn);
+                    double coef = 0.0;
+                    if (kind == NB_FLUID) {
+                        int q = ijk[d] + (plus ? 1 : -1);
+                        double dist = fabs(g->xc[d][q] - g->xc[d][ijk[d]]);
+                        double w = fabs(g->xn[d][ijk[d] + plus] - g->xc[d][ijk[d]]) / dist;
+                        double df = (1.0 - w) * s->dc[c] + w * s->dc[cn];
+                        coef = df * A / (rho * dist);
+                        if (plus)
+                            cc[d][c] = coef;
+                    } else if (kind == NB_OUTLET) {
+                        coef = s->dc[c] * A / (rho * 0.5 * g->h[d][ijk[d]]);
+                    }
+                    if (plus && kind != NB_FLUID)
+                        cc[d][c] = 0.0;
+                    diag += coef;
+                }
+                dg[c] = diag;
+                rhs[c] = -imb;
+                cont += fabs(imb);
+            }
+    cfd_mg_setup(s->mg, s->singular);
+    if (s->singular) {
+        double sum = 0.0, cnt = 0.0;
+        #pragma omp parallel for reduction(+ : sum, cnt) schedule(static)
+        for (size_t c = 0; c < g->ncell; c++)
+            if (!g->solid[c])
+                sum += rhs[c], cnt += 1.0;
+        double mean = cnt > 0.0 ? sum / cnt : 0.0;
+        #pragma omp parallel for schedule(static)
+        for (size_t c = 0; c < g->ncell; c++)
+            if (!g->solid[c])
+                rhs[c] -= mean;
+    }
+    memset(s->pp, 0, g->ncell * sizeof(double));
+    double rel;
+    /* an inexact inner solve is enough for SIMPLEC: the outer iterations
+     * converge the pressure */
+    cfd_mg_solve(s->mg, s->pp, rhs, 2e-2, 30, &rel);
+    /* correct face velocities */
+    const double *pp = s->pp;
+    for (int d = 0; d < 3; d++) {
+        #pragma omp parallel for schedule(static)
+        for (int k = 0; k < g->n[2] + (d == 2); k++)
+            for (int j = 0; j < g->n[1] + (d == 1); j++)
+                for (int i = 0; i < g->n[0] + (d == 0); i++) {
+                    int jf[3] = {i, j, k};
+                    int q = jf[d];
+                    size_t fi = fidx(g, d, i, j, k);
+                    int jm[3] = {i, j, k};
+                    jm[d] = q - 1;
+                    int inm = q - 1 >= 0, inp = q < g->n[d];
+                    size_t cm = inm ? CFD_IDX(g, jm[0], jm[1], jm[2]) : 0;
+                    size_t cp = inp ? CFD_IDX(g, jf[0], jf[1], jf[2]) : 0;
+                    if (inm && inp) {
+                        if (g->solid[cm] || g->solid[cp])
+                            continue;
+                        double dist = g->xc[d][q] - g->xc[d][q - 1];
+                        double w = (g->xn[d][q] - g->xc[d][q - 1]) / dist;
+                        double df = (1.0 - w) * s->dc[cm] + w * s->dc[cp];
+                        s->uf[d][fi] -= df / rho * (pp[cp] - pp[cm]) / dist;
+                    } else {
+                        int f = 2 * d + (inp ? 0 : 1);
+                        size_t c = inp ? cp : cm;
+                        int qc = inp ? q : q - 1;
+                        if (g->solid[c] || s->cfg.bc[f].type != CFD_BC_OUTLET)
+                            continue;
+                        double half = 0.5 * g->h[d][qc];
+                        double gf = inp ? (pp[c] - 0.0) / half : (0.0 - pp[c]) / half;
+                        s->uf[d][fi] -= s->dc[c] / rho * gf;
+                    }
+                }
+    }
+    /* correct cell velocities and pressure */
+    const double ap_ = s->relax[1];
+    #pragma omp parallel for schedule(static)
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++) {
+                int ijk[3] = {i, j, k};
+                size_t c = CFD_IDX(g, i, j, k);
+                if (g->solid[c])
+                    continue;
+                for (int d = 0; d < 3; d++)
+                    s->var[CFD_VAR_U + d][c] -= s->dc[c] / rho * grad_dir(s, pp, CFD_VAR_P, ijk, d, c);
+            }
+    #pragma omp parallel for schedule(static)
+    for (size_t c = 0; c < g->ncell; c++)
+        if (!g->solid[c])
+            s->var[CFD_VAR_P][c] += ap_ * pp[c];
+    return cont;
+}
+
+/* -------------------------------------------------------------- sampling */
+int cfd_solver_sample(const cfd_solver *s, const double pos[3], double out[CFD_NVARS])
+{
+    cfd_sample_arrays(s->g, (double *const *)s->var, CFD_NVARS, pos, out);
+    int outside = 0;
+    for (int d = 0; d < 3; d++)
+        outside |= pos[d] < s->g->xn[d][0] || pos[d] > s->g->xn[d][s->g->n[d]];
+    return outside;
+}
+
+/* ------------------------------------------------------------------ run */
+static int push_hist(cfd_solver *s, const double r[HIST_COLS])
+{
+    if (s->nhist == s->caphist) {
+        int cap = s->caphist ? 2 * s->caphist : 256;
+        double *h = realloc(s->hist, (size_t)cap * HIST_COLS * sizeof(double));
+        if (!h)
+            return -1;
+        s->hist = h;
+        s->caphist = cap;
+    }
+    memcpy(s->hist + (size_t)s->nhist * HIST_COLS, r, HIST_COLS * sizeof(double));
+    s->nhist++;
+    return 0;
+}
+
+static void snapshot(cfd_solver *s, int save)
+{
+    for (int v = 0; v < NSNAP; v++) {
+        if (save)
+            memcpy(s->snap[v], s->var[v], s->g->ncell * sizeof(double));
+        else
+            memcpy(s->var[v], s->snap[v], s->g->ncell * sizeof(double));
+    }
+    if (!save) {
+        update_nut(s);
+        if (!s->cfg.turbulence)
+            memset(s->var[CFD_VAR_NUT], 0, s->g->ncell * sizeof(double));
+        faces_from_cells(s);
+    }
+}
+
+/* One SIMPLEC iteration; r gets the raw residuals. */
+static void iterate(cfd_solver *s, double r[HIST_COLS])
+{
+    const double au = s->relax[0], at = s->relax[2];
+    for (int d = 0; d < 3; d++) {
+        if (s->g->n[d] == 1) { /* a 2-D case: no velocity across the single layer */
+            r[1 + d] = 0.0;
+            if (d == 0) {
+                #pragma omp parallel for schedule(static)
+                for (size_t c = 0; c < s->g->ncell; c++)
+                    s->apsum[c] = s->anbsum[c] = 0.0;
+            }
+            continue;
+        }
+        assemble(s, CFD_VAR_U + d, au, NULL);
+        r[1 + d] = residual(s, s->var[CFD_VAR_U + d]);
+        gs_sweeps(s, s->var[CFD_VAR_U + d], 2, -1e300);
+    }
+    const cfd_grid *g = s->g;
+    int ncomp = (g->n[0] > 1) + (g->n[1] > 1) + (g->n[2] > 1);
+    #pragma omp parallel for schedule(static)
+    for (size_t c = 0; c < g->ncell; c++) {
+        if (g->solid[c]) {
+            s->drc[c] = s->dc[c] = 0.0;
+            continue;
+        }
+        double V = g->h[0][c % g->n[0]] * g->h[1][(c / g->n[0]) % g->n[1]] * g->h[2][c / ((size_t)g->n[0] * g->n[1])];
+        double apm = s->apsum[c] / ncomp, anb = s->anbsum[c] / ncomp;
+        s->drc[c] = V / apm;
+        s->dc[c] = V / fmax(apm - anb, 1e-3 * apm);
+    }
+    rhie_chow(s);
+    r[0] = pressure_correction(s);
+    if (s->cfg.turbulence) {
+        double *pk = s->pp; /* scratch */
+        turbulence_prepare(s, pk);
+        assemble(s, CFD_VAR_K, at, pk);
+        r[4] = residual(s, s->var[CFD_VAR_K]);
+        gs_sweeps(s, s->var[CFD_VAR_K], 2, 1e-14 * s->cfg.u_ref_mps * s->cfg.u_ref_mps);
+        assemble(s, CFD_VAR_EPS, at, pk);
+        gs_sweeps(s, s->var[CFD_VAR_EPS], 2, 1e-20);
+        update_nut(s);
+    } else {
+        r[4] = 0.0;
+    }
+}
+
+static double max_speed(const cfd_solver *s)
+{
+    double m = 0.0;
+    const double *u = s->var[0], *v = s->var[1], *w = s->var[2];
+    #pragma omp parallel for reduction(max : m) schedule(static)
+    for (size_t c = 0; c < s->g->ncell; c++) {
+        double q = u[c] * u[c] + v[c] * v[c] + w[c] * w[c];
+        if (!(q <= 1e300))
+            q = 1e300;
+        if (q > m)
+            m = q;
+    }
+    return sqrt(m);
+}
+
+int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
+{
+    const cfd_config *cfg = &s->cfg;
+    double t0 = now_s();
+    memset(res, 0, sizeof *res);
+    s->relax[0] = cfg->relax_u;
+    s->relax[1] = cfg->relax_p;
+    s->relax[2] = cfg->relax_turb;
+    snapshot(s, 1);
+    size_t nfluid = cfd_grid_fluid_cells(s->g);
+    int total_iter = 0;
+    for (int attempt = 0; attempt <= cfg->max_retries; attempt++) {
+        if (attempt > 0) {
+            for (int q = 0; q < 3; q++)
+                s->relax[q] *= 0.6;
+            core_log_msg(cfg->log, CORE_LOG_WARN,
+                         "cfd: diverged; retry %d from the initial state with under-relaxation "
+                         "u %.2f p %.2f turb %.2f",
+                         attempt, s->relax[0], s->relax[1], s->relax[2]);
+            snapshot(s, 0);
+            s->nhist = 0;
+            res->retries = attempt;
+        }
+        double mon_prev[CFD_MAX_MONITOR][3];
+        int have_mon = 0, mon_ok = cfg->n_monitor == 0;
+        double rmax[HIST_COLS] = {0};
+        int diverged = 0, stop = 0;
+        int it;
+        for (it = 1; it <= cfg->max_iter; it++) {
+            double r[HIST_COLS];
+            iterate(s, r);
+            total_iter++;
+            int bad = 0;
+            for (int q = 0; q < HIST_COLS; q++)
+                bad |= !isfinite(r[q]);
+            double rn[HIST_COLS], worst = 0.0;
+            for (int q = 0; q < HIST_COLS; q++) {
+                if (it <= 5 && r[q] > rmax[q])
+                    rmax[q] = r[q];
+                rn[q] = rmax[q] > 0.0 ? r[q] / rmax[q] : 0.0;
+                if (rn[q] > worst)
+                    worst = rn[q];
+            }
+            if (push_hist(s, rn)) {
+                return core_err_set(err, -2, "cfd: out of memory for the residual history");
+            }
+            if (bad || worst > 1e4 || (it % 10 == 0 && max_speed(s) > 100.0 * cfg->u_ref_mps)) {
+                diverged = 1;
+                break;
+            }
+            if (cfg->n_monitor && it % cfg->monitor_every == 0) {
+                double dmax = 0.0;
+                for (int m = 0; m < cfg->n_monitor; m++) {
+                    double out[CFD_NVARS];
+                    cfd_solver_sample(s, cfg->monitor_m[m], out);
+                    for (int d = 0; d < 3; d++) {
+                        if (have_mon)
+                            dmax = fmax(dmax, fabs(out[d] - mon_prev[m][d]));
+                        mon_prev[m][d] = out[d];
+                    }
+                }
+                mon_ok = have_mon && dmax < cfg->tol_monitor * cfg->u_ref_mps;
+                if (have_mon)
+                    res->monitor_change = dmax / cfg->u_ref_mps;
+                have_mon = 1;
+            }
+            for (int q = 0; q < HIST_COLS; q++)
+                res->residual[q] = rn[q];
+            if (cfg->progress && cfg->progress(cfg->progress_user, it, cfg->max_iter, worst, now_s() - t0)) {
+                stop = 1;
+                break;
+            }
+            if (it > 5 && worst < cfg->tol_residual && mon_ok) {
+                res->converged = 1;
+                break;
+            }
+        }
+        res->iterations = it > cfg->max_iter ? cfg->max_iter : it;
+        if (!diverged) {
+            res->wall_s = now_s() - t0;
+            res->cell_updates = (double)nfluid * total_iter;
+            core_log_msg(cfg->log, CORE_LOG_INFO,
+                         "cfd: %s after %d iterations, %.1f s, residuals %.2e %.2e %.2e %.2e %.2e, "
+                         "monitor change %.2f %% of u_ref",
+                         res->converged ? "converged" : stop ? "stopped" : "iteration limit",
+                         res->iterations, res->wall_s, res->residual[0], res->residual[1],
+                         res->residual[2], res->residual[3], res->residual[4], 100.0 * res->monitor_change);
+            return res->converged ? 0 : 1;
+        }
+    }
+    res->wall_s = now_s() - t0;
+    snapshot(s, 0); /* never leave a NaN state behind */
+    return core_err_set(err, -3,
+                        "cfd: the solution diverged (NaN or growing residuals) after %d retries "
+                        "with under-relaxation down to u %.2f p %.2f; try a finer or smoother grid, "
+                        "or a warm start",
+                        cfg->max_retries, s->relax[0], s->relax[1]);
+}

@@ -1,0 +1,337 @@
+/* test_cfd_core.c -- grid stretching, ship blocking, WOD boundary faces,
+ * actuator-disk exactness, pressure solver, HDF5 round trip, NaN refusal. */
+#include "cfd.h"
+#include "check.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static void test_axis(void)
+{
+    core_err err;
+    cfd_axis_spec a = {-100.0, 50.0, -10.0, 10.0, 0.5, 5.0, 1.1};
+    double *x;
+    int n;
+    CHECK(cfd_axis_build(&a, &x, &n, &err) == 0);
+    CHECK_NEAR(x[0], -100.0, 1e-9);
+    CHECK_NEAR(x[n], 50.0, 1e-9);
+    int mono = 1, fine = 0;
+    double hmax = 0.0, ratio = 1.0;
+    for (int i = 0; i < n; i++) {
+        double h = x[i + 1] - x[i];
+        mono &= h > 0.0;
+        if (x[i] >= -10.0 - 1e-9 && x[i + 1] <= 10.0 + 1e-9) {
+            fine++;
+            CHECK_NEAR(h, 0.5, 1e-9);
+        }
+        if (h > hmax)
+            hmax = h;
+        if (i > 0)
+            ratio = fmax(ratio, fmax(h / (x[i] - x[i - 1]), (x[i] - x[i - 1]) / h));
+    }
+    CHECK(mono);
+    CHECK(fine == 40);
+    CHECK(hmax <= 5.0 * 1.2); /* scaled to fit the end */
+    CHECK(ratio < 1.25);
+    free(x);
+    cfd_axis_spec bad = {1.0, 0.0, 0.0, 0.0, 0.1, 1.0, 1.1};
+    CHECK(cfd_axis_build(&bad, &x, &n, &err) < 0);
+    CHECK(strstr(err.msg, "lo < hi") != NULL);
+}
+
+static void test_ship_and_wod(void)
+{
+    core_ship ship;
+    core_err err;
+    CHECK(core_ship_load("scenarios/ships/sfs2.ini", &ship, &err) == 0);
+    struct {
+        double dir_deg;
+        int xmin, xmax, ymin, ymax;
+    } cases[] = {
+        {0.0, CFD_BC_OUTLET, CFD_BC_INLET, CFD_BC_SYMMETRY, CFD_BC_SYMMETRY},
+        {-30.0, CFD_BC_OUTLET, CFD_BC_INLET, CFD_BC_INLET, CFD_BC_OUTLET},
+        {30.0, CFD_BC_OUTLET, CFD_BC_INLET, CFD_BC_OUTLET, CFD_BC_INLET},
+        {90.0, CFD_BC_SYMMETRY, CFD_BC_SYMMETRY, CFD_BC_OUTLET, CFD_BC_INLET},
+        {180.0, CFD_BC_INLET, CFD_BC_OUTLET, CFD_BC_SYMMETRY, CFD_BC_SYMMETRY},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        cfd_airwake_spec sp;
+        memset(&sp, 0, sizeof sp);
+        sp.ship = &ship;
+        sp.wod_speed_mps = 10.0;
+        sp.wod_dir_rad = cases[i].dir_deg * CORE_DEG_TO_RAD;
+        sp.level = CFD_GRID_COARSE;
+        sp.h_fine_m = 4.0;
+        sp.monitor_z_m = -6.8;
+        cfd_solver *s = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
+        CHECK(s != NULL);
+        if (!s)
+            continue;
+        const cfd_config *c = cfd_solver_config(s);
+        CHECK(c->bc[CFD_XMIN].type == (cfd_bc_type)cases[i].xmin);
+        CHECK(c->bc[CFD_XMAX].type == (cfd_bc_type)cases[i].xmax);
+        CHECK(c->bc[CFD_YMIN].type == (cfd_bc_type)cases[i].ymin);
+        CHECK(c->bc[CFD_YMAX].type == (cfd_bc_type)cases[i].ymax);
+        CHECK(c->bc[CFD_ZMAX].type == CFD_BC_WALL);
+        /* the ship is blocked: cells inside the hangar are solid, above are not */
+        const cfd_grid *g = cfd_solver_grid(s);
+        size_t nsolid = cfd_grid_cells(g) - cfd_grid_fluid_cells(g);
+        CHECK(nsolid > 100);
+        double in[CFD_NVARS];
+        double p_in[3] = {30.0, 0.0, -3.0}, p_out[3] = {0.0, 0.0, -3.0};
+        cfd_solver_sample(s, p_out, in);
+        CHECK_NEAR(in[0], 10.0 * -cos(sp.wod_dir_rad), 1e-9); /* initial state: the inflow */
+        int n[3];
+        cfd_grid_dims(g, n);
+        const double *xc = cfd_grid_centres(g, 0), *yc = cfd_grid_centres(g, 1), *zc = cfd_grid_centres(g, 2);
+        const unsigned char *solid = cfd_grid_solid(g);
+        int ok_in = 0, ok_out = 1;
+        for (int k = 0; k < n[2]; k++)
+            for (int j = 0; j < n[1]; j++)
+                for (int ii = 0; ii < n[0]; ii++) {
+                    core_vec3 p = core_vec3_make(xc[ii], yc[j], zc[k]);
+                    int sol = solid[ii + (size_t)n[0] * (j + (size_t)n[1] * k)];
+                    if (sol != core_ship_contains(&ship, p))
+                        ok_out = 0;
+                    if (fabs(xc[ii] - p_in[0]) < 3 && fabs(yc[j]) < 3 && fabs(zc[k] - p_in[2]) < 3 && sol)
+                        ok_in = 1;
+                }
+        CHECK(ok_in);
+        CHECK(ok_out);
+        /* The isolated-rotor case: the same grid, nothing blocked. */
+        sp.open_ship = 1;
+        cfd_solver *so = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
+        CHECK(so != NULL);
+        if (so) {
+            const cfd_grid *go = cfd_solver_grid(so);
+            int no[3];
+            cfd_grid_dims(go, no);
+            CHECK(no[0] == n[0] && no[1] == n[1] && no[2] == n[2]);
+            CHECK(cfd_grid_fluid_cells(go) == cfd_grid_cells(go));
+            cfd_solver_destroy(so);
+        }
+        cfd_solver_destroy(s);
+    }
+}
+
+static void disk_totals(const cfd_solver *s, const cfd_disk *d, double F[3], double *torque)
+{
+    const cfd_grid *g = cfd_solver_grid(s);
+    int n[3];
+    cfd_grid_dims(g, n);
+    const double *f[3] = {cfd_solver_disk_force(s, 0), cfd_solver_disk_force(s, 1), cfd_solver_disk_force(s, 2)};
+    const double *xc[3] = {cfd_grid_centres(g, 0), cfd_grid_centres(g, 1), cfd_grid_centres(g, 2)};
+    F[0] = F[1] = F[2] = 0.0;
+    *torque = 0.0;
+    core_vec3 nrm = core_vec3_make(d->normal[0], d->normal[1], d->normal[2]);
+    for (int k = 0; k < n[2]; k++)
+        for (int j = 0; j < n[1]; j++)
+            for (int i = 0; i < n[0]; i++) {
+                size_t c = i + (size_t)n[0] * (j + (size_t)n[1] * k);
+                core_vec3 fc = core_vec3_make(f[0][c], f[1][c], f[2][c]);
+                F[0] += fc.x, F[1] += fc.y, F[2] += fc.z;
+                core_vec3 r = core_vec3_make(xc[0][i] - d->centre_m[0], xc[1][j] - d->centre_m[1], xc[2][k] - d->centre_m[2]);
+                /* moment about the axis, positive counter-clockwise seen from the thrust side */
+                *torque += core_vec3_dot(core_vec3_cross(r, fc), nrm);
+            }
+}
+
+static void test_disk(void)
+{
+    core_err err;
+    cfd_axis_spec ax[3] = {{-6, 6, -1.5, 1.5, 0.2, 0.8, 1.15}, {-6, 6, -1.5, 1.5, 0.25, 0.8, 1.15}, {-5, 7, -0.7, 0.7, 0.15, 0.8, 1.15}};
+    cfd_grid *g = cfd_grid_create_spec(ax, &err);
+    CHECK(g != NULL);
+    cfd_config cfg;
+    cfd_config_default(&cfg);
+    for (int f = 0; f < CFD_NFACES; f++)
+        cfg.bc[f].type = CFD_BC_OUTLET;
+    cfd_solver *s = cfd_solver_create(g, &cfg, &err);
+    CHECK(s != NULL);
+    if (!s)
+        return;
+    /* uniform disk, tilted 10 deg nose down and 5 deg right */
+    cfd_disk d;
+    double c[3] = {0.3, -0.2, 0.1};
+    core_euler att = {5.0 * CORE_DEG_TO_RAD, -10.0 * CORE_DEG_TO_RAD, 0.0};
+    cfd_disk_from_attitude(&d, c, att, 1.2, 1000.0);
+    CHECK(cfd_solver_set_disk(s, &d, &err) == 0);
+    double F[3], Q;
+    disk_totals(s, &d, F, &Q);
+    for (int q = 0; q < 3; q++)
+        CHECK_NEAR(F[q], -1000.0 * d.normal[q], 1e-9 * 1000.0);
+    CHECK_NEAR(Q, 0.0, 1e-6 * 1000.0);
+    /* the pressure jump is uniform: the force inside r < R/2 is a quarter */
+    const cfd_grid *gg = cfd_solver_grid(s);
+    int n[3];
+    cfd_grid_dims(gg, n);
+    /* loaded disk: thrust growing with radius, swirl torque 300 N m */
+    cfd_disk L = d;
+    L.nr = 10;
+    L.npsi = 4;
+    for (int ip = 0; ip < 4; ip++)
+        for (int ir = 0; ir < 10; ir++)
+            L.load[ip * 10 + ir] = (ir + 0.5) / 10.0 * (1.0 + 0.3 * (ip == 1));
+    for (int ir = 0; ir < 10; ir++)
+        L.swirl[ir] = 1.0;
+    L.torque_Nm = 300.0;
+    L.ccw_from_above = 1;
+    CHECK(cfd_solver_set_disk(s, &L, &err) == 0);
+    disk_totals(s, &L, F, &Q);
+    double Fn = F[0] * L.normal[0] + F[1] * L.normal[1] + F[2] * L.normal[2];
+    CHECK_NEAR(Fn, -1000.0, 1e-9 * 1000.0);
+    CHECK_NEAR(Q, 300.0, 0.02 * 300.0); /* torque about the axis, cell-centre lever arms */
+    L.ccw_from_above = 0;
+    CHECK(cfd_solver_set_disk(s, &L, &err) == 0);
+    disk_totals(s, &L, F, &Q);
+    CHECK_NEAR(Q, -300.0, 0.02 * 300.0);
+    /* a disk outside the grid is an error */
+    cfd_disk far = d;
+    far.centre_m[0] = 100.0;
+    CHECK(cfd_solver_set_disk(s, &far, &err) < 0);
+    CHECK(strstr(err.msg, "misses") != NULL);
+    cfd_disk badr = d;
+    badr.radius_m = -1.0;
+    CHECK(cfd_solver_set_disk(s, &badr, &err) < 0);
+    cfd_solver_destroy(s);
+}
+
+static void test_io(void)
+{
+    core_err err;
+    /* a short laminar channel run: a real field to write and read back */
+    cfd_axis_spec ax[3] = {{0, 4, 0, 4, 0.25, 0.25, 1.0}, {0, 1, 0, 1, 0.1, 0.1, 1.0}, {0, 1, 0, 1, 0.2, 0.2, 1.0}};
+    cfd_grid *g = cfd_grid_create_spec(ax, &err);
+    cfd_config cfg;
+    cfd_config_default(&cfg);
+    cfg.turbulence = 1;
+    cfg.nu_m2ps = 1e-3;
+    cfg.bc[CFD_XMIN].type = CFD_BC_INLET;
+    cfg.bc[CFD_XMAX].type = CFD_BC_OUTLET;
+    cfg.inflow.vel_mps[0] = 1.0;
+    cfg.max_iter = 30;
+    cfd_solver *s = cfd_solver_create(g, &cfg, &err);
+    CHECK(s != NULL);
+    if (!s)
+        return;
+    cfd_result res;
+    CHECK(cfd_solver_run(s, &res, &err) >= 0);
+    CHECK(!cfd_solver_has_nan(s));
+    char dir[] = "/tmp/disim_cfd_io_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[256], xmf[256];
+    snprintf(path, sizeof path, "%s/f.h5", dir);
+    snprintf(xmf, sizeof xmf, "%s/f.xmf", dir);
+    cfd_meta meta;
+    memset(&meta, 0, sizeof meta);
+    meta.wod_speed_mps = 1.0;
+    meta.wod_dir_deg = -30.0;
+    snprintf(meta.ship, sizeof meta.ship, "channel");
+    snprintf(meta.rotor, sizeof meta.rotor, "off");
+    snprintf(meta.grid, sizeof meta.grid, "test");
+    meta.result = res;
+    CHECK(cfd_solver_write(s, &meta, path, &err) == 0);
+    CHECK(access(xmf, R_OK) == 0);
+    cfd_field *f = cfd_field_load(path, &err);
+    CHECK(f != NULL);
+    if (f) {
+        CHECK_NEAR(cfd_field_meta(f)->wod_dir_deg, -30.0, 1e-12);
+        CHECK(strcmp(cfd_field_meta(f)->ship, "channel") == 0);
+        CHECK(cfd_field_meta(f)->result.iterations == res.iterations);
+        double pts[3][3] = {{0.3, 0.45, 0.5}, {2.1, 0.77, 0.33}, {3.9, 0.05, 0.9}};
+        for (int p = 0; p < 3; p++) {
+            double a[CFD_NVARS], b[CFD_NVARS], vel[3];
+            cfd_solver_sample(s, pts[p], a);
+            CHECK(cfd_field_sample(f, pts[p], b) == 0);
+            for (int v = 0; v < CFD_NVARS; v++)
+                CHECK_NEAR(a[v], b[v], 1e-12 * (1.0 + fabs(a[v])));
+            CHECK(cfd_field_air(f, pts[p], 0.0, vel) == 0);
+            CHECK_NEAR(vel[0], a[0], 1e-12);
+        }
+        double outside[3] = {10.0, 0.5, 0.5}, vel[3];
+        CHECK(cfd_field_air(f, outside, 0.0, vel) == 1);
+        /* warm start on a finer grid (coarse-to-fine): the interpolated
+         * state matches the field at the new cell centres */
+        cfd_axis_spec ax2[3] = {{0, 4, 0, 4, 0.125, 0.125, 1.0}, {0, 1, 0, 1, 0.05, 0.05, 1.0}, {0, 1, 0, 1, 0.1, 0.1, 1.0}};
+        cfd_grid *g2 = cfd_grid_create_spec(ax2, &err);
+        cfd_solver *s2 = cfd_solver_create(g2, &cfg, &err);
+        CHECK(s2 != NULL);
+        if (s2) {
+            CHECK(cfd_solver_init_from_field(s2, f, &err) == 0);
+            double q[3] = {1.3125, 0.525, 0.45}, a[CFD_NVARS], b[CFD_NVARS];
+            cfd_solver_sample(s2, q, a);
+            cfd_field_sample(f, q, b);
+            for (int v = 0; v < 3; v++)
+                CHECK_NEAR(a[v], b[v], 1e-9);
+            cfd_result r2;
+            CHECK(cfd_solver_run(s2, &r2, &err) >= 0);
+            CHECK(!cfd_solver_has_nan(s2));
+            cfd_solver_destroy(s2);
+        }
+        /* trilinear: exact for a linear function; the grid centres are
+         * uniform here, so interpolating between two centres is linear */
+        cfd_field_destroy(f);
+    }
+    /* a field with a NaN is never written */
+    double *u = (double *)cfd_solver_var(s, CFD_VAR_U);
+    u[5] = NAN;
+    char bad[256];
+    snprintf(bad, sizeof bad, "%s/bad.h5", dir);
+    CHECK(cfd_solver_write(s, &meta, bad, &err) < 0);
+    CHECK(access(bad, F_OK) != 0);
+    CHECK(strstr(err.msg, "NaN") != NULL);
+    /* loading garbage fails cleanly */
+    CHECK(cfd_field_load(xmf, &err) == NULL);
+    CHECK(cfd_field_load("/nonexistent/x.h5", &err) == NULL);
+    unlink(path);
+    unlink(xmf);
+    rmdir(dir);
+    cfd_solver_destroy(s);
+}
+
+/* Divergence: an absurd time scale (no under-relaxation, a huge body force
+ * on a coarse grid) must end in a clear error after retries, not a NaN. */
+static void test_divergence(void)
+{
+    core_err err;
+    cfd_axis_spec ax[3] = {{-2, 2, 0, 0, 0.25, 0.25, 1.0}, {-2, 2, 0, 0, 0.25, 0.25, 1.0}, {-2, 2, 0, 0, 0.25, 0.25, 1.0}};
+    cfd_grid *g = cfd_grid_create_spec(ax, &err);
+    cfd_config cfg;
+    cfd_config_default(&cfg);
+    for (int f = 0; f < CFD_NFACES; f++)
+        cfg.bc[f].type = CFD_BC_OUTLET;
+    cfg.relax_u = cfg.relax_p = cfg.relax_turb = 1.0;
+    cfg.second_order = 1;
+    cfg.max_iter = 200;
+    cfg.max_retries = 1;
+    cfg.nu_m2ps = 1e-9;
+    cfd_solver *s = cfd_solver_create(g, &cfg, &err);
+    CHECK(s != NULL);
+    if (!s)
+        return;
+    cfd_disk d;
+    double c[3] = {0, 0, 0};
+    core_euler att = {0, 0, 0};
+    cfd_disk_from_attitude(&d, c, att, 1.0, 1e12);
+    CHECK(cfd_solver_set_disk(s, &d, &err) == 0);
+    cfd_result res;
+    int rc = cfd_solver_run(s, &res, &err);
+    CHECK(rc < 0);
+    CHECK(res.retries == 1);
+    CHECK(strstr(err.msg, "diverged") != NULL);
+    CHECK(!cfd_solver_has_nan(s));
+    cfd_solver_destroy(s);
+}
+
+int main(void)
+{
+    test_axis();
+    test_ship_and_wod();
+    test_disk();
+    test_io();
+    test_divergence();
+    return check_done("test_cfd_core");
+}
