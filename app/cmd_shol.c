@@ -1,7 +1,7 @@
 /* cmd_shol.c -- `disim shol SCENARIO [--grid coarse|default|fine]
  * [--coupling two-way|one-way] [-o DIR] [--db DIR] [--full-circle]
  * [--dir-step-deg D] [--speed-step-kmh S] [--speed-max-kmh M]
- * [--bisect-kmh T] [--direct] [--max-coupling-iter N]`.
+ * [--bisect-kmh T] [--direct] [--max-coupling-iter N] [--cfd-max-iter N]`.
  *
  * The candidate SHOL of the seed paper's section 2.8. The one-way envelope
  * (ship-only airwake, one field per direction scaled with speed) is always
@@ -122,7 +122,7 @@ int cmd_shol(int argc, char **argv)
 {
     const char *scen = NULL, *outdir = NULL, *dbdir = NULL;
     int grid = -1, coupling = -1, full = 0, direct = 0;
-    double dstep = 0, sstep = 0, smax = 0, bisect = 0, maxit = 6;
+    double dstep = 0, sstep = 0, smax = 0, bisect = 0, maxit = 6, cfdit = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int takes = strcmp(a, "--full-circle") && strcmp(a, "--direct") && a[0] == '-';
@@ -166,6 +166,9 @@ int cmd_shol(int argc, char **argv)
         } else if (!strcmp(a, "--bisect-kmh")) {
             if (parse_num(a, v, 0.1, 50, &bisect))
                 return 2;
+        } else if (!strcmp(a, "--cfd-max-iter")) {
+            if (parse_num(a, v, 10, 1e6, &cfdit))
+                return 2;
         } else if (!strcmp(a, "--max-coupling-iter")) {
             if (parse_num(a, v, 1, COUPLE_MAX_ITER - 1, &maxit))
                 return 2;
@@ -184,7 +187,7 @@ int cmd_shol(int argc, char **argv)
     if (!scen) {
         fprintf(stderr, "usage: disim shol SCENARIO [--grid coarse|default|fine] [--coupling two-way|one-way] "
                         "[-o DIR] [--db DIR] [--full-circle] [--dir-step-deg D] [--speed-step-kmh S] "
-                        "[--speed-max-kmh M] [--bisect-kmh T] [--direct] [--max-coupling-iter N]\n");
+                        "[--speed-max-kmh M] [--bisect-kmh T] [--direct] [--max-coupling-iter N] [--cfd-max-iter N]\n");
         return 2;
     }
     int tty = isatty(2);
@@ -250,6 +253,7 @@ int cmd_shol(int argc, char **argv)
     cs.grid = grid >= 0 ? grid : (int)sc->grid;
     cs.direct = direct;
     cs.max_iter = (int)maxit;
+    cs.cfd_max_iter = (int)cfdit;
     memcpy(cs.station_S_m, sc->station_S_m, sizeof cs.station_S_m);
     char exe[PATH_MAX], ships[1024];
     ssize_t el = readlink("/proc/self/exe", exe, sizeof exe - 1);

@@ -123,8 +123,14 @@ static void spawn_builder(couple_ctx *c)
             close(fd);
         }
         setsid(); /* outlives this process if another client still waits */
-        execl(c->s.disim_exe, c->s.disim_exe, "airwaked", awdb_dir(c->db), "--exit-when-idle",
-              "--ships", c->s.ships_dir, "--no-lcm", (char *)NULL);
+        char it[32];
+        snprintf(it, sizeof it, "%d", c->s.cfd_max_iter);
+        if (c->s.cfd_max_iter > 0)
+            execl(c->s.disim_exe, c->s.disim_exe, "airwaked", awdb_dir(c->db), "--exit-when-idle", "--ships",
+                  c->s.ships_dir, "--no-lcm", "--max-iter", it, (char *)NULL);
+        else
+            execl(c->s.disim_exe, c->s.disim_exe, "airwaked", awdb_dir(c->db), "--exit-when-idle", "--ships",
+                  c->s.ships_dir, "--no-lcm", (char *)NULL);
         _exit(127);
     }
     if (pid > 0) {
@@ -399,14 +405,17 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
 
 int couple_prefetch(couple_ctx *c, const double *dirs, int n, core_err *err)
 {
+    int missing = 0;
     for (int i = 0; i < n; i++) {
         awdb_key k;
+        awdb_state st;
         base_key(c, &k, c->s.ref_speed_mps, dirs[i]);
         k.rotor = AWDB_ROTOR_OFF;
-        if (awdb_submit(c->db, &k, NULL, err) != 0)
+        if (awdb_submit(c->db, &k, &st, err) != 0)
             return -1;
+        missing += st != AWDB_READY;
     }
-    if (n > 0 && c->s.disim_exe && !awdb_builder_alive(c->db))
+    if (missing && c->s.disim_exe && !awdb_builder_alive(c->db))
         spawn_builder(c);
     return 0;
 }

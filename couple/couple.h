@@ -48,6 +48,7 @@ typedef struct couple_settings {
      * executable and the ships folder (NULL: never start one). */
     const char *disim_exe;
     const char *ships_dir;
+    int cfd_max_iter;         /* > 0: iteration limit passed to a started builder */
 } couple_settings;
 
 void couple_settings_default(couple_settings *s);

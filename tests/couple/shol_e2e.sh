@@ -1,0 +1,29 @@
+#!/bin/sh
+# disim shol end to end on a small case: the command starts its own airwake
+# builder, waits for the ship-only field (a few CFD iterations: this checks
+# the path, not the physics), trims, and writes every output; a second run
+# finds the field in the database and builds nothing; bad flags are refused.
+# Usage: shol_e2e.sh DISIM SOURCE_DIR
+set -u
+disim=$1 src=$2
+tmp=$(mktemp -d /tmp/disim_shol_XXXXXX)
+fail=0
+"$disim" shol "$src/tests/couple/sfs2_uh60a.ini" --coupling one-way --cfd-max-iter 15 \
+    -o "$tmp/out" --db "$tmp/db" > "$tmp/run1.csv" 2> "$tmp/run1.log" || { echo "first run failed"; cat "$tmp/run1.log"; fail=1; }
+for f in shol.csv shol.json shol_polar.png shol_polar.svg report.md shol_trim_head.png; do
+    [ -s "$tmp/out/$f" ] || { echo "missing output $f"; fail=1; }
+done
+head -1 "$tmp/out/shol.csv" | grep -q "^wod_dir_deg, *max_speed_kt, *max_speed_kmh, *limit" || { echo "bad csv header"; fail=1; }
+n1=$(ls "$tmp/db/fields/"*.h5 2>/dev/null | wc -l)
+[ "$n1" -eq 1 ] || { echo "expected one field, found $n1"; fail=1; }
+# The rerun: the field is in the database; no builder is started.
+"$disim" shol "$src/tests/couple/sfs2_uh60a.ini" --coupling one-way -o "$tmp/out2" --db "$tmp/db" > "$tmp/run2.csv" 2> "$tmp/run2.log" || { echo "rerun failed"; cat "$tmp/run2.log"; fail=1; }
+grep -q "started an airwake builder" "$tmp/run2.log" && { echo "the rerun started a builder"; fail=1; }
+cmp -s "$tmp/run1.csv" "$tmp/run2.csv" || { echo "the rerun gave another envelope"; fail=1; }
+# Bad flags.
+"$disim" shol "$src/tests/couple/sfs2_uh60a.ini" --grid medium > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 2 ] && grep -q "expected coarse, default or fine" "$tmp/bad.log" || { echo "bad --grid accepted"; fail=1; }
+cat "$tmp/run1.csv"
+[ $fail -eq 0 ] && echo "shol_e2e: 1 passed, 0 failed" || echo "shol_e2e: 0 passed, 1 failed"
+rm -rf "$tmp"
+exit $fail
