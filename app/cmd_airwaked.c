@@ -197,12 +197,13 @@ int cmd_airwaked(int argc, char **argv)
         return 1;
     }
     daemon_ctx ctx = {db, NULL, 0, isatty(2), &log};
+    disim_airwake_request_t_subscription_t *sub = NULL;
     if (use_lcm) {
         ctx.lc = lcm_create(NULL);
         if (!ctx.lc)
             fprintf(stderr, "disim airwaked: LCM unavailable: serving the folder queue only\n");
         else
-            disim_airwake_request_t_subscribe(ctx.lc, DISIM_CH_AIRWAKE_REQUEST, on_request, &ctx);
+            sub = disim_airwake_request_t_subscribe(ctx.lc, DISIM_CH_AIRWAKE_REQUEST, on_request, &ctx);
     }
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
@@ -217,8 +218,10 @@ int cmd_airwaked(int argc, char **argv)
     int rc = awdb_builder_run(db, &eng, &o, &stop_flag, &err);
     if (rc)
         fprintf(stderr, "disim airwaked: %s\n", err.msg);
-    if (ctx.lc)
+    if (ctx.lc) {
+        disim_airwake_request_t_unsubscribe(ctx.lc, sub);
         lcm_destroy(ctx.lc);
+    }
     awdb_embedded_destroy(emb);
     awdb_close(db);
     return rc ? 1 : 0;
