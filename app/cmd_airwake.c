@@ -2,6 +2,7 @@
  * optional actuator-disk rotor, written as HDF5 + XDMF), `disim probe`
  * (velocities along a line of a field, CSV) and `disim validate` (one
  * validation case, each figure beside its reference). */
+#include "awdb.h"
 #include "cfd.h"
 #include "cmds.h"
 #include "core.h"
@@ -96,17 +97,59 @@ static int parse_double(const char *flag, const char *s, double lo, double hi, d
     return 0;
 }
 
+/* --queue: the same case as an airwake database request (the builder builds
+ * uniform disks; the loaded disk is not a database key yet). */
+static int queue_request(const char *db_dir, const sim_scenario *sc, double speed, double dir, int rotor,
+                         int level, double thrust, double radius, const double hub_S_m[3], const core_log *log)
+{
+    if (rotor == 2) {
+        fprintf(stderr, "disim airwake: --queue: the builder builds --rotor off or uniform, not loaded\n");
+        return 2;
+    }
+    awdb_key k;
+    memset(&k, 0, sizeof k);
+    snprintf(k.ship, sizeof k.ship, "%.63s", sc->ship.name);
+    snprintf(k.aircraft, sizeof k.aircraft, "%.63s", sc->aircraft_name);
+    k.wod_speed_mps = speed;
+    k.wod_dir_rad = dir;
+    k.rotor = rotor ? AWDB_ROTOR_UNIFORM : AWDB_ROTOR_OFF;
+    k.grid = level;
+    if (rotor) {
+        k.thrust_N = thrust;
+        k.radius_m = radius;
+        memcpy(k.station_S_m, hub_S_m, sizeof k.station_S_m);
+    }
+    core_err err = {{0}};
+    awdb *db = awdb_open(db_dir, log, &err);
+    awdb_state before;
+    if (!db || awdb_submit(db, &k, &before, &err) != 0) {
+        fprintf(stderr, "disim airwake: --queue %s: %s\n", db_dir, err.msg);
+        awdb_close(db);
+        return 1;
+    }
+    awdb_key_canon(&k, &err);
+    char name[200];
+    awdb_key_name(&k, name, sizeof name);
+    printf("%s: %s%s\n", name, awdb_state_name(before),
+           before == AWDB_ABSENT || before == AWDB_FAILED ? " -> queued" : "");
+    if (!awdb_builder_alive(db))
+        fprintf(stderr, "disim airwake: no builder serves %s yet: start `disim airwaked %s`\n", db_dir, db_dir);
+    awdb_close(db);
+    return 0;
+}
+
 static void usage_airwake(void)
 {
     fprintf(stderr,
             "usage: disim airwake SCENARIO [--wod-speed-kt KT] [--wod-dir-deg DEG] [--rotor off|uniform|loaded]\n"
             "                      [--grid coarse|default|fine] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
-            "                      [--thrust-n N] [--radius-m R] [--threads N] -o FIELD.h5\n");
+            "                      [--thrust-n N] [--radius-m R] [--threads N] -o FIELD.h5\n"
+            "       disim airwake SCENARIO ... --queue DB_DIR   (queue it for `disim airwaked DB_DIR`)\n");
 }
 
 int cmd_airwake(int argc, char **argv)
 {
-    const char *scen = NULL, *out = NULL, *warm = NULL;
+    const char *scen = NULL, *out = NULL, *warm = NULL, *queue = NULL;
     double speed_kt = NAN, dir_deg = NAN, thrust = NAN, radius = NAN;
     int rotor = -1, level = -1, abl = 0, max_iter = 0, threads = 0;
     for (int i = 1; i < argc; i++) {
@@ -114,6 +157,8 @@ int cmd_airwake(int argc, char **argv)
         int more = i + 1 < argc;
         if (!strcmp(a, "-o") && more)
             out = argv[++i];
+        else if (!strcmp(a, "--queue") && more)
+            queue = argv[++i];
         else if (!strcmp(a, "--wod-speed-kt") && more) {
             if (parse_double(a, argv[++i], 0.1, 200.0, &speed_kt))
                 return 1;
@@ -162,7 +207,7 @@ int cmd_airwake(int argc, char **argv)
             return 2;
         }
     }
-    if (!scen || !out) {
+    if (!scen || (!out && !queue)) {
         usage_airwake();
         return 2;
     }
@@ -243,6 +288,11 @@ int cmd_airwake(int argc, char **argv)
         memcpy(meta.rotor_centre_S_m, c, sizeof c);
     }
     core_log log = {log_stderr, NULL, CORE_LOG_INFO};
+    if (queue) {
+        int rc = queue_request(queue, sc, speed, dir, rotor, level, thrust, radius, meta.rotor_centre_S_m, &log);
+        free(sc);
+        return rc;
+    }
     progress_state ps = {isatty(2), -1.0};
     cfd_solver *s = cfd_airwake_create(&sp, &log, progress_print, &ps, &err);
     if (!s) {
