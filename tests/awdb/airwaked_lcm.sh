@@ -15,11 +15,11 @@ db=$(mktemp -d /tmp/disim_airwaked_XXXXXX)
 exec unshare -n sh -c '
 ip link set lo up; ip link set lo multicast on; ip route add 224.0.0.0/4 dev lo
 disim=$1 client=$2 src=$3 db=$4
-"$disim" airwaked "$db" --jobs 1 --ships "$src/scenarios/ships" --max-iter 12 > "$db/daemon.log" 2>&1 &
+"$disim" airwaked "$db" --jobs 1 --ships "$src/scenarios/ships" --max-iter 10 > "$db/daemon.log" 2>&1 &
 pid=$!
 fail=0
 "$client" 5 20 bad || fail=1
-"$client" 7.5 240 || fail=1
+"$client" 7.5 900 || fail=1
 kill -TERM $pid; wait $pid; rc=$?
 [ $rc -eq 0 ] || { echo "airwaked exited $rc"; fail=1; }
 n=$(ls "$db"/fields/*.h5 2>/dev/null | wc -l); s=$(ls "$db"/fields/*.sum 2>/dev/null | wc -l)

@@ -8,7 +8,7 @@ set -u
 disim=$1 src=$2
 tmp=$(mktemp -d /tmp/disim_shol_XXXXXX)
 fail=0
-"$disim" shol "$src/tests/couple/sfs2_uh60a.ini" --coupling one-way --cfd-max-iter 15 \
+"$disim" shol "$src/tests/couple/sfs2_uh60a.ini" --coupling one-way --cfd-max-iter 10 \
     -o "$tmp/out" --db "$tmp/db" > "$tmp/run1.csv" 2> "$tmp/run1.log" || { echo "first run failed"; cat "$tmp/run1.log"; fail=1; }
 for f in shol.csv shol.json shol_polar.png shol_polar.svg report.md shol_trim_head.png; do
     [ -s "$tmp/out/$f" ] || { echo "missing output $f"; fail=1; }
