@@ -664,6 +664,29 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
 }
 
 /* Residual sum |a_P phi - sum a_nb phi_nb - b| over fluid cells. */
+
+/* sum over the existing neighbours of a_nb phi_nb (the off-diagonal part of
+ * the 7-point operator), shared by the residual and the Gauss-Seidel sweep. */
+static inline double neighbours(const cfd_solver *s, const double *phi, size_t c, int i, int j, int k,
+                                const size_t st[3])
+{
+    const cfd_grid *g = s->g;
+    double r = 0.0;
+    if (i > 0)
+        r += s->a[0][c] * phi[c - 1];
+    if (i + 1 < g->n[0])
+        r += s->a[1][c] * phi[c + 1];
+    if (j > 0)
+        r += s->a[2][c] * phi[c - st[1]];
+    if (j + 1 < g->n[1])
+        r += s->a[3][c] * phi[c + st[1]];
+    if (k > 0)
+        r += s->a[4][c] * phi[c - st[2]];
+    if (k + 1 < g->n[2])
+        r += s->a[5][c] * phi[c + st[2]];
+    return r;
+}
+
 static double residual(const cfd_solver *s, const double *phi)
 {
     const cfd_grid *g = s->g;
@@ -677,19 +700,7 @@ static double residual(const cfd_solver *s, const double *phi)
                 size_t c = CFD_IDX(g, i, j, k);
                 if (g->solid[c])
                     continue;
-                double r = s->b[c] - s->ap[c] * phi[c];
-                if (i > 0)
-                    r += s->a[0][c] * phi[c - 1];
-                if (i + 1 < g->n[0])
-                    r += s->a[1][c] * phi[c + 1];
-                if (j > 0)
-                    r += s->a[2][c] * phi[c - st[1]];
-                if (j + 1 < g->n[1])
-                    r += s->a[3][c] * phi[c + st[1]];
-                if (k > 0)
-                    r += s->a[4][c] * phi[c - st[2]];
-                if (k + 1 < g->n[2])
-                    r += s->a[5][c] * phi[c + st[2]];
+                double r = s->b[c] - s->ap[c] * phi[c] + neighbours(s, phi, c, i, j, k, st);
                 sum += fabs(r);
             }
     return sum;
@@ -709,19 +720,7 @@ static void gs_sweeps(cfd_solver *s, double *phi, int sweeps, double floor)
                     size_t c = CFD_IDX(g, i, j, k);
                     if (g->solid[c])
                         continue;
-                    double r = s->b[c];
-                    if (i > 0)
-                        r += s->a[0][c] * phi[c - 1];
-                    if (i + 1 < g->n[0])
-                        r += s->a[1][c] * phi[c + 1];
-                    if (j > 0)
-                        r += s->a[2][c] * phi[c - st[1]];
-                    if (j + 1 < g->n[1])
-                        r += s->a[3][c] * phi[c + st[1]];
-                    if (k > 0)
-                        r += s->a[4][c] * phi[c - st[2]];
-                    if (k + 1 < g->n[2])
-                        r += s->a[5][c] * phi[c + st[2]];
+                    double r = s->b[c] + neighbours(s, phi, c, i, j, k, st);
                     double v = r / s->ap[c];
                     phi[c] = v > floor ? v : floor;
                 }
