@@ -474,6 +474,23 @@ static int cairo_fail(cairo_status_t st, const char *path, core_err *err)
     return core_err_set(err, -1, "%s: cairo: %s", path, cairo_status_to_string(st));
 }
 
+/* Write a drawn image surface to tmp as PNG and rename it to final; frees
+ * the context and the surface whatever happens. */
+static int png_finish(cairo_surface_t *sf, cairo_t *cr, const char *tmp, const char *final,
+                      core_err *err)
+{
+    cairo_status_t st = cairo_status(cr);
+    cairo_destroy(cr);
+    if (st == CAIRO_STATUS_SUCCESS)
+        st = cairo_surface_write_to_png(sf, tmp);
+    cairo_surface_destroy(sf);
+    if (st != CAIRO_STATUS_SUCCESS) {
+        shol_io_abort(NULL, tmp);
+        return cairo_fail(st, final, err);
+    }
+    return shol_io_commit(NULL, tmp, final, err) < 0 ? -1 : 0;
+}
+
 int shol_plot_polar(const char *dir, const shol_result *r, const shol_report_info *info,
                     core_err *err)
 {
@@ -488,16 +505,7 @@ int shol_plot_polar(const char *dir, const shol_result *r, const shol_report_inf
     cairo_surface_t *sf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)W, (int)H);
     cairo_t *cr = cairo_create(sf);
     draw_polar(cr, W, H, r, info);
-    cairo_status_t st = cairo_status(cr);
-    cairo_destroy(cr);
-    if (st == CAIRO_STATUS_SUCCESS)
-        st = cairo_surface_write_to_png(sf, tmp);
-    cairo_surface_destroy(sf);
-    if (st != CAIRO_STATUS_SUCCESS) {
-        shol_io_abort(NULL, tmp);
-        return cairo_fail(st, final, err);
-    }
-    if (shol_io_commit(NULL, tmp, final, err) < 0)
+    if (png_finish(sf, cr, tmp, final, err) < 0)
         return -1;
 
     /* SVG: the same drawing on a vector surface (points = pixels). */
@@ -506,7 +514,7 @@ int shol_plot_polar(const char *dir, const shol_result *r, const shol_report_inf
     sf = cairo_svg_surface_create(tmp, W, H);
     cr = cairo_create(sf);
     draw_polar(cr, W, H, r, info);
-    st = cairo_status(cr);
+    cairo_status_t st = cairo_status(cr);
     cairo_destroy(cr);
     cairo_surface_finish(sf);
     if (st == CAIRO_STATUS_SUCCESS)
@@ -850,16 +858,7 @@ int shol_plot_trim(const char *dir, const shol_result *r, const shol_report_info
         cairo_surface_t *sf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)W, (int)H);
         cairo_t *cr = cairo_create(sf);
         draw_trim(cr, W, H, r, &r->dirs[i], info);
-        cairo_status_t st = cairo_status(cr);
-        cairo_destroy(cr);
-        if (st == CAIRO_STATUS_SUCCESS)
-            st = cairo_surface_write_to_png(sf, tmp);
-        cairo_surface_destroy(sf);
-        if (st != CAIRO_STATUS_SUCCESS) {
-            shol_io_abort(NULL, tmp);
-            return cairo_fail(st, final, err);
-        }
-        if (shol_io_commit(NULL, tmp, final, err) < 0)
+        if (png_finish(sf, cr, tmp, final, err) < 0)
             return -1;
     }
     return 0;
