@@ -4,6 +4,10 @@
  * validation case, each figure beside its reference). */
 #include "awdb.h"
 #include "cfd.h"
+#ifdef DISIM_HAVE_SHOL_CMD
+#include "couple.h"
+#include "hfm.h"
+#endif
 #include "cmds.h"
 #include "core.h"
 #include "sim.h"
@@ -58,17 +62,6 @@ static void progress_end(progress_state *p)
         fprintf(stderr, "\n");
 }
 
-/* Rotor data of the seed paper's helicopters (Tables 1 and 2): mass, main
- * rotor radius and speed; hover thrust = weight. */
-static const struct {
-    const char *name;
-    double mass_kg, radius_m, omega_radps;
-} rotors[] = {
-    {"UH-60A", 7438.91, 8.18, 27.0},
-    {"SA365N", 3850.0, 5.97, 36.55},
-    {"SA365", 3850.0, 5.97, 36.55},
-};
-
 static int parse_vec(const char *s, double v[3])
 {
     char *end;
@@ -97,28 +90,10 @@ static int parse_double(const char *flag, const char *s, double lo, double hi, d
     return 0;
 }
 
-/* --queue: the same case as an airwake database request (the builder builds
- * uniform disks; the loaded disk is not a database key yet). */
-static int queue_request(const char *db_dir, const sim_scenario *sc, double speed, double dir, int rotor,
-                         int level, double thrust, double radius, const double hub_S_m[3], const core_log *log)
+/* --queue: the same case as an airwake database request. */
+static int queue_request(const char *db_dir, const awdb_key *key, const core_log *log)
 {
-    if (rotor == 2) {
-        fprintf(stderr, "disim airwake: --queue: the builder builds --rotor off or uniform, not loaded\n");
-        return 2;
-    }
-    awdb_key k;
-    memset(&k, 0, sizeof k);
-    snprintf(k.ship, sizeof k.ship, "%.63s", sc->ship.name);
-    snprintf(k.aircraft, sizeof k.aircraft, "%.63s", sc->aircraft_name);
-    k.wod_speed_mps = speed;
-    k.wod_dir_rad = dir;
-    k.rotor = rotor ? AWDB_ROTOR_UNIFORM : AWDB_ROTOR_OFF;
-    k.grid = level;
-    if (rotor) {
-        k.thrust_N = thrust;
-        k.radius_m = radius;
-        memcpy(k.station_S_m, hub_S_m, sizeof k.station_S_m);
-    }
+    awdb_key k = *key;
     core_err err = {{0}};
     awdb *db = awdb_open(db_dir, log, &err);
     awdb_state before;
@@ -136,6 +111,29 @@ static int queue_request(const char *db_dir, const sim_scenario *sc, double spee
         fprintf(stderr, "disim airwake: no builder serves %s yet: start `disim airwaked %s`\n", db_dir, db_dir);
     awdb_close(db);
     return 0;
+}
+
+/* The rotor of the scenario's aircraft in the free-air WOD (couple). */
+static int rotor_from_trim(const sim_scenario *sc, double speed, double dir, int loaded, awdb_key *key,
+                           const core_log *log)
+{
+#ifdef DISIM_HAVE_SHOL_CMD
+    core_err err = {{0}};
+    hfm_aircraft *ac = hfm_aircraft_load(sc->aircraft_path, log, &err);
+    if (!ac) {
+        fprintf(stderr, "disim airwake: %s\n", err.msg);
+        return -1;
+    }
+    int rc = couple_free_air_rotor(ac, sc->station_S_m, speed, dir, loaded, key, &err);
+    hfm_aircraft_destroy(ac);
+    if (rc != 0)
+        fprintf(stderr, "disim airwake: %s: %s\n", sc->aircraft_path, err.msg);
+    return rc != 0 ? -1 : 0;
+#else
+    (void)speed, (void)dir, (void)loaded, (void)key, (void)log;
+    fprintf(stderr, "disim airwake: %s: the rotor needs the flight model, left out of this build\n", sc->path);
+    return -1;
+#endif
 }
 
 static void usage_airwake(void)
@@ -247,49 +245,45 @@ int cmd_airwake(int argc, char **argv)
     sp.monitor_z_m = sc->station_S_m[2];
     cfd_meta meta;
     memset(&meta, 0, sizeof meta);
+    core_log log = {log_stderr, NULL, CORE_LOG_INFO};
+    awdb_key key;
+    memset(&key, 0, sizeof key);
+    snprintf(key.ship, sizeof key.ship, "%.63s", sc->ship.name);
+    key.wod_speed_mps = speed;
+    key.wod_dir_rad = dir;
+    key.grid = level;
+    key.rotor = AWDB_ROTOR_OFF;
     if (rotor) {
-        double omega = 0.0;
-        for (size_t r = 0; r < sizeof rotors / sizeof rotors[0]; r++)
-            if (!strcmp(sc->aircraft_name, rotors[r].name)) {
-                if (isnan(thrust))
-                    thrust = rotors[r].mass_kg * CORE_G_MPS2;
-                if (isnan(radius))
-                    radius = rotors[r].radius_m;
-                omega = rotors[r].omega_radps;
-            }
-        if (isnan(thrust) || isnan(radius)) {
-            fprintf(stderr, "disim airwake: no rotor data for aircraft '%s': give --thrust-n and --radius-m\n",
-                    sc->aircraft_name);
+        /* The disk of the scenario's aircraft trimmed in the free-air WOD at
+         * the hover-over-spot station: thrust, hub, shaft tilt and, for
+         * --rotor loaded, its blade loads (the coupling loop's first step). */
+        snprintf(key.aircraft, sizeof key.aircraft, "%.63s", sc->aircraft_name);
+        if (rotor_from_trim(sc, speed, dir, rotor == 2, &key, &log) != 0) {
             free(sc);
             return 1;
         }
-        /* the hub about 1.5 m above the CG station (estimate) */
-        double c[3] = {sc->station_S_m[0], sc->station_S_m[1], sc->station_S_m[2] - 1.5};
-        core_euler att = {0.0, 0.0, 0.0};
-        cfd_disk_from_attitude(&sp.disk, c, att, radius, thrust);
-        if (rotor == 2) {
-            /* Until the HFM supplies blade loads: the pressure jump growing
-             * linearly with radius (ideal-twist hover loading) and a swirl
-             * torque from the ideal induced power at a figure of merit of
-             * 0.75, Q = T v_h / (0.75 Omega). */
-            sp.disk.nr = 20;
-            sp.disk.npsi = 1;
-            sp.disk.root_cut = 0.15;
-            for (int i = 0; i < sp.disk.nr; i++) {
-                double rr = (i + 0.5) / sp.disk.nr;
-                sp.disk.load[i] = rr;
-                sp.disk.swirl[i] = 1.0;
-            }
-            double vh = sqrt(thrust / (2.0 * CORE_RHO_SL_KGPM3 * CORE_PI * radius * radius));
-            sp.disk.torque_Nm = omega > 0.0 ? thrust * vh / (0.75 * omega) : 0.0;
+        if (!isnan(thrust))
+            key.thrust_N = thrust;
+        if (!isnan(radius))
+            key.radius_m = radius;
+        if (awdb_key_canon(&key, &err) != 0 || awdb_key_disk(&key, &sp.disk) != 0) {
+            fprintf(stderr, "disim airwake: %s\n", err.msg);
+            free(sc);
+            return 1;
         }
-        meta.rotor_thrust_N = thrust;
-        meta.rotor_radius_m = radius;
-        memcpy(meta.rotor_centre_S_m, c, sizeof c);
+        fprintf(stderr, "rotor: %s disk, thrust %.0f N, radius %.2f m, hub (%.2f, %.2f, %.2f) m in S, shaft pitch %.1f deg, roll %.1f deg%s\n",
+                rotor == 2 ? "loaded" : "uniform", key.thrust_N, key.radius_m, key.station_S_m[0],
+                key.station_S_m[1], key.station_S_m[2], key.shaft_pitch_rad * CORE_RAD_TO_DEG,
+                key.shaft_roll_rad * CORE_RAD_TO_DEG, rotor == 2 ? "" : "");
+        if (rotor == 2)
+            fprintf(stderr, "rotor: torque %.0f N m, root cut %.3f R, %s from above\n", key.torque_Nm, key.root_cut,
+                    key.ccw_from_above ? "counter-clockwise" : "clockwise");
+        meta.rotor_thrust_N = key.thrust_N;
+        meta.rotor_radius_m = key.radius_m;
+        memcpy(meta.rotor_centre_S_m, key.station_S_m, sizeof meta.rotor_centre_S_m);
     }
-    core_log log = {log_stderr, NULL, CORE_LOG_INFO};
     if (queue) {
-        int rc = queue_request(queue, sc, speed, dir, rotor, level, thrust, radius, meta.rotor_centre_S_m, &log);
+        int rc = queue_request(queue, &key, &log);
         free(sc);
         return rc;
     }

@@ -54,13 +54,28 @@ int awdb_write_atomic(const char *path, const char *text, core_err *err)
 
 void awdb_key_format(const awdb_key *k, char *buf, size_t n)
 {
-    awdb_fmt(buf, n,
+    int len = snprintf(buf, n,
              "[key]\nship = %s\naircraft = %s\nwod_speed_mps = %.17g\nwod_dir_rad = %.17g\n"
              "rotor = %d\nthrust_N = %.17g\nstation_S_m = %.17g, %.17g, %.17g\nradius_m = %.17g\n"
              "shaft_pitch_rad = %.17g\nshaft_roll_rad = %.17g\ngrid = %d\n",
              k->ship, k->aircraft[0] ? k->aircraft : "-", k->wod_speed_mps, k->wod_dir_rad, k->rotor,
              k->thrust_N, k->station_S_m[0], k->station_S_m[1], k->station_S_m[2], k->radius_m,
              k->shaft_pitch_rad, k->shaft_roll_rad, k->grid);
+    if (k->rotor != AWDB_ROTOR_LOADED || len < 0 || (size_t)len >= n)
+        return;
+    /* The loaded disk. */
+    len += snprintf(buf + len, n - len, "torque_Nm = %.17g\nroot_cut = %.17g\nccw_from_above = %d\nswirl =",
+                    k->torque_Nm, k->root_cut, k->ccw_from_above);
+    for (int i = 0; i < AWDB_LOAD_NR && (size_t)len < n; i++)
+        len += snprintf(buf + len, n - len, "%s %.3f", i ? "," : "", k->swirl[i]);
+    /* one line per azimuth: the INI reader's lines are short */
+    for (int j = 0; j < AWDB_LOAD_NPSI && (size_t)len < n; j++) {
+        len += snprintf(buf + len, n - len, "\nload_psi%02d =", j);
+        for (int i = 0; i < AWDB_LOAD_NR && (size_t)len < n; i++)
+            len += snprintf(buf + len, n - len, "%s %.3f", i ? "," : "", k->load[j * AWDB_LOAD_NR + i]);
+    }
+    if ((size_t)len < n)
+        snprintf(buf + len, n - len, "\n");
 }
 
 int awdb_key_read(core_ini *ini, awdb_key *k, core_err *err)
@@ -86,6 +101,29 @@ int awdb_key_read(core_ini *ini, awdb_key *k, core_err *err)
         k->aircraft[0] = '\0';
     k->rotor = (int)rotor;
     k->grid = (int)grid;
+    if (k->rotor != AWDB_ROTOR_LOADED)
+        return 0;
+    int ns = 0, ccw = 0;
+    if ((rc = core_ini_get_double(ini, "key", "torque_Nm", 1, 0, 1e7, &k->torque_Nm, err)) ||
+        (rc = core_ini_get_double(ini, "key", "root_cut", 1, 0, 0.5, &k->root_cut, err)) ||
+        (rc = core_ini_get_bool(ini, "key", "ccw_from_above", 1, &ccw, err)) ||
+        (rc = core_ini_get_doubles(ini, "key", "swirl", 1, -10, 10, k->swirl, AWDB_LOAD_NR, &ns, err)))
+        return rc < 0 ? rc : -1;
+    if (ns != AWDB_LOAD_NR)
+        return core_err_set(err, -1, "%s: [key] swirl: expected %d numbers, got %d", core_ini_path(ini),
+                            AWDB_LOAD_NR, ns);
+    for (int j = 0; j < AWDB_LOAD_NPSI; j++) {
+        char name[32];
+        int nl = 0;
+        snprintf(name, sizeof name, "load_psi%02d", j);
+        if ((rc = core_ini_get_doubles(ini, "key", name, 1, -10, 10, k->load + j * AWDB_LOAD_NR, AWDB_LOAD_NR, &nl,
+                                       err)))
+            return rc < 0 ? rc : -1;
+        if (nl != AWDB_LOAD_NR)
+            return core_err_set(err, -1, "%s: [key] %s: expected %d numbers, got %d", core_ini_path(ini), name,
+                                AWDB_LOAD_NR, nl);
+    }
+    k->ccw_from_above = ccw;
     return 0;
 }
 
@@ -332,7 +370,7 @@ int awdb_submit(awdb *db, const awdb_key *key_in, awdb_state *state, core_err *e
         *state = s;
     if (s == AWDB_READY || s == AWDB_QUEUED || s == AWDB_RUNNING)
         return 0;
-    char name[200], p[AWDB_PATH], seq[64], text[1024];
+    char name[200], p[AWDB_PATH], seq[64], text[AWDB_KEY_TEXT];
     awdb_key_name(&key, name, sizeof name);
     if (s == AWDB_FAILED) {
         awdb_path(db, p, sizeof p, "failed", name, ".txt");

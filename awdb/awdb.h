@@ -32,6 +32,9 @@ extern "C" {
 
 enum { AWDB_ROTOR_OFF = 0, AWDB_ROTOR_UNIFORM = 1, AWDB_ROTOR_LOADED = 2 };
 enum { AWDB_GRID_COARSE = 0, AWDB_GRID_DEFAULT = 1, AWDB_GRID_FINE = 2 };
+/* The loaded-disk table of a key: radial stations x azimuths. */
+#define AWDB_LOAD_NR 8
+#define AWDB_LOAD_NPSI 12
 
 /* What a field is. Values are rounded by awdb_key_canon (speed 0.01 m/s,
  * direction 0.01 deg, thrust 1 N, station and radius 1 cm, shaft tilt
@@ -47,6 +50,18 @@ typedef struct awdb_key {
     double radius_m;       /* rotor radius */
     double shaft_pitch_rad, shaft_roll_rad; /* shaft tilt in S (0.1 deg resolution) */
     int grid;              /* AWDB_GRID_* */
+    /* rotor == AWDB_ROTOR_LOADED: the blade loads of a trim (from the flight
+     * model), as the CFD disk takes them: the pressure-jump shape
+     * load[ipsi * AWDB_LOAD_NR + ir] at r/R = (ir + 0.5) / AWDB_LOAD_NR and
+     * psi = 2 pi ipsi / AWDB_LOAD_NPSI from the tail in the rotation sense
+     * (mean 1, rounded to 0.001), the tangential-force shape swirl[ir] (max 1,
+     * 0.001), the shaft torque (10 N m), the root cut r/R (0.001) and the
+     * sense. Zero for the other rotor modes. */
+    double load[AWDB_LOAD_NR * AWDB_LOAD_NPSI];
+    double swirl[AWDB_LOAD_NR];
+    double torque_Nm;
+    double root_cut;
+    int ccw_from_above;    /* 1 counter-clockwise seen from above (UH-60A), 0 clockwise (SA365N) */
 } awdb_key;
 
 typedef enum {
@@ -137,6 +152,13 @@ awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, int thr
                                     const core_log *log, core_err *err);
 void awdb_embedded_destroy(awdb_embedded *e);
 void awdb_embedded_engine(awdb_embedded *e, awdb_engine *eng);
+
+/* The CFD actuator disk of a key with the rotor on: centred at the station,
+ * tilted by the shaft angles (heading along the ship's), psi = 0 aft;
+ * uniform (seed paper eq. 5) or loaded with the key's table and swirl.
+ * Returns < 0 for a key with the rotor off. */
+struct cfd_disk;
+int awdb_key_disk(const awdb_key *key, struct cfd_disk *disk);
 
 #ifdef __cplusplus
 }

@@ -8,6 +8,8 @@
 #include <stdio.h>
 
 #define AWDB_PATH 1024
+/* A key as INI text, with a loaded-disk table (8 x 12 + 8 numbers). */
+#define AWDB_KEY_TEXT 4096
 
 struct awdb {
     char dir[AWDB_PATH];

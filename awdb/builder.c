@@ -68,7 +68,7 @@ static int commit(awdb *db, const awdb_key *k, const char *name, const char *tmp
     int rc = awdb_file_crc64(tmp, &crc, &size, err);
     if (rc)
         return rc;
-    char text[1400], key[1024], sum[AWDB_PATH], sumtmp[AWDB_PATH + 8], h5[AWDB_PATH];
+    char text[AWDB_KEY_TEXT + 200], key[AWDB_KEY_TEXT], sum[AWDB_PATH], sumtmp[AWDB_PATH + 8], h5[AWDB_PATH];
     awdb_key_format(k, key, sizeof key);
     awdb_fmt(text, sizeof text, "[field]\nsize = %llu\ncrc64 = %016llx\n\n%s", (unsigned long long)size,
              (unsigned long long)crc, key);

@@ -107,14 +107,12 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
     spec.wod_speed_mps = k->wod_speed_mps;
     spec.wod_dir_rad = k->wod_dir_rad;
     spec.level = (cfd_grid_level)k->grid;
-    spec.rotor = k->rotor == AWDB_ROTOR_OFF ? 0 : 1;
+    spec.rotor = k->rotor;
     spec.monitor_z_m = k->rotor == AWDB_ROTOR_OFF ? -5.0 : k->station_S_m[2];
     spec.max_iter = e->max_iter;
     spec.open_ship = open_ship;
-    if (spec.rotor) {
-        core_euler att = {k->shaft_roll_rad, k->shaft_pitch_rad, 0.0};
-        cfd_disk_from_attitude(&spec.disk, k->station_S_m, att, k->radius_m, k->thrust_N);
-    }
+    if (spec.rotor)
+        awdb_key_disk(k, &spec.disk);
     prog_adapter pa = {progress, pu};
     cfd_solver *s = cfd_airwake_create(&spec, e->log, on_cfd_progress, &pa, err);
     if (!s)
@@ -164,6 +162,24 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
         remove(xmf);
     }
     return rc;
+}
+
+int awdb_key_disk(const awdb_key *k, cfd_disk *d)
+{
+    if (k->rotor == AWDB_ROTOR_OFF)
+        return -1;
+    core_euler att = {k->shaft_roll_rad, k->shaft_pitch_rad, 0.0};
+    cfd_disk_from_attitude(d, k->station_S_m, att, k->radius_m, k->thrust_N);
+    if (k->rotor == AWDB_ROTOR_LOADED) {
+        d->nr = AWDB_LOAD_NR;
+        d->npsi = AWDB_LOAD_NPSI;
+        memcpy(d->load, k->load, sizeof k->load);
+        memcpy(d->swirl, k->swirl, sizeof k->swirl);
+        d->torque_Nm = k->torque_Nm;
+        d->root_cut = k->root_cut;
+        d->ccw_from_above = k->ccw_from_above;
+    }
+    return 0;
 }
 
 void awdb_embedded_engine(awdb_embedded *e, awdb_engine *eng)

@@ -63,6 +63,35 @@ int awdb_key_canon(awdb_key *k, core_err *err)
         for (int i = 0; i < 3; i++)
             k->station_S_m[i] = round_to(k->station_S_m[i], 0.01) + 0.0; /* no -0 */
     }
+    if (k->rotor != AWDB_ROTOR_LOADED) {
+        memset(k->load, 0, sizeof k->load);
+        memset(k->swirl, 0, sizeof k->swirl);
+        k->torque_Nm = k->root_cut = 0.0;
+        k->ccw_from_above = 0;
+        return 0;
+    }
+    if (!isfinite(k->torque_Nm) || k->torque_Nm < 0.0 || k->torque_Nm > 1e7)
+        return core_err_set(err, -1, "airwake key: torque_Nm = %g: expected 0 to 1e7 N m", k->torque_Nm);
+    if (!isfinite(k->root_cut) || k->root_cut < 0.0 || k->root_cut > 0.5)
+        return core_err_set(err, -1, "airwake key: root_cut = %g: expected 0 to 0.5", k->root_cut);
+    double sum = 0.0;
+    for (int i = 0; i < AWDB_LOAD_NR * AWDB_LOAD_NPSI; i++) {
+        if (!isfinite(k->load[i]) || fabs(k->load[i]) > 10.0)
+            return core_err_set(err, -1, "airwake key: load[%d] = %g: expected -10 to 10 (relative to the mean)", i,
+                                k->load[i]);
+        k->load[i] = round_to(k->load[i], 0.001) + 0.0;
+        sum += k->load[i];
+    }
+    if (!(sum > 0.0))
+        return core_err_set(err, -1, "airwake key: load: expected a table with a positive mean");
+    for (int i = 0; i < AWDB_LOAD_NR; i++) {
+        if (!isfinite(k->swirl[i]) || fabs(k->swirl[i]) > 10.0)
+            return core_err_set(err, -1, "airwake key: swirl[%d] = %g: expected -10 to 10", i, k->swirl[i]);
+        k->swirl[i] = round_to(k->swirl[i], 0.001) + 0.0;
+    }
+    k->torque_Nm = round_to(k->torque_Nm, 10.0) + 0.0;
+    k->root_cut = round_to(k->root_cut, 0.001) + 0.0;
+    k->ccw_from_above = k->ccw_from_above != 0;
     return 0;
 }
 
@@ -80,6 +109,20 @@ void awdb_key_name(const awdb_key *k, char *buf, size_t n)
     for (const char *p = text; *p; p++) {
         h ^= (unsigned char)*p;
         h *= 1099511628211ULL;
+    }
+    if (k->rotor == AWDB_ROTOR_LOADED) {
+        /* the table as canon rounded it: torque, root cut, sense, swirl, load */
+        char v[48];
+        int nv = AWDB_LOAD_NR * AWDB_LOAD_NPSI + AWDB_LOAD_NR + 3;
+        for (int i = 0; i < nv; i++) {
+            double x = i == 0 ? k->torque_Nm : i == 1 ? k->root_cut : i == 2 ? k->ccw_from_above
+                     : i < 3 + AWDB_LOAD_NR ? k->swirl[i - 3] : k->load[i - 3 - AWDB_LOAD_NR];
+            snprintf(v, sizeof v, "|%.3f", x);
+            for (const char *p = v; *p; p++) {
+                h ^= (unsigned char)*p;
+                h *= 1099511628211ULL;
+            }
+        }
     }
     awdb_fmt(buf, n, "%s_%s_v%05.2f_d%+07.2f_%s_%s_%016llx", k->ship,
              k->aircraft[0] ? k->aircraft : "shiponly", k->wod_speed_mps, dir_deg,

@@ -49,9 +49,25 @@ typedef struct couple_settings {
     const char *disim_exe;
     const char *ships_dir;
     int cfd_max_iter;         /* > 0: iteration limit passed to a started builder */
+    int uniform_disk;         /* 1: uniform disk (seed paper eq. 5) instead of the trim's blade loads */
 } couple_settings;
 
 void couple_settings_default(couple_settings *s);
+
+/* A database key (ship, WOD and grid already set by the caller) gets the
+ * rotor of a flight-model disk: thrust, hub station, radius, shaft tilt and,
+ * with loaded = 1, the blade loads resampled to the key's table (r/R =
+ * (i + 0.5) / AWDB_LOAD_NR, psi = 2 pi j / AWDB_LOAD_NPSI, linear in r,
+ * periodic linear in psi; zero inside the root cut), the azimuthal mean of
+ * the in-plane forces as the swirl shape and their moment as the torque.
+ * Returns < 0 if the disk carries no thrust. */
+int couple_key_set_rotor(const hfm_aircraft *ac, const hfm_disk *d, int loaded, awdb_key *key);
+
+/* Trim in the free-air WOD at a CG station and give the key the rotor of that
+ * trim (as couple_key_set_rotor), e.g. for a single `disim airwake` case.
+ * 0 ok; > 0 the trim did not converge; < 0 fatal (err). */
+int couple_free_air_rotor(const hfm_aircraft *ac, const double station_S_m[3], double wod_speed_mps,
+                          double wod_dir_rad, int loaded, awdb_key *key, core_err *err);
 
 /* One iteration of the loop: what the flight model trimmed to. */
 typedef struct couple_iter {

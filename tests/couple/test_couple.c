@@ -1,0 +1,286 @@
+/* test_couple.c -- the coupling loop (couple/) with the real flight model and
+ * the real embedded CFD engine, on a small ship (tests/couple/data/box40.ini)
+ * and the coarse grid with few CFD iterations: this checks the loop, the
+ * loaded disk and the bookkeeping, not the airwake's accuracy (the cfd tests
+ * do that).
+ *  1. The loaded disk of a UH-60A hover trim: the key's table has mean 1,
+ *     carries more load outboard than inboard, keeps the torque (Q Omega
+ *     within 15 % of the rotor's power: the rest is the blade elements the
+ *     8 x 12 resampling leaves out) and survives the database round trip
+ *     (request file -> builder -> field .sum) unchanged.
+ *  2. Two-way (interaction velocity) at 10 m/s head wind: the loop converges
+ *     (change < 5 %) within 6 iterations; each iteration asks for one coupled
+ *     and one isolated-rotor loaded field; asking again builds nothing.
+ *  3. The induced velocity is not counted twice: with the coupled field used
+ *     directly the rotor sees its own wake on top of its inflow model and
+ *     needs more collective than with the interaction velocity, and the
+ *     interaction velocity at the hub is a small fraction of the induced one.
+ *  4. One-way gives a trim too, from one ship-only field.
+ */
+#include "awdb.h"
+#include "cfd.h"
+#include "check.h"
+#include "couple.h"
+#include "hfm.h"
+
+#include <dirent.h>
+#include <pthread.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#ifndef TEST_SRC_DIR
+#error TEST_SRC_DIR must name the source tree
+#endif
+
+static volatile sig_atomic_t stop_builder = 0;
+
+typedef struct bthread {
+    awdb *db;
+    awdb_engine eng;
+    int rc;
+    core_err err;
+} bthread;
+
+static void *builder_main(void *arg)
+{
+    bthread *b = arg;
+    awdb_builder_opts o;
+    memset(&o, 0, sizeof o);
+    o.jobs = 1;
+    o.poll_s = 0.05;
+    b->rc = awdb_builder_run(b->db, &b->eng, &o, &stop_builder, &b->err);
+    return NULL;
+}
+
+static int count_fields(const char *dir, const char *must_contain)
+{
+    char p[1100];
+    snprintf(p, sizeof p, "%s/fields", dir);
+    DIR *d = opendir(p);
+    if (!d)
+        return -1;
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        size_t l = strlen(e->d_name);
+        if (l > 3 && !strcmp(e->d_name + l - 3, ".h5") && (!must_contain || strstr(e->d_name, must_contain)))
+            n++;
+    }
+    closedir(d);
+    return n;
+}
+
+static void log_quiet(void *user, int level, const char *msg)
+{
+    (void)user;
+    if (level <= CORE_LOG_WARN)
+        fprintf(stderr, "log: %s\n", msg);
+}
+
+int main(void)
+{
+    core_err err = {{0}};
+    core_log log = {log_quiet, NULL, CORE_LOG_WARN};
+    hfm_aircraft *ac = hfm_aircraft_load(TEST_SRC_DIR "/scenarios/aircraft/uh60a.ini", &log, &err);
+    core_ship ship;
+    if (!ac || core_ship_load(TEST_SRC_DIR "/tests/couple/data/box40.ini", &ship, &err)) {
+        fprintf(stderr, "set-up: %s\n", err.msg);
+        return 1;
+    }
+    const double station[3] = {0.0, 0.0, -6.0};
+
+    /* 1. The loaded disk of a free-air hover trim. */
+    awdb_key k;
+    memset(&k, 0, sizeof k);
+    snprintf(k.ship, sizeof k.ship, "BOX40");
+    snprintf(k.aircraft, sizeof k.aircraft, "%s", hfm_aircraft_name(ac));
+    k.wod_speed_mps = 10.0;
+    k.grid = AWDB_GRID_COARSE;
+    CHECK(couple_free_air_rotor(ac, station, 10.0, 0.0, 1, &k, &err) == 0);
+    CHECK(k.rotor == AWDB_ROTOR_LOADED);
+    CHECK(k.ccw_from_above == 1); /* the UH-60A's rotor turns counter-clockwise seen from above */
+    CHECK_NEAR(k.thrust_N / hfm_aircraft_weight_N(ac), 1.0, 0.1);
+    double wsum = 0.0, lsum = 0.0, in = 0.0, out = 0.0;
+    for (int i = 0; i < AWDB_LOAD_NR; i++)
+        for (int j = 0; j < AWDB_LOAD_NPSI; j++) {
+            double r = (i + 0.5) / AWDB_LOAD_NR, l = k.load[j * AWDB_LOAD_NR + i];
+            wsum += r;
+            lsum += r * l;
+            if (i == 2)
+                in += l;
+            if (i == AWDB_LOAD_NR - 2)
+                out += l;
+        }
+    CHECK_NEAR(lsum / wsum, 1.0, 1e-9);
+    CHECK(out > in);
+    double P = 0.0;
+    {
+        /* the rotor's power from the same trim, through the disk */
+        hfm_trim *t = hfm_trim_create(ac, NULL);
+        hfm_trim_cond cond;
+        memset(&cond, 0, sizeof cond);
+        cond.kind = HFM_TRIM_HOVER_SHIP;
+        cond.wod_speed_mps = 10.0;
+        memcpy(cond.pos_S_m, station, sizeof cond.pos_S_m);
+        hfm_trim_result r;
+        CHECK(hfm_trim_solve(t, &cond, NULL, &r) == 0);
+        hfm_air_uniform uni = {{-10.0, 0.0, 0.0}};
+        hfm_air air = {hfm_air_uniform_fn, &uni};
+        hfm_disk *d = malloc(sizeof *d);
+        CHECK(hfm_rotor_disk(ac, &air, 0.0, &r.body, &r.u, &r.rotor, 8, 12, d) == 0);
+        P = d->power_W;
+        free(d);
+        hfm_trim_destroy(t);
+    }
+    double Om = hfm_aircraft_rotor_omega_radps(ac);
+    printf("loaded disk: T %.0f N, Q %.0f N m, Q Omega %.0f kW, P %.0f kW, load r/R 0.31 %.3f, 0.81 %.3f\n",
+           k.thrust_N, k.torque_Nm, k.torque_Nm * Om / 1e3, P / 1e3, in / AWDB_LOAD_NPSI, out / AWDB_LOAD_NPSI);
+    CHECK(P > 0.0);
+    CHECK_NEAR(k.torque_Nm * Om / P, 1.0, 0.15);
+    /* The CFD disk from the key pushes the air with the key's thrust and torque. */
+    cfd_disk cd;
+    CHECK(awdb_key_canon(&k, &err) == 0);
+    CHECK(awdb_key_disk(&k, &cd) == 0);
+    CHECK(cd.nr == AWDB_LOAD_NR && cd.npsi == AWDB_LOAD_NPSI && cd.ccw_from_above == 1);
+    CHECK_NEAR(cd.torque_Nm, k.torque_Nm, 1e-9);
+
+    /* A database with an in-process builder (the real CFD engine). */
+    char dbdir[] = "/tmp/disim_couple_XXXXXX";
+    if (!mkdtemp(dbdir))
+        return 1;
+    awdb *db = awdb_open(dbdir, &log, &err);
+    awdb_embedded *emb = awdb_embedded_create(TEST_SRC_DIR "/tests/couple/data", 30, 1, &log, &err);
+    CHECK(db && emb);
+    if (!db || !emb) {
+        fprintf(stderr, "set-up: %s\n", err.msg);
+        return 1;
+    }
+    bthread bt;
+    memset(&bt, 0, sizeof bt);
+    bt.db = db;
+    awdb_embedded_engine(emb, &bt.eng);
+    pthread_t th;
+    pthread_create(&th, NULL, builder_main, &bt);
+    for (int i = 0; i < 100 && !awdb_builder_alive(db); i++)
+        usleep(20000);
+
+    /* The round trip: the loaded key goes through a request file and the
+     * builder into the field's .sum; the same key finds it READY. */
+    CHECK(awdb_submit(db, &k, NULL, &err) == 0);
+    awdb_state st = AWDB_ABSENT;
+    for (int i = 0; i < 6000 && st != AWDB_READY && st != AWDB_FAILED; i++) {
+        usleep(20000);
+        st = awdb_query(db, &k, NULL, 0);
+    }
+    CHECK(st == AWDB_READY);
+    CHECK(count_fields(dbdir, "_loaded_coarse_") == 1);
+
+    /* 2. Two-way with the interaction velocity. */
+    couple_settings s;
+    couple_settings_default(&s);
+    s.grid = AWDB_GRID_COARSE;
+    memcpy(s.station_S_m, station, sizeof station);
+    s.wait_timeout_s = 600;
+    couple_ctx *c = couple_create(ac, &ship, db, &s, &log, &err);
+    CHECK(c != NULL);
+    couple_point p2;
+    int rc = couple_trim(c, 10.0, 0.0, &p2, &err);
+    CHECK(rc == 0);
+    if (rc < 0)
+        fprintf(stderr, "two-way: %s\n", err.msg);
+    CHECK(p2.converged && p2.coupling_converged);
+    CHECK(p2.n_iter >= 2 && p2.n_iter <= 7);
+    for (int i = 0; i < p2.n_iter; i++)
+        printf("two-way iteration %d: T %.0f N coll %.2f %% long %.2f %% lat %.2f %% pedal %.2f %% "
+               "pitch %.2f deg roll %.2f deg change %.4f\n",
+               i, p2.iter[i].thrust_N, p2.iter[i].collective_pct, p2.iter[i].long_pct, p2.iter[i].lat_pct,
+               p2.iter[i].pedal_pct, p2.iter[i].theta_rad * CORE_RAD_TO_DEG, p2.iter[i].phi_rad * CORE_RAD_TO_DEG,
+               p2.iter[i].change_frac);
+    CHECK(p2.iter[p2.n_iter - 1].change_frac < 0.05);
+    int ncoupled = count_fields(dbdir, "UH-60A_v10.00_d+000.00_loaded");
+    int nloaded = count_fields(dbdir, "_loaded_coarse_");
+    int niso = count_fields(dbdir, "BOX40.isolated_");
+    printf("fields: %d coupled, %d isolated, %d loaded in all\n", ncoupled - niso, niso, nloaded);
+    CHECK(niso >= 1 && niso <= p2.n_iter - 1);
+    CHECK(nloaded - niso >= 1 && nloaded - niso <= p2.n_iter); /* + the round-trip field */
+    CHECK(count_fields(dbdir, "_uniform_") == 0);
+    /* The same WOD again: every field is in the database. */
+    int before = count_fields(dbdir, NULL);
+    couple_point p2b;
+    CHECK(couple_trim(c, 10.0, 0.0, &p2b, &err) == 0);
+    CHECK(count_fields(dbdir, NULL) == before);
+    CHECK_NEAR(p2b.trim.u.collective_pct, p2.trim.u.collective_pct, 1e-6);
+    couple_destroy(c);
+
+    /* 3. Direct use of the coupled field counts the induced velocity twice. */
+    s.direct = 1;
+    c = couple_create(ac, &ship, db, &s, &log, &err);
+    couple_point pd;
+    rc = couple_trim(c, 10.0, 0.0, &pd, &err);
+    CHECK(rc == 0);
+    if (rc < 0)
+        fprintf(stderr, "direct: %s\n", err.msg);
+    printf("collective: interaction %.2f %%, direct %.2f %%, free air %.2f %%\n", p2.trim.u.collective_pct,
+           pd.trim.u.collective_pct, p2.iter[0].collective_pct);
+    CHECK(pd.trim.u.collective_pct > p2.trim.u.collective_pct + 2.0);
+    couple_destroy(c);
+    /* The interaction velocity at the hub against the induced velocity. */
+    {
+        char pc[1100], pi[1100];
+        awdb_key kc = k, ki;
+        /* the last coupled and isolated fields of the interaction loop */
+        hfm_disk *d = malloc(sizeof *d);
+        hfm_air_uniform uni = {{-10.0, 0.0, 0.0}};
+        hfm_air air = {hfm_air_uniform_fn, &uni};
+        CHECK(hfm_rotor_disk(ac, &air, 0.0, &p2.trim.body, &p2.trim.u, &p2.trim.rotor, 8, 12, d) == 0);
+        (void)air;
+        free(d);
+        ki = kc;
+        snprintf(ki.ship, sizeof ki.ship, "BOX40.isolated");
+        /* k (the free-air disk) has both fields only if the first iteration
+         * used it: it did, the loop starts from the same free-air trim. */
+        CHECK(awdb_query(db, &kc, pc, sizeof pc) == AWDB_READY);
+        CHECK(awdb_query(db, &ki, pi, sizeof pi) == AWDB_READY);
+        cfd_field *fc = cfd_field_load(pc, &err), *fi = cfd_field_load(pi, &err);
+        CHECK(fc && fi);
+        if (fc && fi) {
+            double vc[CFD_NVARS], vi[CFD_NVARS];
+            double h[3] = {k.station_S_m[0], k.station_S_m[1], k.station_S_m[2]};
+            cfd_field_sample(fc, h, vc);
+            cfd_field_sample(fi, h, vi);
+            double vh = sqrt(k.thrust_N / (2.0 * 1.225 * CORE_PI * k.radius_m * k.radius_m));
+            printf("at the hub: coupled w %.2f m/s, isolated w %.2f m/s, interaction w %.2f m/s, v_h %.2f m/s\n",
+                   vc[2], vi[2], vc[2] - vi[2], vh);
+            CHECK(vi[2] > 0.3 * vh);               /* the isolated rotor's own downwash is there */
+            CHECK(fabs(vc[2] - vi[2]) < 0.5 * vh);  /* and cancels in the interaction velocity */
+        }
+        cfd_field_destroy(fc);
+        cfd_field_destroy(fi);
+    }
+
+    /* 4. One-way: one ship-only field at the reference speed. */
+    s.direct = 0;
+    s.mode = COUPLE_ONE_WAY;
+    c = couple_create(ac, &ship, db, &s, &log, &err);
+    couple_point p1;
+    CHECK(couple_trim(c, 10.0, 0.0, &p1, &err) == 0);
+    CHECK(p1.converged && p1.n_iter == 1);
+    CHECK(count_fields(dbdir, "shiponly") == 1);
+    printf("one-way collective %.2f %%, two-way %.2f %%\n", p1.trim.u.collective_pct, p2.trim.u.collective_pct);
+    couple_destroy(c);
+
+    stop_builder = 1;
+    pthread_join(th, NULL);
+    CHECK(bt.rc == 0);
+    awdb_embedded_destroy(emb);
+    awdb_close(db);
+    hfm_aircraft_destroy(ac);
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dbdir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "could not remove %s\n", dbdir);
+    return check_done("test_couple");
+}
