@@ -252,6 +252,8 @@ int cmd_shol(int argc, char **argv)
     couple_settings_default(&cs);
     cs.grid = grid >= 0 ? grid : (int)sc->grid;
     cs.direct = direct;
+    /* [cfd] rotor: the disk of the coupled solves (loaded: the trim's blade loads) */
+    cs.uniform_disk = sc->rotor == SIM_ROTOR_UNIFORM;
     cs.max_iter = (int)maxit;
     cs.cfd_max_iter = (int)cfdit;
     memcpy(cs.station_S_m, sc->station_S_m, sizeof cs.station_S_m);
@@ -308,6 +310,18 @@ int cmd_shol(int argc, char **argv)
     } else {
         info.label = "one-way (ship-only airwake)";
         info.coupling = "one-way";
+    }
+    /* The physics checks of the main envelope (shol/checks.c); the rotor's
+     * sense from the flight model's disk. */
+    shol_checks checks;
+    awdb_key sense_key;
+    memset(&sense_key, 0, sizeof sense_key);
+    if (couple_free_air_rotor(ac, sc->station_S_m, 5.0, 0.0, 1, &sense_key, &err) == 0 &&
+        shol_checks_run(main_r, sense_key.ccw_from_above, &checks) == 0) {
+        info.checks = &checks;
+        for (int i = 0; i < checks.n; i++)
+            fprintf(stderr, "shol: check %s: %s (%s)\n", checks.c[i].name,
+                    !checks.c[i].applicable ? "not applicable" : checks.c[i].pass ? "pass" : "FAIL", checks.c[i].detail);
     }
     if (shol_write_all(outbuf, main_r, &info, &err) != 0)
         goto fail;

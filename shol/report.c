@@ -113,6 +113,19 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
     fprintf(f, "\n\"none\" means no criterion was exceeded up to the highest speed searched; "
                "\"trim\" means the trim did not converge, which counts as a rejection.\n\n");
 
+    fprintf(f, "## Physics checks\n\n");
+    if (info->checks && info->checks->n) {
+        fprintf(f, "| check | result | figures |\n|---|---|---|\n");
+        for (int i = 0; i < info->checks->n; i++) {
+            const shol_check *k = &info->checks->c[i];
+            fprintf(f, "| %s | %s | %s |\n", k->name, !k->applicable ? "not applicable" : k->pass ? "pass" : "**FAIL**",
+                    k->detail);
+        }
+        fprintf(f, "\nThe checks and their reasoning are in shol/checks.c (docs/shol.md).\n\n");
+    } else {
+        fprintf(f, "No physics checks were run on this envelope.\n\n");
+    }
+
     fprintf(f, "## Coupling histories\n\n");
     if (info->coupling_md && *info->coupling_md)
         fprintf(f, "%s\n\n", info->coupling_md);

@@ -197,6 +197,23 @@ int shol_envelope_run(const shol_settings *s, shol_trim_fn trim, void *trim_user
 
 /* -------------------------------------------------------------- outputs */
 /* Optional text and a second envelope for the report and plots. */
+/* Physics checks of an envelope (shol/checks.c has the reasoning): largest
+ * near the bow, smaller in crosswinds, the tail rotor's port/starboard
+ * asymmetry (ccw_from_above: 1 for a main rotor turning counter-clockwise
+ * seen from above, which should tolerate red winds better; 0 green), and
+ * the limiting criteria named and mostly roll, pitch or pedal. */
+#define SHOL_MAX_CHECKS 8
+typedef struct shol_check {
+    char name[96];
+    int applicable, pass;
+    char detail[160];
+} shol_check;
+typedef struct shol_checks {
+    int n, passed, failed;
+    shol_check c[SHOL_MAX_CHECKS];
+} shol_checks;
+int shol_checks_run(const shol_result *r, int ccw_from_above, shol_checks *out);
+
 typedef struct shol_report_info {
     const char *title;         /* e.g. "CG-47 + UH-60A"; NULL: "Candidate SHOL" */
     const char *label;         /* name of the main envelope, e.g. "two-way coupled" */
@@ -212,6 +229,8 @@ typedef struct shol_report_info {
     /* Markdown the caller writes about the coupling iterations (histories
      * per direction and speed); NULL: the report says none was supplied. */
     const char *coupling_md;
+    /* Physics checks of the main envelope to list in the report; NULL: none. */
+    const shol_checks *checks;
 } shol_report_info;
 
 /* Each writer creates DIR if needed and writes through a temporary file

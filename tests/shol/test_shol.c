@@ -767,6 +767,70 @@ static void test_outputs(void)
     }
 }
 
+/* Physics checks on hand-made envelopes: one that should pass every check,
+ * and one broken in each way that must fail that check. Speeds in kt at red
+ * 90, 60, 30, bow, green 30, 60, 90. */
+static void make_env(shol_result *r, shol_dir_result *d, const double kt[7], const int lim[7])
+{
+    memset(r, 0, sizeof *r);
+    r->n_dirs = 7;
+    r->dirs = d;
+    for (int i = 0; i < 7; i++) {
+        memset(&d[i], 0, sizeof d[i]);
+        d[i].dir_rad = (-90.0 + 30.0 * i) * CORE_DEG_TO_RAD;
+        d[i].has_pass = kt[i] > 0.0;
+        d[i].max_speed_mps = kt[i] * CORE_KT_TO_MPS;
+        d[i].limit = lim[i];
+    }
+}
+
+static int check_by_name(const shol_checks *c, const char *prefix)
+{
+    for (int i = 0; i < c->n; i++)
+        if (!strncmp(c->c[i].name, prefix, strlen(prefix)))
+            return c->c[i].applicable ? c->c[i].pass : -1;
+    return -2;
+}
+
+static void test_physics_checks(void)
+{
+    shol_result r;
+    shol_dir_result d[7];
+    shol_checks c;
+    const int P = SHOL_CRIT_PEDAL, R = SHOL_CRIT_ROLL, T = SHOL_CRIT_PITCH, L = SHOL_CRIT_LAT;
+    /* A UH-60A-like envelope: bow largest, red better than green. */
+    const double good[7] = {25, 35, 45, 50, 40, 30, 20};
+    const int glim[7] = {R, P, T, T, P, P, R};
+    make_env(&r, d, good, glim);
+    CHECK(shol_checks_run(&r, 1, &c) == 0);
+    CHECK(c.failed == 0 && c.passed == 4);
+    /* The same envelope for a clockwise rotor: the asymmetry check fails. */
+    CHECK(shol_checks_run(&r, 0, &c) == 0);
+    CHECK(check_by_name(&c, "green") == 0 && c.failed == 1);
+    /* Largest at red 60: not near the bow. */
+    const double side[7] = {25, 55, 45, 50, 40, 30, 20};
+    make_env(&r, d, side, glim);
+    shol_checks_run(&r, 1, &c);
+    CHECK(check_by_name(&c, "largest near the bow") == 0);
+    /* A crosswind as large as the bow. */
+    const double wide[7] = {50, 35, 45, 50, 40, 30, 20};
+    make_env(&r, d, wide, glim);
+    shol_checks_run(&r, 1, &c);
+    CHECK(check_by_name(&c, "smaller in crosswinds") == 0);
+    /* Mostly lateral-cyclic limits: not what the seed paper reports. */
+    const int llim[7] = {L, L, L, T, L, L, R};
+    make_env(&r, d, good, llim);
+    shol_checks_run(&r, 1, &c);
+    CHECK(check_by_name(&c, "limits named") == 0);
+    /* Only the bow: the side checks do not apply. */
+    make_env(&r, d, good, glim);
+    r.n_dirs = 1;
+    r.dirs = &d[3];
+    shol_checks_run(&r, 1, &c);
+    CHECK(check_by_name(&c, "red") == -1 && check_by_name(&c, "smaller in crosswinds") == -1);
+    CHECK(check_by_name(&c, "largest near the bow") == 1);
+}
+
 int main(void)
 {
     test_criteria_eval();
@@ -776,6 +840,7 @@ int main(void)
     test_envelope_bisection();
     test_envelope_edges();
     test_outputs();
+    test_physics_checks();
     /* Release cairo's and fontconfig's caches so LeakSanitizer sees only
      * what this code could leak. */
     cairo_debug_reset_static_data();
