@@ -20,6 +20,21 @@ n1=$(ls "$tmp/db/fields/"*.h5 2>/dev/null | wc -l)
 "$disim" shol "$src/tests/couple/sfs2_uh60a.ini" --coupling one-way -o "$tmp/out2" --db "$tmp/db" > "$tmp/run2.csv" 2> "$tmp/run2.log" || { echo "rerun failed"; cat "$tmp/run2.log"; fail=1; }
 grep -q "started an airwake builder" "$tmp/run2.log" && { echo "the rerun started a builder"; fail=1; }
 cmp -s "$tmp/run1.csv" "$tmp/run2.csv" || { echo "the rerun gave another envelope"; fail=1; }
+# Two runs at once on a fresh database share one builder: each field is
+# built once (the builder log says "building NAME" once per key), whichever
+# run started the builder.
+"$disim" shol "$src/tests/couple/sfs2_uh60a.ini" --coupling one-way --cfd-max-iter 10 \
+    -o "$tmp/outa" --db "$tmp/db2" > "$tmp/runa.csv" 2> "$tmp/runa.log" &
+pa=$!
+"$disim" shol "$src/tests/couple/sfs2_uh60a.ini" --coupling one-way --cfd-max-iter 10 \
+    -o "$tmp/outb" --db "$tmp/db2" > "$tmp/runb.csv" 2> "$tmp/runb.log" &
+pb=$!
+wait $pa || { echo "concurrent run a failed"; cat "$tmp/runa.log"; fail=1; }
+wait $pb || { echo "concurrent run b failed"; cat "$tmp/runb.log"; fail=1; }
+nb=$(grep -c "building " "$tmp/db2/builder.log" 2>/dev/null)
+nf=$(ls "$tmp/db2/fields/"*.h5 2>/dev/null | wc -l)
+[ "$nb" = 1 ] && [ "$nf" -eq 1 ] || { echo "two runs: $nb builds and $nf fields (expected 1 and 1)"; cat "$tmp/db2/builder.log"; fail=1; }
+cmp -s "$tmp/runa.csv" "$tmp/runb.csv" || { echo "the two concurrent runs gave different envelopes"; fail=1; }
 # Bad flags.
 "$disim" shol "$src/tests/couple/sfs2_uh60a.ini" --grid medium > /dev/null 2> "$tmp/bad.log"
 [ $? -eq 2 ] && grep -q "expected coarse, default or fine" "$tmp/bad.log" || { echo "bad --grid accepted"; fail=1; }
