@@ -192,6 +192,13 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
         goto fail;
     mr->rho = CORE_RHO_SL_KGPM3;
     mr->area = CORE_PI * mr->R * mr->R;
+    mr->hqc = 0.5 * mr->rho * mr->chord;
+    mr->inv_I_beta = 1.0 / mr->I_beta;
+    mr->inv_R = 1.0 / mr->R;
+    for (int j = 0; j < mr->naz; j++) {
+        mr->az_c[j] = cos(2.0 * CORE_PI * j / mr->naz);
+        mr->az_s[j] = sin(2.0 * CORE_PI * j / mr->naz);
+    }
     /* hub axes: z down the shaft, tilted forward by the shaft tilt */
     {
         double s = sin(mr->shaft_tilt), c = cos(mr->shaft_tilt);
@@ -210,6 +217,8 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
             mr->r[i] = 0.5 * (r0 + r1);
             mr->drd[i] = dr;
             mr->drl[i] = r1 <= rB ? dr : (r0 >= rB ? 0.0 : rB - r0);
+            mr->x[i] = mr->r[i] - mr->e;
+            mr->tw[i] = mr->twist * mr->r[i] / mr->R;
         }
     }
 
@@ -265,6 +274,7 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
         get_table(ini, F, "sideslip_beta_deg", "sideslip_drag_m2", 0.0, 100.0, &fu->dbeta, err))
         goto fail;
     GETD(F, "yaw_m3_at_10deg", 0.0, 500.0, fu->yaw_m3_10deg);
+    GETD(F, "side_force_m2", 0.0, 100.0, fu->side_m2);
 
     if (load_surface(ini, "stabilator", &ac->stab, 0, err) ||
         load_surface(ini, "fin", &ac->fin, 1, err))
@@ -289,6 +299,8 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
     GETD(C, "mix_coll_ref_in", 0.0, 30.0, rg->mix_cref);
     GETD(C, "swash_phase_deg", -45.0, 45.0, rg->swash_phase);
     rg->swash_phase *= D2R;
+    rg->swash_c = cos(rg->swash_phase);
+    rg->swash_s = sin(rg->swash_phase);
     if (fabs(rg->tr_gain) < 0.1) {
         const core_ini_entry *en = core_ini_find(ini, C, "tr_deg_per_in");
         core_err_set(err, -1, "%s:%d: [%s] tr_deg_per_in: pedal gain too small (|gain| >= 0.1)",
@@ -352,7 +364,7 @@ void hfm_controls_to_pitch(const hfm_aircraft *ac, const hfm_controls *u, double
     double xa_e = xa + g->mix_ca * dc;
     double xp_e = xp + g->mix_cp * dc;
     double B1 = g->long_gain * xl_e * D2R, A1 = g->lat_gain * xa_e * D2R;
-    double c = cos(g->swash_phase), s = sin(g->swash_phase);
+    double c = g->swash_c, s = g->swash_s;
     *theta0_rad = (g->coll_pitch0 + g->coll_gain * xc) * D2R;
     *A1_rad = c * A1 + s * B1;
     *B1_rad = c * B1 - s * A1;

@@ -29,25 +29,47 @@ int hfm_air_uniform_fn(void *user, const double pos_S_m[3], double t_s, double v
 
 void hfm_kin_setup(hfm_kin *k, const hfm_air *air, double t, const hfm_body *b)
 {
-    core_euler e = {b->euler_rad[0], b->euler_rad[1], b->euler_rad[2]};
-    core_mat3 m = core_mat3_from_euler(e);
-    memcpy(k->C_SB, m.m, sizeof k->C_SB);
+    /* core_mat3_from_euler's matrix, keeping the sines and cosines */
+    double cf = cos(b->euler_rad[0]), sf = sin(b->euler_rad[0]);
+    double ct = cos(b->euler_rad[1]), st = sin(b->euler_rad[1]);
+    double cs = cos(b->euler_rad[2]), ss = sin(b->euler_rad[2]);
+    k->C_SB[0][0] = ct * cs;
+    k->C_SB[0][1] = sf * st * cs - cf * ss;
+    k->C_SB[0][2] = cf * st * cs + sf * ss;
+    k->C_SB[1][0] = ct * ss;
+    k->C_SB[1][1] = sf * st * ss + cf * cs;
+    k->C_SB[1][2] = cf * st * ss - sf * cs;
+    k->C_SB[2][0] = -st;
+    k->C_SB[2][1] = sf * ct;
+    k->C_SB[2][2] = cf * ct;
+    k->sphi = sf;
+    k->cphi = cf;
+    k->sth = st;
+    k->cth = ct;
     memcpy(k->vel_B, b->vel_B_mps, sizeof k->vel_B);
     memcpy(k->rate_B, b->rate_B_radps, sizeof k->rate_B);
     memcpy(k->pos_S, b->pos_S_m, sizeof k->pos_S);
     k->t = t;
     k->air = air;
+    /* the uniform wind is the same at every point: sampled once here */
+    k->uniform = air->fn == hfm_air_uniform_fn;
+    if (k->uniform)
+        m3_tmul(k->C_SB, ((const hfm_air_uniform *)air->user)->vel_S_mps, k->air_B);
 }
 
 int hfm_air_rel_B(const hfm_kin *k, const double r_B[3], double out_B[3])
 {
     double p[3], aS[3], aB[3], w[3];
-    m3_mul(k->C_SB, r_B, p);
-    for (int i = 0; i < 3; i++)
-        p[i] += k->pos_S[i];
-    if (k->air->fn(k->air->user, p, k->t, aS))
-        return -1;
-    m3_tmul(k->C_SB, aS, aB);
+    if (k->uniform) {
+        memcpy(aB, k->air_B, sizeof aB);
+    } else {
+        m3_mul(k->C_SB, r_B, p);
+        for (int i = 0; i < 3; i++)
+            p[i] += k->pos_S[i];
+        if (k->air->fn(k->air->user, p, k->t, aS))
+            return -1;
+        m3_tmul(k->C_SB, aS, aB);
+    }
     v3_cross(k->rate_B, r_B, w);
     for (int i = 0; i < 3; i++)
         out_B[i] = aB[i] - (k->vel_B[i] + w[i]);

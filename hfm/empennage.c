@@ -26,7 +26,7 @@ double hfm_stab_schedule_uh60a(const hfm_wake *w)
 static void surface_coef(const hfm_surf *s, double alpha, double *cl, double *cd)
 {
     double as = s->clmax / s->a, bl = 10.0 * CORE_DEG_TO_RAD;
-    double aa = fabs(alpha), sg = alpha < 0 ? -1.0 : 1.0, fp = 1.1 * sin(2.0 * alpha);
+    double aa = fabs(alpha), sg = alpha < 0 ? -1.0 : 1.0;
     double wfp;
     if (aa <= as) {
         *cl = s->a * alpha;
@@ -36,11 +36,15 @@ static void surface_coef(const hfm_surf *s, double alpha, double *cl, double *cd
         *cl = (1 - f) * s->clmax * sg + f * fpb;
         wfp = f;
     } else {
-        *cl = fp;
+        *cl = 1.1 * sin(2.0 * alpha);
         wfp = 1.0;
     }
-    double ind = *cl * *cl / (CORE_PI * s->ar * 0.8), sa = sin(alpha);
-    *cd = s->cd0 + fmax(ind, wfp * 1.98 * sa * sa);
+    double ind = *cl * *cl / (CORE_PI * s->ar * 0.8);
+    if (wfp > 0.0) { /* the flat plate's drag only matters past the stall */
+        double sa = sin(alpha);
+        ind = fmax(ind, wfp * 1.98 * sa * sa);
+    }
+    *cd = s->cd0 + ind;
 }
 
 static int surface(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w,

@@ -264,15 +264,18 @@ int hfm_linearise(hfm_trim *tr, const hfm_trim_cond *c, const hfm_trim_result *t
 enum { HFM_TSIM_ARKODE_FIXED = 0, HFM_TSIM_CVODE = 1 };
 typedef struct hfm_tsim hfm_tsim;
 
-/* A time simulation of the body, the individual blades (flap angle and
- * rate of each, turning with the rotor azimuth) and the inflow states.
- * method ARKODE_FIXED uses the explicit Knoth-Wolke RK (3 stages, 3rd order) at step h_s
- * (real time); CVODE uses BDF with rtol. air is copied (not its user data). */
+/* A time simulation of the body, the individual blades (turning with the
+ * rotor azimuth, each evaluated at its own azimuth; their flapping held as
+ * multiblade coordinates, an exact change of variables) and the inflow
+ * states. method ARKODE_FIXED uses Ralston's explicit RK (2 stages, 2nd
+ * order) at step h_s (real time); CVODE uses BDF with rtol. air is copied
+ * (not its user data). */
 hfm_tsim *hfm_tsim_create(const hfm_aircraft *ac, const hfm_air *air, int method, double h_s,
                           double rtol, const core_log *log);
 void hfm_tsim_destroy(hfm_tsim *ts);
 /* Start from a body state, controls and harmonic rotor state (e.g. a trim):
- * blade flap angles and rates from the harmonics at the blade azimuths. */
+ * blade flap angles and rates from the harmonics at the blade azimuths
+ * (azimuth 0), projected on the multiblade coordinates. */
 int hfm_tsim_init(hfm_tsim *ts, double t0_s, const hfm_body *b, const hfm_controls *u,
                   const hfm_rotor_harm *rh);
 void hfm_tsim_set_controls(hfm_tsim *ts, const hfm_controls *u);
@@ -280,9 +283,13 @@ void hfm_tsim_set_controls(hfm_tsim *ts, const hfm_controls *u);
 int hfm_tsim_advance(hfm_tsim *ts, double t_s);
 void hfm_tsim_body(const hfm_tsim *ts, hfm_body *b);
 long hfm_tsim_rhs_evals(const hfm_tsim *ts);
-/* The state derivative of the time model (n = hfm_tsim_size). */
+/* The state derivative of the time model (n = hfm_tsim_size): position,
+ * u v w, p q r, Euler angles, inflow (3), azimuth, nb multiblade flap
+ * coordinates and their nb rates. */
 int hfm_tsim_size(const hfm_tsim *ts);
 int hfm_tsim_rhs(hfm_tsim *ts, double t_s, const double *y, double *ydot);
+/* Copy the current state (n >= hfm_tsim_size) into y. Returns 0, or -1 if n is too small. */
+int hfm_tsim_state(const hfm_tsim *ts, double *y, int n);
 
 #ifdef __cplusplus
 }

@@ -33,7 +33,11 @@ typedef struct hfm_mr {
     double C_BH[3][3]; /* hub -> body */
     double area, rho;
     double r[HFM_MAX_SEG], drl[HFM_MAX_SEG], drd[HFM_MAX_SEG];
+    double x[HFM_MAX_SEG], tw[HFM_MAX_SEG]; /* r - e, twist (r/R) */
     double k_fus, k_tail; /* wake velocity at fuselage / tail, of the disk value */
+    double hqc;           /* rho chord / 2 */
+    double inv_I_beta, inv_R;
+    double az_c[HFM_MAX_AZ], az_s[HFM_MAX_AZ]; /* cos, sin of the trim azimuths */
     hfm_airfoil af;
 } hfm_mr;
 
@@ -50,6 +54,7 @@ typedef struct hfm_fus {
     double ref_B[3];
     hfm_table drag, lift, pitch, dbeta; /* m^2, m^2, m^3 vs alpha/beta (rad) */
     double yaw_m3_10deg;                /* N/q at beta = 10 deg, destabilizing */
+    double side_m2;                     /* slender-body side force Y/q = -side sin b cos b */
 } hfm_fus;
 
 enum { HFM_STAB_FIXED = 0, HFM_STAB_UH60A = 1 };
@@ -64,7 +69,7 @@ typedef struct hfm_rig {
     double lat_travel, lat_gain;
     double ped_travel, tr_pitch0, tr_gain;
     double mix_cl, mix_pl, mix_ca, mix_cp, mix_cref;
-    double swash_phase;
+    double swash_phase, swash_c, swash_s; /* and its cos, sin */
 } hfm_rig;
 
 struct hfm_aircraft {
@@ -80,6 +85,9 @@ struct hfm_aircraft {
 /* Kinematics shared by the components of one evaluation. */
 typedef struct hfm_kin {
     double C_SB[3][3]; /* body -> S */
+    double sphi, cphi, sth, cth; /* sin, cos of roll and pitch */
+    int uniform;                 /* the air is the uniform wind ... */
+    double air_B[3];             /* ... of this velocity in body axes */
     double vel_B[3], rate_B[3], pos_S[3];
     double t;
     const hfm_air *air;
@@ -88,10 +96,13 @@ typedef struct hfm_kin {
 /* Main-rotor wake quantities seen by the other components. */
 typedef struct hfm_wake {
     double vi_mps;   /* disk-average induced velocity */
-    double skew_rad; /* wake skew from the shaft */
+    double skew_rad; /* wake skew from the shaft (NaN in time simulation,
+                        which uses only tan_skew) */
     double tan_skew; /* tan of the skew, held at 89 deg */
     double dir_H[2]; /* in-plane direction the wake is blown to (hub axes) */
     double coll_pct, airspeed_kt, q_degps, ay_g;
+    double *tr_inflow; /* NULL, or the tail-rotor inflow of the last evaluation
+                          (a first guess, updated; NaN: none yet) */
 } hfm_wake;
 
 /* inline vector helpers */
@@ -166,19 +177,30 @@ typedef struct hfm_rotor_in {
     double g_H[3];                     /* gravity in hub axes */
     double rel_hub_H[3];               /* air relative to the hub centre, hub axes */
     double C_BH_z[3];                  /* shaft axis (down) in body axes */
+    double air_H[3];                   /* air at the hub, hub axes */
+    int uniform;                       /* the air is the uniform wind (same everywhere) */
 } hfm_rotor_in;
 int hfm_rotor_setup(const hfm_aircraft *ac, const hfm_kin *k, const hfm_controls *u,
                     const double lam[3], hfm_rotor_in *in);
-/* ddbeta given, or (solve_dd) from the flap equation with this blade's loads */
-int hfm_rotor_blade(const hfm_aircraft *ac, const hfm_rotor_in *in, double psi, double beta,
-                    double dbeta, double ddbeta, int solve_dd, hfm_blade_out *o, double *dT,
-                    double *dS);
+/* One blade at azimuth psi, given as cos psi and sin psi; ddbeta given, or
+ * (solve_dd) from the flap equation with this blade's loads. */
+int hfm_rotor_blade(const hfm_aircraft *ac, const hfm_rotor_in *in, double cos_psi,
+                    double sin_psi, double beta, double dbeta, double ddbeta, int solve_dd,
+                    hfm_blade_out *o, double *dT, double *dS);
+/* nbl blades at once (their elements evaluated together, in chunks of
+ * HFM_MAX_BLADES): the same as hfm_rotor_blade for each; ddbeta NULL solves
+ * each blade's flap acceleration from its flap equation. */
+int hfm_rotor_blades(const hfm_aircraft *ac, const hfm_rotor_in *in, int nbl,
+                     const double *cos_psi, const double *sin_psi, const double *beta,
+                     const double *dbeta, const double *ddbeta, hfm_blade_out *o);
+/* Lhat of Pitt-Peters at the rotor's state; the wake skew in *skew (NULL:
+ * not computed). */
 void hfm_rotor_inflow(const hfm_aircraft *ac, const hfm_rotor_in *in, double CT, double CL,
                       double CM, double Lhat[3][3], double *skew);
 void hfm_rotor_wake(const hfm_aircraft *ac, const hfm_rotor_in *in, double skew,
                     const hfm_controls *u, const hfm_body *b, hfm_wake *w);
-void hfm_rotor_harm_beta(const hfm_rotor_harm *rh, double Om, double psi, double *b, double *db,
-                         double *ddb);
+void hfm_rotor_harm_beta(const hfm_rotor_harm *rh, double Om, double cos_psi, double sin_psi,
+                         double *b, double *db, double *ddb);
 void hfm_rotor_to_body(const hfm_aircraft *ac, const double F_H[3], const double M_H[3],
                        hfm_fm *fm);
 

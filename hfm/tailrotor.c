@@ -16,6 +16,8 @@
  * Inflow: the air at the hub (hfm_air callback) plus the main-rotor wake
  * where the tail rotor is immersed; fin blockage scales the thrust below
  * blockage_below_kt (GenHel: 0.9 below 30 kt), blended over 10 kt.
+ * The inflow equation is solved by Newton's method from a momentum first
+ * guess (in fixed-step time simulation, from the last evaluation's value).
  * Assumptions: the tail-rotor torque reaction and H-force are neglected.
  */
 #include "hfm_priv.h"
@@ -43,20 +45,28 @@ int hfm_tailrotor(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, d
     double thA = (th0 - K * g8 * 0.8 * tw * (1.0 + 5.0 / 6.0 * mu2)) / den;
     double thL = K * g8 * (4.0 / 3.0) / den;
     double a0 = sa2 * (thA * c1 + tw * c2), a1 = sa2 * (thL * c1 - B * B / 2.0);
-    double li = 0.05;
-    for (int it = 0; it < 20; it++) {
-        double l = lc + li, s = sqrt(mu2 + l * l + 1e-12);
-        double g = (a0 + a1 * l) / ff - km * li * s;
-        double dg = a1 / ff - km * (s + li * l / s);
-        double step = -g / dg;
+    /* first guess from momentum with the thrust at lambda = lambda_c (exact
+     * in hover for a1 = 0, CT/(k mu) in edgewise flight); Newton from it */
+    double ct0 = (a0 + a1 * lc) / ff;
+    double li = ct0 / (km * sqrt(mu2 + lc * lc + fabs(ct0) / km + 1e-12));
+    if (w->tr_inflow && isfinite(*w->tr_inflow)) /* time simulation: the last value */
+        li = *w->tr_inflow;
+    const double a0f = a0 / ff, a1f = a1 / ff;
+    for (int it = 0; it < 30; it++) {
+        /* g = CT_fan/ff - k li s, s = sqrt(mu^2 + l^2); step -g/g' with one division */
+        double l = lc + li, s2 = mu2 + l * l + 1e-12, s = sqrt(s2);
+        double g = a0f + a1f * l - km * li * s;
+        double step = -g * s / (a1f * s - km * (s2 + li * l));
         if (step > 0.05)
             step = 0.05;
         if (step < -0.05)
             step = -0.05;
         li += step;
-        if (fabs(step) < 1e-12)
+        if (fabs(step) < 1e-8) /* quadratic convergence: li is then exact to ~1e-15 */
             break;
     }
+    if (w->tr_inflow)
+        *w->tr_inflow = li;
     double l = lc + li, ctf = a0 + a1 * l;
     double q = ac->mr.rho * CORE_PI * t->R * t->R * OR * OR;
     double bf = 1.0;

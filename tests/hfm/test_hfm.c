@@ -79,6 +79,9 @@ static void test_bad_input(void)
     expect_error(variant(UH60, "aircraft", "Ixz_kgm2", "Ixz_kgm2 = 30000", "i.ini"), "Ixz_kgm2");
     expect_error(variant(SA365, "tail_rotor", "fan_thrust_fraction", NULL, "j.ini"),
                  "fan_thrust_fraction");
+    expect_error(variant(UH60, "fuselage", "side_force_m2", NULL, "k.ini"), "side_force_m2");
+    expect_error(variant(UH60, "fuselage", "side_force_m2", "side_force_m2 = -1", "l.ini"),
+                 "side_force_m2");
     expect_error("scenarios/aircraft/no_such_aircraft.ini", "no_such_aircraft");
 }
 
@@ -130,10 +133,7 @@ static void test_genhel(hfm_trim *tr)
         CHECK_NEAR(r.u.collective_pct, pct_coll(c), 8.0);
         CHECK_NEAR(r.u.long_pct, pct_long(lo), 8.0);
         CHECK_NEAR(r.u.lat_pct, pct_lat(la), 8.0);
-        if (v < 100.0) /* 140 kt pedal: known miss, see docs/validation/hfm.md */
-            CHECK_NEAR(r.u.pedal_pct, pct_ped(pe), 8.0);
-        else
-            CHECK_NEAR(r.u.pedal_pct, pct_ped(pe), 10.0);
+        CHECK_NEAR(r.u.pedal_pct, pct_ped(pe), 8.0);
         CHECK_NEAR(r.body.euler_rad[1] * R2D, th, 1.5);
         CHECK_NEAR(r.body.euler_rad[0] * R2D, ph, 1.5);
     }
