@@ -131,8 +131,8 @@ typedef struct cfd_config {
     int monitor_every;     /* iterations between monitor comparisons (50) */
     int n_monitor;
     double monitor_m[CFD_MAX_MONITOR][3];
-    double relax_u, relax_p, relax_turb; /* under-relaxation (0.7, 0.9, 0.6) */
-    int second_order;      /* 1: van Leer TVD deferred correction, 0: upwind */
+    double relax_u, relax_p, relax_turb; /* under-relaxation (0.7, 0.9, 0.6; ship airwakes u 0.85) */
+    int second_order;      /* 1: van Leer TVD deferred correction (first order on the faces of wall-function cells), 0: upwind */
     int max_retries;       /* retries with more under-relaxation after divergence (2) */
     const core_log *log;
     cfd_progress_fn progress;
@@ -196,12 +196,16 @@ typedef struct cfd_field cfd_field;
 /* Warm start: interpolate every variable from a field (another WOD, or the
  * same case on a coarser grid: coarse-to-fine). */
 int cfd_solver_init_from_field(cfd_solver *s, const cfd_field *f, core_err *err);
+/* Coarse-to-fine start in memory: interpolate every variable from another
+ * solver's state (the same case solved on a coarser grid). */
+int cfd_solver_init_from_solver(cfd_solver *s, const cfd_solver *src, core_err *err);
 
 typedef struct cfd_result {
     int iterations;
     int converged;       /* residuals and monitors met */
     int retries;
-    double residual[5];  /* final normalised residuals: continuity, u, v, w, k */
+    double residual[5];  /* final residuals: continuity (divided by its largest value over the
+                            first five iterations), u, v, w, k (sum |r| / sum |a_P phi_P|) */
     double wall_s;
     double cell_updates; /* cells x iterations */
     double monitor_change; /* last monitor-velocity change / u_ref between two checks */

@@ -7,19 +7,35 @@
  * Peric, Computational Methods for Fluid Dynamics, 3rd ed., ch. 7-8):
  *  - convection: upwind implicit plus a van Leer TVD deferred correction
  *    (bounded, second order where smooth), continuity subtracted so the
- *    matrix stays an M-matrix while mass is not yet conserved;
+ *    matrix stays an M-matrix while mass is not yet conserved. With wall
+ *    functions, faces of wall-function cells (fluid cells with a wall face)
+ *    are first-order upwind: the centre value of such a cell is the
+ *    log-layer value at y_P, not a point of a smooth profile, and the
+ *    explicit correction there (deck edges, hangar corners) kept the
+ *    SIMPLEC iteration in a limit cycle that any limiter (van Leer, van
+ *    Albada, minmod, limited linear upwind) reproduced and only heavy
+ *    under-relaxation damped (docs/validation/cfd.md);
  *  - pressure-velocity coupling: SIMPLEC (Van Doormaal & Raithby 1984,
  *    Numer. Heat Transfer 7:147) with Rhie-Chow face velocities (Rhie & Chow
  *    1983, AIAA J. 21:1525), d = V / (a_P - sum a_nb);
  *  - linear systems: red-black Gauss-Seidel sweeps for u, v, w, k, eps; the
  *    pressure correction by multigrid-preconditioned CG (mg.c);
  *  - boundaries: walls (wall functions when turbulent), velocity inlet,
- *    pressure outlet (zero gradient, also an opening with backflow),
- *    symmetry; blocked cells' faces are walls;
- *  - convergence as in the seed paper (section 2.2): normalised residuals
- *    (each divided by its largest value over the first five iterations)
- *    below tol and monitor-point velocities changing less than tol_monitor
- *    times u_ref between two checks;
+ *    pressure outlet (zero gradient, also an opening: where air comes back
+ *    in, static pressure -rho u_n^2 / 2 for total pressure 0 and zero
+ *    tangential velocity, as Fluent's backflow total pressure and
+ *    OpenFOAM's totalPressure + pressureInletOutletVelocity), symmetry;
+ *    blocked cells' faces are walls. At a wall the pressure (and its
+ *    correction) is extrapolated linearly from the cell and the neighbour
+ *    on the other side, so a wall cell's pressure gradient is the one-sided
+ *    difference and the Rhie-Chow term vanishes for a linear pressure
+ *    field (with p_w = p_P it did not, at deck edges and hangar corners);
+ *  - convergence as in the seed paper (section 2.2): residuals below tol
+ *    and monitor-point velocities changing less than tol_monitor times
+ *    u_ref between two checks. Residuals as Fluent scales them (ANSYS
+ *    Fluent User's Guide, "definition of residuals"): continuity = sum |mass imbalance| divided by its
+ *    largest value over the first five iterations; u, v, w, k = sum |r| /
+ *    sum |a_P phi_P|;
  *  - divergence (NaN, residuals or velocities blowing up) restarts from the
  *    initial state with 0.6 times the under-relaxation, max_retries times.
  */
@@ -50,6 +66,7 @@ struct cfd_solver {
     double *a[6], *ap, *b;
     double *apsum, *anbsum;
     double *pp;
+    unsigned char *wallcell; /* 1: a fluid cell with a wall face (wall-function cell) */
     double *disk_f[3];
     double *snap[NSNAP];
     cfd_mg *mg;
@@ -157,6 +174,25 @@ static inline const double *wall_vel(const cfd_solver *s, const int ijk[3], int 
     return zero;
 }
 
+/* Index of face f of cell ijk in the face array of its axis. */
+static inline size_t face_of(const cfd_grid *g, const int ijk[3], int f)
+{
+    int d = f >> 1, q[3] = {ijk[0], ijk[1], ijk[2]};
+    q[d] += f & 1;
+    return fidx(g, d, q[0], q[1], q[2]);
+}
+
+/* Pressure on a pressure-outlet face: 0 where the air leaves; where it comes
+ * back in, the static pressure of air at rest at total pressure 0,
+ * p = -rho u_n^2 / 2 (the "backflow total pressure" of Fluent, OpenFOAM's
+ * totalPressure). Without it, backflow enters for free at p = 0 and a
+ * wake reaching the outlet feeds itself until the run diverges. */
+static inline double outlet_p(const cfd_solver *s, const int ijk[3], int f)
+{
+    double un = ((f & 1) ? 1.0 : -1.0) * s->uf[f >> 1][face_of(s->g, ijk, f)];
+    return un < 0.0 ? -0.5 * s->cfg.rho_kgpm3 * un * un : 0.0;
+}
+
 /* --------------------------------------------------------------- inflow */
 static void inflow_at(const cfd_solver *s, const double pos[3], double vel[3], double *k, double *eps)
 {
@@ -244,6 +280,8 @@ cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *e
     ok &= (s->pp = alloc_arr(s, n)) != NULL;
     for (int v = 0; v < NSNAP; v++)
         ok &= (s->snap[v] = alloc_arr(s, n)) != NULL;
+    ok &= (s->wallcell = calloc(n ? n : 1, 1)) != NULL;
+    s->bytes += n;
     s->mg = ok ? cfd_mg_create(grid->n) : NULL;
     if (!ok || !s->mg) {
         cfd_solver_destroy(s);
@@ -255,6 +293,17 @@ cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *e
     for (int f = 0; f < CFD_NFACES; f++)
         if (cfg->bc[f].type == CFD_BC_OUTLET)
             s->singular = 0;
+    #pragma omp parallel for schedule(static)
+    for (int k = 0; k < grid->n[2]; k++)
+        for (int j = 0; j < grid->n[1]; j++)
+            for (int i = 0; i < grid->n[0]; i++) {
+                int ijk[3] = {i, j, k};
+                size_t c = CFD_IDX(grid, i, j, k), cn;
+                unsigned char w = 0;
+                for (int f = 0; f < 6 && !grid->solid[c]; f++)
+                    w |= nb_kind(s, ijk, f, c, &cn) == NB_WALL;
+                s->wallcell[c] = w;
+            }
     cfd_solver_init_inflow(s);
     return s;
 }
@@ -278,6 +327,7 @@ void cfd_solver_destroy(cfd_solver *s)
     free(s->apsum);
     free(s->anbsum);
     free(s->pp);
+    free(s->wallcell);
     for (int v = 0; v < NSNAP; v++)
         free(s->snap[v]);
     free(s->hist);
@@ -421,6 +471,34 @@ int cfd_solver_init_from_field(cfd_solver *s, const cfd_field *f, core_err *err)
     return 0;
 }
 
+int cfd_solver_init_from_solver(cfd_solver *s, const cfd_solver *src, core_err *err)
+{
+    const cfd_grid *g = s->g;
+    cfd_solver_init_inflow(s);
+    #pragma omp parallel for schedule(static)
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++) {
+                size_t c = CFD_IDX(g, i, j, k);
+                if (g->solid[c])
+                    continue;
+                double pos[3] = {g->xc[0][i], g->xc[1][j], g->xc[2][k]}, out[CFD_NVARS];
+                cfd_solver_sample(src, pos, out);
+                for (int v = 0; v < CFD_NVARS; v++)
+                    s->var[v][c] = out[v];
+                if (!(s->var[CFD_VAR_K][c] > 1e-12))
+                    s->var[CFD_VAR_K][c] = 1e-12;
+                if (!(s->var[CFD_VAR_EPS][c] > 1e-12))
+                    s->var[CFD_VAR_EPS][c] = 1e-12;
+                if (!s->cfg.turbulence)
+                    s->var[CFD_VAR_NUT][c] = 0.0;
+            }
+    faces_from_cells(s);
+    if (cfd_solver_has_nan(s))
+        return core_err_set(err, -1, "cfd coarse-to-fine start: the coarse state gives NaN values");
+    return 0;
+}
+
 int cfd_solver_has_nan(const cfd_solver *s)
 {
     int bad = 0;
@@ -453,6 +531,21 @@ static inline double face_value(const cfd_solver *s, const double *phi, int var,
     case NB_WALL:
         if (var >= CFD_VAR_U && var <= CFD_VAR_W)
             return wall_vel(s, ijk, f)[var - CFD_VAR_U];
+        if (var == CFD_VAR_P) {
+            /* pressure (and its correction) extrapolated linearly from the
+             * cell and its neighbour on the other side: with p_w = p_P the
+             * cell gradient is half the true one, the Rhie-Chow term at
+             * the next face does not vanish for a linear pressure field and
+             * drives a spurious mass flux wherever the wall-normal pressure
+             * gradient is large (deck edges, hangar corners) */
+            size_t co = 0;
+            int fo = f ^ 1;
+            if (nb_kind(s, ijk, fo, c, &co) == NB_FLUID) {
+                int qo = ijk[d] + ((fo & 1) ? 1 : -1);
+                double dist = fabs(g->xc[d][qo] - g->xc[d][ijk[d]]);
+                return phi[c] + (phi[c] - phi[co]) * 0.5 * g->h[d][ijk[d]] / dist;
+            }
+        }
         return phi[c];
     case NB_INLET:
         if (var >= CFD_VAR_U && var <= CFD_VAR_W) {
@@ -464,7 +557,7 @@ static inline double face_value(const cfd_solver *s, const double *phi, int var,
         return phi[c];
     case NB_OUTLET:
         if (var == CFD_VAR_P)
-            return 0.0;
+            return phi == s->var[CFD_VAR_P] ? outlet_p(s, ijk, f) : 0.0;
         return phi[c];
     default:
         if (var - CFD_VAR_U == d)
@@ -560,7 +653,7 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
                         double dist = fabs(g->xc[d][q] - g->xc[d][ijk[d]]);
                         double gam = nu + (turb ? 0.5 * (nut[c] + nut[cn]) / sigma : 0.0);
                         a_f = gam * A / dist + fmax(-F, 0.0);
-                        if (cfg->second_order)
+                        if (cfg->second_order && !(turb && (s->wallcell[c] || s->wallcell[cn])))
                             bb -= tvd_correction(s, phi, ijk, f, c, cn, F);
                         anb += a_f;
                     } else if (kind == NB_WALL) {
@@ -599,6 +692,12 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
                         ap += cb;
                         bb += cb * val;
                     } else if (kind == NB_OUTLET) {
+                        /* backflow: the tangential velocity of the air
+                         * coming in is 0 (OpenFOAM's
+                         * pressureInletOutletVelocity), the normal one
+                         * zero-gradient; k and eps from the inflow */
+                        if (F < 0.0 && mom && comp != d)
+                            ap += -F;
                         if (F < 0.0 && !mom) {
                             double pos[3] = {g->xc[0][i], g->xc[1][j], g->xc[2][k]}, vel[3], ki, ei;
                             inflow_at(s, pos, vel, &ki, &ei);
@@ -687,13 +786,17 @@ static inline double neighbours(const cfd_solver *s, const double *phi, size_t c
     return r;
 }
 
-static double residual(const cfd_solver *s, const double *phi)
+/* Scaled residual (Fluent's; ANSYS Fluent User's Guide, residuals):
+ * sum |a_P phi_P - sum a_nb phi_nb - b| / sum |a_P phi_P| over fluid cells,
+ * with a_P the unrelaxed diagonal (alpha: the relaxation the matrix was
+ * assembled with); the relaxation terms cancel in the numerator. */
+static double residual(const cfd_solver *s, const double *phi, double alpha)
 {
     const cfd_grid *g = s->g;
     size_t st[3];
     strides(g, st);
-    double sum = 0.0;
-    #pragma omp parallel for reduction(+ : sum) schedule(static)
+    double sum = 0.0, scale = 0.0;
+    #pragma omp parallel for reduction(+ : sum, scale) schedule(static)
     for (int k = 0; k < g->n[2]; k++)
         for (int j = 0; j < g->n[1]; j++)
             for (int i = 0; i < g->n[0]; i++) {
@@ -702,8 +805,9 @@ static double residual(const cfd_solver *s, const double *phi)
                     continue;
                 double r = s->b[c] - s->ap[c] * phi[c] + neighbours(s, phi, c, i, j, k, st);
                 sum += fabs(r);
+                scale += fabs(alpha * s->ap[c] * phi[c]);
             }
-    return sum;
+    return scale > 0.0 ? sum / scale : sum > 0.0 ? 1.0 : 0.0;
 }
 
 static void gs_sweeps(cfd_solver *s, double *phi, int sweeps, double floor)
@@ -778,6 +882,9 @@ static void rhie_chow(cfd_solver *s)
     const cfd_grid *g = s->g;
     const double rho = s->cfg.rho_kgpm3;
     const double *p = s->var[CFD_VAR_P];
+    /* pass 0: interior faces, pass 1: boundary faces (an interior face's
+     * pressure gradients read the outlet faces' backflow pressure) */
+    for (int pass = 0; pass < 2; pass++)
     for (int d = 0; d < 3; d++) {
         const double *u = s->var[CFD_VAR_U + d];
         #pragma omp parallel for schedule(static)
@@ -792,6 +899,8 @@ static void rhie_chow(cfd_solver *s)
                     int inm = q - 1 >= 0, inp = q < g->n[d];
                     size_t cm = inm ? CFD_IDX(g, jm[0], jm[1], jm[2]) : 0;
                     size_t cp = inp ? CFD_IDX(g, jp[0], jp[1], jp[2]) : 0;
+                    if ((inm && inp) != (pass == 0))
+                        continue;
                     if (inm && inp) {
                         if (g->solid[cm] || g->solid[cp]) {
                             s->uf[d][fi] = 0.0;
@@ -814,7 +923,8 @@ static void rhie_chow(cfd_solver *s)
                         } else if (s->cfg.bc[f].type == CFD_BC_OUTLET) {
                             double gc = grad_dir(s, p, CFD_VAR_P, jc, d, c);
                             double half = 0.5 * g->h[d][jc[d]];
-                            double gf = inp ? (p[c] - 0.0) / half : (0.0 - p[c]) / half;
+                            double pb = outlet_p(s, jc, f);
+                            double gf = inp ? (p[c] - pb) / half : (pb - p[c]) / half;
                             s->uf[d][fi] = u[c] + s->drc[c] / rho * (gc - gf);
                         } /* inlet faces keep their prescribed value */
                     }
@@ -1001,7 +1111,7 @@ static void iterate(cfd_solver *s, double r[HIST_COLS])
             continue;
         }
         assemble(s, CFD_VAR_U + d, au, NULL);
-        r[1 + d] = residual(s, s->var[CFD_VAR_U + d]);
+        r[1 + d] = residual(s, s->var[CFD_VAR_U + d], au);
         gs_sweeps(s, s->var[CFD_VAR_U + d], 2, -1e300);
     }
     const cfd_grid *g = s->g;
@@ -1023,7 +1133,7 @@ static void iterate(cfd_solver *s, double r[HIST_COLS])
         double *pk = s->pp; /* scratch */
         turbulence_prepare(s, pk);
         assemble(s, CFD_VAR_K, at, pk);
-        r[4] = residual(s, s->var[CFD_VAR_K]);
+        r[4] = residual(s, s->var[CFD_VAR_K], at);
         gs_sweeps(s, s->var[CFD_VAR_K], 2, 1e-14 * s->cfg.u_ref_mps * s->cfg.u_ref_mps);
         assemble(s, CFD_VAR_EPS, at, pk);
         gs_sweeps(s, s->var[CFD_VAR_EPS], 2, 1e-20);
@@ -1084,10 +1194,16 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
             for (int q = 0; q < HIST_COLS; q++)
                 bad |= !isfinite(r[q]);
             double rn[HIST_COLS], worst = 0.0;
+            /* continuity: divided by its largest value over the first
+             * five iterations; u, v, w, k: already scaled by sum |a_P phi_P| */
             for (int q = 0; q < HIST_COLS; q++) {
-                if (it <= 5 && r[q] > rmax[q])
-                    rmax[q] = r[q];
-                rn[q] = rmax[q] > 0.0 ? r[q] / rmax[q] : 0.0;
+                if (q == 0) {
+                    if (it <= 5 && r[q] > rmax[q])
+                        rmax[q] = r[q];
+                    rn[q] = rmax[q] > 0.0 ? r[q] / rmax[q] : 0.0;
+                } else {
+                    rn[q] = r[q];
+                }
                 if (rn[q] > worst)
                     worst = rn[q];
             }

@@ -5,8 +5,11 @@
  *       iterations with 1 thread and with N threads: cell-updates per
  *       second (fluid cells x iterations / wall time), per core, speed-up.
  *   bench_cfd airwake [--grid coarse|default|fine] [--threads N]
- *       [--max-iter N] [--time-limit-s S] [--dir-deg D]
- *       SFS2, 15 m/s, UH-60A actuator disk (T = m g, R 8.18 m) hovering
+ *       [--max-iter N] [--time-limit-s S] [--dir-deg D] [--ship NAME]
+ *       [--speed MPS] [--rotor on|off] [--every N] [--seq N]
+ *       --seq N: coarse-to-fine start, at most N iterations on the coarse
+ *       grid first (counted in the wall time).
+ *       SFS2 (or scenarios/ships/NAME.ini), 15 m/s, UH-60A actuator disk (T = m g, R 8.18 m) hovering
  *       one radius over the spot: wall time to convergence (normalised
  *       residuals < 1e-4 and deck-line monitors changing < 2 %), or to the
  *       limit; solver bytes per cell and the process's peak RSS per cell.
@@ -19,17 +22,35 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <time.h>
+
+static double wall_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
 
 typedef struct limit {
     double time_limit_s;
     int every;
+    const cfd_solver *s; /* set once created: the progress line prints every residual */
 } limit;
 
 static int progress(void *user, int iter, int max_iter, double res, double t)
 {
     limit *l = user;
-    if (l->every && iter % l->every == 0)
-        fprintf(stderr, "  iteration %d/%d residual %.3e %.1f s\n", iter, max_iter, res, t);
+    if (l->every && iter % l->every == 0) {
+        int n = 0;
+        const double *h = l->s ? cfd_solver_history(l->s, &n) : NULL;
+        if (h && n > 0) {
+            h += (size_t)(n - 1) * 5;
+            fprintf(stderr, "  iteration %d/%d residuals cont %.2e u %.2e v %.2e w %.2e k %.2e %.1f s\n", iter,
+                    max_iter, h[0], h[1], h[2], h[3], h[4], t);
+        } else {
+            fprintf(stderr, "  iteration %d/%d residual %.3e %.1f s\n", iter, max_iter, res, t);
+        }
+    }
     return l->time_limit_s > 0.0 && t > l->time_limit_s;
 }
 
@@ -40,16 +61,19 @@ static void log_fn(void *user, int level, const char *msg)
     fprintf(stderr, "  %s\n", msg);
 }
 
-static int setup(core_ship *ship, cfd_airwake_spec *sp, cfd_grid_level lv, double dir_deg, int rotor)
+static int setup_ship(core_ship *ship, cfd_airwake_spec *sp, const char *name, double speed_mps, cfd_grid_level lv,
+                      double dir_deg, int rotor)
 {
     core_err err;
-    if (core_ship_load(CFD_SHIPS_DIR "/sfs2.ini", ship, &err)) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s.ini", CFD_SHIPS_DIR, name);
+    if (core_ship_load(path, ship, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         return -1;
     }
     memset(sp, 0, sizeof *sp);
     sp->ship = ship;
-    sp->wod_speed_mps = 15.0;
+    sp->wod_speed_mps = speed_mps;
     sp->wod_dir_rad = dir_deg * CORE_DEG_TO_RAD;
     sp->level = lv;
     sp->monitor_z_m = -6.8;
@@ -62,6 +86,11 @@ static int setup(core_ship *ship, cfd_airwake_spec *sp, cfd_grid_level lv, doubl
     return 0;
 }
 
+static int setup(core_ship *ship, cfd_airwake_spec *sp, cfd_grid_level lv, double dir_deg, int rotor)
+{
+    return setup_ship(ship, sp, "sfs2", 15.0, lv, dir_deg, rotor);
+}
+
 static double run_iters(int threads, int iters, double *cells)
 {
     omp_set_num_threads(threads);
@@ -71,7 +100,7 @@ static double run_iters(int threads, int iters, double *cells)
         return -1;
     sp.max_iter = iters;
     core_err err;
-    limit l = {0.0, 0};
+    limit l = {0.0, 0, NULL};
     cfd_solver *s = cfd_airwake_create(&sp, NULL, progress, &l, &err);
     if (!s) {
         fprintf(stderr, "%s\n", err.msg);
@@ -90,8 +119,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: bench_cfd throughput|airwake [options]\n");
         return 2;
     }
-    int threads = 2, iters = 50, max_iter = 3000, lv = 1;
-    double tl = 0.0, dir = 0.0;
+    int threads = 2, iters = 50, max_iter = 3000, lv = 1, rotor = 1, every = 100, seq = 0;
+    double tl = 0.0, dir = 0.0, speed = 15.0;
+    const char *ship_name = "sfs2";
     for (int i = 2; i + 1 < argc; i += 2) {
         if (!strcmp(argv[i], "--threads"))
             threads = atoi(argv[i + 1]);
@@ -103,6 +133,16 @@ int main(int argc, char **argv)
             tl = atof(argv[i + 1]);
         else if (!strcmp(argv[i], "--dir-deg"))
             dir = atof(argv[i + 1]);
+        else if (!strcmp(argv[i], "--ship"))
+            ship_name = argv[i + 1];
+        else if (!strcmp(argv[i], "--speed"))
+            speed = atof(argv[i + 1]);
+        else if (!strcmp(argv[i], "--rotor"))
+            rotor = strcmp(argv[i + 1], "off") != 0;
+        else if (!strcmp(argv[i], "--seq"))
+            seq = atoi(argv[i + 1]);
+        else if (!strcmp(argv[i], "--every"))
+            every = atoi(argv[i + 1]);
         else if (!strcmp(argv[i], "--grid"))
             lv = !strcmp(argv[i + 1], "coarse") ? 0 : !strcmp(argv[i + 1], "fine") ? 2 : 1;
     }
@@ -121,29 +161,74 @@ int main(int argc, char **argv)
         omp_set_num_threads(threads);
         core_ship ship;
         cfd_airwake_spec sp;
-        if (setup(&ship, &sp, (cfd_grid_level)lv, dir, 1))
+        if (setup_ship(&ship, &sp, ship_name, speed, (cfd_grid_level)lv, dir, rotor))
             return 1;
         sp.max_iter = max_iter;
         core_err err;
         core_log log = {log_fn, NULL, CORE_LOG_INFO};
-        limit l = {tl, 100};
+        double t0 = wall_now();
+        cfd_solver *pre = NULL;
+        cfd_result pres;
+        memset(&pres, 0, sizeof pres);
+        if (seq > 0 && lv > 0) {
+            /* coarse-to-fine start: the same case on the coarse grid first */
+            cfd_airwake_spec sc = sp;
+            sc.level = CFD_GRID_COARSE;
+            sc.max_iter = seq;
+            limit lc = {tl, every, NULL};
+            pre = cfd_airwake_create(&sc, &log, progress, &lc, &err);
+            if (!pre) {
+                fprintf(stderr, "%s\n", err.msg);
+                return 1;
+            }
+            lc.s = pre;
+            if (cfd_solver_run(pre, &pres, &err) < 0) {
+                fprintf(stderr, "%s\n", err.msg);
+                cfd_solver_destroy(pre);
+                return 1;
+            }
+        }
+        limit l = {tl, every, NULL};
         cfd_solver *s = cfd_airwake_create(&sp, &log, progress, &l, &err);
         if (!s) {
             fprintf(stderr, "%s\n", err.msg);
+            cfd_solver_destroy(pre);
             return 1;
         }
+        if (pre) {
+            int irc = cfd_solver_init_from_solver(s, pre, &err);
+            cfd_solver_destroy(pre);
+            if (irc) {
+                fprintf(stderr, "%s\n", err.msg);
+                cfd_solver_destroy(s);
+                return 1;
+            }
+        }
+        l.s = s;
+        double t_pre = wall_now() - t0;
+        if (tl > 0.0)
+            l.time_limit_s = tl - t_pre;
         size_t cells = cfd_grid_cells(cfd_solver_grid(s));
         cfd_result res;
         int rc = cfd_solver_run(s, &res, &err);
+        double t_all = wall_now() - t0;
         struct rusage ru;
         getrusage(RUSAGE_SELF, &ru);
-        printf("airwake: SFS2 15 m/s %.0f deg, rotor UH-60A, grid level %d, %zu cells, %d threads\n", dir, lv, cells,
-               threads);
+        printf("airwake: %s %.1f m/s %.0f deg, rotor %s, grid level %d, %zu cells, %d threads\n", ship.name, speed, dir,
+               rotor ? "UH-60A" : "off", lv, cells, threads);
         printf("  %s after %d iterations, wall %.1f s, %.3e cell-updates/s (%.3e per core)\n",
                rc < 0 ? "DIVERGED" : res.converged ? "converged" : "NOT converged", res.iterations, res.wall_s,
                res.cell_updates / res.wall_s, res.cell_updates / res.wall_s / threads);
-        printf("  final normalised residuals: continuity %.2e u %.2e v %.2e w %.2e k %.2e\n", res.residual[0],
-               res.residual[1], res.residual[2], res.residual[3], res.residual[4]);
+        if (seq > 0 && lv > 0)
+            printf("  coarse-to-fine: %d coarse iterations (%s, %.1f s); total wall time with set-up %.1f s\n",
+                   pres.iterations, pres.converged ? "converged" : "not converged", pres.wall_s, t_all);
+        else
+            printf("  total wall time with set-up %.1f s\n", t_all);
+        printf("  final normalised residuals: continuity %.2e u %.2e v %.2e w %.2e k %.2e; monitor change %.2f %% of U\n",
+               res.residual[0], res.residual[1], res.residual[2], res.residual[3], res.residual[4],
+               100.0 * res.monitor_change);
+        if (rc < 0)
+            printf("  %s\n", err.msg);
         printf("  memory: solver %.0f bytes/cell, peak RSS %.0f bytes/cell (%.1f MB)\n",
                (double)cfd_solver_bytes(s) / cells, ru.ru_maxrss * 1024.0 / cells, ru.ru_maxrss / 1024.0);
         cfd_solver_destroy(s);
