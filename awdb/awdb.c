@@ -414,6 +414,11 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
         if (strcmp(k.ship, key->ship) || strcmp(k.aircraft, key->aircraft) || k.rotor != key->rotor ||
             k.grid != key->grid)
             continue;
+        /* A wake 60 or 90 deg away sits elsewhere in the grid (other inflow
+         * faces, the lee side moved): starting from it was seen to diverge
+         * where the uniform inflow converges, so only neighbours count. */
+        if (fabs(remainder(k.wod_dir_rad - key->wod_dir_rad, 2.0 * CORE_PI)) > AWDB_WARM_MAX_DIR_RAD)
+            continue;
         core_vec3 wk = core_wod_vel_S_mps(k.wod_speed_mps, k.wod_dir_rad);
         double dist = core_vec3_norm(core_vec3_sub(w, wk));
         if (dist < best) {

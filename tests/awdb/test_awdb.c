@@ -196,6 +196,14 @@ static void test_flow(const char *dir)
     CHECK(awdb_submit(db, &k3, &st, &err) == 0);
     CHECK(run_builder(db, &te, 1, &err) == 0);
     CHECK(strstr(te.last_warm, "v10.00_d+000.00") != NULL); /* 10 m/s head is nearer than 12 */
+    /* No warm start from a direction more than 30 deg away: green 60 may
+     * start from green 30, green 90 from nothing (the inflow). */
+    char near[1024];
+    awdb_key kg60 = key(10, 60), kg90 = key(10, 90);
+    awdb_key_canon(&kg60, &err);
+    awdb_key_canon(&kg90, &err);
+    CHECK(awdb_nearest(db, &kg60, near, sizeof near) == 0 && strstr(near, "v10.00_d+030.00") != NULL);
+    CHECK(awdb_nearest(db, &kg90, near, sizeof near) == 1);
 
     /* A corrupted field is detected, removed and rebuilt. */
     FILE *f = fopen(path, "r+");
