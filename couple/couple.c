@@ -461,6 +461,14 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
         base_key(c, &kc, v, dir);
         if (couple_key_set_rotor(c->ac, c->disk, !c->s.uniform_disk, &kc) != 0)
             return core_err_set(err, -1, "rotor disk at %.2f m/s from %.1f deg: no thrust", v, dir * CORE_RAD_TO_DEG);
+        awdb_key ki = kc;
+        snprintf(ki.ship, sizeof ki.ship, "%s.isolated", c->ship->name);
+        if (!c->s.direct) {
+            /* queue the isolated rotor now, so that a builder with two jobs
+             * runs it beside the coupled field */
+            if (awdb_key_canon(&ki, err) != 0 || awdb_submit(c->db, &ki, NULL, err) != 0)
+                return -1;
+        }
         const cfd_field *fc = get_field(c, &kc, err);
         if (!fc)
             return -1;
@@ -470,8 +478,6 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
             air.fn = air_scaled_fn;
             air.user = &direct;
         } else {
-            awdb_key ki = kc;
-            snprintf(ki.ship, sizeof ki.ship, "%s.isolated", c->ship->name);
             const cfd_field *fi = get_field(c, &ki, err);
             if (!fi)
                 return -1;
