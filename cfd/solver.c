@@ -443,7 +443,21 @@ void cfd_solver_init_inflow(cfd_solver *s)
     faces_from_cells(s);
 }
 
-int cfd_solver_init_from_field(cfd_solver *s, const cfd_field *f, core_err *err)
+/* Warm starts: every fluid cell from a sampler of another state (a field
+ * file or a coarser solver), k and epsilon kept positive. */
+typedef int (*sample_fn)(const void *src, const double pos[3], double out[CFD_NVARS]);
+
+static int sample_field(const void *src, const double pos[3], double out[CFD_NVARS])
+{
+    return cfd_field_sample(src, pos, out);
+}
+
+static int sample_solver(const void *src, const double pos[3], double out[CFD_NVARS])
+{
+    return cfd_solver_sample(src, pos, out);
+}
+
+static int init_interp(cfd_solver *s, sample_fn sample, const void *src, const char *what, core_err *err)
 {
     const cfd_grid *g = s->g;
     cfd_solver_init_inflow(s);
@@ -455,7 +469,7 @@ int cfd_solver_init_from_field(cfd_solver *s, const cfd_field *f, core_err *err)
                 if (g->solid[c])
                     continue;
                 double pos[3] = {g->xc[0][i], g->xc[1][j], g->xc[2][k]}, out[CFD_NVARS];
-                cfd_field_sample(f, pos, out);
+                sample(src, pos, out);
                 for (int v = 0; v < CFD_NVARS; v++)
                     s->var[v][c] = out[v];
                 if (!(s->var[CFD_VAR_K][c] > 1e-12))
@@ -467,36 +481,18 @@ int cfd_solver_init_from_field(cfd_solver *s, const cfd_field *f, core_err *err)
             }
     faces_from_cells(s);
     if (cfd_solver_has_nan(s))
-        return core_err_set(err, -1, "cfd warm start: the field gives NaN values");
+        return core_err_set(err, -1, "cfd %s: the source gives NaN values", what);
     return 0;
+}
+
+int cfd_solver_init_from_field(cfd_solver *s, const cfd_field *f, core_err *err)
+{
+    return init_interp(s, sample_field, f, "warm start", err);
 }
 
 int cfd_solver_init_from_solver(cfd_solver *s, const cfd_solver *src, core_err *err)
 {
-    const cfd_grid *g = s->g;
-    cfd_solver_init_inflow(s);
-    #pragma omp parallel for schedule(static)
-    for (int k = 0; k < g->n[2]; k++)
-        for (int j = 0; j < g->n[1]; j++)
-            for (int i = 0; i < g->n[0]; i++) {
-                size_t c = CFD_IDX(g, i, j, k);
-                if (g->solid[c])
-                    continue;
-                double pos[3] = {g->xc[0][i], g->xc[1][j], g->xc[2][k]}, out[CFD_NVARS];
-                cfd_solver_sample(src, pos, out);
-                for (int v = 0; v < CFD_NVARS; v++)
-                    s->var[v][c] = out[v];
-                if (!(s->var[CFD_VAR_K][c] > 1e-12))
-                    s->var[CFD_VAR_K][c] = 1e-12;
-                if (!(s->var[CFD_VAR_EPS][c] > 1e-12))
-                    s->var[CFD_VAR_EPS][c] = 1e-12;
-                if (!s->cfg.turbulence)
-                    s->var[CFD_VAR_NUT][c] = 0.0;
-            }
-    faces_from_cells(s);
-    if (cfd_solver_has_nan(s))
-        return core_err_set(err, -1, "cfd coarse-to-fine start: the coarse state gives NaN values");
-    return 0;
+    return init_interp(s, sample_solver, src, "coarse-to-fine start", err);
 }
 
 int cfd_solver_has_nan(const cfd_solver *s)
