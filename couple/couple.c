@@ -225,8 +225,12 @@ static int air_scaled_fn(void *user, const double pos[3], double t, double vel[3
     return rc > 0 ? 1 : rc;
 }
 
+/* The interaction velocity, under-relaxed: weight w on this iteration's
+ * fields and 1 - w on the previous iteration's (prev_coupled NULL: none). */
 typedef struct air_interaction {
     const cfd_field *coupled, *isolated;
+    const cfd_field *prev_coupled, *prev_isolated;
+    double w;
     double wind[3];
 } air_interaction;
 
@@ -234,11 +238,16 @@ static int air_interaction_fn(void *user, const double pos[3], double t, double 
 {
     (void)t;
     air_interaction *a = user;
-    double c[CFD_NVARS], i[CFD_NVARS];
+    double c[CFD_NVARS], i[CFD_NVARS], pc[CFD_NVARS], pi[CFD_NVARS];
     int rc = cfd_field_sample(a->coupled, pos, c);
     int ri = cfd_field_sample(a->isolated, pos, i);
+    double w = a->prev_coupled ? a->w : 1.0;
+    if (a->prev_coupled) {
+        cfd_field_sample(a->prev_coupled, pos, pc);
+        cfd_field_sample(a->prev_isolated, pos, pi);
+    }
     for (int k = 0; k < 3; k++)
-        vel[k] = a->wind[k] + c[k] - i[k];
+        vel[k] = a->wind[k] + w * (c[k] - i[k]) + (a->prev_coupled ? (1.0 - w) * (pc[k] - pi[k]) : 0.0);
     return (rc > 0 || ri > 0) ? 1 : (rc < 0 ? rc : ri);
 }
 
@@ -450,6 +459,7 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
      * disk is evaluated in it (before any field is fetched, so the cached
      * fields it points to are still loaded). */
     air_interaction ai;
+    memset(&ai, 0, sizeof ai);
     air_scaled direct;
     hfm_air air;
     for (int it = 1; it < c->s.max_iter + 1 && it < COUPLE_MAX_ITER; it++) {
@@ -485,6 +495,13 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
             fc = get_field(c, &kc, err);
             if (!fc)
                 return -1;
+            /* The fixed-point iteration trim -> CFD -> trim overshoots where
+             * the interaction is strong (the collective was seen to swing
+             * +-10 % between iterations): each iteration takes half of the
+             * new interaction and half of the previous one. */
+            ai.prev_coupled = it > 1 ? ai.coupled : NULL;
+            ai.prev_isolated = it > 1 ? ai.isolated : NULL;
+            ai.w = 0.5;
             ai.coupled = fc;
             ai.isolated = fi;
             memcpy(ai.wind, uni.vel_S_mps, sizeof ai.wind);
