@@ -12,6 +12,10 @@
  *    quantities near zero do not demand impossible relative accuracy.
  *  - The isolated-rotor field for the interaction velocity is the same case
  *    with the ship's cells left open (ship name + ".isolated").
+ *  - From the second coupled iteration on, the interaction velocity is
+ *    under-relaxed: half this iteration's fields, half the previous ones
+ *    (a plain fixed-point iteration oscillated where the interaction is
+ *    strong).
  */
 #include "couple.h"
 #include "cfd.h"
