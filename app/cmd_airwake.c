@@ -271,10 +271,10 @@ int cmd_airwake(int argc, char **argv)
             free(sc);
             return 1;
         }
-        fprintf(stderr, "rotor: %s disk, thrust %.0f N, radius %.2f m, hub (%.2f, %.2f, %.2f) m in S, shaft pitch %.1f deg, roll %.1f deg%s\n",
+        fprintf(stderr, "rotor: %s disk, thrust %.0f N, radius %.2f m, hub (%.2f, %.2f, %.2f) m in S, shaft pitch %.1f deg, roll %.1f deg\n",
                 rotor == 2 ? "loaded" : "uniform", key.thrust_N, key.radius_m, key.station_S_m[0],
                 key.station_S_m[1], key.station_S_m[2], key.shaft_pitch_rad * CORE_RAD_TO_DEG,
-                key.shaft_roll_rad * CORE_RAD_TO_DEG, rotor == 2 ? "" : "");
+                key.shaft_roll_rad * CORE_RAD_TO_DEG);
         if (rotor == 2)
             fprintf(stderr, "rotor: torque %.0f N m, root cut %.3f R, %s from above\n", key.torque_Nm, key.root_cut,
                     key.ccw_from_above ? "counter-clockwise" : "clockwise");

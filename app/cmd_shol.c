@@ -311,13 +311,9 @@ int cmd_shol(int argc, char **argv)
         info.label = "one-way (ship-only airwake)";
         info.coupling = "one-way";
     }
-    /* The physics checks of the main envelope (shol/checks.c); the rotor's
-     * sense from the flight model's disk. */
+    /* The physics checks of the main envelope (shol/checks.c). */
     shol_checks checks;
-    awdb_key sense_key;
-    memset(&sense_key, 0, sizeof sense_key);
-    if (couple_free_air_rotor(ac, sc->station_S_m, 5.0, 0.0, 1, &sense_key, &err) == 0 &&
-        shol_checks_run(main_r, sense_key.ccw_from_above, &checks) == 0) {
+    if (shol_checks_run(main_r, hfm_aircraft_rotor_ccw(ac), &checks) == 0) {
         info.checks = &checks;
         for (int i = 0; i < checks.n; i++)
             fprintf(stderr, "shol: check %s: %s (%s)\n", checks.c[i].name,

@@ -349,6 +349,10 @@ double hfm_aircraft_rotor_omega_radps(const hfm_aircraft *ac)
 {
     return ac->mr.omega;
 }
+int hfm_aircraft_rotor_ccw(const hfm_aircraft *ac)
+{
+    return ac->mr.sense > 0;
+}
 
 /* Controls through the rig (stick inches) and mixing to blade angles. */
 void hfm_controls_to_pitch(const hfm_aircraft *ac, const hfm_controls *u, double *theta0_rad,

@@ -55,6 +55,8 @@ double hfm_aircraft_weight_N(const hfm_aircraft *ac);
 int hfm_aircraft_blades(const hfm_aircraft *ac);
 double hfm_aircraft_rotor_radius_m(const hfm_aircraft *ac);
 double hfm_aircraft_rotor_omega_radps(const hfm_aircraft *ac);
+/* 1 if the main rotor turns counter-clockwise seen from above (UH-60A), 0 if clockwise (SA365N). */
+int hfm_aircraft_rotor_ccw(const hfm_aircraft *ac);
 
 /* ---------------------------------------------------------- state, loads */
 /* Rigid-body state relative to S (transparent). */
