@@ -2,6 +2,15 @@
  * same condition must map to one file, so values are rounded to what matters
  * physically (0.01 m/s, 0.01 deg, 1 N, 1 cm) before naming and hashing. */
 #include "awdb_private.h"
+#ifdef AWDB_HAVE_CFD
+#include "cfd.h"
+/* the solver version is part of a field's name: a field computed by
+ * another version of the solver (other grids, other numerics) is never
+ * taken for this one's */
+#define AWDB_ENGINE_TAG CFD_VERSION
+#else
+#define AWDB_ENGINE_TAG "no-engine"
+#endif
 
 #include <ctype.h>
 #include <math.h>
@@ -101,10 +110,10 @@ void awdb_key_name(const awdb_key *k, char *buf, size_t n)
     static const char *grid[] = {"coarse", "default", "fine"};
     char text[256];
     double dir_deg = k->wod_dir_rad * CORE_RAD_TO_DEG;
-    awdb_fmt(text, sizeof text, "%s|%s|%.2f|%.2f|%d|%.0f|%.2f|%.2f|%.2f|%.2f|%.1f|%.1f|%d", k->ship,
+    awdb_fmt(text, sizeof text, "%s|%s|%.2f|%.2f|%d|%.0f|%.2f|%.2f|%.2f|%.2f|%.1f|%.1f|%d|%s", k->ship,
              k->aircraft, k->wod_speed_mps, dir_deg, k->rotor, k->thrust_N, k->station_S_m[0],
              k->station_S_m[1], k->station_S_m[2], k->radius_m, k->shaft_pitch_rad * CORE_RAD_TO_DEG,
-             k->shaft_roll_rad * CORE_RAD_TO_DEG, k->grid);
+             k->shaft_roll_rad * CORE_RAD_TO_DEG, k->grid, AWDB_ENGINE_TAG);
     uint64_t h = 1469598103934665603ULL; /* FNV-1a 64 */
     for (const char *p = text; *p; p++) {
         h ^= (unsigned char)*p;

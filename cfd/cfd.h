@@ -40,7 +40,7 @@
 extern "C" {
 #endif
 
-#define CFD_VERSION "disim-cfd 0.1.0"
+#define CFD_VERSION "disim-cfd 0.2.0"
 
 /* ------------------------------------------------------------------ grid */
 /* One axis: nodes from lo to hi, spacing h_fine inside [f0, f1], growing
@@ -119,6 +119,13 @@ typedef int (*cfd_progress_fn)(void *user, int iter, int max_iter, double residu
 
 #define CFD_MAX_MONITOR 16
 
+/* TVD limiters psi(r) of the deferred correction (Sweby 1984; Versteeg and
+ * Malalasekera 2007, sec. 5.10): van Leer (r + |r|) / (1 + |r|), the
+ * default; minmod max(0, min(r, 1)), the most diffusive second-order TVD
+ * limiter, which ship airwakes on grids finer than about 1 m use (see
+ * cfd_airwake_create). */
+enum { CFD_LIMITER_VANLEER = 0, CFD_LIMITER_MINMOD = 1 };
+
 typedef struct cfd_config {
     int turbulence;        /* 0 laminar, 1 RNG k-epsilon with wall functions */
     double rho_kgpm3, nu_m2ps;
@@ -132,7 +139,8 @@ typedef struct cfd_config {
     int n_monitor;
     double monitor_m[CFD_MAX_MONITOR][3];
     double relax_u, relax_p, relax_turb; /* under-relaxation (0.7, 0.9, 0.6; ship airwakes u 0.85) */
-    int second_order;      /* 1: van Leer TVD deferred correction (first order on the faces of wall-function cells), 0: upwind */
+    int second_order;      /* 1: TVD deferred correction (first order on the faces of wall-function cells), 0: upwind */
+    int limiter;           /* the TVD limiter: CFD_LIMITER_VANLEER (default) or CFD_LIMITER_MINMOD */
     int max_retries;       /* retries with more under-relaxation after divergence (2) */
     const core_log *log;
     cfd_progress_fn progress;

@@ -64,6 +64,7 @@ struct cfd_solver {
     double *uf[3];
     double *drc, *dc;
     double *a[6], *ap, *b;
+    double *apm[3], *bm[3]; /* momentum: per-component diagonal and source (a_nb shared) */
     double *apsum, *anbsum;
     double *pp;
     unsigned char *wallcell; /* 1: a fluid cell with a wall face (wall-function cell) */
@@ -245,11 +246,12 @@ cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *e
     if (!(cfg->nu_m2ps > 0.0) || !(cfg->rho_kgpm3 > 0.0) || !(cfg->u_ref_mps > 0.0) ||
         cfg->max_iter < 1 || cfg->n_monitor < 0 || cfg->n_monitor > CFD_MAX_MONITOR ||
         !(cfg->relax_u > 0.0 && cfg->relax_u <= 1.0) || !(cfg->relax_p > 0.0 && cfg->relax_p <= 1.0) ||
-        !(cfg->relax_turb > 0.0 && cfg->relax_turb <= 1.0)) {
+        !(cfg->relax_turb > 0.0 && cfg->relax_turb <= 1.0) ||
+        (cfg->limiter != CFD_LIMITER_VANLEER && cfg->limiter != CFD_LIMITER_MINMOD)) {
         cfd_grid_destroy(grid);
         core_err_set(err, -1,
                      "cfd solver: bad configuration (need nu, rho, u_ref > 0, max_iter >= 1, "
-                     "relaxation factors in (0, 1], at most %d monitors)",
+                     "relaxation factors in (0, 1], at most %d monitors, a known limiter)",
                      CFD_MAX_MONITOR);
         return NULL;
     }
@@ -273,6 +275,11 @@ cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *e
         ok &= (s->a[f] = alloc_arr(s, n)) != NULL;
     ok &= (s->ap = alloc_arr(s, n)) != NULL;
     ok &= (s->b = alloc_arr(s, n)) != NULL;
+    s->apm[0] = s->ap, s->bm[0] = s->b;
+    for (int d = 1; d < 3; d++) {
+        ok &= (s->apm[d] = alloc_arr(s, n)) != NULL;
+        ok &= (s->bm[d] = alloc_arr(s, n)) != NULL;
+    }
     ok &= (s->drc = alloc_arr(s, n)) != NULL;
     ok &= (s->dc = alloc_arr(s, n)) != NULL;
     ok &= (s->apsum = alloc_arr(s, n)) != NULL;
@@ -322,6 +329,10 @@ void cfd_solver_destroy(cfd_solver *s)
         free(s->a[f]);
     free(s->ap);
     free(s->b);
+    for (int d = 1; d < 3; d++) {
+        free(s->apm[d]);
+        free(s->bm[d]);
+    }
     free(s->drc);
     free(s->dc);
     free(s->apsum);
@@ -597,27 +608,42 @@ static inline double tvd_correction(const cfd_solver *s, const double *phi, cons
     if (qu < 0 || qu >= g->n[d] || g->solid[cu] || fabs(delta) < 1e-30)
         return 0.0;
     double r = (pc - phi[cu]) / delta;
-    return F * 0.5 * vanleer(r) * delta;
+    double psi = s->cfg.limiter == CFD_LIMITER_MINMOD ? fmax(0.0, fmin(r, 1.0)) : vanleer(r);
+    return F * 0.5 * psi * delta;
 }
 
-typedef struct wallinfo {
-    int nwall;
-    double pk_sum, ymin;
-} wallinfo;
-
-/* Assemble a_nb, a_P, b for var (U, V, W, K, EPS) with relaxation alpha. */
+/* Assemble a_nb, a_P, b with relaxation alpha for K or EPS, or, with var =
+ * CFD_VAR_U, for the three momentum components at once: they share the
+ * convection-diffusion coefficients a_nb (same face fluxes, same nu + nu_t),
+ * which are computed once; the per-component diagonal and source go to
+ * apm[d], bm[d]. Components along an axis with one cell (2-D cases) are not
+ * assembled. */
 static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
 {
     const cfd_grid *g = s->g;
     const cfd_config *cfg = &s->cfg;
     const double nu = cfg->nu_m2ps, rho = cfg->rho_kgpm3;
-    const double *phi = s->var[var];
     const double *nut = s->var[CFD_VAR_NUT];
     const double *kk = s->var[CFD_VAR_K], *ee = s->var[CFD_VAR_EPS];
-    const double sigma = var == CFD_VAR_K ? CFD_SIGMA_K : var == CFD_VAR_EPS ? CFD_SIGMA_E : 1.0;
     const int mom = var <= CFD_VAR_W;
-    const int comp = var - CFD_VAR_U;
+    const double sigma = var == CFD_VAR_K ? CFD_SIGMA_K : var == CFD_VAR_EPS ? CFD_SIGMA_E : 1.0;
     const int turb = cfg->turbulence;
+    /* the variables assembled: u, v, w (those solved) or one of k, eps */
+    int nv = 0, comps[3];
+    if (mom) {
+        for (int d = 0; d < 3; d++)
+            if (g->n[d] > 1)
+                comps[nv++] = d;
+    } else {
+        comps[nv++] = -1;
+    }
+    double *apv[3], *bv[3];
+    const double *phiv[3];
+    for (int m = 0; m < nv; m++) {
+        apv[m] = mom ? s->apm[comps[m]] : s->ap;
+        bv[m] = mom ? s->bm[comps[m]] : s->b;
+        phiv[m] = mom ? s->var[CFD_VAR_U + comps[m]] : s->var[var];
+    }
     #pragma omp parallel for schedule(static)
     for (int k = 0; k < g->n[2]; k++)
         for (int j = 0; j < g->n[1]; j++)
@@ -627,14 +653,19 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
                 if (g->solid[c]) {
                     for (int f = 0; f < 6; f++)
                         s->a[f][c] = 0.0;
-                    s->ap[c] = 1.0;
-                    s->b[c] = phi[c];
+                    for (int m = 0; m < nv; m++) {
+                        apv[m][c] = 1.0;
+                        bv[m][c] = phiv[m][c];
+                    }
+                    if (mom)
+                        s->apsum[c] = s->anbsum[c] = 0.0;
                     continue;
                 }
                 double V = g->h[0][i] * g->h[1][j] * g->h[2][k];
-                double ap = 0.0, bb = 0.0, anb = 0.0;
+                double ap[3] = {0.0, 0.0, 0.0}, bb[3] = {0.0, 0.0, 0.0}, anb = 0.0;
                 int nwall = 0;
                 double pkw = 0.0, ymin = 1e300;
+                const int ho = cfg->second_order && !(turb && s->wallcell[c]);
                 for (int f = 0; f < 6; f++) {
                     int d = f >> 1, plus = f & 1;
                     double A = face_area(g, d, ijk);
@@ -649,16 +680,22 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
                         double dist = fabs(g->xc[d][q] - g->xc[d][ijk[d]]);
                         double gam = nu + (turb ? 0.5 * (nut[c] + nut[cn]) / sigma : 0.0);
                         a_f = gam * A / dist + fmax(-F, 0.0);
-                        if (cfg->second_order && !(turb && (s->wallcell[c] || s->wallcell[cn])))
-                            bb -= tvd_correction(s, phi, ijk, f, c, cn, F);
+                        if (ho && !(turb && s->wallcell[cn]))
+                            for (int m = 0; m < nv; m++)
+                                bb[m] -= tvd_correction(s, phiv[m], ijk, f, c, cn, F);
                         anb += a_f;
                     } else if (kind == NB_WALL) {
                         double y = 0.5 * g->h[d][ijk[d]];
-                        if (mom && comp != d) {
+                        if (mom) {
+                            /* wall shear on the tangential components */
                             double nuw = turb ? cfd_wall_nu(nu, kk[c], y) : nu;
                             double cw = nuw * A / y;
-                            ap += cw;
-                            bb += cw * wall_vel(s, ijk, f)[comp];
+                            const double *uw = wall_vel(s, ijk, f);
+                            for (int m = 0; m < nv; m++)
+                                if (comps[m] != d) {
+                                    ap[m] += cw;
+                                    bb[m] += cw * uw[comps[m]];
+                                }
                         }
                         if (turb && var == CFD_VAR_K) {
                             /* P_k = tau_w u* / (kappa y) from the log law */
@@ -682,79 +719,92 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
                         double pos[3] = {g->xc[0][i], g->xc[1][j], g->xc[2][k]}, vel[3], ki, ei;
                         pos[d] = g->xn[d][ijk[d] + plus];
                         inflow_at(s, pos, vel, &ki, &ei);
-                        double val = mom ? vel[comp] : var == CFD_VAR_K ? ki : ei;
                         double gam = nu + (turb ? nut[c] / sigma : 0.0);
                         double cb = gam * A / (0.5 * g->h[d][ijk[d]]) + fmax(-F, 0.0);
-                        ap += cb;
-                        bb += cb * val;
+                        for (int m = 0; m < nv; m++) {
+                            double val = mom ? vel[comps[m]] : var == CFD_VAR_K ? ki : ei;
+                            ap[m] += cb;
+                            bb[m] += cb * val;
+                        }
                     } else if (kind == NB_OUTLET) {
                         /* backflow: the tangential velocity of the air
                          * coming in is 0 (OpenFOAM's
                          * pressureInletOutletVelocity), the normal one
                          * zero-gradient; k and eps from the inflow */
-                        if (F < 0.0 && mom && comp != d)
-                            ap += -F;
+                        if (F < 0.0 && mom) {
+                            for (int m = 0; m < nv; m++)
+                                if (comps[m] != d)
+                                    ap[m] += -F;
+                        }
                         if (F < 0.0 && !mom) {
                             double pos[3] = {g->xc[0][i], g->xc[1][j], g->xc[2][k]}, vel[3], ki, ei;
                             inflow_at(s, pos, vel, &ki, &ei);
-                            ap += -F;
-                            bb += -F * (var == CFD_VAR_K ? ki : ei);
+                            ap[0] += -F;
+                            bb[0] += -F * (var == CFD_VAR_K ? ki : ei);
                         }
                     } else { /* symmetry */
-                        if (mom && comp == d) {
+                        if (mom) {
                             double gam = nu + (turb ? nut[c] : 0.0);
-                            ap += gam * A / (0.5 * g->h[d][ijk[d]]);
+                            for (int m = 0; m < nv; m++)
+                                if (comps[m] == d)
+                                    ap[m] += gam * A / (0.5 * g->h[d][ijk[d]]);
                         }
                     }
                     s->a[f][c] = a_f;
                 }
-                ap += anb;
                 if (mom) {
-                    bb -= V / rho * grad_dir(s, s->var[CFD_VAR_P], CFD_VAR_P, ijk, comp, c);
-                    if (s->disk_f[comp])
-                        bb += s->disk_f[comp][c] / rho;
-                } else {
-                    double kc = fmax(kk[c], 1e-30), ec = fmax(ee[c], 1e-30);
-                    double P = pk[c];
-                    if (nwall)
-                        P = pkw / nwall;
-                    /* production limiter P_k <= 10 eps (Menter 1994): keeps k
-                     * from running away while eps is still small (jets,
-                     * stagnation points) */
-                    if (P > 10.0 * ec)
-                        P = 10.0 * ec;
-                    if (var == CFD_VAR_K) {
-                        bb += P * V;
-                        ap += ec / kc * V;
-                    } else {
-                        double S = sqrt(fmax(pk[c], 0.0) / fmax(nut[c], 1e-30));
-                        double eta = S * kc / ec;
-                        double c2s = cfd_rng_c2star(eta);
-                        bb += CFD_C1 * ec / kc * P * V;
-                        if (c2s > 0.0)
-                            ap += c2s * ec / kc * V;
-                        else
-                            bb += -c2s * ec * ec / kc * V;
+                    double apsum = 0.0;
+                    for (int m = 0; m < nv; m++) {
+                        int comp = comps[m];
+                        double a = ap[m] + anb;
+                        double b = bb[m] - V / rho * grad_dir(s, s->var[CFD_VAR_P], CFD_VAR_P, ijk, comp, c);
+                        if (s->disk_f[comp])
+                            b += s->disk_f[comp][c] / rho;
+                        double apr = a / alpha;
+                        b += (apr - a) * phiv[m][c];
+                        apv[m][c] = apr;
+                        bv[m][c] = b;
+                        apsum += apr;
                     }
-                }
-                if (var == CFD_VAR_EPS && nwall) {
-                    /* eps fixed in a wall cell by the log law */
-                    for (int f = 0; f < 6; f++)
-                        s->a[f][c] = 0.0;
-                    s->ap[c] = 1.0;
-                    s->b[c] = pow(CFD_CMU, 0.75) * pow(fmax(kk[c], 0.0), 1.5) / (CFD_KAPPA * ymin);
+                    s->apsum[c] = apsum;
+                    s->anbsum[c] = nv * anb;
                     continue;
                 }
-                double apr = ap / alpha;
-                bb += (apr - ap) * phi[c];
-                s->ap[c] = apr;
-                s->b[c] = bb;
-                if (mom) {
-                    if (comp == 0)
-                        s->apsum[c] = 0.0, s->anbsum[c] = 0.0;
-                    s->apsum[c] += apr;
-                    s->anbsum[c] += anb;
+                double a = ap[0] + anb, b = bb[0];
+                double kc = fmax(kk[c], 1e-30), ec = fmax(ee[c], 1e-30);
+                double P = pk[c];
+                if (nwall)
+                    P = pkw / nwall;
+                /* production limiter P_k <= 10 eps (Menter 1994): keeps k
+                 * from running away while eps is still small (jets,
+                 * stagnation points) */
+                if (P > 10.0 * ec)
+                    P = 10.0 * ec;
+                if (var == CFD_VAR_K) {
+                    b += P * V;
+                    a += ec / kc * V;
+                } else {
+                    if (nwall) {
+                        /* eps fixed in a wall cell by the log law */
+                        for (int f = 0; f < 6; f++)
+                            s->a[f][c] = 0.0;
+                        s->ap[c] = 1.0;
+                        s->b[c] = pow(CFD_CMU, 0.75) * pow(fmax(kk[c], 0.0), 1.5) / (CFD_KAPPA * ymin);
+                        continue;
+                    }
+                    double S = sqrt(fmax(pk[c], 0.0) / fmax(nut[c], 1e-30));
+                    double eta = S * kc / ec;
+                    double c2s = cfd_rng_c2star(eta);
+                    b += CFD_C1 * ec / kc * P * V;
+                    if (c2s > 0.0)
+                        a += c2s * ec / kc * V;
+                    else
+                        b += -c2s * ec * ec / kc * V;
                 }
+                double apr = a / alpha;
+                b += (apr - a) * phiv[0][c];
+                s->ap[c] = apr;
+                s->b[c] = b;
             }
 }
 
@@ -786,7 +836,7 @@ static inline double neighbours(const cfd_solver *s, const double *phi, size_t c
  * sum |a_P phi_P - sum a_nb phi_nb - b| / sum |a_P phi_P| over fluid cells,
  * with a_P the unrelaxed diagonal (alpha: the relaxation the matrix was
  * assembled with); the relaxation terms cancel in the numerator. */
-static double residual(const cfd_solver *s, const double *phi, double alpha)
+static double residual(const cfd_solver *s, const double *phi, const double *ap, const double *b, double alpha)
 {
     const cfd_grid *g = s->g;
     size_t st[3];
@@ -799,14 +849,14 @@ static double residual(const cfd_solver *s, const double *phi, double alpha)
                 size_t c = CFD_IDX(g, i, j, k);
                 if (g->solid[c])
                     continue;
-                double r = s->b[c] - s->ap[c] * phi[c] + neighbours(s, phi, c, i, j, k, st);
+                double r = b[c] - ap[c] * phi[c] + neighbours(s, phi, c, i, j, k, st);
                 sum += fabs(r);
-                scale += fabs(alpha * s->ap[c] * phi[c]);
+                scale += fabs(alpha * ap[c] * phi[c]);
             }
     return scale > 0.0 ? sum / scale : sum > 0.0 ? 1.0 : 0.0;
 }
 
-static void gs_sweeps(cfd_solver *s, double *phi, int sweeps, double floor)
+static void gs_sweeps(cfd_solver *s, double *phi, const double *ap, const double *b, int sweeps, double floor)
 {
     const cfd_grid *g = s->g;
     size_t st[3];
@@ -820,8 +870,8 @@ static void gs_sweeps(cfd_solver *s, double *phi, int sweeps, double floor)
                     size_t c = CFD_IDX(g, i, j, k);
                     if (g->solid[c])
                         continue;
-                    double r = s->b[c] + neighbours(s, phi, c, i, j, k, st);
-                    double v = r / s->ap[c];
+                    double r = b[c] + neighbours(s, phi, c, i, j, k, st);
+                    double v = r / ap[c];
                     phi[c] = v > floor ? v : floor;
                 }
     }
@@ -1096,19 +1146,14 @@ static void snapshot(cfd_solver *s, int save)
 static void iterate(cfd_solver *s, double r[HIST_COLS])
 {
     const double au = s->relax[0], at = s->relax[2];
+    assemble(s, CFD_VAR_U, au, NULL);
     for (int d = 0; d < 3; d++) {
         if (s->g->n[d] == 1) { /* a 2-D case: no velocity across the single layer */
             r[1 + d] = 0.0;
-            if (d == 0) {
-                #pragma omp parallel for schedule(static)
-                for (size_t c = 0; c < s->g->ncell; c++)
-                    s->apsum[c] = s->anbsum[c] = 0.0;
-            }
             continue;
         }
-        assemble(s, CFD_VAR_U + d, au, NULL);
-        r[1 + d] = residual(s, s->var[CFD_VAR_U + d], au);
-        gs_sweeps(s, s->var[CFD_VAR_U + d], 2, -1e300);
+        r[1 + d] = residual(s, s->var[CFD_VAR_U + d], s->apm[d], s->bm[d], au);
+        gs_sweeps(s, s->var[CFD_VAR_U + d], s->apm[d], s->bm[d], 2, -1e300);
     }
     const cfd_grid *g = s->g;
     int ncomp = (g->n[0] > 1) + (g->n[1] > 1) + (g->n[2] > 1);
@@ -1129,10 +1174,10 @@ static void iterate(cfd_solver *s, double r[HIST_COLS])
         double *pk = s->pp; /* scratch */
         turbulence_prepare(s, pk);
         assemble(s, CFD_VAR_K, at, pk);
-        r[4] = residual(s, s->var[CFD_VAR_K], at);
-        gs_sweeps(s, s->var[CFD_VAR_K], 2, 1e-14 * s->cfg.u_ref_mps * s->cfg.u_ref_mps);
+        r[4] = residual(s, s->var[CFD_VAR_K], s->ap, s->b, at);
+        gs_sweeps(s, s->var[CFD_VAR_K], s->ap, s->b, 2, 1e-14 * s->cfg.u_ref_mps * s->cfg.u_ref_mps);
         assemble(s, CFD_VAR_EPS, at, pk);
-        gs_sweeps(s, s->var[CFD_VAR_EPS], 2, 1e-20);
+        gs_sweeps(s, s->var[CFD_VAR_EPS], s->ap, s->b, 2, 1e-20);
         update_nut(s);
     } else {
         r[4] = 0.0;
