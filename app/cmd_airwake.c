@@ -158,7 +158,7 @@ int cmd_airwake(int argc, char **argv)
         else if (!strcmp(a, "--queue") && more)
             queue = argv[++i];
         else if (!strcmp(a, "--wod-speed-kt") && more) {
-            if (parse_double(a, argv[++i], 0.1, 200.0, &speed_kt))
+            if (parse_double(a, argv[++i], 0.0, 200.0, &speed_kt))
                 return 1;
         } else if (!strcmp(a, "--wod-dir-deg") && more) {
             if (parse_double(a, argv[++i], -360.0, 360.0, &dir_deg))
@@ -224,13 +224,15 @@ int cmd_airwake(int argc, char **argv)
     }
     double speed = isnan(speed_kt) ? sc->wod_speed_mps : speed_kt * CORE_KT_TO_MPS;
     double dir = isnan(dir_deg) ? sc->wod_dir_rad : core_wod_wrap_deg(dir_deg) * CORE_DEG_TO_RAD;
-    if (!(speed > 0.0)) {
-        fprintf(stderr, "disim airwake: %s: no single WOD speed; give --wod-speed-kt\n", scen);
+    if (rotor < 0)
+        rotor = sc->rotor == SIM_ROTOR_OFF ? 0 : sc->rotor == SIM_ROTOR_UNIFORM ? 1 : 2;
+    if (!(speed > 0.0) && (isnan(speed_kt) || rotor == 0)) {
+        fprintf(stderr, "disim airwake: %s: %s\n", scen,
+                isnan(speed_kt) ? "no single WOD speed; give --wod-speed-kt"
+                                : "a WOD speed of 0 needs the rotor (--rotor uniform|loaded)");
         free(sc);
         return 1;
     }
-    if (rotor < 0)
-        rotor = sc->rotor == SIM_ROTOR_OFF ? 0 : sc->rotor == SIM_ROTOR_UNIFORM ? 1 : 2;
     if (level < 0)
         level = sc->grid == SIM_GRID_COARSE ? 0 : sc->grid == SIM_GRID_DEFAULT ? 1 : 2;
     cfd_airwake_spec sp;

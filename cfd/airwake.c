@@ -53,9 +53,14 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
                                void *progress_user, core_err *err)
 {
     const core_ship *sh = sp->ship;
-    if (!sh || sh->nblocks < 1 || !(sp->wod_speed_mps > 0.0) || sp->level < CFD_GRID_COARSE ||
+    /* zero wind over deck is a case only with the rotor: its wake is the
+     * flow (a hover in calm air over the deck) */
+    const int calm = sp->rotor && sp->wod_speed_mps == 0.0 && sp->disk.thrust_N > 0.0 && sp->disk.radius_m > 0.0;
+    if (!sh || sh->nblocks < 1 || !(sp->wod_speed_mps > 0.0 || calm) || sp->level < CFD_GRID_COARSE ||
         sp->level > CFD_GRID_FINE) {
-        core_err_set(err, -1, "cfd airwake: expected a ship, a WOD speed > 0 and a grid level (got %g m/s)",
+        core_err_set(err, -1,
+                     "cfd airwake: expected a ship, a WOD speed > 0 (or 0 with a loaded rotor) and a grid level "
+                     "(got %g m/s)",
                      sp->wod_speed_mps);
         return NULL;
     }
@@ -64,6 +69,8 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     double L = b.x1 - b.x0, H = b.zsea - b.ztop;
     double U = sp->wod_speed_mps;
     core_vec3 V = core_wod_vel_S_mps(U, sp->wod_dir_rad);
+    if (calm) /* the reference speed: the ideal hover induced velocity sqrt(T / (2 rho A)) */
+        U = sqrt(sp->disk.thrust_N / (2.0 * CORE_RHO_SL_KGPM3 * M_PI * sp->disk.radius_m * sp->disk.radius_m));
     static const double hfine[3] = {1.1, 0.55, 0.43};
     static const double hmax[3] = {12.0, 6.0, 5.0};
     double hf = sp->h_fine_m > 0.0 ? sp->h_fine_m : hfine[sp->level];
@@ -93,6 +100,17 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     ax[2].hi_m = b.zsea;
     ax[2].f0_m = fmin(-2.0 * hh, sp->monitor_z_m - 0.5 * hh);
     ax[2].f1_m = b.zsea;
+    if (sp->rotor && sp->disk.radius_m > 0.0) {
+        /* room for the rotor's wake: open faces at least 5 R from the hub
+         * across and 4 R above it (as the hover validation case, whose far
+         * wake is within 10 % of momentum theory) */
+        const double R = sp->disk.radius_m, *c = sp->disk.centre_m;
+        ax[0].lo_m = fmin(ax[0].lo_m, c[0] - 5.0 * R);
+        ax[0].hi_m = fmax(ax[0].hi_m, c[0] + 5.0 * R);
+        ax[1].lo_m = fmin(ax[1].lo_m, c[1] - 5.0 * R);
+        ax[1].hi_m = fmax(ax[1].hi_m, c[1] + 5.0 * R);
+        ax[2].lo_m = fmin(ax[2].lo_m, c[2] - 4.0 * R);
+    }
     for (int d = 0; d < 3; d++) {
         ax[d].h_fine_m = hf;
         ax[d].h_max_m = fmax(hmax[sp->level], 4.0 * hf);
@@ -122,6 +140,10 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
         cfg.relax_u = 0.5;
         cfg.limiter = CFD_LIMITER_MINMOD;
     }
+    /* a hover in calm air diverged at 0.85 and converged at 0.5 (a flat
+     * deck, coarse grid) */
+    if (calm)
+        cfg.relax_u = 0.5;
     cfg.log = log;
     cfg.progress = progress;
     cfg.progress_user = progress_user;
@@ -141,6 +163,9 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
         }
     }
     cfg.bc[CFD_ZMIN].type = CFD_BC_SYMMETRY;
+    if (calm) /* no wind: every face but the sea is open (total pressure 0 where air comes in) */
+        for (int f = 0; f < CFD_NFACES; f++)
+            cfg.bc[f].type = CFD_BC_OUTLET;
     cfg.bc[CFD_ZMAX].type = CFD_BC_WALL; /* the sea */
     cfg.inflow.type = sp->abl ? CFD_INFLOW_ABL : CFD_INFLOW_UNIFORM;
     cfg.inflow.vel_mps[0] = V.x;

@@ -115,6 +115,35 @@ static void test_ship_and_wod(void)
         }
         cfd_solver_destroy(s);
     }
+    /* Calm air (WOD 0): refused without a rotor; with one, every face but
+     * the sea is open, the reference speed is the hover induced velocity
+     * sqrt(T / (2 rho A)) and the domain leaves 4 R above the hub. */
+    {
+        cfd_airwake_spec sp;
+        memset(&sp, 0, sizeof sp);
+        sp.ship = &ship;
+        sp.level = CFD_GRID_COARSE;
+        sp.h_fine_m = 4.0;
+        sp.monitor_z_m = -6.8;
+        CHECK(cfd_airwake_create(&sp, NULL, NULL, NULL, &err) == NULL);
+        CHECK(strstr(err.msg, "WOD speed") != NULL);
+        sp.rotor = 1;
+        double c[3] = {0.0, 0.0, -8.0};
+        core_euler att = {0.0, 0.0, 0.0};
+        cfd_disk_from_attitude(&sp.disk, c, att, 8.18, 72950.0);
+        cfd_solver *s = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
+        CHECK(s != NULL);
+        if (s) {
+            const cfd_config *cf = cfd_solver_config(s);
+            for (int f = 0; f < CFD_NFACES; f++)
+                CHECK(cf->bc[f].type == (f == CFD_ZMAX ? CFD_BC_WALL : CFD_BC_OUTLET));
+            CHECK_NEAR(cf->u_ref_mps, sqrt(72950.0 / (2.0 * CORE_RHO_SL_KGPM3 * M_PI * 8.18 * 8.18)), 1e-9);
+            CHECK(cfd_grid_nodes(cfd_solver_grid(s), 2)[0] <= c[2] - 4.0 * 8.18 + 1e-9);
+            cfd_solver_destroy(s);
+        }
+        sp.disk.thrust_N = 0.0;
+        CHECK(cfd_airwake_create(&sp, NULL, NULL, NULL, &err) == NULL);
+    }
 }
 
 static void disk_totals(const cfd_solver *s, const cfd_disk *d, double F[3], double *torque)
