@@ -135,8 +135,10 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
         return rc;
     }
     if (rc > 0)
-        core_log_msg(e->log, CORE_LOG_WARN, "%s v=%.2f dir=%.1f: not converged after %d iterations (residual %.2e)",
-                     k->ship, k->wod_speed_mps, k->wod_dir_rad * CORE_RAD_TO_DEG, res.iterations, res.residual[0]);
+        core_log_msg(e->log, CORE_LOG_WARN,
+                     "%s v=%.2f dir=%.1f: not converged after %d iterations (residual %.2e)%s",
+                     k->ship, k->wod_speed_mps, k->wod_dir_rad * CORE_RAD_TO_DEG, res.iterations, res.residual[0],
+                     res.averaged ? "; the field is the mean of the last iterations" : "");
     static const char *rotor[] = {"off", "uniform", "loaded"};
     static const char *grid[] = {"coarse", "default", "fine"};
     cfd_meta meta;

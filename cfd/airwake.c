@@ -125,6 +125,10 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     cfg.turbulence = 1;
     cfg.u_ref_mps = U;
     cfg.max_iter = sp->max_iter > 0 ? sp->max_iter : 3000;
+    /* a field that does not converge (crosswinds over a tall
+     * superstructure, the finest grids) is the mean of its last quarter of
+     * iterations, at most 200, not a snapshot of its limit cycle */
+    cfg.avg_window = cfg.max_iter / 4 < 200 ? cfg.max_iter / 4 : 200;
     /* a larger pseudo-time step than the generic 0.7: the transients of a
      * ship airwake (the rotor wake's ground vortex settling behind the
      * stern) die out in fewer iterations (SFS2 coarse with the rotor: 435

@@ -40,7 +40,7 @@
 extern "C" {
 #endif
 
-#define CFD_VERSION "disim-cfd 0.2.0"
+#define CFD_VERSION "disim-cfd 0.2.1"
 
 /* ------------------------------------------------------------------ grid */
 /* One axis: nodes from lo to hi, spacing h_fine inside [f0, f1], growing
@@ -136,6 +136,9 @@ typedef struct cfd_config {
     double tol_residual;   /* normalised residuals below this (1e-4) ... */
     double tol_monitor;    /* ... and monitor velocities changing less than this fraction of u_ref (0.02) */
     int monitor_every;     /* iterations between monitor comparisons (50) */
+    int avg_window;        /* > 0: a run that reaches max_iter without converging returns the
+                              mean of its last avg_window iterations instead of the last one
+                              (cfd_result.averaged says so); 0: the last iterate (default) */
     int n_monitor;
     double monitor_m[CFD_MAX_MONITOR][3];
     double relax_u, relax_p, relax_turb; /* under-relaxation (0.7, 0.9, 0.6; ship airwakes u 0.85) */
@@ -217,6 +220,7 @@ typedef struct cfd_result {
     double wall_s;
     double cell_updates; /* cells x iterations */
     double monitor_change; /* last monitor-velocity change / u_ref between two checks */
+    int averaged;        /* > 0: not converged, the state is the mean of this many last iterations */
 } cfd_result;
 
 /* Run to convergence or max_iter. 0: converged; 1: stopped at max_iter or by

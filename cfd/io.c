@@ -162,6 +162,7 @@ int cfd_solver_write(const cfd_solver *s, const cfd_meta *meta, const char *path
         }
         rc |= attr_double(f, "iterations", meta->result.iterations);
         rc |= attr_double(f, "converged", meta->result.converged);
+        rc |= attr_double(f, "averaged_iterations", meta->result.averaged);
         rc |= attr_double(f, "wall_time_s", meta->result.wall_s);
         const char *rn[5] = {"residual_continuity", "residual_u", "residual_v", "residual_w", "residual_k"};
         for (int q = 0; q < 5; q++)
@@ -322,9 +323,11 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
     read_attr_double(f, "wod_dir_deg", &m->wod_dir_deg);
     read_attr_double(f, "rotor_thrust_N", &m->rotor_thrust_N);
     read_attr_double(f, "rotor_radius_m", &m->rotor_radius_m);
-    double it = 0, conv = 0;
+    double it = 0, conv = 0, avg = 0;
     read_attr_double(f, "iterations", &it);
     read_attr_double(f, "converged", &conv);
+    read_attr_double(f, "averaged_iterations", &avg); /* absent in fields before solver 0.2.0 */
+    m->result.averaged = (int)avg;
     read_attr_double(f, "wall_time_s", &m->result.wall_s);
     m->result.iterations = (int)it;
     m->result.converged = (int)conv;

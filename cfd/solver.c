@@ -37,7 +37,11 @@
  *    largest value over the first five iterations; u, v, w, k = sum |r| /
  *    sum |a_P phi_P|;
  *  - divergence (NaN, residuals or velocities blowing up) restarts from the
- *    initial state with 0.6 times the under-relaxation, max_retries times.
+ *    initial state with 0.6 times the under-relaxation, max_retries times;
+ *  - with avg_window > 0, a run that reaches max_iter unconverged returns the
+ *    mean of its last avg_window iterates: an iteration in a limit cycle
+ *    (shedding in pseudo-time) has no last iterate worth more than another,
+ *    and the mean approximates the mean flow a trim needs.
  */
 #include "cfd_private.h"
 
@@ -70,6 +74,7 @@ struct cfd_solver {
     unsigned char *wallcell; /* 1: a fluid cell with a wall face (wall-function cell) */
     double *disk_f[3];
     double *snap[NSNAP];
+    double *avg[CFD_NVARS]; /* running sums of the averaging window (allocated when it starts) */
     cfd_mg *mg;
     int singular;
     double *hist;
@@ -341,6 +346,8 @@ void cfd_solver_destroy(cfd_solver *s)
     free(s->wallcell);
     for (int v = 0; v < NSNAP; v++)
         free(s->snap[v]);
+    for (int v = 0; v < CFD_NVARS; v++)
+        free(s->avg[v]);
     free(s->hist);
     cfd_mg_destroy(s->mg);
     cfd_grid_destroy(s->g);
@@ -1199,6 +1206,43 @@ static double max_speed(const cfd_solver *s)
     return sqrt(m);
 }
 
+/* Iteration averaging: a steady iteration that ends in a limit cycle (an
+ * airwake near its own instability, e.g. a crosswind over a tall
+ * superstructure) has no last iterate worth more than another; the mean
+ * over the cycle approximates the mean flow, which is what a trim needs. */
+static int averaging_start(cfd_solver *s)
+{
+    for (int v = 0; v < CFD_NVARS; v++) {
+        if (!s->avg[v] && !(s->avg[v] = alloc_arr(s, s->g->ncell)))
+            return -1;
+        memset(s->avg[v], 0, s->g->ncell * sizeof(double));
+    }
+    return 0;
+}
+
+static void averaging_add(cfd_solver *s)
+{
+    for (int v = 0; v < CFD_NVARS; v++) {
+        double *a = s->avg[v];
+        const double *x = s->var[v];
+        #pragma omp parallel for schedule(static)
+        for (size_t c = 0; c < s->g->ncell; c++)
+            a[c] += x[c];
+    }
+}
+
+static void averaging_finish(cfd_solver *s, int n)
+{
+    for (int v = 0; v < CFD_NVARS; v++) {
+        double *x = s->var[v];
+        const double *a = s->avg[v];
+        #pragma omp parallel for schedule(static)
+        for (size_t c = 0; c < s->g->ncell; c++)
+            x[c] = a[c] / n;
+    }
+    faces_from_cells(s);
+}
+
 int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
 {
     const cfd_config *cfg = &s->cfg;
@@ -1226,6 +1270,8 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
         int have_mon = 0, mon_ok = cfg->n_monitor == 0;
         double rmax[HIST_COLS] = {0};
         int diverged = 0, stop = 0;
+        /* the averaging window restarts with each attempt */
+        int navg = cfg->avg_window > 0 ? 0 : -1;
         int it;
         for (it = 1; it <= cfg->max_iter; it++) {
             double r[HIST_COLS];
@@ -1273,6 +1319,12 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
             }
             for (int q = 0; q < HIST_COLS; q++)
                 res->residual[q] = rn[q];
+            if (navg >= 0 && it > cfg->max_iter - cfg->avg_window) {
+                if (navg == 0 && averaging_start(s) != 0)
+                    navg = -1; /* out of memory: keep the last iterate */
+                else
+                    averaging_add(s), navg++;
+            }
             if (cfg->progress && cfg->progress(cfg->progress_user, it, cfg->max_iter, worst, now_s() - t0)) {
                 stop = 1;
                 break;
@@ -1283,6 +1335,12 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
             }
         }
         res->iterations = it > cfg->max_iter ? cfg->max_iter : it;
+        if (!diverged && !res->converged && !stop && navg > 0) {
+            averaging_finish(s, navg);
+            res->averaged = navg;
+            core_log_msg(cfg->log, CORE_LOG_INFO,
+                         "cfd: not converged; the field is the mean of the last %d iterations", navg);
+        }
         if (!diverged) {
             res->wall_s = now_s() - t0;
             res->cell_updates = (double)nfluid * total_iter;
