@@ -106,6 +106,44 @@ static char *coupling_md(const couple_ctx *two)
     return md;
 }
 
+/* Markdown of the airwake fields the envelope used, with their convergence. */
+static char *fields_md(const couple_ctx *one, const couple_ctx *two)
+{
+    int n1 = 0, n2 = 0;
+    const couple_field_info *f1 = couple_fields(one, &n1), *f2 = two ? couple_fields(two, &n2) : NULL;
+    size_t cap = 1024 + (size_t)(n1 + n2) * 400, len = 0;
+    char *md = malloc(cap);
+    if (!md)
+        return NULL;
+    int nconv = 0, navg = 0;
+    for (int i = 0; i < n1 + n2; i++) {
+        const couple_field_info *fi = i < n1 ? &f1[i] : &f2[i - n1];
+        nconv += fi->converged;
+        navg += fi->averaged > 0;
+    }
+    len += snprintf(md + len, cap - len,
+                    "%d fields, %d converged (residuals below 1e-4 and deck-line monitors changing less than "
+                    "2 %% of the WOD speed per 50 iterations), %d not converged and averaged over their last "
+                    "iterations (an unconverged field is the mean of its limit cycle; docs/validation/cfd.md). "
+                    "Trims in unconverged fields are less certain than the others.\n\n"
+                    "| field | WOD speed (m/s) | WOD dir (deg) | rotor | iterations | state | continuity |\n"
+                    "|---|---|---|---|---|---|---|\n",
+                    n1 + n2, nconv, navg);
+    for (int i = 0; i < n1 + n2 && len + 400 < cap; i++) {
+        const couple_field_info *fi = i < n1 ? &f1[i] : &f2[i - n1];
+        char st[48];
+        if (fi->converged)
+            snprintf(st, sizeof st, "converged");
+        else if (fi->averaged)
+            snprintf(st, sizeof st, "not converged, mean of last %d", fi->averaged);
+        else
+            snprintf(st, sizeof st, "not converged");
+        len += snprintf(md + len, cap - len, "| %s | %.2f | %.1f | %s | %d | %s | %.1e |\n", fi->name,
+                        fi->wod_speed_mps, fi->wod_dir_deg, fi->rotor, fi->iterations, st, fi->residual_continuity);
+    }
+    return md;
+}
+
 static int parse_num(const char *flag, const char *v, double lo, double hi, double *out)
 {
     char *end;
@@ -200,7 +238,7 @@ int cmd_shol(int argc, char **argv)
     shol_result r1, r2;
     memset(&r1, 0, sizeof r1);
     memset(&r2, 0, sizeof r2);
-    char *md = NULL;
+    char *md = NULL, *fmd = NULL;
     int rc = 1;
     if (!sc || sim_scenario_load(scen, sc, &err) != 0)
         goto fail;
@@ -311,6 +349,8 @@ int cmd_shol(int argc, char **argv)
         info.label = "one-way (ship-only airwake)";
         info.coupling = "one-way";
     }
+    fmd = fields_md(one, two);
+    info.fields_md = fmd;
     /* The physics checks of the main envelope (shol/checks.c). */
     shol_checks checks;
     if (shol_checks_run(main_r, hfm_aircraft_rotor_ccw(ac), &checks) == 0) {
@@ -333,6 +373,7 @@ fail:
     fprintf(stderr, "%sdisim shol: %s\n", tty ? "\r\033[K" : "", err.msg);
 done:
     free(md);
+    free(fmd);
     shol_result_free(&r1);
     shol_result_free(&r2);
     couple_destroy(two);

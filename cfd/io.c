@@ -326,8 +326,11 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
     double it = 0, conv = 0, avg = 0;
     read_attr_double(f, "iterations", &it);
     read_attr_double(f, "converged", &conv);
-    read_attr_double(f, "averaged_iterations", &avg); /* absent in fields before solver 0.2.0 */
+    read_attr_double(f, "averaged_iterations", &avg); /* absent in fields before solver 0.2.1 */
     m->result.averaged = (int)avg;
+    const char *rn[5] = {"residual_continuity", "residual_u", "residual_v", "residual_w", "residual_k"};
+    for (int q = 0; q < 5; q++)
+        read_attr_double(f, rn[q], &m->result.residual[q]);
     read_attr_double(f, "wall_time_s", &m->result.wall_s);
     m->result.iterations = (int)it;
     m->result.converged = (int)conv;

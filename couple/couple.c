@@ -53,6 +53,8 @@ struct couple_ctx {
     int nhist, caphist;
     char last_error[1024];
     pid_t builder_pid;
+    couple_field_info *fields;
+    int nfields, capfields;
 };
 
 void couple_settings_default(couple_settings *s)
@@ -107,6 +109,7 @@ void couple_destroy(couple_ctx *c)
     hfm_trim_destroy(c->trim);
     free(c->disk);
     free(c->hist);
+    free(c->fields);
     if (c->builder_pid > 0)
         waitpid(c->builder_pid, NULL, WNOHANG);
     free(c);
@@ -147,6 +150,45 @@ static void spawn_builder(couple_ctx *c)
     }
 }
 
+/* Record a loaded field's solver state once (for couple_fields); out of
+ * memory only loses the record. */
+static void note_field(couple_ctx *c, const char *path, const cfd_field *f)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    size_t len = strlen(base);
+    if (len > 3 && !strcmp(base + len - 3, ".h5"))
+        len -= 3;
+    for (int i = 0; i < c->nfields; i++)
+        if (strlen(c->fields[i].name) == len && !strncmp(c->fields[i].name, base, len))
+            return;
+    if (c->nfields == c->capfields) {
+        int cap = c->capfields ? 2 * c->capfields : 16;
+        couple_field_info *p = realloc(c->fields, (size_t)cap * sizeof *p);
+        if (!p)
+            return;
+        c->fields = p;
+        c->capfields = cap;
+    }
+    const cfd_meta *m = cfd_field_meta(f);
+    couple_field_info *fi = &c->fields[c->nfields++];
+    memset(fi, 0, sizeof *fi);
+    snprintf(fi->name, sizeof fi->name, "%.*s", (int)(len < sizeof fi->name ? len : sizeof fi->name - 1), base);
+    fi->wod_speed_mps = m->wod_speed_mps;
+    fi->wod_dir_deg = m->wod_dir_deg;
+    snprintf(fi->rotor, sizeof fi->rotor, "%s", m->rotor);
+    fi->iterations = m->result.iterations;
+    fi->converged = m->result.converged;
+    fi->averaged = m->result.averaged;
+    fi->residual_continuity = m->result.residual[0];
+}
+
+const couple_field_info *couple_fields(const couple_ctx *c, int *n)
+{
+    *n = c->nfields;
+    return c->fields;
+}
+
 static const cfd_field *load_cached(couple_ctx *c, const char *path, core_err *err)
 {
     int lru = 0;
@@ -161,6 +203,7 @@ static const cfd_field *load_cached(couple_ctx *c, const char *path, core_err *e
     cfd_field *f = cfd_field_load(path, err);
     if (!f)
         return NULL;
+    note_field(c, path, f);
     cfd_field_destroy(c->cache[lru].f);
     c->cache[lru].f = f;
     snprintf(c->cache[lru].path, sizeof c->cache[lru].path, "%s", path);

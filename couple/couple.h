@@ -111,6 +111,20 @@ int couple_prefetch(couple_ctx *c, const double *dirs_rad, int n, core_err *err)
 int couple_shol_trim(void *user, double wod_speed_mps, double wod_dir_rad, shol_trim_point *out);
 /* The points trimmed so far (in call order). */
 const couple_point *couple_history(const couple_ctx *c, int *n);
+
+/* An airwake field the context loaded, with its solver state, for the
+ * report (plain data). */
+typedef struct couple_field_info {
+    char name[200];            /* the database entry (file name without .h5) */
+    double wod_speed_mps, wod_dir_deg;
+    char rotor[32];            /* "off", "uniform", "loaded" */
+    int iterations, converged; /* converged: residuals and monitors met */
+    int averaged;              /* > 0: not converged; the mean of this many last iterations */
+    double residual_continuity;
+} couple_field_info;
+
+/* The fields loaded so far, each once, in the order first loaded. */
+const couple_field_info *couple_fields(const couple_ctx *c, int *n);
 /* The last fatal error of couple_shol_trim. */
 const char *couple_last_error(const couple_ctx *c);
 

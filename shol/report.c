@@ -126,6 +126,12 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
         fprintf(f, "No physics checks were run on this envelope.\n\n");
     }
 
+    fprintf(f, "## Airwake fields\n\n");
+    if (info->fields_md && *info->fields_md)
+        fprintf(f, "%s\n\n", info->fields_md);
+    else
+        fprintf(f, "No list of the airwake fields was supplied with this envelope.\n\n");
+
     fprintf(f, "## Coupling histories\n\n");
     if (info->coupling_md && *info->coupling_md)
         fprintf(f, "%s\n\n", info->coupling_md);

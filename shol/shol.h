@@ -229,6 +229,9 @@ typedef struct shol_report_info {
     /* Markdown the caller writes about the coupling iterations (histories
      * per direction and speed); NULL: the report says none was supplied. */
     const char *coupling_md;
+    /* Markdown the caller writes about the airwake fields used (their
+     * convergence); NULL: the report says none was supplied. */
+    const char *fields_md;
     /* Physics checks of the main envelope to list in the report; NULL: none. */
     const shol_checks *checks;
 } shol_report_info;

@@ -14,6 +14,10 @@ for f in shol.csv shol.json shol_polar.png shol_polar.svg report.md shol_trim_he
     [ -s "$tmp/out/$f" ] || { echo "missing output $f"; fail=1; }
 done
 head -1 "$tmp/out/shol.csv" | grep -q "^wod_dir_deg, *max_speed_kt, *max_speed_kmh, *limit" || { echo "bad csv header"; fail=1; }
+# The report lists the field with its state: 10 iterations do not
+# converge, so the field is the mean of its last 10 / 4 = 2 iterations.
+grep -q "^## Airwake fields" "$tmp/out/report.md" && grep -q "^| SFS2_shiponly_.* | off | 10 | not converged, mean of last 2 |" "$tmp/out/report.md" \
+    || { echo "report.md does not list the field and its state"; grep -A4 "Airwake fields" "$tmp/out/report.md"; fail=1; }
 n1=$(ls "$tmp/db/fields/"*.h5 2>/dev/null | wc -l)
 [ "$n1" -eq 1 ] || { echo "expected one field, found $n1"; fail=1; }
 # The rerun: the field is in the database; no builder is started.
