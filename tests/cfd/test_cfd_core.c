@@ -228,10 +228,10 @@ static void test_disk(void)
     cfd_solver_destroy(s);
 }
 
-static void test_io(void)
+/* A short laminar channel run of n iterations, averaging its last w. */
+static cfd_solver *channel_run(int n, int w, cfd_result *res)
 {
     core_err err;
-    /* a short laminar channel run: a real field to write and read back */
     cfd_axis_spec ax[3] = {{0, 4, 0, 4, 0.25, 0.25, 1.0}, {0, 1, 0, 1, 0.1, 0.1, 1.0}, {0, 1, 0, 1, 0.2, 0.2, 1.0}};
     cfd_grid *g = cfd_grid_create_spec(ax, &err);
     cfd_config cfg;
@@ -241,13 +241,25 @@ static void test_io(void)
     cfg.bc[CFD_XMIN].type = CFD_BC_INLET;
     cfg.bc[CFD_XMAX].type = CFD_BC_OUTLET;
     cfg.inflow.vel_mps[0] = 1.0;
-    cfg.max_iter = 30;
+    cfg.max_iter = n;
+    cfg.avg_window = w;
     cfd_solver *s = cfd_solver_create(g, &cfg, &err);
+    if (s && cfd_solver_run(s, res, &err) < 0) {
+        cfd_solver_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+static void test_io(void)
+{
+    core_err err;
+    /* a short laminar channel run: a real field to write and read back */
+    cfd_result res;
+    cfd_solver *s = channel_run(30, 0, &res);
     CHECK(s != NULL);
     if (!s)
         return;
-    cfd_result res;
-    CHECK(cfd_solver_run(s, &res, &err) >= 0);
     CHECK(!cfd_solver_has_nan(s));
     char dir[] = "/tmp/disim_cfd_io_XXXXXX";
     CHECK(mkdtemp(dir) != NULL);
@@ -286,7 +298,7 @@ static void test_io(void)
          * state matches the field at the new cell centres */
         cfd_axis_spec ax2[3] = {{0, 4, 0, 4, 0.125, 0.125, 1.0}, {0, 1, 0, 1, 0.05, 0.05, 1.0}, {0, 1, 0, 1, 0.1, 0.1, 1.0}};
         cfd_grid *g2 = cfd_grid_create_spec(ax2, &err);
-        cfd_solver *s2 = cfd_solver_create(g2, &cfg, &err);
+        cfd_solver *s2 = cfd_solver_create(g2, cfd_solver_config(s), &err);
         CHECK(s2 != NULL);
         if (s2) {
             CHECK(cfd_solver_init_from_field(s2, f, &err) == 0);
@@ -298,7 +310,7 @@ static void test_io(void)
             /* the in-memory coarse-to-fine start gives the same state as
              * the one through the file */
             cfd_grid *g3 = cfd_grid_create_spec(ax2, &err);
-            cfd_solver *s3 = cfd_solver_create(g3, &cfg, &err);
+            cfd_solver *s3 = cfd_solver_create(g3, cfd_solver_config(s), &err);
             CHECK(s3 != NULL);
             if (s3) {
                 CHECK(cfd_solver_init_from_solver(s3, s, &err) == 0);
@@ -370,29 +382,6 @@ static void test_divergence(void)
     CHECK(strstr(err.msg, "diverged") != NULL);
     CHECK(!cfd_solver_has_nan(s));
     cfd_solver_destroy(s);
-}
-
-/* A short laminar channel run of n iterations, averaging its last w. */
-static cfd_solver *channel_run(int n, int w, cfd_result *res)
-{
-    core_err err;
-    cfd_axis_spec ax[3] = {{0, 4, 0, 4, 0.25, 0.25, 1.0}, {0, 1, 0, 1, 0.1, 0.1, 1.0}, {0, 1, 0, 1, 0.2, 0.2, 1.0}};
-    cfd_grid *g = cfd_grid_create_spec(ax, &err);
-    cfd_config cfg;
-    cfd_config_default(&cfg);
-    cfg.turbulence = 1;
-    cfg.nu_m2ps = 1e-3;
-    cfg.bc[CFD_XMIN].type = CFD_BC_INLET;
-    cfg.bc[CFD_XMAX].type = CFD_BC_OUTLET;
-    cfg.inflow.vel_mps[0] = 1.0;
-    cfg.max_iter = n;
-    cfg.avg_window = w;
-    cfd_solver *s = cfd_solver_create(g, &cfg, &err);
-    if (s && cfd_solver_run(s, res, &err) < 0) {
-        cfd_solver_destroy(s);
-        return NULL;
-    }
-    return s;
 }
 
 /* Iteration averaging: a run that stops unconverged at max_iter returns the
