@@ -27,6 +27,10 @@ struct cfd_field {
     cfd_meta meta;
 };
 
+/* HDF5 attribute names of cfd_result.residual[], written and read alike */
+static const char *const residual_names[5] = {"residual_continuity", "residual_u", "residual_v", "residual_w",
+                                              "residual_k"};
+
 static int attr_double(hid_t loc, const char *name, double v)
 {
     hid_t sp = H5Screate(H5S_SCALAR);
@@ -164,9 +168,8 @@ int cfd_solver_write(const cfd_solver *s, const cfd_meta *meta, const char *path
         rc |= attr_double(f, "converged", meta->result.converged);
         rc |= attr_double(f, "averaged_iterations", meta->result.averaged);
         rc |= attr_double(f, "wall_time_s", meta->result.wall_s);
-        const char *rn[5] = {"residual_continuity", "residual_u", "residual_v", "residual_w", "residual_k"};
         for (int q = 0; q < 5; q++)
-            rc |= attr_double(f, rn[q], meta->result.residual[q]);
+            rc |= attr_double(f, residual_names[q], meta->result.residual[q]);
         rc |= attr_double(f, "rho_kgpm3", cfd_solver_config(s)->rho_kgpm3);
         rc |= attr_double(f, "nu_m2ps", cfd_solver_config(s)->nu_m2ps);
     }
@@ -328,9 +331,8 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
     read_attr_double(f, "converged", &conv);
     read_attr_double(f, "averaged_iterations", &avg); /* absent in fields before solver 0.2.1 */
     m->result.averaged = (int)avg;
-    const char *rn[5] = {"residual_continuity", "residual_u", "residual_v", "residual_w", "residual_k"};
     for (int q = 0; q < 5; q++)
-        read_attr_double(f, rn[q], &m->result.residual[q]);
+        read_attr_double(f, residual_names[q], &m->result.residual[q]);
     read_attr_double(f, "wall_time_s", &m->result.wall_s);
     m->result.iterations = (int)it;
     m->result.converged = (int)conv;

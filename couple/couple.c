@@ -288,7 +288,6 @@ typedef struct air_interaction {
     /* the interaction over the rotor disk, projected on the Pitt-Peters
      * modes (see disk_fit): v_k(r, psi) = m[k] + (r/R)(c[k] cos psi +
      * s[k] sin psi), psi from the hub frame's x axis */
-    int have_fit;
     double hub[3], R;
     core_quat q_SH;
     double m[3], c[3], s[3];
@@ -319,7 +318,7 @@ static int in_disk(const air_interaction *a, const double pos[3], double *rr, do
     core_vec3 d = core_vec3_make(pos[0] - a->hub[0], pos[1] - a->hub[1], pos[2] - a->hub[2]);
     core_vec3 h = core_quat_rotate_inv(a->q_SH, d);
     double r = sqrt(h.x * h.x + h.y * h.y);
-    if (!a->have_fit || r > 1.1 * a->R || fabs(h.z) > 0.3 * a->R)
+    if (r > 1.1 * a->R || fabs(h.z) > 0.3 * a->R)
         return 0;
     *rr = r / a->R;
     *psi = atan2(h.y, h.x);
@@ -371,7 +370,6 @@ static void disk_fit(air_interaction *a, const hfm_disk *d, double R)
         a->c[k] = sc[k] / wc;
         a->s[k] = ss[k] / ws;
     }
-    a->have_fit = 1;
 }
 
 static int air_interaction_fn(void *user, const double pos[3], double t, double vel[3])
@@ -645,7 +643,6 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
             ai.coupled = fc;
             ai.isolated = fi;
             memcpy(ai.wind, uni.vel_S_mps, sizeof ai.wind);
-            ai.have_fit = 0;
             disk_fit(&ai, c->disk, hfm_aircraft_rotor_radius_m(c->ac));
             air.fn = air_interaction_fn;
             air.user = &ai;
