@@ -383,12 +383,24 @@ static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
         polar_xy(&p, d->dir_rad, kt, &x, &y);
         marker(cr, d->limit, x, y, 7);
         double lx, ly, off = 0.09 * p.rmax_kt;
-        polar_xy(&p, d->dir_rad, kt + off, &lx, &ly);
         double sx = sin(d->dir_rad);
         int ha = sx > 0.25 ? -1 : sx < -0.25 ? 1 : 0;
         if (!d->has_pass)
             continue; /* listed under the title: labels at the centre would pile up */
         snprintf(buf, sizeof buf, "%.1f kt %s", kt, short_label[limit_index(d->limit)]);
+        /* Outside the line, unless the label would reach the direction
+         * names at the rim (a limit near the top ring): then inside. */
+        cairo_text_extents_t te;
+        cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
+        cairo_set_font_size(cr, 13);
+        cairo_text_extents(cr, buf, &te);
+        double reach = p.R * (kt + off) / p.rmax_kt + (ha ? te.width : 0.5 * te.width) * fabs(sx) +
+                       0.5 * te.height * fabs(cos(d->dir_rad));
+        if (reach > 0.97 * p.R) {
+            off = -off;
+            ha = -ha;
+        }
+        polar_xy(&p, d->dir_rad, kt + off, &lx, &ly);
         text_boxed(cr, lx, ly, 13, 1, ha, 0, buf, limit_col[limit_index(d->limit)]);
     }
     /* Directions rejected already at 0 kt, in one line under the title. */
