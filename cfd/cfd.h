@@ -40,7 +40,7 @@
 extern "C" {
 #endif
 
-#define CFD_VERSION "disim-cfd 0.2.1"
+#define CFD_VERSION "disim-cfd 0.3.0"
 
 /* ------------------------------------------------------------------ grid */
 /* One axis: nodes from lo to hi, spacing h_fine inside [f0, f1], growing
@@ -145,6 +145,13 @@ typedef struct cfd_config {
     int second_order;      /* 1: TVD deferred correction (first order on the faces of wall-function cells), 0: upwind */
     int limiter;           /* the TVD limiter: CFD_LIMITER_VANLEER (default) or CFD_LIMITER_MINMOD */
     int max_retries;       /* retries with more under-relaxation after divergence (2) */
+    int accel_depth;       /* > 0: Anderson acceleration of the SIMPLEC iteration keeping this many
+                              differences (1..16; about 140 B per cell plus 56 B per cell and
+                              difference);
+                              0: off (default) */
+    int accel_start;       /* the iteration of each run from which it mixes (>= 1) */
+    int accel_every;       /* mix once every this many iterations (Anderson on the map of that
+                              many SIMPLEC iterations; 0 or 1: every iteration) */
     const core_log *log;
     cfd_progress_fn progress;
     void *progress_user;

@@ -36,6 +36,23 @@ void cfd_mg_setup(cfd_mg *m, int singular);
  * Returns the iterations used. */
 int cfd_mg_solve(cfd_mg *m, double *x, const double *b, double rtol, int maxit, double *rel_res);
 
+/* Anderson acceleration of a fixed-point iteration (anderson.c) over a
+ * state of nseg arrays of len[q] doubles, segment q scaled by weight[q] in
+ * the least-squares norm; depth: the number of differences kept (1..16). */
+typedef struct cfd_aa cfd_aa;
+cfd_aa *cfd_aa_create(int depth, int nseg, const size_t *len, const double *weight);
+void cfd_aa_destroy(cfd_aa *a);
+size_t cfd_aa_bytes(const cfd_aa *a);
+/* Mixing steps taken and history restarts (safeguards) since create. */
+void cfd_aa_counts(const cfd_aa *a, int *mixes, int *restarts);
+void cfd_aa_reset(cfd_aa *a);
+/* Keep x_n (before one iteration). */
+void cfd_aa_save(cfd_aa *a, double *const *x);
+/* x holds G(x_n) on entry and x_{n+1} on return; *fnorm gets ||f_n||_W.
+ * Returns the number of differences used (0: the plain step), < 0 on a
+ * non-finite residual (the history is cleared). */
+int cfd_aa_mix(cfd_aa *a, double *const *x, double *fnorm);
+
 /* Trilinear weights on cell centres along one axis. */
 void cfd_axis_locate(const double *xc, int n, double x, int *i0, double *f);
 

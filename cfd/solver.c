@@ -38,6 +38,9 @@
  *    sum |a_P phi_P|;
  *  - divergence (NaN, residuals or velocities blowing up) restarts from the
  *    initial state with 0.6 times the under-relaxation, max_retries times;
+ *  - with accel_depth > 0, Anderson acceleration (anderson.c) mixes the
+ *    state (u, v, w, p and the face velocities; k and eps as SIMPLEC left
+ *    them) once every accel_every iterations from iteration accel_start;
  *  - with avg_window > 0, a run that reaches max_iter unconverged returns the
  *    mean of its last avg_window iterates: an iteration in a limit cycle
  *    (shedding in pseudo-time) has no last iterate worth more than another,
@@ -73,9 +76,10 @@ struct cfd_solver {
     double *pp;
     unsigned char *wallcell; /* 1: a fluid cell with a wall face (wall-function cell) */
     double *disk_f[3];
-    double *snap[NSNAP];
+    float *snap[NSNAP]; /* the initial state, for a retry (single precision: it only restarts) */
     double *avg[CFD_NVARS]; /* running sums of the averaging window (allocated when it starts) */
     cfd_mg *mg;
+    cfd_aa *aa; /* Anderson acceleration (accel_depth > 0) */
     int singular;
     double *hist;
     int nhist, caphist;
@@ -242,6 +246,14 @@ static double *alloc_arr(cfd_solver *s, size_t n)
     return p;
 }
 
+static float *alloc_snap(cfd_solver *s, size_t n)
+{
+    float *p = calloc(n ? n : 1, sizeof(float));
+    if (p)
+        s->bytes += n * sizeof(float);
+    return p;
+}
+
 cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *err)
 {
     if (!grid) {
@@ -252,11 +264,13 @@ cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *e
         cfg->max_iter < 1 || cfg->n_monitor < 0 || cfg->n_monitor > CFD_MAX_MONITOR ||
         !(cfg->relax_u > 0.0 && cfg->relax_u <= 1.0) || !(cfg->relax_p > 0.0 && cfg->relax_p <= 1.0) ||
         !(cfg->relax_turb > 0.0 && cfg->relax_turb <= 1.0) ||
-        (cfg->limiter != CFD_LIMITER_VANLEER && cfg->limiter != CFD_LIMITER_MINMOD)) {
+        (cfg->limiter != CFD_LIMITER_VANLEER && cfg->limiter != CFD_LIMITER_MINMOD) ||
+        cfg->accel_depth < 0 || cfg->accel_depth > 16) {
         cfd_grid_destroy(grid);
         core_err_set(err, -1,
                      "cfd solver: bad configuration (need nu, rho, u_ref > 0, max_iter >= 1, "
-                     "relaxation factors in (0, 1], at most %d monitors, a known limiter)",
+                     "relaxation factors in (0, 1], at most %d monitors, a known limiter, "
+                     "accel_depth 0..16)",
                      CFD_MAX_MONITOR);
         return NULL;
     }
@@ -291,7 +305,7 @@ cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *e
     ok &= (s->anbsum = alloc_arr(s, n)) != NULL;
     ok &= (s->pp = alloc_arr(s, n)) != NULL;
     for (int v = 0; v < NSNAP; v++)
-        ok &= (s->snap[v] = alloc_arr(s, n)) != NULL;
+        ok &= (s->snap[v] = alloc_snap(s, n)) != NULL;
     ok &= (s->wallcell = calloc(n ? n : 1, 1)) != NULL;
     s->bytes += n;
     s->mg = ok ? cfd_mg_create(grid->n) : NULL;
@@ -301,6 +315,28 @@ cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *e
         return NULL;
     }
     s->bytes += cfd_mg_bytes(s->mg);
+    if (cfg->accel_depth > 0) {
+        /* the state Anderson mixes: cell u, v, w (1/u_ref), p (1/(rho
+         * u_ref^2)) and the face velocities (1/u_ref), whose combination
+         * keeps the discrete continuity of the iterates it mixes */
+        size_t len[7];
+        double w[7];
+        for (int q = 0; q < 4; q++) {
+            len[q] = n;
+            w[q] = q < 3 ? 1.0 / cfg->u_ref_mps : 1.0 / (cfg->rho_kgpm3 * cfg->u_ref_mps * cfg->u_ref_mps);
+        }
+        for (int d = 0; d < 3; d++) {
+            len[4 + d] = nfaces(grid, d);
+            w[4 + d] = 1.0 / cfg->u_ref_mps;
+        }
+        if (!(s->aa = cfd_aa_create(cfg->accel_depth, 7, len, w))) {
+            cfd_solver_destroy(s);
+            core_err_set(err, -2, "cfd solver: out of memory for Anderson acceleration (%zu cells, depth %d)", n,
+                         cfg->accel_depth);
+            return NULL;
+        }
+        s->bytes += cfd_aa_bytes(s->aa);
+    }
     s->singular = 1;
     for (int f = 0; f < CFD_NFACES; f++)
         if (cfg->bc[f].type == CFD_BC_OUTLET)
@@ -324,6 +360,7 @@ void cfd_solver_destroy(cfd_solver *s)
 {
     if (!s)
         return;
+    cfd_aa_destroy(s->aa);
     for (int v = 0; v < CFD_NVARS; v++)
         free(s->var[v]);
     for (int d = 0; d < 3; d++) {
@@ -1136,10 +1173,15 @@ static int push_hist(cfd_solver *s, const double r[HIST_COLS])
 static void snapshot(cfd_solver *s, int save)
 {
     for (int v = 0; v < NSNAP; v++) {
-        if (save)
-            memcpy(s->snap[v], s->var[v], s->g->ncell * sizeof(double));
-        else
-            memcpy(s->var[v], s->snap[v], s->g->ncell * sizeof(double));
+        float *sv = s->snap[v];
+        double *x = s->var[v];
+        #pragma omp parallel for schedule(static)
+        for (size_t c = 0; c < s->g->ncell; c++) {
+            if (save)
+                sv[c] = (float)x[c];
+            else
+                x[c] = sv[c];
+        }
     }
     if (!save) {
         update_nut(s);
@@ -1272,10 +1314,24 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
         int diverged = 0, stop = 0;
         /* the averaging window restarts with each attempt */
         int navg = cfg->avg_window > 0 ? 0 : -1;
+        double *aseg[7] = {s->var[CFD_VAR_U], s->var[CFD_VAR_V], s->var[CFD_VAR_W], s->var[CFD_VAR_P],
+                           s->uf[0], s->uf[1], s->uf[2]};
+        if (s->aa)
+            cfd_aa_reset(s->aa);
         int it;
         for (it = 1; it <= cfg->max_iter; it++) {
             double r[HIST_COLS];
+            int mix = s->aa && it >= cfg->accel_start;
+            int phase = mix ? (it - cfg->accel_start) % (cfg->accel_every > 0 ? cfg->accel_every : 1) : 0;
+            if (mix && phase == 0)
+                cfd_aa_save(s->aa, aseg);
             iterate(s, r);
+            if (mix && phase == (cfg->accel_every > 0 ? cfg->accel_every : 1) - 1) {
+                double fn;
+                cfd_aa_mix(s->aa, aseg, &fn);
+                if (s->cfg.turbulence)
+                    update_nut(s);
+            }
             total_iter++;
             int bad = 0;
             for (int q = 0; q < HIST_COLS; q++)
@@ -1343,6 +1399,12 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
         }
         if (!diverged) {
             res->wall_s = now_s() - t0;
+            if (s->aa) {
+                int nm, nr;
+                cfd_aa_counts(s->aa, &nm, &nr);
+                core_log_msg(cfg->log, CORE_LOG_INFO, "cfd: Anderson acceleration: %d mixing steps, %d restarts", nm,
+                             nr);
+            }
             res->cell_updates = (double)nfluid * total_iter;
             core_log_msg(cfg->log, CORE_LOG_INFO,
                          "cfd: %s after %d iterations, %.1f s, residuals %.2e %.2e %.2e %.2e %.2e, "
