@@ -153,7 +153,6 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
         cfg.relax_u = 0.7;
         cfg.accel_depth = 8;
         cfg.accel_start = 60;
-        cfg.accel_every = 1;
     }
     /* a hover in calm air diverged at 0.85 and converged at 0.5 (a flat
      * deck, coarse grid) */

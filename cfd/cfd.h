@@ -150,8 +150,6 @@ typedef struct cfd_config {
                               difference);
                               0: off (default) */
     int accel_start;       /* the iteration of each run from which it mixes (>= 1) */
-    int accel_every;       /* mix once every this many iterations (Anderson on the map of that
-                              many SIMPLEC iterations; 0 or 1: every iteration) */
     const core_log *log;
     cfd_progress_fn progress;
     void *progress_user;

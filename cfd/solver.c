@@ -40,7 +40,7 @@
  *    initial state with 0.6 times the under-relaxation, max_retries times;
  *  - with accel_depth > 0, Anderson acceleration (anderson.c) mixes the
  *    state (u, v, w, p and the face velocities; k and eps as SIMPLEC left
- *    them) once every accel_every iterations from iteration accel_start;
+ *    them) after every iteration from iteration accel_start;
  *  - with avg_window > 0, a run that reaches max_iter unconverged returns the
  *    mean of its last avg_window iterates: an iteration in a limit cycle
  *    (shedding in pseudo-time) has no last iterate worth more than another,
@@ -1322,11 +1322,10 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
         for (it = 1; it <= cfg->max_iter; it++) {
             double r[HIST_COLS];
             int mix = s->aa && it >= cfg->accel_start;
-            int phase = mix ? (it - cfg->accel_start) % (cfg->accel_every > 0 ? cfg->accel_every : 1) : 0;
-            if (mix && phase == 0)
+            if (mix)
                 cfd_aa_save(s->aa, aseg);
             iterate(s, r);
-            if (mix && phase == (cfg->accel_every > 0 ? cfg->accel_every : 1) - 1) {
+            if (mix) {
                 double fn;
                 cfd_aa_mix(s->aa, aseg, &fn);
                 if (s->cfg.turbulence)
