@@ -149,7 +149,10 @@ typedef struct cfd_config {
                               differences (1..16; about 140 B per cell plus 56 B per cell and
                               difference);
                               0: off (default) */
-    int accel_start;       /* the iteration of each run from which it mixes (>= 1) */
+    int accel_start;       /* the iteration of each run from which it mixes (>= 1) ... */
+    int accel_when_stalled; /* ... 1: and only once the largest residual has fallen by less than
+                               30 % over 100 iterations (a run that converges by itself is left
+                               alone); 0: from accel_start on */
     const core_log *log;
     cfd_progress_fn progress;
     void *progress_user;

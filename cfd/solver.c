@@ -40,7 +40,9 @@
  *    initial state with 0.6 times the under-relaxation, max_retries times;
  *  - with accel_depth > 0, Anderson acceleration (anderson.c) mixes the
  *    state (u, v, w, p and the face velocities; k and eps as SIMPLEC left
- *    them) after every iteration from iteration accel_start;
+ *    them) after every iteration from iteration accel_start, or with
+ *    accel_when_stalled from the first iteration after that at which the
+ *    residuals have stopped falling (stalled());
  *  - with avg_window > 0, a run that reaches max_iter unconverged returns the
  *    mean of its last avg_window iterates: an iteration in a limit cycle
  *    (shedding in pseudo-time) has no last iterate worth more than another,
@@ -1285,6 +1287,31 @@ static void averaging_finish(cfd_solver *s, int n)
     faces_from_cells(s);
 }
 
+/* The residuals have stalled: the largest normalised residual, as a
+ * geometric mean over the last 20 iterations, is above 0.7 times its mean
+ * 100 iterations before (a converging SIMPLEC iteration on a ship grid
+ * falls by a factor 2 or more per 100 iterations; a limit cycle stays
+ * flat). */
+static int stalled(const cfd_solver *s)
+{
+    const int n = s->nhist, w = 20, lag = 100;
+    if (n < lag + w)
+        return 0;
+    double now = 0.0, before = 0.0;
+    for (int i = 0; i < w; i++) {
+        const double *a = s->hist + (size_t)(n - 1 - i) * HIST_COLS;
+        const double *b = s->hist + (size_t)(n - 1 - i - lag) * HIST_COLS;
+        double wa = 1e-300, wb = 1e-300;
+        for (int q = 0; q < HIST_COLS; q++) {
+            wa = fmax(wa, a[q]);
+            wb = fmax(wb, b[q]);
+        }
+        now += log(wa);
+        before += log(wb);
+    }
+    return (now - before) / w > log(0.7);
+}
+
 int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
 {
     const cfd_config *cfg = &s->cfg;
@@ -1318,10 +1345,14 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
                            s->uf[0], s->uf[1], s->uf[2]};
         if (s->aa)
             cfd_aa_reset(s->aa);
-        int it;
+        int it, accel_on = 0;
         for (it = 1; it <= cfg->max_iter; it++) {
             double r[HIST_COLS];
-            int mix = s->aa && it >= cfg->accel_start;
+            if (s->aa && !accel_on && it >= cfg->accel_start && (!cfg->accel_when_stalled || stalled(s))) {
+                accel_on = 1;
+                core_log_msg(cfg->log, CORE_LOG_INFO, "cfd: Anderson acceleration from iteration %d", it);
+            }
+            int mix = accel_on;
             if (mix)
                 cfd_aa_save(s->aa, aseg);
             iterate(s, r);
