@@ -1429,7 +1429,7 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
         }
         if (!diverged) {
             res->wall_s = now_s() - t0;
-            if (s->aa) {
+            if (accel_on) {
                 int nm, nr;
                 cfd_aa_counts(s->aa, &nm, &nr);
                 core_log_msg(cfg->log, CORE_LOG_INFO, "cfd: Anderson acceleration: %d mixing steps, %d restarts", nm,
