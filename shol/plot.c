@@ -376,33 +376,63 @@ static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
         text_boxed(cr, x, y, 13, 0, 0, 0, buf, ink);
     }
 
-    /* Each direction's limit: a marker and "limit NN kt", outside the line. */
+    /* Each direction's limit: a marker, then "NN kt limit" beside it. */
     for (int i = 0; i < r->n_dirs; i++) {
+        double x, y;
+        polar_xy(&p, r->dirs[i].dir_rad, dir_kt(&r->dirs[i]), &x, &y);
+        marker(cr, r->dirs[i].limit, x, y, 7);
+    }
+    /* Labels outside the line if they stay clear of the direction names at
+     * the rim, else inside; one that would cover an earlier label moves
+     * further out (or in) by a label offset at a time. */
+    double (*box)[4] = calloc(r->n_dirs ? r->n_dirs : 1, sizeof *box);
+    int nbox = 0;
+    for (int i = 0; box && i < r->n_dirs; i++) {
         const shol_dir_result *d = &r->dirs[i];
-        double x, y, kt = dir_kt(d);
-        polar_xy(&p, d->dir_rad, kt, &x, &y);
-        marker(cr, d->limit, x, y, 7);
-        double lx, ly, off = 0.09 * p.rmax_kt;
-        double sx = sin(d->dir_rad);
-        int ha = sx > 0.25 ? -1 : sx < -0.25 ? 1 : 0;
         if (!d->has_pass)
             continue; /* listed under the title: labels at the centre would pile up */
+        double kt = dir_kt(d), off = 0.09 * p.rmax_kt, sx = sin(d->dir_rad), cx_ = cos(d->dir_rad);
+        int ha0 = sx > 0.25 ? -1 : sx < -0.25 ? 1 : 0;
         snprintf(buf, sizeof buf, "%.1f kt %s", kt, short_label[limit_index(d->limit)]);
-        /* Outside the line, unless the label would reach the direction
-         * names at the rim (a limit near the top ring): then inside. */
         cairo_text_extents_t te;
         cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
         cairo_set_font_size(cr, 13);
         cairo_text_extents(cr, buf, &te);
-        double reach = p.R * (kt + off) / p.rmax_kt + (ha ? te.width : 0.5 * te.width) * fabs(sx) +
-                       0.5 * te.height * fabs(cos(d->dir_rad));
-        if (reach > 0.97 * p.R) {
-            off = -off;
-            ha = -ha;
+        static const double steps[] = {1, 2, 3, -1, -2, -3};
+        double best[4] = {0}, lx = 0, ly = 0;
+        int ha = ha0, found = 0;
+        for (int k = 0; k < 6 && !found; k++) {
+            double o = steps[k] * off, rkt = kt + o;
+            int h = o > 0 ? ha0 : -ha0;
+            double reach = p.R * rkt / p.rmax_kt + (h ? te.width : 0.5 * te.width) * fabs(sx) +
+                           0.5 * te.height * fabs(cx_);
+            if (o > 0 && reach > 0.97 * p.R)
+                continue; /* would reach the direction names */
+            if (rkt < 0.0)
+                break;
+            double tx, ty;
+            polar_xy(&p, d->dir_rad, rkt, &tx, &ty);
+            double b0[4] = {h < 0 ? tx : h == 0 ? tx - te.width / 2 : tx - te.width, ty - te.height / 2, 0, 0};
+            b0[2] = b0[0] + te.width;
+            b0[3] = b0[1] + te.height;
+            int clear = 1;
+            for (int j = 0; j < nbox && clear; j++)
+                clear = b0[2] + 4 < box[j][0] || box[j][2] + 4 < b0[0] || b0[3] + 3 < box[j][1] ||
+                        box[j][3] + 3 < b0[1];
+            if (clear || k == 0 || !best[2]) {
+                memcpy(best, b0, sizeof best);
+                lx = tx, ly = ty, ha = h;
+            }
+            found = clear;
         }
-        polar_xy(&p, d->dir_rad, kt + off, &lx, &ly);
+        if (!best[2]) { /* nowhere inside the rim: just inside the line */
+            polar_xy(&p, d->dir_rad, kt - off, &lx, &ly);
+            ha = -ha0;
+        }
+        memcpy(box[nbox++], best, sizeof best);
         text_boxed(cr, lx, ly, 13, 1, ha, 0, buf, limit_col[limit_index(d->limit)]);
     }
+    free(box);
     /* Directions rejected already at 0 kt, in one line under the title. */
     size_t used = 0;
     buf[0] = '\0';
