@@ -1352,16 +1352,11 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
                 accel_on = 1;
                 core_log_msg(cfg->log, CORE_LOG_INFO, "cfd: Anderson acceleration from iteration %d", it);
             }
-            int mix = accel_on;
-            if (mix)
+            if (accel_on)
                 cfd_aa_save(s->aa, aseg);
             iterate(s, r);
-            if (mix) {
-                double fn;
-                cfd_aa_mix(s->aa, aseg, &fn);
-                if (s->cfg.turbulence)
-                    update_nut(s);
-            }
+            if (accel_on) /* k and eps (so nu_t) are not mixed */
+                cfd_aa_mix(s->aa, aseg, NULL);
             total_iter++;
             int bad = 0;
             for (int q = 0; q < HIST_COLS; q++)
