@@ -139,22 +139,19 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
      * wind shed in the pseudo-time of the iteration: the largest mass
      * imbalance alternates between the two deck edges just aft of the
      * hangar and the residuals stall at 1e-1 (SFS2, 0.55 m, u 0.85, van
-     * Leer). A smaller pseudo-time step and the most diffusive TVD limiter
-     * damp it (1.5e-3 after 700 iterations, docs/validation/cfd.md). */
+     * Leer). The most diffusive TVD limiter and a smaller pseudo-time step
+     * damp it (u 0.5: 1.5e-3 after 700 iterations); with Anderson
+     * acceleration (below) the larger step u 0.7 is stable again and
+     * converges faster (after 600 iterations: continuity 3.4e-4 at u 0.7
+     * with depth 8, 8.1e-4 with depth 5, 2.9e-3 at u 0.85;
+     * docs/validation/cfd.md) */
     if (hf < 1.0) {
-        cfg.relax_u = 0.5;
-        cfg.limiter = CFD_LIMITER_MINMOD;
-        /* Anderson acceleration (anderson.c) finds the fixed point that the
-         * plain iteration circles around; with it a larger pseudo-time step
-         * is stable again (SFS2 default grid with the rotor, after 600
-         * iterations: continuity 3.4e-4 at u 0.7 with depth 8, 8.1e-4 with
-         * depth 5, 2.9e-3 at u 0.85, against 1.5e-3 plain at u 0.5;
-         * docs/validation/cfd.md) */
         cfg.relax_u = 0.7;
+        cfg.limiter = CFD_LIMITER_MINMOD;
     }
     /* On every ship grid Anderson starts where the residuals stall (the
      * default grid from about iteration 100; SFS2 green 30 on the coarse
-     * grid: converged in 291 iterations instead of a 7e-2 stall), and
+     * grid: converged in 351 iterations instead of a 7e-2 stall), and
      * leaves alone a run that converges by itself (on the coarse grid at 0
      * deg Anderson from the start took 4 times the plain 435 iterations).
      * Depth 8: the most within 1 kB per cell. */
