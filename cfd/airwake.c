@@ -22,7 +22,6 @@
 #include "cfd_private.h"
 
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 typedef struct ship_box {

@@ -153,7 +153,7 @@ static int chol_solve(int n, double *H, double *r)
     return 0;
 }
 
-int cfd_aa_mix(cfd_aa *a, double *const *x, double *fnorm)
+int cfd_aa_mix(cfd_aa *a, double *const *x)
 {
     const int m = a->m;
     double ff = 0.0;
@@ -178,8 +178,6 @@ int cfd_aa_mix(cfd_aa *a, double *const *x, double *fnorm)
             gp[c] = g[c];
         }
     }
-    if (fnorm)
-        *fnorm = sqrt(ff);
     int newc = -1; /* the slot just written */
     if (a->have_prev) {
         newc = a->head;

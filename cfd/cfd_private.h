@@ -48,10 +48,10 @@ void cfd_aa_counts(const cfd_aa *a, int *mixes, int *restarts);
 void cfd_aa_reset(cfd_aa *a);
 /* Keep x_n (before one iteration). */
 void cfd_aa_save(cfd_aa *a, double *const *x);
-/* x holds G(x_n) on entry and x_{n+1} on return; *fnorm gets ||f_n||_W.
+/* x holds G(x_n) on entry and x_{n+1} on return.
  * Returns the number of differences used (0: the plain step), < 0 on a
  * non-finite residual (the history is cleared). */
-int cfd_aa_mix(cfd_aa *a, double *const *x, double *fnorm);
+int cfd_aa_mix(cfd_aa *a, double *const *x);
 
 /* Trilinear weights on cell centres along one axis. */
 void cfd_axis_locate(const double *xc, int n, double x, int *i0, double *f);

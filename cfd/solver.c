@@ -1356,7 +1356,7 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
                 cfd_aa_save(s->aa, aseg);
             iterate(s, r);
             if (accel_on) /* k and eps (so nu_t) are not mixed */
-                cfd_aa_mix(s->aa, aseg, NULL);
+                cfd_aa_mix(s->aa, aseg);
             total_iter++;
             int bad = 0;
             for (int q = 0; q < HIST_COLS; q++)

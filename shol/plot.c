@@ -400,7 +400,7 @@ static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
         cairo_text_extents(cr, buf, &te);
         static const double steps[] = {1, 2, 3, -1, -2, -3};
         double best[4] = {0}, lx = 0, ly = 0;
-        int ha = ha0, found = 0;
+        int ha = ha0, found = 0, have = 0; /* have: a candidate inside the rim */
         for (int k = 0; k < 6 && !found; k++) {
             double o = steps[k] * off, rkt = kt + o;
             int h = o > 0 ? ha0 : -ha0;
@@ -419,13 +419,14 @@ static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
             for (int j = 0; j < nbox && clear; j++)
                 clear = b0[2] + 4 < box[j][0] || box[j][2] + 4 < b0[0] || b0[3] + 3 < box[j][1] ||
                         box[j][3] + 3 < b0[1];
-            if (clear || k == 0 || !best[2]) {
+            if (clear || !have) {
                 memcpy(best, b0, sizeof best);
                 lx = tx, ly = ty, ha = h;
+                have = 1;
             }
             found = clear;
         }
-        if (!best[2]) { /* nowhere inside the rim: just inside the line */
+        if (!have) { /* nowhere inside the rim: just inside the line */
             polar_xy(&p, d->dir_rad, kt - off, &lx, &ly);
             ha = -ha0;
         }
