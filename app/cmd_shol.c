@@ -1,7 +1,9 @@
 /* cmd_shol.c -- `disim shol SCENARIO [--grid coarse|default|fine]
  * [--coupling two-way|one-way] [-o DIR] [--db DIR] [--full-circle]
  * [--dir-step-deg D] [--speed-step-kmh S] [--speed-max-kmh M]
- * [--bisect-kmh T] [--direct] [--max-coupling-iter N] [--cfd-max-iter N]`.
+ * [--bisect-kmh T] [--direct] [--no-seed] [--max-coupling-iter N] [--cfd-max-iter N]`.
+ * --no-seed starts every coupled point from the free-air trim (see
+ * couple_settings.seed_from_previous).
  *
  * The candidate SHOL of the seed paper's section 2.8. The one-way envelope
  * (ship-only airwake, one field per direction scaled with speed) is always
@@ -53,6 +55,7 @@ typedef struct split_ctx {
     double margin_mps;
     int coupled_points;
     char err[1024];
+    const core_log *log;
 } split_ctx;
 
 static int split_trim(void *user, double v, double dir, shol_trim_point *out)
@@ -64,8 +67,26 @@ static int split_trim(void *user, double v, double dir, shol_trim_point *out)
             from = s->oneway->dirs[i].max_speed_mps - s->margin_mps;
     couple_ctx *c = v >= from - 1e-9 ? s->two : s->one;
     int rc = couple_shol_trim(c, v, dir, out);
-    if (c == s->two && rc >= 0)
+    if (c == s->two && rc >= 0) {
         s->coupled_points++;
+        /* one line per coupled point, so that a long run leaves a trace in
+         * its log before the outputs are written at the end */
+        int n = 0;
+        const couple_point *h = couple_history(s->two, &n);
+        if (n > 0) {
+            const couple_point *p = &h[n - 1];
+            const couple_iter *it = &p->iter[p->n_iter - 1];
+            char wn[32];
+            core_wod_name(dir * CORE_RAD_TO_DEG, wn, sizeof wn);
+            core_log_msg(s->log, CORE_LOG_INFO,
+                         "coupled %s %.0f km/h: %s, %d iteration(s)%s, change %.1f %%; coll %.1f long %.1f lat %.1f "
+                         "pedal %.1f %%, roll %.2f pitch %.2f deg",
+                         wn, v / CORE_KMH_TO_MPS, rc == 0 ? "trimmed" : "no trim", p->n_iter - 1,
+                         p->seed_speed_mps > 0.0 ? " (seeded)" : "", 100.0 * it->change_frac, it->collective_pct,
+                         it->long_pct, it->lat_pct, it->pedal_pct, it->phi_rad * CORE_RAD_TO_DEG,
+                         it->theta_rad * CORE_RAD_TO_DEG);
+        }
+    }
     if (rc < 0)
         snprintf(s->err, sizeof s->err, "%s", couple_last_error(c));
     return rc;
@@ -91,7 +112,9 @@ static char *coupling_md(const couple_ctx *two)
         core_wod_name(h[i].wod_dir_rad * CORE_RAD_TO_DEG, wn, sizeof wn);
         for (int k = 0; k < h[i].n_iter; k++) {
             const couple_iter *it = &h[i].iter[k];
-            char ch[32] = "free air";
+            char ch[64] = "free air";
+            if (k == 0 && h[i].seed_speed_mps > 0.0)
+                snprintf(ch, sizeof ch, "seed: interaction at %.1f kt", h[i].seed_speed_mps / CORE_KT_TO_MPS);
             if (k > 0)
                 snprintf(ch, sizeof ch, "%.1f %%", 100.0 * it->change_frac);
             len += snprintf(md + len, cap - len,
@@ -159,11 +182,11 @@ static int parse_num(const char *flag, const char *v, double lo, double hi, doub
 int cmd_shol(int argc, char **argv)
 {
     const char *scen = NULL, *outdir = NULL, *dbdir = NULL;
-    int grid = -1, coupling = -1, full = 0, direct = 0;
+    int grid = -1, coupling = -1, full = 0, direct = 0, no_seed = 0;
     double dstep = 0, sstep = 0, smax = 0, bisect = 0, maxit = 6, cfdit = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        int takes = strcmp(a, "--full-circle") && strcmp(a, "--direct") && a[0] == '-';
+        int takes = strcmp(a, "--full-circle") && strcmp(a, "--direct") && strcmp(a, "--no-seed") && a[0] == '-';
         if (takes && !v) {
             fprintf(stderr, "disim shol: %s: expected a value\n", a);
             return 2;
@@ -174,6 +197,10 @@ int cmd_shol(int argc, char **argv)
         }
         if (!strcmp(a, "--direct")) {
             direct = 1;
+            continue;
+        }
+        if (!strcmp(a, "--no-seed")) {
+            no_seed = 1;
             continue;
         }
         if (!strcmp(a, "-o"))
@@ -225,7 +252,7 @@ int cmd_shol(int argc, char **argv)
     if (!scen) {
         fprintf(stderr, "usage: disim shol SCENARIO [--grid coarse|default|fine] [--coupling two-way|one-way] "
                         "[-o DIR] [--db DIR] [--full-circle] [--dir-step-deg D] [--speed-step-kmh S] "
-                        "[--speed-max-kmh M] [--bisect-kmh T] [--direct] [--max-coupling-iter N] [--cfd-max-iter N]\n");
+                        "[--speed-max-kmh M] [--bisect-kmh T] [--direct] [--no-seed] [--max-coupling-iter N] [--cfd-max-iter N]\n");
         return 2;
     }
     int tty = isatty(2);
@@ -290,6 +317,7 @@ int cmd_shol(int argc, char **argv)
     couple_settings_default(&cs);
     cs.grid = grid >= 0 ? grid : (int)sc->grid;
     cs.direct = direct;
+    cs.seed_from_previous = !no_seed;
     /* [cfd] rotor: the disk of the coupled solves (loaded: the trim's blade loads) */
     cs.uniform_disk = sc->rotor == SIM_ROTOR_UNIFORM;
     cs.max_iter = (int)maxit;
@@ -331,7 +359,10 @@ int cmd_shol(int argc, char **argv)
         cs.mode = COUPLE_TWO_WAY;
         if (!(two = couple_create(ac, &sc->ship, db, &cs, &log, &err)))
             goto fail;
-        split_ctx sp = {one, two, &r1, 2.0 * set.speed_step_mps, 0, ""};
+        /* coupled from two steps of the resolution below the one-way limit
+         * (the bisection's tolerance where it is finer than the step) */
+        double res = set.bisect_tol_mps > 0.0 ? fmin(set.speed_step_mps, set.bisect_tol_mps) : set.speed_step_mps;
+        split_ctx sp = {one, two, &r1, 2.0 * res, 0, "", &log};
         pc.label = "two-way";
         if (shol_envelope_run(&set, split_trim, &sp, on_progress, &pc, &log, &r2, &err) != 0) {
             if (sp.err[0])

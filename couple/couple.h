@@ -50,6 +50,12 @@ typedef struct couple_settings {
     const char *ships_dir;
     int cfd_max_iter;         /* > 0: iteration limit passed to a started builder */
     int uniform_disk;         /* 1: uniform disk (seed paper eq. 5) instead of the trim's blade loads */
+    /* 1 (default): two-way with the interaction velocity starts a point
+     * (iteration 0) from the trim in the interaction of the last coupled
+     * point of the same direction within 3 m/s (not the same speed), instead
+     * of free air; the
+     * first coupled iteration then takes its own fields whole. */
+    int seed_from_previous;
 } couple_settings;
 
 void couple_settings_default(couple_settings *s);
@@ -85,6 +91,8 @@ typedef struct couple_point {
     int converged;            /* the last trim converged */
     int coupling_converged;   /* changes fell below tol_frac */
     int n_iter;
+    double seed_speed_mps;    /* > 0: iteration 0 was trimmed in the interaction of the
+                               * coupled point at this speed; 0: in free air */
     couple_iter iter[COUPLE_MAX_ITER];
     hfm_trim_result trim;     /* the final trim */
 } couple_point;

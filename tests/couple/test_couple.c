@@ -304,7 +304,45 @@ int main(void)
     CHECK(couple_trim(c, 10.0, 0.0, &p2b, &err) == 0);
     CHECK(count_fields(dbdir, NULL) == before);
     CHECK_NEAR(p2b.trim.u.collective_pct, p2.trim.u.collective_pct, 1e-6);
+    CHECK(p2b.seed_speed_mps == 0.0); /* the same speed again is not seeded */
+    /* 2b. The next speed is seeded with this point's interaction and needs
+     * no more coupled iterations than a start from free air, to the same
+     * trim within the coupling tolerance (5 % of a control's value, i.e.
+     * about 3 % of travel here; attitudes 0.5 deg). */
+    couple_point ps, pn;
+    before = count_fields(dbdir, "_loaded_coarse_");
+    rc = couple_trim(c, 11.0, 0.0, &ps, &err);
+    CHECK(rc == 0);
+    int nseeded = count_fields(dbdir, "_loaded_coarse_") - before;
     couple_destroy(c);
+    s.seed_from_previous = 0;
+    c = couple_create(ac, &ship, db, &s, &log, &err);
+    before = count_fields(dbdir, "_loaded_coarse_");
+    rc = couple_trim(c, 11.0, 0.0, &pn, &err);
+    CHECK(rc == 0);
+    int nfree = count_fields(dbdir, "_loaded_coarse_") - before;
+    couple_destroy(c);
+    s.seed_from_previous = 1;
+    printf("11 m/s seeded from %.1f m/s: %d coupled iteration(s), %d fields, coll %.2f long %.2f lat %.2f pedal "
+           "%.2f %% pitch %.2f roll %.2f deg; from free air: %d, %d fields, coll %.2f long %.2f lat %.2f pedal "
+           "%.2f %% pitch %.2f roll %.2f deg\n",
+           ps.seed_speed_mps, ps.n_iter - 1, nseeded, ps.trim.u.collective_pct, ps.trim.u.long_pct,
+           ps.trim.u.lat_pct, ps.trim.u.pedal_pct, ps.trim.body.euler_rad[1] * CORE_RAD_TO_DEG,
+           ps.trim.body.euler_rad[0] * CORE_RAD_TO_DEG, pn.n_iter - 1, nfree, pn.trim.u.collective_pct,
+           pn.trim.u.long_pct, pn.trim.u.lat_pct, pn.trim.u.pedal_pct, pn.trim.body.euler_rad[1] * CORE_RAD_TO_DEG,
+           pn.trim.body.euler_rad[0] * CORE_RAD_TO_DEG);
+    CHECK(ps.seed_speed_mps == 10.0 && pn.seed_speed_mps == 0.0);
+    CHECK(ps.converged && ps.coupling_converged && pn.converged && pn.coupling_converged);
+    CHECK(ps.n_iter <= pn.n_iter && nseeded <= nfree);
+    /* the seed is nearer the coupled trim than the free-air trim is */
+    CHECK(fabs(ps.iter[0].collective_pct - pn.trim.u.collective_pct) <
+          fabs(pn.iter[0].collective_pct - pn.trim.u.collective_pct));
+    CHECK_NEAR(ps.trim.u.collective_pct, pn.trim.u.collective_pct, 3.0);
+    CHECK_NEAR(ps.trim.u.long_pct, pn.trim.u.long_pct, 3.0);
+    CHECK_NEAR(ps.trim.u.lat_pct, pn.trim.u.lat_pct, 3.0);
+    CHECK_NEAR(ps.trim.u.pedal_pct, pn.trim.u.pedal_pct, 3.0);
+    CHECK_NEAR(ps.trim.body.euler_rad[1], pn.trim.body.euler_rad[1], 0.5 * CORE_DEG_TO_RAD);
+    CHECK_NEAR(ps.trim.body.euler_rad[0], pn.trim.body.euler_rad[0], 0.5 * CORE_DEG_TO_RAD);
 
     /* 3. Direct use of the coupled field counts the induced velocity twice. */
     s.direct = 1;
