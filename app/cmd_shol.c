@@ -48,47 +48,40 @@ static void log_stderr(void *user, int level, const char *msg)
     fprintf(stderr, "%sshol: %s: %s\n", tty ? "\r\033[K" : "", names[level & 3], msg);
 }
 
-/* Two-way with the coupled trims near the one-way boundary. */
-typedef struct split_ctx {
-    couple_ctx *one, *two;
-    const shol_result *oneway;
-    double margin_mps;
+/* The two-way trim of the sweep (shol_envelope_run_near calls it near the
+ * one-way boundary), with one log line per coupled point so that a long run
+ * leaves a trace before the outputs are written at the end. */
+typedef struct two_ctx {
+    couple_ctx *two;
     int coupled_points;
     char err[1024];
     const core_log *log;
-} split_ctx;
+} two_ctx;
 
-static int split_trim(void *user, double v, double dir, shol_trim_point *out)
+static int two_trim(void *user, double v, double dir, shol_trim_point *out)
 {
-    split_ctx *s = user;
-    double from = 0.0;
-    for (int i = 0; i < s->oneway->n_dirs; i++)
-        if (fabs(s->oneway->dirs[i].dir_rad - dir) < 1e-9)
-            from = s->oneway->dirs[i].max_speed_mps - s->margin_mps;
-    couple_ctx *c = v >= from - 1e-9 ? s->two : s->one;
-    int rc = couple_shol_trim(c, v, dir, out);
-    if (c == s->two && rc >= 0) {
-        s->coupled_points++;
-        /* one line per coupled point, so that a long run leaves a trace in
-         * its log before the outputs are written at the end */
-        int n = 0;
-        const couple_point *h = couple_history(s->two, &n);
-        if (n > 0) {
-            const couple_point *p = &h[n - 1];
-            const couple_iter *it = &p->iter[p->n_iter - 1];
-            char wn[32];
-            core_wod_name(dir * CORE_RAD_TO_DEG, wn, sizeof wn);
-            core_log_msg(s->log, CORE_LOG_INFO,
-                         "coupled %s %.0f km/h: %s, %d iteration(s)%s, change %.1f %%; coll %.1f long %.1f lat %.1f "
-                         "pedal %.1f %%, roll %.2f pitch %.2f deg",
-                         wn, v / CORE_KMH_TO_MPS, rc == 0 ? "trimmed" : "no trim", p->n_iter - 1,
-                         p->seed_speed_mps > 0.0 ? " (seeded)" : "", 100.0 * it->change_frac, it->collective_pct,
-                         it->long_pct, it->lat_pct, it->pedal_pct, it->phi_rad * CORE_RAD_TO_DEG,
-                         it->theta_rad * CORE_RAD_TO_DEG);
-        }
+    two_ctx *s = user;
+    int rc = couple_shol_trim(s->two, v, dir, out);
+    if (rc < 0) {
+        snprintf(s->err, sizeof s->err, "%s", couple_last_error(s->two));
+        return rc;
     }
-    if (rc < 0)
-        snprintf(s->err, sizeof s->err, "%s", couple_last_error(c));
+    s->coupled_points++;
+    int n = 0;
+    const couple_point *h = couple_history(s->two, &n);
+    if (n > 0) {
+        const couple_point *p = &h[n - 1];
+        const couple_iter *it = &p->iter[p->n_iter - 1];
+        char wn[32];
+        core_wod_name(dir * CORE_RAD_TO_DEG, wn, sizeof wn);
+        core_log_msg(s->log, CORE_LOG_INFO,
+                     "coupled %s %.0f km/h: %s, %d iteration(s)%s, change %.1f %%; coll %.1f long %.1f lat %.1f "
+                     "pedal %.1f %%, roll %.2f pitch %.2f deg",
+                     wn, v / CORE_KMH_TO_MPS, rc == 0 ? "trimmed" : "no trim", p->n_iter - 1,
+                     p->seed_speed_mps > 0.0 ? " (seeded)" : "", 100.0 * it->change_frac, it->collective_pct,
+                     it->long_pct, it->lat_pct, it->pedal_pct, it->phi_rad * CORE_RAD_TO_DEG,
+                     it->theta_rad * CORE_RAD_TO_DEG);
+    }
     return rc;
 }
 
@@ -362,11 +355,12 @@ int cmd_shol(int argc, char **argv)
         /* coupled from two steps of the resolution below the one-way limit
          * (the bisection's tolerance where it is finer than the step) */
         double res = set.bisect_tol_mps > 0.0 ? fmin(set.speed_step_mps, set.bisect_tol_mps) : set.speed_step_mps;
-        split_ctx sp = {one, two, &r1, 2.0 * res, 0, "", &log};
+        two_ctx tc = {two, 0, "", &log};
         pc.label = "two-way";
-        if (shol_envelope_run(&set, split_trim, &sp, on_progress, &pc, &log, &r2, &err) != 0) {
-            if (sp.err[0])
-                snprintf(err.msg, sizeof err.msg, "%s", sp.err);
+        if (shol_envelope_run_near(&set, &r1, couple_shol_trim, one, two_trim, &tc, 2.0 * res, on_progress, &pc,
+                                   &log, &r2, &err) != 0) {
+            if (tc.err[0])
+                snprintf(err.msg, sizeof err.msg, "%s", tc.err);
             goto fail;
         }
         main_r = &r2;

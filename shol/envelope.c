@@ -324,3 +324,96 @@ int shol_envelope_run(const shol_settings *s, shol_trim_fn trim, void *trim_user
     out->wall_s = now_s() - w.t0;
     return 0;
 }
+
+/* ------------------------------------------------- near a cheap boundary */
+typedef struct near_ctx {
+    const shol_result *cheap_res;
+    shol_trim_fn cheap, costly;
+    void *cheap_user, *costly_user;
+    double margin_mps;
+    double *extra_mps; /* per direction of cheap_res: the costly region starts this much lower */
+} near_ctx;
+
+/* The lowest speed trimmed with the costly trim at dir. */
+static double near_from(const near_ctx *n, double dir)
+{
+    for (int i = 0; i < n->cheap_res->n_dirs; i++)
+        if (fabs(n->cheap_res->dirs[i].dir_rad - dir) < 1e-9) {
+            const shol_dir_result *d = &n->cheap_res->dirs[i];
+            return (d->has_pass ? d->max_speed_mps : 0.0) - n->margin_mps - n->extra_mps[i];
+        }
+    return 0.0; /* a direction the cheap sweep did not see: costly throughout */
+}
+
+static int near_trim(void *user, double v, double dir, shol_trim_point *out)
+{
+    near_ctx *n = user;
+    if (v >= near_from(n, dir) - 1e-9)
+        return n->costly(n->costly_user, v, dir, out);
+    return n->cheap(n->cheap_user, v, dir, out);
+}
+
+int shol_envelope_run_near(const shol_settings *s, const shol_result *cheap_result, shol_trim_fn cheap,
+                           void *cheap_user, shol_trim_fn costly, void *costly_user, double margin_mps,
+                           shol_progress_fn progress, void *progress_user, const core_log *log, shol_result *out,
+                           core_err *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!cheap || !costly || !cheap_result)
+        return core_err_set(err, -1, "shol: no trim callback or no cheap result");
+    if (!(margin_mps > 0.0))
+        return core_err_set(err, -1, "shol: margin_mps = %g: expected > 0", margin_mps);
+    near_ctx n = {cheap_result, cheap, costly, cheap_user, costly_user, margin_mps, NULL};
+    n.extra_mps = calloc(cheap_result->n_dirs > 0 ? cheap_result->n_dirs : 1, sizeof *n.extra_mps);
+    int *idx = malloc(sizeof *idx * SHOL_MAX_DIRS);
+    shol_settings *again = malloc(sizeof *again);
+    if (!n.extra_mps || !idx || !again) {
+        free(n.extra_mps);
+        free(idx);
+        free(again);
+        return core_err_set(err, -1, "shol: out of memory");
+    }
+    int rc = shol_envelope_run(s, near_trim, &n, progress, progress_user, log, out, err);
+    /* Where no costly-trimmed speed passed, the radius would be a speed that
+     * only the cheap trim passed: sweep that direction again with the costly
+     * region a margin lower, until a costly speed passes or it starts at 0.
+     * (The costly trims already made are usually cached by the caller.) */
+    while (rc == 0) {
+        *again = *s;
+        again->n_dirs = 0;
+        for (int i = 0; i < out->n_dirs; i++) {
+            const shol_dir_result *d = &out->dirs[i];
+            double from = near_from(&n, d->dir_rad);
+            if (!isfinite(d->fail_speed_mps) || from <= 1e-9 || (d->has_pass && d->max_speed_mps >= from - 1e-9))
+                continue;
+            for (int j = 0; j < cheap_result->n_dirs; j++)
+                if (fabs(cheap_result->dirs[j].dir_rad - d->dir_rad) < 1e-9)
+                    n.extra_mps[j] += margin_mps;
+            char name[32];
+            core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+            core_log_msg(log, CORE_LOG_INFO, "shol: %s: no costly trim passed; again with the costly region from %.1f km/h",
+                         name, fmax(near_from(&n, d->dir_rad), 0.0) / CORE_KMH_TO_MPS);
+            idx[again->n_dirs] = i;
+            again->dirs_rad[again->n_dirs++] = d->dir_rad;
+        }
+        if (again->n_dirs == 0)
+            break;
+        shol_result r;
+        if ((rc = shol_envelope_run(again, near_trim, &n, progress, progress_user, log, &r, err)) != 0) {
+            shol_result_free(out);
+            break;
+        }
+        for (int k = 0; k < again->n_dirs; k++) {
+            shol_dir_result tmp = out->dirs[idx[k]];
+            out->dirs[idx[k]] = r.dirs[k];
+            r.dirs[k] = tmp; /* the superseded sweep is freed with r */
+        }
+        out->n_trims += r.n_trims;
+        out->wall_s += r.wall_s;
+        shol_result_free(&r);
+    }
+    free(n.extra_mps);
+    free(idx);
+    free(again);
+    return rc;
+}

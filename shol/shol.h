@@ -195,6 +195,21 @@ int shol_envelope_run(const shol_settings *s, shol_trim_fn trim, void *trim_user
                       shol_progress_fn progress, void *progress_user, const core_log *log,
                       shol_result *out, core_err *err);
 
+/* The procedure with an expensive trim (e.g. two-way coupled) only near the
+ * boundary that a cheaper one (e.g. one-way) found: cheap_result is the
+ * cheap trim's envelope; at each direction the speeds from margin_mps below
+ * its radius up are trimmed with costly, those below with cheap. Where no
+ * costly speed passes in a direction (its first costly speed already
+ * fails), the radius would be a speed only the cheap trim passed: that
+ * direction is swept again with the costly region margin_mps lower, until a
+ * costly speed passes or the region starts at 0: every radius is a speed
+ * the costly trim passed (or 0 with has_pass = 0). Otherwise as
+ * shol_envelope_run (out->n_trims and wall_s count every sweep). */
+int shol_envelope_run_near(const shol_settings *s, const shol_result *cheap_result, shol_trim_fn cheap,
+                           void *cheap_user, shol_trim_fn costly, void *costly_user, double margin_mps,
+                           shol_progress_fn progress, void *progress_user, const core_log *log, shol_result *out,
+                           core_err *err);
+
 /* -------------------------------------------------------------- outputs */
 /* Optional text and a second envelope for the report and plots. */
 /* Physics checks of an envelope (shol/checks.c has the reasoning): largest

@@ -375,6 +375,79 @@ static void test_envelope_bisection(void)
     shol_result_free(&r);
 }
 
+/* The costly trim near the cheap boundary: the radius and limit of every
+ * direction are those of a full costly sweep, with fewer costly trims, both
+ * where the costly boundary lies above the cheap one and where it lies far
+ * below (the walk-down). */
+typedef struct counted {
+    model m;
+    int calls;
+    double lowest_mps[SHOL_MAX_DIRS];
+    const shol_settings *s;
+} counted;
+
+static int counted_trim(void *user, double v, double dir, shol_trim_point *out)
+{
+    counted *c = user;
+    c->calls++;
+    for (int i = 0; i < c->s->n_dirs; i++)
+        if (fabs(c->s->dirs_rad[i] - dir) < 1e-9 && v < c->lowest_mps[i])
+            c->lowest_mps[i] = v;
+    return model_trim(&c->m, v, dir, out);
+}
+
+static void test_envelope_near(void)
+{
+    core_err err = {{0}};
+    shol_settings s;
+    shol_settings_default(&s);
+    const double gains[2] = {1.0, 3.0}; /* costly pedal limit above / far below the cheap one (gain 1.5) */
+    for (int g = 0; g < 2; g++) {
+        model cheap = {1.5, 0, 0, 0, 0};
+        shol_result rc, full, near;
+        CHECK(shol_envelope_run(&s, model_trim, &cheap, NULL, NULL, NULL, &rc, &err) == 0);
+        counted cf;
+        memset(&cf, 0, sizeof cf);
+        cf.m.pedal_gain = gains[g];
+        cf.s = &s;
+        for (int i = 0; i < SHOL_MAX_DIRS; i++)
+            cf.lowest_mps[i] = INFINITY;
+        CHECK(shol_envelope_run(&s, counted_trim, &cf, NULL, NULL, NULL, &full, &err) == 0);
+        int full_calls = cf.calls;
+        counted cn = cf;
+        cn.calls = 0;
+        for (int i = 0; i < SHOL_MAX_DIRS; i++)
+            cn.lowest_mps[i] = INFINITY;
+        const double margin = 2.0 * s.speed_step_mps;
+        CHECK(shol_envelope_run_near(&s, &rc, model_trim, &cheap, counted_trim, &cn, margin, NULL, NULL, NULL, &near,
+                                     &err) == 0);
+        printf("near the cheap boundary (costly pedal gain %.1f): %d costly trims against %d\n", gains[g], cn.calls,
+               full_calls);
+        CHECK(near.n_dirs == full.n_dirs);
+        int walked = 0;
+        for (int i = 0; i < near.n_dirs && i < full.n_dirs; i++) {
+            CHECK_NEAR(near.dirs[i].max_speed_mps, full.dirs[i].max_speed_mps, 1e-9);
+            CHECK(near.dirs[i].limit == full.dirs[i].limit);
+            CHECK(near.dirs[i].has_pass == full.dirs[i].has_pass);
+            /* the radius is a costly pass: the costly trim saw it */
+            if (near.dirs[i].has_pass)
+                CHECK(cn.lowest_mps[i] <= near.dirs[i].max_speed_mps + 1e-9);
+            walked += cn.lowest_mps[i] < rc.dirs[i].max_speed_mps - margin - 1e-9;
+        }
+        CHECK(cn.calls < full_calls);
+        if (g == 1)
+            CHECK(walked > 0); /* the costly boundary lay below the region: it walked down */
+        else
+            CHECK(walked == 0);
+        shol_result_free(&rc);
+        shol_result_free(&full);
+        shol_result_free(&near);
+    }
+    shol_result r;
+    model m = {1.5, 0, 0, 0, 0};
+    CHECK(shol_envelope_run_near(&s, NULL, model_trim, &m, model_trim, &m, 1.0, NULL, NULL, NULL, &r, &err) < 0);
+}
+
 static void test_envelope_edges(void)
 {
     shol_settings s;
@@ -838,6 +911,7 @@ int main(void)
     test_progress_format();
     test_envelope_steps();
     test_envelope_bisection();
+    test_envelope_near();
     test_envelope_edges();
     test_outputs();
     test_physics_checks();
