@@ -376,8 +376,10 @@ int shol_envelope_run_near(const shol_settings *s, const shol_result *cheap_resu
     int rc = shol_envelope_run(s, near_trim, &n, progress, progress_user, log, out, err);
     /* Where no costly-trimmed speed passed, the radius would be a speed that
      * only the cheap trim passed: sweep that direction again with the costly
-     * region a margin lower, until a costly speed passes or it starts at 0.
-     * (The costly trims already made are usually cached by the caller.) */
+     * region lower, until a costly speed passes or it starts at 0. The
+     * region starts 1, 3, 7, 15, ... margins lower (a cheap boundary far too
+     * high costs a few rounds, not one per margin); the sweep up from there
+     * finds the first failure at the step. */
     while (rc == 0) {
         *again = *s;
         again->n_dirs = 0;
@@ -388,7 +390,7 @@ int shol_envelope_run_near(const shol_settings *s, const shol_result *cheap_resu
                 continue;
             for (int j = 0; j < cheap_result->n_dirs; j++)
                 if (fabs(cheap_result->dirs[j].dir_rad - d->dir_rad) < 1e-9)
-                    n.extra_mps[j] += margin_mps;
+                    n.extra_mps[j] = 2.0 * n.extra_mps[j] + margin_mps; /* 1, 3, 7, 15 margins lower */
             char name[32];
             core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
             core_log_msg(log, CORE_LOG_INFO, "shol: %s: no costly trim passed; again with the costly region from %.1f km/h",

@@ -201,7 +201,8 @@ int shol_envelope_run(const shol_settings *s, shol_trim_fn trim, void *trim_user
  * its radius up are trimmed with costly, those below with cheap. Where no
  * costly speed passes in a direction (its first costly speed already
  * fails), the radius would be a speed only the cheap trim passed: that
- * direction is swept again with the costly region margin_mps lower, until a
+ * direction is swept again with the costly region 1, 3, 7, ... margins
+ * lower, until a
  * costly speed passes or the region starts at 0: every radius is a speed
  * the costly trim passed (or 0 with has_pass = 0). Otherwise as
  * shol_envelope_run (out->n_trims and wall_s count every sweep). */
