@@ -130,6 +130,16 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
     }
     cfd_result res;
     rc = cfd_solver_run(s, &res, err);
+    if (rc < 0 && warm) {
+        /* A neighbour's wake 30 deg away can start a solution that diverges
+         * where the uniform inflow converges (CG-47 red 90 with the rotor
+         * from a red 60 field): one more run from the inflow before the
+         * field is marked failed. */
+        core_log_msg(e->log, CORE_LOG_WARN, "%s v=%.2f dir=%.1f: diverged from the warm start (%s); starting cold",
+                     k->ship, k->wod_speed_mps, k->wod_dir_rad * CORE_RAD_TO_DEG, err->msg);
+        cfd_solver_init_inflow(s);
+        rc = cfd_solver_run(s, &res, err);
+    }
     if (rc < 0) {
         cfd_solver_destroy(s);
         return rc;

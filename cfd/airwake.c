@@ -69,8 +69,14 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     double L = b.x1 - b.x0, H = b.zsea - b.ztop;
     double U = sp->wod_speed_mps;
     core_vec3 V = core_wod_vel_S_mps(U, sp->wod_dir_rad);
-    if (calm) /* the reference speed: the ideal hover induced velocity sqrt(T / (2 rho A)) */
-        U = sqrt(sp->disk.thrust_N / (2.0 * CORE_RHO_SL_KGPM3 * M_PI * sp->disk.radius_m * sp->disk.radius_m));
+    /* the ideal hover induced velocity sqrt(T / (2 rho A)) */
+    const double vh = sp->rotor && sp->disk.thrust_N > 0.0 && sp->disk.radius_m > 0.0
+                          ? sqrt(sp->disk.thrust_N / (2.0 * CORE_RHO_SL_KGPM3 * M_PI * sp->disk.radius_m * sp->disk.radius_m))
+                          : 0.0;
+    /* a wind slower than the rotor's induced velocity: the rotor's wake is most of the flow */
+    const int rotor_dominated = !calm && U < vh;
+    if (calm) /* the reference speed */
+        U = vh;
     static const double hfine[3] = {1.1, 0.55, 0.43};
     static const double hmax[3] = {12.0, 6.0, 5.0};
     double hf = sp->h_fine_m > 0.0 ? sp->h_fine_m : hfine[sp->level];
@@ -158,8 +164,10 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     cfg.accel_start = 60;
     cfg.accel_when_stalled = 1;
     /* a hover in calm air diverged at 0.85 and converged at 0.5 (a flat
-     * deck, coarse grid) */
-    if (calm)
+     * deck, coarse grid); so did the UH-60A over the CG-47 in a 1.4 m/s
+     * beam wind (its induced velocity is 10 m/s), which converged on the
+     * retry at 0.51. The relaxation changes the path, not the solution. */
+    if (calm || rotor_dominated)
         cfg.relax_u = 0.5;
     cfg.log = log;
     cfg.progress = progress;
