@@ -82,6 +82,8 @@ static int on_cfd_progress(void *user, int iter, int max_iter, double residual, 
 {
     (void)elapsed_s;
     prog_adapter *p = user;
+    if (!p->fn) /* no progress wanted */
+        return 0;
     return p->fn(p->user, max_iter > 0 ? (double)iter / max_iter : 0.0, residual, iter);
 }
 

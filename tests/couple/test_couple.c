@@ -258,6 +258,60 @@ int main(void)
     for (int i = 0; i < 100 && !awdb_builder_alive(db); i++)
         usleep(20000);
 
+    /* A warm start that diverges (a field of a 10 km/s wind as the start of
+     * a 10 m/s one): the engine runs once more from the inflow and builds
+     * the field instead of failing it. */
+    {
+        cfd_airwake_spec sp;
+        memset(&sp, 0, sizeof sp);
+        sp.ship = &ship;
+        sp.wod_speed_mps = 1e4;
+        sp.level = CFD_GRID_COARSE;
+        sp.monitor_z_m = -5.0;
+        sp.max_iter = 1;
+        cfd_solver *bad = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
+        CHECK(bad != NULL);
+        char warm[1100], out[1100];
+        snprintf(warm, sizeof warm, "%s/bad_warm.h5", dbdir);
+        snprintf(out, sizeof out, "%s/cold_retry.h5", dbdir);
+        if (bad) {
+            cfd_result res;
+            cfd_solver_init_inflow(bad);
+            CHECK(cfd_solver_run(bad, &res, &err) >= 0);
+            cfd_meta meta;
+            memset(&meta, 0, sizeof meta);
+            snprintf(meta.ship, sizeof meta.ship, "BOX40");
+            meta.wod_speed_mps = 1e4;
+            meta.result = res;
+            CHECK(cfd_solver_write(bad, &meta, warm, &err) == 0);
+            cfd_solver_destroy(bad);
+        }
+        awdb_engine eng;
+        awdb_embedded_engine(emb, &eng);
+        awdb_key kw;
+        memset(&kw, 0, sizeof kw);
+        snprintf(kw.ship, sizeof kw.ship, "BOX40");
+        snprintf(kw.aircraft, sizeof kw.aircraft, "%s", hfm_aircraft_name(ac));
+        kw.wod_speed_mps = 10.0;
+        kw.grid = AWDB_GRID_COARSE;
+        kw.rotor = AWDB_ROTOR_OFF;
+        CHECK(awdb_key_canon(&kw, &err) == 0);
+        int brc = eng.build(eng.user, &kw, warm, out, NULL, NULL, &err);
+        if (brc < 0)
+            fprintf(stderr, "cold retry: %s\n", err.msg);
+        CHECK(brc >= 0);
+        cfd_field *f = brc >= 0 ? cfd_field_load(out, &err) : NULL;
+        CHECK(f != NULL);
+        if (f) {
+            double v[CFD_NVARS], pos[3] = {-60.0, 0.0, -20.0}; /* upwind of the box */
+            cfd_field_sample(f, pos, v);
+            CHECK(fabs(v[0]) < 20.0); /* the 10 m/s wind, not the 10 km/s start */
+            cfd_field_destroy(f);
+        }
+        remove(warm);
+        remove(out);
+    }
+
     /* The round trip: the loaded key goes through a request file and the
      * builder into the field's .sum; the same key finds it READY. */
     CHECK(awdb_submit(db, &k, NULL, &err) == 0);
