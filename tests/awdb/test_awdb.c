@@ -193,7 +193,13 @@ static void test_flow(const char *dir)
     CHECK(awdb_submit(db, &k2, &st, &err) == 0);
     CHECK(run_builder(db, &te, 1, &err) == 0);
     CHECK(te.builds == 2 && strcmp(te.last_warm, path) == 0);
+    /* Green 30 does not start from the head wind: its wind crosses the
+     * side faces, which are symmetry planes in a head wind. */
     CHECK(awdb_submit(db, &k3, &st, &err) == 0);
+    CHECK(run_builder(db, &te, 1, &err) == 0);
+    CHECK(te.builds == 3 && te.last_warm[0] == '\0');
+    awdb_key kh = key(10.5, 0);
+    CHECK(awdb_submit(db, &kh, &st, &err) == 0);
     CHECK(run_builder(db, &te, 1, &err) == 0);
     CHECK(strstr(te.last_warm, "v10.00_d+000.00") != NULL); /* 10 m/s head is nearer than 12 */
     /* No warm start from a direction more than 30 deg away: green 60 may
@@ -204,6 +210,15 @@ static void test_flow(const char *dir)
     awdb_key_canon(&kg90, &err);
     CHECK(awdb_nearest(db, &kg60, near, sizeof near) == 0 && strstr(near, "v10.00_d+030.00") != NULL);
     CHECK(awdb_nearest(db, &kg90, near, sizeof near) == 1);
+    /* Nor green 90 from green 60, 30 deg away: a beam wind's fore and aft
+     * faces are symmetry planes, green 60's an inlet and an outlet. */
+    CHECK(awdb_submit(db, &kg60, &st, &err) == 0);
+    CHECK(run_builder(db, &te, 1, &err) == 0);
+    CHECK(awdb_query(db, &kg60, NULL, 0) == AWDB_READY);
+    CHECK(awdb_nearest(db, &kg90, near, sizeof near) == 1);
+    awdb_key kg75 = key(10, 75);
+    awdb_key_canon(&kg75, &err);
+    CHECK(awdb_nearest(db, &kg75, near, sizeof near) == 0 && strstr(near, "v10.00_d+060.00") != NULL);
 
     /* A corrupted field is detected, removed and rebuilt. */
     FILE *f = fopen(path, "r+");
@@ -214,7 +229,7 @@ static void test_flow(const char *dir)
     CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_ABSENT);
     CHECK(awdb_submit(db3, &k1, &st, &err) == 0 && st == AWDB_ABSENT);
     CHECK(run_builder(db3, &te, 1, &err) == 0);
-    CHECK(te.builds == 4);
+    CHECK(te.builds == 6);
     awdb_close(db3);
     db3 = awdb_open(dir, NULL, &err);
     CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_READY);
