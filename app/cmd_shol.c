@@ -90,7 +90,7 @@ static char *coupling_md(const couple_ctx *two)
 {
     int n = 0;
     const couple_point *h = couple_history(two, &n);
-    size_t cap = 4096 + (size_t)n * 1024, len = 0;
+    size_t cap = 4096 + (size_t)n * (COUPLE_MAX_ITER + 1) * 256, len = 0; /* a row is under 256 characters */
     char *md = malloc(cap);
     if (!md)
         return NULL;
@@ -100,7 +100,7 @@ static char *coupling_md(const couple_ctx *two)
                     "from the previous iteration (converged below 5 %%).\n\n"
                     "| WOD | speed (kt) | iter | thrust (kN) | coll %% | long %% | lat %% | pedal %% | roll (deg) | pitch (deg) | change |\n"
                     "|---|---|---|---|---|---|---|---|---|---|---|\n");
-    for (int i = 0; i < n && len + 1024 < cap; i++) {
+    for (int i = 0; i < n; i++) {
         char wn[32];
         core_wod_name(h[i].wod_dir_rad * CORE_RAD_TO_DEG, wn, sizeof wn);
         for (int k = 0; k < h[i].n_iter; k++) {
