@@ -514,7 +514,7 @@ int couple_free_air_rotor(const hfm_aircraft *ac, const double station_S_m[3], d
         hfm_air_uniform uni;
         core_vec3 w = core_wod_vel_S_mps(v, dir);
         uni.vel_S_mps[0] = w.x, uni.vel_S_mps[1] = w.y, uni.vel_S_mps[2] = w.z;
-        hfm_air air = {hfm_air_uniform_fn, &uni};
+        hfm_air air = {hfm_air_uniform_fn, &uni, NULL};
         if (hfm_rotor_disk(ac, &air, 0.0, &r.body, &r.u, &r.rotor, 8, 12, d) != 0 ||
             couple_key_set_rotor(ac, d, loaded, key) != 0)
             rc = core_err_set(err, -1, "free-air trim at %.2f m/s from %.1f deg: rotor disk evaluation failed", v,
@@ -588,7 +588,7 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
         if (!f)
             return -1;
         air_scaled a = {f, v / c->s.ref_speed_mps};
-        hfm_air air = {air_scaled_fn, &a};
+        hfm_air air = {air_scaled_fn, &a, NULL};
         cond.air = &air;
         int rc = solve(c, &cond, &p->trim);
         if (rc < 0)
@@ -605,14 +605,14 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
     uni.vel_S_mps[0] = w.x;
     uni.vel_S_mps[1] = w.y;
     uni.vel_S_mps[2] = w.z;
-    hfm_air free_air = {hfm_air_uniform_fn, &uni};
+    hfm_air free_air = {hfm_air_uniform_fn, &uni, NULL};
     /* The air of the latest trim; it outlives each iteration because the next
      * disk is evaluated in it (before any field is fetched, so the cached
      * fields it points to are still loaded). */
     air_interaction ai;
     memset(&ai, 0, sizeof ai);
     air_scaled direct;
-    hfm_air air;
+    hfm_air air = {NULL, NULL, NULL};
 
     /* Iteration 0: the trim in the interaction of the previous coupled
      * point of this direction (seed_from_previous), else in free air. Why:
@@ -646,6 +646,7 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
             memcpy(ai.s, c->seed.s, sizeof ai.s);
             air.fn = air_interaction_fn;
             air.user = &ai;
+            air.wake = &free_air; /* the flight model's wake is the isolated rotor's (hfm.h) */
             cond.air = &air;
             rc = solve(c, &cond, &p->trim);
             if (rc < 0)
@@ -713,6 +714,7 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
             disk_fit(&ai, c->disk, hfm_aircraft_rotor_radius_m(c->ac));
             air.fn = air_interaction_fn;
             air.user = &ai;
+            air.wake = &free_air; /* the flight model's wake is the isolated rotor's (hfm.h) */
         }
         cond.air = &air;
         hfm_trim_result next;

@@ -39,6 +39,13 @@ int hfm_air_uniform_fn(void *user, const double pos_S_m[3], double t_s, double v
 typedef struct hfm_air {
     hfm_air_fn fn;
     void *user;
+    /* NULL, or the air that sets the geometry of the main rotor's wake on
+     * the airframe (its skew and direction, sampled at the hub): when fn
+     * already holds the airframe's share of the rotor's wake as a flow
+     * field (coupled minus isolated CFD), the wake model must be the
+     * isolated rotor's, i.e. skewed by the undisturbed wind, or the wake
+     * on the tail is counted twice. The rotor itself sees fn. */
+    const struct hfm_air *wake;
 } hfm_air;
 
 /* ------------------------------------------------------------- aircraft */

@@ -176,6 +176,7 @@ typedef struct hfm_rotor_in {
     const hfm_air *air;
     double g_H[3];                     /* gravity in hub axes */
     double rel_hub_H[3];               /* air relative to the hub centre, hub axes */
+    double wake_rel_H[3];              /* the same in the wake's air (hfm_air.wake; else = rel_hub_H) */
     double C_BH_z[3];                  /* shaft axis (down) in body axes */
     double air_H[3];                   /* air at the hub, hub axes */
     int uniform;                       /* the air is the uniform wind (same everywhere) */

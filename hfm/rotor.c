@@ -80,6 +80,15 @@ int hfm_rotor_setup(const hfm_aircraft *ac, const hfm_kin *k, const hfm_controls
     for (int i = 0; i < 3; i++) {
         in->rel_hub_H[i] = a_H[i] - in->vhub_H[i];
         in->air_H[i] = a_H[i];
+        in->wake_rel_H[i] = in->rel_hub_H[i];
+    }
+    if (k->air->wake) {
+        double w_S[3], w_H[3];
+        if (k->air->wake->fn(k->air->wake->user, in->hub_S, k->t, w_S))
+            return -1;
+        m3_tmul(in->C_SH, w_S, w_H);
+        for (int i = 0; i < 3; i++)
+            in->wake_rel_H[i] = w_H[i] - in->vhub_H[i];
     }
     /* The uniform wind is the same at every element: one sample (above)
      * stands for all of them, with the same result as sampling each. */
@@ -422,13 +431,15 @@ void hfm_rotor_wake(const hfm_aircraft *ac, const hfm_rotor_in *in, double skew,
 {
     w->vi_mps = in->lam[0] * ac->mr.omega * ac->mr.R;
     w->skew_rad = skew;
-    double h = sqrt(in->rel_hub_H[0] * in->rel_hub_H[0] + in->rel_hub_H[1] * in->rel_hub_H[1]);
+    /* the wake's geometry in the wake's air (hfm_air.wake), see hfm.h */
+    const double *r = in->wake_rel_H;
+    double h = sqrt(r[0] * r[0] + r[1] * r[1]);
     /* tan of the skew chi = atan2(mu, lambda) (hfm_rotor_inflow), held at 89 deg */
-    double lt = in->rel_hub_H[2] + in->lam[0] * ac->mr.omega * ac->mr.R;
+    double lt = r[2] + in->lam[0] * ac->mr.omega * ac->mr.R;
     lt = lt > 1e-6 * ac->mr.omega * ac->mr.R ? lt : 1e-6 * ac->mr.omega * ac->mr.R;
     w->tan_skew = fmin(h / lt, 57.289961630759425); /* tan 89 deg */
-    w->dir_H[0] = h > 1e-6 ? in->rel_hub_H[0] / h : 0.0;
-    w->dir_H[1] = h > 1e-6 ? in->rel_hub_H[1] / h : 0.0;
+    w->dir_H[0] = h > 1e-6 ? r[0] / h : 0.0;
+    w->dir_H[1] = h > 1e-6 ? r[1] / h : 0.0;
     w->coll_pct = u->collective_pct;
     w->q_degps = b->rate_B_radps[1] * CORE_RAD_TO_DEG;
     w->ay_g = 0.0;

@@ -123,6 +123,7 @@ void hfm_trim_cond_air(const hfm_trim_cond *c, hfm_air_uniform *wind, hfm_air *a
     wind->vel_S_mps[0] = wind->vel_S_mps[1] = wind->vel_S_mps[2] = 0.0;
     air->fn = hfm_air_uniform_fn;
     air->user = wind;
+    air->wake = NULL;
     if (c->air)
         *air = *c->air;
     else if (c->kind == HFM_TRIM_HOVER_SHIP) {

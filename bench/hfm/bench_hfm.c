@@ -99,7 +99,7 @@ int main(int argc, char **argv)
     c.airspeed_mps = 80.0 * CORE_KT_TO_MPS;
     hfm_trim_solve(tr, &c, NULL, &r);
     hfm_air_uniform still = {{0, 0, 0}};
-    hfm_air air = {hfm_air_uniform_fn, &still};
+    hfm_air air = {hfm_air_uniform_fn, &still, NULL};
     hfm_tsim *ts = hfm_tsim_create(ac, &air, HFM_TSIM_ARKODE_FIXED, 0.005, 0.0, NULL);
     double T = 60.0, best = 1e30;
     long ev0 = 0, ev = 0;

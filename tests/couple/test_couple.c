@@ -219,7 +219,7 @@ int main(void)
         hfm_trim_result r;
         CHECK(hfm_trim_solve(t, &cond, NULL, &r) == 0);
         hfm_air_uniform uni = {{-10.0, 0.0, 0.0}};
-        hfm_air air = {hfm_air_uniform_fn, &uni};
+        hfm_air air = {hfm_air_uniform_fn, &uni, NULL};
         hfm_disk *d = malloc(sizeof *d);
         CHECK(hfm_rotor_disk(ac, &air, 0.0, &r.body, &r.u, &r.rotor, 8, 12, d) == 0);
         P = d->power_W;
@@ -418,7 +418,7 @@ int main(void)
          * below are the first iteration's (the free-air disk k). */
         hfm_disk *d = malloc(sizeof *d);
         hfm_air_uniform uni = {{-10.0, 0.0, 0.0}};
-        hfm_air air = {hfm_air_uniform_fn, &uni};
+        hfm_air air = {hfm_air_uniform_fn, &uni, NULL};
         CHECK(hfm_rotor_disk(ac, &air, 0.0, &p2.trim.body, &p2.trim.u, &p2.trim.rotor, 8, 12, d) == 0);
         free(d);
         ki = kc;

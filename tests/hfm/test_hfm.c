@@ -177,6 +177,38 @@ static void test_hover(const hfm_aircraft *ac, hfm_trim *tr)
     CHECK(fm > 0.6 && fm < 0.8);
 }
 
+/* hfm_air.wake: the wake's geometry on the airframe from another air. With
+ * the same air it changes nothing; in a 10 m/s head wind with the wake
+ * set by still air the wake is not blown aft, so the stabilator, 1.05 R
+ * behind the hub, stays inside it and its download (hence the trim pitch)
+ * differs; the rotor itself sees the same wind either way. */
+static void test_wake_air(hfm_trim *tr)
+{
+    hfm_air_uniform head = {{-10.0, 0.0, 0.0}}, still = {{0.0, 0.0, 0.0}};
+    hfm_air wake_head = {hfm_air_uniform_fn, &head, NULL}, wake_still = {hfm_air_uniform_fn, &still, NULL};
+    hfm_air plain = {hfm_air_uniform_fn, &head, NULL}, same = {hfm_air_uniform_fn, &head, &wake_head},
+            other = {hfm_air_uniform_fn, &head, &wake_still};
+    hfm_trim_cond cd;
+    memset(&cd, 0, sizeof cd);
+    cd.kind = HFM_TRIM_HOVER_SHIP;
+    hfm_trim_result r0, r1, r2;
+    cd.air = &plain;
+    CHECK(hfm_trim_solve(tr, &cd, NULL, &r0) == 0);
+    cd.air = &same;
+    CHECK(hfm_trim_solve(tr, &cd, NULL, &r1) == 0);
+    cd.air = &other;
+    CHECK(hfm_trim_solve(tr, &cd, NULL, &r2) == 0);
+    printf("wake air: pitch %.3f deg (wake in the wind), %.3f (the same, given), %.3f (wake in still air); "
+           "stabilator lift %.0f / %.0f / %.0f N\n",
+           r0.body.euler_rad[1] * CORE_RAD_TO_DEG, r1.body.euler_rad[1] * CORE_RAD_TO_DEG,
+           r2.body.euler_rad[1] * CORE_RAD_TO_DEG, -r0.loads.stab.F_B_N[2], -r1.loads.stab.F_B_N[2],
+           -r2.loads.stab.F_B_N[2]);
+    CHECK_NEAR(r1.body.euler_rad[1], r0.body.euler_rad[1], 1e-9);
+    CHECK_NEAR(r1.u.collective_pct, r0.u.collective_pct, 1e-9);
+    CHECK(fabs(r2.body.euler_rad[1] - r0.body.euler_rad[1]) > 0.2 * CORE_DEG_TO_RAD);
+    CHECK(fabs(r2.loads.stab.F_B_N[2] - r0.loads.stab.F_B_N[2]) > 100.0);
+}
+
 /* ------------------------------------------------- sweep and the bucket */
 static void test_sweep(hfm_trim *tr)
 {
@@ -372,6 +404,7 @@ int main(void)
     hfm_trim *tu = hfm_trim_create(uh, NULL), *ts = hfm_trim_create(sa, NULL);
     test_genhel(tu);
     test_hover(uh, tu);
+    test_wake_air(tu);
     test_sweep(tu);
     test_fold();
     test_sa365n(ts);

@@ -79,7 +79,7 @@ static void test_tsim(const hfm_aircraft *ac, hfm_trim *tr, double kt)
     hfm_trim_result r;
     trim_at(tr, kt, &cd, &r);
     hfm_air_uniform still = {{0, 0, 0}};
-    hfm_air air = {hfm_air_uniform_fn, &still};
+    hfm_air air = {hfm_air_uniform_fn, &still, NULL};
     hfm_tsim *ts = hfm_tsim_create(ac, &air, HFM_TSIM_ARKODE_FIXED, 0.005, 0.0, NULL);
     CHECK(ts != NULL);
     if (!ts)
@@ -130,7 +130,7 @@ static void test_mbc(const hfm_aircraft *ac, hfm_trim *tr)
     hfm_trim_result r;
     trim_at(tr, 100.0, &cd, &r);
     hfm_air_uniform still = {{0, 0, 0}};
-    hfm_air air = {hfm_air_uniform_fn, &still};
+    hfm_air air = {hfm_air_uniform_fn, &still, NULL};
     hfm_tsim *ts = hfm_tsim_create(ac, &air, HFM_TSIM_ARKODE_FIXED, 0.005, 0.0, NULL);
     CHECK(ts != NULL);
     if (!ts)
@@ -197,7 +197,7 @@ static void test_air_paths(const hfm_aircraft *ac, hfm_trim *tr)
     hfm_trim_result r;
     trim_at(tr, 60.0, &cd, &r);
     hfm_air_uniform wind = {{4.0, -7.0, 1.5}};
-    hfm_air fast = {hfm_air_uniform_fn, &wind}, slow = {same_wind, &wind};
+    hfm_air fast = {hfm_air_uniform_fn, &wind, NULL}, slow = {same_wind, &wind, NULL};
     hfm_loads La, Lb;
     CHECK(hfm_eval_harmonic(ac, &fast, 0.0, &r.body, &r.u, &r.rotor, &La) == 0);
     CHECK(hfm_eval_harmonic(ac, &slow, 0.0, &r.body, &r.u, &r.rotor, &Lb) == 0);
@@ -234,7 +234,7 @@ static void test_disk(const hfm_aircraft *ac, hfm_trim *tr)
     hfm_trim_result r;
     trim_at(tr, 0.0, &cd, &r);
     hfm_air_uniform still = {{0, 0, 0}};
-    hfm_air air = {hfm_air_uniform_fn, &still};
+    hfm_air air = {hfm_air_uniform_fn, &still, NULL};
     static hfm_disk d;
     CHECK(hfm_rotor_disk(ac, &air, 0.0, &r.body, &r.u, &r.rotor, 16, 24, &d) == 0);
     /* integrate the loading over the disk: it must give the rotor thrust */
