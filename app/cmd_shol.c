@@ -53,7 +53,6 @@ static void log_stderr(void *user, int level, const char *msg)
  * leaves a trace before the outputs are written at the end. */
 typedef struct two_ctx {
     couple_ctx *two;
-    int coupled_points;
     char err[1024];
     const core_log *log;
 } two_ctx;
@@ -66,7 +65,6 @@ static int two_trim(void *user, double v, double dir, shol_trim_point *out)
         snprintf(s->err, sizeof s->err, "%s", couple_last_error(s->two));
         return rc;
     }
-    s->coupled_points++;
     int n = 0;
     const couple_point *h = couple_history(s->two, &n);
     if (n > 0) {
@@ -355,7 +353,7 @@ int cmd_shol(int argc, char **argv)
         /* coupled from two steps of the resolution below the one-way limit
          * (the bisection's tolerance where it is finer than the step) */
         double res = set.bisect_tol_mps > 0.0 ? fmin(set.speed_step_mps, set.bisect_tol_mps) : set.speed_step_mps;
-        two_ctx tc = {two, 0, "", &log};
+        two_ctx tc = {two, "", &log};
         pc.label = "two-way";
         if (shol_envelope_run_near(&set, &r1, couple_shol_trim, one, two_trim, &tc, 2.0 * res, on_progress, &pc,
                                    &log, &r2, &err) != 0) {

@@ -43,6 +43,21 @@
  * from free air as before and re-reads its fields) */
 #define SEED_MAX_DV_MPS 3.0
 
+/* The interaction velocity, under-relaxed: weight w on this iteration's
+ * fields and 1 - w on the previous iteration's (prev_coupled NULL: none). */
+typedef struct air_interaction {
+    const cfd_field *coupled, *isolated;
+    const cfd_field *prev_coupled, *prev_isolated;
+    double w;
+    double wind[3];
+    /* the interaction over the rotor disk, projected on the Pitt-Peters
+     * modes (see disk_fit): v_k(r, psi) = m[k] + (r/R)(c[k] cos psi +
+     * s[k] sin psi), psi from the hub frame's x axis */
+    double hub[3], R;
+    core_quat q_SH;
+    double m[3], c[3], s[3];
+} air_interaction;
+
 struct couple_ctx {
     const hfm_aircraft *ac;
     const core_ship *ship;
@@ -65,14 +80,14 @@ struct couple_ctx {
     pid_t builder_pid;
     couple_field_info *fields;
     int nfields, capfields;
-    /* The interaction of the last converged coupled point (seed_of_next):
-     * the database paths of its fields and its disk projection. */
+    /* The interaction of the last coupled point (the next speed's seed):
+     * its air with the field pointers cleared (the cache may drop the
+     * fields) and the fields' database paths ("" where ai has none). */
     struct {
         int valid;
         double v, dir;
+        air_interaction ai;
         char coupled[1024], isolated[1024], prev_coupled[1024], prev_isolated[1024];
-        double w, hub[3], R, m[3], c[3], s[3];
-        core_quat q_SH;
     } seed;
 };
 
@@ -300,21 +315,6 @@ static int air_scaled_fn(void *user, const double pos[3], double t, double vel[3
         vel[i] = a->scale * out[i];
     return rc > 0 ? 1 : rc;
 }
-
-/* The interaction velocity, under-relaxed: weight w on this iteration's
- * fields and 1 - w on the previous iteration's (prev_coupled NULL: none). */
-typedef struct air_interaction {
-    const cfd_field *coupled, *isolated;
-    const cfd_field *prev_coupled, *prev_isolated;
-    double w;
-    double wind[3];
-    /* the interaction over the rotor disk, projected on the Pitt-Peters
-     * modes (see disk_fit): v_k(r, psi) = m[k] + (r/R)(c[k] cos psi +
-     * s[k] sin psi), psi from the hub frame's x axis */
-    double hub[3], R;
-    core_quat q_SH;
-    double m[3], c[3], s[3];
-} air_interaction;
 
 /* The pointwise interaction velocity (coupled - isolated), under-relaxed
  * against the previous iteration's. */
@@ -625,25 +625,17 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
     int rc = 1;
     if (c->s.seed_from_previous && !c->s.direct && c->seed.valid && fabs(c->seed.dir - dir) < 1e-9 &&
         fabs(c->seed.v - v) <= SEED_MAX_DV_MPS && fabs(c->seed.v - v) > 1e-6) {
+        /* four fields in a cache of CACHE_N: none evicts another */
+        ai = c->seed.ai;
         int ok = (ai.coupled = load_cached(c, c->seed.coupled, err)) != NULL &&
                  (ai.isolated = load_cached(c, c->seed.isolated, err)) != NULL;
         if (ok && c->seed.prev_coupled[0])
             ok = (ai.prev_coupled = load_cached(c, c->seed.prev_coupled, err)) != NULL &&
                  (ai.prev_isolated = load_cached(c, c->seed.prev_isolated, err)) != NULL;
-        if (!ok) /* a field gone from the database: start in free air */
+        if (!ok) { /* a field gone from the database: start in free air */
             memset(&ai, 0, sizeof ai);
-        /* the loads above may have evicted each other (cache of CACHE_N) */
-        if (ok && (!load_cached(c, c->seed.coupled, err) || !load_cached(c, c->seed.isolated, err)))
-            ok = 0;
-        if (ok) {
-            ai.w = c->seed.w;
+        } else {
             memcpy(ai.wind, uni.vel_S_mps, sizeof ai.wind);
-            memcpy(ai.hub, c->seed.hub, sizeof ai.hub);
-            ai.R = c->seed.R;
-            ai.q_SH = c->seed.q_SH;
-            memcpy(ai.m, c->seed.m, sizeof ai.m);
-            memcpy(ai.c, c->seed.c, sizeof ai.c);
-            memcpy(ai.s, c->seed.s, sizeof ai.s);
             air.fn = air_interaction_fn;
             air.user = &ai;
             air.wake = &free_air; /* the flight model's wake is the isolated rotor's (hfm.h) */
@@ -747,13 +739,8 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
             snprintf(c->seed.isolated, sizeof c->seed.isolated, "%s", pi);
             snprintf(c->seed.prev_coupled, sizeof c->seed.prev_coupled, "%s", ppc);
             snprintf(c->seed.prev_isolated, sizeof c->seed.prev_isolated, "%s", ppi);
-            c->seed.w = ai.w;
-            memcpy(c->seed.hub, ai.hub, sizeof ai.hub);
-            c->seed.R = ai.R;
-            c->seed.q_SH = ai.q_SH;
-            memcpy(c->seed.m, ai.m, sizeof ai.m);
-            memcpy(c->seed.c, ai.c, sizeof ai.c);
-            memcpy(c->seed.s, ai.s, sizeof ai.s);
+            c->seed.ai = ai;
+            c->seed.ai.coupled = c->seed.ai.isolated = c->seed.ai.prev_coupled = c->seed.ai.prev_isolated = NULL;
         }
     }
     if (!p->coupling_converged)

@@ -52,9 +52,9 @@ typedef struct couple_settings {
     int uniform_disk;         /* 1: uniform disk (seed paper eq. 5) instead of the trim's blade loads */
     /* 1 (default): two-way with the interaction velocity starts a point
      * (iteration 0) from the trim in the interaction of the last coupled
-     * point of the same direction within 3 m/s (not the same speed), instead
-     * of free air; the
-     * first coupled iteration then takes its own fields whole. */
+     * point of the same direction within 3 m/s (not the same speed),
+     * instead of free air; the first coupled iteration then takes its own
+     * fields whole. */
     int seed_from_previous;
 } couple_settings;
 

@@ -334,15 +334,23 @@ typedef struct near_ctx {
     double *extra_mps; /* per direction of cheap_res: the costly region starts this much lower */
 } near_ctx;
 
+/* The index of dir in the cheap sweep, or -1. */
+static int near_index(const near_ctx *n, double dir)
+{
+    for (int i = 0; i < n->cheap_res->n_dirs; i++)
+        if (fabs(n->cheap_res->dirs[i].dir_rad - dir) < 1e-9)
+            return i;
+    return -1;
+}
+
 /* The lowest speed trimmed with the costly trim at dir. */
 static double near_from(const near_ctx *n, double dir)
 {
-    for (int i = 0; i < n->cheap_res->n_dirs; i++)
-        if (fabs(n->cheap_res->dirs[i].dir_rad - dir) < 1e-9) {
-            const shol_dir_result *d = &n->cheap_res->dirs[i];
-            return (d->has_pass ? d->max_speed_mps : 0.0) - n->margin_mps - n->extra_mps[i];
-        }
-    return 0.0; /* a direction the cheap sweep did not see: costly throughout */
+    int i = near_index(n, dir);
+    if (i < 0)
+        return 0.0; /* a direction the cheap sweep did not see: costly throughout */
+    const shol_dir_result *d = &n->cheap_res->dirs[i];
+    return (d->has_pass ? d->max_speed_mps : 0.0) - n->margin_mps - n->extra_mps[i];
 }
 
 static int near_trim(void *user, double v, double dir, shol_trim_point *out)
@@ -388,9 +396,8 @@ int shol_envelope_run_near(const shol_settings *s, const shol_result *cheap_resu
             double from = near_from(&n, d->dir_rad);
             if (!isfinite(d->fail_speed_mps) || from <= 1e-9 || (d->has_pass && d->max_speed_mps >= from - 1e-9))
                 continue;
-            for (int j = 0; j < cheap_result->n_dirs; j++)
-                if (fabs(cheap_result->dirs[j].dir_rad - d->dir_rad) < 1e-9)
-                    n.extra_mps[j] = 2.0 * n.extra_mps[j] + margin_mps; /* 1, 3, 7, 15 margins lower */
+            int j = near_index(&n, d->dir_rad); /* >= 0: from > 0 */
+            n.extra_mps[j] = 2.0 * n.extra_mps[j] + margin_mps; /* 1, 3, 7, 15 margins lower */
             char name[32];
             core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
             core_log_msg(log, CORE_LOG_INFO, "shol: %s: no costly trim passed; again with the costly region from %.1f km/h",
