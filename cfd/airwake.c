@@ -172,6 +172,9 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     cfg.log = log;
     cfg.progress = progress;
     cfg.progress_user = progress_user;
+    /* a face is an inlet or outlet where the wind's component across it
+     * exceeds 5 % of the speed, else a symmetry plane (awdb's face_class
+     * repeats this rule to choose warm starts: change both together) */
     const double par = 0.05 * U;
     double comp[2] = {V.x, V.y};
     for (int d = 0; d < 2; d++) {
