@@ -3,7 +3,7 @@
  * [--dir-step-deg D] [--speed-step-kmh S] [--speed-max-kmh M]
  * [--bisect-kmh T] [--direct] [--no-seed] [--max-coupling-iter N] [--cfd-max-iter N]`.
  * --no-seed starts every coupled point from the free-air trim (see
- * couple_settings.seed_from_previous).
+ * couple_settings.seed_from_previous and seed_one_way).
  *
  * The candidate SHOL of the seed paper's section 2.8. The one-way envelope
  * (ship-only airwake, one field per direction scaled with speed) is always
@@ -76,7 +76,7 @@ static int two_trim(void *user, double v, double dir, shol_trim_point *out)
                      "coupled %s %.0f km/h: %s, %d iteration(s)%s, change %.1f %%; coll %.1f long %.1f lat %.1f "
                      "pedal %.1f %%, roll %.2f pitch %.2f deg",
                      wn, v / CORE_KMH_TO_MPS, rc == 0 ? "trimmed" : "no trim", p->n_iter - 1,
-                     p->seed_speed_mps > 0.0 ? " (seeded)" : "", 100.0 * it->change_frac, it->collective_pct,
+                     p->seed_speed_mps > 0.0 ? " (seeded)" : p->seed_ship_only ? " (from one-way)" : "", 100.0 * it->change_frac, it->collective_pct,
                      it->long_pct, it->lat_pct, it->pedal_pct, it->phi_rad * CORE_RAD_TO_DEG,
                      it->theta_rad * CORE_RAD_TO_DEG);
     }
@@ -106,6 +106,8 @@ static char *coupling_md(const couple_ctx *two)
             char ch[64] = "free air";
             if (k == 0 && h[i].seed_speed_mps > 0.0)
                 snprintf(ch, sizeof ch, "seed: interaction at %.1f kt", h[i].seed_speed_mps / CORE_KT_TO_MPS);
+            else if (k == 0 && h[i].seed_ship_only)
+                snprintf(ch, sizeof ch, "seed: one-way trim");
             if (k > 0)
                 snprintf(ch, sizeof ch, "%.1f %%", 100.0 * it->change_frac);
             len += snprintf(md + len, cap - len,
@@ -309,6 +311,7 @@ int cmd_shol(int argc, char **argv)
     cs.grid = grid >= 0 ? grid : (int)sc->grid;
     cs.direct = direct;
     cs.seed_from_previous = !no_seed;
+    cs.seed_one_way = !no_seed;
     /* [cfd] rotor: the disk of the coupled solves (loaded: the trim's blade loads) */
     cs.uniform_disk = sc->rotor == SIM_ROTOR_UNIFORM;
     cs.max_iter = (int)maxit;

@@ -56,6 +56,12 @@ typedef struct couple_settings {
      * instead of free air; the first coupled iteration then takes its own
      * fields whole. */
     int seed_from_previous;
+    /* 1 (default): two-way with the interaction velocity starts a point
+     * that has no previous coupled point to seed it (a direction's first)
+     * from the one-way trim, i.e. in the ship-only airwake scaled to the
+     * speed, instead of free air. The first coupled disk then already
+     * carries the airwake's loads. */
+    int seed_one_way;
 } couple_settings;
 
 void couple_settings_default(couple_settings *s);
@@ -92,7 +98,9 @@ typedef struct couple_point {
     int coupling_converged;   /* changes fell below tol_frac */
     int n_iter;
     double seed_speed_mps;    /* > 0: iteration 0 was trimmed in the interaction of the
-                               * coupled point at this speed; 0: in free air */
+                               * coupled point at this speed */
+    int seed_ship_only;       /* 1: iteration 0 was the one-way trim (ship-only airwake);
+                               * neither: iteration 0 was trimmed in free air */
     couple_iter iter[COUPLE_MAX_ITER];
     hfm_trim_result trim;     /* the final trim */
 } couple_point;
