@@ -58,6 +58,11 @@ int awdb_key_canon(awdb_key *k, core_err *err)
     double d = core_wod_wrap_deg(k->wod_dir_rad * CORE_RAD_TO_DEG);
     d = core_wod_wrap_deg(round_to(d, 0.01));
     k->wod_dir_rad = d * CORE_DEG_TO_RAD;
+    /* In calm air the direction means nothing (the aircraft's heading is the
+     * ship's): one field serves every direction's hover (the CG-47 sweep
+     * built the same calm field for green 60 and green 90). */
+    if (k->wod_speed_mps == 0.0)
+        k->wod_dir_rad = 0.0;
     if (k->rotor == AWDB_ROTOR_OFF) {
         /* A ship-only field does not depend on the helicopter. */
         k->thrust_N = 0.0;

@@ -125,6 +125,12 @@ static void test_keys(void)
     awdb_key_name(&s1, na, sizeof na);
     awdb_key_name(&s2, nb, sizeof nb);
     CHECK(strcmp(na, nb) == 0 && strstr(na, "shiponly") != NULL);
+    /* A hover in calm air is one field whatever the direction asked. */
+    awdb_key h1 = key(0, 60), h2 = key(0, -90);
+    CHECK(awdb_key_canon(&h1, &err) == 0 && awdb_key_canon(&h2, &err) == 0);
+    awdb_key_name(&h1, na, sizeof na);
+    awdb_key_name(&h2, nb, sizeof nb);
+    CHECK(strcmp(na, nb) == 0 && strstr(na, "_v00.00_d+000.00_") != NULL);
     /* Bad keys name the field. */
     awdb_key bad = key(-1, 0);
     CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "wod_speed_mps") != NULL);
