@@ -409,7 +409,7 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
     if (!d)
         return 1;
     core_vec3 w = core_wod_vel_S_mps(key->wod_speed_mps, key->wod_dir_rad);
-    double best = INFINITY;
+    double best = INFINITY, best_rotor = INFINITY;
     char best_name[256] = "";
     struct dirent *e;
     while ((e = readdir(d))) {
@@ -442,8 +442,20 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
             continue;
         core_vec3 wk = core_wod_vel_S_mps(k.wod_speed_mps, k.wod_dir_rad);
         double dist = core_vec3_norm(core_vec3_sub(w, wk));
-        if (dist < best) {
+        /* Among fields of the same wind (a coupled point's iterations), the
+         * one whose rotor is nearest: the previous coupling iteration's
+         * field is the best start of the next (thrust in fractions, hub in
+         * radii, shaft tilt in radians). */
+        double rd = 0.0;
+        if (key->rotor != AWDB_ROTOR_OFF) {
+            rd = fabs(k.thrust_N - key->thrust_N) / fmax(key->thrust_N, 1.0) +
+                 fabs(k.shaft_pitch_rad - key->shaft_pitch_rad) + fabs(k.shaft_roll_rad - key->shaft_roll_rad);
+            for (int i = 0; i < 3; i++)
+                rd += fabs(k.station_S_m[i] - key->station_S_m[i]) / fmax(key->radius_m, 0.1);
+        }
+        if (dist < best - 1e-9 || (dist <= best + 1e-9 && rd < best_rotor)) {
             best = dist;
+            best_rotor = rd;
             awdb_fmt(best_name, sizeof best_name, "%s", stem);
         }
     }

@@ -225,6 +225,25 @@ static void test_flow(const char *dir)
     awdb_key kg75 = key(10, 75);
     awdb_key_canon(&kg75, &err);
     CHECK(awdb_nearest(db, &kg75, near, sizeof near) == 0 && strstr(near, "v10.00_d+060.00") != NULL);
+    /* Of two fields of the same wind, the one with the nearer rotor (the
+     * previous coupling iteration's), in either order of building. */
+    {
+        awdb_key ta = key(10, 60), tb = key(10, 60), tq = key(10, 60);
+        ta.thrust_N = 60000.0;
+        tb.thrust_N = 75000.0;
+        tq.thrust_N = 74000.0;
+        awdb_key_canon(&ta, &err);
+        awdb_key_canon(&tb, &err);
+        awdb_key_canon(&tq, &err);
+        char nb_[200];
+        awdb_key_name(&tb, nb_, sizeof nb_);
+        CHECK(awdb_submit(db, &tb, &st, &err) == 0 && run_builder(db, &te, 1, &err) == 0);
+        CHECK(awdb_submit(db, &ta, &st, &err) == 0 && run_builder(db, &te, 1, &err) == 0);
+        CHECK(awdb_nearest(db, &tq, near, sizeof near) == 0 && strstr(near, nb_) != NULL);
+        tq.thrust_N = 61000.0;
+        awdb_key_name(&ta, nb_, sizeof nb_);
+        CHECK(awdb_nearest(db, &tq, near, sizeof near) == 0 && strstr(near, nb_) != NULL);
+    }
 
     /* A corrupted field is detected, removed and rebuilt. */
     FILE *f = fopen(path, "r+");
@@ -235,7 +254,7 @@ static void test_flow(const char *dir)
     CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_ABSENT);
     CHECK(awdb_submit(db3, &k1, &st, &err) == 0 && st == AWDB_ABSENT);
     CHECK(run_builder(db3, &te, 1, &err) == 0);
-    CHECK(te.builds == 6);
+    CHECK(te.builds == 8);
     awdb_close(db3);
     db3 = awdb_open(dir, NULL, &err);
     CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_READY);
