@@ -658,7 +658,7 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
      * while the first disk is evaluated in it (nothing is fetched before). */
     air_scaled ship_air;
     hfm_air ship_hfm_air = {air_scaled_fn, &ship_air, NULL};
-    if (rc != 0 && c->s.seed_one_way && !c->s.direct) {
+    if (rc != 0 && c->s.seed_one_way && !c->s.direct && v > 0.0) { /* calm: the scaled field is free air */
         awdb_key ks;
         base_key(c, &ks, c->s.ref_speed_mps, dir);
         ks.rotor = AWDB_ROTOR_OFF;

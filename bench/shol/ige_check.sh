@@ -1,6 +1,6 @@
 #!/bin/sh
-# ige_check.sh -- the ground-effect check of the two-way coupling (not in
-# ctest: about 3 minutes on 2 cores). A UH-60A hovers with its CG 6 m above
+# ige_check.sh -- the ground-effect check of the two-way coupling (ctest
+# shol_ige; about 3 minutes on 2 cores in a release build). A UH-60A hovers with its CG 6 m above
 # a flat deck (bench/shol/ige/), hub about 0.95 R above it, in calm air
 # (WOD 0) and at 5 km/h; two-way coupling with the interaction velocity on
 # the coarse grid. In ground effect the coupled trim must need less
@@ -10,7 +10,12 @@
 # Usage: bench/shol/ige_check.sh DISIM [DIR]
 set -eu
 disim=$1
-dir=${2:-$(mktemp -d /tmp/disim_ige_XXXXXX)}
+if [ -n "${2:-}" ]; then
+    dir=$2
+else
+    dir=$(mktemp -d /tmp/disim_ige_XXXXXX)
+    trap 'rm -rf "$dir"' EXIT
+fi
 here=$(dirname "$0")
 "$disim" shol "$here/ige/flat_ige.ini" --db "$dir/db" -o "$dir/out" --speed-max-kmh 5 \
     --max-coupling-iter 4 --cfd-max-iter 400 > "$dir/run.csv" 2> "$dir/run.log"
