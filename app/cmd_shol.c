@@ -76,7 +76,7 @@ static int two_trim(void *user, double v, double dir, shol_trim_point *out)
                      "coupled %s %.0f km/h: %s, %d iteration(s)%s, change %.1f %%; coll %.1f long %.1f lat %.1f "
                      "pedal %.1f %%, roll %.2f pitch %.2f deg",
                      wn, v / CORE_KMH_TO_MPS, rc == 0 ? "trimmed" : "no trim", p->n_iter - 1,
-                     p->seed_speed_mps > 0.0 ? " (seeded)" : p->seed_ship_only ? " (from one-way)" : "", 100.0 * it->change_frac, it->collective_pct,
+                     p->seed == COUPLE_SEED_PREVIOUS ? " (seeded)" : p->seed == COUPLE_SEED_ONE_WAY ? " (from one-way)" : "", 100.0 * it->change_frac, it->collective_pct,
                      it->long_pct, it->lat_pct, it->pedal_pct, it->phi_rad * CORE_RAD_TO_DEG,
                      it->theta_rad * CORE_RAD_TO_DEG);
     }
@@ -104,9 +104,9 @@ static char *coupling_md(const couple_ctx *two)
         for (int k = 0; k < h[i].n_iter; k++) {
             const couple_iter *it = &h[i].iter[k];
             char ch[64] = "free air";
-            if (k == 0 && h[i].seed_speed_mps > 0.0)
+            if (k == 0 && h[i].seed == COUPLE_SEED_PREVIOUS)
                 snprintf(ch, sizeof ch, "seed: interaction at %.1f kt", h[i].seed_speed_mps / CORE_KT_TO_MPS);
-            else if (k == 0 && h[i].seed_ship_only)
+            else if (k == 0 && h[i].seed == COUPLE_SEED_ONE_WAY)
                 snprintf(ch, sizeof ch, "seed: one-way trim");
             if (k > 0)
                 snprintf(ch, sizeof ch, "%.1f %%", 100.0 * it->change_frac);

@@ -644,8 +644,10 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
             rc = solve(c, &cond, &p->trim);
             if (rc < 0)
                 return core_err_set(err, rc, "seeded trim at %.2f m/s: fatal error", v);
-            if (rc == 0)
+            if (rc == 0) {
+                p->seed = COUPLE_SEED_PREVIOUS;
                 p->seed_speed_mps = c->seed.v;
+            }
             else
                 cond.air = NULL;
         }
@@ -672,7 +674,7 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
         if (rc < 0)
             return core_err_set(err, rc, "one-way seed trim at %.2f m/s: fatal error", v);
         if (rc == 0)
-            p->seed_ship_only = 1;
+            p->seed = COUPLE_SEED_ONE_WAY;
         else
             cond.air = NULL;
     }

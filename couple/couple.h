@@ -91,16 +91,21 @@ typedef struct couple_iter {
 
 #define COUPLE_MAX_ITER 16
 
+/* The start of a coupled point (its iteration 0). */
+typedef enum couple_seed {
+    COUPLE_SEED_FREE_AIR = 0, /* the free-air trim */
+    COUPLE_SEED_PREVIOUS = 1, /* the interaction of the previous coupled point of the direction */
+    COUPLE_SEED_ONE_WAY = 2,  /* the one-way trim (ship-only airwake scaled to the speed) */
+} couple_seed;
+
 /* The result of a coupled trim at one WOD. */
 typedef struct couple_point {
     double wod_speed_mps, wod_dir_rad;
     int converged;            /* the last trim converged */
     int coupling_converged;   /* changes fell below tol_frac */
     int n_iter;
-    double seed_speed_mps;    /* > 0: iteration 0 was trimmed in the interaction of the
-                               * coupled point at this speed */
-    int seed_ship_only;       /* 1: iteration 0 was the one-way trim (ship-only airwake);
-                               * neither: iteration 0 was trimmed in free air */
+    couple_seed seed;         /* what iteration 0 was trimmed in */
+    double seed_speed_mps;    /* COUPLE_SEED_PREVIOUS: that point's speed (0 for a hover in calm air) */
     couple_iter iter[COUPLE_MAX_ITER];
     hfm_trim_result trim;     /* the final trim */
 } couple_point;

@@ -361,7 +361,7 @@ int main(void)
     CHECK(couple_trim(c, 10.0, 0.0, &p2b, &err) == 0);
     CHECK(count_fields(dbdir, NULL) == before);
     CHECK_NEAR(p2b.trim.u.collective_pct, p2.trim.u.collective_pct, 1e-6);
-    CHECK(p2b.seed_speed_mps == 0.0); /* the same speed again is not seeded */
+    CHECK(p2b.seed == COUPLE_SEED_FREE_AIR); /* the same speed again is not seeded */
     /* 2b. The next speed is seeded with this point's interaction and needs
      * no more coupled iterations than a start from free air, to the same
      * trim within the coupling tolerance (5 % of a control's value, i.e.
@@ -388,7 +388,7 @@ int main(void)
            ps.trim.body.euler_rad[0] * CORE_RAD_TO_DEG, pn.n_iter - 1, nfree, pn.trim.u.collective_pct,
            pn.trim.u.long_pct, pn.trim.u.lat_pct, pn.trim.u.pedal_pct, pn.trim.body.euler_rad[1] * CORE_RAD_TO_DEG,
            pn.trim.body.euler_rad[0] * CORE_RAD_TO_DEG);
-    CHECK(ps.seed_speed_mps == 10.0 && pn.seed_speed_mps == 0.0);
+    CHECK(ps.seed == COUPLE_SEED_PREVIOUS && ps.seed_speed_mps == 10.0 && pn.seed == COUPLE_SEED_FREE_AIR);
     CHECK(ps.converged && ps.coupling_converged && pn.converged && pn.coupling_converged);
     CHECK(ps.n_iter <= pn.n_iter && nseeded <= nfree);
     /* the seed is nearer the coupled trim than the free-air trim is */
@@ -420,7 +420,7 @@ int main(void)
                po.n_iter - 1, nfields, po.trim.u.collective_pct, po.iter[0].collective_pct, po.trim.u.long_pct,
                po.trim.u.lat_pct, po.trim.u.pedal_pct, po.trim.body.euler_rad[1] * CORE_RAD_TO_DEG, p2.n_iter - 1,
                p2.trim.u.collective_pct, p2.iter[0].collective_pct);
-        CHECK(po.seed_ship_only == 1 && p2.seed_ship_only == 0 && po.seed_speed_mps == 0.0);
+        CHECK(po.seed == COUPLE_SEED_ONE_WAY && p2.seed == COUPLE_SEED_FREE_AIR);
         CHECK(po.converged && po.coupling_converged);
         CHECK(po.n_iter <= p2.n_iter);
         CHECK_NEAR(po.trim.u.collective_pct, p2.trim.u.collective_pct, 3.0);
@@ -430,6 +430,19 @@ int main(void)
         CHECK_NEAR(po.trim.body.euler_rad[1], p2.trim.body.euler_rad[1], 0.5 * CORE_DEG_TO_RAD);
         CHECK_NEAR(po.trim.body.euler_rad[0], p2.trim.body.euler_rad[0], 0.5 * CORE_DEG_TO_RAD);
         s.seed_one_way = 0;
+    }
+    /* 2d. A hover in calm air seeds the next speed like any other point
+     * (it was reported as a free-air start: its speed, 0, was the flag). */
+    {
+        couple_point ph, pa;
+        c = couple_create(ac, &ship, db, &s, &log, &err);
+        CHECK(couple_trim(c, 0.0, 0.0, &ph, &err) == 0);
+        CHECK(couple_trim(c, 1.0, 0.0, &pa, &err) == 0);
+        couple_destroy(c);
+        printf("calm air: %d coupled iteration(s), coll %.2f %%; 1 m/s seeded from calm: start %d, %d iteration(s)\n",
+               ph.n_iter - 1, ph.trim.u.collective_pct, (int)pa.seed, pa.n_iter - 1);
+        CHECK(ph.seed == COUPLE_SEED_FREE_AIR);
+        CHECK(pa.seed == COUPLE_SEED_PREVIOUS && pa.seed_speed_mps == 0.0);
     }
 
     /* 3. Direct use of the coupled field counts the induced velocity twice. */
