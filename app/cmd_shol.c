@@ -95,7 +95,8 @@ static char *coupling_md(const couple_ctx *two)
     len += snprintf(md + len, cap - len,
                     "Coupled points (trim -> CFD with the loaded disk -> re-trim), each row one "
                     "iteration; `change` is the largest relative change of a control or attitude "
-                    "from the previous iteration (converged below 5 %%).\n\n"
+                    "from the previous iteration, against at least 20 %% of travel or 5 deg "
+                    "(converged below 5 %%).\n\n"
                     "| WOD | speed (kt) | iter | thrust (kN) | coll %% | long %% | lat %% | pedal %% | roll (deg) | pitch (deg) | change |\n"
                     "|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int i = 0; i < n; i++) {

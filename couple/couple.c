@@ -530,6 +530,15 @@ int couple_free_air_rotor(const hfm_aircraft *ac, const double station_S_m[3], d
     return rc;
 }
 
+/* The relative change of a control or attitude, against at least `floor`.
+ * The floors are the smallest margins the rejection criteria leave
+ * (CONVENTIONS.md): 20 % of travel (the pedal's) for a control, 5 deg (the
+ * roll limit) for an attitude, so 5 % is 1 % of travel or 0.25 deg near
+ * zero. Why not less: a control's percentage has an arbitrary origin (pedal
+ * 9.7 % is 90.3 % from the other stop), and with floors of 10 % and 1 deg a
+ * point near a stop kept iterating on changes of 0.6 % of travel and 0.09
+ * deg, below what the averaged fields resolve (CG-47 red 60 at 50 km/h:
+ * six coupled iterations, the last two moving pedal 10.4 -> 9.8 -> 9.7 %). */
 static double change(double a, double b, double floor)
 {
     return fabs(a - b) / fmax(fmax(fabs(a), fabs(b)), floor);
@@ -546,7 +555,7 @@ static void record(couple_iter *it, const hfm_trim_result *r, const couple_iter 
     it->theta_rad = r->body.euler_rad[1];
     it->change_frac = NAN;
     if (prev) {
-        const double fc = 10.0, fa = 1.0 * CORE_DEG_TO_RAD;
+        const double fc = 20.0, fa = 5.0 * CORE_DEG_TO_RAD;
         double m = change(it->collective_pct, prev->collective_pct, fc);
         m = fmax(m, change(it->long_pct, prev->long_pct, fc));
         m = fmax(m, change(it->lat_pct, prev->lat_pct, fc));

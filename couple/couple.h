@@ -86,7 +86,9 @@ typedef struct couple_iter {
     double thrust_N;
     double collective_pct, long_pct, lat_pct, pedal_pct;
     double phi_rad, theta_rad;
-    double change_frac;       /* largest change from the previous iteration */
+    double change_frac;       /* largest change from the previous iteration: of each control
+                               * relative to max(|value|, 20 % of travel), of each attitude
+                               * relative to max(|value|, 5 deg) */
 } couple_iter;
 
 #define COUPLE_MAX_ITER 16
