@@ -663,8 +663,8 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
     }
     /* A point with no previous coupled point to seed it: the one-way trim.
      * Why: the ship-only airwake holds most of what moves the trim away
-     * from free air (CG-47 red 60 at 50 km/h: pedal 70 % one-way against
-     * about 40 % in free air), so the first coupled disk, loaded from it,
+     * from free air (CG-47 red 60: one-way pedal 70 % at 60 km/h, free-air
+     * pedal 39 % at 50 km/h), so the first coupled disk, loaded from it,
      * is nearer the coupled solution. The scaled field stays in the cache
      * while the first disk is evaluated in it (nothing is fetched before). */
     air_scaled ship_air;
