@@ -388,17 +388,15 @@ int awdb_submit(awdb *db, const awdb_key *key_in, awdb_state *state, core_err *e
     return awdb_write_atomic(p, text, err);
 }
 
-/* Which faces of the CFD grid the wind enters and leaves by (cfd/airwake.c:
- * a component below 5 % of the speed makes a symmetry plane; calm air opens
- * every face): a small code for comparison. */
+/* Which faces of the CFD grid the wind enters and leaves by
+ * (core_wod_faces, the rule cfd/airwake.c sets its boundaries with): a
+ * small code for comparison, 9 for calm air (every face open). */
 static int face_class(double speed_mps, double dir_rad)
 {
-    if (!(speed_mps > 0.0))
+    int s[2];
+    if (core_wod_faces(speed_mps, dir_rad, s))
         return 9;
-    core_vec3 w = core_wod_vel_S_mps(1.0, dir_rad);
-    int cx = w.x > 0.05 ? 2 : w.x < -0.05 ? 0 : 1;
-    int cy = w.y > 0.05 ? 2 : w.y < -0.05 ? 0 : 1;
-    return 3 * cx + cy;
+    return 3 * (s[0] + 1) + (s[1] + 1);
 }
 
 int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)

@@ -173,16 +173,16 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     cfg.progress = progress;
     cfg.progress_user = progress_user;
     /* a face is an inlet or outlet where the wind's component across it
-     * exceeds 5 % of the speed, else a symmetry plane (awdb's face_class
-     * repeats this rule to choose warm starts: change both together) */
-    const double par = 0.05 * U;
-    double comp[2] = {V.x, V.y};
+     * exceeds 5 % of the speed, else a symmetry plane (core_wod_faces; the
+     * airwake database chooses warm starts by the same rule) */
+    int fsign[2];
+    core_wod_faces(sp->wod_speed_mps, sp->wod_dir_rad, fsign);
     for (int d = 0; d < 2; d++) {
         int fmin_ = 2 * d, fmax_ = 2 * d + 1;
-        if (comp[d] < -par) {
+        if (fsign[d] < 0) {
             cfg.bc[fmax_].type = CFD_BC_INLET;
             cfg.bc[fmin_].type = CFD_BC_OUTLET;
-        } else if (comp[d] > par) {
+        } else if (fsign[d] > 0) {
             cfg.bc[fmin_].type = CFD_BC_INLET;
             cfg.bc[fmax_].type = CFD_BC_OUTLET;
         } else {

@@ -136,6 +136,13 @@ double core_wod_wrap_deg(double dir_deg);
 /* Wind velocity in S for a WOD of speed V (m/s) from dir (rad, from the bow,
  * + to starboard): -V (cos dir, sin dir, 0). */
 core_vec3 core_wod_vel_S_mps(double speed_mps, double dir_rad);
+/* How a wind crosses an airwake grid aligned with S: for x and y, sign[d] =
+ * +1 when the wind blows toward +d (it enters by the min face and leaves by
+ * the max face), -1 toward -d, 0 when its component along d is under 5 %
+ * of its speed (both faces symmetry planes). Returns 1 in calm air (speed
+ * not > 0: no wind, signs 0), else 0. The CFD's boundary types and the
+ * airwake database's choice of warm starts both follow this rule. */
+int core_wod_faces(double speed_mps, double dir_rad, int sign[2]);
 /* Name of a WOD direction as seamen say it: "green 30", "red 90", "head", "stern". */
 void core_wod_name(double dir_deg, char *buf, size_t n);
 

@@ -21,6 +21,18 @@ core_vec3 core_wod_vel_S_mps(double speed_mps, double dir_rad)
     return core_vec3_make(-speed_mps * cos(dir_rad), -speed_mps * sin(dir_rad), 0.0);
 }
 
+int core_wod_faces(double speed_mps, double dir_rad, int sign[2])
+{
+    sign[0] = sign[1] = 0;
+    if (!(speed_mps > 0.0))
+        return 1;
+    core_vec3 w = core_wod_vel_S_mps(1.0, dir_rad);
+    const double c[2] = {w.x, w.y};
+    for (int d = 0; d < 2; d++)
+        sign[d] = c[d] > 0.05 ? 1 : c[d] < -0.05 ? -1 : 0;
+    return 0;
+}
+
 void core_wod_name(double dir_deg, char *buf, size_t n)
 {
     double d = core_wod_wrap_deg(dir_deg);

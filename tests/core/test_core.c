@@ -35,6 +35,15 @@ static void test_wod(void)
     CHECK(strcmp(b, "red 90") == 0);
     core_wod_name(0.0, b, sizeof b);
     CHECK(strcmp(b, "head") == 0);
+    /* Grid faces: a head wind blows toward -x (in by the bow face), red 90
+     * toward +y; 2 deg off the beam the fore-aft component is 3.5 % of the
+     * speed, under the 5 % of a symmetry plane; calm air is flagged. */
+    int fs[2];
+    CHECK(core_wod_faces(10.0, 0.0, fs) == 0 && fs[0] == -1 && fs[1] == 0);
+    CHECK(core_wod_faces(10.0, -90.0 * CORE_DEG_TO_RAD, fs) == 0 && fs[0] == 0 && fs[1] == 1);
+    CHECK(core_wod_faces(10.0, 88.0 * CORE_DEG_TO_RAD, fs) == 0 && fs[0] == 0 && fs[1] == -1);
+    CHECK(core_wod_faces(10.0, 150.0 * CORE_DEG_TO_RAD, fs) == 0 && fs[0] == 1 && fs[1] == -1);
+    CHECK(core_wod_faces(0.0, 0.3, fs) == 1 && fs[0] == 0 && fs[1] == 0);
     /* Units: 1 kt = 0.514444 m/s, 54 km/h = 15 m/s. */
     CHECK_NEAR(20.0 * CORE_KT_TO_MPS, 10.28888, 1e-9);
     CHECK_NEAR(54.0 * CORE_KMH_TO_MPS, 15.0, 1e-12);
