@@ -42,6 +42,8 @@
  * speed (a point trimmed again at the same speed is not seeded: it starts
  * from free air as before and re-reads its fields) */
 #define SEED_MAX_DV_MPS 3.0
+/* seeds kept: one per direction, a full circle in 5 deg steps */
+#define SEED_DIRS 72
 
 /* The interaction velocity, under-relaxed: weight w on this iteration's
  * fields and 1 - w on the previous iteration's (prev_coupled NULL: none). */
@@ -80,16 +82,48 @@ struct couple_ctx {
     pid_t builder_pid;
     couple_field_info *fields;
     int nfields, capfields;
-    /* The interaction of the last coupled point (the next speed's seed):
-     * its air with the field pointers cleared (the cache may drop the
-     * fields) and the fields' database paths ("" where ai has none). */
-    struct {
+    /* The interaction of the last coupled point of each direction (the
+     * next speed's seed there): its air with the field pointers cleared
+     * (the cache may drop the fields) and the fields' database paths (""
+     * where ai has none). One per direction: the envelope sweeps every
+     * direction before it walks any down, and a walk-down's first point
+     * is seeded from its own direction's last point, as in a run of that
+     * direction alone (the same trims, hence the same database keys). */
+    struct seed_slot {
         int valid;
         double v, dir;
+        unsigned long used;
         air_interaction ai;
         char coupled[1024], isolated[1024], prev_coupled[1024], prev_isolated[1024];
-    } seed;
+    } seeds[SEED_DIRS];
+    unsigned long seed_tick;
 };
+
+/* The seed of a direction, or NULL. */
+static struct seed_slot *seed_find(couple_ctx *c, double dir)
+{
+    for (int i = 0; i < SEED_DIRS; i++)
+        if (c->seeds[i].valid && fabs(c->seeds[i].dir - dir) < 1e-9)
+            return &c->seeds[i];
+    return NULL;
+}
+
+/* The slot for a direction's seed: its own, a free one or the least
+ * recently stored. */
+static struct seed_slot *seed_slot_for(couple_ctx *c, double dir)
+{
+    struct seed_slot *s = seed_find(c, dir);
+    if (s)
+        return s;
+    int lru = 0;
+    for (int i = 0; i < SEED_DIRS; i++) {
+        if (!c->seeds[i].valid)
+            return &c->seeds[i];
+        if (c->seeds[i].used < c->seeds[lru].used)
+            lru = i;
+    }
+    return &c->seeds[lru];
+}
 
 void couple_settings_default(couple_settings *s)
 {
@@ -633,15 +667,16 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
      * first coupled iteration takes the new fields whole (no relaxation),
      * so a point that converges there is trimmed in its own fields only. */
     int rc = 1;
-    if (c->s.seed_from_previous && !c->s.direct && c->seed.valid && fabs(c->seed.dir - dir) < 1e-9 &&
-        fabs(c->seed.v - v) <= SEED_MAX_DV_MPS && fabs(c->seed.v - v) > 1e-6) {
+    const struct seed_slot *sd = seed_find(c, dir);
+    if (c->s.seed_from_previous && !c->s.direct && sd && fabs(sd->v - v) <= SEED_MAX_DV_MPS &&
+        fabs(sd->v - v) > 1e-6) {
         /* four fields in a cache of CACHE_N: none evicts another */
-        ai = c->seed.ai;
-        int ok = (ai.coupled = load_cached(c, c->seed.coupled, err)) != NULL &&
-                 (ai.isolated = load_cached(c, c->seed.isolated, err)) != NULL;
-        if (ok && c->seed.prev_coupled[0])
-            ok = (ai.prev_coupled = load_cached(c, c->seed.prev_coupled, err)) != NULL &&
-                 (ai.prev_isolated = load_cached(c, c->seed.prev_isolated, err)) != NULL;
+        ai = sd->ai;
+        int ok = (ai.coupled = load_cached(c, sd->coupled, err)) != NULL &&
+                 (ai.isolated = load_cached(c, sd->isolated, err)) != NULL;
+        if (ok && sd->prev_coupled[0])
+            ok = (ai.prev_coupled = load_cached(c, sd->prev_coupled, err)) != NULL &&
+                 (ai.prev_isolated = load_cached(c, sd->prev_isolated, err)) != NULL;
         if (!ok) { /* a field gone from the database: start in free air */
             memset(&ai, 0, sizeof ai);
         } else {
@@ -655,7 +690,7 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
                 return core_err_set(err, rc, "seeded trim at %.2f m/s: fatal error", v);
             if (rc == 0) {
                 p->seed = COUPLE_SEED_PREVIOUS;
-                p->seed_speed_mps = c->seed.v;
+                p->seed_speed_mps = sd->v;
             }
             else
                 cond.air = NULL;
@@ -769,16 +804,18 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
         const char *pc = cached_path(c, ai.coupled), *pi = cached_path(c, ai.isolated);
         const char *ppc = ai.prev_coupled ? cached_path(c, ai.prev_coupled) : "";
         const char *ppi = ai.prev_isolated ? cached_path(c, ai.prev_isolated) : "";
-        c->seed.valid = pc && pi && ppc && ppi;
-        if (c->seed.valid) {
-            c->seed.v = v;
-            c->seed.dir = dir;
-            snprintf(c->seed.coupled, sizeof c->seed.coupled, "%s", pc);
-            snprintf(c->seed.isolated, sizeof c->seed.isolated, "%s", pi);
-            snprintf(c->seed.prev_coupled, sizeof c->seed.prev_coupled, "%s", ppc);
-            snprintf(c->seed.prev_isolated, sizeof c->seed.prev_isolated, "%s", ppi);
-            c->seed.ai = ai;
-            c->seed.ai.coupled = c->seed.ai.isolated = c->seed.ai.prev_coupled = c->seed.ai.prev_isolated = NULL;
+        struct seed_slot *ss = seed_slot_for(c, dir);
+        ss->valid = pc && pi && ppc && ppi;
+        if (ss->valid) {
+            ss->v = v;
+            ss->dir = dir;
+            ss->used = ++c->seed_tick;
+            snprintf(ss->coupled, sizeof ss->coupled, "%s", pc);
+            snprintf(ss->isolated, sizeof ss->isolated, "%s", pi);
+            snprintf(ss->prev_coupled, sizeof ss->prev_coupled, "%s", ppc);
+            snprintf(ss->prev_isolated, sizeof ss->prev_isolated, "%s", ppi);
+            ss->ai = ai;
+            ss->ai.coupled = ss->ai.isolated = ss->ai.prev_coupled = ss->ai.prev_isolated = NULL;
         }
     }
     if (!p->coupling_converged)

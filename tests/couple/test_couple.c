@@ -444,6 +444,20 @@ int main(void)
         CHECK(ph.seed == COUPLE_SEED_FREE_AIR);
         CHECK(pa.seed == COUPLE_SEED_PREVIOUS && pa.seed_speed_mps == 0.0);
     }
+    /* 2e. Seeds are kept per direction: a point of another direction in
+     * between (the envelope sweeps all directions before any walk-down)
+     * does not take the seed of this one. */
+    {
+        couple_point pa, pb, pc;
+        c = couple_create(ac, &ship, db, &s, &log, &err);
+        CHECK(couple_trim(c, 10.0, 0.0, &pa, &err) == 0);
+        CHECK(couple_trim(c, 10.0, 30.0 * CORE_DEG_TO_RAD, &pb, &err) == 0);
+        CHECK(couple_trim(c, 11.0, 0.0, &pc, &err) == 0);
+        couple_destroy(c);
+        printf("11 m/s head after a green 30 point: start %d from %.1f m/s\n", (int)pc.seed, pc.seed_speed_mps);
+        CHECK(pb.seed == COUPLE_SEED_FREE_AIR);
+        CHECK(pc.seed == COUPLE_SEED_PREVIOUS && pc.seed_speed_mps == 10.0);
+    }
 
     /* 3. Direct use of the coupled field counts the induced velocity twice. */
     s.direct = 1;
