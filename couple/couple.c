@@ -612,6 +612,19 @@ static int solve(couple_ctx *c, const hfm_trim_cond *cond, hfm_trim_result *res)
     return rc;
 }
 
+/* The one-way air at a WOD: the direction's ship-only field (at the
+ * reference speed) scaled to v. 0, or -1 with err when the field cannot be
+ * had. The field stays in the cache until the next fetch. */
+static int ship_only_air(couple_ctx *c, double v, double dir, air_scaled *a, core_err *err)
+{
+    awdb_key k;
+    base_key(c, &k, c->s.ref_speed_mps, dir);
+    k.rotor = AWDB_ROTOR_OFF;
+    a->f = get_field(c, &k, err);
+    a->scale = v / c->s.ref_speed_mps;
+    return a->f ? 0 : -1;
+}
+
 int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *err)
 {
     memset(p, 0, sizeof *p);
@@ -625,13 +638,9 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
     memcpy(cond.pos_S_m, c->s.station_S_m, sizeof cond.pos_S_m);
 
     if (c->s.mode == COUPLE_ONE_WAY) {
-        awdb_key k;
-        base_key(c, &k, c->s.ref_speed_mps, dir);
-        k.rotor = AWDB_ROTOR_OFF;
-        const cfd_field *f = get_field(c, &k, err);
-        if (!f)
+        air_scaled a;
+        if (ship_only_air(c, v, dir, &a, err) != 0)
             return -1;
-        air_scaled a = {f, v / c->s.ref_speed_mps};
         hfm_air air = {air_scaled_fn, &a, NULL};
         cond.air = &air;
         int rc = solve(c, &cond, &p->trim);
@@ -705,14 +714,8 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
     air_scaled ship_air;
     hfm_air ship_hfm_air = {air_scaled_fn, &ship_air, NULL};
     if (rc != 0 && c->s.seed_one_way && !c->s.direct && v > 0.0) { /* calm: the scaled field is free air */
-        awdb_key ks;
-        base_key(c, &ks, c->s.ref_speed_mps, dir);
-        ks.rotor = AWDB_ROTOR_OFF;
-        const cfd_field *fs = get_field(c, &ks, err);
-        if (!fs)
+        if (ship_only_air(c, v, dir, &ship_air, err) != 0)
             return -1;
-        ship_air.f = fs;
-        ship_air.scale = v / c->s.ref_speed_mps;
         cond.air = &ship_hfm_air;
         rc = solve(c, &cond, &p->trim);
         if (rc < 0)
