@@ -196,6 +196,7 @@ int cmd_airwaked(int argc, char **argv)
         awdb_close(db);
         return 1;
     }
+    awdb_embedded_set_db(emb, db);
     daemon_ctx ctx = {db, NULL, 0, isatty(2), &log};
     disim_airwake_request_t_subscription_t *sub = NULL;
     if (use_lcm) {

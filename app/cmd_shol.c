@@ -1,9 +1,11 @@
 /* cmd_shol.c -- `disim shol SCENARIO [--grid coarse|default|fine]
  * [--coupling two-way|one-way] [-o DIR] [--db DIR] [--full-circle]
  * [--dir-step-deg D] [--speed-step-kmh S] [--speed-max-kmh M]
- * [--bisect-kmh T] [--direct] [--no-seed] [--max-coupling-iter N] [--cfd-max-iter N]`.
+ * [--bisect-kmh T] [--direct] [--no-seed] [--domain whole|zone] [--max-coupling-iter N]
+ * [--cfd-max-iter N]`.
  * --no-seed starts every coupled point from the free-air trim (see
- * couple_settings.seed_from_previous and seed_one_way).
+ * couple_settings.seed_from_previous and seed_one_way). --domain zone
+ * solves the coupled points in the deck zone only (couple_settings.zone).
  *
  * The candidate SHOL of the seed paper's section 2.8. The one-way envelope
  * (ship-only airwake, one field per direction scaled with speed) is always
@@ -176,7 +178,7 @@ static int parse_num(const char *flag, const char *v, double lo, double hi, doub
 int cmd_shol(int argc, char **argv)
 {
     const char *scen = NULL, *outdir = NULL, *dbdir = NULL;
-    int grid = -1, coupling = -1, full = 0, direct = 0, no_seed = 0;
+    int grid = -1, coupling = -1, full = 0, direct = 0, no_seed = 0, zone = 0;
     double dstep = 0, sstep = 0, smax = 0, bisect = 0, maxit = 6, cfdit = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -225,6 +227,12 @@ int cmd_shol(int argc, char **argv)
         } else if (!strcmp(a, "--bisect-kmh")) {
             if (parse_num(a, v, 0.1, 50, &bisect))
                 return 2;
+        } else if (!strcmp(a, "--domain")) {
+            zone = !strcmp(v, "zone") ? 1 : !strcmp(v, "whole") ? 0 : -2;
+            if (zone == -2) {
+                fprintf(stderr, "disim shol: --domain '%s': expected whole or zone\n", v);
+                return 2;
+            }
         } else if (!strcmp(a, "--cfd-max-iter")) {
             if (parse_num(a, v, 10, 1e6, &cfdit))
                 return 2;
@@ -246,7 +254,8 @@ int cmd_shol(int argc, char **argv)
     if (!scen) {
         fprintf(stderr, "usage: disim shol SCENARIO [--grid coarse|default|fine] [--coupling two-way|one-way] "
                         "[-o DIR] [--db DIR] [--full-circle] [--dir-step-deg D] [--speed-step-kmh S] "
-                        "[--speed-max-kmh M] [--bisect-kmh T] [--direct] [--no-seed] [--max-coupling-iter N] [--cfd-max-iter N]\n");
+                        "[--speed-max-kmh M] [--bisect-kmh T] [--direct] [--no-seed] [--domain whole|zone] [--max-coupling-iter N] "
+                        "[--cfd-max-iter N]\n");
         return 2;
     }
     int tty = isatty(2);
@@ -313,6 +322,7 @@ int cmd_shol(int argc, char **argv)
     cs.direct = direct;
     cs.seed_from_previous = !no_seed;
     cs.seed_one_way = !no_seed;
+    cs.zone = zone;
     /* [cfd] rotor: the disk of the coupled solves (loaded: the trim's blade loads) */
     cs.uniform_disk = sc->rotor == SIM_ROTOR_UNIFORM;
     cs.max_iter = (int)maxit;

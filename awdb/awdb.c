@@ -61,6 +61,8 @@ void awdb_key_format(const awdb_key *k, char *buf, size_t n)
              k->ship, k->aircraft[0] ? k->aircraft : "-", k->wod_speed_mps, k->wod_dir_rad, k->rotor,
              k->thrust_N, k->station_S_m[0], k->station_S_m[1], k->station_S_m[2], k->radius_m,
              k->shaft_pitch_rad, k->shaft_roll_rad, k->grid);
+    if (k->zone_ref_mps > 0.0 && len >= 0 && (size_t)len < n)
+        len += snprintf(buf + len, n - len, "zone_ref_mps = %.17g\n", k->zone_ref_mps);
     if (k->rotor != AWDB_ROTOR_LOADED || len < 0 || (size_t)len >= n)
         return;
     /* The loaded disk. */
@@ -95,6 +97,9 @@ int awdb_key_read(core_ini *ini, awdb_key *k, core_err *err)
         (rc = core_ini_get_double(ini, "key", "shaft_roll_rad", 1, -1, 1, &k->shaft_roll_rad, err)) ||
         (rc = core_ini_get_int(ini, "key", "grid", 1, 0, 2, &grid, err)))
         return rc < 0 ? rc : -1;
+    /* optional: absent in whole-domain keys (1) */
+    if ((rc = core_ini_get_double(ini, "key", "zone_ref_mps", 0, 0, 100, &k->zone_ref_mps, err)) < 0)
+        return rc;
     if (n != 3)
         return core_err_set(err, -1, "%s: [key] station_S_m: expected three numbers", core_ini_path(ini));
     if (!strcmp(k->aircraft, "-"))
@@ -423,7 +428,7 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
         if (read_sum(sum, &sz, &crc, &k, &err) != 0)
             continue;
         if (strcmp(k.ship, key->ship) || strcmp(k.aircraft, key->aircraft) || k.rotor != key->rotor ||
-            k.grid != key->grid)
+            k.grid != key->grid || (k.zone_ref_mps > 0.0) != (key->zone_ref_mps > 0.0))
             continue;
         /* A wake 60 or 90 deg away sits elsewhere in the grid (other inflow
          * faces, the lee side moved): starting from it was seen to diverge

@@ -50,6 +50,13 @@ typedef struct awdb_key {
     double radius_m;       /* rotor radius */
     double shaft_pitch_rad, shaft_roll_rad; /* shaft tilt in S (0.1 deg resolution) */
     int grid;              /* AWDB_GRID_* */
+    /* > 0: the field covers the deck zone only (cfd_airwake_spec.zone; a
+     * coupled point's coupled and isolated fields), its open faces set from
+     * the ship-only field of the same ship, direction and grid at this
+     * speed (m/s, 0.01), scaled to wod_speed_mps; that field must be in the
+     * database before the zone is built. 0: the whole domain. Always 0 with
+     * the rotor off or in calm air. */
+    double zone_ref_mps;
     /* rotor == AWDB_ROTOR_LOADED: the blade loads of a trim (from the flight
      * model), as the CFD disk takes them: the pressure-jump shape
      * load[ipsi * AWDB_LOAD_NR + ir] at r/R = (ir + 0.5) / AWDB_LOAD_NR and
@@ -154,6 +161,11 @@ typedef struct awdb_embedded awdb_embedded;
 awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, int threads,
                                     const core_log *log, core_err *err);
 void awdb_embedded_destroy(awdb_embedded *e);
+/* The database a deck-zone build (awdb_key.zone_ref_mps > 0) reads its
+ * ship-only boundary field from (the builder's own); without one such
+ * builds fail with an error saying so. */
+struct awdb;
+void awdb_embedded_set_db(awdb_embedded *e, awdb *db);
 void awdb_embedded_engine(awdb_embedded *e, awdb_engine *eng);
 
 /* The CFD actuator disk of a key with the rotor on: centred at the station,

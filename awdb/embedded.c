@@ -1,6 +1,7 @@
 /* embedded.c -- the embedded CFD engine for the builder: a key becomes a
  * cfd_airwake_spec (ship from the ships folder by name, WOD, grid level,
- * uniform actuator disk at the key's station, radius, thrust and shaft tilt),
+ * uniform actuator disk at the key's station, radius, thrust and shaft tilt;
+ * a deck zone with the database's ship-only field as its boundary),
  * warm-started from the nearest finished field, run to convergence and
  * written as HDF5 to the builder's temporary path. A run that stops at the
  * iteration limit is kept (its metadata says not converged) and logged. */
@@ -19,7 +20,42 @@ struct awdb_embedded {
     core_ship *ships;
     int max_iter;
     int threads; /* OpenMP threads per build */
+    awdb *db;    /* where deck-zone builds find their ship-only field */
 };
+
+void awdb_embedded_set_db(awdb_embedded *e, awdb *db)
+{
+    e->db = db;
+}
+
+/* A deck zone's boundary: the ship-only field of the key's ship, direction
+ * and grid at the key's reference speed, from the database. */
+static cfd_field *zone_outer(awdb_embedded *e, const awdb_key *k, core_err *err)
+{
+    awdb_key sk;
+    memset(&sk, 0, sizeof sk);
+    snprintf(sk.ship, sizeof sk.ship, "%s", k->ship);
+    sk.wod_speed_mps = k->zone_ref_mps;
+    sk.wod_dir_rad = k->wod_dir_rad;
+    sk.rotor = AWDB_ROTOR_OFF;
+    sk.grid = k->grid;
+    char name[200], path[1200];
+    if (awdb_key_canon(&sk, err) != 0)
+        return NULL;
+    awdb_key_name(&sk, name, sizeof name);
+    if (!e->db) {
+        core_err_set(err, -1, "deck zone: no database to read the ship-only field %s from", name);
+        return NULL;
+    }
+    if (awdb_query(e->db, &sk, path, sizeof path) != AWDB_READY) {
+        core_err_set(err, -1,
+                     "deck zone: its boundary, the ship-only field %s, is not in the database %s (request it "
+                     "before the zone)",
+                     name, awdb_dir(e->db));
+        return NULL;
+    }
+    return cfd_field_load(path, err);
+}
 
 awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, int threads,
                                     const core_log *log, core_err *err)
@@ -115,10 +151,22 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
     spec.open_ship = open_ship;
     if (spec.rotor)
         awdb_key_disk(k, &spec.disk);
+    cfd_field *outer = NULL; /* a deck zone's boundary field; outlives the solver */
+    if (k->zone_ref_mps > 0.0) {
+        spec.zone = 1;
+        if (!open_ship) {
+            if (!(outer = zone_outer(e, k, err)))
+                return -1;
+            spec.zone_field = outer;
+            spec.zone_scale = k->wod_speed_mps / k->zone_ref_mps;
+        }
+    }
     prog_adapter pa = {progress, pu};
     cfd_solver *s = cfd_airwake_create(&spec, e->log, on_cfd_progress, &pa, err);
-    if (!s)
+    if (!s) {
+        cfd_field_destroy(outer);
         return -1;
+    }
     int rc = 0;
     if (warm) {
         cfd_field *f = cfd_field_load(warm, err);
@@ -144,6 +192,7 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
     }
     if (rc < 0) {
         cfd_solver_destroy(s);
+        cfd_field_destroy(outer);
         return rc;
     }
     if (rc > 0)
@@ -159,13 +208,14 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
     meta.wod_dir_deg = k->wod_dir_rad * CORE_RAD_TO_DEG;
     snprintf(meta.ship, sizeof meta.ship, "%.63s", k->ship);
     snprintf(meta.rotor, sizeof meta.rotor, "%s", rotor[k->rotor]);
-    snprintf(meta.grid, sizeof meta.grid, "%s", grid[k->grid]);
+    snprintf(meta.grid, sizeof meta.grid, "%s%s", grid[k->grid], spec.zone ? "-zone" : "");
     meta.rotor_thrust_N = k->thrust_N;
     meta.rotor_radius_m = k->radius_m;
     memcpy(meta.rotor_centre_S_m, k->station_S_m, sizeof meta.rotor_centre_S_m);
     meta.result = res;
     rc = cfd_solver_write(s, &meta, out, err);
     cfd_solver_destroy(s);
+    cfd_field_destroy(outer);
     /* The database keeps the HDF5 file only: a side file names the temporary. */
     char xmf[1100];
     snprintf(xmf, sizeof xmf, "%s.xmf", out);

@@ -63,6 +63,13 @@ int awdb_key_canon(awdb_key *k, core_err *err)
      * built the same calm field for green 60 and green 90). */
     if (k->wod_speed_mps == 0.0)
         k->wod_dir_rad = 0.0;
+    if (!isfinite(k->zone_ref_mps) || k->zone_ref_mps < 0.0 || k->zone_ref_mps > 100.0)
+        return core_err_set(err, -1, "airwake key: zone_ref_mps = %g: expected 0 (whole domain) to 100 m/s",
+                            k->zone_ref_mps);
+    k->zone_ref_mps = round_to(k->zone_ref_mps, 0.01);
+    /* a zone needs a rotor and a ship-only field at a wind */
+    if (k->rotor == AWDB_ROTOR_OFF || k->wod_speed_mps == 0.0)
+        k->zone_ref_mps = 0.0;
     if (k->rotor == AWDB_ROTOR_OFF) {
         /* A ship-only field does not depend on the helicopter. */
         k->thrust_N = 0.0;
@@ -119,6 +126,10 @@ void awdb_key_name(const awdb_key *k, char *buf, size_t n)
              k->aircraft, k->wod_speed_mps, dir_deg, k->rotor, k->thrust_N, k->station_S_m[0],
              k->station_S_m[1], k->station_S_m[2], k->radius_m, k->shaft_pitch_rad * CORE_RAD_TO_DEG,
              k->shaft_roll_rad * CORE_RAD_TO_DEG, k->grid, AWDB_ENGINE_TAG);
+    if (k->zone_ref_mps > 0.0) { /* whole-domain names stay as they were */
+        size_t l = strlen(text);
+        awdb_fmt(text + l, sizeof text - l, "|zone%.2f", k->zone_ref_mps);
+    }
     uint64_t h = 1469598103934665603ULL; /* FNV-1a 64 */
     for (const char *p = text; *p; p++) {
         h ^= (unsigned char)*p;
@@ -138,7 +149,7 @@ void awdb_key_name(const awdb_key *k, char *buf, size_t n)
             }
         }
     }
-    awdb_fmt(buf, n, "%s_%s_v%05.2f_d%+07.2f_%s_%s_%016llx", k->ship,
+    awdb_fmt(buf, n, "%s_%s_v%05.2f_d%+07.2f_%s_%s%s_%016llx", k->ship,
              k->aircraft[0] ? k->aircraft : "shiponly", k->wod_speed_mps, dir_deg,
-             rotor[k->rotor], grid[k->grid], (unsigned long long)h);
+             rotor[k->rotor], grid[k->grid], k->zone_ref_mps > 0.0 ? "-zone" : "", (unsigned long long)h);
 }

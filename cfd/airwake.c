@@ -18,6 +18,20 @@
  * flight deck, half a deck length (at most 12 m) aft of the stern, the
  * hangar face and 0.3 deck lengths (at most 8 m) over the hangar roof, and
  * two hangar heights above the deck; cells grow by 12 % per cell outside.
+ *
+ * Deck zone (spec.zone, a coupled point's fields): the domain shrinks to
+ * the rotor's reach (5 R across and along, 4 R above the hub, as the
+ * whole domain's open faces are placed) and its open faces take the
+ * ship-only field of the same direction, scaled with the wind speed, as a
+ * Dirichlet condition where air enters or runs along (a one-way nested,
+ * or zonal, boundary; not in the seed paper, which solves the coupled case
+ * in its whole domain, section 2.6). Assumptions:
+ * the rotor's effect on the air at the zone's inflow faces is small (it is
+ * set to zero there), and the ship-only field scales with speed (the one-way
+ * coupling's assumption). The isolated rotor of the same key takes the same
+ * zone and faces with the inflow profile, so that the boundary's effect
+ * largely cancels in the interaction velocity. The trim-level check
+ * against the whole domain is in docs/shol.md ("deck zone").
  */
 #include "cfd_private.h"
 
@@ -27,6 +41,19 @@
 typedef struct ship_box {
     double x0, x1, y0, y1, ztop, zsea, hangar_top;
 } ship_box;
+
+/* The zone's open faces: the ship-only field scaled to the WOD speed. */
+static int zone_sample(void *user, const double pos[3], double out[5])
+{
+    const cfd_airwake_spec *sp = user;
+    double v[CFD_NVARS], f = sp->zone_scale;
+    cfd_field_sample(sp->zone_field, pos, v);
+    for (int d = 0; d < 3; d++)
+        out[d] = f * v[CFD_VAR_U + d];
+    out[3] = f * f * v[CFD_VAR_K];
+    out[4] = f * f * f * v[CFD_VAR_EPS];
+    return 0;
+}
 
 static void ship_bounds(const core_ship *sh, ship_box *b)
 {
@@ -56,6 +83,14 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     /* zero wind over deck is a case only with the rotor: its wake is the
      * flow (a hover in calm air over the deck) */
     const int calm = sp->rotor && sp->wod_speed_mps == 0.0 && sp->disk.thrust_N > 0.0 && sp->disk.radius_m > 0.0;
+    if (sp->zone && (calm || !sp->rotor || !(sp->disk.radius_m > 0.0) || !(sp->wod_speed_mps > 0.0) ||
+                     (sp->zone_field && !(sp->zone_scale > 0.0)))) {
+        core_err_set(err, -1,
+                     "cfd airwake: a deck zone needs the rotor, a wind (got %g m/s) and, with an outer field, a "
+                     "scale > 0",
+                     sp->wod_speed_mps);
+        return NULL;
+    }
     if (!sh || sh->nblocks < 1 || !(sp->wod_speed_mps > 0.0 || calm) || sp->level < CFD_GRID_COARSE ||
         sp->level > CFD_GRID_FINE) {
         core_err_set(err, -1,
@@ -116,6 +151,15 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
         ax[1].lo_m = fmin(ax[1].lo_m, c[1] - 5.0 * R);
         ax[1].hi_m = fmax(ax[1].hi_m, c[1] + 5.0 * R);
         ax[2].lo_m = fmin(ax[2].lo_m, c[2] - 4.0 * R);
+        if (sp->zone) {
+            /* the deck zone: the same reach from the hub, and no more (the
+             * fine box is clipped to it by the axis builder) */
+            ax[0].lo_m = c[0] - 5.0 * R;
+            ax[0].hi_m = c[0] + 5.0 * R;
+            ax[1].lo_m = c[1] - 5.0 * R;
+            ax[1].hi_m = c[1] + 5.0 * R;
+            ax[2].lo_m = c[2] - 4.0 * R;
+        }
     }
     for (int d = 0; d < 3; d++) {
         ax[d].h_fine_m = hf;
@@ -194,6 +238,14 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     if (calm) /* no wind: every face but the sea is open (total pressure 0 where air comes in) */
         for (int f = 0; f < CFD_NFACES; f++)
             cfg.bc[f].type = CFD_BC_OUTLET;
+    if (sp->zone) {
+        /* a zone's faces along the wind and its top are fixed to the outer
+         * field: its air crosses them (the superstructure's up- and
+         * downwash, a wake's sideways spread) */
+        for (int f = 0; f < CFD_NFACES; f++)
+            if (cfg.bc[f].type == CFD_BC_SYMMETRY)
+                cfg.bc[f].type = CFD_BC_INLET;
+    }
     cfg.bc[CFD_ZMAX].type = CFD_BC_WALL; /* the sea */
     cfg.inflow.type = sp->abl ? CFD_INFLOW_ABL : CFD_INFLOW_UNIFORM;
     cfg.inflow.vel_mps[0] = V.x;
@@ -206,6 +258,11 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     cfg.inflow.z0_m = 2e-4;
     cfg.inflow.intensity = 0.02;
     cfg.inflow.length_m = 0.1 * H;
+    if (sp->zone && sp->zone_field) {
+        cfg.inflow.type = CFD_INFLOW_FIELD;
+        cfg.inflow.fn = zone_sample;
+        cfg.inflow.fn_user = (void *)sp;
+    }
     cfg.n_monitor = 4;
     for (int m = 0; m < 4; m++) {
         cfg.monitor_m[m][0] = sh->deck_x0_m + (m + 0.5) / 4.0 * deck;
@@ -215,9 +272,10 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     int n[3];
     cfd_grid_dims(g, n);
     core_log_msg(log, CORE_LOG_INFO,
-                 "cfd airwake: %s, WOD %.1f m/s from %.1f deg, grid %d x %d x %d = %zu cells (%zu in the ship), "
+                 "cfd airwake: %s, WOD %.1f m/s from %.1f deg, %s %d x %d x %d = %zu cells (%zu in the ship), "
                  "h_fine %.2f m",
-                 sh->name, U, sp->wod_dir_rad * CORE_RAD_TO_DEG, n[0], n[1], n[2], cfd_grid_cells(g), nsolid, hf);
+                 sh->name, U, sp->wod_dir_rad * CORE_RAD_TO_DEG, sp->zone ? "deck zone" : "grid", n[0], n[1], n[2],
+                 cfd_grid_cells(g), nsolid, hf);
     cfd_solver *s = cfd_solver_create(g, &cfg, err);
     if (!s)
         return NULL;

@@ -97,7 +97,12 @@ typedef enum {
     CFD_INFLOW_UNIFORM = 0, /* vel_mps everywhere */
     CFD_INFLOW_ABL = 1,     /* log law over the ground, Richards & Hoxey (1993) */
     CFD_INFLOW_POWER = 2,   /* 1/7 power-law boundary layer of thickness delta_m over ground */
+    CFD_INFLOW_FIELD = 3,   /* sampled from fn (a zone's boundary values from an outer field) */
 } cfd_inflow_type;
+
+/* A sampled inflow: out[0..2] the velocity (m/s), out[3] k, out[4] epsilon
+ * at pos (a point of the grid). Returns 0. */
+typedef int (*cfd_inflow_fn)(void *user, const double pos_m[3], double out[5]);
 
 typedef struct cfd_inflow {
     cfd_inflow_type type;
@@ -110,6 +115,12 @@ typedef struct cfd_inflow {
     double delta_m;        /* POWER: boundary-layer thickness */
     double intensity;      /* uniform / power: turbulence intensity (k = 1.5 (I U)^2) */
     double length_m;       /* uniform / power: turbulence length scale (eps = Cmu^0.75 k^1.5 / l) */
+    /* FIELD: the sampler and its user data. The solver samples the inlet
+     * and outlet faces once, at cfd_solver_create (and every cell in
+     * cfd_solver_init_inflow, the initial state), so user must stay valid
+     * for the solver's life. */
+    cfd_inflow_fn fn;
+    void *fn_user;
 } cfd_inflow;
 
 /* Progress: iteration, the iteration limit, the largest normalised residual
@@ -288,6 +299,18 @@ typedef struct cfd_airwake_spec {
     double h_fine_m;         /* > 0: overrides the level's fine spacing (tests) */
     int open_ship;           /* 1: the same grid and boundaries with no cell blocked
                                 (the isolated rotor of the coupling's interaction velocity) */
+    /* 1: the deck zone only, for a coupled point (needs the rotor and a wind):
+     * a box 5 R from the hub across and along, 4 R above it, down to the
+     * sea, with the grid of the level inside it. Its open faces (all but the
+     * sea; inlet or outlet by the wind as for the whole domain, the top and
+     * the faces along the wind fixed) take their values from zone_field
+     * scaled by zone_scale (velocities by the factor, k by its square,
+     * epsilon by its cube: the ship-only field scales with the wind speed)
+     * or, with zone_field NULL (the isolated rotor), from the inflow
+     * profile. The spec and zone_field must outlive the solver. */
+    int zone;
+    const cfd_field *zone_field;
+    double zone_scale;
 } cfd_airwake_spec;
 
 /* Build the grid, boundaries (inflow and outflow faces from the WOD

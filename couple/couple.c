@@ -12,6 +12,9 @@
  *    quantities near zero do not demand impossible relative accuracy.
  *  - The isolated-rotor field for the interaction velocity is the same case
  *    with the ship's cells left open (ship name + ".isolated").
+ *  - Option (settings.zone): both fields cover the deck zone only, the
+ *    coupled one bounded by the ship-only field scaled to the speed (see
+ *    cfd/airwake.c for that model's assumptions).
  *  - From the second coupled iteration on, the interaction velocity is
  *    under-relaxed: half this iteration's fields, half the previous ones
  *    (a plain fixed-point iteration oscillated where the interaction is
@@ -745,6 +748,14 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
         base_key(c, &kc, v, dir);
         if (couple_key_set_rotor(c->ac, c->disk, !c->s.uniform_disk, &kc) != 0)
             return core_err_set(err, -1, "rotor disk at %.2f m/s from %.1f deg: no thrust", v, dir * CORE_RAD_TO_DEG);
+        if (c->s.zone && v > 0.0) {
+            /* the zone's boundary must be in the database before the zone
+             * is built (it usually is: the one-way trim used it) */
+            air_scaled so;
+            if (ship_only_air(c, v, dir, &so, err) != 0)
+                return -1;
+            kc.zone_ref_mps = c->s.ref_speed_mps;
+        }
         awdb_key ki = kc;
         snprintf(ki.ship, sizeof ki.ship, "%s.isolated", c->ship->name);
         if (!c->s.direct) {

@@ -62,6 +62,11 @@ typedef struct couple_settings {
      * speed, instead of free air. The first coupled disk then already
      * carries the airwake's loads. */
     int seed_one_way;
+    /* 1: two-way builds its coupled and isolated fields in the deck zone
+     * only (cfd_airwake_spec.zone: 5 R round the hub, 4 R above it), with
+     * the direction's ship-only field at ref_speed_mps, scaled to the
+     * speed, as the zone's boundary; 0 (default): the whole domain. */
+    int zone;
 } couple_settings;
 
 void couple_settings_default(couple_settings *s);

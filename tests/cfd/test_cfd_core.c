@@ -1,6 +1,7 @@
 /* test_cfd_core.c -- grid stretching, ship blocking, WOD boundary faces,
  * actuator-disk exactness, pressure solver, HDF5 round trip, NaN refusal,
- * iteration averaging, Anderson acceleration. */
+ * iteration averaging, Anderson acceleration, sampled inflow and the deck
+ * zone. */
 #include "cfd.h"
 #include "check.h"
 
@@ -527,6 +528,218 @@ static void test_anderson(void)
     CHECK(strstr(err.msg, "accel_depth") != NULL);
 }
 
+/* A sampled inflow (CFD_INFLOW_FIELD) that returns the uniform inflow's
+ * values gives the uniform inflow's solution (the stored face values are
+ * the boundary the solver uses), and its initial state is the sampler's. */
+static int uniform_sampler(void *user, const double pos[3], double out[5])
+{
+    (void)pos;
+    const double *v = user; /* u, v, w, k, eps */
+    memcpy(out, v, 5 * sizeof *out);
+    return 0;
+}
+
+static int ramp_sampler(void *user, const double pos[3], double out[5])
+{
+    (void)user;
+    out[0] = 0.0;
+    out[1] = 5.0 + 0.1 * pos[2];
+    out[2] = 0.0;
+    out[3] = 0.01;
+    out[4] = 0.001;
+    return 0;
+}
+
+static cfd_solver *sampled_run(int sampled, double *vals, int (*fn)(void *, const double *, double *), int iters)
+{
+    core_err err;
+    cfd_axis_spec ax[3] = {{-3, 3, 0, 0, 0.3, 0.3, 1.0}, {-4, 4, 0, 0, 0.3, 0.3, 1.0}, {-3, 3, 0, 0, 0.3, 0.3, 1.0}};
+    cfd_grid *g = cfd_grid_create_spec(ax, &err);
+    cfd_config cfg;
+    cfd_config_default(&cfg);
+    cfg.bc[CFD_XMIN].type = cfg.bc[CFD_XMAX].type = CFD_BC_INLET;
+    cfg.bc[CFD_YMIN].type = CFD_BC_INLET;
+    cfg.bc[CFD_YMAX].type = CFD_BC_OUTLET;
+    cfg.bc[CFD_ZMIN].type = CFD_BC_INLET;
+    cfg.bc[CFD_ZMAX].type = CFD_BC_WALL;
+    cfg.inflow.vel_mps[1] = 5.0;
+    cfg.u_ref_mps = 5.0;
+    cfg.max_iter = iters > 0 ? iters : 1;
+    cfg.max_retries = 0;
+    if (sampled) {
+        cfg.inflow.type = CFD_INFLOW_FIELD;
+        cfg.inflow.fn = fn;
+        cfg.inflow.fn_user = vals;
+    }
+    cfd_solver *s = cfd_solver_create(g, &cfg, &err);
+    CHECK(s != NULL);
+    if (!s)
+        return NULL;
+    cfd_disk d;
+    double c[3] = {0, 0, 0};
+    core_euler att = {0, -10.0 * CORE_DEG_TO_RAD, 0};
+    cfd_disk_from_attitude(&d, c, att, 1.0, 200.0);
+    CHECK(cfd_solver_set_disk(s, &d, &err) == 0);
+    if (iters > 0) {
+        cfd_result res;
+        CHECK(cfd_solver_run(s, &res, &err) >= 0);
+    }
+    return s;
+}
+
+static void test_sampled_inflow(void)
+{
+    /* the uniform inflow's k and epsilon (cfd_config_default: intensity
+     * 0.01, length 1 m; Cmu 0.0845) */
+    double iu = 0.01 * 5.0, k = 1.5 * iu * iu, eps = pow(0.0845, 0.75) * pow(k, 1.5) / 1.0;
+    double vals[5] = {0.0, 5.0, 0.0, k, eps};
+    cfd_solver *a = sampled_run(0, NULL, NULL, 30), *b = sampled_run(1, vals, uniform_sampler, 30);
+    if (a && b) {
+        double maxd = 0.0, maxv = 0.0;
+        for (int v = 0; v < CFD_NVARS; v++) {
+            const double *x = cfd_solver_var(a, v), *y = cfd_solver_var(b, v);
+            for (size_t c = 0; c < cfd_grid_cells(cfd_solver_grid(a)); c++) {
+                maxd = fmax(maxd, fabs(x[c] - y[c]));
+                maxv = fmax(maxv, fabs(x[c]));
+            }
+        }
+        CHECK(maxv > 1.0);
+        CHECK(maxd <= 1e-9 * maxv);
+    }
+    cfd_solver_destroy(a);
+    cfd_solver_destroy(b);
+    /* a sheared sampler: the initial state is the sampler at each cell */
+    cfd_solver *r = sampled_run(1, NULL, ramp_sampler, 0);
+    if (r) {
+        double pos[3] = {0.15, -1.05, -2.85}, out[CFD_NVARS];
+        cfd_solver_sample(r, pos, out);
+        CHECK_NEAR(out[1], 5.0 + 0.1 * pos[2], 1e-12);
+        CHECK_NEAR(out[CFD_VAR_K], 0.01, 1e-15);
+    }
+    cfd_solver_destroy(r);
+    /* a sampled inflow without a sampler is refused */
+    core_err err;
+    cfd_axis_spec ax[3] = {{0, 1, 0, 0, 0.5, 0.5, 1.0}, {0, 1, 0, 0, 0.5, 0.5, 1.0}, {0, 1, 0, 0, 0.5, 0.5, 1.0}};
+    cfd_config cfg;
+    cfd_config_default(&cfg);
+    cfg.u_ref_mps = 1.0;
+    cfg.max_iter = 1;
+    cfg.inflow.type = CFD_INFLOW_FIELD;
+    CHECK(cfd_solver_create(cfd_grid_create_spec(ax, &err), &cfg, &err) == NULL);
+    CHECK(strstr(err.msg, "sampler") != NULL);
+}
+
+/* The deck zone: a box 5 R round the hub and 4 R above it, the faces along
+ * the wind and the top fixed, an initial state and boundary from the outer
+ * field scaled to the speed (velocity x f, k x f^2, epsilon x f^3). */
+static void test_zone(void)
+{
+    core_ship ship;
+    core_err err;
+    CHECK(core_ship_load("scenarios/ships/sfs2.ini", &ship, &err) == 0);
+    cfd_airwake_spec sp;
+    memset(&sp, 0, sizeof sp);
+    sp.ship = &ship;
+    sp.wod_speed_mps = 10.0;
+    sp.wod_dir_rad = 0.0;
+    sp.level = CFD_GRID_COARSE;
+    sp.h_fine_m = 4.0;
+    sp.monitor_z_m = -6.8;
+    sp.max_iter = 20;
+    /* the outer field: a short ship-only run on a coarse grid */
+    cfd_solver *so = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
+    CHECK(so != NULL);
+    if (!so)
+        return;
+    cfd_result res;
+    CHECK(cfd_solver_run(so, &res, &err) >= 0);
+    char dir[] = "/tmp/disim_cfd_zone_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[256], xmf[256];
+    snprintf(path, sizeof path, "%s/outer.h5", dir);
+    snprintf(xmf, sizeof xmf, "%s/outer.xmf", dir);
+    cfd_meta meta;
+    memset(&meta, 0, sizeof meta);
+    meta.wod_speed_mps = 10.0;
+    snprintf(meta.ship, sizeof meta.ship, "SFS2");
+    snprintf(meta.rotor, sizeof meta.rotor, "off");
+    snprintf(meta.grid, sizeof meta.grid, "test");
+    CHECK(cfd_solver_write(so, &meta, path, &err) == 0);
+    cfd_solver_destroy(so);
+    cfd_field *outer = cfd_field_load(path, &err);
+    CHECK(outer != NULL);
+    remove(path);
+    remove(xmf);
+    rmdir(dir);
+    if (!outer)
+        return;
+    /* refused without a rotor */
+    sp.zone = 1;
+    sp.zone_field = outer;
+    sp.zone_scale = 2.0;
+    sp.wod_speed_mps = 20.0;
+    CHECK(cfd_airwake_create(&sp, NULL, NULL, NULL, &err) == NULL);
+    CHECK(strstr(err.msg, "deck zone") != NULL);
+    sp.rotor = 1;
+    const double R = 5.97, hub[3] = {0.0, 0.0, -8.0};
+    core_euler att = {0.0, 0.0, 0.0};
+    cfd_disk_from_attitude(&sp.disk, hub, att, R, 40000.0);
+    cfd_solver *z = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
+    CHECK(z != NULL);
+    if (z) {
+        const cfd_grid *g = cfd_solver_grid(z);
+        int n[3];
+        cfd_grid_dims(g, n);
+        CHECK_NEAR(cfd_grid_nodes(g, 0)[0], hub[0] - 5.0 * R, 1e-9);
+        CHECK_NEAR(cfd_grid_nodes(g, 0)[n[0]], hub[0] + 5.0 * R, 1e-9);
+        CHECK_NEAR(cfd_grid_nodes(g, 1)[0], hub[1] - 5.0 * R, 1e-9);
+        CHECK_NEAR(cfd_grid_nodes(g, 2)[0], hub[2] - 4.0 * R, 1e-9);
+        CHECK_NEAR(cfd_grid_nodes(g, 2)[n[2]], ship.deck_height_m, 1e-9);
+        const cfd_config *c = cfd_solver_config(z);
+        /* head wind: enters at x max, leaves at x min; the sides along the
+         * wind and the top are fixed to the outer field */
+        CHECK(c->bc[CFD_XMAX].type == CFD_BC_INLET && c->bc[CFD_XMIN].type == CFD_BC_OUTLET);
+        CHECK(c->bc[CFD_YMIN].type == CFD_BC_INLET && c->bc[CFD_YMAX].type == CFD_BC_INLET);
+        CHECK(c->bc[CFD_ZMIN].type == CFD_BC_INLET && c->bc[CFD_ZMAX].type == CFD_BC_WALL);
+        CHECK(c->inflow.type == CFD_INFLOW_FIELD);
+        /* the initial state at a cell centre over the deck, aft of the hangar */
+        const double *xc = cfd_grid_centres(g, 0), *yc = cfd_grid_centres(g, 1), *zc = cfd_grid_centres(g, 2);
+        int i = 0, j = 0, k = 0;
+        while (i < n[0] - 1 && xc[i] < 6.0)
+            i++;
+        while (j < n[1] - 1 && yc[j] < 2.0)
+            j++;
+        while (k < n[2] - 1 && zc[k] < -3.0)
+            k++;
+        double pos[3] = {xc[i], yc[j], zc[k]}, a[CFD_NVARS], b[CFD_NVARS];
+        cfd_solver_sample(z, pos, a);
+        cfd_field_sample(outer, pos, b);
+        CHECK(fabs(b[0]) > 0.5);
+        for (int d = 0; d < 3; d++)
+            CHECK_NEAR(a[d], 2.0 * b[d], 1e-9);
+        CHECK_NEAR(a[CFD_VAR_K], 4.0 * b[CFD_VAR_K], 1e-9 * (1.0 + b[CFD_VAR_K]));
+        CHECK_NEAR(a[CFD_VAR_EPS], 8.0 * b[CFD_VAR_EPS], 1e-9 * (1.0 + b[CFD_VAR_EPS]));
+        cfd_solver_destroy(z);
+    }
+    /* the isolated rotor's zone: the same grid and faces, the inflow profile */
+    sp.open_ship = 1;
+    sp.zone_field = NULL;
+    cfd_solver *zi = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
+    CHECK(zi != NULL);
+    if (zi) {
+        CHECK(cfd_solver_config(zi)->inflow.type != CFD_INFLOW_FIELD);
+        CHECK(cfd_solver_config(zi)->bc[CFD_ZMIN].type == CFD_BC_INLET);
+        CHECK(cfd_grid_fluid_cells(cfd_solver_grid(zi)) == cfd_grid_cells(cfd_solver_grid(zi)));
+        cfd_solver_destroy(zi);
+    }
+    /* no zone in calm air */
+    sp.open_ship = 0;
+    sp.zone_field = outer;
+    sp.wod_speed_mps = 0.0;
+    CHECK(cfd_airwake_create(&sp, NULL, NULL, NULL, &err) == NULL);
+    cfd_field_destroy(outer);
+}
+
 int main(void)
 {
     test_axis();
@@ -537,5 +750,7 @@ int main(void)
     test_divergence();
     test_zero_component();
     test_anderson();
+    test_sampled_inflow();
+    test_zone();
     return check_done("test_cfd_core");
 }

@@ -265,6 +265,7 @@ int main(void)
     bthread bt;
     memset(&bt, 0, sizeof bt);
     bt.db = db;
+    awdb_embedded_set_db(emb, db);
     awdb_embedded_engine(emb, &bt.eng);
     pthread_t th;
     pthread_create(&th, NULL, builder_main, &bt);
@@ -433,6 +434,32 @@ int main(void)
         CHECK(po.n_iter <= p2.n_iter);
         check_same_trim(&po.trim, &p2.trim);
         s.seed_one_way = 0;
+    }
+    /* 2f. The deck zone (settings.zone): the coupled and isolated fields
+     * in a box 5 R round the hub bounded by the ship-only field reach the
+     * whole domain's trim within the coupling tolerance. */
+    {
+        couple_point pz;
+        s.zone = 1;
+        c = couple_create(ac, &ship, db, &s, &log, &err);
+        rc = couple_trim(c, 10.0, 0.0, &pz, &err);
+        CHECK(rc == 0);
+        if (rc < 0)
+            fprintf(stderr, "deck zone: %s\n", err.msg);
+        int nzone = count_fields(dbdir, "_loaded_coarse-zone_");
+        couple_destroy(c);
+        s.zone = 0;
+        printf("10 m/s in the deck zone: %d coupled iteration(s), %d zone fields, coll %.2f long %.2f "
+               "lat %.2f pedal %.2f %% pitch %.2f roll %.2f deg; whole domain: coll %.2f long %.2f lat %.2f pedal "
+               "%.2f %% pitch %.2f roll %.2f deg\n",
+               pz.n_iter - 1, nzone, pz.trim.u.collective_pct, pz.trim.u.long_pct, pz.trim.u.lat_pct,
+               pz.trim.u.pedal_pct, pz.trim.body.euler_rad[1] * CORE_RAD_TO_DEG,
+               pz.trim.body.euler_rad[0] * CORE_RAD_TO_DEG, p2.trim.u.collective_pct, p2.trim.u.long_pct,
+               p2.trim.u.lat_pct, p2.trim.u.pedal_pct, p2.trim.body.euler_rad[1] * CORE_RAD_TO_DEG,
+               p2.trim.body.euler_rad[0] * CORE_RAD_TO_DEG);
+        CHECK(pz.converged && pz.coupling_converged);
+        CHECK(nzone >= 2);
+        check_same_trim(&pz.trim, &p2.trim);
     }
     /* 2d. A hover in calm air seeds the next speed like any other point
      * (it was reported as a free-air start: its speed, 0, was the flag). */
