@@ -7,6 +7,7 @@
  * key (the real CFD engine is exercised by the cfd tests); what is under test
  * is the database's bookkeeping. */
 #include "awdb.h"
+#include "awdb_private.h" /* the request file format (awdb_key_format, awdb_key_read) */
 #include "check.h"
 
 #include <dirent.h>
@@ -131,6 +132,38 @@ static void test_keys(void)
     awdb_key_name(&h1, na, sizeof na);
     awdb_key_name(&h2, nb, sizeof nb);
     CHECK(strcmp(na, nb) == 0 && strstr(na, "_v00.00_d+000.00_") != NULL);
+    /* A deck-zone key: its own name, its reference speed in the request
+     * file; none with the rotor off or in calm air; whole-domain names as
+     * before (the same hash). */
+    {
+        awdb_key w = key(10, -30), z = key(10, -30), zoff = key(10, -30), zcalm = key(0, 0);
+        z.zone_ref_mps = zoff.zone_ref_mps = zcalm.zone_ref_mps = 15.0;
+        zoff.rotor = AWDB_ROTOR_OFF;
+        CHECK(awdb_key_canon(&w, &err) == 0 && awdb_key_canon(&z, &err) == 0 && awdb_key_canon(&zoff, &err) == 0 &&
+              awdb_key_canon(&zcalm, &err) == 0);
+        CHECK(zoff.zone_ref_mps == 0.0 && zcalm.zone_ref_mps == 0.0);
+        awdb_key_name(&w, na, sizeof na);
+        awdb_key_name(&z, nb, sizeof nb);
+        CHECK(strstr(na, "_uniform_coarse_") != NULL && strstr(nb, "_uniform_coarse-zone_") != NULL);
+        CHECK(strcmp(na + strlen(na) - 16, nb + strlen(nb) - 16) != 0);
+        char text[8192], path[] = "/tmp/disim_awdb_zone_XXXXXX";
+        awdb_key_format(&z, text, sizeof text);
+        CHECK(strstr(text, "zone_ref_mps = 15") != NULL);
+        int fd = mkstemp(path);
+        CHECK(fd >= 0);
+        if (fd >= 0) {
+            CHECK(write(fd, text, strlen(text)) == (ssize_t)strlen(text));
+            close(fd);
+            core_ini *ini = core_ini_load(path, &err);
+            awdb_key back;
+            CHECK(ini && awdb_key_read(ini, &back, &err) == 0);
+            CHECK(back.zone_ref_mps == 15.0);
+            core_ini_destroy(ini);
+            remove(path);
+        }
+        z.zone_ref_mps = -1.0;
+        CHECK(awdb_key_canon(&z, &err) < 0 && strstr(err.msg, "zone_ref_mps") != NULL);
+    }
     /* Bad keys name the field. */
     awdb_key bad = key(-1, 0);
     CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "wod_speed_mps") != NULL);
