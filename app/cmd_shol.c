@@ -5,7 +5,8 @@
  * [--cfd-max-iter N]`.
  * --no-seed starts every coupled point from the free-air trim (see
  * couple_settings.seed_from_previous and seed_one_way). --domain zone
- * solves the coupled points in the deck zone only (couple_settings.zone).
+ * solves the coupled points in the deck zone only (couple_settings.zone);
+ * without --domain the scenario's [cfd] coupled_domain decides.
  *
  * The candidate SHOL of the seed paper's section 2.8. The one-way envelope
  * (ship-only airwake, one field per direction scaled with speed) is always
@@ -178,7 +179,7 @@ static int parse_num(const char *flag, const char *v, double lo, double hi, doub
 int cmd_shol(int argc, char **argv)
 {
     const char *scen = NULL, *outdir = NULL, *dbdir = NULL;
-    int grid = -1, coupling = -1, full = 0, direct = 0, no_seed = 0, zone = 0;
+    int grid = -1, coupling = -1, full = 0, direct = 0, no_seed = 0, zone = -1;
     double dstep = 0, sstep = 0, smax = 0, bisect = 0, maxit = 6, cfdit = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -322,7 +323,7 @@ int cmd_shol(int argc, char **argv)
     cs.direct = direct;
     cs.seed_from_previous = !no_seed;
     cs.seed_one_way = !no_seed;
-    cs.zone = zone;
+    cs.zone = zone >= 0 ? zone : sc->coupled_zone; /* --domain, else the scenario's [cfd] coupled_domain */
     /* [cfd] rotor: the disk of the coupled solves (loaded: the trim's blade loads) */
     cs.uniform_disk = sc->rotor == SIM_ROTOR_UNIFORM;
     cs.max_iter = (int)maxit;
@@ -345,7 +346,8 @@ int cmd_shol(int argc, char **argv)
         goto fail;
     progress_ctx pc = {tty, "one-way"};
     fprintf(stderr, "shol: %s + %s, %d directions, grid %s, %s\n", sc->ship.name, hfm_aircraft_name(ac), set.n_dirs,
-            sim_grid_name((sim_grid)cs.grid), mode == COUPLE_TWO_WAY ? "two-way coupling" : "one-way");
+            sim_grid_name((sim_grid)cs.grid),
+            mode != COUPLE_TWO_WAY ? "one-way" : cs.zone ? "two-way coupling in the deck zone" : "two-way coupling");
     if (shol_envelope_run(&set, couple_shol_trim, one, on_progress, &pc, &log, &r1, &err) != 0) {
         if (couple_last_error(one)[0])
             snprintf(err.msg, sizeof err.msg, "%s", couple_last_error(one));
@@ -378,7 +380,14 @@ int cmd_shol(int argc, char **argv)
         main_r = &r2;
         md = coupling_md(two);
         info.label = "two-way coupled";
-        info.coupling = cs.direct ? "two-way, coupled field used directly" : "two-way, interaction velocity (coupled - isolated rotor)";
+        if (cs.zone)
+            info.coupling = cs.direct ? "two-way, coupled field used directly; coupled fields in the deck zone (5 R "
+                                        "round the hub, bounded by the ship-only field)"
+                                      : "two-way, interaction velocity (coupled - isolated rotor); both fields in the "
+                                        "deck zone (5 R round the hub, the coupled one bounded by the ship-only field)";
+        else
+            info.coupling = cs.direct ? "two-way, coupled field used directly"
+                                      : "two-way, interaction velocity (coupled - isolated rotor)";
         info.compare = &r1;
         info.compare_label = "one-way (ship-only airwake)";
         info.coupling_md = md;

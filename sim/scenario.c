@@ -154,6 +154,9 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
     if ((rc = core_ini_get_enum(ini, "cfd", "coupling", 0, "two-way|one-way", &v, err)) < 0)
         goto out;
     sc->coupling = rc == 0 ? (sim_coupling)v : SIM_COUPLING_TWO_WAY;
+    if ((rc = core_ini_get_enum(ini, "cfd", "coupled_domain", 0, "whole|zone", &v, err)) < 0)
+        goto out;
+    sc->coupled_zone = rc == 0 && v == 1;
     if ((rc = core_ini_get_int(ini, "cfd", "max_iterations", 0, 10, 1000000, &it, err)) < 0 ||
         (rc = core_ini_get_double(ini, "cfd", "residual_tol", 0, 1e-10, 1e-1, &sc->residual_tol,
                                   err)) < 0)

@@ -65,6 +65,8 @@ typedef struct sim_scenario {
     sim_grid grid;
     sim_rotor rotor;
     sim_coupling coupling;
+    int coupled_zone;     /* [cfd] coupled_domain = zone: a coupled point's fields in the deck zone
+                             (couple_settings.zone); whole (default): the whole domain */
     int max_iterations;
     double residual_tol;
 
