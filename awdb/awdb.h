@@ -54,8 +54,10 @@ typedef struct awdb_key {
      * coupled point's coupled and isolated fields), its open faces set from
      * the ship-only field of the same ship, direction and grid at this
      * speed (m/s, 0.01), scaled to wod_speed_mps; that field must be in the
-     * database before the zone is built. 0: the whole domain. Always 0 with
-     * the rotor off or in calm air. */
+     * database before the zone is built. 0: the whole domain. Always 0 in
+     * calm air. With the rotor off (the zone's own ship-only field, the
+     * coupling's reference for what the zone changes) station_S_m and
+     * radius_m still place the zone and the aircraft name stays. */
     double zone_ref_mps;
     /* rotor == AWDB_ROTOR_LOADED: the blade loads of a trim (from the flight
      * model), as the CFD disk takes them: the pressure-jump shape

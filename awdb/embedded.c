@@ -154,6 +154,10 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
     cfd_field *outer = NULL; /* a deck zone's boundary field; outlives the solver */
     if (k->zone_ref_mps > 0.0) {
         spec.zone = 1;
+        if (!spec.rotor) { /* the zone's ship-only field: the box from the station and radius */
+            memcpy(spec.disk.centre_m, k->station_S_m, sizeof spec.disk.centre_m);
+            spec.disk.radius_m = k->radius_m;
+        }
         if (!open_ship) {
             if (!(outer = zone_outer(e, k, err)))
                 return -1;

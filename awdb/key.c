@@ -46,8 +46,15 @@ int awdb_key_canon(awdb_key *k, core_err *err)
         return core_err_set(err, -1, "airwake key: grid = %d: expected 0 (coarse), 1 (default) or 2 (fine)", k->grid);
     if (k->rotor != AWDB_ROTOR_OFF && !(isfinite(k->thrust_N) && k->thrust_N > 0.0))
         return core_err_set(err, -1, "airwake key: thrust_N = %g: expected a positive thrust with the rotor on", k->thrust_N);
-    if (k->rotor != AWDB_ROTOR_OFF && !(isfinite(k->radius_m) && k->radius_m > 0.1 && k->radius_m < 50.0))
-        return core_err_set(err, -1, "airwake key: radius_m = %g: expected 0.1 to 50 m with the rotor on", k->radius_m);
+    if (!isfinite(k->zone_ref_mps) || k->zone_ref_mps < 0.0 || k->zone_ref_mps > 100.0)
+        return core_err_set(err, -1, "airwake key: zone_ref_mps = %g: expected 0 (whole domain) to 100 m/s",
+                            k->zone_ref_mps);
+    if (k->wod_speed_mps == 0.0) /* a zone needs a ship-only field at a wind */
+        k->zone_ref_mps = 0.0;
+    const int zone = k->zone_ref_mps > 0.0;
+    if ((k->rotor != AWDB_ROTOR_OFF || zone) && !(isfinite(k->radius_m) && k->radius_m > 0.1 && k->radius_m < 50.0))
+        return core_err_set(err, -1, "airwake key: radius_m = %g: expected 0.1 to 50 m with the rotor on or a zone",
+                            k->radius_m);
     if (!isfinite(k->shaft_pitch_rad) || !isfinite(k->shaft_roll_rad) || fabs(k->shaft_pitch_rad) > 1.0 ||
         fabs(k->shaft_roll_rad) > 1.0)
         return core_err_set(err, -1, "airwake key: shaft_pitch_rad, shaft_roll_rad: expected -1 to 1 rad");
@@ -63,19 +70,20 @@ int awdb_key_canon(awdb_key *k, core_err *err)
      * built the same calm field for green 60 and green 90). */
     if (k->wod_speed_mps == 0.0)
         k->wod_dir_rad = 0.0;
-    if (!isfinite(k->zone_ref_mps) || k->zone_ref_mps < 0.0 || k->zone_ref_mps > 100.0)
-        return core_err_set(err, -1, "airwake key: zone_ref_mps = %g: expected 0 (whole domain) to 100 m/s",
-                            k->zone_ref_mps);
     k->zone_ref_mps = round_to(k->zone_ref_mps, 0.01);
-    /* a zone needs a rotor and a ship-only field at a wind */
-    if (k->rotor == AWDB_ROTOR_OFF || k->wod_speed_mps == 0.0)
-        k->zone_ref_mps = 0.0;
-    if (k->rotor == AWDB_ROTOR_OFF) {
+    if (k->rotor == AWDB_ROTOR_OFF && !zone) {
         /* A ship-only field does not depend on the helicopter. */
         k->thrust_N = 0.0;
         k->aircraft[0] = '\0';
         k->station_S_m[0] = k->station_S_m[1] = k->station_S_m[2] = 0.0;
         k->radius_m = k->shaft_pitch_rad = k->shaft_roll_rad = 0.0;
+    } else if (k->rotor == AWDB_ROTOR_OFF) {
+        /* A ship-only field in a deck zone: the zone's box is the rotor's
+         * reach from the station, so station and radius name it. */
+        k->thrust_N = k->shaft_pitch_rad = k->shaft_roll_rad = 0.0;
+        k->radius_m = round_to(k->radius_m, 0.01);
+        for (int i = 0; i < 3; i++)
+            k->station_S_m[i] = round_to(k->station_S_m[i], 0.01) + 0.0;
     } else {
         k->thrust_N = round_to(k->thrust_N, 1.0);
         k->radius_m = round_to(k->radius_m, 0.01);

@@ -83,11 +83,11 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     /* zero wind over deck is a case only with the rotor: its wake is the
      * flow (a hover in calm air over the deck) */
     const int calm = sp->rotor && sp->wod_speed_mps == 0.0 && sp->disk.thrust_N > 0.0 && sp->disk.radius_m > 0.0;
-    if (sp->zone && (calm || !sp->rotor || !(sp->disk.radius_m > 0.0) || !(sp->wod_speed_mps > 0.0) ||
+    if (sp->zone && (calm || !(sp->disk.radius_m > 0.0) || !(sp->wod_speed_mps > 0.0) ||
                      (sp->zone_field && !(sp->zone_scale > 0.0)))) {
         core_err_set(err, -1,
-                     "cfd airwake: a deck zone needs the rotor, a wind (got %g m/s) and, with an outer field, a "
-                     "scale > 0",
+                     "cfd airwake: a deck zone needs a rotor radius and centre (disk), a wind (got %g m/s) and, "
+                     "with an outer field, a scale > 0",
                      sp->wod_speed_mps);
         return NULL;
     }
@@ -141,7 +141,7 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     ax[2].hi_m = b.zsea;
     ax[2].f0_m = fmin(-2.0 * hh, sp->monitor_z_m - 0.5 * hh);
     ax[2].f1_m = b.zsea;
-    if (sp->rotor && sp->disk.radius_m > 0.0) {
+    if ((sp->rotor || sp->zone) && sp->disk.radius_m > 0.0) {
         /* room for the rotor's wake: open faces at least 5 R from the hub
          * across and 4 R above it (as the hover validation case, whose far
          * wake is within 10 % of momentum theory) */

@@ -299,7 +299,8 @@ typedef struct cfd_airwake_spec {
     double h_fine_m;         /* > 0: overrides the level's fine spacing (tests) */
     int open_ship;           /* 1: the same grid and boundaries with no cell blocked
                                 (the isolated rotor of the coupling's interaction velocity) */
-    /* 1: the deck zone only, for a coupled point (needs the rotor and a wind):
+    /* 1: the deck zone only, for a coupled point (needs a wind and the disk's
+     * centre and radius; with rotor 0 the zone's ship-only field):
      * a box 5 R from the hub across and along, 4 R above it, down to the
      * sea, with the grid of the level inside it. Its open faces (all but the
      * sea; inlet or outlet by the wind as for the whole domain, the top and

@@ -14,7 +14,10 @@
  *    with the ship's cells left open (ship name + ".isolated").
  *  - Option (settings.zone): both fields cover the deck zone only, the
  *    coupled one bounded by the ship-only field scaled to the speed (see
- *    cfd/airwake.c for that model's assumptions).
+ *    cfd/airwake.c for that model's assumptions), and the interaction gets
+ *    the difference between the whole domain's ship-only airwake and the
+ *    zone's own (zone_correction), so that the zone adds only what the
+ *    rotor changes.
  *  - From the second coupled iteration on, the interaction velocity is
  *    under-relaxed: half this iteration's fields, half the previous ones
  *    (a plain fixed-point iteration oscillated where the interaction is
@@ -61,6 +64,10 @@ typedef struct air_interaction {
     double hub[3], R;
     core_quat q_SH;
     double m[3], c[3], s[3];
+    /* deck zone: corr_scale (ship_whole - ship_zone), the whole domain's
+     * ship-only airwake in place of the zone's own (NULL: none) */
+    const cfd_field *ship_whole, *ship_zone;
+    double corr_scale;
 } air_interaction;
 
 struct couple_ctx {
@@ -147,6 +154,11 @@ couple_ctx *couple_create(const hfm_aircraft *ac, const core_ship *ship, awdb *d
 {
     if (s->max_iter < 1 || s->max_iter > COUPLE_MAX_ITER) {
         core_err_set(err, -1, "coupling: max_iter = %d: expected 1 to %d", s->max_iter, COUPLE_MAX_ITER);
+        return NULL;
+    }
+    if (s->zone && s->direct && s->mode == COUPLE_TWO_WAY) {
+        core_err_set(err, -1, "coupling: the deck zone (zone = 1) works with the interaction velocity only, not "
+                              "with the coupled field used directly (direct = 1)");
         return NULL;
     }
     if (!(s->tol_frac > 0.0 && s->tol_frac < 1.0) || !(s->ref_speed_mps > 0.0)) {
@@ -368,6 +380,13 @@ static int interaction_at(const air_interaction *a, const double pos[3], double 
     }
     for (int k = 0; k < 3; k++)
         out[k] = w * (c[k] - i[k]) + (a->prev_coupled ? (1.0 - w) * (pc[k] - pi[k]) : 0.0);
+    if (a->ship_zone) {
+        double sw[CFD_NVARS], sz[CFD_NVARS];
+        cfd_field_sample(a->ship_whole, pos, sw);
+        cfd_field_sample(a->ship_zone, pos, sz);
+        for (int k = 0; k < 3; k++)
+            out[k] += a->corr_scale * (sw[k] - sz[k]);
+    }
     return (rc > 0 || ri > 0) ? 1 : (rc < 0 ? rc : ri);
 }
 
@@ -628,6 +647,46 @@ static int ship_only_air(couple_ctx *c, double v, double dir, air_scaled *a, cor
     return a->f ? 0 : -1;
 }
 
+/* Deck zone: the whole domain's and the zone's own ship-only fields of the
+ * direction, for the correction ship_whole - ship_zone (both scale with the
+ * speed). Why: the coupled zone field holds the zone's version of the ship
+ * airwake, which is not the whole domain's where the wake is unsteady (CG-47
+ * red 60 on the coarse grid: 10 m/s apart over the spot with no rotor);
+ * corrected, the zone contributes only what the rotor changes, and a rotor
+ * without thrust gives the one-way air exactly. The zone's ship-only field
+ * is placed at the CG station (not at each trim's hub), so one serves a
+ * direction. */
+static void zone_ship_key(couple_ctx *c, double dir, awdb_key *k)
+{
+    base_key(c, k, c->s.ref_speed_mps, dir);
+    k->rotor = AWDB_ROTOR_OFF;
+    k->zone_ref_mps = c->s.ref_speed_mps;
+    memcpy(k->station_S_m, c->s.station_S_m, sizeof k->station_S_m);
+    k->radius_m = hfm_aircraft_rotor_radius_m(c->ac);
+}
+
+static int zone_correction(couple_ctx *c, double v, double dir, air_interaction *ai, core_err *err)
+{
+    ai->ship_whole = ai->ship_zone = NULL;
+    if (!c->s.zone || !(v > 0.0))
+        return 0;
+    awdb_key k;
+    zone_ship_key(c, dir, &k);
+    const cfd_field *sz = get_field(c, &k, err);
+    if (!sz)
+        return -1;
+    air_scaled so;
+    if (ship_only_air(c, v, dir, &so, err) != 0)
+        return -1;
+    /* the whole field's fetch may have evicted the zone's: fetch it again */
+    if (!(sz = get_field(c, &k, err)))
+        return -1;
+    ai->ship_whole = so.f;
+    ai->ship_zone = sz;
+    ai->corr_scale = v / c->s.ref_speed_mps;
+    return 0;
+}
+
 int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *err)
 {
     memset(p, 0, sizeof *p);
@@ -689,6 +748,8 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
         if (ok && sd->prev_coupled[0])
             ok = (ai.prev_coupled = load_cached(c, sd->prev_coupled, err)) != NULL &&
                  (ai.prev_isolated = load_cached(c, sd->prev_isolated, err)) != NULL;
+        if (ok && zone_correction(c, v, dir, &ai, err) != 0)
+            return -1;
         if (!ok) { /* a field gone from the database: start in free air */
             memset(&ai, 0, sizeof ai);
         } else {
@@ -755,6 +816,12 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
             if (ship_only_air(c, v, dir, &so, err) != 0)
                 return -1;
             kc.zone_ref_mps = c->s.ref_speed_mps;
+            /* the zone's own ship-only field (zone_correction), queued now
+             * to be built beside the first pair */
+            awdb_key kz;
+            zone_ship_key(c, dir, &kz);
+            if (awdb_submit(c->db, &kz, NULL, err) != 0)
+                return -1;
         }
         awdb_key ki = kc;
         snprintf(ki.ship, sizeof ki.ship, "%s.isolated", c->ship->name);
@@ -789,6 +856,9 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
             ai.w = 0.5;
             ai.coupled = fc;
             ai.isolated = fi;
+            /* after fc and fi: six fields in a cache of CACHE_N */
+            if (zone_correction(c, v, dir, &ai, err) != 0)
+                return -1;
             memcpy(ai.wind, uni.vel_S_mps, sizeof ai.wind);
             disk_fit(&ai, c->disk, hfm_aircraft_rotor_radius_m(c->ac));
             air.fn = air_interaction_fn;

@@ -65,7 +65,10 @@ typedef struct couple_settings {
     /* 1: two-way builds its coupled and isolated fields in the deck zone
      * only (cfd_airwake_spec.zone: 5 R round the hub, 4 R above it), with
      * the direction's ship-only field at ref_speed_mps, scaled to the
-     * speed, as the zone's boundary; 0 (default): the whole domain. */
+     * speed, as the zone's boundary, and the interaction velocity gets
+     * the difference between the whole domain's ship-only field and the
+     * zone's own (one more field per direction), so the zone adds only what
+     * the rotor changes; 0 (default): the whole domain. Not with direct. */
     int zone;
 } couple_settings;
 

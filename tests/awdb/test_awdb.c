@@ -133,15 +133,25 @@ static void test_keys(void)
     awdb_key_name(&h2, nb, sizeof nb);
     CHECK(strcmp(na, nb) == 0 && strstr(na, "_v00.00_d+000.00_") != NULL);
     /* A deck-zone key: its own name, its reference speed in the request
-     * file; none with the rotor off or in calm air; whole-domain names as
-     * before (the same hash). */
+     * file; none in calm air; a zone's ship-only field keeps the station,
+     * radius and aircraft that place the zone (two stations, two fields);
+     * whole-domain names as before (the same hash). */
     {
-        awdb_key w = key(10, -30), z = key(10, -30), zoff = key(10, -30), zcalm = key(0, 0);
-        z.zone_ref_mps = zoff.zone_ref_mps = zcalm.zone_ref_mps = 15.0;
-        zoff.rotor = AWDB_ROTOR_OFF;
+        awdb_key w = key(10, -30), z = key(10, -30), zoff = key(10, -30), zoff2 = key(10, -30), zcalm = key(0, 0);
+        z.zone_ref_mps = zoff.zone_ref_mps = zoff2.zone_ref_mps = zcalm.zone_ref_mps = 15.0;
+        zoff.rotor = zoff2.rotor = AWDB_ROTOR_OFF;
+        zoff2.station_S_m[0] += 1.0;
         CHECK(awdb_key_canon(&w, &err) == 0 && awdb_key_canon(&z, &err) == 0 && awdb_key_canon(&zoff, &err) == 0 &&
-              awdb_key_canon(&zcalm, &err) == 0);
-        CHECK(zoff.zone_ref_mps == 0.0 && zcalm.zone_ref_mps == 0.0);
+              awdb_key_canon(&zoff2, &err) == 0 && awdb_key_canon(&zcalm, &err) == 0);
+        CHECK(zcalm.zone_ref_mps == 0.0);
+        CHECK(zoff.zone_ref_mps == 15.0 && zoff.thrust_N == 0.0 && zoff.radius_m > 0.0 && zoff.aircraft[0]);
+        char no[200], no2[200];
+        awdb_key_name(&zoff, no, sizeof no);
+        awdb_key_name(&zoff2, no2, sizeof no2);
+        CHECK(strstr(no, "_off_coarse-zone_") != NULL && strcmp(no, no2) != 0);
+        awdb_key zbad = zoff;
+        zbad.radius_m = 0.0;
+        CHECK(awdb_key_canon(&zbad, &err) < 0 && strstr(err.msg, "radius_m") != NULL);
         awdb_key_name(&w, na, sizeof na);
         awdb_key_name(&z, nb, sizeof nb);
         CHECK(strstr(na, "_uniform_coarse_") != NULL && strstr(nb, "_uniform_coarse-zone_") != NULL);

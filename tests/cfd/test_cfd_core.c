@@ -732,6 +732,18 @@ static void test_zone(void)
         CHECK(cfd_grid_fluid_cells(cfd_solver_grid(zi)) == cfd_grid_cells(cfd_solver_grid(zi)));
         cfd_solver_destroy(zi);
     }
+    /* the zone's own ship-only field: no rotor, the box from the disk's
+     * centre and radius */
+    sp.rotor = 0;
+    cfd_solver *zs = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
+    CHECK(zs != NULL);
+    if (zs) {
+        const cfd_grid *g = cfd_solver_grid(zs);
+        CHECK_NEAR(cfd_grid_nodes(g, 0)[0], hub[0] - 5.0 * R, 1e-9);
+        CHECK(cfd_solver_disk_force(zs, 0) == NULL);
+        cfd_solver_destroy(zs);
+    }
+    sp.rotor = 1;
     /* no zone in calm air */
     sp.open_ship = 0;
     sp.zone_field = outer;
