@@ -158,7 +158,9 @@ int awdb_builder_run(awdb *db, const awdb_engine *engine, const awdb_builder_opt
 /* ------------------------------------------------------ embedded engine */
 /* The embedded RANS solver (cfd) as a builder engine. Ships are looked up
  * by name among the ship files (*.ini) of ships_dir; max_iter 0 keeps the
- * solver's default; each build uses `threads` OpenMP threads (cores / jobs). */
+ * solver's default; each build uses at least `threads` OpenMP threads
+ * (cores / jobs) and, from iteration to iteration, its share of the
+ * machine's cores among the builds running (a build alone takes them all). */
 typedef struct awdb_embedded awdb_embedded;
 awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, int threads,
                                     const core_log *log, core_err *err);

@@ -19,7 +19,9 @@ struct awdb_embedded {
     int nships;
     core_ship *ships;
     int max_iter;
-    int threads; /* OpenMP threads per build */
+    int threads; /* OpenMP threads per build (at least) */
+    int pool;    /* cores of the machine: a build alone takes them all */
+    int active;  /* builds running now (atomic) */
     awdb *db;    /* where deck-zone builds find their ship-only field */
 };
 
@@ -68,6 +70,7 @@ awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, int thr
     e->log = log;
     e->max_iter = max_iter;
     e->threads = threads > 0 ? threads : 1;
+    e->pool = omp_get_num_procs();
     DIR *d = opendir(ships_dir);
     if (!d) {
         core_err_set(err, -1, "%s: cannot open the ships folder", ships_dir);
@@ -112,23 +115,50 @@ void awdb_embedded_destroy(awdb_embedded *e)
 typedef struct prog_adapter {
     awdb_progress_fn fn;
     void *user;
+    awdb_embedded *e;
 } prog_adapter;
+
+/* The cores a build may use now: its share of the machine among the builds
+ * running. Why: a coupled point's isolated rotor finishes in a fifth of the
+ * coupled field's time, and the coupled field then ran on one core of two
+ * (a pair on the CG-47 deck zone: 27 s with one thread). */
+static int share(awdb_embedded *e)
+{
+    int n = __atomic_load_n(&e->active, __ATOMIC_RELAXED);
+    int t = n > 0 ? e->pool / n : e->pool;
+    return t > e->threads ? t : e->threads;
+}
 
 static int on_cfd_progress(void *user, int iter, int max_iter, double residual, double elapsed_s)
 {
     (void)elapsed_s;
     prog_adapter *p = user;
+    /* each iteration's parallel regions take this thread's current share */
+    omp_set_num_threads(share(p->e));
     if (!p->fn) /* no progress wanted */
         return 0;
     return p->fn(p->user, max_iter > 0 ? (double)iter / max_iter : 0.0, residual, iter);
 }
 
+static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, const char *out,
+                     awdb_progress_fn progress, void *pu, core_err *err);
+
 static int build(void *user, const awdb_key *k, const char *warm, const char *out,
                  awdb_progress_fn progress, void *pu, core_err *err)
 {
     awdb_embedded *e = user;
-    /* Builds run side by side in threads: share the cores among them. */
-    omp_set_num_threads(e->threads);
+    /* Builds run side by side in threads: share the cores among them (and
+     * again at every iteration, as builds start and finish). */
+    __atomic_add_fetch(&e->active, 1, __ATOMIC_RELAXED);
+    omp_set_num_threads(share(e));
+    int rc = build_one(e, k, warm, out, progress, pu, err);
+    __atomic_sub_fetch(&e->active, 1, __ATOMIC_RELAXED);
+    return rc;
+}
+
+static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, const char *out,
+                     awdb_progress_fn progress, void *pu, core_err *err)
+{
     /* "NAME.isolated": the ship's grid and boundaries with its cells open. */
     const char *iso = strstr(k->ship, ".isolated");
     int open_ship = iso && iso[9] == '\0';
@@ -165,7 +195,7 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
             spec.zone_scale = k->wod_speed_mps / k->zone_ref_mps;
         }
     }
-    prog_adapter pa = {progress, pu};
+    prog_adapter pa = {progress, pu, e};
     cfd_solver *s = cfd_airwake_create(&spec, e->log, on_cfd_progress, &pa, err);
     if (!s) {
         cfd_field_destroy(outer);
