@@ -5,17 +5,19 @@
 #   2. the same command again on the now full database (the baseline of
 #      "rerun within 10 s"): no field is built, only trims.
 # It prints both wall times, the fields built, the trims and the ratio.
-# Usage: bench/shol/bench_shol.sh DISIM SCENARIO [--grid G] [--coupling C] [--jobs N] [--cfd-max-iter N] [--keep DIR]
+# Usage: bench/shol/bench_shol.sh DISIM SCENARIO [--grid G] [--coupling C] [--domain whole|zone] [--jobs N]
+#        [--cfd-max-iter N] [--keep DIR]
 #   e.g. bench/shol/bench_shol.sh build/app/disim scenarios/cg47_uh60a.ini --grid coarse
 set -u
 [ $# -ge 2 ] || { echo "usage: $0 DISIM SCENARIO [--grid G] [--coupling C] [--jobs N] [--keep DIR]" >&2; exit 2; }
 disim=$1 scen=$2
 shift 2
-grid="" coupling="" jobs=$(nproc) keep="" maxit=""
+grid="" coupling="" domain="" jobs=$(nproc) keep="" maxit=""
 while [ $# -gt 0 ]; do
     case "$1" in
     --grid) grid="--grid $2"; shift 2 ;;
     --coupling) coupling="--coupling $2"; shift 2 ;;
+    --domain) domain="--domain $2"; shift 2 ;;
     --jobs) jobs=$2; shift 2 ;;
     --keep) keep=$2; shift 2 ;;
     --cfd-max-iter) maxit="--max-iter $2"; shift 2 ;;
@@ -35,14 +37,14 @@ now() { date +%s.%N; }
 bpid=$!
 sleep 1
 t0=$(now)
-"$disim" shol "$scen" $grid $coupling -o "$tmp/out1" --db "$tmp/db" > "$tmp/run1.csv" 2> "$tmp/run1.log"
+"$disim" shol "$scen" $grid $coupling $domain -o "$tmp/out1" --db "$tmp/db" > "$tmp/run1.csv" 2> "$tmp/run1.log"
 rc1=$?
 t1=$(now)
 kill "$bpid" 2>/dev/null
 wait "$bpid" 2>/dev/null
 nf=$(ls "$tmp/db/fields/"*.h5 2>/dev/null | wc -l)
 t2=$(now)
-"$disim" shol "$scen" $grid $coupling -o "$tmp/out2" --db "$tmp/db" > "$tmp/run2.csv" 2> "$tmp/run2.log"
+"$disim" shol "$scen" $grid $coupling $domain -o "$tmp/out2" --db "$tmp/db" > "$tmp/run2.csv" 2> "$tmp/run2.log"
 rc2=$?
 t3=$(now)
 same=no
