@@ -28,7 +28,7 @@ int main(void)
     CHECK_NEAR(sc->dirs_rad[6], M_PI / 2, 1e-12);
     CHECK_NEAR(sc->speed_step_mps, 5.0 / 3.6, 1e-12);
     CHECK(sc->ship.nblocks >= 5);
-    CHECK(sc->coupling == SIM_COUPLING_TWO_WAY);
+    CHECK(sc->coupling == SIM_COUPLING_TWO_WAY && sc->coupled_zone == 1);
 
     CHECK(sim_scenario_load("scenarios/lpd17_sa365n.ini", sc, &err) == 0);
     CHECK(strcmp(sc->aircraft_name, "SA365N") == 0);
