@@ -86,6 +86,10 @@ const char *awdb_state_name(awdb_state s);
 /* Round a key's values to their canonical resolution; checks names and
  * ranges: returns < 0 with err naming the field. */
 int awdb_key_canon(awdb_key *key, core_err *err);
+/* The boundary of a deck-zone key (zone_ref_mps > 0): the whole-domain
+ * ship-only field of its ship, direction and grid at zone_ref_mps, the key
+ * the engine reads and a client must have built first (not canonical). */
+void awdb_key_zone_boundary(const awdb_key *zone, awdb_key *boundary);
 /* File stem for a canonical key: readable parts and a 64-bit hash of all. */
 void awdb_key_name(const awdb_key *key, char *buf, size_t n);
 
@@ -168,7 +172,6 @@ void awdb_embedded_destroy(awdb_embedded *e);
 /* The database a deck-zone build (awdb_key.zone_ref_mps > 0) reads its
  * ship-only boundary field from (the builder's own); without one such
  * builds fail with an error saying so. */
-struct awdb;
 void awdb_embedded_set_db(awdb_embedded *e, awdb *db);
 void awdb_embedded_engine(awdb_embedded *e, awdb_engine *eng);
 

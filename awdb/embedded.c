@@ -35,12 +35,7 @@ void awdb_embedded_set_db(awdb_embedded *e, awdb *db)
 static cfd_field *zone_outer(awdb_embedded *e, const awdb_key *k, core_err *err)
 {
     awdb_key sk;
-    memset(&sk, 0, sizeof sk);
-    snprintf(sk.ship, sizeof sk.ship, "%s", k->ship);
-    sk.wod_speed_mps = k->zone_ref_mps;
-    sk.wod_dir_rad = k->wod_dir_rad;
-    sk.rotor = AWDB_ROTOR_OFF;
-    sk.grid = k->grid;
+    awdb_key_zone_boundary(k, &sk);
     char name[200], path[1200];
     if (awdb_key_canon(&sk, err) != 0)
         return NULL;

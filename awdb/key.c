@@ -124,6 +124,16 @@ int awdb_key_canon(awdb_key *k, core_err *err)
     return 0;
 }
 
+void awdb_key_zone_boundary(const awdb_key *zone, awdb_key *b)
+{
+    memset(b, 0, sizeof *b);
+    snprintf(b->ship, sizeof b->ship, "%s", zone->ship);
+    b->wod_speed_mps = zone->zone_ref_mps;
+    b->wod_dir_rad = zone->wod_dir_rad;
+    b->rotor = AWDB_ROTOR_OFF;
+    b->grid = zone->grid;
+}
+
 void awdb_key_name(const awdb_key *k, char *buf, size_t n)
 {
     static const char *rotor[] = {"off", "uniform", "loaded"};

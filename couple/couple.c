@@ -812,10 +812,11 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
         if (c->s.zone && v > 0.0) {
             /* the zone's boundary must be in the database before the zone
              * is built (it usually is: the one-way trim used it) */
-            air_scaled so;
-            if (ship_only_air(c, v, dir, &so, err) != 0)
-                return -1;
             kc.zone_ref_mps = c->s.ref_speed_mps;
+            awdb_key kb;
+            awdb_key_zone_boundary(&kc, &kb);
+            if (!get_field(c, &kb, err))
+                return -1;
             /* the zone's own ship-only field (zone_correction), queued now
              * to be built beside the first pair */
             awdb_key kz;
