@@ -144,7 +144,9 @@ static char *fields_md(const couple_ctx *one, const couple_ctx *two)
     len += snprintf(md + len, cap - len,
                     "%d fields, %d converged (residuals below 1e-4 and deck-line monitors changing less than "
                     "2 %% of the WOD speed per 50 iterations), %d not converged and averaged over their last "
-                    "iterations (an unconverged field is the mean of its limit cycle; docs/validation/cfd.md). "
+                    "iterations (an unconverged field is the mean of its limit cycle; docs/validation/cfd.md; "
+                    "\"steady mean\": the run stopped before its iteration cap once the means over the two "
+                    "halves of its last window agreed at the deck monitors within 2 %% of the WOD speed). "
                     "Trims in unconverged fields are less certain than the others.\n\n"
                     "| field | WOD speed (m/s) | WOD dir (deg) | rotor | iterations | state | continuity |\n"
                     "|---|---|---|---|---|---|---|\n",
@@ -154,6 +156,8 @@ static char *fields_md(const couple_ctx *one, const couple_ctx *two)
         char st[48];
         if (fi->converged)
             snprintf(st, sizeof st, "converged");
+        else if (fi->averaged && fi->steady_mean)
+            snprintf(st, sizeof st, "steady mean of last %d", fi->averaged);
         else if (fi->averaged)
             snprintf(st, sizeof st, "not converged, mean of last %d", fi->averaged);
         else

@@ -228,7 +228,8 @@ static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, cons
         core_log_msg(e->log, CORE_LOG_WARN,
                      "%s v=%.2f dir=%.1f: not converged after %d iterations (residual %.2e)%s",
                      k->ship, k->wod_speed_mps, k->wod_dir_rad * CORE_RAD_TO_DEG, res.iterations, res.residual[0],
-                     res.averaged ? "; the field is the mean of the last iterations" : "");
+                     res.steady_mean ? "; the mean flow is steady: the field is the mean of the last iterations"
+                     : res.averaged ? "; the field is the mean of the last iterations" : "");
     static const char *rotor[] = {"off", "uniform", "loaded"};
     static const char *grid[] = {"coarse", "default", "fine"};
     cfd_meta meta;

@@ -179,6 +179,11 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
      * superstructure, the finest grids) is the mean of its last quarter of
      * iterations, at most 200, not a snapshot of its limit cycle */
     cfg.avg_window = cfg.max_iter / 4 < 200 ? cfg.max_iter / 4 : 200;
+    /* ... and stops at the first window after the residuals stall whose
+     * mean is steady at the deck monitors: a warm-started coupled field
+     * (the previous speed's, or the previous coupling iteration's) reaches
+     * its limit cycle long before the iteration cap */
+    cfg.avg_stop = 1;
     /* a larger pseudo-time step than the generic 0.7: the transients of a
      * ship airwake (the rotor wake's ground vortex settling behind the
      * stern) die out in fewer iterations (SFS2 coarse with the rotor: 435

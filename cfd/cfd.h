@@ -40,7 +40,7 @@
 extern "C" {
 #endif
 
-#define CFD_VERSION "disim-cfd 0.3.0"
+#define CFD_VERSION "disim-cfd 0.4.0"
 
 /* ------------------------------------------------------------------ grid */
 /* One axis: nodes from lo to hi, spacing h_fine inside [f0, f1], growing
@@ -150,6 +150,13 @@ typedef struct cfd_config {
     int avg_window;        /* > 0: a run that reaches max_iter without converging returns the
                               mean of its last avg_window iterations instead of the last one
                               (cfd_result.averaged says so); 0: the last iterate (default) */
+    int avg_stop;          /* 1 (with avg_window >= 2 and monitors): also stop before max_iter once
+                              the mean flow is steady. The averaging windows are avg_window long
+                              and laid back to back so that the last ends at max_iter; a window
+                              starts early only when the residuals have stalled, and the run stops
+                              at its end, with its mean, when the monitor velocities' means over
+                              its two halves differ by less than tol_monitor times u_ref
+                              (cfd_result.steady_mean says so); 0: off (default) */
     int n_monitor;
     double monitor_m[CFD_MAX_MONITOR][3];
     double relax_u, relax_p, relax_turb; /* under-relaxation (0.7, 0.9, 0.6; ship airwakes u 0.85) */
@@ -240,6 +247,7 @@ typedef struct cfd_result {
     double cell_updates; /* cells x iterations */
     double monitor_change; /* last monitor-velocity change / u_ref between two checks */
     int averaged;        /* > 0: not converged, the state is the mean of this many last iterations */
+    int steady_mean;     /* 1: stopped before max_iter with a steady mean (cfd_config.avg_stop) */
 } cfd_result;
 
 /* Run to convergence or max_iter. 0: converged; 1: stopped at max_iter or by

@@ -167,6 +167,7 @@ int cfd_solver_write(const cfd_solver *s, const cfd_meta *meta, const char *path
         rc |= attr_double(f, "iterations", meta->result.iterations);
         rc |= attr_double(f, "converged", meta->result.converged);
         rc |= attr_double(f, "averaged_iterations", meta->result.averaged);
+        rc |= attr_double(f, "steady_mean", meta->result.steady_mean);
         rc |= attr_double(f, "wall_time_s", meta->result.wall_s);
         for (int q = 0; q < 5; q++)
             rc |= attr_double(f, residual_names[q], meta->result.residual[q]);
@@ -326,11 +327,13 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
     read_attr_double(f, "wod_dir_deg", &m->wod_dir_deg);
     read_attr_double(f, "rotor_thrust_N", &m->rotor_thrust_N);
     read_attr_double(f, "rotor_radius_m", &m->rotor_radius_m);
-    double it = 0, conv = 0, avg = 0;
+    double it = 0, conv = 0, avg = 0, steady = 0;
     read_attr_double(f, "iterations", &it);
     read_attr_double(f, "converged", &conv);
     read_attr_double(f, "averaged_iterations", &avg); /* absent in fields before solver 0.2.1 */
     m->result.averaged = (int)avg;
+    read_attr_double(f, "steady_mean", &steady); /* absent before solver 0.4.0 */
+    m->result.steady_mean = steady != 0.0;
     for (int q = 0; q < 5; q++)
         read_attr_double(f, residual_names[q], &m->result.residual[q]);
     read_attr_double(f, "wall_time_s", &m->result.wall_s);

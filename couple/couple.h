@@ -151,6 +151,7 @@ typedef struct couple_field_info {
     char rotor[32];            /* "off", "uniform", "loaded" */
     int iterations, converged; /* converged: residuals and monitors met */
     int averaged;              /* > 0: not converged; the mean of this many last iterations */
+    int steady_mean;           /* 1: ... stopped early with a steady mean (cfd_config.avg_stop) */
     double residual_continuity;
 } couple_field_info;
 

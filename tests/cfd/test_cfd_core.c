@@ -457,6 +457,73 @@ static void test_averaging(void)
     cfd_solver_destroy(sa);
 }
 
+/* avg_stop: the channel run below tol_residual 1e-30 never "converges"; its
+ * residuals stall at round-off while its flow no longer changes, so the
+ * mean over the first averaging window after the stall is steady and the
+ * run stops there, windows laid back to back so the last ends at max_iter.
+ * With tol_monitor 0 no window passes and the run averages its last window
+ * at max_iter as without avg_stop; a run that converges is left alone. */
+static cfd_solver *channel_stop_run(int max_iter, double tol_res, double tol_mon, int avg, cfd_result *res)
+{
+    core_err err;
+    cfd_axis_spec ax[3] = {{0, 4, 0, 4, 0.25, 0.25, 1.0}, {0, 1, 0, 1, 0.1, 0.1, 1.0}, {0, 1, 0, 1, 0.2, 0.2, 1.0}};
+    cfd_grid *g = cfd_grid_create_spec(ax, &err);
+    cfd_config cfg;
+    cfd_config_default(&cfg);
+    cfg.turbulence = 1;
+    cfg.nu_m2ps = 1e-3;
+    cfg.bc[CFD_XMIN].type = CFD_BC_INLET;
+    cfg.bc[CFD_XMAX].type = CFD_BC_OUTLET;
+    cfg.inflow.vel_mps[0] = 1.0;
+    cfg.max_iter = max_iter;
+    cfg.tol_residual = tol_res;
+    cfg.tol_monitor = tol_mon;
+    cfg.avg_window = avg;
+    cfg.avg_stop = 1;
+    cfg.n_monitor = 1;
+    cfg.monitor_m[0][0] = 3.0;
+    cfg.monitor_m[0][1] = 0.5;
+    cfg.monitor_m[0][2] = 0.5;
+    cfd_solver *s = cfd_solver_create(g, &cfg, &err);
+    if (s && cfd_solver_run(s, res, &err) < 0) {
+        cfd_solver_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+static void test_steady_mean(void)
+{
+    cfd_result rs = {0}, rn = {0}, rc = {0}, rref = {0};
+    cfd_solver *ss = channel_stop_run(2000, 1e-30, 0.02, 40, &rs);
+    cfd_solver *sn = channel_stop_run(400, 1e-30, 0.0, 40, &rn);
+    cfd_solver *sc = channel_stop_run(2000, 1e-4, 0.02, 40, &rc);
+    cfd_solver *sref = channel_stop_run(rs.iterations > 0 ? rs.iterations : 1, 1e-30, 0.02, 0, &rref);
+    CHECK(ss && sn && sc && sref);
+    if (ss && sn && sc && sref) {
+        printf("steady mean: stopped after %d of 2000 iterations (mean of %d, monitor halves differ by "
+               "%.2e of u_ref); tol_monitor 0: %d iterations, mean of %d; converging run: %d iterations\n",
+               rs.iterations, rs.averaged, rs.monitor_change, rn.iterations, rn.averaged, rc.iterations);
+        CHECK(rs.steady_mean == 1 && !rs.converged && rs.averaged == 40);
+        CHECK(rs.iterations < 2000 && (2000 - rs.iterations) % 40 == 0);
+        CHECK(rs.iterations > 120); /* the stall test needs 120 iterations of history */
+        CHECK(rn.steady_mean == 0 && rn.iterations == 400 && rn.averaged == 40);
+        CHECK(rc.converged && rc.averaged == 0 && rc.steady_mean == 0);
+        /* the steady mean is the flow: it matches the last iterate of a run
+         * without averaging stopped at the same iteration to round-off */
+        double worst = 0.0;
+        const double *a = cfd_solver_var(ss, CFD_VAR_U), *b = cfd_solver_var(sref, CFD_VAR_U);
+        for (size_t c = 0; c < cfd_grid_cells(cfd_solver_grid(ss)); c++)
+            worst = fmax(worst, fabs(a[c] - b[c]));
+        printf("steady mean: largest |u| difference to the last iterate of a plain run %.2e m/s\n", worst);
+        CHECK(worst < 1e-6);
+    }
+    cfd_solver_destroy(ss);
+    cfd_solver_destroy(sn);
+    cfd_solver_destroy(sc);
+    cfd_solver_destroy(sref);
+}
+
 /* A laminar lid-driven cavity (Re 1000, n x n, second order) run to a
  * residual of 1e-7, with Anderson acceleration of the given depth (0: off). */
 static cfd_solver *cavity_run(int n, int depth, int when_stalled, cfd_result *res)
@@ -759,6 +826,7 @@ int main(void)
     test_disk();
     test_io();
     test_averaging();
+    test_steady_mean();
     test_divergence();
     test_zero_component();
     test_anderson();
