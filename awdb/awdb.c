@@ -413,6 +413,7 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
         return 1;
     core_vec3 w = core_wod_vel_S_mps(key->wod_speed_mps, key->wod_dir_rad);
     double best = INFINITY, best_rotor = INFINITY;
+    int best_grid = -1;
     char best_name[256] = "";
     struct dirent *e;
     while ((e = readdir(d))) {
@@ -427,8 +428,13 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
         core_err err;
         if (read_sum(sum, &sz, &crc, &k, &err) != 0)
             continue;
+        /* The same grid, or failing that a coarser one (coarse-to-fine: a
+         * default-grid field has its wake where the coarse one put it and
+         * leaves the iteration only the detail to add; SFS2 with the rotor,
+         * docs/benchmarks/cfd.md). A finer grid's field is never used: the
+         * coarse build would pay for resolution it cannot keep. */
         if (strcmp(k.ship, key->ship) || strcmp(k.aircraft, key->aircraft) || k.rotor != key->rotor ||
-            k.grid != key->grid || (k.zone_ref_mps > 0.0) != (key->zone_ref_mps > 0.0))
+            k.grid > key->grid || (k.zone_ref_mps > 0.0) != (key->zone_ref_mps > 0.0))
             continue;
         /* A wake 60 or 90 deg away sits elsewhere in the grid (other inflow
          * faces, the lee side moved): starting from it was seen to diverge
@@ -456,9 +462,14 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
             for (int i = 0; i < 3; i++)
                 rd += fabs(k.station_S_m[i] - key->station_S_m[i]) / fmax(key->radius_m, 0.1);
         }
-        if (dist < best - 1e-9 || (dist <= best + 1e-9 && rd < best_rotor)) {
+        /* the finest grid available first (the key's own before any
+         * coarser one), then the nearest wind, then the nearest rotor */
+        int better = k.grid > best_grid ||
+                     (k.grid == best_grid && (dist < best - 1e-9 || (dist <= best + 1e-9 && rd < best_rotor)));
+        if (better) {
             best = dist;
             best_rotor = rd;
+            best_grid = k.grid;
             awdb_fmt(best_name, sizeof best_name, "%s", stem);
         }
     }

@@ -108,9 +108,11 @@ awdb_state awdb_query(awdb *db, const awdb_key *key, char *path, size_t n);
  * one is queued again). *state gets the state before the call. 0 or < 0. */
 int awdb_submit(awdb *db, const awdb_key *key, awdb_state *state, core_err *err);
 /* The finished field nearest to key for a warm start (same ship, aircraft,
- * rotor mode and grid, direction within AWDB_WARM_MAX_DIR_RAD, the wind
- * entering and leaving by the same faces of the CFD grid; distance in WOD
- * velocity). 0 with path, 1 if none. */
+ * rotor mode and domain (deck zone or whole), direction within
+ * AWDB_WARM_MAX_DIR_RAD, the wind entering and leaving by the same faces of
+ * the CFD grid; distance in WOD velocity). The key's own grid level is
+ * preferred; without a field there, the finest coarser level's
+ * (coarse-to-fine). 0 with path, 1 if none. */
 #define AWDB_WARM_MAX_DIR_RAD (30.5 * CORE_DEG_TO_RAD)
 int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n);
 /* 1 if a builder holds the database's lock now, 0 if none does. */

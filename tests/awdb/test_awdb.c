@@ -288,6 +288,22 @@ static void test_flow(const char *dir)
         CHECK(awdb_nearest(db, &tq, near, sizeof near) == 0 && strstr(near, nb_) != NULL);
     }
 
+    /* Coarse-to-fine: a default-grid key with no default-grid neighbour
+     * starts from the coarse field of its wind; once a default-grid
+     * neighbour exists, from that; never from a finer grid. */
+    {
+        awdb_key kd = key(10, 0), kd2 = key(10.5, 0), kc = key(10, 0);
+        kd.grid = kd2.grid = 1;
+        awdb_key_canon(&kd, &err);
+        awdb_key_canon(&kd2, &err);
+        awdb_key_canon(&kc, &err);
+        CHECK(awdb_nearest(db, &kd, near, sizeof near) == 0 && strstr(near, "v10.00_d+000.00_uniform_coarse") != NULL);
+        CHECK(awdb_submit(db, &kd, &st, &err) == 0 && run_builder(db, &te, 1, &err) == 0);
+        CHECK(strstr(te.last_warm, "v10.00_d+000.00_uniform_coarse") != NULL);
+        CHECK(awdb_nearest(db, &kd2, near, sizeof near) == 0 && strstr(near, "v10.00_d+000.00_uniform_default") != NULL);
+        CHECK(awdb_nearest(db, &kc, near, sizeof near) == 0 && strstr(near, "_coarse_") != NULL);
+    }
+
     /* A corrupted field is detected, removed and rebuilt. */
     FILE *f = fopen(path, "r+");
     fseek(f, 3, SEEK_SET);
@@ -297,7 +313,7 @@ static void test_flow(const char *dir)
     CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_ABSENT);
     CHECK(awdb_submit(db3, &k1, &st, &err) == 0 && st == AWDB_ABSENT);
     CHECK(run_builder(db3, &te, 1, &err) == 0);
-    CHECK(te.builds == 8);
+    CHECK(te.builds == 9);
     awdb_close(db3);
     db3 = awdb_open(dir, NULL, &err);
     CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_READY);
