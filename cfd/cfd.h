@@ -153,7 +153,8 @@ typedef struct cfd_config {
     int avg_stop;          /* 1 (with avg_window >= 2 and monitors): also stop before max_iter once
                               the mean flow is steady. The averaging windows are avg_window long
                               and laid back to back so that the last ends at max_iter; a window
-                              starts early only when the residuals have stalled, and the run stops
+                              starts early only when the residuals, at their rate over the last 100
+                              iterations, will not reach tol_residual by max_iter; the run stops
                               at its end, with its mean, when the monitor velocities' means over
                               its two halves differ by less than tol_monitor times u_ref
                               (cfd_result.steady_mean says so); 0: off (default) */

@@ -47,8 +47,9 @@
  *    mean of its last avg_window iterates: an iteration in a limit cycle
  *    (shedding in pseudo-time) has no last iterate worth more than another,
  *    and the mean approximates the mean flow a trim needs. With avg_stop the
- *    run need not wait for max_iter: once the residuals have stalled it
- *    averages over windows of avg_window iterates and stops at the first
+ *    run need not wait for max_iter: once the residuals' trend says they
+ *    will not reach tol_residual by max_iter (stalled, or falling too slowly)
+ *    it averages over windows of avg_window iterates and stops at the first
  *    whose two halves have the same mean at the monitors within tol_monitor
  *    (the seed paper's monitor criterion applied to the mean flow rather
  *    than to the iterate). A warm start from a neighbouring WOD or a
@@ -1377,12 +1378,17 @@ static void averaging_finish(cfd_solver *s, int n)
  * 100 iterations before (a converging SIMPLEC iteration on a ship grid
  * falls by a factor 2 or more per 100 iterations; a limit cycle stays
  * flat). */
-static int stalled(const cfd_solver *s)
+enum { TREND_W = 20, TREND_LAG = 100 };
+
+/* log of the largest normalised residual as a geometric mean over the last
+ * TREND_W iterations (*now) and its change since TREND_LAG iterations
+ * before (*change); 0 without enough history */
+static int residual_trend(const cfd_solver *s, double *now, double *change)
 {
-    const int n = s->nhist, w = 20, lag = 100;
+    const int n = s->nhist, w = TREND_W, lag = TREND_LAG;
     if (n < lag + w)
         return 0;
-    double now = 0.0, before = 0.0;
+    double sn = 0.0, sb = 0.0;
     for (int i = 0; i < w; i++) {
         const double *a = s->hist + (size_t)(n - 1 - i) * HIST_COLS;
         const double *b = s->hist + (size_t)(n - 1 - i - lag) * HIST_COLS;
@@ -1391,10 +1397,29 @@ static int stalled(const cfd_solver *s)
             wa = fmax(wa, a[q]);
             wb = fmax(wb, b[q]);
         }
-        now += log(wa);
-        before += log(wb);
+        sn += log(wa);
+        sb += log(wb);
     }
-    return (now - before) / w > log(0.7);
+    *now = sn / w;
+    *change = (sn - sb) / w;
+    return 1;
+}
+
+static int stalled(const cfd_solver *s)
+{
+    double now, change;
+    return residual_trend(s, &now, &change) && change > log(0.7);
+}
+
+/* At its present rate the run will not reach tol_residual by max_iter: it
+ * will end at the cap anyway (a stall is the extreme case). */
+static int will_miss(const cfd_solver *s, int it)
+{
+    double now, change;
+    if (!residual_trend(s, &now, &change))
+        return 0;
+    double left = s->cfg.max_iter - it;
+    return now + (change < 0.0 ? change : 0.0) * left / TREND_LAG > log(s->cfg.tol_residual);
 }
 
 int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
@@ -1499,10 +1524,13 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
             if (navg >= 0 && !wstart) {
                 /* the last window ends at max_iter; with avg_stop, earlier
                  * windows are laid back to back before it, and one opens only
-                 * once the residuals have stalled (a run that is still
-                 * converging is left to converge) */
+                 * when the residuals, at their rate over the last 100
+                 * iterations, will not reach tol_residual by max_iter (a run
+                 * that will converge is left to converge; one that will end
+                 * at the cap anyway, stalled in a limit cycle or creeping,
+                 * may end at a steady mean) */
                 int last = it > cfg->max_iter - W;
-                int open = last || (early && (cfg->max_iter - it + 1) % W == 0 && stalled(s));
+                int open = last || (early && (cfg->max_iter - it + 1) % W == 0 && will_miss(s, it));
                 if (open) {
                     if (averaging_start(s) != 0) {
                         navg = -1; /* out of memory: keep the last iterate */
@@ -1535,6 +1563,10 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
                     for (int m = 0; m < cfg->n_monitor; m++)
                         for (int d = 0; d < 3; d++)
                             dmax = fmax(dmax, fabs(hsum[0][m][d] / (W / 2) - hsum[1][m][d] / (W - W / 2)));
+                    core_log_msg(cfg->log, CORE_LOG_DEBUG,
+                                 "cfd: averaging window %d-%d: monitor means of its halves differ by %.2f %% "
+                                 "of u_ref",
+                                 wstart, it, 100.0 * dmax / cfg->u_ref_mps);
                     if (dmax < cfg->tol_monitor * cfg->u_ref_mps) {
                         res->steady_mean = 1;
                         res->monitor_change = dmax / cfg->u_ref_mps;
