@@ -147,9 +147,12 @@ static char *fields_md(const couple_ctx *one, const couple_ctx *two)
                     "iterations (an unconverged field is the mean of its limit cycle; docs/validation/cfd.md; "
                     "\"steady mean\": the run stopped before its iteration cap once the means over the two "
                     "halves of its last window agreed at the deck monitors within 2 %% of the WOD speed). "
-                    "Trims in unconverged fields are less certain than the others.\n\n"
-                    "| field | WOD speed (m/s) | WOD dir (deg) | rotor | iterations | state | continuity |\n"
-                    "|---|---|---|---|---|---|---|\n",
+                    "Trims in unconverged fields are less certain than the others; \"mean drift\" says how "
+                    "much: the largest difference between the deck monitors' mean velocities over the two "
+                    "halves of the averaging window, in %% of the WOD speed (a steady mean is below 2 %%).\n\n"
+                    "| field | WOD speed (m/s) | WOD dir (deg) | rotor | iterations | state | continuity "
+                    "| mean drift (%% of U) |\n"
+                    "|---|---|---|---|---|---|---|---|\n",
                     n1 + n2, nconv, navg);
     for (int i = 0; i < n1 + n2 && len + 400 < cap; i++) {
         const couple_field_info *fi = i < n1 ? &f1[i] : &f2[i - n1];
@@ -162,8 +165,12 @@ static char *fields_md(const couple_ctx *one, const couple_ctx *two)
             snprintf(st, sizeof st, "not converged, mean of last %d", fi->averaged);
         else
             snprintf(st, sizeof st, "not converged");
-        len += snprintf(md + len, cap - len, "| %s | %.2f | %.1f | %s | %d | %s | %.1e |\n", fi->name,
-                        fi->wod_speed_mps, fi->wod_dir_deg, fi->rotor, fi->iterations, st, fi->residual_continuity);
+        char drift[24] = "-";
+        if (fi->averaged && fi->mean_drift > 0.0)
+            snprintf(drift, sizeof drift, "%.1f", 100.0 * fi->mean_drift);
+        len += snprintf(md + len, cap - len, "| %s | %.2f | %.1f | %s | %d | %s | %.1e | %s |\n", fi->name,
+                        fi->wod_speed_mps, fi->wod_dir_deg, fi->rotor, fi->iterations, st, fi->residual_continuity,
+                        drift);
     }
     return md;
 }

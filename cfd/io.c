@@ -168,6 +168,7 @@ int cfd_solver_write(const cfd_solver *s, const cfd_meta *meta, const char *path
         rc |= attr_double(f, "converged", meta->result.converged);
         rc |= attr_double(f, "averaged_iterations", meta->result.averaged);
         rc |= attr_double(f, "steady_mean", meta->result.steady_mean);
+        rc |= attr_double(f, "mean_drift", meta->result.mean_drift);
         rc |= attr_double(f, "wall_time_s", meta->result.wall_s);
         for (int q = 0; q < 5; q++)
             rc |= attr_double(f, residual_names[q], meta->result.residual[q]);
@@ -334,6 +335,7 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
     m->result.averaged = (int)avg;
     read_attr_double(f, "steady_mean", &steady); /* absent before solver 0.4.0 */
     m->result.steady_mean = steady != 0.0;
+    read_attr_double(f, "mean_drift", &m->result.mean_drift); /* absent before solver 0.4.0 */
     for (int q = 0; q < 5; q++)
         read_attr_double(f, residual_names[q], &m->result.residual[q]);
     read_attr_double(f, "wall_time_s", &m->result.wall_s);

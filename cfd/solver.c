@@ -1444,6 +1444,7 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
             snapshot(s, 0);
             s->nhist = 0;
             res->retries = attempt;
+            res->mean_drift = 0.0;
         }
         double mon_prev[CFD_MAX_MONITOR][3];
         int have_mon = 0, mon_ok = cfg->n_monitor == 0;
@@ -1544,7 +1545,11 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
             if (navg >= 0 && wstart) {
                 averaging_add(s);
                 navg++;
-                if (early) {
+                /* the monitors' means over the two halves of the window:
+                 * how steady the mean is (cfd_result.mean_drift), and with
+                 * avg_stop whether the run may stop here */
+                const int drift = W >= 2 && cfg->n_monitor > 0;
+                if (drift) {
                     int half = it - wstart < W / 2 ? 0 : 1;
                     for (int m = 0; m < cfg->n_monitor; m++) {
                         double out[CFD_NVARS];
@@ -1553,26 +1558,28 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
                             hsum[half][m][d] += out[d];
                     }
                 }
-                if (early && navg == W && it < cfg->max_iter) {
-                    /* A steady mean: the two halves of the window agree at
-                     * the monitors as closely as two checks of a converged
-                     * run must (tol_monitor). A limit cycle longer than half
-                     * a window, or a drift, fails this and the next window
-                     * starts. */
+                if (drift && navg == W) {
                     double dmax = 0.0;
                     for (int m = 0; m < cfg->n_monitor; m++)
                         for (int d = 0; d < 3; d++)
                             dmax = fmax(dmax, fabs(hsum[0][m][d] / (W / 2) - hsum[1][m][d] / (W - W / 2)));
+                    res->mean_drift = dmax / cfg->u_ref_mps;
                     core_log_msg(cfg->log, CORE_LOG_DEBUG,
                                  "cfd: averaging window %d-%d: monitor means of its halves differ by %.2f %% "
                                  "of u_ref",
-                                 wstart, it, 100.0 * dmax / cfg->u_ref_mps);
-                    if (dmax < cfg->tol_monitor * cfg->u_ref_mps) {
-                        res->steady_mean = 1;
-                        res->monitor_change = dmax / cfg->u_ref_mps;
-                        break;
+                                 wstart, it, 100.0 * res->mean_drift);
+                    /* A steady mean: the two halves agree at the monitors as
+                     * closely as two checks of a converged run must
+                     * (tol_monitor). A limit cycle longer than half a window,
+                     * or a drift, fails this and the next window starts. */
+                    if (early && it < cfg->max_iter) {
+                        if (dmax < cfg->tol_monitor * cfg->u_ref_mps) {
+                            res->steady_mean = 1;
+                            res->monitor_change = res->mean_drift;
+                            break;
+                        }
+                        wstart = 0;
                     }
-                    wstart = 0;
                 }
             }
             if (cfg->progress && cfg->progress(cfg->progress_user, it, cfg->max_iter, worst, now_s() - t0)) {
@@ -1585,6 +1592,8 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
             }
         }
         res->iterations = it > cfg->max_iter ? cfg->max_iter : it;
+        if (res->converged || navg <= 0)
+            res->mean_drift = 0.0; /* not an averaged field */
         if (!diverged && !res->converged && !stop && navg > 0) {
             averaging_finish(s, navg);
             res->averaged = navg;

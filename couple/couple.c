@@ -266,6 +266,7 @@ static void note_field(couple_ctx *c, const char *path, const cfd_field *f)
     fi->converged = m->result.converged;
     fi->averaged = m->result.averaged;
     fi->steady_mean = m->result.steady_mean;
+    fi->mean_drift = m->result.mean_drift;
     fi->residual_continuity = m->result.residual[0];
 }
 

@@ -152,6 +152,8 @@ typedef struct couple_field_info {
     int iterations, converged; /* converged: residuals and monitors met */
     int averaged;              /* > 0: not converged; the mean of this many last iterations */
     int steady_mean;           /* 1: ... stopped early with a steady mean (cfd_config.avg_stop) */
+    double mean_drift;         /* averaged fields: how far the mean still moves at the deck
+                                  monitors, / WOD speed (cfd_result.mean_drift) */
     double residual_continuity;
 } couple_field_info;
 
