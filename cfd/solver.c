@@ -1373,11 +1373,6 @@ static void averaging_finish(cfd_solver *s, int n)
     faces_from_cells(s);
 }
 
-/* The residuals have stalled: the largest normalised residual, as a
- * geometric mean over the last 20 iterations, is above 0.7 times its mean
- * 100 iterations before (a converging SIMPLEC iteration on a ship grid
- * falls by a factor 2 or more per 100 iterations; a limit cycle stays
- * flat). */
 enum { TREND_W = 20, TREND_LAG = 100 };
 
 /* log of the largest normalised residual as a geometric mean over the last
@@ -1405,6 +1400,11 @@ static int residual_trend(const cfd_solver *s, double *now, double *change)
     return 1;
 }
 
+/* The residuals have stalled: the largest normalised residual, as a
+ * geometric mean over the last 20 iterations, is above 0.7 times its mean
+ * 100 iterations before (a converging SIMPLEC iteration on a ship grid
+ * falls by a factor 2 or more per 100 iterations; a limit cycle stays
+ * flat). */
 static int stalled(const cfd_solver *s)
 {
     double now, change;
@@ -1592,7 +1592,7 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
             }
         }
         res->iterations = it > cfg->max_iter ? cfg->max_iter : it;
-        if (res->converged || navg <= 0)
+        if (res->converged || stop || navg <= 0)
             res->mean_drift = 0.0; /* not an averaged field */
         if (!diverged && !res->converged && !stop && navg > 0) {
             averaging_finish(s, navg);
