@@ -126,69 +126,12 @@ static char *coupling_md(const couple_ctx *two)
     return md;
 }
 
-/* Markdown of the airwake fields the envelope used, with their convergence. */
+/* Markdown of the airwake fields the envelope used (couple_fields_md). */
 static char *fields_md(const couple_ctx *one, const couple_ctx *two)
 {
     int n1 = 0, n2 = 0;
     const couple_field_info *f1 = couple_fields(one, &n1), *f2 = two ? couple_fields(two, &n2) : NULL;
-    size_t cap = 1024 + (size_t)(n1 + n2) * 400, len = 0;
-    char *md = malloc(cap);
-    if (!md)
-        return NULL;
-    int nconv = 0, navg = 0, ngrew = 0;
-    for (int i = 0; i < n1 + n2; i++) {
-        const couple_field_info *fi = i < n1 ? &f1[i] : &f2[i - n1];
-        nconv += fi->converged;
-        navg += fi->averaged > 0;
-        ngrew += !fi->converged && fi->residual_continuity > 1.0;
-    }
-    len += snprintf(md + len, cap - len,
-                    "%d fields, %d converged (residuals below 1e-4 and deck-line monitors changing less than "
-                    "2 %% of the WOD speed per 50 iterations), %d not converged and averaged over their last "
-                    "iterations (an unconverged field is the mean of its limit cycle; docs/validation/cfd.md; "
-                    "\"steady mean\": the run stopped before its iteration cap once the means over the two "
-                    "halves of its last window agreed at the deck monitors within 2 %% of the WOD speed). "
-                    "Trims in unconverged fields are less certain than the others; \"mean drift\" says how "
-                    "much: the largest difference between the deck monitors' mean velocities over the two "
-                    "halves of the averaging window, in %% of the WOD speed (a steady mean is below 2 %%).\n\n",
-                    n1 + n2, nconv, navg);
-    /* Continuity is divided by its largest value over a run's first five
-     * iterations: above 1 at the end, the mass imbalance grew (CG-47 green
-     * 90 on the default grid ended at 68 with its monitors settled), and
-     * the divergence test (1e4) does not stop it. */
-    if (ngrew)
-        len += snprintf(md + len, cap - len,
-                        "**%d field%s ended with a continuity residual above 1**: the mass imbalance grew "
-                        "beyond that of the run's first iterations, even where its monitors settled. Trims in "
-                        "%s are the least certain of all.\n\n",
-                        ngrew, ngrew > 1 ? "s" : "", ngrew > 1 ? "them" : "it");
-    len += snprintf(md + len, cap - len,
-                    "| field | WOD speed (m/s) | WOD dir (deg) | rotor | iterations | state | continuity "
-                    "| mean drift (%% of U) |\n"
-                    "|---|---|---|---|---|---|---|---|\n");
-    for (int i = 0; i < n1 + n2 && len + 400 < cap; i++) {
-        const couple_field_info *fi = i < n1 ? &f1[i] : &f2[i - n1];
-        char st[96];
-        if (fi->converged)
-            snprintf(st, sizeof st, "converged");
-        else if (fi->averaged && fi->steady_mean)
-            snprintf(st, sizeof st, "steady mean of last %d", fi->averaged);
-        else if (fi->averaged)
-            snprintf(st, sizeof st, "not converged, mean of last %d", fi->averaged);
-        else
-            snprintf(st, sizeof st, "not converged");
-        if (!fi->converged && fi->residual_continuity > 1.0) {
-            size_t l = strlen(st);
-            snprintf(st + l, sizeof st - l, "; continuity grew");
-        }
-        char drift[24] = "-";
-        if (fi->averaged && fi->mean_drift > 0.0)
-            snprintf(drift, sizeof drift, "%.1f", 100.0 * fi->mean_drift);
-        len += snprintf(md + len, cap - len, "| %s | %.2f | %.1f | %s | %d | %s | %.1e | %s |\n", fi->name,
-                        fi->wod_speed_mps, fi->wod_dir_deg, fi->rotor, fi->iterations, st, fi->residual_continuity,
-                        drift);
-    }
-    return md;
+    return couple_fields_md(f1, n1, f2, n2);
 }
 
 static int parse_num(const char *flag, const char *v, double lo, double hi, double *out)

@@ -181,8 +181,46 @@ static void check_same_trim(const hfm_trim_result *a, const hfm_trim_result *b)
     CHECK_NEAR(a->body.euler_rad[0], b->body.euler_rad[0], 0.5 * CORE_DEG_TO_RAD);
 }
 
+/* The report's field table: each state and flag from the field's result. */
+static void fields_table(void)
+{
+    couple_field_info f[3];
+    memset(f, 0, sizeof f);
+    snprintf(f[0].name, sizeof f[0].name, "conv");
+    f[0].iterations = 312;
+    f[0].converged = 1;
+    f[0].residual_continuity = 5.8e-5;
+    snprintf(f[1].name, sizeof f[1].name, "steady");
+    f[1].iterations = 300;
+    f[1].averaged = 150;
+    f[1].steady_mean = 1;
+    f[1].mean_drift = 0.0123;
+    f[1].residual_continuity = 7.4e-4;
+    snprintf(f[2].name, sizeof f[2].name, "grew");
+    f[2].iterations = 600;
+    f[2].averaged = 150;
+    f[2].mean_drift = 0.031;
+    f[2].residual_continuity = 68.3;
+    char *md = couple_fields_md(f, 2, f + 2, 1);
+    CHECK(md != NULL);
+    if (md) {
+        CHECK(strstr(md, "3 fields, 1 converged") != NULL);
+        CHECK(strstr(md, "2 not converged and averaged") != NULL);
+        CHECK(strstr(md, "**1 field ended with a continuity residual above 1**") != NULL);
+        CHECK(strstr(md, "| conv | 0.00 | 0.0 |  | 312 | converged | 5.8e-05 | - |") != NULL);
+        CHECK(strstr(md, "| steady mean of last 150 | 7.4e-04 | 1.2 |") != NULL);
+        CHECK(strstr(md, "| not converged, mean of last 150; continuity grew | 6.8e+01 | 3.1 |") != NULL);
+        free(md);
+    }
+    /* without a growing field, no warning */
+    md = couple_fields_md(f, 2, NULL, 0);
+    CHECK(md != NULL && strstr(md, "continuity residual above 1") == NULL && strstr(md, "continuity grew") == NULL);
+    free(md);
+}
+
 int main(void)
 {
+    fields_table();
     free_air_envelope("uh60a.ini", 1, 1);
     free_air_envelope("sa365n.ini", 0, 0);
 
