@@ -52,9 +52,9 @@
  *    it averages over windows of avg_window iterates and stops at the first
  *    whose two halves have the same mean at the monitors within tol_monitor
  *    (the seed paper's monitor criterion applied to the mean flow rather
- *    than to the iterate). A warm start from a neighbouring WOD or a
- *    slightly different disk load reaches its limit cycle in a few hundred
- *    iterations; the rest of a fixed iteration budget bought nothing.
+ *    than to the iterate): a field whose mean has settled gains nothing
+ *    from the rest of a fixed iteration budget. How far the last window's
+ *    mean still moved is reported either way (cfd_result.mean_drift).
  */
 #include "cfd_private.h"
 

@@ -230,27 +230,46 @@ static void test_disk(void)
     cfd_solver_destroy(s);
 }
 
-/* A short laminar channel run of n iterations, averaging its last w. */
-static cfd_solver *channel_run(int n, int w, cfd_result *res)
+/* The short channel of the averaging tests: 4 m x 1 m x 1 m, 1 m/s in
+ * at x = 0, out at x = 4 m, RNG k-epsilon, nu 1e-3. */
+static void channel_config(cfd_config *cfg)
+{
+    cfd_config_default(cfg);
+    cfg->turbulence = 1;
+    cfg->nu_m2ps = 1e-3;
+    cfg->bc[CFD_XMIN].type = CFD_BC_INLET;
+    cfg->bc[CFD_XMAX].type = CFD_BC_OUTLET;
+    cfg->inflow.vel_mps[0] = 1.0;
+}
+
+static cfd_solver *channel_create(const cfd_config *cfg)
 {
     core_err err;
     cfd_axis_spec ax[3] = {{0, 4, 0, 4, 0.25, 0.25, 1.0}, {0, 1, 0, 1, 0.1, 0.1, 1.0}, {0, 1, 0, 1, 0.2, 0.2, 1.0}};
     cfd_grid *g = cfd_grid_create_spec(ax, &err);
-    cfd_config cfg;
-    cfd_config_default(&cfg);
-    cfg.turbulence = 1;
-    cfg.nu_m2ps = 1e-3;
-    cfg.bc[CFD_XMIN].type = CFD_BC_INLET;
-    cfg.bc[CFD_XMAX].type = CFD_BC_OUTLET;
-    cfg.inflow.vel_mps[0] = 1.0;
-    cfg.max_iter = n;
-    cfg.avg_window = w;
-    cfd_solver *s = cfd_solver_create(g, &cfg, &err);
+    return g ? cfd_solver_create(g, cfg, &err) : NULL;
+}
+
+/* Create and run; NULL if the solver could not be made or diverged. */
+static cfd_solver *channel_solve(const cfd_config *cfg, cfd_result *res)
+{
+    core_err err;
+    cfd_solver *s = channel_create(cfg);
     if (s && cfd_solver_run(s, res, &err) < 0) {
         cfd_solver_destroy(s);
         return NULL;
     }
     return s;
+}
+
+/* A short channel run of n iterations, averaging its last w. */
+static cfd_solver *channel_run(int n, int w, cfd_result *res)
+{
+    cfd_config cfg;
+    channel_config(&cfg);
+    cfg.max_iter = n;
+    cfg.avg_window = w;
+    return channel_solve(&cfg, res);
 }
 
 static void test_io(void)
@@ -465,16 +484,8 @@ static void test_averaging(void)
  * at max_iter as without avg_stop; a run that converges is left alone. */
 static cfd_solver *channel_stop_run(int max_iter, double tol_res, double tol_mon, int avg, cfd_result *res)
 {
-    core_err err;
-    cfd_axis_spec ax[3] = {{0, 4, 0, 4, 0.25, 0.25, 1.0}, {0, 1, 0, 1, 0.1, 0.1, 1.0}, {0, 1, 0, 1, 0.2, 0.2, 1.0}};
-    cfd_grid *g = cfd_grid_create_spec(ax, &err);
     cfd_config cfg;
-    cfd_config_default(&cfg);
-    cfg.turbulence = 1;
-    cfg.nu_m2ps = 1e-3;
-    cfg.bc[CFD_XMIN].type = CFD_BC_INLET;
-    cfg.bc[CFD_XMAX].type = CFD_BC_OUTLET;
-    cfg.inflow.vel_mps[0] = 1.0;
+    channel_config(&cfg);
     cfg.max_iter = max_iter;
     cfg.tol_residual = tol_res;
     cfg.tol_monitor = tol_mon;
@@ -484,12 +495,7 @@ static cfd_solver *channel_stop_run(int max_iter, double tol_res, double tol_mon
     cfg.monitor_m[0][0] = 3.0;
     cfg.monitor_m[0][1] = 0.5;
     cfg.monitor_m[0][2] = 0.5;
-    cfd_solver *s = cfd_solver_create(g, &cfg, &err);
-    if (s && cfd_solver_run(s, res, &err) < 0) {
-        cfd_solver_destroy(s);
-        return NULL;
-    }
-    return s;
+    return channel_solve(&cfg, res);
 }
 
 /* mean_drift against the same quantity computed here from the iterates:
@@ -517,15 +523,8 @@ static int drift_progress(void *user, int iter, int max_iter, double residual, d
 static void test_mean_drift(void)
 {
     core_err err;
-    cfd_axis_spec ax[3] = {{0, 4, 0, 4, 0.25, 0.25, 1.0}, {0, 1, 0, 1, 0.1, 0.1, 1.0}, {0, 1, 0, 1, 0.2, 0.2, 1.0}};
-    cfd_grid *g = cfd_grid_create_spec(ax, &err);
     cfd_config cfg;
-    cfd_config_default(&cfg);
-    cfg.turbulence = 1;
-    cfg.nu_m2ps = 1e-3;
-    cfg.bc[CFD_XMIN].type = CFD_BC_INLET;
-    cfg.bc[CFD_XMAX].type = CFD_BC_OUTLET;
-    cfg.inflow.vel_mps[0] = 1.0;
+    channel_config(&cfg);
     cfg.max_iter = 60;
     cfg.tol_residual = 1e-30;
     cfg.avg_window = 20;
@@ -534,7 +533,7 @@ static void test_mean_drift(void)
     memcpy(cfg.monitor_m[0], p.pos, sizeof p.pos);
     cfg.progress = drift_progress;
     cfg.progress_user = &p;
-    cfd_solver *s = cfd_solver_create(g, &cfg, &err);
+    cfd_solver *s = channel_create(&cfg);
     CHECK(s != NULL);
     if (!s)
         return;
