@@ -136,6 +136,13 @@ typedef struct awdb_engine {
     int (*build)(void *user, const awdb_key *key, const char *warm_path, const char *out_path,
                  awdb_progress_fn progress, void *progress_user, core_err *err);
     void *user;
+    /* May be NULL. Returns 1 with *src filled (canonical) when the engine
+     * makes key's field from src's field without a solve once src is in
+     * the database (the embedded engine: the mirror image, for a ship
+     * symmetric about its centre line); the builder then holds key back
+     * while src is running or queued ahead of it, so the pair costs one
+     * solve. 0 otherwise. */
+    int (*source)(void *user, const awdb_key *key, awdb_key *src);
 } awdb_engine;
 
 /* A change of state of a request, for the LCM status messages. */
@@ -163,7 +170,11 @@ int awdb_builder_run(awdb *db, const awdb_engine *engine, const awdb_builder_opt
 
 /* ------------------------------------------------------ embedded engine */
 /* The embedded RANS solver (cfd) as a builder engine. Ships are looked up
- * by name among the ship files (*.ini) of ships_dir; max_iter 0 keeps the
+ * by name among the ship files (*.ini) of ships_dir. A whole-domain
+ * ship-only field of a ship symmetric about its centre line
+ * (core_ship_mirror_symmetric) is the mirror image of the opposite
+ * direction's when that one is in the database (cfd_field_mirror_y; its
+ * engine.source names it). max_iter 0 keeps the
  * solver's default; each build uses at least `threads` OpenMP threads
  * (cores / jobs) and, from iteration to iteration, its share of the
  * machine's cores among the builds running (a build alone takes them all). */

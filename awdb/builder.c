@@ -180,7 +180,37 @@ static void recover(awdb *db)
 
 static int cmp_str(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
 
-/* Claim the oldest queued request: 1 with *j filled, 0 if the queue is empty. */
+/* Whether the queued request q (names[i] of the sorted queue) waits for
+ * the field the engine makes it from (engine.source): while that one runs
+ * or is queued ahead, building both would solve twice. A request that
+ * cannot be read is not held (the claim reports it). */
+static int held_back(builder *b, const char *q, char **names, size_t i)
+{
+    if (!b->engine->source)
+        return 0;
+    core_err err = {{0}};
+    core_ini *ini = core_ini_load(q, &err);
+    awdb_key key, src;
+    int ok = ini && awdb_key_read(ini, &key, &err) == 0;
+    core_ini_destroy(ini);
+    if (!ok || !b->engine->source(b->engine->user, &key, &src))
+        return 0;
+    char sname[200], run[AWDB_PATH + 300];
+    awdb_key_name(&src, sname, sizeof sname);
+    awdb_path(b->db, run, sizeof run, "running", sname, ".req");
+    if (access(run, F_OK) == 0)
+        return 1;
+    size_t sl = strlen(sname);
+    for (size_t k = 0; k < i; k++) {
+        const char *stem = names[k] ? strchr(names[k], '-') + 1 : NULL;
+        if (stem && strlen(stem) == sl + 4 && !strncmp(stem, sname, sl))
+            return 1;
+    }
+    return 0;
+}
+
+/* Claim the oldest queued request that is not held back: 1 with *j filled,
+ * 0 if there is none. */
 static int claim(builder *b, job *j)
 {
     awdb *db = b->db;
@@ -214,6 +244,8 @@ static int claim(builder *b, job *j)
             continue;
         char q[AWDB_PATH + 300], run[AWDB_PATH + 300];
         awdb_fmt(q, sizeof q, "%s/%s", qdir, names[i]);
+        if (held_back(b, q, names, i))
+            continue;
         const char *stem = strchr(names[i], '-') + 1;
         awdb_fmt(j->name, sizeof j->name, "%.*s", (int)(strlen(stem) - 4), stem);
         awdb_path(db, run, sizeof run, "running", j->name, ".req");

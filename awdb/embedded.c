@@ -9,6 +9,7 @@
 #include "cfd.h"
 
 #include <dirent.h>
+#include <math.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -138,15 +139,74 @@ static int on_cfd_progress(void *user, int iter, int max_iter, double residual, 
 static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, const char *out,
                      awdb_progress_fn progress, void *pu, core_err *err);
 
+static const core_ship *find_ship(const awdb_embedded *e, const char *name, size_t len)
+{
+    for (int i = 0; i < e->nships; i++)
+        if (strlen(e->ships[i].name) == len && !strncmp(e->ships[i].name, name, len))
+            return &e->ships[i];
+    return NULL;
+}
+
+/* The key whose mirror image is k's field: a whole-domain ship-only field
+ * of a ship symmetric about its centre line, from a wind off the centre
+ * line (head and stern winds are their own images). Why: the RANS problem
+ * is then mirror-symmetric, so green D is red D reflected, and a one-way
+ * envelope of 7 directions needs 4 solves, not 7. */
+static int mirror_source(void *user, const awdb_key *k, awdb_key *src)
+{
+    const awdb_embedded *e = user;
+    if (k->rotor != AWDB_ROTOR_OFF || k->zone_ref_mps > 0.0 || strchr(k->ship, '.'))
+        return 0;
+    double d = k->wod_dir_rad;
+    if (fabs(d) < 1e-9 || fabs(fabs(d) - M_PI) < 1e-9)
+        return 0;
+    const core_ship *ship = find_ship(e, k->ship, strlen(k->ship));
+    if (!ship || !core_ship_mirror_symmetric(ship, 1e-6))
+        return 0;
+    *src = *k;
+    src->wod_dir_rad = -d;
+    src->station_S_m[1] = -k->station_S_m[1];
+    src->shaft_roll_rad = -k->shaft_roll_rad;
+    core_err err = {{0}};
+    return awdb_key_canon(src, &err) == 0;
+}
+
+/* k's field as the mirror image of its source's when that is in the
+ * database: 0 written, 1 not available (solve instead), < 0 failed. */
+static int build_mirror(awdb_embedded *e, const awdb_key *k, const char *out, core_err *err)
+{
+    awdb_key src;
+    char path[1200], name[200];
+    if (!e->db || !mirror_source(e, k, &src) || awdb_query(e->db, &src, path, sizeof path) != AWDB_READY)
+        return 1;
+    awdb_key_name(&src, name, sizeof name);
+    cfd_field *f = cfd_field_load(path, err);
+    cfd_field *m = f ? cfd_field_mirror_y(f, err) : NULL;
+    cfd_field_destroy(f);
+    if (!m) {
+        core_log_msg(e->log, CORE_LOG_WARN, "mirror of %s refused (%s): solving", name, err->msg);
+        return 1;
+    }
+    int rc = cfd_field_write(m, out, err);
+    cfd_field_destroy(m);
+    if (rc == 0)
+        core_log_msg(e->log, CORE_LOG_INFO, "%s v=%.2f dir=%.1f: the mirror image of %s (the ship is symmetric)",
+                     k->ship, k->wod_speed_mps, k->wod_dir_rad * CORE_RAD_TO_DEG, name);
+    return rc;
+}
+
 static int build(void *user, const awdb_key *k, const char *warm, const char *out,
                  awdb_progress_fn progress, void *pu, core_err *err)
 {
     awdb_embedded *e = user;
     /* Builds run side by side in threads: share the cores among them (and
      * again at every iteration, as builds start and finish). */
+    int rc = build_mirror(e, k, out, err);
+    if (rc <= 0)
+        return rc;
     __atomic_add_fetch(&e->active, 1, __ATOMIC_RELAXED);
     omp_set_num_threads(share(e));
-    int rc = build_one(e, k, warm, out, progress, pu, err);
+    rc = build_one(e, k, warm, out, progress, pu, err);
     __atomic_sub_fetch(&e->active, 1, __ATOMIC_RELAXED);
     return rc;
 }
@@ -158,10 +218,7 @@ static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, cons
     const char *iso = strstr(k->ship, ".isolated");
     int open_ship = iso && iso[9] == '\0';
     size_t base_len = open_ship ? (size_t)(iso - k->ship) : strlen(k->ship);
-    const core_ship *ship = NULL;
-    for (int i = 0; i < e->nships; i++)
-        if (strlen(e->ships[i].name) == base_len && !strncmp(e->ships[i].name, k->ship, base_len))
-            ship = &e->ships[i];
+    const core_ship *ship = find_ship(e, k->ship, base_len);
     if (!ship)
         return core_err_set(err, -1, "ship '%s': no ship file of that name", k->ship);
     cfd_airwake_spec spec;
@@ -281,4 +338,5 @@ void awdb_embedded_engine(awdb_embedded *e, awdb_engine *eng)
     eng->name = "embedded";
     eng->build = build;
     eng->user = e;
+    eng->source = mirror_source;
 }

@@ -278,6 +278,8 @@ typedef struct cfd_meta {
     double rotor_thrust_N, rotor_radius_m, rotor_centre_S_m[3];
     char grid[32];    /* "coarse", "default", "fine", or a case name */
     cfd_result result;
+    int mirrored;     /* 1: the port-starboard mirror image of the field of the
+                         opposite direction (cfd_field_mirror_y); result is that field's */
 } cfd_meta;
 
 /* Write the field to path (HDF5) and path with .xmf (XDMF side file), each
@@ -294,6 +296,16 @@ int cfd_field_sample(const cfd_field *f, const double pos_S_m[3], double out[CFD
  * the domain (clamped velocity). */
 int cfd_field_air(void *user, const double pos_S_m[3], double t_s, double vel_S_mps[3]);
 const cfd_meta *cfd_field_meta(const cfd_field *f);
+/* Write a loaded (or mirrored) field, as cfd_solver_write does (temporary
+ * file and rename; no residual history). */
+int cfd_field_write(const cfd_field *f, const char *path, core_err *err);
+/* The port-starboard mirror image (y -> -y, v -> -v) of a ship-only field:
+ * for a ship symmetric about its centre line (core_ship_mirror_symmetric)
+ * the steady RANS solution for a wind from green D is the mirror of the one
+ * from red D; the image's grid is the mirrored grid, its direction -D, its
+ * meta.mirrored 1. A field with a rotor is refused (its mirror image turns
+ * the other way). NULL with err. */
+cfd_field *cfd_field_mirror_y(const cfd_field *src, core_err *err);
 void cfd_field_dims(const cfd_field *f, int n[3]);
 
 /* ----------------------------------------------------------------- airwake */

@@ -25,6 +25,7 @@ struct cfd_field {
     cfd_grid *g;
     double *var[CFD_NVARS];
     cfd_meta meta;
+    double rho_kgpm3, nu_m2ps; /* 0 when the file does not say */
 };
 
 /* HDF5 attribute names of cfd_result.residual[], written and read alike */
@@ -113,11 +114,15 @@ static int write_xmf(const char *tmp, const char *h5name, const int n[3])
     return (fclose(f) || bad) ? -1 : 0;
 }
 
-int cfd_solver_write(const cfd_solver *s, const cfd_meta *meta, const char *path, core_err *err)
+/* The whole file, from either a solver or a loaded field: grid, arrays,
+ * optional residual history (nh rows), metadata. */
+static int write_field(const cfd_grid *g, double *const *var, const double *hist, int nh, double rho,
+                       double nu, const cfd_meta *meta, const char *path, core_err *err)
 {
-    if (cfd_solver_has_nan(s))
-        return core_err_set(err, -1, "%s: not written: the field holds NaN or infinite values", path);
-    const cfd_grid *g = cfd_solver_grid(s);
+    for (int v = 0; v < CFD_NVARS; v++)
+        for (size_t c = 0; c < g->ncell; c++)
+            if (!isfinite(var[v][c]))
+                return core_err_set(err, -1, "%s: not written: the field holds NaN or infinite values", path);
     char tmp[4200], xmf[4100], xtmp[4200];
     if (strlen(path) > 4000)
         return core_err_set(err, -1, "%.64s...: output path too long", path);
@@ -142,10 +147,8 @@ int cfd_solver_write(const cfd_solver *s, const cfd_meta *meta, const char *path
     if (!rc)
         rc |= write_ds(gg, "solid", H5T_NATIVE_UCHAR, 3, dims, g->solid);
     for (int v = 0; v < CFD_NVARS && !rc; v++)
-        rc |= write_ds(gf, cfd_var_names[v], H5T_NATIVE_DOUBLE, 3, dims, cfd_solver_var(s, v));
-    int nh = 0;
-    const double *hist = cfd_solver_history(s, &nh);
-    if (!rc && nh > 0) {
+        rc |= write_ds(gf, cfd_var_names[v], H5T_NATIVE_DOUBLE, 3, dims, var[v]);
+    if (!rc && hist && nh > 0) {
         hsize_t hd[2] = {(hsize_t)nh, 5};
         rc |= write_ds(f, "residuals", H5T_NATIVE_DOUBLE, 2, hd, hist);
     }
@@ -170,10 +173,11 @@ int cfd_solver_write(const cfd_solver *s, const cfd_meta *meta, const char *path
         rc |= attr_double(f, "steady_mean", meta->result.steady_mean);
         rc |= attr_double(f, "mean_drift", meta->result.mean_drift);
         rc |= attr_double(f, "wall_time_s", meta->result.wall_s);
+        rc |= attr_double(f, "mirrored", meta->mirrored);
         for (int q = 0; q < 5; q++)
             rc |= attr_double(f, residual_names[q], meta->result.residual[q]);
-        rc |= attr_double(f, "rho_kgpm3", cfd_solver_config(s)->rho_kgpm3);
-        rc |= attr_double(f, "nu_m2ps", cfd_solver_config(s)->nu_m2ps);
+        rc |= attr_double(f, "rho_kgpm3", rho);
+        rc |= attr_double(f, "nu_m2ps", nu);
     }
     if (gg >= 0)
         H5Gclose(gg);
@@ -198,6 +202,24 @@ int cfd_solver_write(const cfd_solver *s, const cfd_meta *meta, const char *path
         return core_err_set(err, -1, "%s: cannot rename the temporary files into place", path);
     }
     return 0;
+}
+
+int cfd_solver_write(const cfd_solver *s, const cfd_meta *meta, const char *path, core_err *err)
+{
+    if (cfd_solver_has_nan(s))
+        return core_err_set(err, -1, "%s: not written: the field holds NaN or infinite values", path);
+    double *var[CFD_NVARS];
+    for (int v = 0; v < CFD_NVARS; v++)
+        var[v] = (double *)cfd_solver_var(s, v);
+    int nh = 0;
+    const double *hist = cfd_solver_history(s, &nh);
+    return write_field(cfd_solver_grid(s), var, hist, nh, cfd_solver_config(s)->rho_kgpm3,
+                       cfd_solver_config(s)->nu_m2ps, meta, path, err);
+}
+
+int cfd_field_write(const cfd_field *f, const char *path, core_err *err)
+{
+    return write_field(f->g, f->var, NULL, 0, f->rho_kgpm3, f->nu_m2ps, &f->meta, path, err);
 }
 
 /* ------------------------------------------------------------------ loader */
@@ -339,6 +361,11 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
     for (int q = 0; q < 5; q++)
         read_attr_double(f, residual_names[q], &m->result.residual[q]);
     read_attr_double(f, "wall_time_s", &m->result.wall_s);
+    double mir = 0.0;
+    read_attr_double(f, "mirrored", &mir); /* absent in fields not mirrored by earlier builds */
+    m->mirrored = mir != 0.0;
+    read_attr_double(f, "rho_kgpm3", &fl->rho_kgpm3);
+    read_attr_double(f, "nu_m2ps", &fl->nu_m2ps);
     m->result.iterations = (int)it;
     m->result.converged = (int)conv;
     for (int d = 0; d < 3; d++)
@@ -389,3 +416,57 @@ int cfd_field_air(void *user, const double pos[3], double t_s, double vel[3])
 
 const cfd_meta *cfd_field_meta(const cfd_field *f) { return &f->meta; }
 void cfd_field_dims(const cfd_field *f, int n[3]) { cfd_grid_dims(f->g, n); }
+
+cfd_field *cfd_field_mirror_y(const cfd_field *src, core_err *err)
+{
+    if (strcmp(src->meta.rotor, "off")) {
+        /* a rotor's mirror image turns the other way: not the same aircraft */
+        core_err_set(err, -1, "cfd field mirror: the field has a rotor (%s); only ship-only fields mirror",
+                     src->meta.rotor);
+        return NULL;
+    }
+    const cfd_grid *g = src->g;
+    const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
+    double *yn = malloc((size_t)(ny + 1) * sizeof *yn);
+    if (!yn) {
+        core_err_set(err, -2, "cfd field mirror: out of memory");
+        return NULL;
+    }
+    /* node j of the image is the mirror of node ny - j: ascending again */
+    for (int j = 0; j <= ny; j++)
+        yn[j] = -g->xn[1][ny - j];
+    cfd_field *m = calloc(1, sizeof *m);
+    if (!m) {
+        free(yn);
+        core_err_set(err, -2, "cfd field mirror: out of memory");
+        return NULL;
+    }
+    m->g = cfd_grid_create(g->xn[0], nx, yn, ny, g->xn[2], nz, err);
+    free(yn);
+    if (!m->g) {
+        cfd_field_destroy(m);
+        return NULL;
+    }
+    for (int v = 0; v < CFD_NVARS; v++)
+        if (!(m->var[v] = malloc(g->ncell * sizeof(double)))) {
+            cfd_field_destroy(m);
+            core_err_set(err, -2, "cfd field mirror: out of memory");
+            return NULL;
+        }
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++) {
+                size_t to = CFD_IDX(g, i, j, k), from = CFD_IDX(g, i, ny - 1 - j, k);
+                m->g->solid[to] = g->solid[from];
+                for (int v = 0; v < CFD_NVARS; v++)
+                    m->var[v][to] = v == CFD_VAR_V ? -src->var[v][from] : src->var[v][from];
+            }
+    m->meta = src->meta;
+    /* the wind from the other side: green D for red D (180 and 0 stay) */
+    m->meta.wod_dir_deg = src->meta.wod_dir_deg == 180.0 ? 180.0 : -src->meta.wod_dir_deg;
+    m->meta.rotor_centre_S_m[1] = -src->meta.rotor_centre_S_m[1];
+    m->meta.mirrored = 1;
+    m->rho_kgpm3 = src->rho_kgpm3;
+    m->nu_m2ps = src->nu_m2ps;
+    return m;
+}

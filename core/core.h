@@ -232,6 +232,14 @@ int core_ship_load(const char *path, core_ship *ship, core_err *err);
 /* 1 if point p (S) lies inside one of the ship's blocks. The sea surface is
  * a boundary of the CFD domain, not a block, so it does not count here. */
 int core_ship_contains(const core_ship *ship, core_vec3 p_S_m);
+/* 1 if the ship's blocks map onto themselves under the port-starboard
+ * mirror y -> -y (each block onto itself or onto another block, ends and
+ * heights equal within tol_m; tapers included), else 0. The SFS2, CG-47
+ * and LPD-17 of scenarios/ships are (their superstructures are modelled on
+ * the centre line).
+ * For such a ship the airwake of a wind from green D is the mirror image
+ * of red D's (cfd_field_mirror_y). */
+int core_ship_mirror_symmetric(const core_ship *ship, double tol_m);
 
 #ifdef __cplusplus
 }

@@ -130,3 +130,28 @@ int core_ship_contains(const core_ship *ship, core_vec3 p)
     }
     return 0;
 }
+
+/* Whether block b, mirrored, is block c. */
+static int mirror_match(const core_ship_block *b, const core_ship_block *c, double tol)
+{
+    return fabs(b->x0_m - c->x0_m) <= tol && fabs(b->x1_m - c->x1_m) <= tol && fabs(b->z0_m - c->z0_m) <= tol &&
+           fabs(b->z1_m - c->z1_m) <= tol && fabs(b->y0_m + c->y1_m) <= tol && fabs(b->y1_m + c->y0_m) <= tol &&
+           fabs(b->bow_taper_m - c->bow_taper_m) <= tol;
+}
+
+int core_ship_mirror_symmetric(const core_ship *ship, double tol_m)
+{
+    /* every block needs a mirror partner, and no block serves as the
+     * partner of two (so duplicate blocks on one side do not pass) */
+    unsigned char used[CORE_SHIP_MAX_BLOCKS] = {0};
+    for (int i = 0; i < ship->nblocks; i++) {
+        int found = -1;
+        for (int k = 0; k < ship->nblocks && found < 0; k++)
+            if (!used[k] && mirror_match(&ship->blocks[i], &ship->blocks[k], tol_m))
+                found = k;
+        if (found < 0)
+            return 0;
+        used[found] = 1;
+    }
+    return ship->nblocks > 0;
+}

@@ -97,7 +97,7 @@ static void on_term(int sig)
 
 static int run_builder(awdb *db, test_engine *te, int jobs, core_err *err)
 {
-    awdb_engine eng = {"test", te_build, te};
+    awdb_engine eng = {"test", te_build, te, NULL};
     awdb_builder_opts o = {jobs, 1, 0.01, NULL, NULL, NULL, NULL};
     return awdb_builder_run(db, &eng, &o, &no_stop, err);
 }
@@ -426,7 +426,7 @@ static void test_term(const char *dir)
         signal(SIGTERM, on_term);
         test_engine te = {0, -1, 3.0, ""};
         awdb *dbc = awdb_open(dir, NULL, &err);
-        awdb_engine eng = {"test", te_build, &te};
+        awdb_engine eng = {"test", te_build, &te, NULL};
         awdb_builder_opts o = {1, 0, 0.01, NULL, NULL, NULL, NULL};
         int rc = awdb_builder_run(dbc, &eng, &o, &term_flag, &err);
         awdb_close(dbc);
@@ -448,6 +448,86 @@ static void test_term(const char *dir)
     awdb_close(db);
 }
 
+/* An engine that makes some fields from others (the embedded engine's
+ * mirror images): here every green wind (direction > 0) is made from the
+ * red one of the same speed. The builder must hold such a request back
+ * while its source runs or is queued ahead, so that with two jobs the pair
+ * costs one build and the second build finds its source READY; a request
+ * queued before its source is not held (nothing would build the source
+ * first), and a request whose source is absent is built alone. */
+typedef struct source_engine {
+    test_engine te;
+    awdb *db;
+    int green_builds, green_saw_source;
+    char order[8][16];
+    int norder;
+} source_engine;
+
+static int se_source(void *user, const awdb_key *k, awdb_key *src)
+{
+    (void)user;
+    if (!(k->wod_dir_rad > 1e-9))
+        return 0;
+    *src = *k;
+    src->wod_dir_rad = -k->wod_dir_rad;
+    core_err err = {{0}};
+    return awdb_key_canon(src, &err) == 0;
+}
+
+static int se_build(void *user, const awdb_key *k, const char *warm, const char *out, awdb_progress_fn progress,
+                    void *pu, core_err *err)
+{
+    source_engine *se = user;
+    awdb_key src;
+    if (se_source(se, k, &src)) {
+        se->green_builds++;
+        se->green_saw_source += awdb_query(se->db, &src, NULL, 0) == AWDB_READY;
+    }
+    if (se->norder < 8)
+        snprintf(se->order[se->norder++], sizeof se->order[0], "%+.0f@%.0f", k->wod_dir_rad * CORE_RAD_TO_DEG,
+                 k->wod_speed_mps);
+    return te_build(&se->te, k, warm, out, progress, pu, err);
+}
+
+static void test_source(const char *dir)
+{
+    core_err err = {{0}};
+    awdb *db = awdb_open(dir, NULL, &err);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    source_engine se;
+    memset(&se, 0, sizeof se);
+    se.te.fail_speed_cmps = -1;
+    se.te.sleep_s = 0.2; /* long enough for two jobs to overlap */
+    se.db = db;
+    /* red 30, then green 30 (held: its source is queued ahead), head (free) */
+    awdb_key r30 = key(10, -30), g30 = key(10, 30), h = key(10, 0);
+    CHECK(awdb_submit(db, &r30, NULL, &err) == 0);
+    CHECK(awdb_submit(db, &g30, NULL, &err) == 0);
+    CHECK(awdb_submit(db, &h, NULL, &err) == 0);
+    /* green 60 before red 60: not held, built alone */
+    awdb_key g60 = key(10, 60), r60 = key(10, -60);
+    CHECK(awdb_submit(db, &g60, NULL, &err) == 0);
+    CHECK(awdb_submit(db, &r60, NULL, &err) == 0);
+    awdb_engine eng = {"test-source", se_build, &se, se_source};
+    awdb_builder_opts o = {2, 1, 0.01, NULL, NULL, NULL, NULL};
+    CHECK(awdb_builder_run(db, &eng, &o, &no_stop, &err) == 0);
+    printf("source: build order");
+    for (int i = 0; i < se.norder; i++)
+        printf(" %s", se.order[i]);
+    printf("; green builds %d, %d of them with the red source ready\n", se.green_builds, se.green_saw_source);
+    CHECK(se.te.builds == 5);
+    CHECK(se.green_builds == 2);
+    /* green 30 waited for red 30; green 60 (queued first) did not wait */
+    CHECK(se.green_saw_source == 1);
+    /* the first two jobs: red 30 and the head wind (in either order) */
+    CHECK(se.norder == 5 && ((!strcmp(se.order[0], "-30@10") && !strcmp(se.order[1], "+0@10")) ||
+                             (!strcmp(se.order[1], "-30@10") && !strcmp(se.order[0], "+0@10"))));
+    CHECK(count(dir, "fields", ".h5") == 5 && count(dir, "queue", ".req") == 0);
+    awdb_close(db);
+}
+
 int main(void)
 {
     char dir[] = "/tmp/disim_awdb_XXXXXX";
@@ -465,6 +545,9 @@ int main(void)
     char d3[64];
     snprintf(d3, sizeof d3, "%s/db3", dir);
     test_term(d3);
+    char d4[64];
+    snprintf(d4, sizeof d4, "%s/db4", dir);
+    test_source(d4);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0)

@@ -225,8 +225,30 @@ static void test_ship(void)
     CHECK(!core_ship_contains(&ship, core_vec3_make(126.0, 3.0, 1.0)));
     CHECK(core_ship_contains(&ship, core_vec3_make(90.0, 6.0, 1.0)));
     core_ship s2;
+    /* Port-starboard symmetry: SFS2, CG-47 and LPD-17 (its superstructure on
+     * the centre line) are symmetric as modelled; a CG-47 with its hangar
+     * moved 0.1 m to starboard is not, nor a ship with a block's mirror
+     * twin missing. */
+    CHECK(core_ship_mirror_symmetric(&ship, 1e-6) == 1);
     CHECK(core_ship_load("scenarios/ships/cg47.ini", &s2, &err) == 0);
+    CHECK(core_ship_mirror_symmetric(&s2, 1e-6) == 1);
+    for (int i = 0; i < s2.nblocks; i++)
+        if (!strcmp(s2.blocks[i].name, "hangar")) {
+            s2.blocks[i].y0_m += 0.1;
+            s2.blocks[i].y1_m += 0.1;
+        }
+    CHECK(core_ship_mirror_symmetric(&s2, 1e-6) == 0);
+    CHECK(core_ship_mirror_symmetric(&s2, 0.2) == 1);
+    core_ship pair;
+    memset(&pair, 0, sizeof pair);
+    pair.nblocks = 2;
+    pair.blocks[0] = (core_ship_block){"port", 0, 10, -6, -2, -5, 0, 0};
+    pair.blocks[1] = (core_ship_block){"stbd", 0, 10, 2, 6, -5, 0, 0};
+    CHECK(core_ship_mirror_symmetric(&pair, 1e-6) == 1);
+    pair.blocks[1] = pair.blocks[0]; /* two port blocks: no starboard twin */
+    CHECK(core_ship_mirror_symmetric(&pair, 1e-6) == 0);
     CHECK(core_ship_load("scenarios/ships/lpd17.ini", &s2, &err) == 0);
+    CHECK(core_ship_mirror_symmetric(&s2, 1e-6) == 1);
     /* A block whose top is below its bottom names the line. */
     const char *p = write_tmp("disim_bad_ship.ini",
                               "[ship]\nname = X\nlength_m = 10\nbeam_m = 2\ndraft_m = 1\n"

@@ -364,6 +364,51 @@ int main(void)
         remove(out);
     }
 
+    /* A symmetric ship (BOX40): the ship-only field of green 30 is the
+     * mirror image of red 30's, made by the builder without a solve. */
+    {
+        awdb_key kr, kg;
+        memset(&kr, 0, sizeof kr);
+        snprintf(kr.ship, sizeof kr.ship, "BOX40");
+        kr.wod_speed_mps = 10.0;
+        kr.wod_dir_rad = -30.0 * CORE_DEG_TO_RAD;
+        kr.grid = AWDB_GRID_COARSE;
+        kr.rotor = AWDB_ROTOR_OFF;
+        kg = kr;
+        kg.wod_dir_rad = 30.0 * CORE_DEG_TO_RAD;
+        CHECK(awdb_key_canon(&kr, &err) == 0 && awdb_key_canon(&kg, &err) == 0);
+        CHECK(awdb_submit(db, &kr, NULL, &err) == 0 && awdb_submit(db, &kg, NULL, &err) == 0);
+        awdb_state sr = AWDB_ABSENT, sg = AWDB_ABSENT;
+        char pr[1200], pg[1200];
+        for (int i = 0; i < 6000 && !(sr == AWDB_READY && sg == AWDB_READY) && sr != AWDB_FAILED &&
+                        sg != AWDB_FAILED;
+             i++) {
+            usleep(20000);
+            sr = awdb_query(db, &kr, pr, sizeof pr);
+            sg = awdb_query(db, &kg, pg, sizeof pg);
+        }
+        CHECK(sr == AWDB_READY && sg == AWDB_READY);
+        cfd_field *fr = sr == AWDB_READY ? cfd_field_load(pr, &err) : NULL;
+        cfd_field *fg = sg == AWDB_READY ? cfd_field_load(pg, &err) : NULL;
+        CHECK(fr && fg);
+        if (fr && fg) {
+            CHECK(cfd_field_meta(fr)->mirrored == 0 && cfd_field_meta(fg)->mirrored == 1);
+            CHECK_NEAR(cfd_field_meta(fg)->wod_dir_deg, 30.0, 1e-9);
+            double worst = 0.0;
+            for (int i = 0; i < 50; i++) {
+                double p[3] = {-20.0 + 1.3 * i, -9.0 + 0.37 * i, -3.0 - 0.2 * i}, q[3] = {p[0], -p[1], p[2]};
+                double a[CFD_NVARS], b[CFD_NVARS];
+                cfd_field_sample(fg, p, a);
+                cfd_field_sample(fr, q, b);
+                worst = fmax(worst, fabs(a[0] - b[0]) + fabs(a[1] + b[1]) + fabs(a[2] - b[2]) + fabs(a[4] - b[4]));
+            }
+            printf("mirror: green 30 = red 30 reflected within %.1e (50 points, u v w k)\n", worst);
+            CHECK(worst < 1e-9);
+        }
+        cfd_field_destroy(fr);
+        cfd_field_destroy(fg);
+    }
+
     /* The round trip: the loaded key goes through a request file and the
      * builder into the field's .sum; the same key finds it READY. */
     CHECK(awdb_submit(db, &k, NULL, &err) == 0);
@@ -582,7 +627,7 @@ int main(void)
     couple_point p1;
     CHECK(couple_trim(c, 10.0, 0.0, &p1, &err) == 0);
     CHECK(p1.converged && p1.n_iter == 1);
-    CHECK(count_fields(dbdir, "shiponly") == 1);
+    CHECK(count_fields(dbdir, "shiponly") == 3); /* + the mirror check's red and green 30 */
     printf("one-way collective %.2f %%, two-way %.2f %%\n", p1.trim.u.collective_pct, p2.trim.u.collective_pct);
     couple_destroy(c);
 
