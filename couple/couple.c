@@ -268,6 +268,7 @@ static void note_field(couple_ctx *c, const char *path, const cfd_field *f)
     fi->steady_mean = m->result.steady_mean;
     fi->mean_drift = m->result.mean_drift;
     fi->residual_continuity = m->result.residual[0];
+    fi->mirrored = m->mirrored;
 }
 
 const couple_field_info *couple_fields(const couple_ctx *c, int *n)
@@ -979,9 +980,10 @@ char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_i
     char *md = malloc(cap);
     if (!md)
         return NULL;
-    int nconv = 0, navg = 0, ngrew = 0;
+    int nconv = 0, navg = 0, ngrew = 0, nmir = 0;
     for (int i = 0; i < n1 + n2; i++) {
         const couple_field_info *fi = i < n1 ? &f1[i] : &f2[i - n1];
+        nmir += fi->mirrored;
         nconv += fi->converged;
         navg += fi->averaged > 0;
         ngrew += !fi->converged && fi->residual_continuity > 1.0;
@@ -1000,6 +1002,12 @@ char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_i
      * iterations: above 1 at the end, the mass imbalance grew (CG-47 green
      * 90 on the default grid ended at 68 with its monitors settled), and
      * the divergence test (1e4) does not stop it. */
+    if (nmir)
+        len += snprintf(md + len, cap - len,
+                        "%d field%s the mirror image of the opposite direction's (the ship is symmetric about "
+                        "its centre line; \"mirror of\" in the state; iterations and residuals are the "
+                        "solved field's).\n\n",
+                        nmir, nmir > 1 ? "s are" : " is");
     if (ngrew)
         len += snprintf(md + len, cap - len,
                         "**%d field%s ended with a continuity residual above 1**: the mass imbalance grew "
@@ -1012,15 +1020,19 @@ char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_i
                     "|---|---|---|---|---|---|---|---|\n");
     for (int i = 0; i < n1 + n2 && len + 400 < cap; i++) {
         const couple_field_info *fi = i < n1 ? &f1[i] : &f2[i - n1];
-        char st[96];
+        char st[128] = "";
+        size_t sl = 0;
+        if (fi->mirrored)
+            sl = (size_t)snprintf(st, sizeof st, "mirror of %.1f: ",
+                                  fi->wod_dir_deg == 180.0 ? 180.0 : -fi->wod_dir_deg);
         if (fi->converged)
-            snprintf(st, sizeof st, "converged");
+            snprintf(st + sl, sizeof st - sl, "converged");
         else if (fi->averaged && fi->steady_mean)
-            snprintf(st, sizeof st, "steady mean of last %d", fi->averaged);
+            snprintf(st + sl, sizeof st - sl, "steady mean of last %d", fi->averaged);
         else if (fi->averaged)
-            snprintf(st, sizeof st, "not converged, mean of last %d", fi->averaged);
+            snprintf(st + sl, sizeof st - sl, "not converged, mean of last %d", fi->averaged);
         else
-            snprintf(st, sizeof st, "not converged");
+            snprintf(st + sl, sizeof st - sl, "not converged");
         if (!fi->converged && fi->residual_continuity > 1.0) {
             size_t l = strlen(st);
             snprintf(st + l, sizeof st - l, "; continuity grew");

@@ -155,14 +155,17 @@ typedef struct couple_field_info {
     double mean_drift;         /* averaged fields: how far the mean still moves at the deck
                                   monitors, / WOD speed (cfd_result.mean_drift) */
     double residual_continuity;
+    int mirrored;              /* 1: the mirror image of the opposite direction's field
+                                  (cfd_meta.mirrored); the other members are that field's */
 } couple_field_info;
 
 /* The fields loaded so far, each once, in the order first loaded. */
 const couple_field_info *couple_fields(const couple_ctx *c, int *n);
 /* The fields of one or two coupling contexts (f2 may be NULL with n2 0) as
  * Markdown for a report: a summary (how many converged, averaged, stopped
- * at a steady mean, with a growing continuity residual) and a table with
- * each field's iterations, state, continuity residual and mean drift.
+ * at a steady mean, with a growing continuity residual, mirror images) and
+ * a table with each field's iterations, state, continuity residual and
+ * mean drift.
  * Returns a malloc'd string (the caller frees it) or NULL without memory. */
 char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_info *f2, int n2);
 /* The last fatal error of couple_shol_trim. */

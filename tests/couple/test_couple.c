@@ -201,6 +201,8 @@ static void fields_table(void)
     f[2].averaged = 150;
     f[2].mean_drift = 0.031;
     f[2].residual_continuity = 68.3;
+    f[2].wod_dir_deg = 30.0;
+    f[2].mirrored = 1;
     char *md = couple_fields_md(f, 2, f + 2, 1);
     CHECK(md != NULL);
     if (md) {
@@ -209,12 +211,15 @@ static void fields_table(void)
         CHECK(strstr(md, "**1 field ended with a continuity residual above 1**") != NULL);
         CHECK(strstr(md, "| conv | 0.00 | 0.0 |  | 312 | converged | 5.8e-05 | - |") != NULL);
         CHECK(strstr(md, "| steady mean of last 150 | 7.4e-04 | 1.2 |") != NULL);
-        CHECK(strstr(md, "| not converged, mean of last 150; continuity grew | 6.8e+01 | 3.1 |") != NULL);
+        CHECK(strstr(md, "| 30.0 |  | 600 | mirror of -30.0: not converged, mean of last 150; continuity grew | "
+                         "6.8e+01 | 3.1 |") != NULL);
+        CHECK(strstr(md, "1 field is the mirror image of the opposite direction's") != NULL);
         free(md);
     }
     /* without a growing field, no warning */
     md = couple_fields_md(f, 2, NULL, 0);
-    CHECK(md != NULL && strstr(md, "continuity residual above 1") == NULL && strstr(md, "continuity grew") == NULL);
+    CHECK(md != NULL && strstr(md, "continuity residual above 1") == NULL && strstr(md, "continuity grew") == NULL &&
+          strstr(md, "mirror") == NULL);
     free(md);
 }
 
