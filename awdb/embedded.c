@@ -139,6 +139,20 @@ static int on_cfd_progress(void *user, int iter, int max_iter, double residual, 
 static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, const char *out,
                      awdb_progress_fn progress, void *pu, core_err *err);
 
+/* The database keeps the HDF5 file only: the XDMF side file the writer
+ * adds would name the temporary. */
+static void drop_xmf(const char *out)
+{
+    char xmf[1100];
+    snprintf(xmf, sizeof xmf, "%s.xmf", out);
+    remove(xmf);
+    size_t l = strlen(out);
+    if (l > 3 && !strcmp(out + l - 3, ".h5")) {
+        snprintf(xmf, sizeof xmf, "%.*s.xmf", (int)(l - 3), out);
+        remove(xmf);
+    }
+}
+
 static const core_ship *find_ship(const awdb_embedded *e, const char *name, size_t len)
 {
     for (int i = 0; i < e->nships; i++)
@@ -189,6 +203,7 @@ static int build_mirror(awdb_embedded *e, const awdb_key *k, const char *out, co
     }
     int rc = cfd_field_write(m, out, err);
     cfd_field_destroy(m);
+    drop_xmf(out);
     if (rc == 0)
         core_log_msg(e->log, CORE_LOG_INFO, "%s v=%.2f dir=%.1f: the mirror image of %s (the ship is symmetric)",
                      k->ship, k->wod_speed_mps, k->wod_dir_rad * CORE_RAD_TO_DEG, name);
@@ -199,11 +214,11 @@ static int build(void *user, const awdb_key *k, const char *warm, const char *ou
                  awdb_progress_fn progress, void *pu, core_err *err)
 {
     awdb_embedded *e = user;
-    /* Builds run side by side in threads: share the cores among them (and
-     * again at every iteration, as builds start and finish). */
     int rc = build_mirror(e, k, out, err);
     if (rc <= 0)
         return rc;
+    /* Builds run side by side in threads: share the cores among them (and
+     * again at every iteration, as builds start and finish). */
     __atomic_add_fetch(&e->active, 1, __ATOMIC_RELAXED);
     omp_set_num_threads(share(e));
     rc = build_one(e, k, warm, out, progress, pu, err);
@@ -303,15 +318,7 @@ static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, cons
     rc = cfd_solver_write(s, &meta, out, err);
     cfd_solver_destroy(s);
     cfd_field_destroy(outer);
-    /* The database keeps the HDF5 file only: a side file names the temporary. */
-    char xmf[1100];
-    snprintf(xmf, sizeof xmf, "%s.xmf", out);
-    remove(xmf);
-    size_t l = strlen(out);
-    if (l > 3 && !strcmp(out + l - 3, ".h5")) {
-        snprintf(xmf, sizeof xmf, "%.*s.xmf", (int)(l - 3), out);
-        remove(xmf);
-    }
+    drop_xmf(out);
     return rc;
 }
 

@@ -206,8 +206,6 @@ static int write_field(const cfd_grid *g, double *const *var, const double *hist
 
 int cfd_solver_write(const cfd_solver *s, const cfd_meta *meta, const char *path, core_err *err)
 {
-    if (cfd_solver_has_nan(s))
-        return core_err_set(err, -1, "%s: not written: the field holds NaN or infinite values", path);
     double *var[CFD_NVARS];
     for (int v = 0; v < CFD_NVARS; v++)
         var[v] = (double *)cfd_solver_var(s, v);

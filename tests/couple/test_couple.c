@@ -412,6 +412,23 @@ int main(void)
         }
         cfd_field_destroy(fr);
         cfd_field_destroy(fg);
+        /* nothing but fields and their checksums in fields/ (no side file) */
+        char fdir[1100];
+        snprintf(fdir, sizeof fdir, "%s/fields", dbdir);
+        DIR *dd = opendir(fdir);
+        int stray = 0;
+        struct dirent *de;
+        while (dd && (de = readdir(dd))) {
+            size_t l = strlen(de->d_name);
+            if (strcmp(de->d_name, ".") && strcmp(de->d_name, "..") &&
+                !(l > 3 && !strcmp(de->d_name + l - 3, ".h5")) && !(l > 4 && !strcmp(de->d_name + l - 4, ".sum"))) {
+                printf("stray file in fields/: %s\n", de->d_name);
+                stray++;
+            }
+        }
+        if (dd)
+            closedir(dd);
+        CHECK(stray == 0);
     }
 
     /* The round trip: the loaded key goes through a request file and the
