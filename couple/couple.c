@@ -1024,7 +1024,8 @@ char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_i
         size_t sl = 0;
         if (fi->mirrored)
             sl = (size_t)snprintf(st, sizeof st, "mirror of %.1f: ",
-                                  fi->wod_dir_deg == 180.0 ? 180.0 : -fi->wod_dir_deg);
+                                  fi->wod_dir_deg == 180.0 || fi->wod_dir_deg == 0.0 ? fi->wod_dir_deg
+                                                                                     : -fi->wod_dir_deg);
         if (fi->converged)
             snprintf(st + sl, sizeof st - sl, "converged");
         else if (fi->averaged && fi->steady_mean)
