@@ -406,6 +406,15 @@ static int face_class(double speed_mps, double dir_rad)
 
 int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
 {
+    /* A whole-domain ship-only field starts from the inflow: on the CG-47's
+     * default and fine grids an oblique wind's field keeps the state it
+     * started in (red 30 started from the red 60 field ended 0.33 of U from
+     * red 30 started from the inflow, which is green 30 reflected to 0.005;
+     * docs/validation/cfd.md), so a warm start would make the field depend
+     * on what the database held, not on its key. Its cost: a few hundred
+     * iterations more at most (the fields run to the cap either way). */
+    if (key->rotor == AWDB_ROTOR_OFF && !(key->zone_ref_mps > 0.0))
+        return 1;
     char dirp[AWDB_PATH];
     awdb_fmt(dirp, sizeof dirp, "%s/fields", db->dir);
     DIR *d = opendir(dirp);

@@ -112,7 +112,9 @@ int awdb_submit(awdb *db, const awdb_key *key, awdb_state *state, core_err *err)
  * AWDB_WARM_MAX_DIR_RAD, the wind entering and leaving by the same faces of
  * the CFD grid; distance in WOD velocity). The key's own grid level is
  * preferred; without a field there, the finest coarser level's
- * (coarse-to-fine). 0 with path, 1 if none. */
+ * (coarse-to-fine). 0 with path, 1 if none. A whole-domain ship-only key
+ * has none: it always starts from the inflow, so that its field depends on
+ * its key alone (oblique winds keep the state they start in). */
 #define AWDB_WARM_MAX_DIR_RAD (30.5 * CORE_DEG_TO_RAD)
 int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n);
 /* 1 if a builder holds the database's lock now, 0 if none does. */

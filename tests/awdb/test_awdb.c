@@ -288,6 +288,27 @@ static void test_flow(const char *dir)
         CHECK(awdb_nearest(db, &tq, near, sizeof near) == 0 && strstr(near, nb_) != NULL);
     }
 
+    /* A whole-domain ship-only field never starts from another one (its
+     * state would follow its start), not even from the coarse field of its
+     * own wind; a deck zone's ship-only field may. */
+    {
+        awdb_key s30 = key(10, 30), s60 = key(10, 60);
+        s30.rotor = s60.rotor = AWDB_ROTOR_OFF;
+        s30.thrust_N = s60.thrust_N = 0.0;
+        CHECK(awdb_submit(db, &s30, &st, &err) == 0);
+        CHECK(run_builder(db, &te, 1, &err) == 0);
+        CHECK(te.last_warm[0] == '\0');
+        CHECK(awdb_key_canon(&s60, &err) == 0);
+        CHECK(awdb_nearest(db, &s60, near, sizeof near) == 1);
+        awdb_key s30d = s30;
+        s30d.grid = AWDB_GRID_DEFAULT;
+        CHECK(awdb_key_canon(&s30d, &err) == 0);
+        CHECK(awdb_nearest(db, &s30d, near, sizeof near) == 1);
+        /* built: from the inflow, with the green 30 field finished */
+        CHECK(awdb_submit(db, &s60, &st, &err) == 0);
+        CHECK(run_builder(db, &te, 1, &err) == 0);
+        CHECK(te.last_warm[0] == '\0');
+    }
     /* Coarse-to-fine: a default-grid key with no default-grid neighbour
      * starts from the coarse field of its wind; once a default-grid
      * neighbour exists, from that; never from a finer grid. */
@@ -313,7 +334,7 @@ static void test_flow(const char *dir)
     CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_ABSENT);
     CHECK(awdb_submit(db3, &k1, &st, &err) == 0 && st == AWDB_ABSENT);
     CHECK(run_builder(db3, &te, 1, &err) == 0);
-    CHECK(te.builds == 9);
+    CHECK(te.builds == 11);
     awdb_close(db3);
     db3 = awdb_open(dir, NULL, &err);
     CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_READY);
