@@ -460,9 +460,7 @@ cfd_field *cfd_field_mirror_y(const cfd_field *src, core_err *err)
                     m->var[v][to] = v == CFD_VAR_V ? -src->var[v][from] : src->var[v][from];
             }
     m->meta = src->meta;
-    /* the wind from the other side: green D for red D (180 and 0 stay) */
-    const double d = src->meta.wod_dir_deg;
-    m->meta.wod_dir_deg = d == 180.0 || d == 0.0 ? d : -d;
+    m->meta.wod_dir_deg = core_wod_mirror_deg(src->meta.wod_dir_deg);
     m->meta.rotor_centre_S_m[1] = -src->meta.rotor_centre_S_m[1];
     m->meta.mirrored = 1;
     m->rho_kgpm3 = src->rho_kgpm3;

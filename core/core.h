@@ -133,6 +133,10 @@ core_vec3 core_pose_vec_from_E(const core_pose *f, core_vec3 v_E);
 /* ------------------------------------------------------- wind over deck */
 /* Wrap an angle in degrees into (-180, 180]. */
 double core_wod_wrap_deg(double dir_deg);
+/* The port-starboard mirror of a WOD direction: green D for red D, wrapped
+ * into (-180, 180]; head (0) and stern (180) winds are their own mirror
+ * (0 stays +0). */
+double core_wod_mirror_deg(double dir_deg);
 /* Wind velocity in S for a WOD of speed V (m/s) from dir (rad, from the bow,
  * + to starboard): -V (cos dir, sin dir, 0). */
 core_vec3 core_wod_vel_S_mps(double speed_mps, double dir_rad);

@@ -16,6 +16,12 @@ double core_wod_wrap_deg(double d)
     return d;
 }
 
+double core_wod_mirror_deg(double d)
+{
+    /* + 0.0 turns the mirror of a head wind, -0, into +0 */
+    return core_wod_wrap_deg(-d) + 0.0;
+}
+
 core_vec3 core_wod_vel_S_mps(double speed_mps, double dir_rad)
 {
     return core_vec3_make(-speed_mps * cos(dir_rad), -speed_mps * sin(dir_rad), 0.0);

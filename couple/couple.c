@@ -998,16 +998,16 @@ char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_i
                     "much: the largest difference between the deck monitors' mean velocities over the two "
                     "halves of the averaging window, in %% of the WOD speed (a steady mean is below 2 %%).\n\n",
                     n1 + n2, nconv, navg);
-    /* Continuity is divided by its largest value over a run's first five
-     * iterations: above 1 at the end, the mass imbalance grew (CG-47 green
-     * 90 on the default grid ended at 68 with its monitors settled), and
-     * the divergence test (1e4) does not stop it. */
     if (nmir)
         len += snprintf(md + len, cap - len,
                         "%d field%s the mirror image of the opposite direction's (the ship is symmetric about "
                         "its centre line; \"mirror of\" in the state; iterations and residuals are the "
                         "solved field's).\n\n",
                         nmir, nmir > 1 ? "s are" : " is");
+    /* Continuity is divided by its largest value over a run's first five
+     * iterations: above 1 at the end, the mass imbalance grew (CG-47 green
+     * 90 on the default grid ended at 68 with its monitors settled), and
+     * the divergence test (1e4) does not stop it. */
     if (ngrew)
         len += snprintf(md + len, cap - len,
                         "**%d field%s ended with a continuity residual above 1**: the mass imbalance grew "
@@ -1023,9 +1023,7 @@ char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_i
         char st[128] = "";
         size_t sl = 0;
         if (fi->mirrored)
-            sl = (size_t)snprintf(st, sizeof st, "mirror of %.1f: ",
-                                  fi->wod_dir_deg == 180.0 || fi->wod_dir_deg == 0.0 ? fi->wod_dir_deg
-                                                                                     : -fi->wod_dir_deg);
+            sl = (size_t)snprintf(st, sizeof st, "mirror of %.1f: ", core_wod_mirror_deg(fi->wod_dir_deg));
         if (fi->converged)
             snprintf(st + sl, sizeof st - sl, "converged");
         else if (fi->averaged && fi->steady_mean)

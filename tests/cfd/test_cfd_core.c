@@ -272,6 +272,19 @@ static cfd_solver *channel_run(int n, int w, cfd_result *res)
     return channel_solve(&cfg, res);
 }
 
+/* Metadata of a test field: rotor off, grid "test", result res (or none). */
+static void test_meta(cfd_meta *meta, const char *ship, double speed_mps, double dir_deg, const cfd_result *res)
+{
+    memset(meta, 0, sizeof *meta);
+    meta->wod_speed_mps = speed_mps;
+    meta->wod_dir_deg = dir_deg;
+    snprintf(meta->ship, sizeof meta->ship, "%s", ship);
+    snprintf(meta->rotor, sizeof meta->rotor, "off");
+    snprintf(meta->grid, sizeof meta->grid, "test");
+    if (res)
+        meta->result = *res;
+}
+
 static void test_io(void)
 {
     core_err err;
@@ -288,13 +301,7 @@ static void test_io(void)
     snprintf(path, sizeof path, "%s/f.h5", dir);
     snprintf(xmf, sizeof xmf, "%s/f.xmf", dir);
     cfd_meta meta;
-    memset(&meta, 0, sizeof meta);
-    meta.wod_speed_mps = 1.0;
-    meta.wod_dir_deg = -30.0;
-    snprintf(meta.ship, sizeof meta.ship, "channel");
-    snprintf(meta.rotor, sizeof meta.rotor, "off");
-    snprintf(meta.grid, sizeof meta.grid, "test");
-    meta.result = res;
+    test_meta(&meta, "channel", 1.0, -30.0, &res);
     CHECK(cfd_solver_write(s, &meta, path, &err) == 0);
     CHECK(access(xmf, R_OK) == 0);
     cfd_field *f = cfd_field_load(path, &err);
@@ -783,11 +790,7 @@ static void test_zone(void)
     snprintf(path, sizeof path, "%s/outer.h5", dir);
     snprintf(xmf, sizeof xmf, "%s/outer.xmf", dir);
     cfd_meta meta;
-    memset(&meta, 0, sizeof meta);
-    meta.wod_speed_mps = 10.0;
-    snprintf(meta.ship, sizeof meta.ship, "SFS2");
-    snprintf(meta.rotor, sizeof meta.rotor, "off");
-    snprintf(meta.grid, sizeof meta.grid, "test");
+    test_meta(&meta, "SFS2", 10.0, 0.0, NULL);
     CHECK(cfd_solver_write(so, &meta, path, &err) == 0);
     cfd_solver_destroy(so);
     cfd_field *outer = cfd_field_load(path, &err);
@@ -931,13 +934,7 @@ static void test_mirror(void)
     snprintf(path, sizeof path, "%s/red30.h5", dir);
     snprintf(mpath, sizeof mpath, "%s/green30.h5", dir);
     cfd_meta meta;
-    memset(&meta, 0, sizeof meta);
-    meta.wod_speed_mps = 10.0;
-    meta.wod_dir_deg = -30.0;
-    snprintf(meta.ship, sizeof meta.ship, "SFS2");
-    snprintf(meta.rotor, sizeof meta.rotor, "off");
-    snprintf(meta.grid, sizeof meta.grid, "test");
-    meta.result = rr;
+    test_meta(&meta, "SFS2", 10.0, -30.0, &rr);
     CHECK(cfd_solver_write(red, &meta, path, &err) == 0);
     cfd_field *f = cfd_field_load(path, &err);
     CHECK(f != NULL);

@@ -3,6 +3,7 @@
 #include "check.h"
 #include "core.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -26,6 +27,12 @@ static void test_wod(void)
     vec_near(core_wod_vel_S_mps(4.0, -90.0 * CORE_DEG_TO_RAD), 0.0, 4.0, 0.0, 1e-12);
     CHECK_NEAR(core_wod_wrap_deg(270.0), -90.0, TOL);
     CHECK_NEAR(core_wod_wrap_deg(-180.0), 180.0, TOL);
+    /* mirror: red 30 <-> green 30, beam winds swap, head and stern stay (+0) */
+    CHECK_NEAR(core_wod_mirror_deg(-30.0), 30.0, TOL);
+    CHECK_NEAR(core_wod_mirror_deg(90.0), -90.0, TOL);
+    CHECK_NEAR(core_wod_mirror_deg(180.0), 180.0, TOL);
+    CHECK(core_wod_mirror_deg(0.0) == 0.0 && !signbit(core_wod_mirror_deg(0.0)));
+    CHECK(!signbit(core_wod_mirror_deg(-0.0)));
     CHECK_NEAR(core_wod_wrap_deg(180.0), 180.0, TOL);
     CHECK_NEAR(core_wod_wrap_deg(-190.0), 170.0, TOL);
     char b[32];
