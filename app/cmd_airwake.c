@@ -244,7 +244,6 @@ int cmd_airwake(int argc, char **argv)
     sp.abl = abl;
     sp.rotor = rotor;
     sp.max_iter = max_iter;
-    sp.monitor_z_m = sc->station_S_m[2];
     cfd_meta meta;
     memset(&meta, 0, sizeof meta);
     core_log log = {log_stderr, NULL, CORE_LOG_INFO};
@@ -284,6 +283,9 @@ int cmd_airwake(int argc, char **argv)
         meta.rotor_radius_m = key.radius_m;
         memcpy(meta.rotor_centre_S_m, key.station_S_m, sizeof meta.rotor_centre_S_m);
     }
+    /* the builder's monitor line (it also bounds the grid): the field
+     * written here is the one the builder would put in the database */
+    sp.monitor_z_m = awdb_key_monitor_z_m(&key);
     if (queue) {
         int rc = queue_request(queue, &key, &log);
         free(sc);

@@ -196,6 +196,12 @@ void awdb_embedded_engine(awdb_embedded *e, awdb_engine *eng);
  * Returns < 0 for a key with the rotor off. */
 struct cfd_disk;
 int awdb_key_disk(const awdb_key *key, struct cfd_disk *disk);
+/* The height (z in S, m; negative above the deck) of the solver's monitor
+ * line for a key: 5 m above the deck for a ship-only field, the hub's
+ * height with the rotor on. It also bounds the grid's focus box, so every
+ * program that solves a key (the builder, `disim airwake`) must take it
+ * from here for the field to be the same. */
+double awdb_key_monitor_z_m(const awdb_key *key);
 
 #ifdef __cplusplus
 }

@@ -243,7 +243,7 @@ static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, cons
     spec.wod_dir_rad = k->wod_dir_rad;
     spec.level = (cfd_grid_level)k->grid;
     spec.rotor = k->rotor;
-    spec.monitor_z_m = k->rotor == AWDB_ROTOR_OFF ? -5.0 : k->station_S_m[2];
+    spec.monitor_z_m = awdb_key_monitor_z_m(k);
     spec.max_iter = e->max_iter;
     spec.open_ship = open_ship;
     if (spec.rotor)
@@ -338,6 +338,12 @@ int awdb_key_disk(const awdb_key *k, cfd_disk *d)
         d->ccw_from_above = k->ccw_from_above;
     }
     return 0;
+}
+
+double awdb_key_monitor_z_m(const awdb_key *k)
+{
+    /* a ship-only key has no station (it serves every hover height) */
+    return k->rotor == AWDB_ROTOR_OFF ? -5.0 : k->station_S_m[2];
 }
 
 void awdb_embedded_engine(awdb_embedded *e, awdb_engine *eng)

@@ -293,6 +293,15 @@ int main(void)
     CHECK(awdb_key_disk(&k, &cd) == 0);
     CHECK(cd.nr == AWDB_LOAD_NR && cd.npsi == AWDB_LOAD_NPSI && cd.ccw_from_above == 1);
     CHECK_NEAR(cd.torque_Nm, k.torque_Nm, 1e-9);
+    /* One monitor line (which also bounds the grid) for the builder and
+     * `disim airwake`: the hub's height with the rotor on, 5 m above the
+     * deck without it. */
+    CHECK_NEAR(awdb_key_monitor_z_m(&k), k.station_S_m[2], 0.0);
+    {
+        awdb_key ko = k;
+        ko.rotor = AWDB_ROTOR_OFF;
+        CHECK_NEAR(awdb_key_monitor_z_m(&ko), -5.0, 0.0);
+    }
 
     /* A database with an in-process builder (the real CFD engine). */
     char dbdir[] = "/tmp/disim_couple_XXXXXX";
