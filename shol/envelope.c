@@ -426,3 +426,33 @@ int shol_envelope_run_near(const shol_settings *s, const shol_result *cheap_resu
     free(again);
     return rc;
 }
+
+static const shol_sample *sample_at(const shol_dir_result *d, double v)
+{
+    for (int i = 0; i < d->n_samples; i++)
+        if (fabs(d->samples[i].speed_mps - v) < 1e-9)
+            return &d->samples[i];
+    return NULL;
+}
+
+int shol_envelope_sensitivity(const shol_dir_result *d, shol_sensitivity *out)
+{
+    out->crit = SHOL_LIMIT_NONE;
+    out->slope_per_mps = out->ref_error = out->shift_mps = NAN;
+    if (!d->has_pass || !isfinite(d->fail_speed_mps) || d->limit < SHOL_CRIT_ROLL || d->limit >= SHOL_NCRIT)
+        return 1;
+    const shol_sample *p = sample_at(d, d->max_speed_mps), *q = sample_at(d, d->fail_speed_mps);
+    if (!p || !q || p->trim_status || q->trim_status || !(q->speed_mps > p->speed_mps))
+        return 1;
+    /* the limiting criterion's own margin at both speeds: a secant through
+     * the crossing, so the slope is the one the step actually saw */
+    const int c = d->limit;
+    double slope = (p->eval.margin[c] - q->eval.margin[c]) / (q->speed_mps - p->speed_mps);
+    if (!(slope > 0.0))
+        return 1;
+    out->crit = c;
+    out->slope_per_mps = slope;
+    out->ref_error = c <= SHOL_CRIT_PITCH ? 0.25 * CORE_DEG_TO_RAD : 1.0;
+    out->shift_mps = out->ref_error / slope;
+    return 0;
+}

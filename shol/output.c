@@ -271,6 +271,23 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
         json_num(f, d->fail_speed_mps / CORE_KMH_TO_MPS);
         fprintf(f, ", \"limit\": \"%s\",\n     \"margins\": ", shol_limit_name(d->limit));
         json_margins(f, &d->margins);
+        /* how far the limit would move for a small error in the limiting
+         * quantity (shol_envelope_sensitivity); null where undefined */
+        shol_sensitivity se;
+        if (shol_envelope_sensitivity(d, &se) == 0) {
+            const int ang = se.crit <= SHOL_CRIT_PITCH;
+            const double k = ang ? CORE_RAD_TO_DEG : 1.0;
+            fprintf(f, ",\n     \"sensitivity\": {\"criterion\": \"%s\", \"unit\": \"%s\", \"margin_slope_per_kmh\": ",
+                    shol_limit_name(se.crit), ang ? "deg" : "pct");
+            json_num(f, se.slope_per_mps * k * CORE_KMH_TO_MPS);
+            fputs(", \"ref_error\": ", f);
+            json_num(f, se.ref_error * k);
+            fputs(", \"limit_shift_kmh\": ", f);
+            json_num(f, se.shift_mps / CORE_KMH_TO_MPS);
+            fputs("}", f);
+        } else {
+            fputs(",\n     \"sensitivity\": null", f);
+        }
         fputs(",\n     \"history\": [", f);
         for (int j = 0; j < d->n_samples; j++) {
             const shol_sample *sm = &d->samples[j];

@@ -92,7 +92,7 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
                "[shol.json](shol.json).\n\n");
     fprintf(f,
             "| WOD | max speed (%s) | limit | margins at the last pass: roll deg, pitch deg, "
-            "long %%, lat %%, coll %%, pedal %% | trim plot |\n|---|---|---|---|---|\n",
+            "long %%, lat %%, coll %%, pedal %% | limit moves by | trim plot |\n|---|---|---|---|---|---|\n",
             label);
     for (int i = 0; i < r->n_dirs; i++) {
         const shol_dir_result *d = &r->dirs[i];
@@ -108,10 +108,21 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
             else
                 fprintf(f, "%s -", c ? "," : "");
         }
-        fprintf(f, " | [%s](%s) |\n", plot, plot);
+        shol_sensitivity se;
+        if (shol_envelope_sensitivity(d, &se) == 0)
+            fprintf(f, " | %.1f km/h per %s |", se.shift_mps / CORE_KMH_TO_MPS,
+                    se.crit <= SHOL_CRIT_PITCH ? "0.25 deg" : "1 %");
+        else
+            fprintf(f, " | - |");
+        fprintf(f, " [%s](%s) |\n", plot, plot);
     }
     fprintf(f, "\n\"none\" means no criterion was exceeded up to the highest speed searched; "
-               "\"trim\" means the trim did not converge, which counts as a rejection.\n\n");
+               "\"trim\" means the trim did not converge, which counts as a rejection. "
+               "\"Limit moves by\": how far the limit would move if the limiting quantity were "
+               "off by 0.25 deg (an attitude) or 1 %% of travel (a control), from its margin's "
+               "fall between the last pass and the first failure; a limit that moves by more "
+               "than a speed step for an error that small is no sharper than the trim and the "
+               "airwake behind it.\n\n");
 
     fprintf(f, "## Physics checks\n\n");
     if (info->checks && info->checks->n) {

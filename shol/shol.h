@@ -211,6 +211,28 @@ int shol_envelope_run_near(const shol_settings *s, const shol_result *cheap_resu
                            shol_progress_fn progress, void *progress_user, const core_log *log, shol_result *out,
                            core_err *err);
 
+/* How firmly a direction's limit is placed: the limiting criterion's
+ * margin falls by slope_per_mps (rad per m/s for roll and pitch, percentage
+ * points per m/s for a control) between the last passing speed and the
+ * first failing one, so an error of ref_error in that quantity (0.25 deg
+ * for an attitude, 1 % of travel for a control: the floors of the coupling
+ * loop's 5 % convergence test) moves the limit by shift_mps = ref_error /
+ * slope_per_mps. A slope of 0.2 deg of pitch per 5 km/h (CG-47 + UH-60A at
+ * 30 deg) puts 6 km/h on each 0.25 deg: a limit no sharper than the trim
+ * and the airwake behind it. */
+typedef struct shol_sensitivity {
+    int crit;             /* the limiting criterion (SHOL_CRIT_*) */
+    double slope_per_mps; /* margin lost per m/s of wind, > 0 */
+    double ref_error;     /* rad or percentage points */
+    double shift_mps;     /* ref_error / slope_per_mps */
+} shol_sensitivity;
+
+/* Fill out for d. Returns 0, or 1 when it is not defined (no passing speed,
+ * no failure, a failed trim or no criterion at the failure, or a margin
+ * that did not fall between the two speeds), out->crit then
+ * SHOL_LIMIT_NONE and the figures NAN. */
+int shol_envelope_sensitivity(const shol_dir_result *d, shol_sensitivity *out);
+
 /* -------------------------------------------------------------- outputs */
 /* Optional text and a second envelope for the report and plots. */
 /* Physics checks of an envelope (shol/checks.c has the reasoning): largest

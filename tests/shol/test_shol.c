@@ -311,6 +311,25 @@ static void test_envelope_steps(void)
         CHECK_NEAR(d->margins.margin[SHOL_CRIT_ROLL] / DEG, 5 - 5.0 / 225 * c * c, 1e-9);
         CHECK_NEAR(d->margins.margin[SHOL_CRIT_LONG], fmin(35 - 1.25 * h, 35 + 1.25 * h), 1e-9);
         CHECK(d->margins.n_exceeded == 0);
+        /* The limit's sensitivity: the margin's secant slope between the
+         * last pass v1 and the failure v2, by hand from the model. */
+        shol_sensitivity se;
+        int srs = shol_envelope_sensitivity(d, &se);
+        double v1 = d->max_speed_mps, v2 = d->fail_speed_mps, sn = sin(d->dir_rad), cs = cos(d->dir_rad);
+        if (d->limit == SHOL_CRIT_ROLL) { /* 5 - 5/225 c^2 deg */
+            CHECK(srs == 0 && se.crit == SHOL_CRIT_ROLL);
+            CHECK_NEAR(se.slope_per_mps / DEG, 5.0 / 225 * sn * sn * (v1 + v2), 1e-9);
+            CHECK_NEAR(se.shift_mps, 0.25 / (5.0 / 225 * sn * sn * (v1 + v2)), 1e-9);
+        } else if (d->limit == SHOL_CRIT_PEDAL) { /* 80 - (60 + 1.5 c) or (60 + 1.5 c) - 20 */
+            CHECK(srs == 0);
+            CHECK_NEAR(se.slope_per_mps, 1.5 * fabs(sn), 1e-9);
+            CHECK_NEAR(se.shift_mps, 1.0 / (1.5 * fabs(sn)), 1e-9);
+        } else if (d->limit == SHOL_CRIT_LONG) { /* 35 - 1.25 h */
+            CHECK(srs == 0);
+            CHECK_NEAR(se.slope_per_mps, 1.25 * fabs(cs), 1e-9);
+        } else { /* no trim at the failure: undefined */
+            CHECK(srs == 1 && se.crit == SHOL_LIMIT_NONE && isnan(se.shift_mps));
+        }
     }
     /* The model is built to reach roll, pedal, long cyclic and trim limits. */
     CHECK(saw[SHOL_CRIT_ROLL + 1] && saw[SHOL_CRIT_PEDAL + 1] && saw[SHOL_CRIT_LONG + 1]);
