@@ -109,10 +109,12 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
                 fprintf(f, "%s -", c ? "," : "");
         }
         shol_sensitivity se;
-        if (shol_envelope_sensitivity(d, &se) == 0)
-            fprintf(f, " | %.1f km/h per %s |", se.shift_mps / CORE_KMH_TO_MPS,
-                    se.crit <= SHOL_CRIT_PITCH ? "0.25 deg" : "1 %");
-        else
+        if (shol_envelope_sensitivity(d, &se) == 0) {
+            /* the reference error as shol_envelope_sensitivity chose it */
+            const int ang = se.crit <= SHOL_CRIT_PITCH;
+            fprintf(f, " | %.1f km/h per %g %s |", se.shift_mps / CORE_KMH_TO_MPS,
+                    se.ref_error * (ang ? CORE_RAD_TO_DEG : 1.0), ang ? "deg" : "%");
+        } else
             fprintf(f, " | - |");
         fprintf(f, " [%s](%s) |\n", plot, plot);
     }
