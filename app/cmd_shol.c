@@ -3,6 +3,8 @@
  * [--dir-step-deg D] [--speed-step-kmh S] [--speed-max-kmh M]
  * [--bisect-kmh T] [--direct] [--no-seed] [--domain whole|zone] [--max-coupling-iter N]
  * [--cfd-max-iter N]`.
+ * --speed-max-kmh 0 trims in calm air only (a hover check, e.g. ground
+ * effect over the deck): no ship-only field is built for it.
  * --no-seed starts every coupled point from the free-air trim (see
  * couple_settings.seed_from_previous and seed_one_way). --domain zone
  * solves the coupled points in the deck zone only (couple_settings.zone);
@@ -150,7 +152,7 @@ int cmd_shol(int argc, char **argv)
 {
     const char *scen = NULL, *outdir = NULL, *dbdir = NULL;
     int grid = -1, coupling = -1, full = 0, direct = 0, no_seed = 0, zone = -1;
-    double dstep = 0, sstep = 0, smax = 0, bisect = 0, maxit = 6, cfdit = 0;
+    double dstep = 0, sstep = 0, smax = -1, bisect = 0, maxit = 6, cfdit = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int takes = strcmp(a, "--full-circle") && strcmp(a, "--direct") && strcmp(a, "--no-seed") && a[0] == '-';
@@ -193,7 +195,7 @@ int cmd_shol(int argc, char **argv)
             if (parse_num(a, v, 0.5, 50, &sstep))
                 return 2;
         } else if (!strcmp(a, "--speed-max-kmh")) {
-            if (parse_num(a, v, 5, 300, &smax))
+            if (parse_num(a, v, 0, 300, &smax))
                 return 2;
         } else if (!strcmp(a, "--bisect-kmh")) {
             if (parse_num(a, v, 0.1, 50, &bisect))
@@ -264,7 +266,7 @@ int cmd_shol(int argc, char **argv)
         goto fail;
     if (sstep > 0)
         set.speed_step_mps = sstep * CORE_KMH_TO_MPS;
-    if (smax > 0)
+    if (smax >= 0) /* 0: calm air only (a hover check) */
         set.speed_max_mps = smax * CORE_KMH_TO_MPS;
     set.bisect_tol_mps = bisect * CORE_KMH_TO_MPS;
     if (shol_settings_check(&set, &err) != 0)
@@ -312,7 +314,8 @@ int cmd_shol(int argc, char **argv)
     cs.mode = COUPLE_ONE_WAY;
     if (!(one = couple_create(ac, &sc->ship, db, &cs, &log, &err)))
         goto fail;
-    if (couple_prefetch(one, set.dirs_rad, set.n_dirs, &err) != 0)
+    /* calm air only needs no ship-only field (couple_trim) */
+    if (set.speed_max_mps > 0 && couple_prefetch(one, set.dirs_rad, set.n_dirs, &err) != 0)
         goto fail;
     progress_ctx pc = {tty, "one-way"};
     fprintf(stderr, "shol: %s + %s, %d directions, grid %s, %s\n", sc->ship.name, hfm_aircraft_name(ac), set.n_dirs,

@@ -703,11 +703,15 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
     memcpy(cond.pos_S_m, c->s.station_S_m, sizeof cond.pos_S_m);
 
     if (c->s.mode == COUPLE_ONE_WAY) {
+        /* calm air: the ship-only field scaled by v is zero everywhere, so
+         * the one-way trim is the free-air one and needs no field */
         air_scaled a;
-        if (ship_only_air(c, v, dir, &a, err) != 0)
-            return -1;
         hfm_air air = {air_scaled_fn, &a, NULL};
-        cond.air = &air;
+        if (v > 0.0) {
+            if (ship_only_air(c, v, dir, &a, err) != 0)
+                return -1;
+            cond.air = &air;
+        }
         int rc = solve(c, &cond, &p->trim);
         if (rc < 0)
             return core_err_set(err, rc, "trim at %.2f m/s from %.1f deg: fatal error", v, dir * CORE_RAD_TO_DEG);
