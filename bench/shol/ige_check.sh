@@ -20,7 +20,7 @@ else
 fi
 here=$(dirname "$0")
 "$disim" shol "$here/ige/flat_ige.ini" --db "$dir/db" -o "$dir/out" --speed-max-kmh 0 \
-    --max-coupling-iter 2 --cfd-max-iter 400 > "$dir/run.csv" 2> "$dir/run.log"
+    --max-coupling-iter 2 --cfd-max-iter 300 > "$dir/run.csv" 2> "$dir/run.log"
 # calm air only: no ship-only field was built (couple_trim, cmd_shol)
 if ls "$dir/db/fields/" | grep -q shiponly; then
     echo "calm air only built a ship-only field"; exit 1
