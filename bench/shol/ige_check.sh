@@ -1,11 +1,11 @@
 #!/bin/sh
 # ige_check.sh -- the ground-effect check of the two-way coupling (ctest
-# shol_ige; about 5 minutes on 2 cores in the sanitizer build). A UH-60A
+# shol_ige; about 3 minutes on 2 cores in the sanitizer build). A UH-60A
 # hovers with its CG 6 m above a flat deck (bench/shol/ige/), hub about
 # 0.95 R above it, in calm air (--speed-max-kmh 0: no ship-only field is
 # needed), two-way coupling with the interaction velocity on the coarse
 # grid, at most two coupled iterations (the calm point converges in one:
-# change 1.9 %). In ground effect the coupled trim must need less
+# change 2.0-2.5 %). In ground effect the coupled trim must need less
 # collective than the free-air trim (Cheeseman and Bennett: about 7 % more
 # thrust at the same power at z/R = 0.95, 3 % for the isolated rotor 1.44 R
 # over the sea). Prints both and exits 1 if the sign is wrong.
