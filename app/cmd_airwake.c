@@ -141,14 +141,14 @@ static void usage_airwake(void)
     fprintf(stderr,
             "usage: disim airwake SCENARIO [--wod-speed-kt KT] [--wod-dir-deg DEG] [--rotor off|uniform|loaded]\n"
             "                      [--grid coarse|default|fine] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
-            "                      [--thrust-n N] [--radius-m R] [--threads N] -o FIELD.h5\n"
+            "                      [--thrust-n N] [--radius-m R] [--threads N] [--h-fine-m H] -o FIELD.h5\n"
             "       disim airwake SCENARIO ... --queue DB_DIR   (queue it for `disim airwaked DB_DIR`)\n");
 }
 
 int cmd_airwake(int argc, char **argv)
 {
     const char *scen = NULL, *out = NULL, *warm = NULL, *queue = NULL;
-    double speed_kt = NAN, dir_deg = NAN, thrust = NAN, radius = NAN;
+    double speed_kt = NAN, dir_deg = NAN, thrust = NAN, radius = NAN, h_fine = 0.0;
     int rotor = -1, level = -1, abl = 0, max_iter = 0, threads = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -183,6 +183,10 @@ int cmd_airwake(int argc, char **argv)
                 fprintf(stderr, "--grid: expected coarse, default or fine, got '%s'\n", v);
                 return 1;
             }
+        } else if (!strcmp(a, "--h-fine-m") && more) {
+            /* grid studies past the three levels: the focus box's spacing */
+            if (parse_double(a, argv[++i], 0.1, 5.0, &h_fine))
+                return 1;
         } else if (!strcmp(a, "--abl"))
             abl = 1;
         else if (!strcmp(a, "--warm") && more)
@@ -207,6 +211,12 @@ int cmd_airwake(int argc, char **argv)
     }
     if (!scen || (!out && !queue)) {
         usage_airwake();
+        return 2;
+    }
+    if (h_fine > 0.0 && queue) {
+        /* the database keys fields by grid level; a spacing of its own
+         * would put a field under a level it was not solved on */
+        fprintf(stderr, "disim airwake: --h-fine-m writes a field (-o), it cannot be queued (--queue)\n");
         return 2;
     }
 #ifdef _OPENMP
@@ -244,6 +254,7 @@ int cmd_airwake(int argc, char **argv)
     sp.abl = abl;
     sp.rotor = rotor;
     sp.max_iter = max_iter;
+    sp.h_fine_m = h_fine;
     cfd_meta meta;
     memset(&meta, 0, sizeof meta);
     core_log log = {log_stderr, NULL, CORE_LOG_INFO};
@@ -326,7 +337,10 @@ int cmd_airwake(int argc, char **argv)
     meta.wod_dir_deg = dir * CORE_RAD_TO_DEG;
     snprintf(meta.ship, sizeof meta.ship, "%s", sc->ship.name);
     snprintf(meta.rotor, sizeof meta.rotor, "%s", rotor == 0 ? "off" : rotor == 1 ? "uniform" : "loaded");
-    snprintf(meta.grid, sizeof meta.grid, "%s", level == 0 ? "coarse" : level == 1 ? "default" : "fine");
+    if (h_fine > 0.0)
+        snprintf(meta.grid, sizeof meta.grid, "h%.3f m", h_fine);
+    else
+        snprintf(meta.grid, sizeof meta.grid, "%s", level == 0 ? "coarse" : level == 1 ? "default" : "fine");
     meta.result = res;
     if (cfd_solver_write(s, &meta, out, &err)) {
         fprintf(stderr, "disim airwake: %s\n", err.msg);
