@@ -132,7 +132,9 @@ typedef int (*awdb_progress_fn)(void *user, double frac, double residual, int it
 
 /* A CFD engine (embedded solver, OpenFOAM): build the field for key into
  * out_path (a temporary name in fields/), warm-starting from warm_path when
- * not NULL. Returns 0 ok, non-zero failed with err set. */
+ * not NULL. Returns 0 ok, non-zero failed with err set; when progress
+ * asked it to stop, it may return non-zero with nothing written (the
+ * builder then requeues the request, whatever the engine returned). */
 typedef struct awdb_engine {
     const char *name;
     int (*build)(void *user, const awdb_key *key, const char *warm_path, const char *out_path,

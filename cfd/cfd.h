@@ -249,6 +249,7 @@ typedef struct cfd_result {
     double monitor_change; /* last monitor-velocity change / u_ref between two checks */
     int averaged;        /* > 0: not converged, the state is the mean of this many last iterations */
     int steady_mean;     /* 1: stopped before max_iter with a steady mean (cfd_config.avg_stop) */
+    int stopped;         /* 1: stopped by the progress callback (the state is the last iterate) */
     double mean_drift;   /* averaged runs with monitors: the largest difference between the
                             monitor velocities' means over the two halves of the averaging
                             window, / u_ref (how far the mean itself still moves; 0 otherwise) */

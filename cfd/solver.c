@@ -1592,6 +1592,7 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
             }
         }
         res->iterations = it > cfg->max_iter ? cfg->max_iter : it;
+        res->stopped = stop;
         if (res->converged || stop || navg <= 0)
             res->mean_drift = 0.0; /* not an averaged field */
         if (!diverged && !res->converged && !stop && navg > 0) {

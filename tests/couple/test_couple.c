@@ -223,6 +223,13 @@ static void fields_table(void)
     free(md);
 }
 
+/* A progress callback that asks the engine to stop at iteration *user. */
+static int stop_at(void *user, double frac, double residual, int iter)
+{
+    (void)frac, (void)residual;
+    return iter >= *(int *)user;
+}
+
 int main(void)
 {
     fields_table();
@@ -375,6 +382,15 @@ int main(void)
             cfd_field_destroy(f);
         }
         remove(warm);
+        remove(out);
+
+        /* Asked to stop (the builder's SIGTERM) the engine writes nothing
+         * and says so with a non-zero return, not a field marked "not
+         * converged". */
+        int stop_after = 3;
+        brc = eng.build(eng.user, &kw, NULL, out, stop_at, &stop_after, &err);
+        CHECK(brc > 0);
+        CHECK(access(out, F_OK) != 0);
         remove(out);
     }
 
