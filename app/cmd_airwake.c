@@ -141,7 +141,8 @@ static void usage_airwake(void)
     fprintf(stderr,
             "usage: disim airwake SCENARIO [--wod-speed-kt KT] [--wod-dir-deg DEG] [--rotor off|uniform|loaded]\n"
             "                      [--grid coarse|default|fine] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
-            "                      [--thrust-n N] [--radius-m R] [--threads N] [--h-fine-m H] -o FIELD.h5\n"
+            "                      [--thrust-n N] [--radius-m R] [--threads N] [--h-fine-m H]\n"
+            "                      [--limiter vanleer|minmod] -o FIELD.h5\n"
             "       disim airwake SCENARIO ... --queue DB_DIR   (queue it for `disim airwaked DB_DIR`)\n");
 }
 
@@ -149,7 +150,7 @@ int cmd_airwake(int argc, char **argv)
 {
     const char *scen = NULL, *out = NULL, *warm = NULL, *queue = NULL;
     double speed_kt = NAN, dir_deg = NAN, thrust = NAN, radius = NAN, h_fine = 0.0;
-    int rotor = -1, level = -1, abl = 0, max_iter = 0, threads = 0;
+    int rotor = -1, level = -1, abl = 0, max_iter = 0, threads = 0, limiter = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         int more = i + 1 < argc;
@@ -187,6 +188,14 @@ int cmd_airwake(int argc, char **argv)
             /* grid studies past the three levels: the focus box's spacing */
             if (parse_double(a, argv[++i], 0.1, 5.0, &h_fine))
                 return 1;
+        } else if (!strcmp(a, "--limiter") && more) {
+            /* grid studies: one convection scheme on every grid */
+            const char *v = argv[++i];
+            limiter = !strcmp(v, "vanleer") ? 1 + CFD_LIMITER_VANLEER : !strcmp(v, "minmod") ? 1 + CFD_LIMITER_MINMOD : -1;
+            if (limiter < 0) {
+                fprintf(stderr, "--limiter: expected vanleer or minmod, got '%s'\n", v);
+                return 1;
+            }
         } else if (!strcmp(a, "--abl"))
             abl = 1;
         else if (!strcmp(a, "--warm") && more)
@@ -213,10 +222,10 @@ int cmd_airwake(int argc, char **argv)
         usage_airwake();
         return 2;
     }
-    if (h_fine > 0.0 && queue) {
+    if ((h_fine > 0.0 || limiter) && queue) {
         /* the database keys fields by grid level; a spacing of its own
          * would put a field under a level it was not solved on */
-        fprintf(stderr, "disim airwake: --h-fine-m writes a field (-o), it cannot be queued (--queue)\n");
+        fprintf(stderr, "disim airwake: --h-fine-m and --limiter write a field (-o), they cannot be queued (--queue)\n");
         return 2;
     }
 #ifdef _OPENMP
@@ -255,6 +264,7 @@ int cmd_airwake(int argc, char **argv)
     sp.rotor = rotor;
     sp.max_iter = max_iter;
     sp.h_fine_m = h_fine;
+    sp.limiter = limiter;
     cfd_meta meta;
     memset(&meta, 0, sizeof meta);
     core_log log = {log_stderr, NULL, CORE_LOG_INFO};
@@ -337,10 +347,14 @@ int cmd_airwake(int argc, char **argv)
     meta.wod_dir_deg = dir * CORE_RAD_TO_DEG;
     snprintf(meta.ship, sizeof meta.ship, "%s", sc->ship.name);
     snprintf(meta.rotor, sizeof meta.rotor, "%s", rotor == 0 ? "off" : rotor == 1 ? "uniform" : "loaded");
+    /* the level's name, or the study's spacing, and the scheme when forced */
+    char base[16];
     if (h_fine > 0.0)
-        snprintf(meta.grid, sizeof meta.grid, "h%.3f m", h_fine);
+        snprintf(base, sizeof base, "h%.3f m", h_fine);
     else
-        snprintf(meta.grid, sizeof meta.grid, "%s", level == 0 ? "coarse" : level == 1 ? "default" : "fine");
+        snprintf(base, sizeof base, "%s", level == 0 ? "coarse" : level == 1 ? "default" : "fine");
+    snprintf(meta.grid, sizeof meta.grid, "%s%s", base,
+             !limiter ? "" : limiter == 1 + CFD_LIMITER_VANLEER ? " vanleer" : " minmod");
     meta.result = res;
     if (cfd_solver_write(s, &meta, out, &err)) {
         fprintf(stderr, "disim airwake: %s\n", err.msg);

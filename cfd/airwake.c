@@ -204,6 +204,8 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
         cfg.relax_u = 0.7;
         cfg.limiter = CFD_LIMITER_MINMOD;
     }
+    if (sp->limiter > 0)
+        cfg.limiter = sp->limiter - 1;
     /* On every ship grid Anderson starts where the residuals stall (the
      * default grid from about iteration 100; SFS2 green 30 on the coarse
      * grid: converged in 351 iterations instead of a 7e-2 stall), and

@@ -321,7 +321,10 @@ typedef struct cfd_airwake_spec {
     cfd_disk disk;
     double monitor_z_m;      /* monitor line height in S (CG height, z < 0 above deck) */
     int max_iter;            /* 0: default */
-    double h_fine_m;         /* > 0: overrides the level's fine spacing (tests) */
+    double h_fine_m;         /* > 0: overrides the level's fine spacing (tests, grid studies) */
+    int limiter;             /* 0: the level's (van Leer on the coarse grid, minmod below
+                                1 m spacing); 1 + CFD_LIMITER_*: that one (grid studies
+                                with one scheme on every grid) */
     int open_ship;           /* 1: the same grid and boundaries with no cell blocked
                                 (the isolated rotor of the coupling's interaction velocity) */
     /* 1: the deck zone only, for a coupled point (needs a wind and the disk's

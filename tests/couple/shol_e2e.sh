@@ -42,8 +42,8 @@ cmp -s "$tmp/runa.csv" "$tmp/runb.csv" || { echo "the two concurrent runs gave d
 # Bad flags.
 "$disim" shol "$src/tests/couple/sfs2_uh60a.ini" --grid medium > /dev/null 2> "$tmp/bad.log"
 [ $? -eq 2 ] && grep -q "expected coarse, default or fine" "$tmp/bad.log" || { echo "bad --grid accepted"; fail=1; }
-# --h-fine-m (grid studies): the spacing reaches the grid and the file's
-# grid label; out of range and with --queue it is refused.
+# --h-fine-m and --limiter (grid studies): the spacing reaches the grid;
+# out of range, unknown and with --queue they are refused.
 "$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --rotor off --h-fine-m 2.0 --max-iter 2 \
     --threads 1 -o "$tmp/h2.h5" 2> "$tmp/h2.log"
 grep -q "= 71832 cells .* h_fine 2.00 m" "$tmp/h2.log" && [ -s "$tmp/h2.h5" ] || { echo "--h-fine-m 2.0 not applied"; cat "$tmp/h2.log"; fail=1; }
@@ -51,6 +51,8 @@ grep -q "= 71832 cells .* h_fine 2.00 m" "$tmp/h2.log" && [ -s "$tmp/h2.h5" ] ||
 [ $? -ne 0 ] && grep -q "h-fine-m: expected a number in \[0.1, 5\], got '0.01'" "$tmp/bad.log" && [ ! -e "$tmp/h3.h5" ] || { echo "bad --h-fine-m accepted"; fail=1; }
 "$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --h-fine-m 0.5 --queue "$tmp/q" 2> "$tmp/bad.log"
 [ $? -eq 2 ] && grep -q "cannot be queued" "$tmp/bad.log" && [ ! -e "$tmp/q" ] || { echo "--h-fine-m with --queue accepted"; fail=1; }
+"$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --limiter upwind -o "$tmp/h4.h5" 2> "$tmp/bad.log"
+[ $? -ne 0 ] && grep -q "limiter: expected vanleer or minmod, got 'upwind'" "$tmp/bad.log" && [ ! -e "$tmp/h4.h5" ] || { echo "bad --limiter accepted"; fail=1; }
 cat "$tmp/run1.csv"
 [ $fail -eq 0 ] && echo "shol_e2e: 1 passed, 0 failed" || echo "shol_e2e: 0 passed, 1 failed"
 rm -rf "$tmp"
