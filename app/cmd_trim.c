@@ -1,12 +1,19 @@
 /* cmd_trim.c -- `disim trim`: trim an aircraft over a range of airspeeds
  * (straight level flight) or WOD speeds (hover over the ship's spot, heading
- * along the bow) with hfm_trim_sweep, and write one CSV row per point. A
+ * along the bow) with hfm_trim_sweep, and write one CSV row per point. With
+ * --field, the hover trims are one-way in a ship-only airwake file (the
+ * field scaled from its WOD speed to each speed, as `disim shol --coupling
+ * one-way` does), each warm-started from the previous one. A
  * point that does not trim is reported with its residual norm and the
  * equation that did not close, converged = 0, and exit status 1. The CSV is
  * written to a temporary file and renamed, so nothing is half-written. */
 #include "core.h"
 #include "hfm.h"
+#ifdef DISIM_HAVE_CFD
+#include "cfd.h"
+#endif
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,8 +26,42 @@ static void usage(void)
             "usage: disim trim AIRCRAFT.ini (--airspeed-kt A:B:STEP | --hover-wod-kt A:B:STEP\n"
             "                  [--wod-dir-deg D]) [--trim-constraint sideslip|roll|auto]\n"
             "                  [--csv OUT.csv [--modes]]\n"
+            "       disim trim AIRCRAFT.ini --hover-wod-kt A:B:STEP --field SHIPONLY.h5 --cg-S X,Y,Z [--csv OUT.csv]\n"
+            "  --field: hover with the CG at X,Y,Z (m, frame S) in a ship-only airwake\n"
+            "  (rotor off) scaled from its WOD speed; the direction is the field's.\n"
             "  power_kW is main plus tail rotor aerodynamic power; --modes prints each\n"
             "  trim's eigenvalues and mode names (linearised, rotor quasi-steady).\n");
+}
+
+#ifdef DISIM_HAVE_CFD
+/* The one-way air: the ship-only field scaled to the trim's WOD speed. */
+typedef struct field_air {
+    const cfd_field *f;
+    double scale;
+} field_air;
+
+static int field_air_fn(void *user, const double pos[3], double t, double vel[3])
+{
+    (void)t;
+    field_air *a = user;
+    double out[CFD_NVARS];
+    int rc = cfd_field_sample(a->f, pos, out);
+    for (int i = 0; i < 3; i++)
+        vel[i] = a->scale * out[i];
+    return rc;
+}
+#endif
+
+static int parse_vec3(const char *s, double v[3])
+{
+    char *end;
+    for (int i = 0; i < 3; i++) {
+        v[i] = strtod(s, &end);
+        if (end == s || !isfinite(v[i]) || *end != (i < 2 ? ',' : 0))
+            return -1;
+        s = end + 1;
+    }
+    return 0;
 }
 
 static void log_stderr(void *user, int level, const char *msg)
@@ -29,11 +70,70 @@ static void log_stderr(void *user, int level, const char *msg)
     fprintf(stderr, "%s: %s\n", level == CORE_LOG_ERROR ? "error" : "warning", msg);
 }
 
+#ifdef DISIM_HAVE_CFD
+/* One-way hover trims in a ship-only field: 0, or non-zero after a message.
+ * A trim that fails to converge is kept (converged = 0) as in the sweep;
+ * the next one starts from the last converged trim. */
+static int field_trims(const char *path, hfm_trim *tr, hfm_trim_cond *c, int have_dir, const double cg_S[3],
+                       const double *mps, const double *kt, int n, hfm_trim_result *res)
+{
+    core_err err = {{0}};
+    cfd_field *f = cfd_field_load(path, &err);
+    if (!f) {
+        fprintf(stderr, "disim trim: --field: %s\n", err.msg);
+        return -1;
+    }
+    const cfd_meta *m = cfd_field_meta(f);
+    int rc = 0;
+    if (strcmp(m->rotor, "off") != 0) {
+        fprintf(stderr, "disim trim: --field %s: rotor '%s': expected a ship-only field (rotor off); with the "
+                        "rotor in it the aircraft's own inflow would count twice\n", path, m->rotor);
+        rc = -1;
+    } else if (!(m->wod_speed_mps > 0.0)) {
+        fprintf(stderr, "disim trim: --field %s: WOD speed %g m/s: expected > 0 to scale from\n", path,
+                m->wod_speed_mps);
+        rc = -1;
+    } else {
+        double fdir = core_wod_wrap_deg(m->wod_dir_deg);
+        if (have_dir && fabs(core_wod_wrap_deg(c->wod_dir_rad * CORE_RAD_TO_DEG - fdir)) > 0.01) {
+            fprintf(stderr, "disim trim: --wod-dir-deg %.2f: the field %s is from %.2f deg\n",
+                    c->wod_dir_rad * CORE_RAD_TO_DEG, path, fdir);
+            rc = -1;
+        }
+        c->wod_dir_rad = fdir * CORE_DEG_TO_RAD;
+    }
+    field_air fa = {f, 0.0};
+    hfm_air air = {field_air_fn, &fa, NULL};
+    memcpy(c->pos_S_m, cg_S, sizeof c->pos_S_m);
+    const hfm_trim_result *last = NULL;
+    for (int i = 0; rc == 0 && i < n; i++) {
+        c->wod_speed_mps = mps[i];
+        c->air = mps[i] > 0.0 ? &air : NULL; /* calm air needs no field */
+        fa.scale = mps[i] / m->wod_speed_mps;
+        int t = hfm_trim_solve(tr, c, last, &res[i]);
+        if (t > 0 && last) /* retry from the free-air guess */
+            t = hfm_trim_solve(tr, c, NULL, &res[i]);
+        if (t < 0) {
+            fprintf(stderr, "disim trim: --field %s: the trim at %.2f kt sampled outside the field (CG %g, %g, %g m)\n",
+                    path, kt[i], cg_S[0], cg_S[1], cg_S[2]);
+            rc = -1;
+            break;
+        }
+        res[i].speed_kt = kt[i];
+        if (res[i].converged)
+            last = &res[i];
+    }
+    c->air = NULL;
+    cfd_field_destroy(f);
+    return rc;
+}
+#endif
+
 int cmd_trim(int argc, char **argv)
 {
-    const char *ac_path = NULL, *csv = NULL, *range = NULL;
-    int kind = -1, constraint = HFM_CONSTRAINT_AUTO, modes = 0;
-    double dir_deg = 0.0;
+    const char *ac_path = NULL, *csv = NULL, *range = NULL, *field_path = NULL;
+    int kind = -1, constraint = HFM_CONSTRAINT_AUTO, modes = 0, have_dir = 0, have_cg = 0;
+    double dir_deg = 0.0, cg_S[3] = {0, 0, 0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -52,6 +152,17 @@ int cmd_trim(int argc, char **argv)
                 fprintf(stderr, "disim trim: --wod-dir-deg '%s': expected a number\n", v);
                 return 1;
             }
+            have_dir = 1;
+            i++;
+        } else if (!strcmp(a, "--field") && v) {
+            field_path = v;
+            i++;
+        } else if (!strcmp(a, "--cg-S") && v) {
+            if (parse_vec3(v, cg_S)) {
+                fprintf(stderr, "disim trim: --cg-S '%s': expected X,Y,Z in m\n", v);
+                return 1;
+            }
+            have_cg = 1;
             i++;
         } else if (!strcmp(a, "--trim-constraint") && v) {
             if (!strcmp(v, "sideslip"))
@@ -81,6 +192,16 @@ int cmd_trim(int argc, char **argv)
         usage();
         return 2;
     }
+    if (field_path && (kind != HFM_TRIM_HOVER_SHIP || !have_cg || modes)) {
+        fprintf(stderr, "disim trim: --field needs --hover-wod-kt and --cg-S (and takes no --modes)\n");
+        return 2;
+    }
+#ifndef DISIM_HAVE_CFD
+    if (field_path) {
+        fprintf(stderr, "disim trim: --field: built without the CFD module\n");
+        return 2;
+    }
+#endif
     enum { NMAX = 2000 };
     double *kt = malloc(NMAX * sizeof *kt), *mps = malloc(NMAX * sizeof *mps);
     hfm_trim_result *res = calloc(NMAX, sizeof *res);
@@ -117,12 +238,19 @@ int cmd_trim(int argc, char **argv)
     c.kind = kind;
     c.constraint = constraint;
     c.wod_dir_rad = core_wod_wrap_deg(dir_deg) * CORE_DEG_TO_RAD;
-    int rc = hfm_trim_sweep(tr, &c, kind == HFM_TRIM_FORWARD ? HFM_PARAM_AIRSPEED
-                                                            : HFM_PARAM_WOD_SPEED,
-                            mps, n, res);
-    if (rc < 0) {
-        fprintf(stderr, "disim trim: evaluation failed\n");
-        goto out;
+    if (field_path) {
+#ifdef DISIM_HAVE_CFD
+        if (field_trims(field_path, tr, &c, have_dir, cg_S, mps, kt, n, res) != 0)
+            goto out;
+#endif
+    } else {
+        int rc = hfm_trim_sweep(tr, &c, kind == HFM_TRIM_FORWARD ? HFM_PARAM_AIRSPEED
+                                                                : HFM_PARAM_WOD_SPEED,
+                                mps, n, res);
+        if (rc < 0) {
+            fprintf(stderr, "disim trim: evaluation failed\n");
+            goto out;
+        }
     }
     if (csv) {
         snprintf(tmp, sizeof tmp, "%s.tmp", csv);

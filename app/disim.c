@@ -84,7 +84,7 @@ static const struct {
     {"help", cmd_help, "help                      this text"},
     {"check", cmd_check, "check SCENARIO            parse and resolve a scenario, print it"},
 #ifdef DISIM_HAVE_HFM
-    {"trim", cmd_trim, "trim AIRCRAFT             trim sweep to CSV (--airspeed-kt A:B:S | --hover-wod-kt A:B:S, --wod-dir-deg, --trim-constraint, --csv, --modes)"},
+    {"trim", cmd_trim, "trim AIRCRAFT             trim sweep to CSV (--airspeed-kt A:B:S | --hover-wod-kt A:B:S, --wod-dir-deg, --trim-constraint, --csv, --modes, --field F.h5 --cg-S X,Y,Z)"},
 #endif
     {"render", cmd_render, "render SCENARIO -o PNG    off-screen deck view (--eye-S, --target-S, --size, --fov-deg)"},
 #ifdef DISIM_HAVE_CFD

@@ -20,6 +20,21 @@ grep -q "^## Airwake fields" "$tmp/out/report.md" && grep -q "^| SFS2_shiponly_.
     || { echo "report.md does not list the field and its state"; grep -A4 "Airwake fields" "$tmp/out/report.md"; fail=1; }
 n1=$(ls "$tmp/db/fields/"*.h5 2>/dev/null | wc -l)
 [ "$n1" -eq 1 ] || { echo "expected one field, found $n1"; fail=1; }
+# disim trim --field: the one-way trim in that field at 5 km/h is the
+# envelope's (the same pitch and pedal to the printed digits).
+f1=$(ls "$tmp/db/fields/"*.h5 2>/dev/null | head -1)
+"$disim" trim "$src/scenarios/aircraft/uh60a.ini" --hover-wod-kt 2.69978635 --field "$f1" --cg-S 0,0,-6 \
+    > "$tmp/trim.csv" 2> "$tmp/trim.log" || { echo "disim trim --field failed"; cat "$tmp/trim.log"; fail=1; }
+want=$(grep -o '"speed_kmh": 5, [^}]*' "$tmp/out/shol.json" | sed 's/"margins".*//; s/.*"pitch_deg": \([-0-9.]*\).*"pedal_pct": \([-0-9.]*\).*/\1 \2/')
+got=$(tail -1 "$tmp/trim.csv" | awk -F, '{print $6, $5}')
+echo "$want" | awk -v g="$got" '{split(g, a, " "); d1 = $1 - a[1]; d2 = $2 - a[2]; exit !(NF == 2 && d1 * d1 < 1e-6 && d2 * d2 < 1e-4)}' \
+    || { echo "disim trim --field: pitch, pedal '$got' against the envelope's '$want'"; fail=1; }
+"$disim" trim "$src/scenarios/aircraft/uh60a.ini" --hover-wod-kt 5 --field "$f1" --cg-S 0,0,-6 --wod-dir-deg 30 > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 1 ] && grep -q "wod-dir-deg 30.00: the field .* is from 0.00 deg" "$tmp/bad.log" || { echo "trim --field: direction mismatch accepted"; fail=1; }
+"$disim" trim "$src/scenarios/aircraft/uh60a.ini" --hover-wod-kt 5 --field "$f1" --cg-S 0,0,-6000 --csv "$tmp/far.csv" > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 1 ] && grep -q "sampled outside the field" "$tmp/bad.log" && [ ! -e "$tmp/far.csv" ] || { echo "trim --field: CG outside the field accepted"; fail=1; }
+"$disim" trim "$src/scenarios/aircraft/uh60a.ini" --hover-wod-kt 5 --field "$f1" > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 2 ] && grep -q "field needs --hover-wod-kt and --cg-S" "$tmp/bad.log" || { echo "trim --field without --cg-S accepted"; fail=1; }
 # The rerun: the field is in the database; no builder is started.
 "$disim" shol "$src/tests/couple/sfs2_uh60a.ini" --coupling one-way -o "$tmp/out2" --db "$tmp/db" > "$tmp/run2.csv" 2> "$tmp/run2.log" || { echo "rerun failed"; cat "$tmp/run2.log"; fail=1; }
 grep -q "started an airwake builder" "$tmp/run2.log" && { echo "the rerun started a builder"; fail=1; }
