@@ -33,6 +33,10 @@ echo "$want" | awk -v g="$got" '{split(g, a, " "); d1 = $1 - a[1]; d2 = $2 - a[2
 [ $? -eq 1 ] && grep -q "wod-dir-deg 30.00: the field .* is from 0.00 deg" "$tmp/bad.log" || { echo "trim --field: direction mismatch accepted"; fail=1; }
 "$disim" trim "$src/scenarios/aircraft/uh60a.ini" --hover-wod-kt 5 --field "$f1" --cg-S 0,0,-6000 --csv "$tmp/far.csv" > /dev/null 2> "$tmp/bad.log"
 [ $? -eq 1 ] && grep -q "sampled outside the field" "$tmp/bad.log" && [ ! -e "$tmp/far.csv" ] || { echo "trim --field: CG outside the field accepted"; fail=1; }
+"$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --rotor uniform --h-fine-m 2.0 --max-iter 2 \
+    --threads 1 -o "$tmp/rotor.h5" 2> "$tmp/rotor.log" || { echo "rotor field not written"; cat "$tmp/rotor.log"; fail=1; }
+"$disim" trim "$src/scenarios/aircraft/uh60a.ini" --hover-wod-kt 5 --field "$tmp/rotor.h5" --cg-S 0,0,-6 > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 1 ] && grep -q "rotor 'uniform': expected a ship-only field" "$tmp/bad.log" || { echo "trim --field: a rotor field accepted"; fail=1; }
 "$disim" trim "$src/scenarios/aircraft/uh60a.ini" --hover-wod-kt 5 --field "$f1" > /dev/null 2> "$tmp/bad.log"
 [ $? -eq 2 ] && grep -q "field needs --hover-wod-kt and --cg-S" "$tmp/bad.log" || { echo "trim --field without --cg-S accepted"; fail=1; }
 # The rerun: the field is in the database; no builder is started.
