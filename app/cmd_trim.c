@@ -33,24 +33,6 @@ static void usage(void)
             "  trim's eigenvalues and mode names (linearised, rotor quasi-steady).\n");
 }
 
-#ifdef DISIM_HAVE_CFD
-/* The one-way air: the ship-only field scaled to the trim's WOD speed. */
-typedef struct field_air {
-    const cfd_field *f;
-    double scale;
-} field_air;
-
-static int field_air_fn(void *user, const double pos[3], double t, double vel[3])
-{
-    (void)t;
-    field_air *a = user;
-    double out[CFD_NVARS];
-    int rc = cfd_field_sample(a->f, pos, out);
-    for (int i = 0; i < 3; i++)
-        vel[i] = a->scale * out[i];
-    return rc;
-}
-#endif
 
 static int parse_vec3(const char *s, double v[3])
 {
@@ -102,8 +84,8 @@ static int field_trims(const char *path, hfm_trim *tr, hfm_trim_cond *c, int hav
         }
         c->wod_dir_rad = fdir * CORE_DEG_TO_RAD;
     }
-    field_air fa = {f, 0.0};
-    hfm_air air = {field_air_fn, &fa, NULL};
+    cfd_field_scaled fa = {f, 0.0};
+    hfm_air air = {cfd_field_air_scaled, &fa, NULL};
     memcpy(c->pos_S_m, cg_S, sizeof c->pos_S_m);
     const hfm_trim_result *last = NULL;
     for (int i = 0; rc == 0 && i < n; i++) {

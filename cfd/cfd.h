@@ -296,6 +296,14 @@ int cfd_field_sample(const cfd_field *f, const double pos_S_m[3], double out[CFD
 /* The flight model's air callback: user is a cfd_field*. 0 inside, 1 outside
  * the domain (clamped velocity). */
 int cfd_field_air(void *user, const double pos_S_m[3], double t_s, double vel_S_mps[3]);
+/* The one-way air: a ship-only field scaled to another WOD speed (the
+ * field scales with the speed). user is a cfd_field_scaled*; returns as
+ * cfd_field_air. */
+typedef struct cfd_field_scaled {
+    const cfd_field *field;
+    double scale;            /* the wanted WOD speed over the field's */
+} cfd_field_scaled;
+int cfd_field_air_scaled(void *user, const double pos_S_m[3], double t_s, double vel_S_mps[3]);
 const cfd_meta *cfd_field_meta(const cfd_field *f);
 /* Write a loaded (or mirrored) field, as cfd_solver_write does (temporary
  * file and rename; no residual history). */

@@ -412,6 +412,15 @@ int cfd_field_air(void *user, const double pos[3], double t_s, double vel[3])
     return rc;
 }
 
+int cfd_field_air_scaled(void *user, const double pos[3], double t_s, double vel[3])
+{
+    const cfd_field_scaled *a = user;
+    int rc = cfd_field_air((void *)a->field, pos, t_s, vel);
+    for (int d = 0; d < 3; d++)
+        vel[d] *= a->scale;
+    return rc;
+}
+
 const cfd_meta *cfd_field_meta(const cfd_field *f) { return &f->meta; }
 void cfd_field_dims(const cfd_field *f, int n[3]) { cfd_grid_dims(f->g, n); }
 

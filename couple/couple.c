@@ -353,22 +353,6 @@ static const cfd_field *get_field(couple_ctx *c, awdb_key *key, core_err *err)
 }
 
 /* ---------------------------------------------------------- air sources */
-typedef struct air_scaled {
-    const cfd_field *f;
-    double scale;
-} air_scaled;
-
-static int air_scaled_fn(void *user, const double pos[3], double t, double vel[3])
-{
-    (void)t;
-    air_scaled *a = user;
-    double out[CFD_NVARS];
-    int rc = cfd_field_sample(a->f, pos, out);
-    for (int i = 0; i < 3; i++)
-        vel[i] = a->scale * out[i];
-    return rc > 0 ? 1 : rc;
-}
-
 /* The pointwise interaction velocity (coupled - isolated), under-relaxed
  * against the previous iteration's. */
 static int interaction_at(const air_interaction *a, const double pos[3], double out[3])
@@ -640,14 +624,14 @@ static int solve(couple_ctx *c, const hfm_trim_cond *cond, hfm_trim_result *res)
 /* The one-way air at a WOD: the direction's ship-only field (at the
  * reference speed) scaled to v. 0, or -1 with err when the field cannot be
  * had. The field stays in the cache until the next fetch. */
-static int ship_only_air(couple_ctx *c, double v, double dir, air_scaled *a, core_err *err)
+static int ship_only_air(couple_ctx *c, double v, double dir, cfd_field_scaled *a, core_err *err)
 {
     awdb_key k;
     base_key(c, &k, c->s.ref_speed_mps, dir);
     k.rotor = AWDB_ROTOR_OFF;
-    a->f = get_field(c, &k, err);
+    a->field = get_field(c, &k, err);
     a->scale = v / c->s.ref_speed_mps;
-    return a->f ? 0 : -1;
+    return a->field ? 0 : -1;
 }
 
 /* Deck zone: the whole domain's and the zone's own ship-only fields of the
@@ -678,13 +662,13 @@ static int zone_correction(couple_ctx *c, double v, double dir, air_interaction 
     const cfd_field *sz = get_field(c, &k, err);
     if (!sz)
         return -1;
-    air_scaled so;
+    cfd_field_scaled so;
     if (ship_only_air(c, v, dir, &so, err) != 0)
         return -1;
     /* the whole field's fetch may have evicted the zone's: fetch it again */
     if (!(sz = get_field(c, &k, err)))
         return -1;
-    ai->ship_whole = so.f;
+    ai->ship_whole = so.field;
     ai->ship_zone = sz;
     ai->corr_scale = v / c->s.ref_speed_mps;
     return 0;
@@ -705,8 +689,8 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
     if (c->s.mode == COUPLE_ONE_WAY) {
         /* calm air: the ship-only field scaled by v is zero everywhere, so
          * the one-way trim is the free-air one and needs no field */
-        air_scaled a;
-        hfm_air air = {air_scaled_fn, &a, NULL};
+        cfd_field_scaled a;
+        hfm_air air = {cfd_field_air_scaled, &a, NULL};
         if (v > 0.0) {
             if (ship_only_air(c, v, dir, &a, err) != 0)
                 return -1;
@@ -733,7 +717,7 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
      * fields it points to are still loaded). */
     air_interaction ai;
     memset(&ai, 0, sizeof ai);
-    air_scaled direct;
+    cfd_field_scaled direct;
     hfm_air air = {NULL, NULL, NULL};
 
     /* Iteration 0: the trim in the interaction of the previous coupled
@@ -782,8 +766,8 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
      * pedal 39 % at 50 km/h), so the first coupled disk, loaded from it,
      * is nearer the coupled solution. The scaled field stays in the cache
      * while the first disk is evaluated in it (nothing is fetched before). */
-    air_scaled ship_air;
-    hfm_air ship_hfm_air = {air_scaled_fn, &ship_air, NULL};
+    cfd_field_scaled ship_air;
+    hfm_air ship_hfm_air = {cfd_field_air_scaled, &ship_air, NULL};
     if (rc != 0 && c->s.seed_one_way && !c->s.direct && v > 0.0) { /* calm: the scaled field is free air */
         if (ship_only_air(c, v, dir, &ship_air, err) != 0)
             return -1;
@@ -842,10 +826,10 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
         const cfd_field *fc = get_field(c, &kc, err);
         if (!fc)
             return -1;
-        direct.f = fc;
+        direct.field = fc;
         direct.scale = 1.0;
         if (c->s.direct) {
-            air.fn = air_scaled_fn;
+            air.fn = cfd_field_air_scaled;
             air.user = &direct;
         } else {
             const cfd_field *fi = get_field(c, &ki, err);
