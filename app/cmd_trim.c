@@ -33,7 +33,6 @@ static void usage(void)
             "  trim's eigenvalues and mode names (linearised, rotor quasi-steady).\n");
 }
 
-
 static int parse_vec3(const char *s, double v[3])
 {
     char *end;
