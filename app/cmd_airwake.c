@@ -62,20 +62,11 @@ static void progress_end(progress_state *p)
         fprintf(stderr, "\n");
 }
 
+/* A point of --line: X,Y,Z followed by the end or ':'. */
 static int parse_vec(const char *s, double v[3])
 {
-    char *end;
-    for (int i = 0; i < 3; i++) {
-        v[i] = strtod(s, &end);
-        if (end == s || !isfinite(v[i]))
-            return -1;
-        if (i < 2) {
-            if (*end != ',')
-                return -1;
-            s = end + 1;
-        }
-    }
-    return *end == 0 || *end == ':' ? 0 : -1;
+    const char *end;
+    return core_parse_vec3(s, v, &end) == 0 && (*end == 0 || *end == ':') ? 0 : -1;
 }
 
 static int parse_double(const char *flag, const char *s, double lo, double hi, double *out)

@@ -11,8 +11,7 @@
 
 static int parse3(const char *flag, const char *s, double v[3])
 {
-    char extra;
-    if (sscanf(s, "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &extra) != 3) {
+    if (core_parse_vec3(s, v, NULL)) {
         fprintf(stderr, "disim render: %s '%s': expected X,Y,Z in metres (ship frame)\n", flag, s);
         return -1;
     }

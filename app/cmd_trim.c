@@ -33,18 +33,6 @@ static void usage(void)
             "  trim's eigenvalues and mode names (linearised, rotor quasi-steady).\n");
 }
 
-static int parse_vec3(const char *s, double v[3])
-{
-    char *end;
-    for (int i = 0; i < 3; i++) {
-        v[i] = strtod(s, &end);
-        if (end == s || !isfinite(v[i]) || *end != (i < 2 ? ',' : 0))
-            return -1;
-        s = end + 1;
-    }
-    return 0;
-}
-
 static void log_stderr(void *user, int level, const char *msg)
 {
     (void)user;
@@ -139,7 +127,7 @@ int cmd_trim(int argc, char **argv)
             field_path = v;
             i++;
         } else if (!strcmp(a, "--cg-S") && v) {
-            if (parse_vec3(v, cg_S)) {
+            if (core_parse_vec3(v, cg_S, NULL)) {
                 fprintf(stderr, "disim trim: --cg-S '%s': expected X,Y,Z in m\n", v);
                 return 1;
             }

@@ -206,6 +206,9 @@ int core_ini_check_unused(const core_ini *ini, core_err *err);
 
 /* Parse "a:b:c" (start:stop:step) or a single number into up to nmax values. */
 int core_parse_range(const char *s, double *out, int nmax, int *count);
+/* Parse "X,Y,Z" (three finite numbers) into v. With end NULL nothing may
+ * follow Z; otherwise *end points just past Z. 0, or -1 if malformed. */
+int core_parse_vec3(const char *s, double v[3], const char **end);
 
 /* -------------------------------------------------------- ship geometry */
 /* A ship as blocks in S (x bow, y starboard, z down, origin at the landing

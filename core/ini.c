@@ -457,3 +457,17 @@ int core_parse_range(const char *s, double *out, int nmax, int *count)
     *count = m;
     return 0;
 }
+
+int core_parse_vec3(const char *s, double v[3], const char **end)
+{
+    char *e;
+    for (int i = 0; i < 3; i++) {
+        v[i] = strtod(s, &e);
+        if (e == s || !isfinite(v[i]) || (i < 2 && *e != ','))
+            return -1;
+        s = e + 1;
+    }
+    if (end)
+        *end = e;
+    return end || !*e ? 0 : -1;
+}

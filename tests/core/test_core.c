@@ -140,6 +140,16 @@ static void test_range(void)
     CHECK(core_parse_range("10:0:1", v, 16, &n) < 0);
     CHECK(core_parse_range("a:b:c", v, 16, &n) < 0);
     CHECK(core_parse_range("0:1000:1", v, 16, &n) < 0);
+
+    /* X,Y,Z: exact, or followed by what the caller allows */
+    const char *end = NULL;
+    CHECK(core_parse_vec3("1.5,-2,3e1", v, NULL) == 0 && v[0] == 1.5 && v[1] == -2 && v[2] == 30);
+    CHECK(core_parse_vec3("1,2", v, NULL) < 0);
+    CHECK(core_parse_vec3("1,2,3 ", v, NULL) < 0);
+    CHECK(core_parse_vec3("1,2,x", v, NULL) < 0);
+    CHECK(core_parse_vec3("1;2;3", v, NULL) < 0);
+    CHECK(core_parse_vec3("1,inf,3", v, NULL) < 0);
+    CHECK(core_parse_vec3("1,2,3:4,5,6", v, &end) == 0 && v[2] == 3 && end && *end == ':');
 }
 
 static const char *write_tmp(const char *name, const char *text)
