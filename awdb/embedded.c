@@ -291,19 +291,15 @@ static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, cons
         cfd_solver_init_inflow(s);
         rc = cfd_solver_run(s, &res, err);
     }
-    if (rc < 0) {
+    /* stopped from outside (the builder's SIGTERM, rc 1): no field, and no
+     * "not converged" warning, the caller puts the request back */
+    if (rc > 0 && res.stopped)
+        core_log_msg(e->log, CORE_LOG_INFO, "%s v=%.2f dir=%.1f: stopped after %d iterations, nothing written",
+                     k->ship, k->wod_speed_mps, k->wod_dir_rad * CORE_RAD_TO_DEG, res.iterations);
+    if (rc < 0 || res.stopped) {
         cfd_solver_destroy(s);
         cfd_field_destroy(outer);
         return rc;
-    }
-    if (rc > 0 && res.stopped) {
-        /* stopped from outside (the builder's SIGTERM): no field, and no
-         * "not converged" warning, the caller puts the request back */
-        cfd_solver_destroy(s);
-        cfd_field_destroy(outer);
-        core_log_msg(e->log, CORE_LOG_INFO, "%s v=%.2f dir=%.1f: stopped after %d iterations, nothing written",
-                     k->ship, k->wod_speed_mps, k->wod_dir_rad * CORE_RAD_TO_DEG, res.iterations);
-        return 1;
     }
     if (rc > 0)
         core_log_msg(e->log, CORE_LOG_WARN,
