@@ -113,6 +113,27 @@ static double run_iters(int threads, int iters, double *cells)
     return res.cell_updates / res.wall_s;
 }
 
+/* Whole-string numbers within [lo, hi]; 0 ok, 1 bad (the caller names the option). */
+static int parse_num(const char *s, double lo, double hi, double *out)
+{
+    char *end;
+    double v = strtod(s, &end);
+    if (end == s || *end || !isfinite(v) || v < lo || v > hi)
+        return 1;
+    *out = v;
+    return 0;
+}
+
+static int parse_int(const char *s, int lo, int hi, int *out)
+{
+    char *end;
+    long v = strtol(s, &end, 10);
+    if (end == s || *end || v < lo || v > hi)
+        return 1;
+    *out = (int)v;
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -122,29 +143,50 @@ int main(int argc, char **argv)
     int threads = 2, iters = 50, max_iter = 3000, lv = 1, rotor = 1, every = 100, seq = 0;
     double tl = 0.0, dir = 0.0, speed = 15.0;
     const char *ship_name = "sfs2";
-    for (int i = 2; i + 1 < argc; i += 2) {
-        if (!strcmp(argv[i], "--threads"))
-            threads = atoi(argv[i + 1]);
-        else if (!strcmp(argv[i], "--iters"))
-            iters = atoi(argv[i + 1]);
-        else if (!strcmp(argv[i], "--max-iter"))
-            max_iter = atoi(argv[i + 1]);
-        else if (!strcmp(argv[i], "--time-limit-s"))
-            tl = atof(argv[i + 1]);
-        else if (!strcmp(argv[i], "--dir-deg"))
-            dir = atof(argv[i + 1]);
-        else if (!strcmp(argv[i], "--ship"))
-            ship_name = argv[i + 1];
-        else if (!strcmp(argv[i], "--speed"))
-            speed = atof(argv[i + 1]);
-        else if (!strcmp(argv[i], "--rotor"))
-            rotor = strcmp(argv[i + 1], "off") != 0;
-        else if (!strcmp(argv[i], "--seq"))
-            seq = atoi(argv[i + 1]);
-        else if (!strcmp(argv[i], "--every"))
-            every = atoi(argv[i + 1]);
-        else if (!strcmp(argv[i], "--grid"))
-            lv = !strcmp(argv[i + 1], "coarse") ? 0 : !strcmp(argv[i + 1], "fine") ? 2 : 1;
+    if (strcmp(argv[1], "throughput") && strcmp(argv[1], "airwake")) {
+        fprintf(stderr, "bench_cfd: unknown mode '%s' (expected throughput or airwake)\n", argv[1]);
+        return 2;
+    }
+    for (int i = 2; i < argc; i += 2) {
+        const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int bad = 0;
+        if (!v)
+            bad = 1;
+        else if (!strcmp(o, "--threads"))
+            bad = parse_int(v, 1, 256, &threads);
+        else if (!strcmp(o, "--iters"))
+            bad = parse_int(v, 1, 1000000, &iters);
+        else if (!strcmp(o, "--max-iter"))
+            bad = parse_int(v, 1, 1000000, &max_iter);
+        else if (!strcmp(o, "--time-limit-s"))
+            bad = parse_num(v, 0.0, 1e7, &tl);
+        else if (!strcmp(o, "--dir-deg"))
+            bad = parse_num(v, -180.0, 180.0, &dir);
+        else if (!strcmp(o, "--ship"))
+            ship_name = v;
+        else if (!strcmp(o, "--speed"))
+            bad = parse_num(v, 0.1, 100.0, &speed);
+        else if (!strcmp(o, "--rotor"))
+            bad = !strcmp(v, "on") ? (rotor = 1, 0) : !strcmp(v, "off") ? (rotor = 0, 0) : 1;
+        else if (!strcmp(o, "--seq"))
+            bad = parse_int(v, 0, 1000000, &seq);
+        else if (!strcmp(o, "--every"))
+            bad = parse_int(v, 0, 1000000, &every);
+        else if (!strcmp(o, "--grid"))
+            bad = (lv = !strcmp(v, "coarse") ? 0 : !strcmp(v, "default") ? 1 : !strcmp(v, "fine") ? 2 : -1) < 0;
+        else {
+            fprintf(stderr, "bench_cfd: unknown option '%s'\n", o);
+            return 2;
+        }
+        if (bad) {
+            fprintf(stderr, "bench_cfd: %s: expected %s, got '%s'\n", o,
+                    !strcmp(o, "--grid")    ? "coarse, default or fine"
+                    : !strcmp(o, "--rotor") ? "on or off"
+                    : !strcmp(o, "--ship")  ? "a ship name"
+                                            : "a number in range",
+                    v ? v : "nothing");
+            return 2;
+        }
     }
     if (!strcmp(argv[1], "throughput")) {
         double cells = 0.0;
