@@ -170,8 +170,8 @@ int cmd_airwake(int argc, char **argv)
             }
         } else if (!strcmp(a, "--grid") && more) {
             const char *v = argv[++i];
-            level = !strcmp(v, "coarse") ? 0 : !strcmp(v, "default") ? 1 : !strcmp(v, "fine") ? 2 : -2;
-            if (level == -2) {
+            level = core_grid_parse(v);
+            if (level < 0) {
                 fprintf(stderr, "--grid: expected coarse, default or fine, got '%s'\n", v);
                 return 1;
             }
@@ -244,7 +244,7 @@ int cmd_airwake(int argc, char **argv)
         return 1;
     }
     if (level < 0)
-        level = sc->grid == SIM_GRID_COARSE ? 0 : sc->grid == SIM_GRID_DEFAULT ? 1 : 2;
+        level = (int)sc->grid;
     cfd_airwake_spec sp;
     memset(&sp, 0, sizeof sp);
     sp.ship = &sc->ship;
@@ -343,7 +343,7 @@ int cmd_airwake(int argc, char **argv)
     if (h_fine > 0.0)
         snprintf(base, sizeof base, "h%.3f m", h_fine);
     else
-        snprintf(base, sizeof base, "%s", level == 0 ? "coarse" : level == 1 ? "default" : "fine");
+        snprintf(base, sizeof base, "%s", core_grid_name(level));
     snprintf(meta.grid, sizeof meta.grid, "%s%s", base,
              !limiter ? "" : limiter == 1 + CFD_LIMITER_VANLEER ? " vanleer" : " minmod");
     meta.result = res;

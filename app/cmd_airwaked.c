@@ -106,7 +106,7 @@ static void on_request(const lcm_recv_buf_t *rb, const char *ch, const disim_air
     k.radius_m = m->rotor_radius_m;
     k.shaft_pitch_rad = m->shaft_pitch_rad;
     k.shaft_roll_rad = m->shaft_roll_rad;
-    k.grid = !strcmp(m->grid, "coarse") ? AWDB_GRID_COARSE : !strcmp(m->grid, "fine") ? AWDB_GRID_FINE : AWDB_GRID_DEFAULT;
+    k.grid = core_grid_parse(m->grid); /* one of the three: lcm_types checked the message */
     core_err e = {{0}};
     awdb_state before;
     if (awdb_submit(c->db, &k, &before, &e) != 0) {

@@ -177,8 +177,8 @@ int cmd_shol(int argc, char **argv)
         else if (!strcmp(a, "--db"))
             dbdir = v;
         else if (!strcmp(a, "--grid")) {
-            grid = !strcmp(v, "coarse") ? 0 : !strcmp(v, "default") ? 1 : !strcmp(v, "fine") ? 2 : -2;
-            if (grid == -2) {
+            grid = core_grid_parse(v);
+            if (grid < 0) {
                 fprintf(stderr, "disim shol: --grid '%s': expected coarse, default or fine\n", v);
                 return 2;
             }

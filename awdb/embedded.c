@@ -308,14 +308,13 @@ static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, cons
                      res.steady_mean ? "; the mean flow is steady: the field is the mean of the last iterations"
                      : res.averaged ? "; the field is the mean of the last iterations" : "");
     static const char *rotor[] = {"off", "uniform", "loaded"};
-    static const char *grid[] = {"coarse", "default", "fine"};
     cfd_meta meta;
     memset(&meta, 0, sizeof meta);
     meta.wod_speed_mps = k->wod_speed_mps;
     meta.wod_dir_deg = k->wod_dir_rad * CORE_RAD_TO_DEG;
     snprintf(meta.ship, sizeof meta.ship, "%.63s", k->ship);
     snprintf(meta.rotor, sizeof meta.rotor, "%s", rotor[k->rotor]);
-    snprintf(meta.grid, sizeof meta.grid, "%s%s", grid[k->grid], spec.zone ? "-zone" : "");
+    snprintf(meta.grid, sizeof meta.grid, "%s%s", core_grid_name(k->grid), spec.zone ? "-zone" : "");
     meta.rotor_thrust_N = k->thrust_N;
     meta.rotor_radius_m = k->radius_m;
     memcpy(meta.rotor_centre_S_m, k->station_S_m, sizeof meta.rotor_centre_S_m);

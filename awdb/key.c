@@ -137,7 +137,6 @@ void awdb_key_zone_boundary(const awdb_key *zone, awdb_key *b)
 void awdb_key_name(const awdb_key *k, char *buf, size_t n)
 {
     static const char *rotor[] = {"off", "uniform", "loaded"};
-    static const char *grid[] = {"coarse", "default", "fine"};
     char text[256];
     double dir_deg = k->wod_dir_rad * CORE_RAD_TO_DEG;
     awdb_fmt(text, sizeof text, "%s|%s|%.2f|%.2f|%d|%.0f|%.2f|%.2f|%.2f|%.2f|%.1f|%.1f|%d|%s", k->ship,
@@ -169,5 +168,5 @@ void awdb_key_name(const awdb_key *k, char *buf, size_t n)
     }
     awdb_fmt(buf, n, "%s_%s_v%05.2f_d%+07.2f_%s_%s%s_%016llx", k->ship,
              k->aircraft[0] ? k->aircraft : "shiponly", k->wod_speed_mps, dir_deg,
-             rotor[k->rotor], grid[k->grid], k->zone_ref_mps > 0.0 ? "-zone" : "", (unsigned long long)h);
+             rotor[k->rotor], core_grid_name(k->grid), k->zone_ref_mps > 0.0 ? "-zone" : "", (unsigned long long)h);
 }

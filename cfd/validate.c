@@ -563,14 +563,14 @@ static int case_sfs2_grid(vctx *v, core_err *err)
     for (int l = 0; l < nlev; l++)
         for (int m = 0; m < 4; m++) {
             char name[64];
-            snprintf(name, sizeof name, "%s u/U at monitor %d", l == 0 ? "coarse" : l == 1 ? "default" : "fine", m);
+            snprintf(name, sizeof name, "%s u/U at monitor %d", core_grid_name(l), m);
             add_range(v->rep, name, o[l].line[m][0], -2.0, 2.0); /* reported; judged only for sanity */
         }
     add_check(v->rep, v->small ? "max|dU|/U coarse->default" : "max|dU|/U default->fine", dmax, 0.0, 0.05);
     /* the study is only meaningful on converged levels */
     for (int l = 0; l < nlev; l++) {
         char name[64];
-        snprintf(name, sizeof name, "%s converged (residuals, monitors)", l == 0 ? "coarse" : l == 1 ? "default" : "fine");
+        snprintf(name, sizeof name, "%s converged (residuals, monitors)", core_grid_name(l));
         add_check(v->rep, name, o[l].converged, 1.0, 0.0);
     }
     return 0;

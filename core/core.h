@@ -150,6 +150,15 @@ int core_wod_faces(double speed_mps, double dir_rad, int sign[2]);
 /* Name of a WOD direction as seamen say it: "green 30", "red 90", "head", "stern". */
 void core_wod_name(double dir_deg, char *buf, size_t n);
 
+/* ------------------------------------------------------ airwake grid levels */
+/* The three airwake grid levels: 0 coarse, 1 default, 2 fine (the values
+ * of cfd_grid_level, sim_grid and the database keys' grid). */
+#define CORE_GRID_NLEVELS 3
+/* "coarse", "default" or "fine"; "?" for a level out of range. */
+const char *core_grid_name(int level);
+/* The level named s, or -1 for NULL or an unknown name. */
+int core_grid_parse(const char *s);
+
 /* ----------------------------------------------------------- INI reader */
 /* An INI file read whole (libinih), each entry with its line number, and a
  * schema checker that reports the file, line, key and what was expected. */

@@ -11,8 +11,7 @@
 
 const char *sim_grid_name(sim_grid g)
 {
-    static const char *n[] = {"coarse", "default", "fine"};
-    return (unsigned)g < 3 ? n[g] : "?";
+    return core_grid_name((int)g);
 }
 
 const char *sim_rotor_name(sim_rotor r)

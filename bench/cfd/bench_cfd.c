@@ -173,7 +173,7 @@ int main(int argc, char **argv)
         else if (!strcmp(o, "--every"))
             bad = parse_int(v, 0, 1000000, &every);
         else if (!strcmp(o, "--grid"))
-            bad = (lv = !strcmp(v, "coarse") ? 0 : !strcmp(v, "default") ? 1 : !strcmp(v, "fine") ? 2 : -1) < 0;
+            bad = (lv = core_grid_parse(v)) < 0;
         else {
             fprintf(stderr, "bench_cfd: unknown option '%s'\n", o);
             return 2;

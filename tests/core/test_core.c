@@ -150,6 +150,13 @@ static void test_range(void)
     CHECK(core_parse_vec3("1;2;3", v, NULL) < 0);
     CHECK(core_parse_vec3("1,inf,3", v, NULL) < 0);
     CHECK(core_parse_vec3("1,2,3:4,5,6", v, &end) == 0 && v[2] == 3 && end && *end == ':');
+
+    /* grid levels: one spelling, both ways, and nothing else accepted */
+    for (int l = 0; l < CORE_GRID_NLEVELS; l++)
+        CHECK(core_grid_parse(core_grid_name(l)) == l);
+    CHECK(strcmp(core_grid_name(1), "default") == 0);
+    CHECK(strcmp(core_grid_name(3), "?") == 0 && strcmp(core_grid_name(-1), "?") == 0);
+    CHECK(core_grid_parse("Fine") == -1 && core_grid_parse("") == -1 && core_grid_parse(NULL) == -1);
 }
 
 static const char *write_tmp(const char *name, const char *text)
