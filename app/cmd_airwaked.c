@@ -96,6 +96,24 @@ static void on_request(const lcm_recv_buf_t *rb, const char *ch, const disim_air
         publish_status(c, &k, m->request_id, DISIM_AIRWAKE_STATUS_T_FAILED, 0, 0, 0, "", err);
         return;
     }
+    /* What the message cannot say is refused, not approximated: the blade
+     * loads of a loaded disk have no field in it (a uniform disk built in
+     * its place would be announced READY for the loaded request), and a
+     * name cut to fit the key would be another ship's or aircraft's. */
+    const char *bad = NULL;
+    if (m->rotor == DISIM_AIRWAKE_REQUEST_T_ROTOR_LOADED)
+        bad = "airwake_request_t.rotor = 2 (loaded): expected 0 (off) or 1 (uniform); the message carries no "
+              "blade-load table (queue loaded-disk fields with disim shol or disim airwake --queue)";
+    else if (strlen(m->ship) >= sizeof k.ship)
+        bad = "airwake_request_t.ship: expected a name of at most 95 characters";
+    else if (strlen(m->aircraft) >= sizeof k.aircraft)
+        bad = "airwake_request_t.aircraft: expected a name of at most 63 characters";
+    if (bad) {
+        core_log_msg(c->log, CORE_LOG_WARN, "refused LCM request %s: %s", m->request_id, bad);
+        snprintf(k.ship, sizeof k.ship, "%.*s", (int)sizeof k.ship - 1, m->ship);
+        publish_status(c, &k, m->request_id, DISIM_AIRWAKE_STATUS_T_FAILED, 0, 0, 0, "", bad);
+        return;
+    }
     snprintf(k.ship, sizeof k.ship, "%s", m->ship);
     snprintf(k.aircraft, sizeof k.aircraft, "%s", m->aircraft);
     k.wod_speed_mps = m->wod_speed_mps;

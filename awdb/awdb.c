@@ -191,11 +191,14 @@ static void crc_init(void)
     }
 }
 
-int awdb_file_crc64(const char *path, uint64_t *crc, uint64_t *size, core_err *err)
+/* awdb_file_crc64 that tells a missing file (-1) from one it could not read
+ * (-2: too many open files, an I/O error): verify_field removes a field as
+ * corrupt only on evidence, never because a check could not run. */
+static int file_crc64(const char *path, uint64_t *crc, uint64_t *size, core_err *err)
 {
     FILE *f = fopen(path, "rb");
     if (!f)
-        return core_err_set(err, -1, "%s: cannot open: %s", path, strerror(errno));
+        return core_err_set(err, errno == ENOENT ? -1 : -2, "%s: cannot open: %s", path, strerror(errno));
     pthread_once(&crc_once, crc_init);
     const uint64_t *t = crc_tab;
     uint64_t c = ~0ULL, total = 0;
@@ -209,10 +212,15 @@ int awdb_file_crc64(const char *path, uint64_t *crc, uint64_t *size, core_err *e
     int bad = ferror(f);
     fclose(f);
     if (bad)
-        return core_err_set(err, -1, "%s: read error", path);
+        return core_err_set(err, -2, "%s: read error", path);
     *crc = ~c;
     *size = total;
     return 0;
+}
+
+int awdb_file_crc64(const char *path, uint64_t *crc, uint64_t *size, core_err *err)
+{
+    return file_crc64(path, crc, size, err) ? -1 : 0;
 }
 
 /* Field files: NAME.h5 and NAME.sum ([field] size, crc64, then the key). */
@@ -243,15 +251,31 @@ static int read_sum(const char *sum_path, uint64_t *size, uint64_t *crc, awdb_ke
     return 0;
 }
 
+/* What verify_field saw of an entry's two files when it began. */
+typedef struct seen {
+    int have_h5, have_sum;
+    struct stat h5, sum;
+} seen;
+
 /* 1 if the field is there and its checksum holds (cached by mtime and size),
- * 0 if absent, -1 if it is there but corrupt or torn. */
-static int verify_field(awdb *db, const char *name, char *path, size_t n)
+ * 0 if absent, -1 if it is there but corrupt or torn, -2 if it could not be
+ * checked (no file descriptor left, an I/O error): not READY, but no
+ * evidence against the field either. *sn gets what the check began with. */
+static int verify_field(awdb *db, const char *name, char *path, size_t n, seen *sn)
 {
     char h5[AWDB_PATH], sum[AWDB_PATH];
     awdb_path(db, h5, sizeof h5, "fields", name, ".h5");
     awdb_path(db, sum, sizeof sum, "fields", name, ".sum");
     struct stat sh, ss;
+    memset(&sh, 0, sizeof sh);
+    memset(&ss, 0, sizeof ss);
     int have_h5 = stat(h5, &sh) == 0, have_sum = stat(sum, &ss) == 0;
+    if (sn) {
+        sn->have_h5 = have_h5;
+        sn->have_sum = have_sum;
+        sn->h5 = sh;
+        sn->sum = ss;
+    }
     if (!have_h5 && !have_sum)
         return 0;
     if (!have_h5 || !have_sum) {
@@ -273,12 +297,19 @@ static int verify_field(awdb *db, const char *name, char *path, size_t n)
     core_err err = {{0}};
     uint64_t want_size, want_crc, size, crc;
     if (read_sum(sum, &want_size, &want_crc, NULL, &err) != 0) {
-        core_log_msg(db->log, CORE_LOG_WARN, "%s", err.msg);
-        return -1;
+        /* Unreadable content is corruption; a .sum that cannot be opened
+         * now (EMFILE, EIO) is not: the field must not be removed for it. */
+        int fd = open(sum, O_RDONLY | O_CLOEXEC);
+        int cannot = fd < 0 && errno != ENOENT;
+        if (fd >= 0)
+            close(fd);
+        core_log_msg(db->log, CORE_LOG_WARN, "%s%s", err.msg, cannot ? " (cannot check it now)" : "");
+        return cannot ? -2 : -1;
     }
-    if (awdb_file_crc64(h5, &crc, &size, &err) != 0) {
-        core_log_msg(db->log, CORE_LOG_WARN, "%s", err.msg);
-        return -1;
+    int rc = file_crc64(h5, &crc, &size, &err);
+    if (rc != 0) {
+        core_log_msg(db->log, CORE_LOG_WARN, "%s%s", err.msg, rc == -2 ? " (cannot check it now)" : "");
+        return rc == -2 ? -2 : -1;
     }
     if (size != want_size || crc != want_crc) {
         core_log_msg(db->log, CORE_LOG_WARN,
@@ -306,6 +337,17 @@ static int verify_field(awdb *db, const char *name, char *path, size_t n)
     if (path)
         awdb_fmt(path, n, "%s", h5);
     return 1;
+}
+
+/* 1 if path is still the file st describes (have: whether it was there). */
+static int same_file(const char *path, int have, const struct stat *st)
+{
+    struct stat now;
+    int there = stat(path, &now) == 0;
+    if (there != have)
+        return 0;
+    return !there || (now.st_dev == st->st_dev && now.st_ino == st->st_ino && now.st_size == st->st_size &&
+                      now.st_mtim.tv_sec == st->st_mtim.tv_sec && now.st_mtim.tv_nsec == st->st_mtim.tv_nsec);
 }
 
 /* 1 if queue/ holds a request for name (file SEQ-NAME.req). */
@@ -338,21 +380,32 @@ static int exists(const char *p)
 
 awdb_state awdb_query(awdb *db, const awdb_key *key, char *path, size_t n)
 {
-    char name[200], p[AWDB_PATH];
+    char name[200], p[AWDB_PATH], h5[AWDB_PATH], sum[AWDB_PATH];
     awdb_key_name(key, name, sizeof name);
-    int v = verify_field(db, name, path, n);
-    if (v > 0)
-        return AWDB_READY;
     awdb_path(db, p, sizeof p, "running", name, ".req");
-    int running = exists(p);
-    if (v < 0 && !running) {
-        /* Corrupt or torn, and nobody is writing it: remove it so it is rebuilt. */
-        char h5[AWDB_PATH], sum[AWDB_PATH];
-        awdb_path(db, h5, sizeof h5, "fields", name, ".h5");
-        awdb_path(db, sum, sizeof sum, "fields", name, ".sum");
-        remove(sum);
-        remove(h5);
-        core_log_msg(db->log, CORE_LOG_WARN, "%s: removed a corrupt field; it will be rebuilt", name);
+    awdb_path(db, h5, sizeof h5, "fields", name, ".h5");
+    awdb_path(db, sum, sizeof sum, "fields", name, ".sum");
+    int running = 0;
+    for (int tries = 0;; tries++) {
+        seen sn;
+        int v = verify_field(db, name, path, n, &sn);
+        if (v > 0)
+            return AWDB_READY;
+        running = exists(p);
+        if (v != -1 || running)
+            break;
+        /* Corrupt or torn, and nobody is writing it: remove it so it is
+         * rebuilt, unless a builder committed new files while it was being
+         * checked (its running/ request is gone by now): those are checked
+         * again, never removed unseen. */
+        if (same_file(h5, sn.have_h5, &sn.h5) && same_file(sum, sn.have_sum, &sn.sum)) {
+            remove(sum);
+            remove(h5);
+            core_log_msg(db->log, CORE_LOG_WARN, "%s: removed a corrupt field; it will be rebuilt", name);
+            break;
+        }
+        if (tries == 2)
+            break;
     }
     if (running)
         return AWDB_RUNNING;
@@ -485,7 +538,7 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
     closedir(d);
     if (!best_name[0])
         return 1;
-    return verify_field(db, best_name, path, n) > 0 ? 0 : 1;
+    return verify_field(db, best_name, path, n, NULL) > 0 ? 0 : 1;
 }
 
 static int count_dir(const awdb *db, const char *sub)
@@ -510,12 +563,14 @@ int awdb_builder_alive(awdb *db)
 {
     char p[AWDB_PATH];
     awdb_fmt(p, sizeof p, "%s/builder.lock", db->dir);
-    int fd = open(p, O_RDONLY);
+    int fd = open(p, O_RDONLY | O_CLOEXEC);
     if (fd < 0)
         return 0;
     /* The builder holds an exclusive lock for its lifetime: if we can take
-     * one, nobody serves the database. */
-    int alive = flock(fd, LOCK_EX | LOCK_NB) != 0;
+     * a shared one, nobody serves the database. Shared, so that two clients
+     * probing at once do not take each other for a builder (a builder
+     * starting meanwhile waits the probe out: awdb_builder_run). */
+    int alive = flock(fd, LOCK_SH | LOCK_NB) != 0;
     if (!alive)
         flock(fd, LOCK_UN);
     close(fd);

@@ -90,7 +90,9 @@ int awdb_key_canon(awdb_key *key, core_err *err);
  * ship-only field of its ship, direction and grid at zone_ref_mps, the key
  * the engine reads and a client must have built first (not canonical). */
 void awdb_key_zone_boundary(const awdb_key *zone, awdb_key *boundary);
-/* File stem for a canonical key: readable parts and a 64-bit hash of all. */
+/* File stem for a canonical key: readable parts and a 64-bit hash of all;
+ * it fits in AWDB_NAME_MAX bytes (awdb_key_canon refuses longer names). */
+#define AWDB_NAME_MAX 200
 void awdb_key_name(const awdb_key *key, char *buf, size_t n);
 
 typedef struct awdb awdb;
@@ -101,8 +103,11 @@ void awdb_close(awdb *db);
 const char *awdb_dir(const awdb *db);
 
 /* State of a key. READY only after the field's checksum was verified; a
- * field whose checksum fails is removed (logged) and reported ABSENT. With
- * path != NULL, READY fills the field's path. */
+ * field whose checksum fails is removed (logged) and reported ABSENT, unless
+ * a builder replaced it during the check (then the new one is checked); one
+ * that cannot be checked now (no file descriptor left, an I/O error) is
+ * kept and reported as if absent. With path != NULL, READY fills the
+ * field's path. */
 awdb_state awdb_query(awdb *db, const awdb_key *key, char *path, size_t n);
 /* Ask for a key: if it is not READY, QUEUED or RUNNING, queue it (a FAILED
  * one is queued again). *state gets the state before the call. 0 or < 0. */
@@ -167,7 +172,8 @@ typedef struct awdb_builder_opts {
 
 /* Run the builder on db until *stop becomes non-zero (or the queue empties
  * with exit_when_idle). Takes builder.lock (a second builder on the same
- * folder fails with an error naming the first one's pid), recovers from a
+ * folder fails, after waiting up to 1 s for a client's awdb_builder_alive
+ * probe to let go, with an error naming the first one's pid), recovers from a
  * previous crash, then builds requests in submission order. */
 int awdb_builder_run(awdb *db, const awdb_engine *engine, const awdb_builder_opts *opts,
                      volatile sig_atomic_t *stop, core_err *err);

@@ -9,6 +9,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/file.h>
@@ -62,8 +63,26 @@ static int on_progress(void *user, double frac, double residual, int iter)
     return *b->stop != 0;
 }
 
+/* fsync a file or folder by path: 0, or -1 with errno. */
+static int sync_path(const char *path)
+{
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return -1;
+    int rc = fsync(fd);
+    int e = errno;
+    close(fd);
+    errno = e;
+    return rc;
+}
+
 static int commit(awdb *db, const awdb_key *k, const char *name, const char *tmp, core_err *err)
 {
+    /* The engine's file on disk before its name and checksum are: after a
+     * power cut a durable .sum must not describe a field still in the page
+     * cache (the checksum would catch it, at the cost of a rebuild). */
+    if (sync_path(tmp) != 0)
+        return core_err_set(err, -1, "%s: cannot sync: %s", tmp, strerror(errno));
     uint64_t crc, size;
     int rc = awdb_file_crc64(tmp, &crc, &size, err);
     if (rc)
@@ -84,6 +103,12 @@ static int commit(awdb *db, const awdb_key *k, const char *name, const char *tmp
         remove(sumtmp);
         return core_err_set(err, -1, "%s: cannot commit: %s", h5, strerror(e));
     }
+    /* the two renames themselves (the entry is valid already; a failure
+     * here only weakens durability) */
+    char dir[AWDB_PATH];
+    awdb_fmt(dir, sizeof dir, "%s/fields", db->dir);
+    if (sync_path(dir) != 0)
+        core_log_msg(db->log, CORE_LOG_WARN, "%s: cannot sync: %s", dir, strerror(errno));
     return 0;
 }
 
@@ -128,7 +153,9 @@ static void *run_job(void *arg)
         char failed[AWDB_PATH], text[1200];
         awdb_path(db, failed, sizeof failed, "failed", j->name, ".txt");
         awdb_fmt(text, sizeof text, "%s\n", err.msg[0] ? err.msg : "engine failed");
-        awdb_write_atomic(failed, text, NULL);
+        core_err werr = {{0}};
+        if (awdb_write_atomic(failed, text, &werr) != 0) /* the reason then lives in the log only */
+            core_log_msg(db->log, CORE_LOG_ERROR, "%s", werr.msg);
         remove(running);
         core_log_msg(db->log, CORE_LOG_ERROR, "%s failed: %s", j->name, err.msg);
         status(b, &j->key, AWDB_FAILED, 0.0, 0.0, 0, "", err.msg);
@@ -140,6 +167,27 @@ static void *run_job(void *arg)
     }
     j->done = 1;
     return NULL;
+}
+
+/* 1 if name is a temporary of the database that nobody is writing now:
+ * ".tmp-NAME.h5" and the engine's side files (the builder's field being
+ * built), "NAME.sum.part" (a checksum prepared), "FILE.tmpPID"
+ * (awdb_write_atomic) of a process that has exited. Exact patterns, not
+ * substrings: ship and aircraft names may contain ".tmp" or ".part"
+ * ("LHA.partial"), and such entries are not temporaries. The PID test
+ * matters in queue/, where clients write while the builder starts. */
+static int stray_temporary(const char *name)
+{
+    size_t l = strlen(name);
+    if (!strncmp(name, ".tmp-", 5) || (l > 5 && !strcmp(name + l - 5, ".part")))
+        return 1;
+    size_t d = l;
+    while (d > 0 && name[d - 1] >= '0' && name[d - 1] <= '9')
+        d--;
+    if (d == l || d < 4 || strncmp(name + d - 4, ".tmp", 4))
+        return 0;
+    long pid = strtol(name + d, NULL, 10);
+    return pid <= 0 || (kill((pid_t)pid, 0) != 0 && errno == ESRCH);
 }
 
 /* After a crash: running/ back to the front of the queue, temporaries out. */
@@ -166,7 +214,7 @@ static void recover(awdb *db)
         awdb_fmt(p, sizeof p, "%s/%s", db->dir, subs[i]);
         d = opendir(p);
         while (d && (e = readdir(d))) {
-            if (strncmp(e->d_name, ".tmp-", 5) && !strstr(e->d_name, ".tmp") && !strstr(e->d_name, ".part"))
+            if (!stray_temporary(e->d_name))
                 continue;
             char f[AWDB_PATH + 300];
             awdb_fmt(f, sizeof f, "%s/%s", p, e->d_name);
@@ -263,6 +311,15 @@ static int claim(builder *b, job *j)
         if (!rc)
             rc = core_ini_check_unused(ini, &err);
         core_ini_destroy(ini);
+        if (!rc) {
+            /* The ranges and rules awdb_submit applies (a thrust with the
+             * rotor on, a positive mean load...): a request written by
+             * another program is held to them too, and built as the
+             * canonical key its name stands for. */
+            core_err cerr = {{0}};
+            if (awdb_key_canon(&j->key, &cerr) != 0)
+                rc = core_err_set(&err, -1, "%s: %s", run, cerr.msg);
+        }
         char check[200];
         if (!rc) {
             awdb_key_name(&j->key, check, sizeof check);
@@ -293,10 +350,27 @@ int awdb_builder_run(awdb *db, const awdb_engine *engine, const awdb_builder_opt
         return core_err_set(err, -1, "builder: jobs = %d: expected 1 to 256", opts->jobs);
     char lockp[AWDB_PATH];
     awdb_fmt(lockp, sizeof lockp, "%s/builder.lock", db->dir);
-    int fd = open(lockp, O_RDWR | O_CREAT, 0666);
+    /* close-on-exec: a process an engine starts must not keep the lock
+     * after the builder is gone */
+    int fd = open(lockp, O_RDWR | O_CREAT | O_CLOEXEC, 0666);
     if (fd < 0)
         return core_err_set(err, -1, "%s: cannot open: %s", lockp, strerror(errno));
-    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    /* A client's awdb_builder_alive holds the lock (shared) for an instant:
+     * wait such a probe out (up to 1 s) rather than refuse as if a builder
+     * served the database. */
+    int lock_errno = 0;
+    for (int t = 0;; t++) {
+        lock_errno = flock(fd, LOCK_EX | LOCK_NB) == 0 ? 0 : errno;
+        if (lock_errno != EWOULDBLOCK || t == 20)
+            break;
+        struct timespec ts = {0, 50000000};
+        nanosleep(&ts, NULL);
+    }
+    if (lock_errno != 0 && lock_errno != EWOULDBLOCK) {
+        close(fd);
+        return core_err_set(err, -1, "%s: cannot lock: %s", lockp, strerror(lock_errno));
+    }
+    if (lock_errno != 0) {
         char pid[32] = "";
         ssize_t r = read(fd, pid, sizeof pid - 1);
         pid[r > 0 ? r : 0] = '\0';

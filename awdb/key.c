@@ -44,8 +44,11 @@ int awdb_key_canon(awdb_key *k, core_err *err)
         return core_err_set(err, -1, "airwake key: rotor = %d: expected 0 (off), 1 (uniform) or 2 (loaded)", k->rotor);
     if (k->grid < AWDB_GRID_COARSE || k->grid > AWDB_GRID_FINE)
         return core_err_set(err, -1, "airwake key: grid = %d: expected 0 (coarse), 1 (default) or 2 (fine)", k->grid);
-    if (k->rotor != AWDB_ROTOR_OFF && !(isfinite(k->thrust_N) && k->thrust_N > 0.0))
-        return core_err_set(err, -1, "airwake key: thrust_N = %g: expected a positive thrust with the rotor on", k->thrust_N);
+    /* the request file's reader takes 0 to 1e7 N: a key it would refuse
+     * must be refused here, not queued and failed by the builder */
+    if (k->rotor != AWDB_ROTOR_OFF && !(isfinite(k->thrust_N) && k->thrust_N > 0.0 && k->thrust_N <= 1e7))
+        return core_err_set(err, -1, "airwake key: thrust_N = %g: expected a positive thrust (at most 1e7 N) with the rotor on",
+                            k->thrust_N);
     if (!isfinite(k->zone_ref_mps) || k->zone_ref_mps < 0.0 || k->zone_ref_mps > 100.0)
         return core_err_set(err, -1, "airwake key: zone_ref_mps = %g: expected 0 (whole domain) to 100 m/s",
                             k->zone_ref_mps);
@@ -92,6 +95,15 @@ int awdb_key_canon(awdb_key *k, core_err *err)
         for (int i = 0; i < 3; i++)
             k->station_S_m[i] = round_to(k->station_S_m[i], 0.01) + 0.0; /* no -0 */
     }
+    /* Names are read into AWDB_NAME_MAX bytes and end in the hash that
+     * tells keys apart: a longer one would lose its hash to truncation, and
+     * two keys would share a file. */
+    char name[2 * AWDB_NAME_MAX];
+    awdb_key_name(k, name, sizeof name);
+    if (strlen(name) >= AWDB_NAME_MAX)
+        return core_err_set(err, -1, "airwake key: ship '%s', aircraft '%s': names too long (%zu characters together; "
+                            "expected at most %zu)", k->ship, k->aircraft, strlen(k->ship) + strlen(k->aircraft),
+                            strlen(k->ship) + strlen(k->aircraft) - (strlen(name) - (AWDB_NAME_MAX - 1)));
     if (k->rotor != AWDB_ROTOR_LOADED) {
         memset(k->load, 0, sizeof k->load);
         memset(k->swirl, 0, sizeof k->swirl);
@@ -137,7 +149,7 @@ void awdb_key_zone_boundary(const awdb_key *zone, awdb_key *b)
 void awdb_key_name(const awdb_key *k, char *buf, size_t n)
 {
     static const char *rotor[] = {"off", "uniform", "loaded"};
-    char text[256];
+    char text[512]; /* holds the longest canonical key's values: all of them are hashed */
     double dir_deg = k->wod_dir_rad * CORE_RAD_TO_DEG;
     awdb_fmt(text, sizeof text, "%s|%s|%.2f|%.2f|%d|%.0f|%.2f|%.2f|%.2f|%.2f|%.1f|%.1f|%d|%s", k->ship,
              k->aircraft, k->wod_speed_mps, dir_deg, k->rotor, k->thrust_N, k->station_S_m[0],

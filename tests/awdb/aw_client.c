@@ -1,8 +1,10 @@
 /* aw_client.c -- a test client of `disim airwaked` over LCM: publishes one
  * airwake request (ship-only SFS2 head wind) and waits up to T seconds for
  * the builder's status READY for that ship and speed, printing every status.
- * Usage: aw_client SPEED_MPS TIMEOUT_S [bad] ("bad": a request with a
- * negative speed, which must come back FAILED naming the field). */
+ * Usage: aw_client SPEED_MPS TIMEOUT_S [bad|loaded] ("bad": a request with
+ * a negative speed, which must come back FAILED naming the field;
+ * "loaded": a loaded-disk request, which the message cannot describe (no
+ * blade loads), so it must come back FAILED naming rotor, not be queued). */
 #include "disim_lcm.h"
 
 #include <lcm/lcm.h>
@@ -14,8 +16,9 @@
 
 typedef struct st {
     double speed;
-    int ready, failed;
+    int ready, failed, accepted;
     char msg[256];
+    const char *id; /* the request's id */
 } st;
 
 static void on_status(const lcm_recv_buf_t *rb, const char *ch, const disim_airwake_status_t *m, void *u)
@@ -25,6 +28,14 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const disim_airw
     st *s = u;
     printf("aw_client: status %d %s %.2f m/s %.0f%% res %.2e it %d %s %s\n", m->state, m->ship, m->wod_speed_mps,
            100 * m->progress, m->residual, m->iterations, m->path, m->message);
+    if (!strcmp(m->request_id, "loaded-1") && !strcmp(s->id, "loaded-1")) {
+        if (m->state == DISIM_AIRWAKE_STATUS_T_FAILED) {
+            s->failed = 1;
+            snprintf(s->msg, sizeof s->msg, "%s", m->message);
+        } else
+            s->accepted = 1;
+        return;
+    }
     if (strcmp(m->ship, "SFS2") && strcmp(m->request_id, "bad-1"))
         return;
     if (m->state == DISIM_AIRWAKE_STATUS_T_READY && fabs(m->wod_speed_mps - s->speed) < 0.01)
@@ -39,8 +50,9 @@ int main(int argc, char **argv)
 {
     if (argc < 3)
         return 2;
-    st s = {atof(argv[1]), 0, 0, ""};
     int timeout = atoi(argv[2]), bad = argc > 3 && !strcmp(argv[3], "bad");
+    int loaded = argc > 3 && !strcmp(argv[3], "loaded");
+    st s = {atof(argv[1]), 0, 0, 0, "", bad ? "bad-1" : loaded ? "loaded-1" : "req-1"};
     lcm_t *lc = lcm_create(NULL);
     if (!lc)
         return 1;
@@ -48,15 +60,22 @@ int main(int argc, char **argv)
         disim_airwake_status_t_subscribe(lc, DISIM_CH_AIRWAKE_STATUS, on_status, &s);
     disim_airwake_request_t rq;
     memset(&rq, 0, sizeof rq);
-    rq.request_id = bad ? "bad-1" : "req-1";
+    rq.request_id = (char *)s.id;
     rq.ship = "SFS2";
     rq.aircraft = "";
     rq.wod_speed_mps = bad ? -3.0 : s.speed;
     rq.wod_dir_rad = 0.0;
     rq.rotor = DISIM_AIRWAKE_REQUEST_T_ROTOR_OFF;
+    if (loaded) { /* otherwise a valid rotor-on request */
+        rq.aircraft = "UH-60A";
+        rq.rotor = DISIM_AIRWAKE_REQUEST_T_ROTOR_LOADED;
+        rq.rotor_thrust_N = 72950.0;
+        rq.rotor_radius_m = 8.18;
+        rq.station_S_m[2] = -6.0;
+    }
     rq.grid = "coarse";
     time_t t0 = time(NULL), last = 0;
-    while (time(NULL) - t0 < timeout && !s.ready && !s.failed) {
+    while (time(NULL) - t0 < timeout && !s.ready && !s.failed && !s.accepted) {
         if (time(NULL) - last >= 2) { /* repeat until heard: the builder may still be starting */
             rq.utime = (int64_t)time(NULL) * 1000000;
             disim_airwake_request_t_publish(lc, DISIM_CH_AIRWAKE_REQUEST, &rq);
@@ -66,6 +85,11 @@ int main(int argc, char **argv)
     }
     disim_airwake_status_t_unsubscribe(lc, sub);
     lcm_destroy(lc);
+    if (loaded) {
+        printf("aw_client: loaded request %s: %s\n", s.failed ? "refused" : s.accepted ? "ACCEPTED" : "not answered",
+               s.msg);
+        return s.failed && strstr(s.msg, "rotor") ? 0 : 1;
+    }
     if (bad) {
         printf("aw_client: bad request %s: %s\n", s.failed ? "refused" : "NOT refused", s.msg);
         return s.failed && strstr(s.msg, "wod_speed_mps") ? 0 : 1;

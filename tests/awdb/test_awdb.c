@@ -11,9 +11,14 @@
 #include "check.h"
 
 #include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -199,6 +204,34 @@ static void test_keys(void)
     bad = key(10, 0);
     snprintf(bad.ship, sizeof bad.ship, "a/b");
     CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "ship 'a/b'") != NULL);
+    /* A thrust the request file's reader refuses (over 1e7 N) is refused
+     * when asked for, not queued to fail in the builder. */
+    bad = key(10, 0);
+    bad.thrust_N = 2e7;
+    CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "thrust_N") != NULL);
+    /* Names that do not fit a file name with their hash are refused: cut,
+     * two keys (here two thrusts) would share one field. */
+    {
+        awdb_key l1 = key(10, 0), l2 = key(10, 0);
+        memset(l1.ship, 'S', sizeof l1.ship - 1); /* the longest the key holds */
+        memset(l1.aircraft, 'A', sizeof l1.aircraft - 1);
+        memcpy(l2.ship, l1.ship, sizeof l1.ship);
+        memcpy(l2.aircraft, l1.aircraft, sizeof l1.aircraft);
+        l2.thrust_N = 60000.0;
+        int r1 = awdb_key_canon(&l1, &err), r2 = awdb_key_canon(&l2, &err);
+        CHECK(r1 < 0 && r2 < 0 && strstr(err.msg, "too long") != NULL);
+        if (r1 == 0 && r2 == 0) {
+            awdb_key_name(&l1, na, sizeof na);
+            awdb_key_name(&l2, nb, sizeof nb);
+            CHECK(strcmp(na, nb) != 0); /* what canon's refusal prevents */
+        }
+        l1 = key(10, 0); /* the longest that fits is taken */
+        memset(l1.ship, 'S', 90);
+        memset(l1.aircraft, 'A', 40);
+        CHECK(awdb_key_canon(&l1, &err) == 0);
+        awdb_key_name(&l1, na, sizeof na);
+        CHECK(strlen(na) < AWDB_NAME_MAX - 1);
+    }
 }
 
 static void test_crc(const char *dir)
@@ -379,6 +412,35 @@ static void test_flow(const char *dir)
     if (f)
         fclose(f);
     CHECK(strstr(line, ":4: [key] wod_speed_mps = 'fast': expected a number") != NULL);
+    /* A request another program wrote, its file name consistent with its
+     * key, but a key awdb_submit refuses (the rotor on without thrust): it
+     * fails naming the field, and nothing is built. */
+    {
+        awdb_key nc = key(16, 0);
+        nc.thrust_N = 0.0;
+        char ncn[200], text[AWDB_KEY_TEXT];
+        awdb_key_name(&nc, ncn, sizeof ncn);
+        awdb_key_format(&nc, text, sizeof text);
+        snprintf(fp, sizeof fp, "%s/queue/00000002-%s.req", dir, ncn);
+        f = fopen(fp, "w");
+        CHECK(f != NULL);
+        if (f) {
+            fputs(text, f);
+            fclose(f);
+        }
+        int builds = te.builds;
+        CHECK(run_builder(db, &te, 1, &err) == 0);
+        CHECK(te.builds == builds);
+        snprintf(fp, sizeof fp, "%s/failed/%s.txt", dir, ncn);
+        line[0] = '\0';
+        f = fopen(fp, "r");
+        CHECK(f && fgets(line, sizeof line, f));
+        if (f)
+            fclose(f);
+        CHECK(strstr(line, ".req: airwake key: thrust_N = 0") != NULL);
+        snprintf(fp, sizeof fp, "%s/fields/%s.h5", dir, ncn);
+        CHECK(access(fp, F_OK) != 0);
+    }
     awdb_close(db);
     awdb_close(db2);
 }
@@ -549,6 +611,185 @@ static void test_source(const char *dir)
     awdb_close(db);
 }
 
+/* The builder's restart clean-up removes temporaries only: not the fields
+ * and requests of a ship whose name has ".part" or ".tmp" in it, and not a
+ * request a live client is writing (FILE.tmpPID in queue/); a dead
+ * process's temporary goes. */
+static void test_recover(const char *dir)
+{
+    core_err err = {{0}};
+    awdb *db = awdb_open(dir, NULL, &err);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    test_engine te = {0, -1, 0, ""};
+    awdb_key k1 = key(10, 0), k2 = key(12, 0);
+    snprintf(k1.ship, sizeof k1.ship, "LHA.partial");
+    snprintf(k2.ship, sizeof k2.ship, "LHA.tmp2");
+    CHECK(awdb_submit(db, &k1, NULL, &err) == 0 && run_builder(db, &te, 1, &err) == 0);
+    CHECK(awdb_key_canon(&k1, &err) == 0 && awdb_key_canon(&k2, &err) == 0);
+    CHECK(awdb_query(db, &k1, NULL, 0) == AWDB_READY);
+    CHECK(awdb_submit(db, &k2, NULL, &err) == 0);
+    char live[1200], dead[1200], ftmp[1200];
+    snprintf(live, sizeof live, "%s/queue/00000003-X.req.tmp%ld", dir, (long)getpid());
+    pid_t pid = fork();
+    if (pid == 0)
+        _exit(0);
+    waitpid(pid, NULL, 0);
+    snprintf(dead, sizeof dead, "%s/queue/00000004-Y.req.tmp%ld", dir, (long)pid);
+    snprintf(ftmp, sizeof ftmp, "%s/fields/.tmp-Z.h5", dir);
+    const char *tmps[] = {live, dead, ftmp};
+    for (int i = 0; i < 3; i++) {
+        FILE *f = fopen(tmps[i], "w");
+        CHECK(f != NULL);
+        if (f)
+            fclose(f);
+    }
+    CHECK(run_builder(db, &te, 1, &err) == 0);
+    awdb *fresh = awdb_open(dir, NULL, &err);
+    CHECK(awdb_query(fresh, &k1, NULL, 0) == AWDB_READY);
+    CHECK(awdb_query(fresh, &k2, NULL, 0) == AWDB_READY && te.builds == 2);
+    CHECK(access(live, F_OK) == 0 && access(dead, F_OK) != 0 && access(ftmp, F_OK) != 0);
+    remove(live);
+    awdb_close(fresh);
+    awdb_close(db);
+}
+
+/* A client checking a field while a builder commits a new one over it (the
+ * old file corrupt, the builder done and its running/ request gone by the
+ * time the check ends) must not remove the new field. The check is held in
+ * the middle with a FIFO standing for the old field file: the client's
+ * checksum read waits on it while the "builder" renames the good file into
+ * place and drops its request, then reads garbage. */
+typedef struct reader_arg {
+    awdb *db;
+    awdb_key key;
+    awdb_state st;
+} reader_arg;
+
+static void *reader(void *p)
+{
+    reader_arg *a = p;
+    a->st = awdb_query(a->db, &a->key, NULL, 0);
+    return NULL;
+}
+
+static void test_commit_race(const char *dir)
+{
+    core_err err = {{0}};
+    awdb *db = awdb_open(dir, NULL, &err);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    test_engine te = {0, -1, 0, ""};
+    awdb_key k = key(11, 0);
+    CHECK(awdb_submit(db, &k, NULL, &err) == 0 && run_builder(db, &te, 1, &err) == 0);
+    CHECK(awdb_key_canon(&k, &err) == 0);
+    char h5[1100], aside[1100], run[1100], name[200];
+    CHECK(awdb_query(db, &k, h5, sizeof h5) == AWDB_READY);
+    awdb_key_name(&k, name, sizeof name);
+    snprintf(aside, sizeof aside, "%s/aside.h5", dir);
+    snprintf(run, sizeof run, "%s/running/%s.req", dir, name);
+    CHECK(rename(h5, aside) == 0 && mkfifo(h5, 0600) == 0);
+    FILE *f = fopen(run, "w"); /* the builder's claim */
+    CHECK(f != NULL);
+    if (f)
+        fclose(f);
+    reader_arg a = {awdb_open(dir, NULL, &err), k, AWDB_ABSENT};
+    pthread_t th;
+    CHECK(a.db && pthread_create(&th, NULL, reader, &a) == 0);
+    int fd = -1;
+    for (int t = 0; t < 500 && fd < 0; t++) { /* until the client opened the field */
+        fd = open(h5, O_WRONLY | O_NONBLOCK);
+        if (fd < 0)
+            usleep(10000);
+    }
+    CHECK(fd >= 0);
+    /* the commit: the new field in place, the claim dropped */
+    CHECK(rename(aside, h5) == 0 && remove(run) == 0);
+    if (fd >= 0) {
+        CHECK(write(fd, "garbage", 7) == 7);
+        close(fd);
+    }
+    pthread_join(th, NULL);
+    CHECK(a.st == AWDB_READY);
+    awdb *fresh = awdb_open(dir, NULL, &err);
+    CHECK(awdb_query(fresh, &k, NULL, 0) == AWDB_READY);
+    awdb_close(fresh);
+    awdb_close(a.db);
+    awdb_close(db);
+}
+
+/* A check that cannot run (no file descriptor left) is no evidence of
+ * corruption: the field stays. */
+static void test_check_fails(const char *dir)
+{
+    core_err err = {{0}};
+    awdb *db = awdb_open(dir, NULL, &err);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    test_engine te = {0, -1, 0, ""};
+    awdb_key k = key(13, 0);
+    CHECK(awdb_submit(db, &k, NULL, &err) == 0 && run_builder(db, &te, 1, &err) == 0);
+    CHECK(awdb_key_canon(&k, &err) == 0);
+    pid_t pid = fork();
+    if (pid == 0) {
+        awdb *c = awdb_open(dir, NULL, &err); /* no verification cache */
+        struct rlimit rl;
+        getrlimit(RLIMIT_NOFILE, &rl);
+        rl.rlim_cur = 64;
+        setrlimit(RLIMIT_NOFILE, &rl);
+        while (open("/dev/null", O_RDONLY) >= 0)
+            ;
+        awdb_state st = c ? awdb_query(c, &k, NULL, 0) : AWDB_READY;
+        _exit(st == AWDB_READY ? 1 : 0); /* READY cannot have been checked */
+    }
+    int ws;
+    waitpid(pid, &ws, 0);
+    CHECK(WIFEXITED(ws) && WEXITSTATUS(ws) == 0);
+    awdb *fresh = awdb_open(dir, NULL, &err);
+    CHECK(awdb_query(fresh, &k, NULL, 0) == AWDB_READY);
+    awdb_close(fresh);
+    awdb_close(db);
+}
+
+/* A client's probe (awdb_builder_alive) holds builder.lock for an instant,
+ * shared: another probe at that instant sees no builder, and a builder
+ * starting then waits it out instead of refusing to run. */
+static void test_probe(const char *dir)
+{
+    core_err err = {{0}};
+    awdb *db = awdb_open(dir, NULL, &err);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    char lockp[1100];
+    snprintf(lockp, sizeof lockp, "%s/builder.lock", dir);
+    int pfd[2];
+    CHECK(pipe(pfd) == 0);
+    pid_t pid = fork();
+    if (pid == 0) {
+        int fd = open(lockp, O_RDONLY | O_CREAT, 0666);
+        char c = fd >= 0 && flock(fd, LOCK_SH) == 0 ? 'y' : 'n';
+        if (write(pfd[1], &c, 1) != 1)
+            _exit(1);
+        usleep(300000);
+        _exit(0);
+    }
+    char c = 0;
+    CHECK(read(pfd[0], &c, 1) == 1 && c == 'y');
+    close(pfd[0]);
+    close(pfd[1]);
+    CHECK(awdb_builder_alive(db) == 0);
+    test_engine te = {0, -1, 0, ""};
+    awdb_key k = key(9, 0);
+    CHECK(awdb_submit(db, &k, NULL, &err) == 0);
+    CHECK(run_builder(db, &te, 1, &err) == 0 && te.builds == 1);
+    waitpid(pid, NULL, 0);
+    awdb_close(db);
+}
+
 int main(void)
 {
     char dir[] = "/tmp/disim_awdb_XXXXXX";
@@ -569,6 +810,15 @@ int main(void)
     char d4[64];
     snprintf(d4, sizeof d4, "%s/db4", dir);
     test_source(d4);
+    char d5[64];
+    snprintf(d5, sizeof d5, "%s/db5", dir);
+    test_recover(d5);
+    snprintf(d5, sizeof d5, "%s/db6", dir);
+    test_commit_race(d5);
+    snprintf(d5, sizeof d5, "%s/db7", dir);
+    test_check_fails(d5);
+    snprintf(d5, sizeof d5, "%s/db8", dir);
+    test_probe(d5);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0)
