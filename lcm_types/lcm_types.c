@@ -28,9 +28,14 @@ int disim_lcm_check_pilot_input(const disim_pilot_input_t *m, char *err, size_t 
         bad = "pedal_pct";
     if (!bad)
         return 0;
-    if (err)
-        snprintf(err, n, "pilot_input_t.%s = %g: expected %s", bad, v,
-                 bad[0] == 's' ? "a non-empty id and seq >= 0" : "a finite percentage 0 to 100");
+    /* Say the value that was received: the id and seq have their own forms
+     * (a "seq = 0" for a seq of -5 would send the reader the wrong way). */
+    if (err && bad[0] == 's' && bad[1] == 't')
+        snprintf(err, n, "pilot_input_t.station_id is empty: expected a non-empty id");
+    else if (err && bad[0] == 's')
+        snprintf(err, n, "pilot_input_t.seq = %lld: expected seq >= 0", (long long)m->seq);
+    else if (err)
+        snprintf(err, n, "pilot_input_t.%s = %g: expected a finite percentage 0 to 100", bad, v);
     return -1;
 }
 
@@ -67,9 +72,17 @@ int disim_lcm_check_airwake_request(const disim_airwake_request_t *m, char *err,
     else if (m->rotor != DISIM_AIRWAKE_REQUEST_T_ROTOR_OFF &&
              (!isfinite(m->rotor_radius_m) || m->rotor_radius_m <= 0.1 || m->rotor_radius_m > 50.0))
         bad = "rotor_radius_m", want = "0.1 to 50 m with the rotor on";
-    else if (!isfinite(m->shaft_pitch_rad) || !isfinite(m->shaft_roll_rad) ||
-             fabs(m->shaft_pitch_rad) > 1.0 || fabs(m->shaft_roll_rad) > 1.0)
-        bad = "shaft_pitch_rad", want = "shaft tilt angles within -1 to 1 rad";
+    else if (!isfinite(m->shaft_pitch_rad) || fabs(m->shaft_pitch_rad) > 1.0)
+        bad = "shaft_pitch_rad", want = "a finite shaft tilt within -1 to 1 rad";
+    else if (!isfinite(m->shaft_roll_rad) || fabs(m->shaft_roll_rad) > 1.0)
+        bad = "shaft_roll_rad", want = "a finite shaft tilt within -1 to 1 rad";
+    /* The hub station too, as disim_lcm.h promises "every field finite":
+     * a consumer other than airwaked has no awdb key check behind it. Same
+     * bounds as awdb_key_canon, so nothing it takes is refused here. */
+    else if (!isfinite(m->station_S_m[0]) || fabs(m->station_S_m[0]) > 1000.0 ||
+             !isfinite(m->station_S_m[1]) || fabs(m->station_S_m[1]) > 1000.0 ||
+             !isfinite(m->station_S_m[2]) || fabs(m->station_S_m[2]) > 1000.0)
+        bad = "station_S_m", want = "three finite coordinates within -1000 to 1000 m";
     else if (!m->grid || (strcmp(m->grid, "coarse") && strcmp(m->grid, "default") && strcmp(m->grid, "fine")))
         bad = "grid", want = "coarse, default or fine";
     if (!bad)

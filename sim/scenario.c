@@ -55,11 +55,17 @@ static int wod_section(core_ini *ini, sim_scenario *sc, core_err *err)
         return rc;
     double dirs[SIM_MAX_WOD];
     int nd = 0;
-    if (core_parse_range(range, dirs, SIM_MAX_WOD, &nd) != 0)
+    /* nd is checked too: a step so small that the count overflows an int
+     * comes back from core_parse_range as "success" with a negative count
+     * (an empty sweep that disim check passes and disim shol copies with a
+     * negative size). */
+    if (core_parse_range(range, dirs, SIM_MAX_WOD, &nd) != 0 || nd < 1 || nd > SIM_MAX_WOD)
         return core_err_set(err, -1,
                             "%s:%d: [wod] dir_deg = '%s': expected START:STOP:STEP in degrees "
-                            "(e.g. -90:90:30) or one number",
-                            core_ini_path(ini), core_ini_find(ini, W, "dir_deg")->line, range);
+                            "(e.g. -90:90:30; STOP >= START, STEP > 0, at most %d directions) "
+                            "or one number",
+                            core_ini_path(ini), core_ini_find(ini, W, "dir_deg")->line, range,
+                            SIM_MAX_WOD);
     for (int i = 0; i < nd; i++) {
         if (dirs[i] < -180.0 || dirs[i] > 180.0)
             return core_err_set(err, -1, "%s:%d: [wod] dir_deg: %g out of range, expected -180 to 180",
@@ -73,6 +79,30 @@ static int wod_section(core_ini *ini, sim_scenario *sc, core_err *err)
         return rc;
     sc->speed_step_mps = step * CORE_KMH_TO_MPS;
     sc->speed_max_mps = max * CORE_KMH_TO_MPS;
+    return 0;
+}
+
+/* A key that belongs to another mode than the one chosen (speed_kt in a
+ * sweep, replay_file for a station pilot) would otherwise be reported as an
+ * "unknown key", though the README lists it: say which mode it needs. */
+static int mode_keys(const core_ini *ini, core_err *err)
+{
+    static const struct {
+        const char *section, *key, *needs;
+    } k[] = {
+        {"wod", "speed_kt", "mode = single"},
+        {"wod", "speed_step_kmh", "mode = sweep"},
+        {"wod", "speed_max_kmh", "mode = sweep"},
+        {"pilot", "replay_file", "type = replay"},
+        {"pilot", "station_id", "type = station"},
+    };
+    for (size_t i = 0; i < sizeof k / sizeof k[0]; i++) {
+        const core_ini_entry *e = core_ini_find(ini, k[i].section, k[i].key);
+        if (e && !e->used)
+            return core_err_set(err, -1, "%s:%d: [%s] %s: only used with %s; remove it or set %s",
+                                core_ini_path(ini), e->line, k[i].section, k[i].key, k[i].needs,
+                                k[i].needs);
+    }
     return 0;
 }
 
@@ -172,7 +202,7 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
         (rc = core_ini_get_bool(ini, "output", "plots", 0, &sc->write_plots, err)) < 0)
         goto out;
 
-    if ((rc = core_ini_check_unused(ini, err)))
+    if ((rc = mode_keys(ini, err)) || (rc = core_ini_check_unused(ini, err)))
         goto out;
 
     /* referenced files */

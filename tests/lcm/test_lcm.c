@@ -224,6 +224,12 @@ int main(void)
     p.station_id = "";
     CHECK(disim_lcm_check_pilot_input(&p, err, sizeof err) < 0);
     CHECK(strstr(err, "station_id") != NULL);
+    /* The error says the seq received, not a placeholder. */
+    p.station_id = "station-1";
+    p.seq = -5;
+    CHECK(disim_lcm_check_pilot_input(&p, err, sizeof err) < 0);
+    CHECK(strstr(err, "pilot_input_t.seq = -5") != NULL);
+    p.seq = 1001;
     CHECK(disim_lcm_check_sim_control(&c, err, sizeof err) == 0);
     c.command = 9;
     CHECK(disim_lcm_check_sim_control(&c, err, sizeof err) < 0);
@@ -247,6 +253,18 @@ int main(void)
     rq.grid = "medium";
     CHECK(disim_lcm_check_airwake_request(&rq, err, sizeof err) < 0);
     CHECK(strstr(err, "grid") != NULL);
+    rq.grid = "default";
+    /* A bad roll tilt is named as the roll, not the pitch. */
+    rq.shaft_roll_rad = NAN;
+    CHECK(disim_lcm_check_airwake_request(&rq, err, sizeof err) < 0);
+    CHECK(strstr(err, "shaft_roll_rad") != NULL);
+    rq.shaft_roll_rad = -0.01;
+    /* The hub station is checked like every other field. */
+    rq.station_S_m[1] = INFINITY;
+    CHECK(disim_lcm_check_airwake_request(&rq, err, sizeof err) < 0);
+    CHECK(strstr(err, "station_S_m") != NULL);
+    rq.station_S_m[1] = 0.0;
+    CHECK(disim_lcm_check_airwake_request(&rq, err, sizeof err) == 0);
 
     lcm_destroy(lc);
     return check_done("test_lcm");

@@ -37,6 +37,15 @@ int main(void)
     /* A load failure leaves a message naming the file. */
     CHECK(sim_scenario_load("tests/sim/bad/typo_key.ini", sc, &err) < 0);
     CHECK(strstr(err.msg, "typo_key.ini:10:") != NULL);
+
+    /* A sweep step so small that the direction count overflows an int is
+     * refused, not resolved to an empty (negative-count) sweep. */
+    err.msg[0] = '\0';
+    CHECK(sim_scenario_load("tests/sim/bad/sweep_step_overflow.ini", sc, &err) < 0);
+    CHECK(strstr(err.msg, "sweep_step_overflow.ini:9: [wod] dir_deg") != NULL);
+    /* A key of the other mode says which mode it needs. */
+    CHECK(sim_scenario_load("tests/sim/bad/mode_key.ini", sc, &err) < 0);
+    CHECK(strstr(err.msg, "mode_key.ini:10: [wod] speed_kt: only used with mode = single") != NULL);
     free(sc);
     return check_done("test_sim");
 }
