@@ -82,11 +82,8 @@ static void on_status(void *user, const awdb_key *k, awdb_state s, double frac, 
             msg && msg[0] ? ": " : "", msg ? msg : "");
 }
 
-static void on_request(const lcm_recv_buf_t *rb, const char *ch, const disim_airwake_request_t *m, void *user)
+static void on_request(daemon_ctx *c, const disim_airwake_request_t *m)
 {
-    (void)rb;
-    (void)ch;
-    daemon_ctx *c = user;
     char err[256];
     awdb_key k;
     memset(&k, 0, sizeof k);
@@ -139,6 +136,36 @@ static void on_request(const lcm_recv_buf_t *rb, const char *ch, const disim_air
                    : now == AWDB_RUNNING ? DISIM_AIRWAKE_STATUS_T_RUNNING
                                           : DISIM_AIRWAKE_STATUS_T_QUEUED,
                    now == AWDB_READY ? 1.0 : 0.0, 0, 0, path, "");
+}
+
+
+/* The raw message, checked before lcm-gen's decoder sees it: lcm 1.3.1
+ * would decode a string without its NUL, and strlen on it would run past
+ * the buffer. A refused message gets a FAILED status without a request id
+ * (it cannot be read safely). */
+static void on_request_raw(const lcm_recv_buf_t *rb, const char *ch, void *user)
+{
+    (void)ch;
+    daemon_ctx *c = user;
+    char err[256];
+    awdb_key k;
+    memset(&k, 0, sizeof k);
+    if (disim_lcm_check_raw("airwake_request_t", rb->data, (int)rb->data_size, err, sizeof err) != 0) {
+        core_log_msg(c->log, CORE_LOG_WARN, "refused LCM request: %s", err);
+        publish_status(c, &k, "", DISIM_AIRWAKE_STATUS_T_FAILED, 0, 0, 0, "", err);
+        return;
+    }
+    disim_airwake_request_t m;
+    memset(&m, 0, sizeof m);
+    if (disim_airwake_request_t_decode(rb->data, 0, (int)rb->data_size, &m) < 0) {
+        core_log_msg(c->log, CORE_LOG_WARN, "refused LCM request: airwake_request_t: cannot decode "
+                                            "(another type's fingerprint?)");
+        publish_status(c, &k, "", DISIM_AIRWAKE_STATUS_T_FAILED, 0, 0, 0, "",
+                       "airwake_request_t: cannot decode (another type's fingerprint?)");
+    } else {
+        on_request(c, &m);
+    }
+    disim_airwake_request_t_decode_cleanup(&m);
 }
 
 static void on_idle(void *user)
@@ -216,13 +243,13 @@ int cmd_airwaked(int argc, char **argv)
     }
     awdb_embedded_set_db(emb, db);
     daemon_ctx ctx = {db, NULL, 0, isatty(2), &log};
-    disim_airwake_request_t_subscription_t *sub = NULL;
+    lcm_subscription_t *sub = NULL;
     if (use_lcm) {
         ctx.lc = lcm_create(NULL);
         if (!ctx.lc)
             fprintf(stderr, "disim airwaked: LCM unavailable: serving the folder queue only\n");
         else
-            sub = disim_airwake_request_t_subscribe(ctx.lc, DISIM_CH_AIRWAKE_REQUEST, on_request, &ctx);
+            sub = lcm_subscribe(ctx.lc, DISIM_CH_AIRWAKE_REQUEST, on_request_raw, &ctx);
     }
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
@@ -238,7 +265,7 @@ int cmd_airwaked(int argc, char **argv)
     if (rc)
         fprintf(stderr, "disim airwaked: %s\n", err.msg);
     if (ctx.lc) {
-        disim_airwake_request_t_unsubscribe(ctx.lc, sub);
+        lcm_unsubscribe(ctx.lc, sub);
         lcm_destroy(ctx.lc);
     }
     awdb_embedded_destroy(emb);

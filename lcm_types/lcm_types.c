@@ -5,6 +5,7 @@
 #include "disim_lcm.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -90,4 +91,110 @@ int disim_lcm_check_airwake_request(const disim_airwake_request_t *m, char *err,
     if (err)
         snprintf(err, n, "airwake_request_t.%s: expected %s", bad, want);
     return -1;
+}
+
+/* ------------------------------------------------ raw buffers, before decoding */
+/* The wire layout of every disim type after its 8-byte fingerprint, field by
+ * field in the .lcm order: q 8 bytes (int64_t, double), i 4 (int32_t), b 1
+ * (int8_t, boolean), s a string (int32 length counting its NUL, then the
+ * bytes); I and B an int32 / int8 count, then S or Q that many strings or
+ * 8-byte values. test_lcm checks each layout against lcm-gen's encoder. */
+static const struct {
+    const char *type, *layout;
+} wire[] = {
+    {"heli_state_t", "q:utime q:seq q:pos_E_m q:pos_E_m q:pos_E_m q:vel_E_mps q:vel_E_mps q:vel_E_mps "
+                     "q:pos_S_m q:pos_S_m q:pos_S_m q:vel_S_mps q:vel_S_mps q:vel_S_mps "
+                     "q:quat_EB q:quat_EB q:quat_EB q:quat_EB q:roll_rad q:pitch_rad q:yaw_rad "
+                     "q:rates_B_radps q:rates_B_radps q:rates_B_radps q:collective_pct q:long_cyclic_pct "
+                     "q:lat_cyclic_pct q:pedal_pct q:rotor_thrust_N q:rotor_power_W b:on_deck B:n_gear "
+                     "Q:gear_load_N"},
+    {"ship_state_t", "q:utime q:seq q:pos_E_m q:pos_E_m q:pos_E_m q:vel_E_mps q:vel_E_mps q:vel_E_mps "
+                     "q:quat_ES q:quat_ES q:quat_ES q:quat_ES q:roll_rad q:pitch_rad q:yaw_rad "
+                     "q:rates_S_radps q:rates_S_radps q:rates_S_radps q:spot_pos_E_m q:spot_pos_E_m "
+                     "q:spot_pos_E_m q:spot_vel_E_mps q:spot_vel_E_mps q:spot_vel_E_mps q:spot_acc_E_mps2 "
+                     "q:spot_acc_E_mps2 q:spot_acc_E_mps2"},
+    {"pilot_input_t", "q:utime s:station_id q:seq q:collective_pct q:long_cyclic_pct q:lat_cyclic_pct "
+                      "q:pedal_pct b:trim_button b:trim_release"},
+    {"sim_control_t", "q:utime q:seq b:command s:scenario_path"},
+    {"sim_status_t", "q:utime q:seq q:sim_time_s q:rate_hz q:real_time_factor q:overruns b:state s:scenario "
+                     "I:n_stations S:station_ids Q:station_last_seq"},
+    {"airwake_request_t", "q:utime q:seq s:request_id s:ship s:aircraft q:wod_speed_mps q:wod_dir_rad b:rotor "
+                          "q:rotor_thrust_N q:station_S_m q:station_S_m q:station_S_m q:rotor_radius_m "
+                          "q:shaft_pitch_rad q:shaft_roll_rad s:grid"},
+    {"airwake_status_t", "q:utime q:seq s:request_id s:ship s:aircraft q:wod_speed_mps q:wod_dir_rad b:state "
+                         "q:progress q:residual i:iterations s:path s:message"},
+    {"shol_point_t", "q:utime q:seq s:ship s:aircraft q:wod_speed_mps q:wod_dir_rad b:converged b:passed "
+                     "s:limit q:roll_rad q:pitch_rad q:collective_pct q:long_cyclic_pct q:lat_cyclic_pct "
+                     "q:pedal_pct q:margin_roll_rad q:margin_pitch_rad q:margin_long_pct q:margin_lat_pct "
+                     "q:margin_coll_pct q:margin_pedal_pct"},
+};
+
+static int32_t be32(const unsigned char *p)
+{
+    return (int32_t)((uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3]);
+}
+
+int disim_lcm_check_raw(const char *type, const void *buf, int size, char *err, size_t n)
+{
+    const char *layout = NULL;
+    for (size_t t = 0; t < sizeof wire / sizeof wire[0]; t++)
+        if (!strcmp(wire[t].type, type))
+            layout = wire[t].layout;
+    if (!layout) {
+        if (err)
+            snprintf(err, n, "%s: not a disim LCM type", type);
+        return -2;
+    }
+    const unsigned char *b = buf;
+    long pos = 8, count = 0;
+    if (!buf || size < 8) {
+        if (err)
+            snprintf(err, n, "%s: %d bytes: expected at least the 8-byte fingerprint", type, size);
+        return -1;
+    }
+    for (const char *f = layout; *f;) {
+        char kind = f[0];
+        const char *name = f + 2, *end = strchr(name, ' ');
+        int len = end ? (int)(end - name) : (int)strlen(name);
+        long items = kind == 'S' || kind == 'Q' ? count : 1;
+        for (long it = 0; it < items; it++) {
+            long need = kind == 'q' || kind == 'Q' ? 8 : kind == 'i' || kind == 'I' || kind == 's' || kind == 'S' ? 4 : 1;
+            if (size - pos < need) {
+                if (err)
+                    snprintf(err, n, "%s.%.*s: the message ends at byte %d: expected %ld more", type, len, name, size,
+                             need);
+                return -1;
+            }
+            if (kind == 'I' || kind == 'B') {
+                count = kind == 'I' ? be32(b + pos) : (signed char)b[pos];
+                if (count < 0) {
+                    if (err)
+                        snprintf(err, n, "%s.%.*s = %ld: expected a count >= 0", type, len, name, count);
+                    return -1;
+                }
+            }
+            if (kind == 's' || kind == 'S') {
+                /* lcm 1.3.1 mallocs the length it reads and copies that many
+                 * bytes: a length < 1 or a last byte other than NUL leaves
+                 * the decoded string unterminated (strlen would run past it) */
+                int32_t sl = be32(b + pos);
+                if (sl < 1 || sl > size - pos - 4 || b[pos + 4 + sl - 1] != 0) {
+                    if (err)
+                        snprintf(err, n, "%s.%.*s: string length %d%s: expected a NUL-terminated string within "
+                                 "the message", type, len, name, (int)sl,
+                                 sl >= 1 && sl <= size - pos - 4 ? " without its NUL" : "");
+                    return -1;
+                }
+                need += sl;
+            }
+            pos += need;
+        }
+        f = end ? end + 1 : name + len;
+    }
+    if (pos != size) {
+        if (err)
+            snprintf(err, n, "%s: %d bytes: expected %ld for its fields", type, size, pos);
+        return -1;
+    }
+    return 0;
 }

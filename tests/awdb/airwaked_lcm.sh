@@ -4,7 +4,8 @@
 # iterations: this checks the path, not the physics), committed with its
 # checksum and announced READY on LCM; a bad request is refused naming the
 # field, and so is a loaded-disk request (the message has no blade loads:
-# it must not be built as a uniform disk); the database holds one verified
+# it must not be built as a uniform disk), and a request whose string lacks
+# its NUL is refused before decoding; the database holds one verified
 # field and no temporaries.
 # Usage: airwaked_lcm.sh DISIM AW_CLIENT SOURCE_DIR
 set -u
@@ -22,6 +23,7 @@ pid=$!
 fail=0
 "$client" 5 20 bad || fail=1
 "$client" 5 20 loaded || fail=1
+"$client" 5 20 raw || fail=1
 "$client" 7.5 900 || fail=1
 kill -TERM $pid; wait $pid; rc=$?
 [ $rc -eq 0 ] || { echo "airwaked exited $rc"; fail=1; }

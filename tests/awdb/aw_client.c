@@ -4,7 +4,9 @@
  * Usage: aw_client SPEED_MPS TIMEOUT_S [bad|loaded] ("bad": a request with
  * a negative speed, which must come back FAILED naming the field;
  * "loaded": a loaded-disk request, which the message cannot describe (no
- * blade loads), so it must come back FAILED naming rotor, not be queued). */
+ * blade loads), so it must come back FAILED naming rotor, not be queued;
+ * "raw": a request whose ship string lacks its NUL, published as raw bytes,
+ * which must be refused before decoding, naming the field). */
 #include "disim_lcm.h"
 
 #include <lcm/lcm.h>
@@ -36,6 +38,14 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const disim_airw
             s->accepted = 1;
         return;
     }
+    if (!strcmp(s->id, "raw-1")) { /* refused unread: no id to echo */
+        if (m->state == DISIM_AIRWAKE_STATUS_T_FAILED && strstr(m->message, "airwake_request_t.ship")) {
+            s->failed = 1;
+            snprintf(s->msg, sizeof s->msg, "%s", m->message);
+        } else if (!strcmp(m->ship, "SFS2"))
+            s->accepted = 1;
+        return;
+    }
     if (strcmp(m->ship, "SFS2") && strcmp(m->request_id, "bad-1"))
         return;
     if (m->state == DISIM_AIRWAKE_STATUS_T_READY && fabs(m->wod_speed_mps - s->speed) < 0.01)
@@ -51,8 +61,8 @@ int main(int argc, char **argv)
     if (argc < 3)
         return 2;
     int timeout = atoi(argv[2]), bad = argc > 3 && !strcmp(argv[3], "bad");
-    int loaded = argc > 3 && !strcmp(argv[3], "loaded");
-    st s = {atof(argv[1]), 0, 0, 0, "", bad ? "bad-1" : loaded ? "loaded-1" : "req-1"};
+    int loaded = argc > 3 && !strcmp(argv[3], "loaded"), raw = argc > 3 && !strcmp(argv[3], "raw");
+    st s = {atof(argv[1]), 0, 0, 0, "", bad ? "bad-1" : loaded ? "loaded-1" : raw ? "raw-1" : "req-1"};
     lcm_t *lc = lcm_create(NULL);
     if (!lc)
         return 1;
@@ -78,7 +88,17 @@ int main(int argc, char **argv)
     while (time(NULL) - t0 < timeout && !s.ready && !s.failed && !s.accepted) {
         if (time(NULL) - last >= 2) { /* repeat until heard: the builder may still be starting */
             rq.utime = (int64_t)time(NULL) * 1000000;
-            disim_airwake_request_t_publish(lc, DISIM_CH_AIRWAKE_REQUEST, &rq);
+            if (raw) {
+                /* the ship's NUL overwritten: fingerprint 8, utime 8, seq 8,
+                 * request_id 4 + 6, then the ship's length and "SFS2\0" */
+                int n = disim_airwake_request_t_encoded_size(&rq);
+                unsigned char *b = malloc(n);
+                disim_airwake_request_t_encode(b, 0, n, &rq);
+                b[8 + 8 + 8 + 4 + 6 + 4 + 4] = 'x';
+                lcm_publish(lc, DISIM_CH_AIRWAKE_REQUEST, b, n);
+                free(b);
+            } else
+                disim_airwake_request_t_publish(lc, DISIM_CH_AIRWAKE_REQUEST, &rq);
             last = time(NULL);
         }
         lcm_handle_timeout(lc, 200);
@@ -89,6 +109,11 @@ int main(int argc, char **argv)
         printf("aw_client: loaded request %s: %s\n", s.failed ? "refused" : s.accepted ? "ACCEPTED" : "not answered",
                s.msg);
         return s.failed && strstr(s.msg, "rotor") ? 0 : 1;
+    }
+    if (raw) {
+        printf("aw_client: unterminated string %s: %s\n", s.failed ? "refused" : s.accepted ? "ACCEPTED" : "not answered",
+               s.msg);
+        return s.failed && strstr(s.msg, "without its NUL") ? 0 : 1;
     }
     if (bad) {
         printf("aw_client: bad request %s: %s\n", s.failed ? "refused" : "NOT refused", s.msg);

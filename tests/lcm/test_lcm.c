@@ -5,6 +5,7 @@
 #include "disim_lcm.h"
 
 #include <lcm/lcm.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -43,6 +44,12 @@ typedef struct seen {
         char *b = malloc(n);                                                                 \
         CHECK(disim_##T##_encode(b, 0, n, msg) == n);                                        \
         CHECK(s.len == n && memcmp(b, s.buf, n) == 0);                                       \
+        /* the raw check's layout is lcm-gen's: the whole message, no more */                \
+        char rerr[256] = "";                                                                 \
+        CHECK(disim_lcm_check_raw(#T, b, n, rerr, sizeof rerr) == 0);                        \
+        if (rerr[0])                                                                         \
+            fprintf(stderr, "  raw check of %s: %s\n", #T, rerr);                           \
+        CHECK(disim_lcm_check_raw(#T, b, n - 1, NULL, 0) == -1);                             \
         /* Truncated: refused. lcm-gen 1.3.1 leaves the fields decoded so far \
          * allocated on failure, so start from zero and clean up either way. */ \
         disim_##T dec;                                                                       \
@@ -169,6 +176,38 @@ int main(void)
     rq.shaft_roll_rad = -0.01;
     rq.grid = "default";
     round_trip_airwake_request_t(lc, DISIM_CH_AIRWAKE_REQUEST, &rq);
+    {
+        /* Hostile strings, refused before decoding with the field named:
+         * the ship's NUL overwritten, a zero and a huge length. Offsets:
+         * fingerprint 8, utime 8, seq 8, request_id 4 + 6, ship 4 + 6. */
+        int n = disim_airwake_request_t_encoded_size(&rq);
+        unsigned char *b = malloc(n), *c = malloc(n);
+        disim_airwake_request_t_encode(b, 0, n, &rq);
+        const int ship = 8 + 8 + 8 + 4 + 6;
+        CHECK(b[ship + 3] == 6 && memcmp(b + ship + 4, "CG-47", 6) == 0);
+        char err[256] = "";
+        memcpy(c, b, n);
+        c[ship + 4 + 5] = 'x';
+        CHECK(disim_lcm_check_raw("airwake_request_t", c, n, err, sizeof err) == -1);
+        CHECK(strstr(err, "airwake_request_t.ship") && strstr(err, "without its NUL"));
+        memcpy(c, b, n);
+        c[ship + 3] = 0;
+        CHECK(disim_lcm_check_raw("airwake_request_t", c, n, err, sizeof err) == -1);
+        CHECK(strstr(err, "airwake_request_t.ship: string length 0") != NULL);
+        memcpy(c, b, n);
+        c[ship] = 0x7f;
+        CHECK(disim_lcm_check_raw("airwake_request_t", c, n, err, sizeof err) == -1);
+        CHECK(strstr(err, "airwake_request_t.ship") != NULL);
+        /* a trailing byte, and a type that is not disim's */
+        unsigned char *d = malloc(n + 1);
+        memcpy(d, b, n);
+        d[n] = 0;
+        CHECK(disim_lcm_check_raw("airwake_request_t", d, n + 1, err, sizeof err) == -1);
+        CHECK(disim_lcm_check_raw("no_such_t", b, n, err, sizeof err) == -2);
+        free(b);
+        free(c);
+        free(d);
+    }
 
     disim_airwake_status_t as = {0};
     as.utime = 9;
