@@ -15,7 +15,9 @@
 #include "cfd_private.h"
 
 #include <hdf5.h>
+#include <limits.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -221,67 +223,134 @@ int cfd_field_write(const cfd_field *f, const char *path, core_err *err)
 }
 
 /* ------------------------------------------------------------------ loader */
-static int read_attr_double(hid_t f, const char *name, double *v)
+/* One number from an attribute: 0, 1 if absent and optional, < 0 (err names
+ * the attribute) if absent and required, not one number, or not finite.
+ * H5Aread fills as many values as the attribute holds, so an array here
+ * would overrun v: the extent is checked first. */
+static int read_attr_double(hid_t f, const char *path, const char *name, int required, double *v,
+                            core_err *err)
 {
-    if (H5Aexists(f, name) <= 0)
-        return -1;
+    htri_t ex = H5Aexists(f, name);
+    if (ex == 0 && !required)
+        return 1;
+    if (ex <= 0)
+        return core_err_set(err, -1, "%s: attribute %s missing (not a disim airwake field, or a damaged one)",
+                            path, name);
     hid_t a = H5Aopen(f, name, H5P_DEFAULT);
-    herr_t rc = H5Aread(a, H5T_NATIVE_DOUBLE, v);
+    if (a < 0)
+        return core_err_set(err, -1, "%s: attribute %s cannot be read (corrupt file?)", path, name);
+    hid_t sp = H5Aget_space(a), t = H5Aget_type(a);
+    hssize_t np = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : -1;
+    H5T_class_t cls = t >= 0 ? H5Tget_class(t) : H5T_NO_CLASS;
+    double x = 0.0;
+    herr_t rc = -1;
+    if (np == 1 && (cls == H5T_FLOAT || cls == H5T_INTEGER))
+        rc = H5Aread(a, H5T_NATIVE_DOUBLE, &x);
+    if (t >= 0)
+        H5Tclose(t);
+    if (sp >= 0)
+        H5Sclose(sp);
     H5Aclose(a);
-    return rc < 0 ? -1 : 0;
+    if (rc < 0)
+        return core_err_set(err, -1, "%s: attribute %s: expected one number", path, name);
+    if (!isfinite(x))
+        return core_err_set(err, -1, "%s: attribute %s is %g: expected a finite number", path, name, x);
+    *v = x;
+    return 0;
 }
 
-static void read_attr_string(hid_t f, const char *name, char *out, size_t n)
+/* One fixed-length string from an attribute into out (size n): 0, or < 0
+ * (err names the attribute) if absent, not one string, or too long for out
+ * (a cut name would match another ship's or grid's). */
+static int read_attr_string(hid_t f, const char *path, const char *name, char *out, size_t n, core_err *err)
 {
     out[0] = 0;
     if (H5Aexists(f, name) <= 0)
-        return;
+        return core_err_set(err, -1, "%s: attribute %s missing (not a disim airwake field, or a damaged one)",
+                            path, name);
     hid_t a = H5Aopen(f, name, H5P_DEFAULT);
-    hid_t t = H5Aget_type(a);
-    size_t sz = H5Tget_size(t);
-    char *buf = calloc(sz + 1, 1);
+    if (a < 0)
+        return core_err_set(err, -1, "%s: attribute %s cannot be read (corrupt file?)", path, name);
+    hid_t sp = H5Aget_space(a), t = H5Aget_type(a);
+    hssize_t np = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : -1;
+    int ok = np == 1 && t >= 0 && H5Tget_class(t) == H5T_STRING && H5Tis_variable_str(t) == 0;
+    size_t sz = ok ? H5Tget_size(t) : 0;
+    char *buf = ok ? calloc(sz + 1, 1) : NULL;
+    int rc = -1;
     if (buf) {
         hid_t mt = H5Tcopy(H5T_C_S1);
-        H5Tset_size(mt, sz);
-        if (H5Aread(a, mt, buf) >= 0)
-            snprintf(out, n, "%s", buf);
-        H5Tclose(mt);
-        free(buf);
+        if (mt >= 0 && H5Tset_size(mt, sz) >= 0 && H5Aread(a, mt, buf) >= 0)
+            rc = strlen(buf) < n ? 0 : -2;
+        if (mt >= 0)
+            H5Tclose(mt);
     }
-    H5Tclose(t);
+    if (rc == 0)
+        memcpy(out, buf, strlen(buf) + 1);
+    free(buf);
+    if (t >= 0)
+        H5Tclose(t);
+    if (sp >= 0)
+        H5Sclose(sp);
     H5Aclose(a);
+    if (rc == -2)
+        return core_err_set(err, -1, "%s: attribute %s: longer than %zu characters", path, name, n - 1);
+    if (rc < 0)
+        return core_err_set(err, -1, "%s: attribute %s: expected one fixed-length string", path, name);
+    return 0;
 }
 
-/* Read a dataset of the expected number of elements; -1 on any mismatch. */
-static int read_ds(hid_t f, const char *name, hid_t type, size_t count, void *out)
+/* Open a dataset and check its rank and extent (slowest dimension first)
+ * against what the grid expects: the element count alone would pass a field
+ * stored nx x ny x nz for a grid's nz x ny x nx, read transposed. dims[d] 0
+ * accepts any extent and returns it there. The dataset, or -1 with err set. */
+static hid_t open_ds(hid_t f, const char *path, const char *name, int rank, hsize_t *dims, core_err *err)
 {
-    if (H5Lexists(f, name, H5P_DEFAULT) <= 0)
+    if (H5Lexists(f, name, H5P_DEFAULT) <= 0) {
+        core_err_set(err, -1, "%s: dataset %s missing (not a disim airwake field, or a damaged one)", path, name);
         return -1;
+    }
     hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
-    if (ds < 0)
+    if (ds < 0) {
+        core_err_set(err, -1, "%s: %s cannot be opened as a dataset (corrupt file?)", path, name);
         return -1;
+    }
     hid_t sp = H5Dget_space(ds);
-    hssize_t np = H5Sget_simple_extent_npoints(sp);
-    H5Sclose(sp);
-    herr_t rc = -1;
-    if (np == (hssize_t)count)
-        rc = H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out);
-    H5Dclose(ds);
-    return rc < 0 ? -1 : 0;
+    int r = sp >= 0 ? H5Sget_simple_extent_ndims(sp) : -1;
+    hsize_t got[3] = {0, 0, 0};
+    int ok = r >= 1 && r <= 3 && H5Sget_simple_extent_dims(sp, got, NULL) == r && r == rank;
+    for (int d = 0; ok && d < rank; d++)
+        ok = dims[d] == 0 || got[d] == dims[d];
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (!ok) {
+        char want[96] = "", have[96] = "";
+        for (int d = 0; d < rank; d++) {
+            size_t lw = strlen(want);
+            snprintf(want + lw, sizeof want - lw, dims[d] ? "%s%llu" : "%s*", d ? " x " : "",
+                     (unsigned long long)dims[d]);
+        }
+        for (int d = 0; r > 0 && r <= 3 && d < r; d++) {
+            size_t lh = strlen(have);
+            snprintf(have + lh, sizeof have - lh, "%s%llu", d ? " x " : "", (unsigned long long)got[d]);
+        }
+        core_err_set(err, -1, "%s: %s has extent %s (rank %d), expected %s", path, name, r > 0 && r <= 3 ? have : "?",
+                     r, want);
+        H5Dclose(ds);
+        return -1;
+    }
+    for (int d = 0; d < rank; d++)
+        dims[d] = got[d];
+    return ds;
 }
 
-static hssize_t ds_size(hid_t f, const char *name)
+/* Read a dataset opened and checked by open_ds, then closed. */
+static int read_ds(hid_t ds, const char *path, const char *name, hid_t type, void *out, core_err *err)
 {
-    if (H5Lexists(f, "grid", H5P_DEFAULT) <= 0 || H5Lexists(f, name, H5P_DEFAULT) <= 0)
-        return -1;
-    hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
-    if (ds < 0)
-        return -1;
-    hid_t sp = H5Dget_space(ds);
-    hssize_t np = H5Sget_simple_extent_npoints(sp);
-    H5Sclose(sp);
+    herr_t rc = H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out);
     H5Dclose(ds);
-    return np;
+    if (rc < 0)
+        return core_err_set(err, -1, "%s: %s cannot be read (truncated or corrupt file?)", path, name);
+    return 0;
 }
 
 cfd_field *cfd_field_load(const char *path, core_err *err)
@@ -293,86 +362,148 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
     }
     hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0) {
-        core_err_set(err, -1, "%s: not an HDF5 file", path);
+        /* the signature is at the start: a file cut short still has it */
+        if (H5Fis_hdf5(path) > 0)
+            core_err_set(err, -1, "%s: HDF5 file that cannot be opened (truncated or corrupt)", path);
+        else
+            core_err_set(err, -1, "%s: not an HDF5 file", path);
         return NULL;
     }
     cfd_field *fl = NULL;
     double *xn[3] = {NULL, NULL, NULL};
+    hid_t nds[3] = {-1, -1, -1};
     int n[3];
     const char *nn[3] = {"/grid/x_nodes", "/grid/y_nodes", "/grid/z_nodes"};
+    /* all three extents before any allocation: the cell count and the
+     * arrays' bytes must fit an int per axis and a size_t in all */
+    size_t nc = 1;
+    if (H5Lexists(f, "/grid", H5P_DEFAULT) <= 0 || H5Lexists(f, "/fields", H5P_DEFAULT) <= 0) {
+        core_err_set(err, -1, "%s: group /grid or /fields missing (not a disim airwake field)", path);
+        goto fail;
+    }
     for (int d = 0; d < 3; d++) {
-        hssize_t np = ds_size(f, nn[d]);
-        if (np < 2) {
-            core_err_set(err, -1, "%s: missing or empty dataset %s (not a disim airwake field)", path, nn[d]);
+        hsize_t np = 0;
+        if ((nds[d] = open_ds(f, path, nn[d], 1, &np, err)) < 0)
+            goto fail;
+        if (np < 2 || np - 1 > (hsize_t)INT_MAX) {
+            core_err_set(err, -1, "%s: %s has %llu nodes: expected 2 to %d", path, nn[d], (unsigned long long)np,
+                         INT_MAX);
             goto fail;
         }
-        n[d] = (int)np - 1;
-        xn[d] = malloc((size_t)np * sizeof(double));
-        if (!xn[d] || read_ds(f, nn[d], H5T_NATIVE_DOUBLE, (size_t)np, xn[d])) {
-            core_err_set(err, -1, "%s: cannot read %s", path, nn[d]);
+        n[d] = (int)(np - 1);
+        if ((size_t)n[d] > SIZE_MAX / sizeof(double) / nc) {
+            core_err_set(err, -1, "%s: grid of %d x %d x %d cells: too many cells to hold in memory", path,
+                         n[0], d > 0 ? n[1] : 1, d > 1 ? n[2] : 1);
             goto fail;
         }
+        nc *= (size_t)n[d];
+    }
+    for (int d = 0; d < 3; d++) {
+        xn[d] = malloc(((size_t)n[d] + 1) * sizeof(double));
+        if (!xn[d]) {
+            core_err_set(err, -2, "%s: out of memory", path);
+            goto fail;
+        }
+        hid_t ds = nds[d];
+        nds[d] = -1;
+        if (read_ds(ds, path, nn[d], H5T_NATIVE_DOUBLE, xn[d], err))
+            goto fail;
+        /* the grid refuses nodes that do not increase, NaN among them; an
+         * infinite end node would still increase */
+        for (int i = 0; i <= n[d]; i++)
+            if (!isfinite(xn[d][i])) {
+                core_err_set(err, -1, "%s: %s node %d is %g: expected a finite coordinate", path, nn[d], i,
+                             xn[d][i]);
+                goto fail;
+            }
     }
     fl = calloc(1, sizeof *fl);
     if (!fl) {
         core_err_set(err, -2, "%s: out of memory", path);
         goto fail;
     }
-    fl->g = cfd_grid_create(xn[0], n[0], xn[1], n[1], xn[2], n[2], err);
-    if (!fl->g)
-        goto fail;
-    size_t nc = fl->g->ncell;
-    if (read_ds(f, "/grid/solid", H5T_NATIVE_UCHAR, nc, fl->g->solid)) {
-        core_err_set(err, -1, "%s: /grid/solid missing or of the wrong size (expected %zu cells)", path, nc);
+    core_err gerr = {{0}};
+    fl->g = cfd_grid_create(xn[0], n[0], xn[1], n[1], xn[2], n[2], &gerr);
+    if (!fl->g) {
+        /* the grid's message does not know the file */
+        core_err_set(err, -1, "%s: %s", path, gerr.msg);
         goto fail;
     }
+    hsize_t cells[3] = {(hsize_t)n[2], (hsize_t)n[1], (hsize_t)n[0]};
+    hid_t ds = open_ds(f, path, "/grid/solid", 3, cells, err);
+    if (ds < 0 || read_ds(ds, path, "/grid/solid", H5T_NATIVE_UCHAR, fl->g->solid, err))
+        goto fail;
     for (int v = 0; v < CFD_NVARS; v++) {
         char name[64];
         snprintf(name, sizeof name, "/fields/%s", cfd_var_names[v]);
         fl->var[v] = malloc(nc * sizeof(double));
-        if (!fl->var[v] || read_ds(f, name, H5T_NATIVE_DOUBLE, nc, fl->var[v])) {
-            core_err_set(err, -1, "%s: %s missing or of the wrong size (expected %zu cells)", path, name, nc);
+        if (!fl->var[v]) {
+            core_err_set(err, -2, "%s: out of memory", path);
             goto fail;
         }
+        if ((ds = open_ds(f, path, name, 3, cells, err)) < 0 ||
+            read_ds(ds, path, name, H5T_NATIVE_DOUBLE, fl->var[v], err))
+            goto fail;
         for (size_t c = 0; c < nc; c++)
             if (!isfinite(fl->var[v][c])) {
                 core_err_set(err, -1, "%s: %s holds a NaN or infinity at cell %zu", path, name, c);
                 goto fail;
             }
     }
+    /* What names the field and what its users act on has been written since
+     * the first solver; the rest is absent in older fields or informative. */
     cfd_meta *m = &fl->meta;
-    read_attr_string(f, "ship", m->ship, sizeof m->ship);
-    read_attr_string(f, "rotor", m->rotor, sizeof m->rotor);
-    read_attr_string(f, "grid_level", m->grid, sizeof m->grid);
-    read_attr_double(f, "wod_speed_mps", &m->wod_speed_mps);
-    read_attr_double(f, "wod_dir_deg", &m->wod_dir_deg);
-    read_attr_double(f, "rotor_thrust_N", &m->rotor_thrust_N);
-    read_attr_double(f, "rotor_radius_m", &m->rotor_radius_m);
-    double it = 0, conv = 0, avg = 0, steady = 0;
-    read_attr_double(f, "iterations", &it);
-    read_attr_double(f, "converged", &conv);
-    read_attr_double(f, "averaged_iterations", &avg); /* absent in fields before solver 0.2.1 */
-    m->result.averaged = (int)avg;
-    read_attr_double(f, "steady_mean", &steady); /* absent before solver 0.4.0 */
-    m->result.steady_mean = steady != 0.0;
-    read_attr_double(f, "mean_drift", &m->result.mean_drift); /* absent before solver 0.4.0 */
+    double it = 0, conv = 0, avg = 0, steady = 0, mir = 0.0;
+    if (read_attr_string(f, path, "ship", m->ship, sizeof m->ship, err) ||
+        read_attr_string(f, path, "rotor", m->rotor, sizeof m->rotor, err) ||
+        read_attr_string(f, path, "grid_level", m->grid, sizeof m->grid, err) ||
+        read_attr_double(f, path, "wod_speed_mps", 1, &m->wod_speed_mps, err) ||
+        read_attr_double(f, path, "wod_dir_deg", 1, &m->wod_dir_deg, err) ||
+        read_attr_double(f, path, "rotor_thrust_N", 1, &m->rotor_thrust_N, err) ||
+        read_attr_double(f, path, "rotor_radius_m", 1, &m->rotor_radius_m, err) ||
+        read_attr_double(f, path, "iterations", 1, &it, err) ||
+        read_attr_double(f, path, "converged", 1, &conv, err) ||
+        /* absent in fields before solver 0.2.1 */
+        read_attr_double(f, path, "averaged_iterations", 0, &avg, err) < 0 ||
+        /* absent before solver 0.4.0 */
+        read_attr_double(f, path, "steady_mean", 0, &steady, err) < 0 ||
+        read_attr_double(f, path, "mean_drift", 0, &m->result.mean_drift, err) < 0 ||
+        read_attr_double(f, path, "wall_time_s", 0, &m->result.wall_s, err) < 0 ||
+        /* absent in fields not mirrored by earlier builds */
+        read_attr_double(f, path, "mirrored", 0, &mir, err) < 0 ||
+        read_attr_double(f, path, "rho_kgpm3", 0, &fl->rho_kgpm3, err) < 0 ||
+        read_attr_double(f, path, "nu_m2ps", 0, &fl->nu_m2ps, err) < 0)
+        goto fail;
     for (int q = 0; q < 5; q++)
-        read_attr_double(f, residual_names[q], &m->result.residual[q]);
-    read_attr_double(f, "wall_time_s", &m->result.wall_s);
-    double mir = 0.0;
-    read_attr_double(f, "mirrored", &mir); /* absent in fields not mirrored by earlier builds */
-    m->mirrored = mir != 0.0;
-    read_attr_double(f, "rho_kgpm3", &fl->rho_kgpm3);
-    read_attr_double(f, "nu_m2ps", &fl->nu_m2ps);
+        if (read_attr_double(f, path, residual_names[q], 0, &m->result.residual[q], err) < 0)
+            goto fail;
+    /* counts become ints: a value past INT_MAX would not convert */
+    const char *bad = !(m->wod_speed_mps >= 0.0) ? "wod_speed_mps"
+                      : !(m->rotor_radius_m >= 0.0) ? "rotor_radius_m"
+                      : !(it >= 0.0 && it <= INT_MAX) ? "iterations"
+                      : !(avg >= 0.0 && avg <= INT_MAX) ? "averaged_iterations"
+                      : !(fl->rho_kgpm3 >= 0.0) ? "rho_kgpm3"
+                      : !(fl->nu_m2ps >= 0.0) ? "nu_m2ps"
+                                               : NULL;
+    if (bad) {
+        core_err_set(err, -1, "%s: attribute %s out of range (negative or too large)", path, bad);
+        goto fail;
+    }
     m->result.iterations = (int)it;
-    m->result.converged = (int)conv;
+    m->result.converged = conv != 0.0;
+    m->result.averaged = (int)avg;
+    m->result.steady_mean = steady != 0.0;
+    m->mirrored = mir != 0.0;
     for (int d = 0; d < 3; d++)
         free(xn[d]);
     H5Fclose(f);
     return fl;
 fail:
-    for (int d = 0; d < 3; d++)
+    for (int d = 0; d < 3; d++) {
         free(xn[d]);
+        if (nds[d] >= 0)
+            H5Dclose(nds[d]);
+    }
     cfd_field_destroy(fl);
     H5Fclose(f);
     return NULL;

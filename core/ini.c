@@ -26,6 +26,7 @@ typedef struct reader_state {
     FILE *f;
     int line;
     int too_long_line; /* first line that did not fit inih's buffer */
+    int read_errno;    /* a read error (a folder, EIO): inih would take it for the end */
 } reader_state;
 
 /* inih calls the reader once per line; counting calls gives the line number
@@ -34,8 +35,11 @@ static char *reader(char *str, int num, void *stream)
 {
     reader_state *rs = stream;
     char *r = fgets(str, num, rs->f);
-    if (!r)
+    if (!r) {
+        if (ferror(rs->f) && !rs->read_errno)
+            rs->read_errno = errno ? errno : EIO;
         return NULL;
+    }
     rs->line++;
     size_t len = strlen(str);
     if (len == (size_t)num - 1 && str[len - 1] != '\n' && !feof(rs->f)) {
@@ -111,10 +115,18 @@ core_ini *core_ini_load(const char *path, core_err *err)
         slash[1] = '\0';
     else
         ini->dir[0] = '\0';
-    reader_state rs = {f, 0, 0};
+    reader_state rs = {f, 0, 0, 0};
     load_ctx c = {ini, &rs, 0};
+    errno = 0;
     int rc = ini_parse_stream(reader, &rs, handler, &c);
     fclose(f);
+    if (rs.read_errno) {
+        /* what was read is only the start of the file: optional keys after
+         * it would silently take their defaults */
+        core_err_set(err, -1, "%s: cannot read: %s", path, strerror(rs.read_errno));
+        core_ini_destroy(ini);
+        return NULL;
+    }
     if (c.oom) {
         core_ini_destroy(ini);
         core_err_set(err, -1, "%s: out of memory", path);
@@ -232,6 +244,25 @@ static int lookup(core_ini *ini, const char *section, const char *key, int requi
         return core_err_set(err, -1, "%s:%d: [%s] %s: unknown key (a typo of the required key '%s'?)",
                             ini->path, best->line, section, best->key, key);
     return core_err_set(err, -1, "%s: [%s] %s: missing required key", ini->path, section, key);
+}
+
+/* The next item of a list separated by sep, cut in place; *p moves past it
+ * (NULL after the last item). Unlike strtok an empty item ("1,,2", a
+ * trailing comma) comes back as "", so the caller reports it rather than
+ * reading a shorter list whose items have moved. */
+static char *next_item(char **p, char sep)
+{
+    char *s = *p;
+    if (!s)
+        return NULL;
+    char *q = strchr(s, sep);
+    if (q) {
+        *q = '\0';
+        *p = q + 1;
+    } else {
+        *p = NULL;
+    }
+    return s;
 }
 
 static int parse_double(const char *s, double *out)
@@ -354,11 +385,14 @@ int core_ini_get_doubles(core_ini *ini, const char *section, const char *key, in
     int rc = lookup(ini, section, key, required, &e, err);
     if (rc)
         return rc;
+    if (!e->value[0])
+        return core_err_set(err, -1, "%s:%d: [%s] %s: expected a comma-separated list of numbers",
+                            ini->path, e->line, section, key);
     char buf[INI_MAX_LINE + 1];
     snprintf(buf, sizeof buf, "%s", e->value);
     int k = 0;
-    char *save = NULL;
-    for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    char *rest = buf;
+    for (char *tok; (tok = next_item(&rest, ','));) {
         while (*tok == ' ' || *tok == '\t')
             tok++;
         double v;
@@ -374,9 +408,6 @@ int core_ini_get_doubles(core_ini *ini, const char *section, const char *key, in
                                 ini->path, e->line, section, key, k + 1, v, min, max);
         out[k++] = v;
     }
-    if (k == 0)
-        return core_err_set(err, -1, "%s:%d: [%s] %s: expected a comma-separated list of numbers",
-                            ini->path, e->line, section, key);
     *count = k;
     return 0;
 }
@@ -434,8 +465,8 @@ int core_parse_range(const char *s, double *out, int nmax, int *count)
     if (strlen(s) >= sizeof buf)
         return -1;
     strcpy(buf, s);
-    char *save = NULL;
-    for (char *tok = strtok_r(buf, ":", &save); tok; tok = strtok_r(NULL, ":", &save)) {
+    char *rest = buf;
+    for (char *tok; (tok = next_item(&rest, ':'));) {
         if (k == 3 || parse_double(tok, &a[k]))
             return -1;
         k++;
@@ -449,9 +480,12 @@ int core_parse_range(const char *s, double *out, int nmax, int *count)
     }
     if (k != 3 || a[2] <= 0.0 || a[1] < a[0])
         return -1;
-    int m = (int)floor((a[1] - a[0]) / a[2] + 1e-9) + 1;
-    if (m > nmax)
+    /* counted in double: a step tiny against the range gives a count past
+     * INT_MAX (or infinite), which does not convert to an int */
+    double span = floor((a[1] - a[0]) / a[2] + 1e-9) + 1.0;
+    if (!(span <= nmax))
         return -1;
+    int m = (int)span;
     for (int i = 0; i < m; i++)
         out[i] = a[0] + i * a[2];
     *count = m;

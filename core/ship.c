@@ -71,6 +71,14 @@ int core_ship_load(const char *path, core_ship *ship, core_err *err)
                 seen = 1;
         if (seen)
             continue;
+        /* a name cut to fit blk->name would never match its section again,
+         * and each of the section's keys would add the block once more */
+        size_t nl = strlen(e->section + 6);
+        if (nl == 0 || nl >= sizeof ship->blocks[0].name) {
+            rc = core_err_set(err, -1, "%s:%d: [%s]: expected a block name of 1 to %zu characters",
+                              path, e->line, e->section, sizeof ship->blocks[0].name - 1);
+            goto out;
+        }
         if (ship->nblocks == CORE_SHIP_MAX_BLOCKS) {
             rc = core_err_set(err, -1, "%s:%d: [%s]: more than %d blocks", path, e->line,
                               e->section, CORE_SHIP_MAX_BLOCKS);

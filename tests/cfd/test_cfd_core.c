@@ -1,10 +1,11 @@
 /* test_cfd_core.c -- grid stretching, ship blocking, WOD boundary faces,
  * actuator-disk exactness, pressure solver, HDF5 round trip, NaN refusal,
- * iteration averaging, Anderson acceleration, sampled inflow and the deck
- * zone. */
+ * damaged field files, iteration averaging, Anderson acceleration, sampled
+ * inflow and the deck zone. */
 #include "cfd.h"
 #include "check.h"
 
+#include <hdf5.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -376,6 +377,184 @@ static void test_io(void)
     unlink(xmf);
     rmdir(dir);
     cfd_solver_destroy(s);
+}
+
+/* ------------------------------------------------- damaged field files */
+/* The ways a field file is damaged in test_io_bad. */
+enum {
+    BAD_NONE,
+    BAD_TRANSPOSED,    /* /fields/u stored nx x ny x nz: same count, other order */
+    BAD_SOLID_2D,      /* /grid/solid 2-D with the right count */
+    BAD_ATTR_ARRAY,    /* wod_speed_mps an array of 4 */
+    BAD_ATTR_MISSING,  /* wod_dir_deg absent */
+    BAD_ATTR_HUGE,     /* iterations 1e300: no int */
+    BAD_ATTR_STRINGS,  /* ship an array of 2 strings */
+    BAD_NODE_INF,      /* the last x node infinite */
+    BAD_NODES_FLAT,    /* two equal y nodes */
+    BAD_NODES_HUGE,    /* 2^22 nodes declared per axis (never written): 2^66 cells */
+};
+
+/* A small field file written with HDF5 directly, as cfd writes it (4 x 3 x 2
+ * cells), damaged as `bad` says. 0 on success. */
+static int write_raw_field(const char *path, int bad)
+{
+    enum { NX = 4, NY = 3, NZ = 2 };
+    hid_t f = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (f < 0)
+        return -1;
+    hid_t gg = H5Gcreate2(f, "grid", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t gf = H5Gcreate2(f, "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    herr_t rc = 0;
+    const char *nn[3] = {"x_nodes", "y_nodes", "z_nodes"};
+    int n[3] = {NX, NY, NZ};
+    for (int d = 0; d < 3; d++) {
+        double x[NX + 1];
+        for (int i = 0; i <= n[d]; i++)
+            x[i] = i;
+        if (bad == BAD_NODE_INF && d == 0)
+            x[NX] = INFINITY;
+        if (bad == BAD_NODES_FLAT && d == 1)
+            x[2] = x[1];
+        hsize_t dim = (hsize_t)n[d] + 1;
+        hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+        if (bad == BAD_NODES_HUGE) {
+            /* chunked and never written: the file stays small */
+            hsize_t chunk = 1024;
+            dim = (hsize_t)1 << 22;
+            H5Pset_chunk(dcpl, 1, &chunk);
+        }
+        hid_t sp = H5Screate_simple(1, &dim, NULL);
+        hid_t ds = H5Dcreate2(gg, nn[d], H5T_NATIVE_DOUBLE, sp, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+        if (ds < 0 || (bad != BAD_NODES_HUGE && H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, x) < 0))
+            rc = -1;
+        H5Dclose(ds);
+        H5Sclose(sp);
+        H5Pclose(dcpl);
+    }
+    hsize_t cells[3] = {NZ, NY, NX}, trans[3] = {NX, NY, NZ}, flat[2] = {NX * NY, NZ};
+    unsigned char solid[NX * NY * NZ] = {0};
+    hid_t sp = bad == BAD_SOLID_2D ? H5Screate_simple(2, flat, NULL) : H5Screate_simple(3, cells, NULL);
+    hid_t ds = H5Dcreate2(gg, "solid", H5T_NATIVE_UCHAR, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    rc |= H5Dwrite(ds, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, solid);
+    H5Dclose(ds);
+    H5Sclose(sp);
+    double val[NX * NY * NZ];
+    for (int c = 0; c < NX * NY * NZ; c++)
+        val[c] = 0.1 * c;
+    for (int v = 0; v < CFD_NVARS; v++) {
+        sp = H5Screate_simple(3, bad == BAD_TRANSPOSED && v == CFD_VAR_U ? trans : cells, NULL);
+        ds = H5Dcreate2(gf, cfd_var_names[v], H5T_NATIVE_DOUBLE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        rc |= H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, val);
+        H5Dclose(ds);
+        H5Sclose(sp);
+    }
+    const char *strs[3][2] = {{"ship", "box"}, {"rotor", "off"}, {"grid_level", "test"}};
+    for (int q = 0; q < 3; q++) {
+        hid_t t = H5Tcopy(H5T_C_S1);
+        H5Tset_size(t, 8);
+        hsize_t two = 2;
+        char buf[16] = {0};
+        snprintf(buf, 8, "%s", strs[q][1]);
+        snprintf(buf + 8, 8, "%s", strs[q][1]);
+        sp = bad == BAD_ATTR_STRINGS && q == 0 ? H5Screate_simple(1, &two, NULL) : H5Screate(H5S_SCALAR);
+        hid_t a = H5Acreate2(f, strs[q][0], t, sp, H5P_DEFAULT, H5P_DEFAULT);
+        rc |= H5Awrite(a, t, buf);
+        H5Aclose(a);
+        H5Sclose(sp);
+        H5Tclose(t);
+    }
+    const char *nums[] = {"wod_speed_mps", "wod_dir_deg", "rotor_thrust_N", "rotor_radius_m", "iterations",
+                          "converged"};
+    for (size_t q = 0; q < sizeof nums / sizeof nums[0]; q++) {
+        if (bad == BAD_ATTR_MISSING && !strcmp(nums[q], "wod_dir_deg"))
+            continue;
+        double x[4] = {q == 0 ? 10.0 : 0.0, 0.0, 0.0, 0.0};
+        if (bad == BAD_ATTR_HUGE && !strcmp(nums[q], "iterations"))
+            x[0] = 1e300;
+        hsize_t four = 4;
+        sp = bad == BAD_ATTR_ARRAY && q == 0 ? H5Screate_simple(1, &four, NULL) : H5Screate(H5S_SCALAR);
+        hid_t a = H5Acreate2(f, nums[q], H5T_NATIVE_DOUBLE, sp, H5P_DEFAULT, H5P_DEFAULT);
+        rc |= H5Awrite(a, H5T_NATIVE_DOUBLE, x);
+        H5Aclose(a);
+        H5Sclose(sp);
+    }
+    H5Gclose(gg);
+    H5Gclose(gf);
+    if (H5Fclose(f) < 0)
+        rc = -1;
+    return rc < 0 ? -1 : 0;
+}
+
+/* A damaged field file is refused with an error naming what is wrong, never
+ * read out of its bounds or with its arrays in the wrong order. */
+static void test_io_bad(void)
+{
+    core_err err = {{0}};
+    const char *tmp = getenv("TMPDIR");
+    char tmpl[256];
+    snprintf(tmpl, sizeof tmpl, "%s/disim_cfd_bad_XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    char *d = mkdtemp(tmpl);
+    CHECK(d != NULL);
+    if (!d)
+        return;
+    char path[512];
+    snprintf(path, sizeof path, "%s/f.h5", d);
+    /* the writer here makes a field the loader takes */
+    CHECK(write_raw_field(path, BAD_NONE) == 0);
+    cfd_field *f = cfd_field_load(path, &err);
+    CHECK(f != NULL);
+    if (!f)
+        fprintf(stderr, "  %s\n", err.msg);
+    if (f) {
+        int n[3];
+        cfd_field_dims(f, n);
+        CHECK(n[0] == 4 && n[1] == 3 && n[2] == 2);
+        CHECK(strcmp(cfd_field_meta(f)->ship, "box") == 0);
+        CHECK_NEAR(cfd_field_meta(f)->wod_speed_mps, 10.0, 0.0);
+        cfd_field_destroy(f);
+    }
+    struct {
+        int bad;
+        const char *needle;
+    } cases[] = {
+        {BAD_TRANSPOSED, "/fields/u has extent 4 x 3 x 2 (rank 3), expected 2 x 3 x 4"},
+        {BAD_SOLID_2D, "/grid/solid has extent 12 x 2 (rank 2), expected 2 x 3 x 4"},
+        {BAD_ATTR_ARRAY, "attribute wod_speed_mps: expected one number"},
+        {BAD_ATTR_MISSING, "attribute wod_dir_deg missing"},
+        {BAD_ATTR_HUGE, "attribute iterations out of range"},
+        {BAD_ATTR_STRINGS, "attribute ship: expected one fixed-length string"},
+        {BAD_NODE_INF, "/grid/x_nodes node 4 is inf: expected a finite coordinate"},
+        {BAD_NODES_FLAT, "cfd grid: axis 1 nodes must increase (node 1: 1, 1)"},
+        {BAD_NODES_HUGE, "too many cells"},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        CHECK(write_raw_field(path, cases[c].bad) == 0);
+        err.msg[0] = 0;
+        f = cfd_field_load(path, &err);
+        CHECK(f == NULL);
+        cfd_field_destroy(f);
+        CHECK(strstr(err.msg, path) != NULL && strstr(err.msg, cases[c].needle) != NULL);
+        if (!strstr(err.msg, cases[c].needle))
+            fprintf(stderr, "  case %zu: expected '%s' in: %s\n", c, cases[c].needle, err.msg);
+    }
+    /* a file cut short (a copy interrupted, a full disk) says so */
+    CHECK(write_raw_field(path, BAD_NONE) == 0);
+    FILE *fp = fopen(path, "r+b");
+    CHECK(fp != NULL);
+    if (fp) {
+        fseek(fp, 0, SEEK_END);
+        long len = ftell(fp);
+        fclose(fp);
+        CHECK(truncate(path, len / 2) == 0);
+        f = cfd_field_load(path, &err);
+        CHECK(f == NULL);
+        cfd_field_destroy(f);
+        CHECK(strstr(err.msg, "truncated or corrupt") != NULL);
+        if (!strstr(err.msg, "truncated or corrupt"))
+            fprintf(stderr, "  truncated: %s\n", err.msg);
+    }
+    unlink(path);
+    rmdir(d);
 }
 
 /* Divergence: an absurd time scale (no under-relaxation, a huge body force
@@ -1015,6 +1194,7 @@ int main(void)
     test_ship_and_wod();
     test_disk();
     test_io();
+    test_io_bad();
     test_averaging();
     test_steady_mean();
     test_mean_drift();

@@ -140,6 +140,15 @@ static void test_range(void)
     CHECK(core_parse_range("10:0:1", v, 16, &n) < 0);
     CHECK(core_parse_range("a:b:c", v, 16, &n) < 0);
     CHECK(core_parse_range("0:1000:1", v, 16, &n) < 0);
+    /* a count past INT_MAX (or infinite) is refused, not converted to a
+     * negative count and returned as success */
+    n = 5;
+    CHECK(core_parse_range("0:1e10:1", v, 16, &n) < 0 && n == 5);
+    CHECK(core_parse_range("-90:90:1e-300", v, 16, &n) < 0 && n == 5);
+    CHECK(core_parse_range("-1e308:1e308:1", v, 16, &n) < 0 && n == 5);
+    /* an empty part is malformed, not skipped */
+    CHECK(core_parse_range("0:10:1:", v, 16, &n) < 0);
+    CHECK(core_parse_range("0::10:1", v, 16, &n) < 0);
 
     /* X,Y,Z: exact, or followed by what the caller allows */
     const char *end = NULL;
@@ -218,12 +227,36 @@ static void test_ini(void)
     CHECK(core_ini_check_unused(ini, &err) == 0);
     core_ini_destroy(ini);
 
+    /* An empty item in a list is an error naming it, not skipped: "1,,2"
+     * read as two numbers would shift a table's values against its
+     * abscissae. */
+    p = write_tmp("disim_core_ini4.ini", "[a]\nl1 = 1,,2\nl2 = 1, 2,\nl3 = ,1\nl4 =\n");
+    ini = core_ini_load(p, &err);
+    CHECK(ini != NULL);
+    if (ini) {
+        CHECK(core_ini_get_doubles(ini, "a", "l1", 1, 0, 5, l, 4, &cnt, &err) < 0);
+        CHECK(strstr(err.msg, ":2: [a] l1: item 2 '': expected a number") != NULL);
+        CHECK(core_ini_get_doubles(ini, "a", "l2", 1, 0, 5, l, 4, &cnt, &err) < 0);
+        CHECK(strstr(err.msg, ":3: [a] l2: item 3 '': expected a number") != NULL);
+        CHECK(core_ini_get_doubles(ini, "a", "l3", 1, 0, 5, l, 4, &cnt, &err) < 0);
+        CHECK(strstr(err.msg, ":4: [a] l3: item 1 '': expected a number") != NULL);
+        CHECK(core_ini_get_doubles(ini, "a", "l4", 1, 0, 5, l, 4, &cnt, &err) < 0);
+        CHECK(strstr(err.msg, ":5: [a] l4: expected a comma-separated list of numbers") != NULL);
+        core_ini_destroy(ini);
+    }
+
     /* Syntax error and missing file. */
     p = write_tmp("disim_core_ini3.ini", "[a]\nx = 1\nthis line has no equals sign\n");
     CHECK(core_ini_load(p, &err) == NULL);
     CHECK(strstr(err.msg, ":3: syntax error") != NULL);
     CHECK(core_ini_load("/nonexistent/disim.ini", &err) == NULL);
     CHECK(strstr(err.msg, "cannot open") != NULL);
+    /* A folder opens, but reading it fails: an error, not an empty file
+     * whose keys are then all "missing". */
+    ini = core_ini_load("scenarios", &err);
+    CHECK(ini == NULL);
+    core_ini_destroy(ini);
+    CHECK(strstr(err.msg, "scenarios: cannot read: ") != NULL);
     core_ini_destroy(NULL);
 }
 
@@ -281,6 +314,22 @@ static void test_ship(void)
                               "height_m = 3, 0\n");
     CHECK(core_ship_load(p, &s2, &err) < 0);
     CHECK(strstr(err.msg, ":13: [block hull] height_m = 3, 0: expected the first below the second") != NULL);
+    /* A block name too long for core_ship_block.name is refused: cut, it
+     * never matched its section again and the block came in once per key. */
+    const char *head = "[ship]\nname = X\nlength_m = 10\nbeam_m = 2\ndraft_m = 1\n"
+                       "deck_height_m = 2\ndeck_x_m = -1, 1\ndeck_halfwidth_m = 1\n"
+                       "anemometer_S_m = 0, 0, -5\n";
+    char text[1024];
+    snprintf(text, sizeof text, "%s[block %s]\nx_m = -5, 5\ny_m = -1, 1\nheight_m = 0, 3\n", head,
+             "superstructure_forward_of_the_hangar");
+    p = write_tmp("disim_bad_ship2.ini", text);
+    CHECK(core_ship_load(p, &s2, &err) < 0);
+    CHECK(strstr(err.msg, ":11: [block superstructure_forward_of_the_hangar]: expected a block name of "
+                          "1 to 31 characters") != NULL);
+    snprintf(text, sizeof text, "%s[block %s]\nx_m = -5, 5\ny_m = -1, 1\nheight_m = 0, 3\n", head,
+             "superstructure_forward_of_hanga"); /* 31 characters: fits */
+    p = write_tmp("disim_ship_31.ini", text);
+    CHECK(core_ship_load(p, &s2, &err) == 0 && s2.nblocks == 1);
 }
 
 static int nlog = 0;
