@@ -280,12 +280,8 @@ int cmd_shol(int argc, char **argv)
         snprintf(dbbuf, sizeof dbbuf, "out/airwake-db");
         dbdir = dbbuf;
     }
-    char mk[1100];
-    snprintf(mk, sizeof mk, "mkdir -p '%s'", dbdir);
-    if (system(mk) != 0) {
-        core_err_set(&err, -1, "%s: cannot create the database folder", dbdir);
+    if (core_mkdir_p(dbdir, &err) != 0) /* the database folder's parents (awdb_open makes the folder) */
         goto fail;
-    }
     if (!(db = awdb_open(dbdir, &log, &err)))
         goto fail;
 

@@ -150,6 +150,11 @@ int core_wod_faces(double speed_mps, double dir_rad, int sign[2]);
 /* Name of a WOD direction as seamen say it: "green 30", "red 90", "head", "stern". */
 void core_wod_name(double dir_deg, char *buf, size_t n);
 
+/* ---------------------------------------------------------------- folders */
+/* Create dir and its missing parents (mkdir -p); 0, or < 0 with err naming
+ * the part that could not be made or a path that is not a folder. */
+int core_mkdir_p(const char *dir, core_err *err);
+
 /* ------------------------------------------------------ airwake grid levels */
 /* The three airwake grid levels: 0 coarse, 1 default, 2 fine (the values
  * of cfd_grid_level, sim_grid and the database keys' grid). */

@@ -11,28 +11,11 @@
 
 int shol_io_mkdir(const char *dir, core_err *err)
 {
-    char p[SHOL_IO_PATH_MAX];
     if (!dir || !*dir)
         return core_err_set(err, -1, "shol: empty output folder name");
-    if (strlen(dir) >= sizeof p)
+    if (strlen(dir) >= SHOL_IO_PATH_MAX)
         return core_err_set(err, -1, "%s: output folder name too long", dir);
-    strcpy(p, dir);
-    for (char *c = p + 1;; c++) {
-        int end = *c == '\0';
-        if (*c == '/' || end) {
-            char keep = *c;
-            *c = '\0';
-            if (mkdir(p, 0777) < 0 && errno != EEXIST)
-                return core_err_set(err, -1, "%s: cannot create folder: %s", p, strerror(errno));
-            *c = keep;
-        }
-        if (end)
-            break;
-    }
-    struct stat st;
-    if (stat(dir, &st) < 0 || !S_ISDIR(st.st_mode))
-        return core_err_set(err, -1, "%s: not a folder", dir);
-    return 0;
+    return core_mkdir_p(dir, err);
 }
 
 int shol_io_paths(const char *dir, const char *name, char *final, char *tmp, core_err *err)

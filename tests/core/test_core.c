@@ -6,6 +6,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #define TOL 1e-12
 
@@ -351,6 +353,35 @@ static void test_log(void)
     CHECK(strcmp(last, "value 3") == 0);
 }
 
+/* mkdir -p without a shell: a quote and a space in the name, parents made,
+ * a file in the way refused naming it. */
+static void test_mkdir(void)
+{
+    char base[256], dir[512], file[512];
+    snprintf(base, sizeof base, "%s/disim_core_mkdir_%d", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp", (int)getpid());
+    snprintf(dir, sizeof dir, "%s/it's a/b", base);
+    core_err err = {{0}};
+    CHECK(core_mkdir_p(dir, &err) == 0);
+    struct stat st;
+    CHECK(stat(dir, &st) == 0 && S_ISDIR(st.st_mode));
+    CHECK(core_mkdir_p(dir, &err) == 0); /* there already */
+    snprintf(file, sizeof file, "%s/f", base);
+    FILE *f = fopen(file, "w");
+    CHECK(f != NULL);
+    if (f)
+        fclose(f);
+    char under[600];
+    snprintf(under, sizeof under, "%s/g", file);
+    CHECK(core_mkdir_p(under, &err) < 0 && strstr(err.msg, file) != NULL);
+    CHECK(core_mkdir_p(file, &err) < 0 && strstr(err.msg, "not a folder") != NULL);
+    CHECK(core_mkdir_p("", &err) < 0);
+    remove(file);
+    rmdir(dir);
+    snprintf(dir, sizeof dir, "%s/it's a", base);
+    rmdir(dir);
+    rmdir(base);
+}
+
 int main(void)
 {
     test_wod();
@@ -360,5 +391,6 @@ int main(void)
     test_ini();
     test_ship();
     test_log();
+    test_mkdir();
     return check_done("test_core");
 }
