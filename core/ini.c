@@ -56,12 +56,25 @@ typedef struct load_ctx {
     core_ini *ini;
     reader_state *rs;
     int oom;
+    int dup_line, dup_first; /* a key given twice in a section: its lines */
+    char dup_section[64], dup_key[64];
 } load_ctx;
 
 static int handler(void *user, const char *section, const char *name, const char *value)
 {
     load_ctx *c = user;
     core_ini *ini = c->ini;
+    /* A key given twice would silently take its last value; inih also calls
+     * back with the same key for an indented line (a continuation), which
+     * would replace a value without a word. Both are refused. */
+    for (size_t i = 0; i < ini->n; i++)
+        if (!strcmp(ini->e[i].section, section) && !strcmp(ini->e[i].key, name)) {
+            c->dup_line = c->rs->line;
+            c->dup_first = ini->e[i].line;
+            snprintf(c->dup_section, sizeof c->dup_section, "%s", section);
+            snprintf(c->dup_key, sizeof c->dup_key, "%s", name);
+            return 0;
+        }
     if (ini->n == ini->cap) {
         size_t cap = ini->cap ? 2 * ini->cap : 32;
         core_ini_entry *e = realloc(ini->e, cap * sizeof *e);
@@ -116,7 +129,7 @@ core_ini *core_ini_load(const char *path, core_err *err)
     else
         ini->dir[0] = '\0';
     reader_state rs = {f, 0, 0, 0};
-    load_ctx c = {ini, &rs, 0};
+    load_ctx c = {ini, &rs, 0, 0, 0, "", ""};
     errno = 0;
     int rc = ini_parse_stream(reader, &rs, handler, &c);
     fclose(f);
@@ -135,6 +148,14 @@ core_ini *core_ini_load(const char *path, core_err *err)
     if (rs.too_long_line) {
         core_err_set(err, -1, "%s:%d: line longer than %d characters", path, rs.too_long_line,
                      INI_MAX_LINE - 1);
+        core_ini_destroy(ini);
+        return NULL;
+    }
+    if (c.dup_line) {
+        core_err_set(err, -1,
+                     "%s:%d: [%s] %s: given again (first at line %d): expected each key once in a section "
+                     "(an indented line continues the key above it)",
+                     path, c.dup_line, c.dup_section, c.dup_key, c.dup_first);
         core_ini_destroy(ini);
         return NULL;
     }
@@ -211,7 +232,7 @@ static int edit_distance(const char *a, const char *b)
     return d[la][lb];
 }
 
-/* Look up a key, mark every duplicate used, handle absence. Returns 0 with *e
+/* Look up a key (each is there once: core_ini_load refuses repeats), handle absence. Returns 0 with *e
  * set, 1 if absent and optional, < 0 if absent and required. */
 static int lookup(core_ini *ini, const char *section, const char *key, int required,
                   core_ini_entry **e, core_err *err)

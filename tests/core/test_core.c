@@ -253,6 +253,15 @@ static void test_ini(void)
     CHECK(strstr(err.msg, ":3: syntax error") != NULL);
     CHECK(core_ini_load("/nonexistent/disim.ini", &err) == NULL);
     CHECK(strstr(err.msg, "cannot open") != NULL);
+    /* A key given twice, and an indented line (inih: a continuation of the
+     * key above, which replaced its value): refused naming both lines. The
+     * same key in another section is fine. */
+    p = write_tmp("disim_core_ini5.ini", "[a]\nx = 1\n[b]\nx = 2\ny = 3\nx = 4\n");
+    CHECK(core_ini_load(p, &err) == NULL);
+    CHECK(strstr(err.msg, ":6: [b] x: given again (first at line 4)") != NULL);
+    p = write_tmp("disim_core_ini6.ini", "[wod]\ndir_deg = -90:90:30\n   0:30:30\n");
+    CHECK(core_ini_load(p, &err) == NULL);
+    CHECK(strstr(err.msg, ":3: [wod] dir_deg: given again (first at line 2)") != NULL);
     /* A folder opens, but reading it fails: an error, not an empty file
      * whose keys are then all "missing". */
     ini = core_ini_load("scenarios", &err);
