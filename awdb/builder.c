@@ -300,9 +300,23 @@ static int claim(builder *b, job *j)
         core_ini *ini = NULL;
         core_err err = {{0}};
         if (link(q, run) != 0) {
-            /* Already running: this is a duplicate request. */
-            if (errno == EEXIST)
+            /* Already running: this is a duplicate request. Gone (ENOENT):
+             * another builder or a clean-up took it. Anything else (a file
+             * system without hard links, EPERM) would leave the request
+             * skipped on every scan, silently and for ever (and an
+             * --exit-when-idle builder never idle): it fails, saying why. */
+            int e = errno;
+            if (e == EEXIST) {
                 remove(q);
+            } else if (e != ENOENT) {
+                char failed[AWDB_PATH], text[1200];
+                awdb_path(db, failed, sizeof failed, "failed", j->name, ".txt");
+                awdb_fmt(text, sizeof text, "cannot claim the request: link %s -> %s: %s\n", q, run, strerror(e));
+                awdb_write_atomic(failed, text, NULL);
+                remove(q);
+                core_log_msg(db->log, CORE_LOG_ERROR, "%s: cannot claim it (link to running/: %s)", names[i],
+                             strerror(e));
+            }
             continue;
         }
         remove(q);

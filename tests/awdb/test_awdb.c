@@ -790,6 +790,45 @@ static void test_probe(const char *dir)
     awdb_close(db);
 }
 
+/* A request that cannot be claimed (here running/ is a file, so link()
+ * fails with ENOTDIR; on a file system without hard links it would be
+ * EPERM) goes to failed/ saying why; before, it was skipped on every scan
+ * and an --exit-when-idle builder never stopped. */
+static void test_unclaimable(const char *dir)
+{
+    core_err err = {{0}};
+    awdb *db = awdb_open(dir, NULL, &err);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    awdb_key k = key(9, 0);
+    CHECK(awdb_submit(db, &k, NULL, &err) == 0);
+    char run[1100];
+    snprintf(run, sizeof run, "%s/running", dir);
+    CHECK(rmdir(run) == 0);
+    FILE *f = fopen(run, "w");
+    CHECK(f != NULL);
+    if (f)
+        fclose(f);
+    test_engine te = {0, -1, 0, ""};
+    CHECK(run_builder(db, &te, 1, &err) == 0); /* returns: the queue is empty */
+    CHECK(te.builds == 0 && count(dir, "queue", ".req") == 0 && count(dir, "failed", ".txt") == 1);
+    char name[256], failed[1400], text[1400] = "";
+    awdb_key c = k;
+    CHECK(awdb_key_canon(&c, &err) == 0);
+    awdb_key_name(&c, name, sizeof name);
+    snprintf(failed, sizeof failed, "%s/failed/%s.txt", dir, name);
+    f = fopen(failed, "r");
+    CHECK(f != NULL);
+    if (f) {
+        CHECK(fgets(text, sizeof text, f) != NULL);
+        fclose(f);
+    }
+    CHECK(strstr(text, "cannot claim the request") != NULL);
+    remove(run);
+    awdb_close(db);
+}
+
 int main(void)
 {
     char dir[] = "/tmp/disim_awdb_XXXXXX";
@@ -819,6 +858,8 @@ int main(void)
     test_check_fails(d5);
     snprintf(d5, sizeof d5, "%s/db8", dir);
     test_probe(d5);
+    snprintf(d5, sizeof d5, "%s/db9", dir);
+    test_unclaimable(d5);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0)
