@@ -5,9 +5,27 @@
 #include "render.h"
 #include "sim.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* One side of --size: digits only (no sign, no blanks), within what
+ * render_create accepts; sscanf's %d was undefined on overflow and let
+ * 99999999999 through as -1. */
+static int parse_side(const char *s, const char **end, int *out)
+{
+    if (*s < '0' || *s > '9')
+        return -1;
+    char *e;
+    errno = 0;
+    long v = strtol(s, &e, 10);
+    *end = e;
+    if (errno == ERANGE || v < RENDER_SIZE_MIN || v > RENDER_SIZE_MAX)
+        return -1;
+    *out = (int)v;
+    return 0;
+}
 
 static int parse3(const char *flag, const char *s, double v[3])
 {
@@ -42,9 +60,12 @@ int cmd_render(int argc, char **argv)
                 return 2;
             have_target = 1;
         } else if (!strcmp(a, "--size")) {
-            char extra;
-            if (sscanf(v, "%dx%d%c", &w, &h, &extra) != 2) {
-                fprintf(stderr, "disim render: --size '%s': expected WIDTHxHEIGHT, e.g. 1280x720\n", v);
+            const char *e;
+            if (parse_side(v, &e, &w) || *e != 'x' || parse_side(e + 1, &e, &h) || *e) {
+                fprintf(stderr,
+                        "disim render: --size '%s': expected WIDTHxHEIGHT, e.g. 1280x720, each %d to %d "
+                        "pixels\n",
+                        v, RENDER_SIZE_MIN, RENDER_SIZE_MAX);
                 return 2;
             }
         } else if (!strcmp(a, "--fov-deg")) {

@@ -25,6 +25,10 @@ typedef struct render_camera {
     double fov_y_deg;     /* vertical field of view */
 } render_camera;
 
+/* Image sides accepted by render_create, in pixels. */
+#define RENDER_SIZE_MIN 16
+#define RENDER_SIZE_MAX 8192
+
 /* An off-screen context of w x h pixels; NULL with err on failure. */
 render_ctx *render_create(int width, int height, core_err *err);
 void render_destroy(render_ctx *rc);

@@ -25,8 +25,9 @@ struct render_ctx {
 
 render_ctx *render_create(int w, int h, core_err *err)
 {
-    if (w < 16 || h < 16 || w > 8192 || h > 8192) {
-        core_err_set(err, -1, "render: image size %dx%d: expected 16 to 8192 pixels a side", w, h);
+    if (w < RENDER_SIZE_MIN || h < RENDER_SIZE_MIN || w > RENDER_SIZE_MAX || h > RENDER_SIZE_MAX) {
+        core_err_set(err, -1, "render: image size %dx%d: expected %d to %d pixels a side", w, h,
+                     RENDER_SIZE_MIN, RENDER_SIZE_MAX);
         return NULL;
     }
     render_ctx *rc = calloc(1, sizeof *rc);
@@ -144,6 +145,18 @@ int render_deck_view(render_ctx *rc, const core_ship *ship, const render_camera 
         return core_err_set(err, -1, "render: OSMesaMakeCurrent failed");
     if (!(cam->fov_y_deg > 1.0 && cam->fov_y_deg < 170.0))
         return core_err_set(err, -1, "render: fov_y_deg = %g: expected 1 to 170", cam->fov_y_deg);
+    /* look_at divides by the eye-to-target distance: a camera on its target
+     * (or a non-finite one) gives a NaN view and an image of sky only. */
+    double dist = 0;
+    for (int i = 0; i < 3; i++) {
+        if (!isfinite(cam->eye_S_m[i]) || !isfinite(cam->target_S_m[i]))
+            return core_err_set(err, -1, "render: camera eye_S_m/target_S_m: expected finite values");
+        dist += (cam->target_S_m[i] - cam->eye_S_m[i]) * (cam->target_S_m[i] - cam->eye_S_m[i]);
+    }
+    if (!(sqrt(dist) > 1e-3))
+        return core_err_set(err, -1,
+                            "render: camera eye_S_m (%g, %g, %g) is on target_S_m: expected them apart",
+                            cam->eye_S_m[0], cam->eye_S_m[1], cam->eye_S_m[2]);
     glViewport(0, 0, rc->w, rc->h);
     glClearColor(0.62f, 0.76f, 0.90f, 1.0f); /* sky */
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -247,18 +260,27 @@ int render_write_png(const char *path, int w, int h, const uint8_t *rgba, core_e
             o[x] = ((uint32_t)p[4 * x] << 16) | ((uint32_t)p[4 * x + 1] << 8) | p[4 * x + 2];
     }
     cairo_surface_mark_dirty(s);
-    char tmp[1024];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    /* Sized to the path: a fixed buffer truncated a long one, so the PNG went
+     * to another name (an existing file there was overwritten and renamed
+     * away) or straight to path itself, with no temporary at all. */
+    size_t n = strlen(path) + sizeof ".tmp";
+    char *tmp = malloc(n);
+    if (!tmp) {
+        cairo_surface_destroy(s);
+        return core_err_set(err, -1, "%s: out of memory", path);
+    }
+    snprintf(tmp, n, "%s.tmp", path);
     cairo_status_t st = cairo_surface_write_to_png(s, tmp);
     cairo_surface_destroy(s);
+    int rc = 0;
     if (st != CAIRO_STATUS_SUCCESS) {
         remove(tmp);
-        return core_err_set(err, -1, "%s: cannot write PNG: %s", path, cairo_status_to_string(st));
-    }
-    if (rename(tmp, path) != 0) {
+        rc = core_err_set(err, -1, "%s: cannot write PNG: %s", path, cairo_status_to_string(st));
+    } else if (rename(tmp, path) != 0) {
         int e = errno;
         remove(tmp);
-        return core_err_set(err, -1, "%s: cannot rename from %s: %s", path, tmp, strerror(e));
+        rc = core_err_set(err, -1, "%s: cannot rename from %s: %s", path, tmp, strerror(e));
     }
-    return 0;
+    free(tmp);
+    return rc;
 }

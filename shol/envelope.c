@@ -85,6 +85,20 @@ int shol_settings_check(const shol_settings *s, core_err *err)
         return core_err_set(err, -1, "shol: speed_max_mps = %g: expected >= 0", s->speed_max_mps);
     if (!(s->bisect_tol_mps >= 0) || !isfinite(s->bisect_tol_mps))
         return core_err_set(err, -1, "shol: bisect_tol_mps = %g: expected >= 0", s->bisect_tol_mps);
+    /* A NaN limit is never exceeded (NaN < 0 is false): every trim would
+     * pass and the envelope would be the whole search. Same ranges as the
+     * [rejection] reader. */
+    const shol_criteria *c = &s->criteria;
+    const double ang[2] = {c->roll_max_rad, c->pitch_max_rad};
+    const char *const ang_name[2] = {"roll_max_rad", "pitch_max_rad"};
+    for (int i = 0; i < 2; i++)
+        if (!(ang[i] >= 0 && ang[i] <= 0.5 * CORE_PI + 1e-12))
+            return core_err_set(err, -1, "shol: criteria.%s = %g: expected 0 to pi/2", ang_name[i], ang[i]);
+    const double ctl[4] = {c->long_cyclic_pct, c->lat_cyclic_pct, c->collective_pct, c->pedal_pct};
+    const char *const ctl_name[4] = {"long_cyclic_pct", "lat_cyclic_pct", "collective_pct", "pedal_pct"};
+    for (int i = 0; i < 4; i++)
+        if (!(ctl[i] >= 50 && ctl[i] <= 100))
+            return core_err_set(err, -1, "shol: criteria.%s = %g: expected 50 to 100", ctl_name[i], ctl[i]);
     if (s->speed_max_mps / s->speed_step_mps > 1e6)
         return core_err_set(err, -1, "shol: %g speeds per direction: step too small",
                             s->speed_max_mps / s->speed_step_mps);

@@ -141,6 +141,13 @@ int shol_read_csv(const char *path, shol_result *r, core_err *err)
                               v[0]);
             break;
         }
+        /* A negative radius would be drawn on the opposite side of the
+         * polar plot. */
+        if (v[1] < 0 || v[2] < 0) {
+            rc = core_err_set(err, -1, "%s:%d: max_speed_kt %g, max_speed_kmh %g: expected >= 0 (or nan)",
+                              path, lineno, v[1], v[2]);
+            break;
+        }
         d->has_pass = isfinite(v[1]);
         if (d->has_pass != isfinite(v[2]) ||
             (d->has_pass && fabs(v[1] * CORE_KT_TO_MPS - v[2] * CORE_KMH_TO_MPS) > 1e-3)) {
@@ -245,12 +252,19 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
         fputs(i ? ", " : "", f);
         json_num(f, s->dirs_rad[i] * CORE_RAD_TO_DEG);
     }
-    fprintf(f,
-            "]},\n  \"criteria\": {\"roll_deg\": %.9g, \"pitch_deg\": %.9g, "
-            "\"long_cyclic_pct\": %.9g, \"lat_cyclic_pct\": %.9g, \"collective_pct\": %.9g, "
-            "\"pedal_pct\": %.9g},\n",
-            c->roll_max_rad * CORE_RAD_TO_DEG, c->pitch_max_rad * CORE_RAD_TO_DEG,
-            c->long_cyclic_pct, c->lat_cyclic_pct, c->collective_pct, c->pedal_pct);
+    /* Through json_num like every other number: %g would write nan or inf,
+     * which no JSON reader accepts. */
+    const char *ckey[SHOL_NCRIT] = {"roll_deg",       "pitch_deg",      "long_cyclic_pct",
+                                    "lat_cyclic_pct", "collective_pct", "pedal_pct"};
+    const double cval[SHOL_NCRIT] = {c->roll_max_rad * CORE_RAD_TO_DEG, c->pitch_max_rad * CORE_RAD_TO_DEG,
+                                     c->long_cyclic_pct, c->lat_cyclic_pct, c->collective_pct,
+                                     c->pedal_pct};
+    fputs("]},\n  \"criteria\": {", f);
+    for (int k = 0; k < SHOL_NCRIT; k++) {
+        fprintf(f, "%s\"%s\": ", k ? ", " : "", ckey[k]);
+        json_num(f, cval[k]);
+    }
+    fputs("},\n", f);
     fprintf(f, "  \"n_trims\": %d,\n  \"wall_s\": ", r->n_trims);
     json_num(f, r->wall_s);
     fputs(",\n  \"directions\": [", f);

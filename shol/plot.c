@@ -206,6 +206,13 @@ static const shol_dir_result **sorted_dirs(const shol_result *r, int *open_after
     for (int i = 0; i < r->n_dirs; i++)
         v[i] = &r->dirs[i];
     qsort(v, r->n_dirs, sizeof *v, by_angle);
+    if (r->n_dirs == 0) {
+        /* An empty envelope (e.g. a header-only shol.csv): no line to close,
+         * ring labels toward the stern; v[0] below would be uninitialised. */
+        *open_after = -1;
+        *gap_mid = CORE_PI;
+        return v;
+    }
     double gmax = -1;
     int imax = 0;
     for (int i = 0; i < r->n_dirs; i++) {
@@ -512,6 +519,52 @@ static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
     }
 }
 
+/* Reject data cairo cannot place: a NaN or infinite coordinate is not an
+ * error to cairo, it draws lines to nowhere. Checks what the plots use:
+ * directions, passing speeds, and the converged trims of the history. */
+static int check_plot_data(const shol_result *r, const char *what, core_err *err)
+{
+    for (int i = 0; r && i < r->n_dirs; i++) {
+        const shol_dir_result *d = &r->dirs[i];
+        if (!isfinite(d->dir_rad))
+            return core_err_set(err, -1,
+                                "shol: plot: %s direction %d: dir_rad = %g: expected a finite angle", what,
+                                i, d->dir_rad);
+        char name[32];
+        core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+        if (d->has_pass && !(isfinite(d->max_speed_mps) && d->max_speed_mps >= 0))
+            return core_err_set(err, -1,
+                                "shol: plot: %s %s: max_speed_mps = %g: expected a finite speed >= 0", what,
+                                name, d->max_speed_mps);
+        for (int j = 0; j < d->n_samples; j++) {
+            const shol_sample *sm = &d->samples[j];
+            if (!(isfinite(sm->speed_mps) && sm->speed_mps >= 0))
+                return core_err_set(err, -1,
+                                    "shol: plot: %s %s sample %d: speed_mps = %g: expected a finite speed >= 0",
+                                    what, name, j, sm->speed_mps);
+            const double q[6] = {sm->trim.phi_rad,         sm->trim.theta_rad,
+                                 sm->trim.long_cyclic_pct, sm->trim.lat_cyclic_pct,
+                                 sm->trim.collective_pct,  sm->trim.pedal_pct};
+            static const char *const qn[6] = {"phi_rad",        "theta_rad",      "long_cyclic_pct",
+                                              "lat_cyclic_pct", "collective_pct", "pedal_pct"};
+            for (int k = 0; sm->trim_status == 0 && k < 6; k++)
+                if (!isfinite(q[k]))
+                    return core_err_set(err, -1,
+                                        "shol: plot: %s %s at %g km/h: trim %s = %g: expected a finite value "
+                                        "(or trim_status > 0)",
+                                        what, name, sm->speed_mps / CORE_KMH_TO_MPS, qn[k], q[k]);
+        }
+    }
+    return 0;
+}
+
+static int check_plot_inputs(const shol_result *r, const shol_report_info *info, core_err *err)
+{
+    if (check_plot_data(r, "envelope", err) < 0)
+        return -1;
+    return info ? check_plot_data(info->compare, "comparison", err) : 0;
+}
+
 static int cairo_fail(cairo_status_t st, const char *path, core_err *err)
 {
     return core_err_set(err, -1, "%s: cairo: %s", path, cairo_status_to_string(st));
@@ -539,7 +592,7 @@ int shol_plot_polar(const char *dir, const shol_result *r, const shol_report_inf
 {
     const double W = 1000, H = 1060;
     char final[SHOL_IO_PATH_MAX], tmp[SHOL_IO_PATH_MAX];
-    if (shol_io_mkdir(dir, err) < 0)
+    if (check_plot_inputs(r, info, err) < 0 || shol_io_mkdir(dir, err) < 0)
         return -1;
 
     /* PNG */
@@ -891,7 +944,7 @@ int shol_plot_trim(const char *dir, const shol_result *r, const shol_report_info
                    core_err *err)
 {
     const double W = 1100, H = 1050;
-    if (shol_io_mkdir(dir, err) < 0)
+    if (check_plot_inputs(r, info, err) < 0 || shol_io_mkdir(dir, err) < 0)
         return -1;
     for (int i = 0; i < r->n_dirs; i++) {
         char name[64], final[SHOL_IO_PATH_MAX], tmp[SHOL_IO_PATH_MAX];

@@ -129,7 +129,8 @@ int shol_settings_dirs(shol_settings *s, double first_rad, double last_rad, doub
 /* The full circle: -180 + step ... 180 deg (step must divide 360 deg within
  * 1e-9 rad). */
 int shol_settings_full_circle(shol_settings *s, double step_rad, core_err *err);
-/* Check settings; < 0 with err naming the bad field. */
+/* Check settings, the criteria included (the ranges of
+ * shol_criteria_read); < 0 with err naming the bad field. */
 int shol_settings_check(const shol_settings *s, core_err *err);
 
 /* One trim of the sweep. */
@@ -275,7 +276,10 @@ typedef struct shol_report_info {
 } shol_report_info;
 
 /* Each writer creates DIR if needed and writes through a temporary file
- * renamed into place, so a failure leaves no partial file. */
+ * renamed into place, so a failure leaves no partial file. The plots
+ * refuse (< 0, err naming the direction and field) a direction, a speed or
+ * a converged trim (trim_status 0) that is not finite, in r or in
+ * info->compare; an empty result gives an empty chart. */
 
 /* DIR/shol.csv, one row per direction, columns exactly:
  * wod_dir_deg, max_speed_kt, max_speed_kmh, limit, margin_roll_deg,

@@ -6,6 +6,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 enum { W = 320, H = 200 };
 
@@ -61,6 +62,49 @@ int main(void)
     CHECK(render_write_png("/nonexistent-dir/x.png", W, H, img, &err) < 0);
     CHECK(strstr(err.msg, "/nonexistent-dir/x.png") != NULL);
     remove(png);
+
+    /* A path longer than the old fixed 1024-byte temporary name: the PNG
+     * must go through path.tmp, not through the truncated name (here a
+     * file of the user's, which was overwritten and renamed away). */
+    char base[] = "/tmp/disim_test_render_XXXXXX";
+    CHECK(mkdtemp(base) != NULL);
+    char longp[1100], cut[1100];
+    snprintf(longp, sizeof longp, "%s", base);
+    while (strlen(longp) < 900) { /* then a last name of 70 to 130 bytes */
+        strcat(longp, "/dddddddddddddddddddddddddddddddddddddddddddddddddd");
+        CHECK(mkdir(longp, 0700) == 0);
+    }
+    size_t pad = 1027 - strlen(longp) - strlen("/.png");
+    strcat(longp, "/");
+    memset(longp + strlen(longp), 'v', pad);
+    longp[1027 - 4] = '\0';
+    strcat(longp, ".png");
+    CHECK(strlen(longp) == 1027);
+    snprintf(cut, sizeof cut, "%.1023s", longp); /* the old tmp name */
+    f = fopen(cut, "w");
+    CHECK(f && fputs("keep me", f) >= 0);
+    if (f)
+        fclose(f);
+    CHECK(render_write_png(longp, W, H, img, &err) == 0);
+    f = fopen(cut, "rb");
+    char kept[16] = {0};
+    CHECK(f && fread(kept, 1, sizeof kept - 1, f) == 7 && strcmp(kept, "keep me") == 0);
+    if (f)
+        fclose(f);
+    f = fopen(longp, "rb");
+    memset(sig, 0, sizeof sig);
+    CHECK(f && fread(sig, 1, 8, f) == 8 && memcmp(sig, "\x89PNG\r\n\x1a\n", 8) == 0);
+    if (f)
+        fclose(f);
+    char cmd[64];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", base);
+    CHECK(system(cmd) == 0);
+
+    /* A camera on its target: an error, not an image of sky (NaN view). */
+    render_camera on = {{5, 3, -2}, {5, 3, -2}, 40.0};
+    err.msg[0] = '\0';
+    CHECK(render_deck_view(rc, &ship, &on, NULL, img, &err) < 0);
+    CHECK(strstr(err.msg, "target_S_m") != NULL);
 
     cam.fov_y_deg = 0.0;
     CHECK(render_deck_view(rc, &ship, &cam, NULL, img, &err) < 0);

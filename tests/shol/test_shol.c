@@ -534,6 +534,16 @@ static void test_envelope_edges(void)
     CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) < 0);
     shol_settings_default(&s);
     CHECK(shol_envelope_run(&s, NULL, &m, NULL, NULL, NULL, &r, &err) < 0);
+    /* A NaN limit is never exceeded: it would clear every speed searched. */
+    shol_settings_default(&s);
+    s.criteria.roll_max_rad = NAN;
+    err.msg[0] = '\0';
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) < 0);
+    CHECK(strstr(err.msg, "roll_max_rad") != NULL);
+    shol_settings_default(&s);
+    s.criteria.pedal_pct = 40;
+    CHECK(shol_settings_check(&s, &err) < 0);
+    CHECK(strstr(err.msg, "pedal_pct") != NULL);
 }
 
 /* -------------------------------------------------------------- outputs */
@@ -841,6 +851,66 @@ static void test_outputs(void)
     fclose(f);
     CHECK(shol_read_csv(path, &back, &err) < 0);
     CHECK(strstr(err.msg, "bad.csv:1:") != NULL);
+
+    /* A negative speed would be drawn on the opposite side of the polar. */
+    f = fopen(path, "w");
+    fprintf(f, "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,margin_pitch_deg,"
+               "margin_long_pct,margin_lat_pct,margin_coll_pct,margin_pedal_pct\n"
+               "0,-10,-18.52,roll,1,1,1,1,1,1\n");
+    fclose(f);
+    CHECK(shol_read_csv(path, &back, &err) < 0);
+    CHECK(strstr(err.msg, "bad.csv:2:") && strstr(err.msg, "max_speed_kt"));
+
+    /* An empty envelope (a header-only shol.csv): every output is written,
+     * the polar plot with rings and no line (it read an uninitialised
+     * pointer). A single direction too. */
+    f = fopen(path, "w");
+    fprintf(f, "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,margin_pitch_deg,"
+               "margin_long_pct,margin_lat_pct,margin_coll_pct,margin_pedal_pct\n");
+    fclose(f);
+    CHECK(shol_read_csv(path, &back, &err) == 0);
+    CHECK(back.n_dirs == 0);
+    char edir[600];
+    snprintf(edir, sizeof edir, "%s/empty", dir);
+    CHECK(shol_write_all(edir, &back, NULL, &err) == 0);
+    snprintf(path, sizeof path, "%s/shol_polar.png", edir);
+    CHECK(png_ok(path));
+    shol_result_free(&back);
+    shol_result one = r;
+    one.n_dirs = 1;
+    snprintf(edir, sizeof edir, "%s/one", dir);
+    CHECK(shol_write_all(edir, &one, NULL, &err) == 0);
+    snprintf(path, sizeof path, "%s/shol_polar.png", edir);
+    CHECK(png_ok(path));
+
+    /* NaN in the data to plot: an error naming the field, not lines to
+     * nowhere. */
+    shol_dir_result keep = r.dirs[0];
+    r.dirs[0].max_speed_mps = NAN;
+    err.msg[0] = '\0';
+    CHECK(shol_plot_polar(edir, &r, NULL, &err) < 0);
+    CHECK(strstr(err.msg, "max_speed_mps") && strstr(err.msg, "red 90"));
+    r.dirs[0] = keep;
+    shol_sample ks = r.dirs[0].samples[0];
+    CHECK(r.dirs[0].samples[0].trim_status == 0);
+    r.dirs[0].samples[0].trim.phi_rad = NAN;
+    err.msg[0] = '\0';
+    CHECK(shol_plot_trim(edir, &r, NULL, &err) < 0);
+    CHECK(strstr(err.msg, "phi_rad") != NULL);
+    info.compare = &r; /* the comparison is checked too */
+    CHECK(shol_plot_polar(edir, &c, &info, &err) < 0);
+    CHECK(strstr(err.msg, "comparison") != NULL);
+    r.dirs[0].samples[0] = ks;
+
+    /* NaN is not JSON: the criteria go through null like the rest. */
+    shol_result nj = one;
+    nj.settings.criteria.roll_max_rad = NAN;
+    CHECK(shol_write_json(edir, &nj, NULL, &err) == 0);
+    snprintf(path, sizeof path, "%s/shol.json", edir);
+    js = read_all(path);
+    CHECK(js && !strstr(js, "nan") && strstr(js, "\"criteria\": {\"roll_deg\": null, \"pitch_deg\": 8,"));
+    free(js);
+    snprintf(path, sizeof path, "%s/bad.csv", dir);
 
     /* An output folder that cannot be made: an error, not a crash. */
     snprintf(path, sizeof path, "%s/bad.csv/sub", dir);
