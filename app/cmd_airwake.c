@@ -12,6 +12,7 @@
 #include "core.h"
 #include "sim.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -406,6 +407,11 @@ int cmd_probe(int argc, char **argv)
     if (outside)
         fprintf(stderr, "disim probe: warning: part of the line is outside the field; values there are clamped\n");
     cfd_field_destroy(f);
+    /* a full disk or a closed pipe must not look like a complete profile */
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, "disim probe: cannot write the profile to standard output: %s\n", strerror(errno));
+        return 1;
+    }
     return 0;
 }
 
@@ -418,8 +424,12 @@ int cmd_validate(int argc, char **argv)
             small = 1;
         else if (!strcmp(argv[i], "--data") && i + 1 < argc)
             data = argv[++i];
-        else if (!strcmp(argv[i], "--threads") && i + 1 < argc)
-            threads = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
+            double t;
+            if (parse_double("--threads", argv[++i], 1, 256, &t) || t != (int)t)
+                return 2;
+            threads = (int)t;
+        }
         else if (argv[i][0] != '-' && !name)
             name = argv[i];
         else {

@@ -72,6 +72,14 @@ grep -q "= 71832 cells .* h_fine 2.00 m" "$tmp/h2.log" && [ -s "$tmp/h2.h5" ] ||
 [ $? -eq 2 ] && grep -q "cannot be queued" "$tmp/bad.log" && [ ! -e "$tmp/q" ] || { echo "--h-fine-m with --queue accepted"; fail=1; }
 "$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --limiter upwind -o "$tmp/h4.h5" 2> "$tmp/bad.log"
 [ $? -ne 0 ] && grep -q "limiter: expected vanleer or minmod, got 'upwind'" "$tmp/bad.log" && [ ! -e "$tmp/h4.h5" ] || { echo "bad --limiter accepted"; fail=1; }
+# disim probe: a profile that cannot be written (a full disk) is an error,
+# not a short CSV with exit 0; disim validate refuses a bad --threads.
+if [ -w /dev/full ]; then
+    "$disim" probe "$tmp/h2.h5" --line 0,0,-5:0,0,-8:4 > /dev/full 2> "$tmp/bad.log"
+    [ $? -eq 1 ] && grep -q "cannot write the profile" "$tmp/bad.log" || { echo "probe to a full disk: exit 0"; fail=1; }
+fi
+"$disim" validate cavity100 --threads x > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 2 ] && grep -q "threads: expected a number in \[1, 256\], got 'x'" "$tmp/bad.log" || { echo "validate --threads x accepted"; fail=1; }
 cat "$tmp/run1.csv"
 [ $fail -eq 0 ] && echo "shol_e2e: 1 passed, 0 failed" || echo "shol_e2e: 0 passed, 1 failed"
 rm -rf "$tmp"
