@@ -66,17 +66,30 @@ static int wod_section(core_ini *ini, sim_scenario *sc, core_err *err)
                             "or one number",
                             core_ini_path(ini), core_ini_find(ini, W, "dir_deg")->line, range,
                             SIM_MAX_WOD);
+    int kept = 0;
     for (int i = 0; i < nd; i++) {
         if (dirs[i] < -180.0 || dirs[i] > 180.0)
             return core_err_set(err, -1, "%s:%d: [wod] dir_deg: %g out of range, expected -180 to 180",
                                 core_ini_path(ini), core_ini_find(ini, W, "dir_deg")->line, dirs[i]);
-        sc->dirs_rad[i] = core_wod_wrap_deg(dirs[i]) * CORE_DEG_TO_RAD;
+        /* -180 and 180 are one direction (the stern): a full circle
+         * -180:180:30 sweeps it once, not twice */
+        double d = core_wod_wrap_deg(dirs[i]) * CORE_DEG_TO_RAD;
+        int dup = 0;
+        for (int j = 0; j < kept; j++)
+            dup |= fabs(sc->dirs_rad[j] - d) < 1e-9;
+        if (!dup)
+            sc->dirs_rad[kept++] = d;
     }
-    sc->n_dirs = nd;
+    sc->n_dirs = kept;
     double step = 5.0, max = 150.0;
     if ((rc = core_ini_get_double(ini, W, "speed_step_kmh", 0, 0.5, 50.0, &step, err)) < 0 ||
         (rc = core_ini_get_double(ini, W, "speed_max_kmh", 0, 5.0, 300.0, &max, err)) < 0)
         return rc;
+    if (step > max) {
+        const core_ini_entry *e = core_ini_find(ini, W, "speed_step_kmh");
+        return core_err_set(err, -1, "%s:%d: [wod] speed_step_kmh = %g: expected at most speed_max_kmh (%g)",
+                            core_ini_path(ini), e ? e->line : 0, step, max);
+    }
     sc->speed_step_mps = step * CORE_KMH_TO_MPS;
     sc->speed_max_mps = max * CORE_KMH_TO_MPS;
     return 0;

@@ -3,6 +3,7 @@
 #include "check.h"
 #include "sim.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -46,6 +47,16 @@ int main(void)
     /* A key of the other mode says which mode it needs. */
     CHECK(sim_scenario_load("tests/sim/bad/mode_key.ini", sc, &err) < 0);
     CHECK(strstr(err.msg, "mode_key.ini:10: [wod] speed_kt: only used with mode = single") != NULL);
+    /* A full circle sweeps the stern once (-180 and 180 are one direction). */
+    CHECK(sim_scenario_load("tests/sim/data/full_circle.ini", sc, &err) == 0);
+    CHECK(sc->n_dirs == 12);
+    int sterns = 0;
+    for (int i = 0; i < sc->n_dirs; i++)
+        sterns += fabs(fabs(sc->dirs_rad[i]) - M_PI) < 1e-9;
+    CHECK(sterns == 1);
+    /* A speed step larger than the sweep's top is refused naming the line. */
+    CHECK(sim_scenario_load("tests/sim/bad/speed_step_over_max.ini", sc, &err) < 0);
+    CHECK(strstr(err.msg, "speed_step_over_max.ini:10: [wod] speed_step_kmh = 20: expected at most") != NULL);
     free(sc);
     return check_done("test_sim");
 }
