@@ -57,8 +57,9 @@ static void set_col(cairo_t *cr, rgb c)
 
 /* Text at (x, y): ha -1 left, 0 centre, 1 right; va -1 top, 0 middle,
  * 1 baseline. */
-static void text(cairo_t *cr, double x, double y, double size, int bold, int ha, int va,
-                 const char *s)
+/* Draws s; returns its advance width (legends lay their entries out with it). */
+static double text(cairo_t *cr, double x, double y, double size, int bold, int ha, int va,
+                   const char *s)
 {
     cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL,
                            bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
@@ -71,6 +72,7 @@ static void text(cairo_t *cr, double x, double y, double size, int bold, int ha,
     double dy = va < 0 ? -te.y_bearing : va == 0 ? -(te.y_bearing + te.height / 2) : 0;
     cairo_move_to(cr, x + dx, y + dy);
     cairo_show_text(cr, s);
+    return te.x_advance;
 }
 
 /* Same, on a white box so it stays readable over lines. */
@@ -884,59 +886,74 @@ static void draw_trim(cairo_t *cr, double W, double H, const shol_result *r,
         draw_panel(cr, &p, q, titles[q], lo, hi, d, dc);
     }
 
-    /* Legend. */
-    double ly = H - 30;
+    /* Legend: the entries flow from the left, each after the last one's
+     * text (labels such as "one-way (ship-only airwake)" vary in length); an
+     * entry that does not fit starts a row above. */
+    double ly = H - 30, lx = 40;
+    const double gap = 26;
     set_col(cr, env_col);
     cairo_set_line_width(cr, 2.2);
-    cairo_move_to(cr, 40, ly);
-    cairo_line_to(cr, 80, ly);
+    cairo_move_to(cr, lx, ly);
+    cairo_line_to(cr, lx + 40, ly);
     cairo_stroke(cr);
-    cairo_arc(cr, 60, ly, 3.5, 0, 2 * CORE_PI);
+    cairo_arc(cr, lx + 20, ly, 3.5, 0, 2 * CORE_PI);
     cairo_fill(cr);
     set_col(cr, ink);
     snprintf(buf, sizeof buf, "%s: trims passing", info && info->label ? info->label : "trim");
-    text(cr, 88, ly, 13, 0, -1, 0, buf);
+    lx += 48 + text(cr, lx + 48, ly, 13, 0, -1, 0, buf) + gap;
     cairo_set_source_rgb(cr, 0.84, 0.15, 0.16);
     cairo_set_line_width(cr, 2);
     cairo_new_path(cr);
-    cairo_arc(cr, 360, ly, 6, 0, 2 * CORE_PI);
+    cairo_arc(cr, lx + 6, ly, 6, 0, 2 * CORE_PI);
     cairo_stroke(cr);
     set_col(cr, ink);
-    text(cr, 372, ly, 13, 0, -1, 0, "beyond this limit");
+    lx += 18 + text(cr, lx + 18, ly, 13, 0, -1, 0, "beyond this limit") + gap;
     set_col(cr, env_col);
     double dash[] = {8, 5};
     cairo_set_dash(cr, dash, 2, 0);
     cairo_set_line_width(cr, 1.8);
-    cairo_move_to(cr, 520, ly - 8);
-    cairo_line_to(cr, 520, ly + 8);
+    cairo_move_to(cr, lx, ly - 8);
+    cairo_line_to(cr, lx, ly + 8);
     cairo_stroke(cr);
     cairo_set_dash(cr, NULL, 0, 0);
     set_col(cr, ink);
-    text(cr, 528, ly, 13, 0, -1, 0, "envelope edge (last pass)");
+    lx += 8 + text(cr, lx + 8, ly, 13, 0, -1, 0, "envelope edge (last pass)") + gap;
     if (dc) {
+        const char *cl = info->compare_label ? info->compare_label : "comparison";
+        cairo_text_extents_t te;
+        cairo_text_extents(cr, cl, &te);
+        if (lx + 48 + te.x_advance > W - 20) {
+            ly -= 22;
+            lx = 40;
+        }
         set_col(cr, cmp_col);
         cairo_set_dash(cr, dash, 2, 0);
-        cairo_move_to(cr, 740, ly);
-        cairo_line_to(cr, 780, ly);
+        cairo_move_to(cr, lx, ly);
+        cairo_line_to(cr, lx + 40, ly);
         cairo_stroke(cr);
         cairo_set_dash(cr, NULL, 0, 0);
         set_col(cr, ink);
-        text(cr, 788, ly, 13, 0, -1, 0, info->compare_label ? info->compare_label : "comparison");
+        lx += 48 + text(cr, lx + 48, ly, 13, 0, -1, 0, cl) + gap;
     }
     int any_fail = 0;
     for (int i = 0; i < d->n_samples; i++)
         any_fail |= d->samples[i].trim_status != 0;
     if (any_fail) {
-        /* On its own row above, where the others leave no room. */
-        double y = dc ? ly - 22 : ly, x = dc ? 40 : 760;
+        const char *fl = "trim did not converge (a rejection)";
+        cairo_text_extents_t te;
+        cairo_text_extents(cr, fl, &te);
+        if (lx + 33 + te.x_advance > W - 20) {
+            ly -= 22;
+            lx = 40;
+        }
         set_col(cr, ink);
         cairo_set_line_width(cr, 2.5);
-        cairo_move_to(cr, x + 15, y - 5);
-        cairo_line_to(cr, x + 25, y + 5);
-        cairo_move_to(cr, x + 15, y + 5);
-        cairo_line_to(cr, x + 25, y - 5);
+        cairo_move_to(cr, lx + 15, ly - 5);
+        cairo_line_to(cr, lx + 25, ly + 5);
+        cairo_move_to(cr, lx + 15, ly + 5);
+        cairo_line_to(cr, lx + 25, ly - 5);
         cairo_stroke(cr);
-        text(cr, x + 33, y, 13, 0, -1, 0, "trim did not converge (a rejection)");
+        text(cr, lx + 33, ly, 13, 0, -1, 0, fl);
     }
 }
 
