@@ -426,8 +426,12 @@ int cmd_validate(int argc, char **argv)
             data = argv[++i];
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             double t;
-            if (parse_double("--threads", argv[++i], 1, 256, &t) || t != (int)t)
+            if (parse_double("--threads", argv[++i], 0, 256, &t))
                 return 2;
+            if (t != (int)t) {
+                fprintf(stderr, "--threads: expected a whole number 0 (the default) to 256, got '%s'\n", argv[i]);
+                return 2;
+            }
             threads = (int)t;
         }
         else if (argv[i][0] != '-' && !name)

@@ -280,7 +280,7 @@ int cmd_shol(int argc, char **argv)
         snprintf(dbbuf, sizeof dbbuf, "out/airwake-db");
         dbdir = dbbuf;
     }
-    if (core_mkdir_p(dbdir, &err) != 0) /* the database folder's parents (awdb_open makes the folder) */
+    if (core_mkdir_p(dbdir, &err) != 0) /* the database folder and its parents */
         goto fail;
     if (!(db = awdb_open(dbdir, &log, &err)))
         goto fail;

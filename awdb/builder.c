@@ -306,16 +306,24 @@ static int claim(builder *b, job *j)
              * skipped on every scan, silently and for ever (and an
              * --exit-when-idle builder never idle): it fails, saying why. */
             int e = errno;
+            /* errors that every later scan would meet again; others (a full
+             * disk, EIO) may pass, and the request waits for the next scan */
+            int lasting = e == EPERM || e == EMLINK || e == EOPNOTSUPP || e == EXDEV || e == EROFS || e == EACCES ||
+                          e == ENOTDIR;
             if (e == EEXIST) {
                 remove(q);
-            } else if (e != ENOENT) {
+            } else if (lasting) {
                 char failed[AWDB_PATH], text[1200];
                 awdb_path(db, failed, sizeof failed, "failed", j->name, ".txt");
                 awdb_fmt(text, sizeof text, "cannot claim the request: link %s -> %s: %s\n", q, run, strerror(e));
-                awdb_write_atomic(failed, text, NULL);
-                remove(q);
-                core_log_msg(db->log, CORE_LOG_ERROR, "%s: cannot claim it (link to running/: %s)", names[i],
-                             strerror(e));
+                core_err werr = {{0}};
+                if (awdb_write_atomic(failed, text, &werr) == 0) /* the reason kept, or the request stays */
+                    remove(q);
+                core_log_msg(db->log, CORE_LOG_ERROR, "%s: cannot claim it (link to running/: %s)%s%s", names[i],
+                             strerror(e), werr.msg[0] ? "; " : "", werr.msg);
+            } else if (e != ENOENT) {
+                core_log_msg(db->log, CORE_LOG_WARN, "%s: cannot claim it now (link to running/: %s); retried",
+                             names[i], strerror(e));
             }
             continue;
         }

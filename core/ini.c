@@ -69,6 +69,8 @@ static int handler(void *user, const char *section, const char *name, const char
      * would replace a value without a word. Both are refused. */
     for (size_t i = 0; i < ini->n; i++)
         if (!strcmp(ini->e[i].section, section) && !strcmp(ini->e[i].key, name)) {
+            if (c->dup_line) /* the first repeat is the one reported */
+                return 0;
             c->dup_line = c->rs->line;
             c->dup_first = ini->e[i].line;
             snprintf(c->dup_section, sizeof c->dup_section, "%s", section);
@@ -151,7 +153,9 @@ core_ini *core_ini_load(const char *path, core_err *err)
         core_ini_destroy(ini);
         return NULL;
     }
-    if (c.dup_line) {
+    /* inih returns the first line in error: a syntax error before the
+     * first repeat is reported as such */
+    if (c.dup_line && (rc == 0 || rc >= c.dup_line)) {
         core_err_set(err, -1,
                      "%s:%d: [%s] %s: given again (first at line %d): expected each key once in a section "
                      "(an indented line continues the key above it)",

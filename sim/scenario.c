@@ -55,10 +55,8 @@ static int wod_section(core_ini *ini, sim_scenario *sc, core_err *err)
         return rc;
     double dirs[SIM_MAX_WOD];
     int nd = 0;
-    /* nd is checked too: a step so small that the count overflows an int
-     * comes back from core_parse_range as "success" with a negative count
-     * (an empty sweep that disim check passes and disim shol copies with a
-     * negative size). */
+    /* nd is checked too, defensively: disim shol copies n_dirs directions
+     * (core_parse_range itself refuses more than nmax) */
     if (core_parse_range(range, dirs, SIM_MAX_WOD, &nd) != 0 || nd < 1 || nd > SIM_MAX_WOD)
         return core_err_set(err, -1,
                             "%s:%d: [wod] dir_deg = '%s': expected START:STOP:STEP in degrees "

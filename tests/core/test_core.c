@@ -262,6 +262,11 @@ static void test_ini(void)
     p = write_tmp("disim_core_ini6.ini", "[wod]\ndir_deg = -90:90:30\n   0:30:30\n");
     CHECK(core_ini_load(p, &err) == NULL);
     CHECK(strstr(err.msg, ":3: [wod] dir_deg: given again (first at line 2)") != NULL);
+    /* the first repeat is named, and a syntax error before it comes first */
+    p = write_tmp("disim_core_ini7.ini", "[a]\nx = 1\nx = 2\nx = 3\n");
+    CHECK(core_ini_load(p, &err) == NULL && strstr(err.msg, ":3: [a] x: given again (first at line 2)") != NULL);
+    p = write_tmp("disim_core_ini8.ini", "[a]\nx = 1\nno equals here\nx = 2\n");
+    CHECK(core_ini_load(p, &err) == NULL && strstr(err.msg, ":3: syntax error") != NULL);
     /* A folder opens, but reading it fails: an error, not an empty file
      * whose keys are then all "missing". */
     ini = core_ini_load("scenarios", &err);
