@@ -98,6 +98,9 @@ static void on_request(daemon_ctx *c, const disim_airwake_request_t *m)
      * its place would be announced READY for the loaded request), and a
      * name cut to fit the key would be another ship's or aircraft's. */
     const char *bad = NULL;
+    /* the name lengths in the messages below are the key's buffers less the NUL */
+    _Static_assert(sizeof(((awdb_key *)0)->ship) == 96 && sizeof(((awdb_key *)0)->aircraft) == 64,
+                   "update the name lengths in the messages below");
     if (m->rotor == DISIM_AIRWAKE_REQUEST_T_ROTOR_LOADED)
         bad = "airwake_request_t.rotor = 2 (loaded): expected 0 (off) or 1 (uniform); the message carries no "
               "blade-load table (queue loaded-disk fields with disim shol or disim airwake --queue)";
