@@ -161,10 +161,9 @@ static void on_request_raw(const lcm_recv_buf_t *rb, const char *ch, void *user)
     disim_airwake_request_t m;
     memset(&m, 0, sizeof m);
     if (disim_airwake_request_t_decode(rb->data, 0, (int)rb->data_size, &m) < 0) {
-        core_log_msg(c->log, CORE_LOG_WARN, "refused LCM request: airwake_request_t: cannot decode "
-                                            "(another type's fingerprint?)");
-        publish_status(c, &k, "", DISIM_AIRWAKE_STATUS_T_FAILED, 0, 0, 0, "",
-                       "airwake_request_t: cannot decode (another type's fingerprint?)");
+        const char *why = "airwake_request_t: cannot decode (another type's fingerprint?)";
+        core_log_msg(c->log, CORE_LOG_WARN, "refused LCM request: %s", why);
+        publish_status(c, &k, "", DISIM_AIRWAKE_STATUS_T_FAILED, 0, 0, 0, "", why);
     } else {
         on_request(c, &m);
     }
