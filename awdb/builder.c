@@ -76,6 +76,16 @@ static int sync_path(const char *path)
     return rc;
 }
 
+/* failed/NAME.txt: the reason a key failed, read by awdb_query. 0, or < 0
+ * with err (may be NULL). */
+static int write_failure(awdb *db, const char *name, const char *reason, core_err *err)
+{
+    char failed[AWDB_PATH], text[1200];
+    awdb_path(db, failed, sizeof failed, "failed", name, ".txt");
+    awdb_fmt(text, sizeof text, "%s\n", reason);
+    return awdb_write_atomic(failed, text, err);
+}
+
 static int commit(awdb *db, const awdb_key *k, const char *name, const char *tmp, core_err *err)
 {
     /* The engine's file on disk before its name and checksum are: after a
@@ -150,11 +160,9 @@ static void *run_job(void *arg)
         rename(running, q);
         status(b, &j->key, AWDB_QUEUED, 0.0, 0.0, 0, "", "builder stopped");
     } else if (rc != 0) {
-        char failed[AWDB_PATH], text[1200];
-        awdb_path(db, failed, sizeof failed, "failed", j->name, ".txt");
-        awdb_fmt(text, sizeof text, "%s\n", err.msg[0] ? err.msg : "engine failed");
         core_err werr = {{0}};
-        if (awdb_write_atomic(failed, text, &werr) != 0) /* the reason then lives in the log only */
+        /* if it cannot be written, the reason lives in the log only */
+        if (write_failure(db, j->name, err.msg[0] ? err.msg : "engine failed", &werr) != 0)
             core_log_msg(db->log, CORE_LOG_ERROR, "%s", werr.msg);
         remove(running);
         core_log_msg(db->log, CORE_LOG_ERROR, "%s failed: %s", j->name, err.msg);
@@ -313,11 +321,10 @@ static int claim(builder *b, job *j)
             if (e == EEXIST) {
                 remove(q);
             } else if (lasting) {
-                char failed[AWDB_PATH], text[1200];
-                awdb_path(db, failed, sizeof failed, "failed", j->name, ".txt");
-                awdb_fmt(text, sizeof text, "cannot claim the request: link %s -> %s: %s\n", q, run, strerror(e));
+                char text[1200];
+                awdb_fmt(text, sizeof text, "cannot claim the request: link %s -> %s: %s", q, run, strerror(e));
                 core_err werr = {{0}};
-                if (awdb_write_atomic(failed, text, &werr) == 0) /* the reason kept, or the request stays */
+                if (write_failure(db, j->name, text, &werr) == 0) /* the reason kept, or the request stays */
                     remove(q);
                 core_log_msg(db->log, CORE_LOG_ERROR, "%s: cannot claim it (link to running/: %s)%s%s", names[i],
                              strerror(e), werr.msg[0] ? "; " : "", werr.msg);
@@ -349,10 +356,9 @@ static int claim(builder *b, job *j)
                 rc = core_err_set(&err, -1, "%s: the key does not match the file name", run);
         }
         if (rc) {
-            char failed[AWDB_PATH], text[1200];
-            awdb_path(db, failed, sizeof failed, "failed", j->name, ".txt");
-            awdb_fmt(text, sizeof text, "corrupt request: %s\n", err.msg);
-            awdb_write_atomic(failed, text, NULL);
+            char text[1200];
+            awdb_fmt(text, sizeof text, "corrupt request: %s", err.msg);
+            write_failure(db, j->name, text, NULL);
             remove(run);
             core_log_msg(db->log, CORE_LOG_ERROR, "corrupt request %s: %s", names[i], err.msg);
             continue;
