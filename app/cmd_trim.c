@@ -17,6 +17,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 int cmd_trim(int argc, char **argv);
 
@@ -149,6 +150,10 @@ int cmd_trim(int argc, char **argv)
             modes = 1;
         } else if (!strcmp(a, "--csv") && v) {
             csv = v;
+            if (strlen(csv) > 4000) { /* room for the temporary's ".tmp.PID" */
+                fprintf(stderr, "disim trim: --csv: path longer than 4000 characters\n");
+                return 1;
+            }
             i++;
         } else if (a[0] != '-' && !ac_path) {
             ac_path = a;
@@ -222,7 +227,7 @@ int cmd_trim(int argc, char **argv)
         }
     }
     if (csv) {
-        snprintf(tmp, sizeof tmp, "%s.tmp", csv);
+        snprintf(tmp, sizeof tmp, "%s.tmp.%ld", csv, (long)getpid());
         f = fopen(tmp, "w");
         if (!f) {
             fprintf(stderr, "disim trim: cannot write %s\n", tmp);

@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 struct render_ctx {
     OSMesaContext gl;
@@ -262,14 +263,16 @@ int render_write_png(const char *path, int w, int h, const uint8_t *rgba, core_e
     cairo_surface_mark_dirty(s);
     /* Sized to the path: a fixed buffer truncated a long one, so the PNG went
      * to another name (an existing file there was overwritten and renamed
-     * away) or straight to path itself, with no temporary at all. */
-    size_t n = strlen(path) + sizeof ".tmp";
+     * away) or straight to path itself, with no temporary at all. The
+     * process id in the name keeps two renders to one path from writing
+     * into each other's temporary. */
+    size_t n = strlen(path) + sizeof ".tmp." + 24;
     char *tmp = malloc(n);
     if (!tmp) {
         cairo_surface_destroy(s);
         return core_err_set(err, -1, "%s: out of memory", path);
     }
-    snprintf(tmp, n, "%s.tmp", path);
+    snprintf(tmp, n, "%s.tmp.%ld", path, (long)getpid());
     cairo_status_t st = cairo_surface_write_to_png(s, tmp);
     cairo_surface_destroy(s);
     int rc = 0;

@@ -95,6 +95,13 @@ int shol_read_csv(const char *path, shol_result *r, core_err *err)
     while (fgets(line, sizeof line, f)) {
         lineno++;
         size_t len = strlen(line);
+        /* a line that filled the buffer without its newline would be read
+         * on as a second line (the rest of its fields) */
+        if (len == sizeof line - 1 && line[len - 1] != '\n' && !feof(f)) {
+            rc = core_err_set(err, -1, "%s:%d: line longer than %zu characters", path, lineno,
+                              sizeof line - 2);
+            break;
+        }
         while (len && (line[len - 1] == '\n' || line[len - 1] == '\r'))
             line[--len] = '\0';
         if (lineno == 1) {
@@ -166,6 +173,8 @@ int shol_read_csv(const char *path, shol_result *r, core_err *err)
         r->settings.dirs_rad[r->n_dirs] = d->dir_rad;
         r->n_dirs++;
     }
+    if (rc == 0 && ferror(f))
+        rc = core_err_set(err, -1, "%s:%d: read error", path, lineno);
     fclose(f);
     if (rc == 0 && lineno == 0)
         rc = core_err_set(err, -1, "%s: empty file, expected the header '%s'", path, CSV_HEADER);

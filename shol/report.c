@@ -36,6 +36,17 @@ static void speed_txt(const shol_dir_result *d, char *buf, size_t n)
                  d->max_speed_mps / CORE_KMH_TO_MPS);
 }
 
+/* A table cell's text: a '|' in a path would end the cell, a newline the
+ * row, and the rest of the table would be shifted. */
+static void md_cell(FILE *f, const char *s)
+{
+    for (; *s; s++) {
+        if (*s == '|' || *s == '\\')
+            fputc('\\', f);
+        fputc(*s == '\n' || *s == '\r' ? ' ' : *s, f);
+    }
+}
+
 int shol_write_report(const char *dir, const shol_result *r, const shol_report_info *info,
                       core_err *err)
 {
@@ -60,9 +71,15 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
                "replace, at-sea flight test.\n\n");
 
     fprintf(f, "## Settings\n\n| setting | value |\n|---|---|\n");
-    fprintf(f, "| scenario | %s |\n| aircraft | %s |\n| grid | %s |\n| coupling | %s |\n",
-            or_dash(info->scenario_path), or_dash(info->aircraft_path), or_dash(info->grid),
-            or_dash(info->coupling));
+    const char *row[4][2] = {{"scenario", info->scenario_path},
+                             {"aircraft", info->aircraft_path},
+                             {"grid", info->grid},
+                             {"coupling", info->coupling}};
+    for (int i = 0; i < 4; i++) {
+        fprintf(f, "| %s | ", row[i][0]);
+        md_cell(f, or_dash(row[i][1]));
+        fprintf(f, " |\n");
+    }
     fprintf(f, "| directions | %d:", s->n_dirs);
     for (int i = 0; i < s->n_dirs; i++) {
         char n[32];

@@ -652,7 +652,7 @@ static void test_outputs(void)
     shol_report_info info = {0};
     info.title = "TEST ship + TEST-1";
     info.label = "two-way coupled";
-    info.scenario_path = "scenarios/test.ini";
+    info.scenario_path = "scenarios/a|b.ini"; /* a '|' must not split the cell */
     info.grid = "coarse";
     info.coupling = "two-way";
     info.compare = &c;
@@ -780,6 +780,7 @@ static void test_outputs(void)
         char *cmp = strstr(md, "## Comparison");
         CHECK(cmp != NULL);
         CHECK(strstr(md, "iterations") != NULL); /* the caller's coupling text */
+        CHECK(strstr(md, "| scenario | scenarios/a\\|b.ini |\n") != NULL);
         if (cmp)
             for (int i = 0; i < r.n_dirs; i++) {
                 char n[32], row[48];
@@ -851,6 +852,22 @@ static void test_outputs(void)
     fclose(f);
     CHECK(shol_read_csv(path, &back, &err) < 0);
     CHECK(strstr(err.msg, "bad.csv:1:") != NULL);
+
+    /* A line longer than the reader's buffer was read on as a second line
+     * (its tail), and the error named the wrong line; a folder read as the
+     * file was "empty". */
+    f = fopen(path, "w");
+    fprintf(f, "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,margin_pitch_deg,"
+               "margin_long_pct,margin_lat_pct,margin_coll_pct,margin_pedal_pct\n"
+               "0,10,18.52,roll,1,1,1,1,1,");
+    for (int k = 0; k < 1100; k++)
+        fputc('0', f);
+    fprintf(f, "1\n");
+    fclose(f);
+    CHECK(shol_read_csv(path, &back, &err) < 0);
+    CHECK(strstr(err.msg, "bad.csv:2:") && strstr(err.msg, "longer"));
+    CHECK(shol_read_csv(dir, &back, &err) < 0);
+    CHECK(strstr(err.msg, "read error") != NULL);
 
     /* A negative speed would be drawn on the opposite side of the polar. */
     f = fopen(path, "w");
