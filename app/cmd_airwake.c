@@ -134,13 +134,16 @@ static void usage_airwake(void)
             "usage: disim airwake SCENARIO [--wod-speed-kt KT] [--wod-dir-deg DEG] [--rotor off|uniform|loaded]\n"
             "                      [--grid coarse|default|fine] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
             "                      [--thrust-n N] [--radius-m R] [--threads N] [--h-fine-m H]\n"
-            "                      [--limiter vanleer|minmod] -o FIELD.h5\n"
+            "                      [--limiter vanleer|minmod] [--zone OUTER.h5] -o FIELD.h5\n"
+            "  --zone: solve the deck zone only (5 R round the hover station's hub, 4 R above it),\n"
+            "  its open faces taken from OUTER.h5 (a whole-domain ship-only field of this ship and\n"
+            "  direction, any grid) scaled to the WOD speed: a fine zone nested in a coarser field\n"
             "       disim airwake SCENARIO ... --queue DB_DIR   (queue it for `disim airwaked DB_DIR`)\n");
 }
 
 int cmd_airwake(int argc, char **argv)
 {
-    const char *scen = NULL, *out = NULL, *warm = NULL, *queue = NULL;
+    const char *scen = NULL, *out = NULL, *warm = NULL, *queue = NULL, *zone = NULL;
     double speed_kt = NAN, dir_deg = NAN, thrust = NAN, radius = NAN, h_fine = 0.0;
     int rotor = -1, level = -1, abl = 0, max_iter = 0, threads = 0, limiter = 0;
     for (int i = 1; i < argc; i++) {
@@ -192,6 +195,8 @@ int cmd_airwake(int argc, char **argv)
             abl = 1;
         else if (!strcmp(a, "--warm") && more)
             warm = argv[++i];
+        else if (!strcmp(a, "--zone") && more)
+            zone = argv[++i];
         else if (!strcmp(a, "--max-iter") && more) {
             double v;
             if (parse_double(a, argv[++i], 1, 1e6, &v))
@@ -214,10 +219,11 @@ int cmd_airwake(int argc, char **argv)
         usage_airwake();
         return 2;
     }
-    if ((h_fine > 0.0 || limiter) && queue) {
+    if ((h_fine > 0.0 || limiter || zone) && queue) {
         /* the database keys fields by grid level; a spacing of its own
          * would put a field under a level it was not solved on */
-        fprintf(stderr, "disim airwake: --h-fine-m and --limiter write a field (-o), they cannot be queued (--queue)\n");
+        fprintf(stderr,
+                "disim airwake: --h-fine-m, --limiter and --zone write a field (-o), they cannot be queued (--queue)\n");
         return 2;
     }
 #ifdef _OPENMP
@@ -267,7 +273,7 @@ int cmd_airwake(int argc, char **argv)
     key.wod_dir_rad = dir;
     key.grid = level;
     key.rotor = AWDB_ROTOR_OFF;
-    if (rotor) {
+    if (rotor || zone) {
         /* The disk of the scenario's aircraft trimmed in the free-air WOD at
          * the hover-over-spot station: thrust, hub, shaft tilt and, for
          * --rotor loaded, its blade loads (the coupling loop's first step). */
@@ -275,6 +281,16 @@ int cmd_airwake(int argc, char **argv)
         if (rotor_from_trim(sc, speed, dir, rotor == 2, &key, &log) != 0) {
             free(sc);
             return 1;
+        }
+        if (!rotor) {
+            /* a ship-only zone: the box from the hub and radius, no disk */
+            memcpy(sp.disk.centre_m, key.station_S_m, sizeof sp.disk.centre_m);
+            sp.disk.radius_m = key.radius_m;
+            memset(key.aircraft, 0, sizeof key.aircraft);
+            key.thrust_N = key.radius_m = key.torque_Nm = 0.0;
+            memset(key.station_S_m, 0, sizeof key.station_S_m);
+            key.shaft_pitch_rad = key.shaft_roll_rad = 0.0;
+            goto disk_done;
         }
         if (!isnan(thrust))
             key.thrust_N = thrust;
@@ -296,11 +312,34 @@ int cmd_airwake(int argc, char **argv)
         meta.rotor_radius_m = key.radius_m;
         memcpy(meta.rotor_centre_S_m, key.station_S_m, sizeof meta.rotor_centre_S_m);
     }
+disk_done:;
+    cfd_field *outer = NULL; /* the zone's boundary; outlives the solver */
+    if (zone) {
+        outer = cfd_field_load(zone, &err);
+        const cfd_meta *om = outer ? cfd_field_meta(outer) : NULL;
+        const char *why = !outer                                     ? err.msg
+                          : strcmp(om->rotor, "off") != 0            ? "expected a ship-only field (rotor off)"
+                          : strcmp(om->ship, sc->ship.name) != 0     ? "another ship's field"
+                          : !(om->wod_speed_mps > 0.0)               ? "no WOD speed in the field"
+                          : fabs(core_wod_wrap_deg(om->wod_dir_deg - dir * CORE_RAD_TO_DEG)) > 0.05
+                              ? "another WOD direction's field"
+                              : NULL;
+        if (why) {
+            fprintf(stderr, "disim airwake: --zone %s: %s\n", zone, why);
+            cfd_field_destroy(outer);
+            free(sc);
+            return 1;
+        }
+        sp.zone = 1;
+        sp.zone_field = outer;
+        sp.zone_scale = speed / om->wod_speed_mps;
+    }
     /* the builder's monitor line (it also bounds the grid): the field
      * written here is the one the builder would put in the database */
     sp.monitor_z_m = awdb_key_monitor_z_m(&key);
     if (queue) {
         int rc = queue_request(queue, &key, &log);
+        cfd_field_destroy(outer);
         free(sc);
         return rc;
     }
@@ -308,6 +347,7 @@ int cmd_airwake(int argc, char **argv)
     cfd_solver *s = cfd_airwake_create(&sp, &log, progress_print, &ps, &err);
     if (!s) {
         fprintf(stderr, "disim airwake: %s\n", err.msg);
+        cfd_field_destroy(outer);
         free(sc);
         return 1;
     }
@@ -317,6 +357,7 @@ int cmd_airwake(int argc, char **argv)
             fprintf(stderr, "disim airwake: warm start: %s\n", err.msg);
             cfd_field_destroy(f);
             cfd_solver_destroy(s);
+            cfd_field_destroy(outer);
             free(sc);
             return 1;
         }
@@ -328,6 +369,7 @@ int cmd_airwake(int argc, char **argv)
     if (rc < 0) {
         fprintf(stderr, "disim airwake: %s (nothing written)\n", err.msg);
         cfd_solver_destroy(s);
+        cfd_field_destroy(outer);
         free(sc);
         return 1;
     }
@@ -345,18 +387,20 @@ int cmd_airwake(int argc, char **argv)
         snprintf(base, sizeof base, "h%.3f m", h_fine);
     else
         snprintf(base, sizeof base, "%s", core_grid_name(level));
-    snprintf(meta.grid, sizeof meta.grid, "%s%s", base,
-             !limiter ? "" : limiter == 1 + CFD_LIMITER_VANLEER ? " vanleer" : " minmod");
+    snprintf(meta.grid, sizeof meta.grid, "%s%s%s", base,
+             !limiter ? "" : limiter == 1 + CFD_LIMITER_VANLEER ? " vanleer" : " minmod", zone ? " zone" : "");
     meta.result = res;
     if (cfd_solver_write(s, &meta, out, &err)) {
         fprintf(stderr, "disim airwake: %s\n", err.msg);
         cfd_solver_destroy(s);
+        cfd_field_destroy(outer);
         free(sc);
         return 1;
     }
     fprintf(stderr, "disim airwake: wrote %s (%d iterations, %.1f s, %s)\n", out, res.iterations, res.wall_s,
             res.converged ? "converged" : "not converged");
     cfd_solver_destroy(s);
+    cfd_field_destroy(outer);
     free(sc);
     return 0;
 }

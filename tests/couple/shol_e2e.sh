@@ -72,6 +72,17 @@ grep -q "= 71832 cells .* h_fine 2.00 m" "$tmp/h2.log" && [ -s "$tmp/h2.h5" ] ||
 [ $? -eq 2 ] && grep -q "cannot be queued" "$tmp/bad.log" && [ ! -e "$tmp/q" ] || { echo "--h-fine-m with --queue accepted"; fail=1; }
 "$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --limiter upwind -o "$tmp/h4.h5" 2> "$tmp/bad.log"
 [ $? -ne 0 ] && grep -q "limiter: expected vanleer or minmod, got 'upwind'" "$tmp/bad.log" && [ ! -e "$tmp/h4.h5" ] || { echo "bad --limiter accepted"; fail=1; }
+# --zone: a deck zone nested in a ship-only field of the same ship and
+# direction; a rotor field, another direction or --queue are refused.
+"$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 10 --rotor off --h-fine-m 2.0 --max-iter 2 \
+    --threads 1 --zone "$tmp/h2.h5" -o "$tmp/z.h5" 2> "$tmp/z.log"
+grep -q "deck zone .* cells" "$tmp/z.log" && [ -s "$tmp/z.h5" ] || { echo "--zone field not written"; cat "$tmp/z.log"; fail=1; }
+"$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --rotor off --zone "$tmp/rotor.h5" -o "$tmp/z2.h5" 2> "$tmp/bad.log"
+[ $? -eq 1 ] && grep -q "zone .*rotor.h5: expected a ship-only field" "$tmp/bad.log" && [ ! -e "$tmp/z2.h5" ] || { echo "--zone in a rotor field accepted"; fail=1; }
+"$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --wod-dir-deg 30 --rotor off --zone "$tmp/h2.h5" -o "$tmp/z2.h5" 2> "$tmp/bad.log"
+[ $? -eq 1 ] && grep -q "another WOD direction" "$tmp/bad.log" && [ ! -e "$tmp/z2.h5" ] || { echo "--zone in another direction's field accepted"; fail=1; }
+"$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --zone "$tmp/h2.h5" --queue "$tmp/q" 2> "$tmp/bad.log"
+[ $? -eq 2 ] && grep -q "cannot be queued" "$tmp/bad.log" && [ ! -e "$tmp/q" ] || { echo "--zone with --queue accepted"; fail=1; }
 # disim probe: a profile that cannot be written (a full disk) is an error,
 # not a short CSV with exit 0; disim validate refuses a bad --threads.
 if [ -w /dev/full ]; then
