@@ -42,6 +42,11 @@ int disim_lcm_check_pilot_input(const disim_pilot_input_t *m, char *err, size_t 
 
 int disim_lcm_check_sim_control(const disim_sim_control_t *m, char *err, size_t n)
 {
+    if (m->seq < 0) { /* the value received, as for pilot_input_t */
+        if (err)
+            snprintf(err, n, "sim_control_t.seq = %lld: expected seq >= 0", (long long)m->seq);
+        return -1;
+    }
     if (m->command < DISIM_SIM_CONTROL_T_PAUSE || m->command > DISIM_SIM_CONTROL_T_LOAD_SCENARIO) {
         if (err)
             snprintf(err, n, "sim_control_t.command = %d: expected 1 (pause) to 4 (load scenario)",

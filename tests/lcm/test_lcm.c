@@ -270,6 +270,10 @@ int main(void)
     CHECK(strstr(err, "pilot_input_t.seq = -5") != NULL);
     p.seq = 1001;
     CHECK(disim_lcm_check_sim_control(&c, err, sizeof err) == 0);
+    c.seq = -3;
+    CHECK(disim_lcm_check_sim_control(&c, err, sizeof err) < 0);
+    CHECK(strstr(err, "sim_control_t.seq = -3") != NULL);
+    c.seq = 0;
     c.command = 9;
     CHECK(disim_lcm_check_sim_control(&c, err, sizeof err) < 0);
     CHECK(strstr(err, "sim_control_t.command = 9") != NULL);
