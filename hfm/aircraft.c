@@ -149,6 +149,23 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
                      path, en->line, A);
         goto fail;
     }
+    {
+        /* A rigid body's principal moments obey the triangle inequality
+         * (I1 + I2 >= I3: each is a sum of two of the three second moments
+         * of mass); a data file that breaks it is mistyped, and the 6-DOF
+         * equations would still run on it. The x-z block's principal
+         * moments, and Iyy. */
+        double mean = 0.5 * (ixx + izz), rad = sqrt(0.25 * (ixx - izz) * (ixx - izz) + ixz * ixz);
+        double p[3] = {mean + rad, mean - rad, iyy};
+        for (int a = 0; a < 3; a++)
+            if (p[a] > (p[(a + 1) % 3] + p[(a + 2) % 3]) * (1.0 + 1e-9)) {
+                core_err_set(err, -1,
+                             "%s: [%s] Ixx_kgm2, Iyy_kgm2, Izz_kgm2, Ixz_kgm2: principal moments %.0f, %.0f, %.0f "
+                             "kg m^2 break the triangle inequality (each at most the sum of the other two)",
+                             path, A, p[0], p[2], p[1]);
+                goto fail;
+            }
+    }
     double I[3][3] = {{ixx, 0, -ixz}, {0, iyy, 0}, {-ixz, 0, izz}};
     memcpy(ac->I, I, sizeof I);
     double det = ixx * izz - ixz * ixz;
@@ -175,6 +192,23 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
     GETD(M, "blade_flap_inertia_kgm2", 1.0, 1e5, mr->I_beta);
     GETD(M, "blade_first_moment_kgm", 0.1, 1e4, mr->S_beta);
     GETD(M, "blade_mass_kg", 0.1, 2000.0, mr->m_blade);
+    /* the blade's mass moments about the flap hinge, from one mass
+     * distribution over the span R - e: S^2 <= m I (Cauchy-Schwarz),
+     * S <= m (R - e) and I <= m (R - e)^2 */
+    {
+        const double span = mr->R - mr->e, m = mr->m_blade, S = mr->S_beta, Ib = mr->I_beta;
+        const char *why = S * S > m * Ib * (1.0 + 1e-9)                 ? "first moment^2 > mass x flap inertia"
+                          : S > m * span * (1.0 + 1e-9)                  ? "first moment > mass x (radius - hinge offset)"
+                          : Ib > m * span * span * (1.0 + 1e-9)          ? "flap inertia > mass x (radius - hinge offset)^2"
+                                                                         : NULL;
+        if (why) {
+            core_err_set(err, -1,
+                         "%s: [%s] blade_flap_inertia_kgm2 %g, blade_first_moment_kgm %g, blade_mass_kg %g: %s: "
+                         "no blade has these",
+                         path, M, Ib, S, m, why);
+            goto fail;
+        }
+    }
     GETD(M, "flap_spring_Nmprad", 0.0, 1e7, mr->K_beta);
     GETD(M, "shaft_tilt_deg", -15.0, 15.0, mr->shaft_tilt);
     mr->shaft_tilt *= D2R;
