@@ -79,10 +79,19 @@ awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, int thr
         if (l < 5 || strcmp(de->d_name + l - 4, ".ini"))
             continue;
         char p[1024];
-        snprintf(p, sizeof p, "%s/%.*s", ships_dir, (int)(sizeof p - strlen(ships_dir) - 2), de->d_name);
-        core_ship *grown = realloc(e->ships, (e->nships + 1) * sizeof *grown);
-        if (!grown)
-            break;
+        /* a ship left out would fail every request for it later, with a
+         * misleading "no ship file of that name": refuse now instead */
+        core_ship *grown = NULL;
+        if (snprintf(p, sizeof p, "%s/%s", ships_dir, de->d_name) >= (int)sizeof p)
+            core_err_set(err, -1, "ship file path longer than %zu characters: %s/%s", sizeof p - 1, ships_dir,
+                         de->d_name);
+        else if (!(grown = realloc(e->ships, (e->nships + 1) * sizeof *grown)))
+            core_err_set(err, -1, "%s: out of memory loading the ships", p);
+        if (!grown) {
+            closedir(d);
+            awdb_embedded_destroy(e);
+            return NULL;
+        }
         e->ships = grown;
         if (core_ship_load(p, &e->ships[e->nships], err) != 0) {
             closedir(d);

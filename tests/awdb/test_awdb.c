@@ -829,6 +829,32 @@ static void test_unclaimable(const char *dir)
     awdb_close(db);
 }
 
+/* A ships folder whose file paths do not fit the loader's buffer: refused
+ * by name (the path was cut, and the ship then "not found" later). */
+static void test_long_ships_path(const char *dir)
+{
+    char p[1400];
+    int n = snprintf(p, sizeof p, "%s", dir);
+    CHECK(mkdir(p, 0777) == 0);
+    for (int i = 0; i < 5; i++) {
+        n += snprintf(p + n, sizeof p - n, "/%0200d", i);
+        CHECK(mkdir(p, 0777) == 0);
+    }
+    char f[1500];
+    snprintf(f, sizeof f, "%s/x.ini", p);
+    FILE *fp = fopen(f, "w");
+    CHECK(fp != NULL);
+    if (fp)
+        fclose(fp);
+    core_err err = {{0}};
+    core_log log = {NULL, NULL, CORE_LOG_ERROR};
+    awdb_embedded *e = awdb_embedded_create(p, 10, 1, &log, &err);
+    CHECK(e == NULL && strstr(err.msg, "path longer") != NULL);
+    if (!strstr(err.msg, "path longer"))
+        fprintf(stderr, "  long ships path: %s\n", err.msg);
+    awdb_embedded_destroy(e);
+}
+
 int main(void)
 {
     char dir[] = "/tmp/disim_awdb_XXXXXX";
@@ -860,6 +886,8 @@ int main(void)
     test_probe(d5);
     snprintf(d5, sizeof d5, "%s/db9", dir);
     test_unclaimable(d5);
+    snprintf(d5, sizeof d5, "%s/ships", dir);
+    test_long_ships_path(d5);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0)
