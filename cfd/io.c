@@ -477,6 +477,14 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
     for (int q = 0; q < 5; q++)
         if (read_attr_double(f, path, residual_names[q], 0, &m->result.residual[q], err) < 0)
             goto fail;
+    /* the rotor's centre, written with the thrust and radius (a reader
+     * that writes the field again, or mirrors it, keeps it) */
+    for (int q = 0; q < 3; q++) {
+        char nm[32];
+        snprintf(nm, sizeof nm, "rotor_centre_S_m_%c", 'x' + q);
+        if (read_attr_double(f, path, nm, 0, &m->rotor_centre_S_m[q], err) < 0)
+            goto fail;
+    }
     /* counts become ints: a value past INT_MAX would not convert */
     const char *bad = !(m->wod_speed_mps >= 0.0) ? "wod_speed_mps"
                       : !(m->rotor_radius_m >= 0.0) ? "rotor_radius_m"

@@ -303,12 +303,15 @@ static void test_io(void)
     snprintf(xmf, sizeof xmf, "%s/f.xmf", dir);
     cfd_meta meta;
     test_meta(&meta, "channel", 1.0, -30.0, &res);
+    meta.rotor_centre_S_m[0] = 1.5, meta.rotor_centre_S_m[1] = -0.25, meta.rotor_centre_S_m[2] = -7.75;
     CHECK(cfd_solver_write(s, &meta, path, &err) == 0);
     CHECK(access(xmf, R_OK) == 0);
     cfd_field *f = cfd_field_load(path, &err);
     CHECK(f != NULL);
     if (f) {
         CHECK_NEAR(cfd_field_meta(f)->wod_dir_deg, -30.0, 1e-12);
+        for (int q = 0; q < 3; q++) /* read back (it was written only) */
+            CHECK(cfd_field_meta(f)->rotor_centre_S_m[q] == meta.rotor_centre_S_m[q]);
         CHECK(strcmp(cfd_field_meta(f)->ship, "channel") == 0);
         CHECK(cfd_field_meta(f)->result.iterations == res.iterations);
         double pts[3][3] = {{0.3, 0.45, 0.5}, {2.1, 0.77, 0.33}, {3.9, 0.05, 0.9}};
