@@ -655,6 +655,8 @@ static void test_outputs(void)
     info.scenario_path = "scenarios/a|b.ini"; /* a '|' must not split the cell */
     info.grid = "coarse";
     info.coupling = "two-way";
+    /* a Latin-1 byte (not UTF-8) and a well-formed UTF-8 e-acute */
+    info.aircraft_path = "aircraft/h\xe9li-\xc3\xa9.ini";
     info.compare = &c;
     info.compare_label = "one-way (ship-only airwake)";
     info.coupling_md = "| WOD | speed | iterations |\n|---|---|---|\n| head | 50 km/h | 3 |";
@@ -690,6 +692,7 @@ static void test_outputs(void)
     if (js) {
         CHECK(js[0] == '{');
         CHECK(strstr(js, "\"directions\"") && strstr(js, "\"history\""));
+        CHECK(strstr(js, "\"aircraft/h\\ufffdli-\xc3\xa9.ini\"") != NULL);
         CHECK(strstr(js, "\"limit\": \"pedal\"") != NULL);
         int depth = 0, minimum = 0, instr = 0;
         for (char *p = js; *p; p++) {
