@@ -389,10 +389,14 @@ void shol_trim_plot_name(double dir_rad, char *buf, size_t n)
     else if (fabs(a - round(a)) < 1e-6)
         snprintf(buf, n, "shol_trim_%s%03d.png", d > 0 ? "green" : "red", (int)round(a));
     else {
-        /* 7.5 -> 007p5: no dot inside a name that ends in .png */
-        int tenths = (int)round(a * 10);
-        snprintf(buf, n, "shol_trim_%s%03dp%d.png", d > 0 ? "green" : "red", tenths / 10,
-                 tenths % 10);
+        /* 7.5 -> 007p5, 7.25 -> 007p25: no dot inside a name that ends in
+         * .png, and hundredths where the direction has them (7.25 and 7.3
+         * of one sweep would share a name in tenths) */
+        int h = (int)round(a * 100);
+        if (h % 10 == 0)
+            snprintf(buf, n, "shol_trim_%s%03dp%d.png", d > 0 ? "green" : "red", h / 100, h / 10 % 10);
+        else
+            snprintf(buf, n, "shol_trim_%s%03dp%02d.png", d > 0 ? "green" : "red", h / 100, h % 100);
     }
 }
 

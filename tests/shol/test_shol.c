@@ -757,6 +757,10 @@ static void test_outputs(void)
     CHECK(strcmp(nm, "shol_trim_head.png") == 0);
     shol_trim_plot_name(7.5 * DEG, nm, sizeof nm);
     CHECK(strcmp(nm, "shol_trim_green007p5.png") == 0);
+    shol_trim_plot_name(-7.25 * DEG, nm, sizeof nm);
+    CHECK(strcmp(nm, "shol_trim_red007p25.png") == 0);
+    shol_trim_plot_name(-7.3 * DEG, nm, sizeof nm);
+    CHECK(strcmp(nm, "shol_trim_red007p3.png") == 0);
 
     /* Report: every link resolves, the comparison names each direction. */
     snprintf(path, sizeof path, "%s/report.md", out);
