@@ -9,6 +9,7 @@
 #include "disim_lcm.h"
 
 #include <lcm/lcm.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,12 +24,22 @@ static void on_signal(int sig)
     stop_flag = 1;
 }
 
+/* builds in progress, for the terminal line's rate and time left */
+#define TTY_SLOTS 32
+typedef struct tty_slot {
+    char name[200];
+    double t0_s;
+    int it0;
+} tty_slot;
+
 typedef struct daemon_ctx {
     awdb *db;
     lcm_t *lc;
     int64_t seq;
     int tty;
     const core_log *log;
+    pthread_mutex_t mu; /* the builder's jobs report from their threads */
+    tty_slot slot[TTY_SLOTS];
 } daemon_ctx;
 
 static int64_t now_us(void)
@@ -63,6 +74,31 @@ static void publish_status(daemon_ctx *c, const awdb_key *k, const char *request
     disim_airwake_status_t_publish(c->lc, DISIM_CH_AIRWAKE_STATUS, &m);
 }
 
+static double now_s(void) { return 1e-6 * (double)now_us(); }
+
+/* The slot of a build by name (a free one when new, with its start), or
+ * NULL when all are taken; remove: free it. Called under c->mu. */
+static tty_slot *tty_slot_of(daemon_ctx *c, const char *name, int it, int remove)
+{
+    tty_slot *free_slot = NULL;
+    for (int i = 0; i < TTY_SLOTS; i++) {
+        tty_slot *t = &c->slot[i];
+        if (t->name[0] && !strcmp(t->name, name)) {
+            if (remove)
+                t->name[0] = '\0';
+            return t;
+        }
+        if (!t->name[0] && !free_slot)
+            free_slot = t;
+    }
+    if (remove || !free_slot)
+        return NULL;
+    snprintf(free_slot->name, sizeof free_slot->name, "%s", name);
+    free_slot->t0_s = now_s();
+    free_slot->it0 = it;
+    return free_slot;
+}
+
 static void on_status(void *user, const awdb_key *k, awdb_state s, double frac, double res, int it,
                       const char *path, const char *msg)
 {
@@ -73,13 +109,32 @@ static void on_status(void *user, const awdb_key *k, awdb_state s, double frac, 
     publish_status(c, k, NULL, map[s], frac, res, it, path, msg);
     char name[200];
     awdb_key_name(k, name, sizeof name);
-    if (s == AWDB_RUNNING && frac > 0.0) {
-        if (c->tty) /* an updating line on a terminal only */
-            fprintf(stderr, "\r  %-60.60s %5.1f%%  residual %.2e  iteration %d   ", name, 100.0 * frac, res, it);
+    if (!c->tty) { /* a log: state changes only */
+        if (!(s == AWDB_RUNNING && frac > 0.0))
+            fprintf(stderr, "airwaked: %s %s%s%s\n", awdb_state_name(s), name, msg && msg[0] ? ": " : "",
+                    msg ? msg : "");
         return;
     }
-    fprintf(stderr, "%sairwaked: %s %s%s%s\n", c->tty ? "\r" : "", awdb_state_name(s), name,
-            msg && msg[0] ? ": " : "", msg ? msg : "");
+    pthread_mutex_lock(&c->mu);
+    if (s == AWDB_RUNNING && frac > 0.0) {
+        /* an updating line: percent of the iteration cap, iterations per
+         * second since this build's first report, and the time left at that
+         * rate (an upper bound: a field can stop at convergence) */
+        tty_slot *t = tty_slot_of(c, name, it, 0);
+        double el = t ? now_s() - t->t0_s : 0.0, rate = t && el > 0.0 ? (it - t->it0) / el : 0.0;
+        double left = rate > 0.0 && frac > 0.0 ? (it / frac - it) / rate : 0.0;
+        if (rate > 0.0)
+            fprintf(stderr, "\r  %-48.48s %5.1f%%  residual %.2e  iteration %d  %.2f it/s  at most %.0f %s left   ",
+                    name, 100.0 * frac, res, it, rate, left < 120.0 ? left : left / 60.0, left < 120.0 ? "s" : "min");
+        else
+            fprintf(stderr, "\r  %-48.48s %5.1f%%  residual %.2e  iteration %d   ", name, 100.0 * frac, res, it);
+    } else {
+        if (s != AWDB_RUNNING)
+            tty_slot_of(c, name, 0, 1);
+        fprintf(stderr, "\rairwaked: %s %s%s%s\n", awdb_state_name(s), name, msg && msg[0] ? ": " : "",
+                msg ? msg : "");
+    }
+    pthread_mutex_unlock(&c->mu);
 }
 
 static void on_request(daemon_ctx *c, const disim_airwake_request_t *m)
@@ -244,7 +299,12 @@ int cmd_airwaked(int argc, char **argv)
         return 1;
     }
     awdb_embedded_set_db(emb, db);
-    daemon_ctx ctx = {db, NULL, 0, isatty(2), &log};
+    daemon_ctx ctx;
+    memset(&ctx, 0, sizeof ctx);
+    ctx.db = db;
+    ctx.tty = isatty(2);
+    ctx.log = &log;
+    pthread_mutex_init(&ctx.mu, NULL);
     lcm_subscription_t *sub = NULL;
     if (use_lcm) {
         ctx.lc = lcm_create(NULL);
