@@ -457,6 +457,26 @@ static int face_class(double speed_mps, double dir_rad)
     return 3 * (s[0] + 1) + (s[1] + 1);
 }
 
+typedef struct warm_cand {
+    char name[256];
+    int grid;
+    double dist, rotor;
+} warm_cand;
+
+/* the finest grid available first (the key's own before any coarser one),
+ * then the nearest wind, then the nearest rotor */
+static int warm_cand_cmp(const void *pa, const void *pb)
+{
+    const warm_cand *a = pa, *b = pb;
+    if (a->grid != b->grid)
+        return a->grid > b->grid ? -1 : 1;
+    if (fabs(a->dist - b->dist) > 1e-9)
+        return a->dist < b->dist ? -1 : 1;
+    if (a->rotor != b->rotor)
+        return a->rotor < b->rotor ? -1 : 1;
+    return strcmp(a->name, b->name); /* a fixed order among equals */
+}
+
 int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
 {
     /* A whole-domain ship-only field starts from the inflow: on the CG-47's
@@ -474,9 +494,11 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
     if (!d)
         return 1;
     core_vec3 w = core_wod_vel_S_mps(key->wod_speed_mps, key->wod_dir_rad);
-    double best = INFINITY, best_rotor = INFINITY;
-    int best_grid = -1;
-    char best_name[256] = "";
+    /* every admissible field, best first after the scan: when the best
+     * fails its checksum (removed, to be rebuilt) the next one still gives
+     * a warm start instead of a cold one */
+    warm_cand *cand = NULL;
+    size_t ncand = 0, capcand = 0;
     struct dirent *e;
     while ((e = readdir(d))) {
         size_t l = strlen(e->d_name);
@@ -524,21 +546,29 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
             for (int i = 0; i < 3; i++)
                 rd += fabs(k.station_S_m[i] - key->station_S_m[i]) / fmax(key->radius_m, 0.1);
         }
-        /* the finest grid available first (the key's own before any
-         * coarser one), then the nearest wind, then the nearest rotor */
-        int better = k.grid > best_grid ||
-                     (k.grid == best_grid && (dist < best - 1e-9 || (dist <= best + 1e-9 && rd < best_rotor)));
-        if (better) {
-            best = dist;
-            best_rotor = rd;
-            best_grid = k.grid;
-            awdb_fmt(best_name, sizeof best_name, "%s", stem);
+        if (ncand == capcand) {
+            size_t cap = capcand ? 2 * capcand : 16;
+            warm_cand *g = realloc(cand, cap * sizeof *g);
+            if (!g)
+                break; /* the candidates so far still serve */
+            cand = g;
+            capcand = cap;
         }
+        warm_cand *c = &cand[ncand++];
+        c->grid = k.grid;
+        c->dist = dist;
+        c->rotor = rd;
+        awdb_fmt(c->name, sizeof c->name, "%s", stem);
     }
     closedir(d);
-    if (!best_name[0])
-        return 1;
-    return verify_field(db, best_name, path, n, NULL) > 0 ? 0 : 1;
+    if (ncand > 1)
+        qsort(cand, ncand, sizeof *cand, warm_cand_cmp);
+    int rc = 1;
+    for (size_t i = 0; i < ncand && rc; i++)
+        if (verify_field(db, cand[i].name, path, n, NULL) > 0)
+            rc = 0;
+    free(cand);
+    return rc;
 }
 
 static int count_dir(const awdb *db, const char *sub)

@@ -319,6 +319,20 @@ static void test_flow(const char *dir)
         tq.thrust_N = 61000.0;
         awdb_key_name(&ta, nb_, sizeof nb_);
         CHECK(awdb_nearest(db, &tq, near, sizeof near) == 0 && strstr(near, nb_) != NULL);
+        /* The best field fails its checksum: the next best (the green 60
+         * field built above) still gives a warm start (it gave a cold
+         * one). */
+        char bad[1400];
+        snprintf(bad, sizeof bad, "%s/fields/%s.h5", dir, nb_);
+        FILE *cf = fopen(bad, "ab"); /* a changed size: the mtime may not tick */
+        CHECK(cf != NULL);
+        if (cf) {
+            fputc('x', cf);
+            fclose(cf);
+        }
+        awdb_key_name(&kg60, nb_, sizeof nb_); /* thrust 72950 N: the next nearest to 61000 */
+        CHECK(awdb_nearest(db, &tq, near, sizeof near) == 0 && strstr(near, nb_) != NULL);
+        CHECK(awdb_query(db, &ta, NULL, 0) != AWDB_READY); /* and it is not served */
     }
 
     /* A whole-domain ship-only field never starts from another one (its
