@@ -273,7 +273,19 @@ int cmd_airwake(int argc, char **argv)
     key.wod_dir_rad = dir;
     key.grid = level;
     key.rotor = AWDB_ROTOR_OFF;
-    if (rotor || zone) {
+    if (zone && !rotor) {
+        /* a ship-only zone: the box round the hub of the free-air hover
+         * trim, of the rotor's radius; the key stays a ship-only one */
+        awdb_key hub = key;
+        snprintf(hub.aircraft, sizeof hub.aircraft, "%.63s", sc->aircraft_name);
+        if (rotor_from_trim(sc, speed, dir, 0, &hub, &log) != 0) {
+            free(sc);
+            return 1;
+        }
+        memcpy(sp.disk.centre_m, hub.station_S_m, sizeof sp.disk.centre_m);
+        sp.disk.radius_m = hub.radius_m;
+    }
+    if (rotor) {
         /* The disk of the scenario's aircraft trimmed in the free-air WOD at
          * the hover-over-spot station: thrust, hub, shaft tilt and, for
          * --rotor loaded, its blade loads (the coupling loop's first step). */
@@ -281,16 +293,6 @@ int cmd_airwake(int argc, char **argv)
         if (rotor_from_trim(sc, speed, dir, rotor == 2, &key, &log) != 0) {
             free(sc);
             return 1;
-        }
-        if (!rotor) {
-            /* a ship-only zone: the box from the hub and radius, no disk */
-            memcpy(sp.disk.centre_m, key.station_S_m, sizeof sp.disk.centre_m);
-            sp.disk.radius_m = key.radius_m;
-            memset(key.aircraft, 0, sizeof key.aircraft);
-            key.thrust_N = key.radius_m = key.torque_Nm = 0.0;
-            memset(key.station_S_m, 0, sizeof key.station_S_m);
-            key.shaft_pitch_rad = key.shaft_roll_rad = 0.0;
-            goto disk_done;
         }
         if (!isnan(thrust))
             key.thrust_N = thrust;
@@ -312,7 +314,6 @@ int cmd_airwake(int argc, char **argv)
         meta.rotor_radius_m = key.radius_m;
         memcpy(meta.rotor_centre_S_m, key.station_S_m, sizeof meta.rotor_centre_S_m);
     }
-disk_done:;
     cfd_field *outer = NULL; /* the zone's boundary; outlives the solver */
     if (zone) {
         outer = cfd_field_load(zone, &err);
