@@ -109,30 +109,28 @@ static void on_status(void *user, const awdb_key *k, awdb_state s, double frac, 
     publish_status(c, k, NULL, map[s], frac, res, it, path, msg);
     char name[200];
     awdb_key_name(k, name, sizeof name);
-    if (!c->tty) { /* a log: state changes only */
-        if (!(s == AWDB_RUNNING && frac > 0.0))
-            fprintf(stderr, "airwaked: %s %s%s%s\n", awdb_state_name(s), name, msg && msg[0] ? ": " : "",
-                    msg ? msg : "");
-        return;
-    }
     pthread_mutex_lock(&c->mu);
     if (s == AWDB_RUNNING && frac > 0.0) {
-        /* an updating line: percent of the iteration cap, iterations per
-         * second since this build's first report, and the time left at that
-         * rate (an upper bound: a field can stop at convergence) */
-        tty_slot *t = tty_slot_of(c, name, it, 0);
-        double el = t ? now_s() - t->t0_s : 0.0, rate = t && el > 0.0 ? (it - t->it0) / el : 0.0;
-        double left = rate > 0.0 && frac > 0.0 ? (it / frac - it) / rate : 0.0;
-        if (rate > 0.0)
-            fprintf(stderr, "\r  %-48.48s %5.1f%%  residual %.2e  iteration %d  %.2f it/s  at most %.0f %s left   ",
-                    name, 100.0 * frac, res, it, rate, left < 120.0 ? left : left / 60.0, left < 120.0 ? "s" : "min");
-        else
-            fprintf(stderr, "\r  %-48.48s %5.1f%%  residual %.2e  iteration %d   ", name, 100.0 * frac, res, it);
+        /* on a terminal only (a log gets state changes only), an updating
+         * line: percent of the iteration cap, iterations per second since
+         * this build's first report, and the time left at that rate (an
+         * upper bound: a field can stop at convergence) */
+        if (c->tty) {
+            tty_slot *t = tty_slot_of(c, name, it, 0);
+            double el = t ? now_s() - t->t0_s : 0.0, rate = t && el > 0.0 ? (it - t->it0) / el : 0.0;
+            double left = rate > 0.0 ? (it / frac - it) / rate : 0.0;
+            if (rate > 0.0)
+                fprintf(stderr, "\r  %-48.48s %5.1f%%  residual %.2e  iteration %d  %.2f it/s  at most %.0f %s left   ",
+                        name, 100.0 * frac, res, it, rate, left < 120.0 ? left : left / 60.0,
+                        left < 120.0 ? "s" : "min");
+            else
+                fprintf(stderr, "\r  %-48.48s %5.1f%%  residual %.2e  iteration %d   ", name, 100.0 * frac, res, it);
+        }
     } else {
         if (s != AWDB_RUNNING)
             tty_slot_of(c, name, 0, 1);
-        fprintf(stderr, "\rairwaked: %s %s%s%s\n", awdb_state_name(s), name, msg && msg[0] ? ": " : "",
-                msg ? msg : "");
+        fprintf(stderr, "%sairwaked: %s %s%s%s\n", c->tty ? "\r" : "", awdb_state_name(s), name,
+                msg && msg[0] ? ": " : "", msg ? msg : "");
     }
     pthread_mutex_unlock(&c->mu);
 }

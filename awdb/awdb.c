@@ -495,8 +495,8 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
         return 1;
     core_vec3 w = core_wod_vel_S_mps(key->wod_speed_mps, key->wod_dir_rad);
     /* every admissible field, best first after the scan: when the best
-     * fails its checksum (removed, to be rebuilt) the next one still gives
-     * a warm start instead of a cold one */
+     * fails its checksum (a query for its own key then rebuilds it) the
+     * next one still gives a warm start instead of a cold one */
     warm_cand *cand = NULL;
     size_t ncand = 0, capcand = 0;
     struct dirent *e;
