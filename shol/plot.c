@@ -75,6 +75,18 @@ static double text(cairo_t *cr, double x, double y, double size, int bold, int h
     return te.x_advance;
 }
 
+/* A legend entry whose symbol takes lead points before label: when it
+ * would pass the right margin, the row starts again at the left, above. */
+static void legend_wrap(cairo_t *cr, const char *label, double lead, double W, double *lx, double *ly)
+{
+    cairo_text_extents_t te;
+    cairo_text_extents(cr, label, &te);
+    if (*lx + lead + te.x_advance > W - 20) {
+        *ly -= 22;
+        *lx = 40;
+    }
+}
+
 /* Same, on a white box so it stays readable over lines. */
 static void text_boxed(cairo_t *cr, double x, double y, double size, int bold, int ha, int va,
                        const char *s, rgb col)
@@ -920,12 +932,7 @@ static void draw_trim(cairo_t *cr, double W, double H, const shol_result *r,
     lx += 8 + text(cr, lx + 8, ly, 13, 0, -1, 0, "envelope edge (last pass)") + gap;
     if (dc) {
         const char *cl = info->compare_label ? info->compare_label : "comparison";
-        cairo_text_extents_t te;
-        cairo_text_extents(cr, cl, &te);
-        if (lx + 48 + te.x_advance > W - 20) {
-            ly -= 22;
-            lx = 40;
-        }
+        legend_wrap(cr, cl, 48, W, &lx, &ly);
         set_col(cr, cmp_col);
         cairo_set_dash(cr, dash, 2, 0);
         cairo_move_to(cr, lx, ly);
@@ -940,12 +947,7 @@ static void draw_trim(cairo_t *cr, double W, double H, const shol_result *r,
         any_fail |= d->samples[i].trim_status != 0;
     if (any_fail) {
         const char *fl = "trim did not converge (a rejection)";
-        cairo_text_extents_t te;
-        cairo_text_extents(cr, fl, &te);
-        if (lx + 33 + te.x_advance > W - 20) {
-            ly -= 22;
-            lx = 40;
-        }
+        legend_wrap(cr, fl, 33, W, &lx, &ly);
         set_col(cr, ink);
         cairo_set_line_width(cr, 2.5);
         cairo_move_to(cr, lx + 15, ly - 5);
