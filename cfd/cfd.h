@@ -330,6 +330,10 @@ typedef struct cfd_airwake_spec {
     double monitor_z_m;      /* monitor line height in S (CG height, z < 0 above deck) */
     int max_iter;            /* 0: default */
     double h_fine_m;         /* > 0: overrides the level's fine spacing (tests, grid studies) */
+    double growth;           /* > 1: overrides the cells' growth ratio outside the focus box
+                                (1.12; grid studies) */
+    double h_max_m;          /* > 0: overrides the largest cell (the level's, at least
+                                4 x the fine spacing; grid studies) */
     int limiter;             /* 0: the level's (van Leer on the coarse grid, minmod below
                                 1 m spacing); 1 + CFD_LIMITER_*: that one (grid studies
                                 with one scheme on every grid) */

@@ -120,6 +120,11 @@ static int mode_keys(const core_ini *ini, core_err *err)
 int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
 {
     memset(sc, 0, sizeof *sc);
+    /* the path names the scenario in every later message and report: a cut
+     * one would name another file */
+    if (strlen(path) >= sizeof sc->path)
+        return core_err_set(err, -1, "%.60s...: scenario path longer than %zu characters", path,
+                            sizeof sc->path - 1);
     snprintf(sc->path, sizeof sc->path, "%s", path);
     core_ini *ini = core_ini_load(path, err);
     if (!ini)

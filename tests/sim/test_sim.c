@@ -57,6 +57,27 @@ int main(void)
     /* A speed step larger than the sweep's top is refused naming the line. */
     CHECK(sim_scenario_load("tests/sim/bad/speed_step_over_max.ini", sc, &err) < 0);
     CHECK(strstr(err.msg, "speed_step_over_max.ini:10: [wod] speed_step_kmh = 20: expected at most") != NULL);
+    /* A path longer than the scenario keeps is refused, not cut to another
+     * file's name (which could exist: here the cut one would be the CG-47
+     * scenario's folder). */
+    {
+        char longp[SIM_PATH_MAX + 64];
+        size_t n = 0;
+        n += (size_t)snprintf(longp, sizeof longp, "scenarios/");
+        while (n < SIM_PATH_MAX + 20)
+            n += (size_t)snprintf(longp + n, sizeof longp - n, "./");
+        snprintf(longp + n, sizeof longp - n, "cg47_uh60a.ini");
+        CHECK(sim_scenario_load(longp, sc, &err) < 0);
+        CHECK(strstr(err.msg, "scenario path longer than 511 characters") != NULL);
+        /* and a long path that fits (with room for the aircraft and ship
+         * paths resolved beside it) loads */
+        char okp[SIM_PATH_MAX];
+        n = (size_t)snprintf(okp, sizeof okp, "scenarios/");
+        while (n < 400)
+            n += (size_t)snprintf(okp + n, sizeof okp - n, "./");
+        snprintf(okp + n, sizeof okp - n, "cg47_uh60a.ini");
+        CHECK(sim_scenario_load(okp, sc, &err) == 0);
+    }
     free(sc);
     return check_done("test_sim");
 }
