@@ -134,7 +134,7 @@ static void usage_airwake(void)
             "usage: disim airwake SCENARIO [--wod-speed-kt KT] [--wod-dir-deg DEG] [--rotor off|uniform|loaded]\n"
             "                      [--grid coarse|default|fine] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
             "                      [--thrust-n N] [--radius-m R] [--threads N] [--h-fine-m H]\n"
-            "                      [--growth G] [--h-max-m H] [--limiter vanleer|minmod] [--zone OUTER.h5] -o FIELD.h5\n"
+            "                      [--growth G] [--h-max-m H] [--focus-fwd-m X] [--limiter vanleer|minmod] [--zone OUTER.h5] -o FIELD.h5\n"
             "  --zone: solve the deck zone only (5 R round the hover station's hub, 4 R above it),\n"
             "  its open faces taken from OUTER.h5 (a whole-domain ship-only field of this ship and\n"
             "  direction, any grid) scaled to the WOD speed: a fine zone nested in a coarser field\n"
@@ -144,7 +144,7 @@ static void usage_airwake(void)
 int cmd_airwake(int argc, char **argv)
 {
     const char *scen = NULL, *out = NULL, *warm = NULL, *queue = NULL, *zone = NULL;
-    double speed_kt = NAN, dir_deg = NAN, thrust = NAN, radius = NAN, h_fine = 0.0, growth = 0.0, h_max = 0.0;
+    double speed_kt = NAN, dir_deg = NAN, thrust = NAN, radius = NAN, h_fine = 0.0, growth = 0.0, h_max = 0.0, focus_fwd = 0.0;
     int rotor = -1, level = -1, abl = 0, max_iter = 0, threads = 0, limiter = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -187,6 +187,10 @@ int cmd_airwake(int argc, char **argv)
             /* grid studies: the stretching outside the focus box */
             if (parse_double(a, argv[++i], 1.01, 1.5, &growth))
                 return 1;
+        } else if (!strcmp(a, "--focus-fwd-m") && more) {
+            /* grid studies: the focus box's reach forward of the deck */
+            if (parse_double(a, argv[++i], 0.5, 500.0, &focus_fwd))
+                return 1;
         } else if (!strcmp(a, "--h-max-m") && more) {
             if (parse_double(a, argv[++i], 0.1, 50.0, &h_max))
                 return 1;
@@ -226,11 +230,11 @@ int cmd_airwake(int argc, char **argv)
         usage_airwake();
         return 2;
     }
-    if ((h_fine > 0.0 || growth > 0.0 || h_max > 0.0 || limiter || zone) && queue) {
+    if ((h_fine > 0.0 || growth > 0.0 || h_max > 0.0 || focus_fwd > 0.0 || limiter || zone) && queue) {
         /* the database keys fields by grid level; a spacing of its own
          * would put a field under a level it was not solved on */
         fprintf(stderr,
-                "disim airwake: --h-fine-m, --growth, --h-max-m, --limiter and --zone write a field (-o), they cannot be queued (--queue)\n");
+                "disim airwake: --h-fine-m, --growth, --h-max-m, --focus-fwd-m, --limiter and --zone write a field (-o), they cannot be queued (--queue)\n");
         return 2;
     }
 #ifdef _OPENMP
@@ -271,6 +275,7 @@ int cmd_airwake(int argc, char **argv)
     sp.h_fine_m = h_fine;
     sp.growth = growth;
     sp.h_max_m = h_max;
+    sp.focus_fwd_m = focus_fwd;
     sp.limiter = limiter;
     cfd_meta meta;
     memset(&meta, 0, sizeof meta);
@@ -397,9 +402,10 @@ int cmd_airwake(int argc, char **argv)
         snprintf(base, sizeof base, "h%.3f m", h_fine);
     else
         snprintf(base, sizeof base, "%s", core_grid_name(level));
-    if (growth > 0.0 || h_max > 0.0) {
+    if (growth > 0.0 || h_max > 0.0 || focus_fwd > 0.0) {
         size_t nb = strlen(base);
-        snprintf(base + nb, sizeof base - nb, " g%.2f hmax%.0f", growth > 0.0 ? growth : 1.12, h_max);
+        snprintf(base + nb, sizeof base - nb, " g%.2f hm%.0f ff%.0f", growth > 0.0 ? growth : 1.12, h_max,
+                 focus_fwd);
     }
     snprintf(meta.grid, sizeof meta.grid, "%s%s%s", base,
              !limiter ? "" : limiter == 1 + CFD_LIMITER_VANLEER ? " vanleer" : " minmod", zone ? " zone" : "");

@@ -128,7 +128,7 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
      * rotor set the scale, not the deck length), and the cap keeps its
      * coarse grid near a million cells */
     ax[0].f0_m = sh->deck_x0_m - fmin(0.5 * deck, 12.0);
-    ax[0].f1_m = sh->deck_x1_m + fmin(0.3 * deck, 8.0);
+    ax[0].f1_m = sh->deck_x1_m + (sp->focus_fwd_m > 0.0 ? sp->focus_fwd_m : fmin(0.3 * deck, 8.0));
     /* across: +-0.6 L, and on the lee side in a crosswind the along-wind
      * reach scaled by the crosswind component (a crosswind wake must not
      * reach the outlet: backflow there fed the CG-47 red 90 divergence) */

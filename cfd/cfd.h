@@ -332,6 +332,8 @@ typedef struct cfd_airwake_spec {
     double h_fine_m;         /* > 0: overrides the level's fine spacing (tests, grid studies) */
     double growth;           /* > 1: overrides the cells' growth ratio outside the focus box
                                 (1.12; grid studies) */
+    double focus_fwd_m;      /* > 0: the focus box reaches this far forward of the deck's
+                                forward end (the level's: 0.3 deck, at most 8 m; grid studies) */
     double h_max_m;          /* > 0: overrides the largest cell (the level's, at least
                                 4 x the fine spacing; grid studies) */
     int limiter;             /* 0: the level's (van Leer on the coarse grid, minmod below

@@ -72,6 +72,17 @@ grep -q "= 71832 cells .* h_fine 2.00 m" "$tmp/h2.log" && [ -s "$tmp/h2.h5" ] ||
 [ $? -eq 2 ] && grep -q "cannot be queued" "$tmp/bad.log" && [ ! -e "$tmp/q" ] || { echo "--h-fine-m with --queue accepted"; fail=1; }
 "$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --limiter upwind -o "$tmp/h4.h5" 2> "$tmp/bad.log"
 [ $? -ne 0 ] && grep -q "limiter: expected vanleer or minmod, got 'upwind'" "$tmp/bad.log" && [ ! -e "$tmp/h4.h5" ] || { echo "bad --limiter accepted"; fail=1; }
+# --growth, --h-max-m and --focus-fwd-m (grid studies): the grading and
+# the focus box's reach change the grid and are named in the field's grid
+# attribute; out of range and with --queue they are refused.
+"$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --rotor off --h-fine-m 2.0 --growth 1.3 \
+    --h-max-m 10 --focus-fwd-m 30 --max-iter 2 --threads 1 -o "$tmp/g.h5" 2> "$tmp/g.log"
+grep -q "= 47740 cells .* h_fine 2.00 m" "$tmp/g.log" && [ -s "$tmp/g.h5" ] && grep -aq "h2.000 m g1.30 hm10 ff30" "$tmp/g.h5" \
+    || { echo "--growth/--h-max-m/--focus-fwd-m not applied"; cat "$tmp/g.log"; fail=1; }
+"$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --growth 2 -o "$tmp/g2.h5" 2> "$tmp/bad.log"
+[ $? -ne 0 ] && grep -q "growth: expected a number in \[1.01, 1.5\], got '2'" "$tmp/bad.log" && [ ! -e "$tmp/g2.h5" ] || { echo "bad --growth accepted"; fail=1; }
+"$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --focus-fwd-m 30 --queue "$tmp/q" 2> "$tmp/bad.log"
+[ $? -eq 2 ] && grep -q "cannot be queued" "$tmp/bad.log" && [ ! -e "$tmp/q" ] || { echo "--focus-fwd-m with --queue accepted"; fail=1; }
 # --zone: a deck zone nested in a ship-only field of the same ship and
 # direction; a rotor field, another direction or --queue are refused.
 "$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 10 --rotor off --h-fine-m 2.0 --max-iter 2 \
