@@ -157,14 +157,22 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
          * moments, and Iyy. */
         double mean = 0.5 * (ixx + izz), rad = sqrt(0.25 * (ixx - izz) * (ixx - izz) + ixz * ixz);
         double p[3] = {mean + rad, mean - rad, iyy};
-        for (int a = 0; a < 3; a++)
-            if (p[a] > (p[(a + 1) % 3] + p[(a + 2) % 3]) * (1.0 + 1e-9)) {
-                core_err_set(err, -1,
-                             "%s: [%s] Ixx_kgm2, Iyy_kgm2, Izz_kgm2, Ixz_kgm2: principal moments %.0f, %.0f, %.0f "
-                             "kg m^2 break the triangle inequality (each at most the sum of the other two)",
-                             path, A, p[0], p[2], p[1]);
-                goto fail;
-            }
+        /* largest first: only the largest can exceed the other two's sum */
+        for (int a = 0; a < 2; a++)
+            for (int b = a + 1; b < 3; b++)
+                if (p[b] > p[a]) {
+                    double t = p[a];
+                    p[a] = p[b];
+                    p[b] = t;
+                }
+        if (p[0] > (p[1] + p[2]) * (1.0 + 1e-9)) {
+            core_err_set(err, -1,
+                         "%s: [%s] Ixx_kgm2, Iyy_kgm2, Izz_kgm2, Ixz_kgm2: principal moments %.0f, %.0f, %.0f "
+                         "kg m^2 break the triangle inequality (%.0f > %.0f + %.0f: each must be at most the sum "
+                         "of the other two)",
+                         path, A, p[0], p[1], p[2], p[0], p[1], p[2]);
+            goto fail;
+        }
     }
     double I[3][3] = {{ixx, 0, -ixz}, {0, iyy, 0}, {-ixz, 0, izz}};
     memcpy(ac->I, I, sizeof I);
