@@ -230,7 +230,9 @@ int cmd_airwake(int argc, char **argv)
         usage_airwake();
         return 2;
     }
-    if ((h_fine > 0.0 || growth > 0.0 || h_max > 0.0 || focus_fwd > 0.0 || limiter || zone) && queue) {
+    /* a grading of its own outside the focus box (grid studies) */
+    const int graded = growth > 0.0 || h_max > 0.0 || focus_fwd > 0.0;
+    if ((h_fine > 0.0 || graded || limiter || zone) && queue) {
         /* the database keys fields by grid level; a spacing of its own
          * would put a field under a level it was not solved on */
         fprintf(stderr,
@@ -402,10 +404,10 @@ int cmd_airwake(int argc, char **argv)
         snprintf(base, sizeof base, "h%.3f m", h_fine);
     else
         snprintf(base, sizeof base, "%s", core_grid_name(level));
-    if (growth > 0.0 || h_max > 0.0 || focus_fwd > 0.0) {
+    if (graded) {
         size_t nb = strlen(base);
-        snprintf(base + nb, sizeof base - nb, " g%.2f hm%.0f ff%.0f", growth > 0.0 ? growth : 1.12, h_max,
-                 focus_fwd);
+        snprintf(base + nb, sizeof base - nb, " g%.2f hm%.0f ff%.0f", growth > 0.0 ? growth : CFD_GRID_GROWTH,
+                 h_max, focus_fwd);
     }
     snprintf(meta.grid, sizeof meta.grid, "%s%s%s", base,
              !limiter ? "" : limiter == 1 + CFD_LIMITER_VANLEER ? " vanleer" : " minmod", zone ? " zone" : "");

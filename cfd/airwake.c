@@ -164,7 +164,7 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     for (int d = 0; d < 3; d++) {
         ax[d].h_fine_m = hf;
         ax[d].h_max_m = sp->h_max_m > 0.0 ? fmax(sp->h_max_m, hf) : fmax(hmax[sp->level], 4.0 * hf);
-        ax[d].growth = sp->growth > 1.0 ? sp->growth : 1.12;
+        ax[d].growth = sp->growth > 1.0 ? sp->growth : CFD_GRID_GROWTH;
     }
     cfd_grid *g = cfd_grid_create_spec(ax, err);
     if (!g)

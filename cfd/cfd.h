@@ -319,6 +319,8 @@ void cfd_field_dims(const cfd_field *f, int n[3]);
 
 /* ----------------------------------------------------------------- airwake */
 typedef enum { CFD_GRID_COARSE = 0, CFD_GRID_DEFAULT = 1, CFD_GRID_FINE = 2 } cfd_grid_level;
+/* the ship grids' growth ratio of the cells outside the focus box, every level */
+#define CFD_GRID_GROWTH 1.12
 
 typedef struct cfd_airwake_spec {
     const core_ship *ship;
@@ -331,7 +333,7 @@ typedef struct cfd_airwake_spec {
     int max_iter;            /* 0: default */
     double h_fine_m;         /* > 0: overrides the level's fine spacing (tests, grid studies) */
     double growth;           /* > 1: overrides the cells' growth ratio outside the focus box
-                                (1.12; grid studies) */
+                                (CFD_GRID_GROWTH; grid studies) */
     double focus_fwd_m;      /* > 0: the focus box reaches this far forward of the deck's
                                 forward end (the level's: 0.3 deck, at most 8 m; grid studies) */
     double h_max_m;          /* > 0: overrides the largest cell (the level's, at least

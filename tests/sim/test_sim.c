@@ -7,6 +7,16 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* "scenarios/././.../cg47_uh60a.ini", its "./" repeated until the folder
+ * part is at least min_len characters long */
+static void dotted_path(char *buf, size_t size, size_t min_len)
+{
+    size_t n = (size_t)snprintf(buf, size, "scenarios/");
+    while (n < min_len)
+        n += (size_t)snprintf(buf + n, size - n, "./");
+    snprintf(buf + n, size - n, "cg47_uh60a.ini");
+}
+
 int main(void)
 {
     sim_scenario *sc = malloc(sizeof *sc);
@@ -61,21 +71,13 @@ int main(void)
      * file's name (which could exist: here the cut one would be the CG-47
      * scenario's folder). */
     {
-        char longp[SIM_PATH_MAX + 64];
-        size_t n = 0;
-        n += (size_t)snprintf(longp, sizeof longp, "scenarios/");
-        while (n < SIM_PATH_MAX + 20)
-            n += (size_t)snprintf(longp + n, sizeof longp - n, "./");
-        snprintf(longp + n, sizeof longp - n, "cg47_uh60a.ini");
+        char longp[SIM_PATH_MAX + 64], okp[SIM_PATH_MAX];
+        dotted_path(longp, sizeof longp, SIM_PATH_MAX + 20);
         CHECK(sim_scenario_load(longp, sc, &err) < 0);
         CHECK(strstr(err.msg, "scenario path longer than 511 characters") != NULL);
         /* and a long path that fits (with room for the aircraft and ship
          * paths resolved beside it) loads */
-        char okp[SIM_PATH_MAX];
-        n = (size_t)snprintf(okp, sizeof okp, "scenarios/");
-        while (n < 400)
-            n += (size_t)snprintf(okp + n, sizeof okp - n, "./");
-        snprintf(okp + n, sizeof okp - n, "cg47_uh60a.ini");
+        dotted_path(okp, sizeof okp, 400);
         CHECK(sim_scenario_load(okp, sc, &err) == 0);
     }
     free(sc);
