@@ -49,6 +49,27 @@ int awdb_write_atomic(const char *path, const char *text, core_err *err)
         remove(tmp);
         return core_err_set(err, -1, "%s: cannot write: %s", path, strerror(e));
     }
+    /* the rename itself is durable only once its folder is synced (a
+     * queue entry or a failure record that vanished after a power cut
+     * would be a request lost) */
+    char dir[AWDB_PATH + 32];
+    awdb_fmt(dir, sizeof dir, "%s", path);
+    char *slash = strrchr(dir, '/');
+    if (slash == dir)
+        slash[1] = '\0';
+    else if (slash)
+        *slash = '\0';
+    else
+        awdb_fmt(dir, sizeof dir, ".");
+    int fd = open(dir, O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || fsync(fd) != 0) {
+        int e = errno;
+        if (fd >= 0)
+            close(fd);
+        return core_err_set(err, -1, "%s: written, but its folder %s cannot be synced: %s", path, dir,
+                            strerror(e));
+    }
+    close(fd);
     return 0;
 }
 

@@ -14,6 +14,8 @@
  */
 #include "cfd_private.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <hdf5.h>
 #include <limits.h>
 #include <math.h>
@@ -198,10 +200,39 @@ static int write_field(const cfd_grid *g, double *const *var, const double *hist
         unlink(xtmp);
         return core_err_set(err, -1, "%s: cannot write the XDMF file", xtmp);
     }
-    if (rename(tmp, path) || rename(xtmp, xmf)) {
+    /* The field on disk before its name is (a rename after a power cut
+     * must not expose a file still in the page cache). */
+    int fd = open(tmp, O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || fsync(fd) != 0) {
+        int e = errno;
+        if (fd >= 0)
+            close(fd);
         unlink(tmp);
         unlink(xtmp);
-        return core_err_set(err, -1, "%s: cannot rename the temporary files into place", path);
+        return core_err_set(err, -1, "%s: cannot sync: %s", tmp, strerror(e));
+    }
+    close(fd);
+    /* The side file names the field's dimensions: an old one must not
+     * outlive its field, so it goes before the new field takes the name,
+     * and a failure between the two renames leaves a field without a
+     * side file, never one with a wrong side file. */
+    if (unlink(xmf) != 0 && errno != ENOENT) {
+        int e = errno;
+        unlink(tmp);
+        unlink(xtmp);
+        return core_err_set(err, -1, "%s: cannot replace: %s (the field is not written)", xmf, strerror(e));
+    }
+    if (rename(tmp, path) != 0) {
+        int e = errno;
+        unlink(tmp);
+        unlink(xtmp);
+        return core_err_set(err, -1, "%s: cannot rename %s into place: %s", path, tmp, strerror(e));
+    }
+    if (rename(xtmp, xmf) != 0) {
+        int e = errno;
+        unlink(xtmp);
+        return core_err_set(err, -1, "%s: cannot rename %s into place: %s (%s is written)", xmf, xtmp, strerror(e),
+                            path);
     }
     return 0;
 }

@@ -5,11 +5,13 @@
 #include "cfd.h"
 #include "check.h"
 
+#include <dirent.h>
 #include <hdf5.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static void test_axis(void)
@@ -364,6 +366,32 @@ static void test_io(void)
         /* trilinear: exact for a linear function; the grid centres are
          * uniform here, so interpolating between two centres is linear */
         cfd_field_destroy(f);
+    }
+    /* A side file that cannot be replaced (here a folder in its place):
+     * the error names it and no field is left without it being reported,
+     * nor any temporary file (the field used to take its name first and
+     * the error named only the .h5) */
+    {
+        char blk[256], bxmf[256], inner[300];
+        snprintf(blk, sizeof blk, "%s/blocked.h5", dir);
+        snprintf(bxmf, sizeof bxmf, "%s/blocked.xmf", dir);
+        snprintf(inner, sizeof inner, "%s/keep", bxmf);
+        CHECK(mkdir(bxmf, 0700) == 0);
+        FILE *k = fopen(inner, "w");
+        CHECK(k != NULL);
+        if (k)
+            fclose(k);
+        CHECK(cfd_solver_write(s, &meta, blk, &err) < 0);
+        CHECK(strstr(err.msg, "blocked.xmf") != NULL);
+        CHECK(access(blk, F_OK) != 0);
+        DIR *d = opendir(dir);
+        CHECK(d != NULL);
+        for (struct dirent *e; d && (e = readdir(d));)
+            CHECK(strstr(e->d_name, ".tmp.") == NULL);
+        if (d)
+            closedir(d);
+        unlink(inner);
+        rmdir(bxmf);
     }
     /* a field with a NaN is never written */
     double *u = (double *)cfd_solver_var(s, CFD_VAR_U);
