@@ -134,7 +134,8 @@ static void usage_airwake(void)
             "usage: disim airwake SCENARIO [--wod-speed-kt KT] [--wod-dir-deg DEG] [--rotor off|uniform|loaded]\n"
             "                      [--grid coarse|default|fine] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
             "                      [--thrust-n N] [--radius-m R] [--threads N] [--h-fine-m H]\n"
-            "                      [--growth G] [--h-max-m H] [--focus-fwd-m X] [--limiter vanleer|minmod] [--zone OUTER.h5] -o FIELD.h5\n"
+            "                      [--growth G] [--h-max-m H] [--focus-fwd-m X] [--avg-window N] [--limiter vanleer|minmod]\n"
+            "                      [--zone OUTER.h5] -o FIELD.h5\n"
             "  --zone: solve the deck zone only (5 R round the hover station's hub, 4 R above it),\n"
             "  its open faces taken from OUTER.h5 (a whole-domain ship-only field of this ship and\n"
             "  direction, any grid) scaled to the WOD speed: a fine zone nested in a coarser field\n"
@@ -145,7 +146,7 @@ int cmd_airwake(int argc, char **argv)
 {
     const char *scen = NULL, *out = NULL, *warm = NULL, *queue = NULL, *zone = NULL;
     double speed_kt = NAN, dir_deg = NAN, thrust = NAN, radius = NAN, h_fine = 0.0, growth = 0.0, h_max = 0.0, focus_fwd = 0.0;
-    int rotor = -1, level = -1, abl = 0, max_iter = 0, threads = 0, limiter = 0;
+    int rotor = -1, level = -1, abl = 0, max_iter = 0, threads = 0, limiter = 0, avg_window = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         int more = i + 1 < argc;
@@ -191,6 +192,12 @@ int cmd_airwake(int argc, char **argv)
             /* grid studies: the focus box's reach forward of the deck */
             if (parse_double(a, argv[++i], 0.5, 500.0, &focus_fwd))
                 return 1;
+        } else if (!strcmp(a, "--avg-window") && more) {
+            /* studies of shedding fields: how long a mean the field is */
+            double v;
+            if (parse_double(a, argv[++i], 2, 1e6, &v))
+                return 1;
+            avg_window = (int)v;
         } else if (!strcmp(a, "--h-max-m") && more) {
             if (parse_double(a, argv[++i], 0.1, 50.0, &h_max))
                 return 1;
@@ -232,11 +239,11 @@ int cmd_airwake(int argc, char **argv)
     }
     /* a grading of its own outside the focus box (grid studies) */
     const int graded = growth > 0.0 || h_max > 0.0 || focus_fwd > 0.0;
-    if ((h_fine > 0.0 || graded || limiter || zone) && queue) {
+    if ((h_fine > 0.0 || graded || limiter || zone || avg_window) && queue) {
         /* the database keys fields by grid level; a spacing of its own
          * would put a field under a level it was not solved on */
         fprintf(stderr,
-                "disim airwake: --h-fine-m, --growth, --h-max-m, --focus-fwd-m, --limiter and --zone write a field (-o), they cannot be queued (--queue)\n");
+                "disim airwake: --h-fine-m, --growth, --h-max-m, --focus-fwd-m, --avg-window, --limiter and --zone write a field (-o), they cannot be queued (--queue)\n");
         return 2;
     }
 #ifdef _OPENMP
@@ -279,6 +286,7 @@ int cmd_airwake(int argc, char **argv)
     sp.h_max_m = h_max;
     sp.focus_fwd_m = focus_fwd;
     sp.limiter = limiter;
+    sp.avg_window = avg_window;
     cfd_meta meta;
     memset(&meta, 0, sizeof meta);
     core_log log = {log_stderr, NULL, CORE_LOG_INFO};

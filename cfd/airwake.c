@@ -179,6 +179,8 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
      * superstructure, the finest grids) is the mean of its last quarter of
      * iterations, at most 200, not a snapshot of its limit cycle */
     cfg.avg_window = cfg.max_iter / 4 < 200 ? cfg.max_iter / 4 : 200;
+    if (sp->avg_window > 0)
+        cfg.avg_window = sp->avg_window < cfg.max_iter ? sp->avg_window : cfg.max_iter;
     /* ... and, once the residuals cannot reach the tolerance by the cap,
      * stops at the first window whose mean is steady at the deck monitors
      * (CG-47 default grid: head after 300 iterations, red 90 after 450;

@@ -338,6 +338,9 @@ typedef struct cfd_airwake_spec {
                                 forward end (the level's: 0.3 deck, at most 8 m; grid studies) */
     double h_max_m;          /* > 0: overrides the largest cell (the level's, at least
                                 4 x the fine spacing; grid studies) */
+    int avg_window;          /* > 0: the averaging window of a field that does not converge
+                                (iterations, at most max_iter; the default min(max_iter / 4,
+                                200); grid studies of shedding fields) */
     int limiter;             /* 0: the level's (van Leer on the coarse grid, minmod below
                                 1 m spacing); 1 + CFD_LIMITER_*: that one (grid studies
                                 with one scheme on every grid) */

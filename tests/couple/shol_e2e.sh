@@ -83,6 +83,16 @@ grep -q "= 47740 cells .* h_fine 2.00 m" "$tmp/g.log" && [ -s "$tmp/g.h5" ] && g
 [ $? -ne 0 ] && grep -q "growth: expected a number in \[1.01, 1.5\], got '2'" "$tmp/bad.log" && [ ! -e "$tmp/g2.h5" ] || { echo "bad --growth accepted"; fail=1; }
 "$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --focus-fwd-m 30 --queue "$tmp/q" 2> "$tmp/bad.log"
 [ $? -eq 2 ] && grep -q "cannot be queued" "$tmp/bad.log" && [ ! -e "$tmp/q" ] || { echo "--focus-fwd-m with --queue accepted"; fail=1; }
+# --avg-window (studies of shedding fields): an unconverged field is the
+# mean of that many iterations; with --queue it is refused.
+"$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --rotor off --h-fine-m 2.0 --max-iter 12 \
+    --avg-window 5 --threads 1 -o "$tmp/w.h5" 2> "$tmp/w.log"
+grep -q "the field is the mean of the last 5 iterations" "$tmp/w.log" && [ -s "$tmp/w.h5" ] \
+    || { echo "--avg-window not applied"; cat "$tmp/w.log"; fail=1; }
+"$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --avg-window 50 --queue "$tmp/q" 2> "$tmp/bad.log"
+[ $? -eq 2 ] && grep -q "avg-window.*cannot be queued" "$tmp/bad.log" && [ ! -e "$tmp/q" ] || { echo "--avg-window with --queue accepted"; fail=1; }
+"$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --avg-window 1 -o "$tmp/w2.h5" 2> "$tmp/bad.log"
+[ $? -ne 0 ] && grep -q "avg-window: expected a number in \[2, 1e+06\], got '1'" "$tmp/bad.log" && [ ! -e "$tmp/w2.h5" ] || { echo "bad --avg-window accepted"; fail=1; }
 # --zone: a deck zone nested in a ship-only field of the same ship and
 # direction; a rotor field, another direction or --queue are refused.
 "$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 10 --rotor off --h-fine-m 2.0 --max-iter 2 \
