@@ -264,6 +264,8 @@ static int read_sum(const char *sum_path, uint64_t *size, uint64_t *crc, awdb_ke
     core_ini_destroy(ini);
     if (rc)
         return rc < 0 ? rc : -1;
+    if (sz != floor(sz))
+        return core_err_set(err, -1, "%s: [field] size = %.17g: expected a whole number of bytes", sum_path, sz);
     char *end;
     *crc = strtoull(hex, &end, 16);
     if (*end || strlen(hex) != 16)
@@ -317,7 +319,8 @@ static int verify_field(awdb *db, const char *name, char *path, size_t n, seen *
     pthread_mutex_unlock(&db->lock);
     core_err err = {{0}};
     uint64_t want_size, want_crc, size, crc;
-    if (read_sum(sum, &want_size, &want_crc, NULL, &err) != 0) {
+    awdb_key sk;
+    if (read_sum(sum, &want_size, &want_crc, &sk, &err) != 0) {
         /* Unreadable content is corruption; a .sum that cannot be opened
          * now (EMFILE, EIO) is not: the field must not be removed for it. */
         int fd = open(sum, O_RDONLY | O_CLOEXEC);
@@ -326,6 +329,15 @@ static int verify_field(awdb *db, const char *name, char *path, size_t n, seen *
             close(fd);
         core_log_msg(db->log, CORE_LOG_WARN, "%s%s", err.msg, cannot ? " (cannot check it now)" : "");
         return cannot ? -2 : -1;
+    }
+    /* The key in the .sum is the entry's identity, the file name only its
+     * hash: an entry renamed or copied under another key's name (its
+     * checksum intact) would serve one wind's field for another. */
+    char sname[200];
+    awdb_key_name(&sk, sname, sizeof sname);
+    if (strcmp(sname, name) != 0) {
+        core_log_msg(db->log, CORE_LOG_WARN, "%s: its [key] is that of another entry (%s)", sum, sname);
+        return -1;
     }
     int rc = file_crc64(h5, &crc, &size, &err);
     if (rc != 0) {

@@ -385,6 +385,25 @@ static void test_flow(const char *dir)
     awdb_close(db3);
     db3 = awdb_open(dir, NULL, &err);
     CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_READY);
+    /* An entry copied under another key's name, its checksum intact, is
+     * not that key's field: the .sum's key must name the entry. */
+    {
+        awdb_key kx = key(17, 0);
+        awdb_key_canon(&kx, &err);
+        char xn[200], xh5[1300], xsum[1300], sum1[1100], cmd[4000];
+        awdb_key_name(&kx, xn, sizeof xn);
+        snprintf(xh5, sizeof xh5, "%s/fields/%s.h5", dir, xn);
+        snprintf(xsum, sizeof xsum, "%s/fields/%s.sum", dir, xn);
+        snprintf(sum1, sizeof sum1, "%.*s.sum", (int)(strlen(path) - 3), path);
+        snprintf(cmd, sizeof cmd, "cp '%s' '%s' && cp '%s' '%s'", path, xh5, sum1, xsum);
+        CHECK(system(cmd) == 0);
+        awdb *dbx = awdb_open(dir, NULL, &err);
+        CHECK(awdb_query(dbx, &k1, NULL, 0) == AWDB_READY);
+        CHECK(awdb_query(dbx, &kx, NULL, 0) == AWDB_ABSENT);
+        awdb_close(dbx);
+        remove(xh5);
+        remove(xsum);
+    }
     /* A torn entry (field without its checksum) is not READY. */
     char sum[1100];
     snprintf(sum, sizeof sum, "%.*s.sum", (int)(strlen(path) - 3), path);
