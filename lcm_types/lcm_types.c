@@ -105,30 +105,32 @@ int disim_lcm_check_airwake_request(const disim_airwake_request_t *m, char *err,
  * bytes); I and B an int32 / int8 count, then S or Q that many strings or
  * 8-byte values. test_lcm checks each layout against lcm-gen's encoder. */
 static const struct {
-    const char *type, *layout;
+    const char *type;
+    int64_t (*hash)(void); /* lcm-gen's fingerprint of the type */
+    const char *layout;
 } wire[] = {
-    {"heli_state_t", "q:utime q:seq q:pos_E_m q:pos_E_m q:pos_E_m q:vel_E_mps q:vel_E_mps q:vel_E_mps "
+    {"heli_state_t", __disim_heli_state_t_get_hash, "q:utime q:seq q:pos_E_m q:pos_E_m q:pos_E_m q:vel_E_mps q:vel_E_mps q:vel_E_mps "
                      "q:pos_S_m q:pos_S_m q:pos_S_m q:vel_S_mps q:vel_S_mps q:vel_S_mps "
                      "q:quat_EB q:quat_EB q:quat_EB q:quat_EB q:roll_rad q:pitch_rad q:yaw_rad "
                      "q:rates_B_radps q:rates_B_radps q:rates_B_radps q:collective_pct q:long_cyclic_pct "
                      "q:lat_cyclic_pct q:pedal_pct q:rotor_thrust_N q:rotor_power_W b:on_deck B:n_gear "
                      "Q:gear_load_N"},
-    {"ship_state_t", "q:utime q:seq q:pos_E_m q:pos_E_m q:pos_E_m q:vel_E_mps q:vel_E_mps q:vel_E_mps "
+    {"ship_state_t", __disim_ship_state_t_get_hash, "q:utime q:seq q:pos_E_m q:pos_E_m q:pos_E_m q:vel_E_mps q:vel_E_mps q:vel_E_mps "
                      "q:quat_ES q:quat_ES q:quat_ES q:quat_ES q:roll_rad q:pitch_rad q:yaw_rad "
                      "q:rates_S_radps q:rates_S_radps q:rates_S_radps q:spot_pos_E_m q:spot_pos_E_m "
                      "q:spot_pos_E_m q:spot_vel_E_mps q:spot_vel_E_mps q:spot_vel_E_mps q:spot_acc_E_mps2 "
                      "q:spot_acc_E_mps2 q:spot_acc_E_mps2"},
-    {"pilot_input_t", "q:utime s:station_id q:seq q:collective_pct q:long_cyclic_pct q:lat_cyclic_pct "
+    {"pilot_input_t", __disim_pilot_input_t_get_hash, "q:utime s:station_id q:seq q:collective_pct q:long_cyclic_pct q:lat_cyclic_pct "
                       "q:pedal_pct b:trim_button b:trim_release"},
-    {"sim_control_t", "q:utime q:seq b:command s:scenario_path"},
-    {"sim_status_t", "q:utime q:seq q:sim_time_s q:rate_hz q:real_time_factor q:overruns b:state s:scenario "
+    {"sim_control_t", __disim_sim_control_t_get_hash, "q:utime q:seq b:command s:scenario_path"},
+    {"sim_status_t", __disim_sim_status_t_get_hash, "q:utime q:seq q:sim_time_s q:rate_hz q:real_time_factor q:overruns b:state s:scenario "
                      "I:n_stations S:station_ids Q:station_last_seq"},
-    {"airwake_request_t", "q:utime q:seq s:request_id s:ship s:aircraft q:wod_speed_mps q:wod_dir_rad b:rotor "
+    {"airwake_request_t", __disim_airwake_request_t_get_hash, "q:utime q:seq s:request_id s:ship s:aircraft q:wod_speed_mps q:wod_dir_rad b:rotor "
                           "q:rotor_thrust_N q:station_S_m q:station_S_m q:station_S_m q:rotor_radius_m "
                           "q:shaft_pitch_rad q:shaft_roll_rad s:grid"},
-    {"airwake_status_t", "q:utime q:seq s:request_id s:ship s:aircraft q:wod_speed_mps q:wod_dir_rad b:state "
+    {"airwake_status_t", __disim_airwake_status_t_get_hash, "q:utime q:seq s:request_id s:ship s:aircraft q:wod_speed_mps q:wod_dir_rad b:state "
                          "q:progress q:residual i:iterations s:path s:message"},
-    {"shol_point_t", "q:utime q:seq s:ship s:aircraft q:wod_speed_mps q:wod_dir_rad b:converged b:passed "
+    {"shol_point_t", __disim_shol_point_t_get_hash, "q:utime q:seq s:ship s:aircraft q:wod_speed_mps q:wod_dir_rad b:converged b:passed "
                      "s:limit q:roll_rad q:pitch_rad q:collective_pct q:long_cyclic_pct q:lat_cyclic_pct "
                      "q:pedal_pct q:margin_roll_rad q:margin_pitch_rad q:margin_long_pct q:margin_lat_pct "
                      "q:margin_coll_pct q:margin_pedal_pct"},
@@ -142,9 +144,12 @@ static int32_t be32(const unsigned char *p)
 int disim_lcm_check_raw(const char *type, const void *buf, int size, char *err, size_t n)
 {
     const char *layout = NULL;
+    uint64_t hash = 0;
     for (size_t t = 0; t < sizeof wire / sizeof wire[0]; t++)
-        if (!strcmp(wire[t].type, type))
+        if (!strcmp(wire[t].type, type)) {
             layout = wire[t].layout;
+            hash = (uint64_t)wire[t].hash();
+        }
     if (!layout) {
         if (err)
             snprintf(err, n, "%s: not a disim LCM type", type);
@@ -155,6 +160,16 @@ int disim_lcm_check_raw(const char *type, const void *buf, int size, char *err, 
     if (!buf || size < 8) {
         if (err)
             snprintf(err, n, "%s: %d bytes: expected at least the 8-byte fingerprint", type, size);
+        return -1;
+    }
+    /* the fingerprint first: another type's message (or another version
+     * of this one) would otherwise be blamed on whichever field its bytes
+     * happen not to fit */
+    uint64_t fp = (uint64_t)(uint32_t)be32(b) << 32 | (uint32_t)be32(b + 4);
+    if (fp != hash) {
+        if (err)
+            snprintf(err, n, "%s: fingerprint %016llx: expected %016llx (a message of another type or version)", type,
+                     (unsigned long long)fp, (unsigned long long)hash);
         return -1;
     }
     for (const char *f = layout; *f;) {

@@ -204,6 +204,14 @@ int main(void)
         d[n] = 0;
         CHECK(disim_lcm_check_raw("airwake_request_t", d, n + 1, err, sizeof err) == -1);
         CHECK(disim_lcm_check_raw("no_such_t", b, n, err, sizeof err) == -2);
+        /* another type's fingerprint is named as such, before the layout
+         * (it was blamed on a field) */
+        memcpy(c, b, n);
+        c[0] ^= 0x40;
+        CHECK(disim_lcm_check_raw("airwake_request_t", c, n, err, sizeof err) == -1);
+        CHECK(strstr(err, "airwake_request_t: fingerprint") != NULL);
+        CHECK(disim_lcm_check_raw("airwake_status_t", b, n, err, sizeof err) == -1);
+        CHECK(strstr(err, "airwake_status_t: fingerprint") != NULL);
         free(b);
         free(c);
         free(d);
