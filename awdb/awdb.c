@@ -61,15 +61,9 @@ int awdb_write_atomic(const char *path, const char *text, core_err *err)
         *slash = '\0';
     else
         awdb_fmt(dir, sizeof dir, ".");
-    int fd = open(dir, O_RDONLY | O_CLOEXEC);
-    if (fd < 0 || fsync(fd) != 0) {
-        int e = errno;
-        if (fd >= 0)
-            close(fd);
+    if (core_sync_path(dir) != 0)
         return core_err_set(err, -1, "%s: written, but its folder %s cannot be synced: %s", path, dir,
-                            strerror(e));
-    }
-    close(fd);
+                            strerror(errno));
     return 0;
 }
 

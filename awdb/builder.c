@@ -63,19 +63,6 @@ static int on_progress(void *user, double frac, double residual, int iter)
     return *b->stop != 0;
 }
 
-/* fsync a file or folder by path: 0, or -1 with errno. */
-static int sync_path(const char *path)
-{
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0)
-        return -1;
-    int rc = fsync(fd);
-    int e = errno;
-    close(fd);
-    errno = e;
-    return rc;
-}
-
 /* failed/NAME.txt: the reason a key failed, read by awdb_query. 0, or < 0
  * with err (may be NULL). */
 static int write_failure(awdb *db, const char *name, const char *reason, core_err *err)
@@ -91,7 +78,7 @@ static int commit(awdb *db, const awdb_key *k, const char *name, const char *tmp
     /* The engine's file on disk before its name and checksum are: after a
      * power cut a durable .sum must not describe a field still in the page
      * cache (the checksum would catch it, at the cost of a rebuild). */
-    if (sync_path(tmp) != 0)
+    if (core_sync_path(tmp) != 0)
         return core_err_set(err, -1, "%s: cannot sync: %s", tmp, strerror(errno));
     uint64_t crc, size;
     int rc = awdb_file_crc64(tmp, &crc, &size, err);
@@ -117,7 +104,7 @@ static int commit(awdb *db, const awdb_key *k, const char *name, const char *tmp
      * here only weakens durability) */
     char dir[AWDB_PATH];
     awdb_fmt(dir, sizeof dir, "%s/fields", db->dir);
-    if (sync_path(dir) != 0)
+    if (core_sync_path(dir) != 0)
         core_log_msg(db->log, CORE_LOG_WARN, "%s: cannot sync: %s", dir, strerror(errno));
     return 0;
 }

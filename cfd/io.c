@@ -15,7 +15,6 @@
 #include "cfd_private.h"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <hdf5.h>
 #include <limits.h>
 #include <math.h>
@@ -202,16 +201,12 @@ static int write_field(const cfd_grid *g, double *const *var, const double *hist
     }
     /* The field on disk before its name is (a rename after a power cut
      * must not expose a file still in the page cache). */
-    int fd = open(tmp, O_RDONLY | O_CLOEXEC);
-    if (fd < 0 || fsync(fd) != 0) {
+    if (core_sync_path(tmp) != 0) {
         int e = errno;
-        if (fd >= 0)
-            close(fd);
         unlink(tmp);
         unlink(xtmp);
         return core_err_set(err, -1, "%s: cannot sync: %s", tmp, strerror(e));
     }
-    close(fd);
     /* The side file names the field's dimensions: an old one must not
      * outlive its field, so it goes before the new field takes the name,
      * and a failure between the two renames leaves a field without a

@@ -154,6 +154,9 @@ void core_wod_name(double dir_deg, char *buf, size_t n);
 /* Create dir and its missing parents (mkdir -p); 0, or < 0 with err naming
  * the part that could not be made or a path that is not a folder. */
 int core_mkdir_p(const char *dir, core_err *err);
+/* fsync a file or a folder by path (a folder: the renames in it): 0, or -1
+ * with errno set. */
+int core_sync_path(const char *path);
 
 /* ------------------------------------------------------ airwake grid levels */
 /* The three airwake grid levels: 0 coarse, 1 default, 2 fine (the values

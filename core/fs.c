@@ -1,10 +1,25 @@
 /* fs.c -- folders: create a path with its parents (mkdir -p), in C rather
- * than through a shell, so that any file name (quotes, spaces) works. */
+ * than through a shell, so that any file name (quotes, spaces) works; and
+ * fsync by path (files written by another library, folders after a rename). */
 #include "core.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
+
+int core_sync_path(const char *path)
+{
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return -1;
+    int rc = fsync(fd);
+    int e = errno;
+    close(fd);
+    errno = e;
+    return rc;
+}
 
 int core_mkdir_p(const char *dir, core_err *err)
 {
