@@ -93,11 +93,8 @@ static char *coupling_md(const couple_ctx *two)
 {
     int n = 0;
     const couple_point *h = couple_history(two, &n);
-    size_t cap = 4096 + (size_t)n * (COUPLE_MAX_ITER + 1) * 256, len = 0; /* a row is under 256 characters */
-    char *md = malloc(cap);
-    if (!md)
-        return NULL;
-    len += snprintf(md + len, cap - len,
+    core_str md = {0};
+    core_str_printf(&md,
                     "Coupled points (trim -> CFD with the loaded disk -> re-trim), each row one "
                     "iteration; `change` is the largest relative change of a control or attitude "
                     "from the previous iteration, against at least 20 %% of travel or 5 deg "
@@ -116,7 +113,7 @@ static char *coupling_md(const couple_ctx *two)
                 snprintf(ch, sizeof ch, "seed: one-way trim");
             if (k > 0)
                 snprintf(ch, sizeof ch, "%.1f %%", 100.0 * it->change_frac);
-            len += snprintf(md + len, cap - len,
+            core_str_printf(&md,
                             "| %s | %.1f | %d | %.2f | %.1f | %.1f | %.1f | %.1f | %.2f | %.2f | %s |\n", wn,
                             h[i].wod_speed_mps / CORE_KT_TO_MPS, k, it->thrust_N / 1000.0, it->collective_pct,
                             it->long_pct, it->lat_pct, it->pedal_pct, it->phi_rad * CORE_RAD_TO_DEG,
@@ -124,8 +121,8 @@ static char *coupling_md(const couple_ctx *two)
         }
     }
     if (n == 0)
-        snprintf(md + len, cap - len, "\nNo point needed a coupled trim.\n");
-    return md;
+        core_str_printf(&md, "\nNo point needed a coupled trim.\n");
+    return core_str_take(&md);
 }
 
 /* Markdown of the airwake fields the envelope used (couple_fields_md). */

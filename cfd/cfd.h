@@ -40,7 +40,7 @@
 extern "C" {
 #endif
 
-#define CFD_VERSION "disim-cfd 0.4.0"
+#define CFD_VERSION "disim-cfd 0.5.0"
 
 /* ------------------------------------------------------------------ grid */
 /* One axis: nodes from lo to hi, spacing h_fine inside [f0, f1], growing
@@ -156,8 +156,9 @@ typedef struct cfd_config {
                               starts early only when the residuals, at their rate over the last 100
                               iterations, will not reach tol_residual by max_iter; the run stops
                               at its end, with its mean, when the monitor velocities' means over
-                              its two halves differ by less than tol_monitor times u_ref
-                              (cfd_result.steady_mean says so); 0: off (default) */
+                              its two halves, and its mean and the mean of the window just before
+                              it, differ by less than tol_monitor times u_ref (so never at the
+                              first window; cfd_result.steady_mean says so); 0: off (default) */
     int n_monitor;
     double monitor_m[CFD_MAX_MONITOR][3];
     double relax_u, relax_p, relax_turb; /* under-relaxation (0.7, 0.9, 0.6; ship airwakes u 0.85) */
@@ -253,6 +254,10 @@ typedef struct cfd_result {
     double mean_drift;   /* averaged runs with monitors: the largest difference between the
                             monitor velocities' means over the two halves of the averaging
                             window, / u_ref (how far the mean itself still moves; 0 otherwise) */
+    double mean_change;  /* averaged runs with monitors: the largest difference between the
+                            monitor velocities' means over the last averaging window and the
+                            window just before it, / u_ref; -1 when none came just before, or
+                            the field is not averaged */
 } cfd_result;
 
 /* Run to convergence or max_iter. 0: converged; 1: stopped at max_iter or by

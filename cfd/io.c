@@ -175,6 +175,7 @@ static int write_field(const cfd_grid *g, double *const *var, const double *hist
         rc |= attr_double(f, "averaged_iterations", meta->result.averaged);
         rc |= attr_double(f, "steady_mean", meta->result.steady_mean);
         rc |= attr_double(f, "mean_drift", meta->result.mean_drift);
+        rc |= attr_double(f, "mean_change", meta->result.mean_change);
         rc |= attr_double(f, "wall_time_s", meta->result.wall_s);
         rc |= attr_double(f, "mirrored", meta->mirrored);
         for (int q = 0; q < 5; q++)
@@ -480,6 +481,7 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
      * the first solver; the rest is absent in older fields or informative. */
     cfd_meta *m = &fl->meta;
     double it = 0, conv = 0, avg = 0, steady = 0, mir = 0.0;
+    m->result.mean_change = -1.0;
     if (read_attr_string(f, path, "ship", m->ship, sizeof m->ship, err) ||
         read_attr_string(f, path, "rotor", m->rotor, sizeof m->rotor, err) ||
         read_attr_string(f, path, "grid_level", m->grid, sizeof m->grid, err) ||
@@ -494,6 +496,8 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
         /* absent before solver 0.4.0 */
         read_attr_double(f, path, "steady_mean", 0, &steady, err) < 0 ||
         read_attr_double(f, path, "mean_drift", 0, &m->result.mean_drift, err) < 0 ||
+        /* absent before solver 0.5.0 (-1: not known) */
+        read_attr_double(f, path, "mean_change", 0, &m->result.mean_change, err) < 0 ||
         read_attr_double(f, path, "wall_time_s", 0, &m->result.wall_s, err) < 0 ||
         /* absent in fields not mirrored by earlier builds */
         read_attr_double(f, path, "mirrored", 0, &mir, err) < 0 ||

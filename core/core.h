@@ -61,6 +61,21 @@ typedef struct core_err {
     char msg[1024];
 } core_err;
 
+/* A growing text buffer for reports (plain data; zero-initialise it).
+ * core_str_printf appends formatted text, growing the buffer as needed;
+ * after a failed allocation it appends nothing more and returns -1 (the
+ * text so far stays valid and NUL-terminated, and failed stays 1), so a
+ * report is never silently cut. core_str_take hands the text (malloc'd,
+ * "" when empty) to the caller, or NULL after a failure, freeing it then;
+ * either way the buffer is empty again. */
+typedef struct core_str {
+    char *s;
+    size_t len, cap;
+    int failed;
+} core_str;
+int core_str_printf(core_str *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+char *core_str_take(core_str *b);
+
 /* printf into err (if err != NULL); returns code, so `return core_err_set(...)`. */
 int core_err_set(core_err *err, int code, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));

@@ -267,6 +267,7 @@ static void note_field(couple_ctx *c, const char *path, const cfd_field *f)
     fi->averaged = m->result.averaged;
     fi->steady_mean = m->result.steady_mean;
     fi->mean_drift = m->result.mean_drift;
+    fi->mean_change = m->result.mean_change;
     fi->residual_continuity = m->result.residual[0];
     fi->mirrored = m->mirrored;
 }
@@ -964,10 +965,7 @@ const char *couple_last_error(const couple_ctx *c) { return c->last_error; }
  * divergence test (1e4) lets pass. */
 char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_info *f2, int n2)
 {
-    size_t cap = 1024 + (size_t)(n1 + n2) * 400, len = 0;
-    char *md = malloc(cap);
-    if (!md)
-        return NULL;
+    core_str md = {0};
     int nconv = 0, navg = 0, ngrew = 0, nmir = 0;
     for (int i = 0; i < n1 + n2; i++) {
         const couple_field_info *fi = i < n1 ? &f1[i] : &f2[i - n1];
@@ -976,18 +974,21 @@ char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_i
         navg += fi->averaged > 0;
         ngrew += !fi->converged && fi->residual_continuity > 1.0;
     }
-    len += snprintf(md + len, cap - len,
+    core_str_printf(&md,
                     "%d fields, %d converged (residuals below 1e-4 and deck-line monitors changing less than "
                     "2 %% of the WOD speed per 50 iterations), %d not converged and averaged over their last "
                     "iterations (an unconverged field is the mean of its limit cycle; docs/validation/cfd.md; "
                     "\"steady mean\": the run stopped before its iteration cap once the means over the two "
-                    "halves of its last window agreed at the deck monitors within 2 %% of the WOD speed). "
-                    "Trims in unconverged fields are less certain than the others; \"mean drift\" says how "
-                    "much: the largest difference between the deck monitors' mean velocities over the two "
-                    "halves of the averaging window, in %% of the WOD speed (a steady mean is below 2 %%).\n\n",
+                    "halves of its last window, and that window's mean and the mean of the window before "
+                    "it, agreed at the deck monitors within 2 %% of the WOD speed; before solver 0.5.0 the "
+                    "halves alone). Trims in unconverged fields are less certain than the others; \"mean "
+                    "drift\" and \"mean change\" say how much: the largest difference between the deck "
+                    "monitors' mean velocities over the two halves of the averaging window, and between "
+                    "the window and the one before it (\"-\": none before it), in %% of the WOD speed (a "
+                    "steady mean is below 2 %% in both).\n\n",
                     n1 + n2, nconv, navg);
     if (nmir)
-        len += snprintf(md + len, cap - len,
+        core_str_printf(&md,
                         "%d field%s the mirror image of the opposite direction's (the ship is symmetric about "
                         "its centre line; \"mirror of\" in the state; iterations and residuals are the "
                         "solved field's).\n\n",
@@ -997,16 +998,16 @@ char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_i
      * 90 on the default grid ended at 68 with its monitors settled), and
      * the divergence test (1e4) does not stop it. */
     if (ngrew)
-        len += snprintf(md + len, cap - len,
+        core_str_printf(&md,
                         "**%d field%s ended with a continuity residual above 1**: the mass imbalance grew "
                         "beyond that of the run's first iterations, even where its monitors settled. Trims in "
                         "%s are the least certain of all.\n\n",
                         ngrew, ngrew > 1 ? "s" : "", ngrew > 1 ? "them" : "it");
-    len += snprintf(md + len, cap - len,
+    core_str_printf(&md,
                     "| field | WOD speed (m/s) | WOD dir (deg) | rotor | iterations | state | continuity "
-                    "| mean drift (%% of U) |\n"
-                    "|---|---|---|---|---|---|---|---|\n");
-    for (int i = 0; i < n1 + n2 && len + 400 < cap; i++) {
+                    "| mean drift (%% of U) | mean change (%% of U) |\n"
+                    "|---|---|---|---|---|---|---|---|---|\n");
+    for (int i = 0; i < n1 + n2; i++) {
         const couple_field_info *fi = i < n1 ? &f1[i] : &f2[i - n1];
         char st[128] = "";
         size_t sl = 0;
@@ -1024,12 +1025,14 @@ char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_i
             size_t l = strlen(st);
             snprintf(st + l, sizeof st - l, "; continuity grew");
         }
-        char drift[24] = "-";
+        char drift[24] = "-", change[24] = "-";
         if (fi->averaged && fi->mean_drift > 0.0)
             snprintf(drift, sizeof drift, "%.1f", 100.0 * fi->mean_drift);
-        len += snprintf(md + len, cap - len, "| %s | %.2f | %.1f | %s | %d | %s | %.1e | %s |\n", fi->name,
+        if (fi->averaged && fi->mean_change >= 0.0)
+            snprintf(change, sizeof change, "%.1f", 100.0 * fi->mean_change);
+        core_str_printf(&md, "| %s | %.2f | %.1f | %s | %d | %s | %.1e | %s | %s |\n", fi->name,
                         fi->wod_speed_mps, fi->wod_dir_deg, fi->rotor, fi->iterations, st, fi->residual_continuity,
-                        drift);
+                        drift, change);
     }
-    return md;
+    return core_str_take(&md);
 }

@@ -154,6 +154,9 @@ typedef struct couple_field_info {
     int steady_mean;           /* 1: ... stopped early with a steady mean (cfd_config.avg_stop) */
     double mean_drift;         /* averaged fields: how far the mean still moves at the deck
                                   monitors, / WOD speed (cfd_result.mean_drift) */
+    double mean_change;        /* averaged fields: how far the mean moved from the window before
+                                  at the deck monitors, / WOD speed; < 0 not known
+                                  (cfd_result.mean_change) */
     double residual_continuity;
     int mirrored;              /* 1: the mirror image of the opposite direction's field
                                   (cfd_meta.mirrored); the other members are that field's */
@@ -165,7 +168,7 @@ const couple_field_info *couple_fields(const couple_ctx *c, int *n);
  * Markdown for a report: a summary (how many converged, averaged, stopped
  * at a steady mean, with a growing continuity residual, mirror images) and
  * a table with each field's iterations, state, continuity residual and
- * mean drift.
+ * mean drift and mean change.
  * Returns a malloc'd string (the caller frees it) or NULL without memory. */
 char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_info *f2, int n2);
 /* The last fatal error of couple_shol_trim. */

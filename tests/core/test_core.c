@@ -367,6 +367,33 @@ static void test_log(void)
     CHECK(strcmp(last, "value 3") == 0);
 }
 
+/* core_str: text appended past any first capacity arrives whole, in order;
+ * an empty buffer gives ""; take leaves the buffer empty for reuse. */
+static void test_str(void)
+{
+    core_str b = {0};
+    char *e = core_str_take(&b);
+    CHECK(e != NULL && e[0] == '\0');
+    free(e);
+    size_t want = 0;
+    for (int i = 0; i < 2000; i++) {
+        CHECK(core_str_printf(&b, "| row %d | %s |\n", i, i % 7 ? "x" : "a longer cell of text") == 0);
+        want += (size_t)snprintf(NULL, 0, "| row %d | %s |\n", i, i % 7 ? "x" : "a longer cell of text");
+    }
+    CHECK(b.len == want && b.s && strlen(b.s) == want);
+    CHECK(b.s && strstr(b.s, "| row 0 | a longer cell of text |\n| row 1 | x |") == b.s);
+    CHECK(b.s && strstr(b.s, "| row 1999 | x |\n") == b.s + want - strlen("| row 1999 | x |\n"));
+    char *t = core_str_take(&b);
+    CHECK(t != NULL && b.s == NULL && b.len == 0 && b.cap == 0);
+    free(t);
+    /* a failed buffer appends nothing and gives NULL */
+    core_str f = {0};
+    CHECK(core_str_printf(&f, "kept") == 0);
+    f.failed = 1;
+    CHECK(core_str_printf(&f, "dropped") == -1 && strcmp(f.s, "kept") == 0);
+    CHECK(core_str_take(&f) == NULL && f.s == NULL && f.failed == 0);
+}
+
 /* mkdir -p without a shell: a quote and a space in the name, parents made,
  * a file in the way refused naming it. */
 static void test_mkdir(void)
@@ -405,6 +432,7 @@ int main(void)
     test_ini();
     test_ship();
     test_log();
+    test_str();
     test_mkdir();
     return check_done("test_core");
 }
