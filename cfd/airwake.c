@@ -182,7 +182,8 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     if (sp->avg_window > 0)
         cfg.avg_window = sp->avg_window < cfg.max_iter ? sp->avg_window : cfg.max_iter;
     /* ... and, once the residuals cannot reach the tolerance by the cap,
-     * stops at the first window whose mean is steady at the deck monitors
+     * stops at the first window whose mean is steady at the deck monitors,
+     * its halves and the window before it agreeing
      * (solver 0.4.0, halves only: CG-47 default grid head after 300 iterations, red 90 after 450;
      * coupled zone fields' means still moved 10-20 % of U at 600, so they
      * run to the cap; docs/validation/cfd.md) */

@@ -62,6 +62,7 @@
 #include "cfd_private.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -1430,6 +1431,7 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
     const cfd_config *cfg = &s->cfg;
     double t0 = now_s();
     memset(res, 0, sizeof *res);
+    res->mean_change = -1.0; /* until a window follows another */
     s->relax[0] = cfg->relax_u;
     s->relax[1] = cfg->relax_p;
     s->relax[2] = cfg->relax_turb;
@@ -1580,10 +1582,13 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
                     wprev_end = it;
                     res->mean_drift = dmax / cfg->u_ref_mps;
                     res->mean_change = follows ? dprev / cfg->u_ref_mps : -1.0;
+                    char prev[48] = "none came just before";
+                    if (follows)
+                        snprintf(prev, sizeof prev, "%.2f %%", 100.0 * res->mean_change);
                     core_log_msg(cfg->log, CORE_LOG_DEBUG,
                                  "cfd: averaging window %d-%d: monitor means of its halves differ by %.2f %% "
-                                 "of u_ref, from the window before by %.2f %%",
-                                 wstart, it, 100.0 * res->mean_drift, 100.0 * res->mean_change);
+                                 "of u_ref, from the window before by %s",
+                                 wstart, it, 100.0 * res->mean_drift, prev);
                     /* A steady mean: the two halves agree at the monitors as
                      * closely as two checks of a converged run must
                      * (tol_monitor), and so does the mean of the window

@@ -6,6 +6,7 @@
 #include "core.h"
 
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -26,8 +27,10 @@ int core_str_printf(core_str *b, const char *fmt, ...)
         return 0;
     }
     size_t need = b->len + (size_t)n + 1, cap = b->cap ? b->cap : 256;
-    while (cap < need)
+    while (cap < need && cap <= SIZE_MAX / 2)
         cap *= 2;
+    if (cap < need)
+        cap = need;
     char *p = realloc(b->s, cap);
     if (!p) {
         b->failed = 1;

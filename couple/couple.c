@@ -959,8 +959,9 @@ const couple_point *couple_history(const couple_ctx *c, int *n)
 const char *couple_last_error(const couple_ctx *c) { return c->last_error; }
 
 /* The report's field table. Why each flag: an unconverged field is the
- * mean of its last iterations (cfd.h avg_window); its mean_drift says how
- * far that mean still moves; a continuity residual above 1 means the mass
+ * mean of its last iterations (cfd.h avg_window); its mean_drift and
+ * mean_change say how far that mean still moves (within its window, and
+ * from the window before); a continuity residual above 1 means the mass
  * imbalance grew past the run's first iterations, which the solver's
  * divergence test (1e4) lets pass. */
 char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_info *f2, int n2)
