@@ -727,65 +727,8 @@ static cfd_solver *channel_stop_run(int max_iter, double tol_res, double tol_mon
     return channel_solve(&cfg, res);
 }
 
-/* mean_drift against the same quantity computed here from the iterates:
- * the monitor's mean velocity over iterations 41-50 against 51-60 of a
- * cold channel run still settling, averaged over 41-60. */
-typedef struct {
-    cfd_solver *s;
-    double pos[3], sum[2][3];
-} drift_probe;
-
-static int drift_progress(void *user, int iter, int max_iter, double residual, double elapsed_s)
-{
-    (void)residual;
-    (void)elapsed_s;
-    drift_probe *p = user;
-    if (iter > max_iter - 20) {
-        double out[CFD_NVARS];
-        cfd_solver_sample(p->s, p->pos, out);
-        for (int d = 0; d < 3; d++)
-            p->sum[iter > max_iter - 10][d] += out[d];
-    }
-    return 0;
-}
-
-static void test_mean_drift(void)
-{
-    core_err err;
-    cfd_config cfg;
-    channel_config(&cfg);
-    cfg.max_iter = 60;
-    cfg.tol_residual = 1e-30;
-    cfg.avg_window = 20;
-    cfg.n_monitor = 1;
-    drift_probe p = {NULL, {3.0, 0.5, 0.5}, {{0}}};
-    memcpy(cfg.monitor_m[0], p.pos, sizeof p.pos);
-    cfg.progress = drift_progress;
-    cfg.progress_user = &p;
-    cfd_solver *s = channel_create(&cfg);
-    CHECK(s != NULL);
-    if (!s)
-        return;
-    p.s = s;
-    cfd_result r;
-    CHECK(cfd_solver_run(s, &r, &err) == 1 && r.averaged == 20);
-    double dmax = 0.0;
-    for (int d = 0; d < 3; d++)
-        dmax = fmax(dmax, fabs(p.sum[0][d] - p.sum[1][d]) / 10.0);
-    printf("mean drift: %.6e of u_ref (from the iterates here: %.6e)\n", r.mean_drift, dmax);
-    CHECK(dmax > 1e-6); /* the flow still moves: the figure is not trivially 0 */
-    CHECK(fabs(r.mean_drift - dmax) <= 1e-9 * dmax);
-    cfd_solver_destroy(s);
-}
-
-/* A steady mean is one whose window agrees with the window before it, not
- * only its two halves with each other: the monitor velocity of every
- * iteration recorded here, the mean of the stopped run's last window (the
- * field itself, sampled at the monitor) against the mean over the avg_window
- * iterations before it, within tol_monitor, and cfd_result.mean_change the
- * same figure. Before solver 0.5.0 the run stopped at the first window whose
- * halves agreed: here after 160 iterations, its mean 2.4 % of u_ref from the
- * window before. */
+/* The monitor velocity of every iteration, recorded through the progress
+ * callback: the tests below compute the solver's window figures from it. */
 typedef struct {
     cfd_solver *s;
     double pos[3];
@@ -807,6 +750,51 @@ static int window_progress(void *user, int iter, int max_iter, double residual, 
     return 0;
 }
 
+/* mean_drift against the same quantity computed here from the iterates:
+ * the monitor's mean velocity over iterations 41-50 against 51-60 of a
+ * cold channel run still settling, averaged over 41-60. */
+static void test_mean_drift(void)
+{
+    core_err err;
+    cfd_config cfg;
+    channel_config(&cfg);
+    cfg.max_iter = 60;
+    cfg.tol_residual = 1e-30;
+    cfg.avg_window = 20;
+    cfg.n_monitor = 1;
+    double vel[60][3];
+    window_probe p = {NULL, {3.0, 0.5, 0.5}, vel, 60};
+    memcpy(cfg.monitor_m[0], p.pos, sizeof p.pos);
+    cfg.progress = window_progress;
+    cfg.progress_user = &p;
+    cfd_solver *s = channel_create(&cfg);
+    CHECK(s != NULL);
+    if (!s)
+        return;
+    p.s = s;
+    cfd_result r;
+    CHECK(cfd_solver_run(s, &r, &err) == 1 && r.averaged == 20);
+    double dmax = 0.0;
+    for (int d = 0; d < 3; d++) {
+        double sum[2] = {0.0, 0.0};
+        for (int i = 40; i < 60; i++) /* iterations 41-50, 51-60 */
+            sum[i >= 50] += vel[i][d];
+        dmax = fmax(dmax, fabs(sum[0] - sum[1]) / 10.0);
+    }
+    printf("mean drift: %.6e of u_ref (from the iterates here: %.6e)\n", r.mean_drift, dmax);
+    CHECK(dmax > 1e-6); /* the flow still moves: the figure is not trivially 0 */
+    CHECK(fabs(r.mean_drift - dmax) <= 1e-9 * dmax);
+    cfd_solver_destroy(s);
+}
+
+/* A steady mean is one whose window agrees with the window before it, not
+ * only its two halves with each other: the monitor velocity of every
+ * iteration recorded here, the mean of the stopped run's last window (the
+ * field itself, sampled at the monitor) against the mean over the avg_window
+ * iterations before it, within tol_monitor, and cfd_result.mean_change the
+ * same figure. Before solver 0.5.0 the run stopped at the first window whose
+ * halves agreed: here after 160 iterations, its mean 2.4 % of u_ref from the
+ * window before. */
 static void test_steady_mean_windows(void)
 {
     core_err err;
