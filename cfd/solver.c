@@ -1431,7 +1431,6 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
     const cfd_config *cfg = &s->cfg;
     double t0 = now_s();
     memset(res, 0, sizeof *res);
-    res->mean_change = -1.0; /* until a window follows another */
     s->relax[0] = cfg->relax_u;
     s->relax[1] = cfg->relax_p;
     s->relax[2] = cfg->relax_turb;
@@ -1449,9 +1448,10 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
             snapshot(s, 0);
             s->nhist = 0;
             res->retries = attempt;
-            res->mean_drift = 0.0;
-            res->mean_change = -1.0;
         }
+        /* each attempt's windows are its own; -1 until a window follows another */
+        res->mean_drift = 0.0;
+        res->mean_change = -1.0;
         double mon_prev[CFD_MAX_MONITOR][3];
         int have_mon = 0, mon_ok = cfg->n_monitor == 0;
         double rmax[HIST_COLS] = {0};
