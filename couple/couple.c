@@ -342,7 +342,10 @@ static const cfd_field *get_field(couple_ctx *c, awdb_key *key, core_err *err)
             spawn_builder(c);
         }
         clock_gettime(CLOCK_MONOTONIC, &now);
-        if (now.tv_sec - t0.tv_sec > c->s.wait_timeout_s) {
+        double waited_s = (double)(now.tv_sec - t0.tv_sec) + 1e-9 * (double)(now.tv_nsec - t0.tv_nsec);
+        if (c->s.wait_fn)
+            c->s.wait_fn(c->s.wait_user, key, waited_s);
+        if (waited_s > c->s.wait_timeout_s) {
             core_err_set(err, -1, "airwake %s: still not built after %.0f s", name, c->s.wait_timeout_s);
             return NULL;
         }

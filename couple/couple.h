@@ -44,6 +44,11 @@ typedef struct couple_settings {
     double ref_speed_mps;     /* one-way: the speed of the ship-only fields (15 m/s) */
     double station_S_m[3];    /* CG at the hover-over-spot station */
     double wait_timeout_s;    /* longest wait for one field (default 3 h) */
+    /* Called about every 0.2 s while a field is waited for (NULL: never),
+     * with the key waited for and the seconds waited so far, e.g. to show
+     * the builder's progress on a terminal. */
+    void (*wait_fn)(void *user, const awdb_key *key, double waited_s);
+    void *wait_user;
     /* How to start a builder when none serves the database: the disim
      * executable and the ships folder (NULL: never start one). */
     const char *disim_exe;
