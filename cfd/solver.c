@@ -30,36 +30,22 @@
  *    on the other side, so a wall cell's pressure gradient is the one-sided
  *    difference and the Rhie-Chow term vanishes for a linear pressure
  *    field (with p_w = p_P it did not, at deck edges and hangar corners);
- *  - convergence as in the seed paper (section 2.2): residuals below tol
- *    and monitor-point velocities changing less than tol_monitor times
- *    u_ref between two checks. Residuals as Fluent scales them (ANSYS
- *    Fluent User's Guide, "definition of residuals"): continuity = sum |mass imbalance| divided by its
- *    largest value over the first five iterations; u, v, w, k = sum |r| /
- *    sum |a_P phi_P|;
+ *  - convergence as in the seed paper (section 2.2): residuals (scaled as
+ *    Fluent scales them) below tol_residual and monitor-point velocities
+ *    changing less than tol_monitor times u_ref between two checks; the
+ *    bookkeeping, with the averaged mean of an unconverged run and the
+ *    steady-mean stop (avg_window, avg_stop), is converge.c's, where the
+ *    criteria are stated in full;
  *  - divergence (NaN, residuals or velocities blowing up) restarts from the
  *    initial state with 0.6 times the under-relaxation, max_retries times;
  *  - with accel_depth > 0, Anderson acceleration (anderson.c) mixes the
  *    state (u, v, w, p and the face velocities; k and eps as SIMPLEC left
  *    them) after every iteration from iteration accel_start, or with
  *    accel_when_stalled from the first iteration after that at which the
- *    residuals have stopped falling (stalled());
- *  - with avg_window > 0, a run that reaches max_iter unconverged returns the
- *    mean of its last avg_window iterates: an iteration in a limit cycle
- *    (shedding in pseudo-time) has no last iterate worth more than another,
- *    and the mean approximates the mean flow a trim needs. With avg_stop the
- *    run need not wait for max_iter: once the residuals' trend says they
- *    will not reach tol_residual by max_iter (stalled, or falling too slowly)
- *    it averages over windows of avg_window iterates and stops at the first
- *    whose two halves have the same mean at the monitors within tol_monitor,
- *    and whose mean is that of the window just before it within tol_monitor
- *    too (the seed paper's monitor criterion applied to the mean flow rather
- *    than to the iterate; since 0.5.0 two windows, because the halves alone
- *    passed a slow drift): a field whose mean has settled gains nothing
- *    from the rest of a fixed iteration budget. How far the last window's
- *    mean still moved is reported either way (cfd_result.mean_drift and
- *    mean_change).
+ *    residuals have stopped falling (cfd_converge_stalled()).
  */
 #include "cfd_private.h"
+#include "converge.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -76,7 +62,7 @@ const char *const cfd_var_names[CFD_NVARS] = {"u", "v", "w", "p", "k", "epsilon"
 enum { NB_FLUID = 0, NB_WALL, NB_INLET, NB_OUTLET, NB_SYM };
 
 #define NSNAP 6
-#define HIST_COLS 5
+#define HIST_COLS CFD_CONVERGE_NRES
 
 struct cfd_solver {
     cfd_grid *g;
@@ -95,7 +81,7 @@ struct cfd_solver {
      * (bc_index); NULL on walls and symmetry planes */
     double *bcval[CFD_NFACES][5];
     float *snap[NSNAP]; /* the initial state, for a retry (single precision: it only restarts) */
-    double *avg[CFD_NVARS]; /* running sums of the averaging window (allocated when it starts) */
+    cfd_converge conv; /* the run's convergence and averaging windows (converge.c) */
     cfd_mg *mg;
     cfd_aa *aa; /* Anderson acceleration (accel_depth > 0) */
     int singular;
@@ -475,8 +461,7 @@ void cfd_solver_destroy(cfd_solver *s)
             free(s->bcval[f][v]);
     for (int v = 0; v < NSNAP; v++)
         free(s->snap[v]);
-    for (int v = 0; v < CFD_NVARS; v++)
-        free(s->avg[v]);
+    cfd_converge_release(&s->conv);
     free(s->hist);
     cfd_mg_destroy(s->mg);
     cfd_grid_destroy(s->g);
@@ -498,7 +483,7 @@ const double *cfd_solver_history(const cfd_solver *s, int *n)
     *n = s->nhist;
     return s->hist;
 }
-size_t cfd_solver_bytes(const cfd_solver *s) { return s->bytes; }
+size_t cfd_solver_bytes(const cfd_solver *s) { return s->bytes + cfd_converge_bytes(&s->conv); }
 
 int cfd_solver_set_disk(cfd_solver *s, const cfd_disk *disk, core_err *err)
 {
@@ -1340,95 +1325,89 @@ static double max_speed(const cfd_solver *s)
     return sqrt(m);
 }
 
-/* Iteration averaging: a steady iteration that ends in a limit cycle (an
- * airwake near its own instability, e.g. a crosswind over a tall
- * superstructure) has no last iterate worth more than another; the mean
- * over the cycle approximates the mean flow, which is what a trim needs. */
-static int averaging_start(cfd_solver *s)
+/* Divergence: NaN, the mass imbalance or the velocities blowing up. Not
+ * the scaled momentum residuals: a component that is zero in the inflow (u
+ * in a wind exactly from the beam) has a scale sum |a_P u_P| near zero, and
+ * with a rotor forcing it from the first iteration its scaled residual
+ * exceeded 1e4 on a healthy solution (CG-47, WOD 90 deg with the loaded
+ * disk: refused in two iterations, 89 deg ran). r: the raw residuals, rn:
+ * scaled. */
+static int diverging(const cfd_solver *s, int it, const double r[HIST_COLS], const double rn[HIST_COLS])
 {
-    for (int v = 0; v < CFD_NVARS; v++) {
-        if (!s->avg[v] && !(s->avg[v] = alloc_arr(s, s->g->ncell)))
-            return -1;
-        memset(s->avg[v], 0, s->g->ncell * sizeof(double));
-    }
-    return 0;
+    int bad = 0;
+    for (int q = 0; q < HIST_COLS; q++)
+        bad |= !isfinite(r[q]);
+    return bad || rn[0] > 1e4 || (it % 10 == 0 && max_speed(s) > 100.0 * s->cfg.u_ref_mps);
 }
 
-static void averaging_add(cfd_solver *s)
+/* Before retry number attempt: 0.6 times the under-relaxation, the initial
+ * state back, the residual history cleared. */
+static void retry_from_start(cfd_solver *s, int attempt)
 {
-    for (int v = 0; v < CFD_NVARS; v++) {
-        double *a = s->avg[v];
-        const double *x = s->var[v];
-        #pragma omp parallel for schedule(static)
-        for (size_t c = 0; c < s->g->ncell; c++)
-            a[c] += x[c];
-    }
+    for (int q = 0; q < 3; q++)
+        s->relax[q] *= 0.6;
+    core_log_msg(s->cfg.log, CORE_LOG_WARN,
+                 "cfd: diverged; retry %d from the initial state with under-relaxation "
+                 "u %.2f p %.2f turb %.2f",
+                 attempt, s->relax[0], s->relax[1], s->relax[2]);
+    snapshot(s, 0);
+    s->nhist = 0;
 }
 
-static void averaging_finish(cfd_solver *s, int n)
+/* One attempt from the present state: SIMPLEC iterations (Anderson-mixed
+ * once it is on) until the convergence bookkeeping says done (converged, or
+ * a steady mean), the progress callback stops the run, or max_iter.
+ * *it: the iteration it ended at (max_iter + 1 when it ran out); *stop: 1
+ * when the callback stopped it; *accel_on: 1 when Anderson acceleration
+ * was on; *total_iter counts the iterations. Returns 0, 1 when it diverged,
+ * < 0 out of memory. */
+static int run_attempt(cfd_solver *s, double t0, int *total_iter, int *it_out, int *stop, int *accel_on,
+                       core_err *err)
 {
-    for (int v = 0; v < CFD_NVARS; v++) {
-        double *x = s->var[v];
-        const double *a = s->avg[v];
-        #pragma omp parallel for schedule(static)
-        for (size_t c = 0; c < s->g->ncell; c++)
-            x[c] = a[c] / n;
-    }
-    faces_from_cells(s);
-}
-
-enum { TREND_W = 20, TREND_LAG = 100 };
-
-/* log of the largest normalised residual as a geometric mean over the last
- * TREND_W iterations (*now) and its change since TREND_LAG iterations
- * before (*change); 0 without enough history */
-static int residual_trend(const cfd_solver *s, double *now, double *change)
-{
-    const int n = s->nhist, w = TREND_W, lag = TREND_LAG;
-    if (n < lag + w)
-        return 0;
-    double sn = 0.0, sb = 0.0;
-    for (int i = 0; i < w; i++) {
-        const double *a = s->hist + (size_t)(n - 1 - i) * HIST_COLS;
-        const double *b = s->hist + (size_t)(n - 1 - i - lag) * HIST_COLS;
-        double wa = 1e-300, wb = 1e-300;
-        for (int q = 0; q < HIST_COLS; q++) {
-            wa = fmax(wa, a[q]);
-            wb = fmax(wb, b[q]);
+    const cfd_config *cfg = &s->cfg;
+    cfd_converge *cv = &s->conv;
+    double *aseg[7] = {s->var[CFD_VAR_U], s->var[CFD_VAR_V], s->var[CFD_VAR_W], s->var[CFD_VAR_P],
+                       s->uf[0], s->uf[1], s->uf[2]};
+    if (s->aa)
+        cfd_aa_reset(s->aa);
+    *stop = *accel_on = 0;
+    int it, diverged = 0;
+    for (it = 1; it <= cfg->max_iter; it++) {
+        double r[HIST_COLS], rn[HIST_COLS];
+        if (s->aa && !*accel_on && it >= cfg->accel_start && (!cfg->accel_when_stalled || cfd_converge_stalled(cv))) {
+            *accel_on = 1;
+            core_log_msg(cfg->log, CORE_LOG_INFO, "cfd: Anderson acceleration from iteration %d", it);
         }
-        sn += log(wa);
-        sb += log(wb);
+        if (*accel_on)
+            cfd_aa_save(s->aa, aseg);
+        iterate(s, r);
+        if (*accel_on) /* k and eps (so nu_t) are not mixed */
+            cfd_aa_mix(s->aa, aseg);
+        (*total_iter)++;
+        double worst = cfd_converge_residuals(cv, it, r, rn);
+        if (push_hist(s, rn))
+            return core_err_set(err, -2, "cfd: out of memory for the residual history");
+        if (diverging(s, it, r, rn)) {
+            diverged = 1;
+            break;
+        }
+        if (cfd_converge_update(cv, it))
+            break; /* a steady mean */
+        if (cfg->progress && cfg->progress(cfg->progress_user, it, cfg->max_iter, worst, now_s() - t0)) {
+            *stop = 1;
+            break;
+        }
+        if (cfd_converge_done(cv, it))
+            break;
     }
-    *now = sn / w;
-    *change = (sn - sb) / w;
-    return 1;
-}
-
-/* The residuals have stalled: the largest normalised residual, as a
- * geometric mean over the last 20 iterations, is above 0.7 times its mean
- * 100 iterations before (a converging SIMPLEC iteration on a ship grid
- * falls by a factor 2 or more per 100 iterations; a limit cycle stays
- * flat). */
-static int stalled(const cfd_solver *s)
-{
-    double now, change;
-    return residual_trend(s, &now, &change) && change > log(0.7);
-}
-
-/* At its present rate the run will not reach tol_residual by max_iter: it
- * will end at the cap anyway (a stall is the extreme case). */
-static int will_miss(const cfd_solver *s, int it)
-{
-    double now, change;
-    if (!residual_trend(s, &now, &change))
-        return 0;
-    double left = s->cfg.max_iter - it;
-    return now + (change < 0.0 ? change : 0.0) * left / TREND_LAG > log(s->cfg.tol_residual);
+    *it_out = it;
+    return diverged;
 }
 
 int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
 {
     const cfd_config *cfg = &s->cfg;
+    cfd_converge *cv = &s->conv;
     double t0 = now_s();
     memset(res, 0, sizeof *res);
     s->relax[0] = cfg->relax_u;
@@ -1437,208 +1416,25 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err)
     snapshot(s, 1);
     size_t nfluid = cfd_grid_fluid_cells(s->g);
     int total_iter = 0;
+    cfd_converge_init(cv, s);
     for (int attempt = 0; attempt <= cfg->max_retries; attempt++) {
         if (attempt > 0) {
-            for (int q = 0; q < 3; q++)
-                s->relax[q] *= 0.6;
-            core_log_msg(cfg->log, CORE_LOG_WARN,
-                         "cfd: diverged; retry %d from the initial state with under-relaxation "
-                         "u %.2f p %.2f turb %.2f",
-                         attempt, s->relax[0], s->relax[1], s->relax[2]);
-            snapshot(s, 0);
-            s->nhist = 0;
+            retry_from_start(s, attempt);
             res->retries = attempt;
         }
-        /* each attempt's windows are its own; -1 until a window follows another */
-        res->mean_drift = 0.0;
-        res->mean_change = -1.0;
-        double mon_prev[CFD_MAX_MONITOR][3];
-        int have_mon = 0, mon_ok = cfg->n_monitor == 0;
-        double rmax[HIST_COLS] = {0};
-        int diverged = 0, stop = 0;
-        /* the averaging window restarts with each attempt */
-        int navg = cfg->avg_window > 0 ? 0 : -1;
-        const int W = cfg->avg_window;
-        const int early = cfg->avg_stop && W >= 2 && cfg->n_monitor > 0;
-        int wstart = 0; /* first iteration of the current averaging window; 0: none */
-        double hsum[2][CFD_MAX_MONITOR][3];
-        /* the monitors' means over the window before the current one, and
-         * where it ended (0: none), for the steady-mean test below */
-        double wprev[CFD_MAX_MONITOR][3];
-        int wprev_end = 0;
-        double *aseg[7] = {s->var[CFD_VAR_U], s->var[CFD_VAR_V], s->var[CFD_VAR_W], s->var[CFD_VAR_P],
-                           s->uf[0], s->uf[1], s->uf[2]};
-        if (s->aa)
-            cfd_aa_reset(s->aa);
-        int it, accel_on = 0;
-        for (it = 1; it <= cfg->max_iter; it++) {
-            double r[HIST_COLS];
-            if (s->aa && !accel_on && it >= cfg->accel_start && (!cfg->accel_when_stalled || stalled(s))) {
-                accel_on = 1;
-                core_log_msg(cfg->log, CORE_LOG_INFO, "cfd: Anderson acceleration from iteration %d", it);
-            }
-            if (accel_on)
-                cfd_aa_save(s->aa, aseg);
-            iterate(s, r);
-            if (accel_on) /* k and eps (so nu_t) are not mixed */
-                cfd_aa_mix(s->aa, aseg);
-            total_iter++;
-            int bad = 0;
-            for (int q = 0; q < HIST_COLS; q++)
-                bad |= !isfinite(r[q]);
-            double rn[HIST_COLS], worst = 0.0;
-            /* continuity: divided by its largest value over the first
-             * five iterations; u, v, w, k: already scaled by sum |a_P phi_P| */
-            for (int q = 0; q < HIST_COLS; q++) {
-                if (q == 0) {
-                    if (it <= 5 && r[q] > rmax[q])
-                        rmax[q] = r[q];
-                    rn[q] = rmax[q] > 0.0 ? r[q] / rmax[q] : 0.0;
-                } else {
-                    rn[q] = r[q];
-                }
-                if (rn[q] > worst)
-                    worst = rn[q];
-            }
-            if (push_hist(s, rn)) {
-                return core_err_set(err, -2, "cfd: out of memory for the residual history");
-            }
-            /* Divergence: NaN, the mass imbalance or the velocities blowing
-             * up. Not the scaled momentum residuals: a component that is
-             * zero in the inflow (u in a wind exactly from the beam) has a
-             * scale sum |a_P u_P| near zero, and with a rotor forcing it
-             * from the first iteration its scaled residual exceeded 1e4 on
-             * a healthy solution (CG-47, WOD 90 deg with the loaded disk:
-             * refused in two iterations, 89 deg ran). */
-            if (bad || rn[0] > 1e4 || (it % 10 == 0 && max_speed(s) > 100.0 * cfg->u_ref_mps)) {
-                diverged = 1;
-                break;
-            }
-            if (cfg->n_monitor && it % cfg->monitor_every == 0) {
-                double dmax = 0.0;
-                for (int m = 0; m < cfg->n_monitor; m++) {
-                    double out[CFD_NVARS];
-                    cfd_solver_sample(s, cfg->monitor_m[m], out);
-                    for (int d = 0; d < 3; d++) {
-                        if (have_mon)
-                            dmax = fmax(dmax, fabs(out[d] - mon_prev[m][d]));
-                        mon_prev[m][d] = out[d];
-                    }
-                }
-                mon_ok = have_mon && dmax < cfg->tol_monitor * cfg->u_ref_mps;
-                if (have_mon)
-                    res->monitor_change = dmax / cfg->u_ref_mps;
-                have_mon = 1;
-            }
-            for (int q = 0; q < HIST_COLS; q++)
-                res->residual[q] = rn[q];
-            if (navg >= 0 && !wstart) {
-                /* the last window ends at max_iter; with avg_stop, earlier
-                 * windows are laid back to back before it, and one opens only
-                 * when the residuals, at their rate over the last 100
-                 * iterations, will not reach tol_residual by max_iter (a run
-                 * that will converge is left to converge; one that will end
-                 * at the cap anyway, stalled in a limit cycle or creeping,
-                 * may end at a steady mean) */
-                int last = it > cfg->max_iter - W;
-                int open = last || (early && (cfg->max_iter - it + 1) % W == 0 && will_miss(s, it));
-                if (open) {
-                    if (averaging_start(s) != 0) {
-                        navg = -1; /* out of memory: keep the last iterate */
-                    } else {
-                        wstart = it;
-                        navg = 0;
-                        memset(hsum, 0, sizeof hsum);
-                    }
-                }
-            }
-            if (navg >= 0 && wstart) {
-                averaging_add(s);
-                navg++;
-                /* the monitors' means over the two halves of the window:
-                 * how steady the mean is (cfd_result.mean_drift), and with
-                 * avg_stop whether the run may stop here */
-                const int drift = W >= 2 && cfg->n_monitor > 0;
-                if (drift) {
-                    int half = it - wstart < W / 2 ? 0 : 1;
-                    for (int m = 0; m < cfg->n_monitor; m++) {
-                        double out[CFD_NVARS];
-                        cfd_solver_sample(s, cfg->monitor_m[m], out);
-                        for (int d = 0; d < 3; d++)
-                            hsum[half][m][d] += out[d];
-                    }
-                }
-                if (drift && navg == W) {
-                    double dmax = 0.0, dprev = 0.0;
-                    const int follows = wprev_end > 0 && wprev_end == wstart - 1;
-                    for (int m = 0; m < cfg->n_monitor; m++)
-                        for (int d = 0; d < 3; d++) {
-                            double mean = (hsum[0][m][d] + hsum[1][m][d]) / W;
-                            dmax = fmax(dmax, fabs(hsum[0][m][d] / (W / 2) - hsum[1][m][d] / (W - W / 2)));
-                            if (follows)
-                                dprev = fmax(dprev, fabs(mean - wprev[m][d]));
-                            wprev[m][d] = mean;
-                        }
-                    wprev_end = it;
-                    res->mean_drift = dmax / cfg->u_ref_mps;
-                    res->mean_change = follows ? dprev / cfg->u_ref_mps : -1.0;
-                    char prev[48] = "none came just before";
-                    if (follows)
-                        snprintf(prev, sizeof prev, "%.2f %%", 100.0 * res->mean_change);
-                    core_log_msg(cfg->log, CORE_LOG_DEBUG,
-                                 "cfd: averaging window %d-%d: monitor means of its halves differ by %.2f %% "
-                                 "of u_ref, from the window before by %s",
-                                 wstart, it, 100.0 * res->mean_drift, prev);
-                    /* A steady mean: the two halves agree at the monitors as
-                     * closely as two checks of a converged run must
-                     * (tol_monitor), and so does the mean of the window
-                     * before. The halves alone passed a slow drift (CG-47
-                     * red 30, fine grid with the hangar in the focus box:
-                     * halves within 1 % of U after 700 iterations, the
-                     * field 0.08 U away from where it went on to stay;
-                     * docs/validation.md): a drift moves two back-to-back
-                     * windows' means twice as far as two halves' means. A
-                     * limit cycle longer than half a window, or a drift,
-                     * fails this and the next window starts. */
-                    if (early && it < cfg->max_iter) {
-                        if (dmax < cfg->tol_monitor * cfg->u_ref_mps && follows &&
-                            dprev < cfg->tol_monitor * cfg->u_ref_mps) {
-                            res->steady_mean = 1;
-                            res->monitor_change = res->mean_drift;
-                            break;
-                        }
-                        wstart = 0;
-                    }
-                }
-            }
-            if (cfg->progress && cfg->progress(cfg->progress_user, it, cfg->max_iter, worst, now_s() - t0)) {
-                stop = 1;
-                break;
-            }
-            if (it > 5 && worst < cfg->tol_residual && mon_ok) {
-                res->converged = 1;
-                break;
-            }
+        cfd_converge_attempt(cv);
+        int it = 0, stop = 0, accel_on = 0;
+        int rc = run_attempt(s, t0, &total_iter, &it, &stop, &accel_on, err);
+        if (rc < 0) {
+            cfd_converge_result(cv, res);
+            return rc;
         }
+        const int diverged = rc == 1;
         res->iterations = it > cfg->max_iter ? cfg->max_iter : it;
         res->stopped = stop;
-        if (res->converged || stop || navg <= 0) {
-            res->mean_drift = 0.0; /* not an averaged field */
-            res->mean_change = -1.0;
-        }
-        if (!diverged && !res->converged && !stop && navg > 0) {
-            averaging_finish(s, navg);
-            res->averaged = navg;
-            if (res->steady_mean)
-                core_log_msg(cfg->log, CORE_LOG_INFO,
-                             "cfd: not converged, mean flow steady after %d iterations (the monitor "
-                             "means of the two halves of the last %d iterations differ by %.2f %% of "
-                             "u_ref, their mean from the %d before by %.2f %%); the field is their mean",
-                             it, navg, 100.0 * res->monitor_change, navg, 100.0 * res->mean_change);
-            else
-                core_log_msg(cfg->log, CORE_LOG_INFO,
-                             "cfd: not converged; the field is the mean of the last %d iterations", navg);
-        }
+        if (cfd_converge_finish(cv, it, diverged, stop, s->var))
+            faces_from_cells(s); /* the state is the window's mean */
+        cfd_converge_result(cv, res);
         if (!diverged) {
             res->wall_s = now_s() - t0;
             if (accel_on) {
