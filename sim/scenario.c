@@ -1,6 +1,12 @@
 /* scenario.c -- scenario files: parse with the core INI reader, check every
  * key against its type and range, resolve the referenced aircraft and ship
- * files, and refuse anything unknown. Every error names file, line and key. */
+ * files, and refuse anything unknown. Every error names file, line and key.
+ *
+ * Every key that is accepted acts in some command (scenarios/README.md says
+ * which). Keys and sections that a later part of disim will read (the sea,
+ * the pilots and the piloted tasks of the flight loop, the OpenFOAM engine)
+ * are refused with the reason, not read and ignored: a user who writes
+ * `[sea] state = 5` must not believe the ship moved. */
 #include "sim.h"
 
 #include <math.h>
@@ -93,9 +99,68 @@ static int wod_section(core_ini *ini, sim_scenario *sc, core_err *err)
     return 0;
 }
 
+/* Keys and values that no command acts on, with the reason. key NULL: the
+ * whole section; value NULL: any value. */
+static const struct {
+    const char *section, *key, *value, *why;
+} refused[] = {
+    {"sea", NULL, NULL,
+     "not supported yet: ship motion and the sea state come with the flight loop (disim fly); "
+     "remove the [sea] section (disim now trims the aircraft over a ship at rest, and the wind "
+     "over deck already includes the ship's speed)"},
+    {"pilot", NULL, NULL,
+     "not supported yet: the pilots (automated, replay, station) come with the flight loop "
+     "(disim fly); remove the [pilot] section (disim now finds trimmed hover, which needs no "
+     "pilot)"},
+    {"task", "type", "hover",
+     "not supported yet: the piloted hover and landing tasks come with the flight loop "
+     "(disim fly); the task now is shol (set type = shol or remove the key)"},
+    {"task", "type", "landing",
+     "not supported yet: the piloted hover and landing tasks come with the flight loop "
+     "(disim fly); the task now is shol (set type = shol or remove the key)"},
+    {"task", "approach_dir_deg", NULL,
+     "not supported yet: the approach comes with the landing task of the flight loop "
+     "(disim fly); remove the key"},
+    {"cfd", "engine", "openfoam",
+     "not supported yet: the OpenFOAM engine is not built (the airwake database has the "
+     "embedded solver only); set engine = embedded or remove the key"},
+    {"cfd", "residual_tol", NULL,
+     "not supported: every airwake field is solved to the embedded solver's own convergence "
+     "test (normalised residuals below 1e-4 with steady monitor velocities), which the "
+     "airwake database does not record per field; remove the key"},
+    {"output", "csv", NULL,
+     "not supported: disim shol always writes its CSV table, JSON, plots and report; remove "
+     "the key"},
+    {"output", "plots", NULL,
+     "not supported: disim shol always writes its CSV table, JSON, plots and report; remove "
+     "the key"},
+};
+
+/* The first refused entry in file order, so that the message names the
+ * line a user reads first. */
+static int refused_keys(const core_ini *ini, core_err *err)
+{
+    for (size_t i = 0; i < core_ini_count(ini); i++) {
+        const core_ini_entry *e = core_ini_at(ini, i);
+        for (size_t j = 0; j < sizeof refused / sizeof refused[0]; j++) {
+            if (strcmp(e->section, refused[j].section) != 0 ||
+                (refused[j].key && strcmp(e->key, refused[j].key) != 0) ||
+                (refused[j].value && strcmp(e->value, refused[j].value) != 0))
+                continue;
+            if (refused[j].value)
+                return core_err_set(err, -1, "%s:%d: [%s] %s = %s: %s", core_ini_path(ini),
+                                    e->line, e->section, e->key, e->value, refused[j].why);
+            return core_err_set(err, -1, "%s:%d: [%s] %s: %s", core_ini_path(ini), e->line,
+                                e->section, e->key, refused[j].why);
+        }
+    }
+    return 0;
+}
+
 /* A key that belongs to another mode than the one chosen (speed_kt in a
- * sweep, replay_file for a station pilot) would otherwise be reported as an
- * "unknown key", though the README lists it: say which mode it needs. */
+ * sweep, coupled_domain with the one-way coupling) would otherwise be
+ * reported as an "unknown key", though the README lists it: say which mode
+ * it needs. */
 static int mode_keys(const core_ini *ini, core_err *err)
 {
     static const struct {
@@ -104,8 +169,8 @@ static int mode_keys(const core_ini *ini, core_err *err)
         {"wod", "speed_kt", "mode = single"},
         {"wod", "speed_step_kmh", "mode = sweep"},
         {"wod", "speed_max_kmh", "mode = sweep"},
-        {"pilot", "replay_file", "type = replay"},
-        {"pilot", "station_id", "type = station"},
+        /* disim shol solves the deck zone only for coupled points */
+        {"cfd", "coupled_domain", "coupling = two-way"},
     };
     for (size_t i = 0; i < sizeof k / sizeof k[0]; i++) {
         const core_ini_entry *e = core_ini_find(ini, k[i].section, k[i].key);
@@ -131,6 +196,8 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
         return -1;
     int rc = 0, v = 0;
     const char *S = "scenario";
+    if ((rc = refused_keys(ini, err)))
+        goto out;
     if ((rc = core_ini_get_string(ini, S, "name", 1, sc->name, sizeof sc->name, err)) ||
         (rc = core_ini_get_string(ini, S, "description", 0, sc->description,
                                   sizeof sc->description, err)) < 0 ||
@@ -141,20 +208,9 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
     if ((rc = wod_section(ini, sc, err)))
         goto out;
 
-    /* sea */
-    long ss = 0;
-    sc->ship_speed_mps = 0.0;
-    double kt = 0.0;
-    if ((rc = core_ini_get_int(ini, "sea", "state", 1, 0, 9, &ss, err)) ||
-        (rc = core_ini_get_double(ini, "sea", "ship_speed_kt", 0, 0.0, 40.0, &kt, err)) < 0)
+    /* task: shol is the only one (the piloted tasks are refused above) */
+    if ((rc = core_ini_get_enum(ini, "task", "type", 0, "shol", &v, err)) < 0)
         goto out;
-    sc->sea_state = (int)ss;
-    sc->ship_speed_mps = kt * CORE_KT_TO_MPS;
-
-    /* task */
-    if ((rc = core_ini_get_enum(ini, "task", "type", 1, "hover|landing|shol", &v, err)))
-        goto out;
-    sc->task = (sim_task_type)v;
     sc->hover_height_m = 5.0;
     if ((rc = core_ini_get_double(ini, "task", "hover_height_m", 0, 0.5, 100.0,
                                   &sc->hover_height_m, err)) < 0)
@@ -162,32 +218,14 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
     sc->station_S_m[0] = 0.0;
     sc->station_S_m[1] = 0.0;
     sc->station_S_m[2] = -sc->hover_height_m;
-    sc->approach_dir_deg = 180.0;
-    if ((rc = core_ini_get_double(ini, "task", "approach_dir_deg", 0, -180.0, 180.0,
-                                  &sc->approach_dir_deg, err)) < 0)
-        goto out;
-
-    /* pilot */
-    if ((rc = core_ini_get_enum(ini, "pilot", "type", 1, "automated|replay|station", &v, err)))
-        goto out;
-    sc->pilot = (sim_pilot_type)v;
-    if (sc->pilot == SIM_PILOT_REPLAY &&
-        (rc = core_ini_get_path(ini, "pilot", "replay_file", 1, sc->replay_path,
-                                sizeof sc->replay_path, err)))
-        goto out;
-    if (sc->pilot == SIM_PILOT_STATION &&
-        (rc = core_ini_get_string(ini, "pilot", "station_id", 1, sc->station_id,
-                                  sizeof sc->station_id, err)))
-        goto out;
 
     /* cfd */
-    long it = 3000;
-    sc->residual_tol = 1e-4;
+    long it = 0;
     sc->grid = SIM_GRID_DEFAULT;
     sc->rotor = SIM_ROTOR_UNIFORM;
-    if ((rc = core_ini_get_enum(ini, "cfd", "engine", 0, "embedded|openfoam", &v, err)) < 0)
+    /* embedded is the only engine (openfoam is refused above) */
+    if ((rc = core_ini_get_enum(ini, "cfd", "engine", 0, "embedded", &v, err)) < 0)
         goto out;
-    sc->engine = rc == 0 ? (sim_engine)v : SIM_ENGINE_EMBEDDED;
     if ((rc = core_ini_get_enum(ini, "cfd", "grid", 0, GRIDS, &v, err)) < 0)
         goto out;
     if (rc == 0)
@@ -199,23 +237,32 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
     if ((rc = core_ini_get_enum(ini, "cfd", "coupling", 0, "two-way|one-way", &v, err)) < 0)
         goto out;
     sc->coupling = rc == 0 ? (sim_coupling)v : SIM_COUPLING_TWO_WAY;
-    if ((rc = core_ini_get_enum(ini, "cfd", "coupled_domain", 0, "whole|zone", &v, err)) < 0)
+    /* the deck zone is a coupled point's: with the one-way coupling the key
+     * stays unused and mode_keys names it */
+    if (sc->coupling == SIM_COUPLING_TWO_WAY) {
+        if ((rc = core_ini_get_enum(ini, "cfd", "coupled_domain", 0, "whole|zone", &v, err)) < 0)
+            goto out;
+        sc->coupled_zone = rc == 0 && v == 1;
+    }
+    /* the two-way coupling solves with the rotor's disk: rotor = off would
+     * be read and ignored there */
+    if (sc->rotor == SIM_ROTOR_OFF && sc->coupling == SIM_COUPLING_TWO_WAY) {
+        const core_ini_entry *e = core_ini_find(ini, "cfd", "rotor");
+        rc = core_err_set(err, -1,
+                          "%s:%d: [cfd] rotor = off: the two-way coupling (coupling = two-way, "
+                          "the default) solves with the rotor's disk; set rotor = uniform or "
+                          "loaded, or coupling = one-way",
+                          core_ini_path(ini), e ? e->line : 0);
         goto out;
-    sc->coupled_zone = rc == 0 && v == 1;
-    if ((rc = core_ini_get_int(ini, "cfd", "max_iterations", 0, 10, 1000000, &it, err)) < 0 ||
-        (rc = core_ini_get_double(ini, "cfd", "residual_tol", 0, 1e-10, 1e-1, &sc->residual_tol,
-                                  err)) < 0)
+    }
+    if ((rc = core_ini_get_int(ini, "cfd", "max_iterations", 0, 0, 1000000, &it, err)) < 0)
         goto out;
     sc->max_iterations = (int)it;
 
     /* output */
     snprintf(sc->output_dir, sizeof sc->output_dir, "out/%s", sc->name);
-    sc->write_csv = 1;
-    sc->write_plots = 1;
     if ((rc = core_ini_get_string(ini, "output", "dir", 0, sc->output_dir, sizeof sc->output_dir,
-                                  err)) < 0 ||
-        (rc = core_ini_get_bool(ini, "output", "csv", 0, &sc->write_csv, err)) < 0 ||
-        (rc = core_ini_get_bool(ini, "output", "plots", 0, &sc->write_plots, err)) < 0)
+                                  err)) < 0)
         goto out;
 
     if ((rc = mode_keys(ini, err)) || (rc = core_ini_check_unused(ini, err)))
@@ -232,8 +279,6 @@ out:
 
 void sim_scenario_print(const sim_scenario *sc, FILE *f)
 {
-    static const char *tasks[] = {"hover", "landing", "shol"};
-    static const char *pilots[] = {"automated", "replay", "station"};
     char wn[32];
     fprintf(f, "[scenario]\nfile = %s\nname = %s\n", sc->path, sc->name);
     if (sc->description[0])
@@ -257,22 +302,16 @@ void sim_scenario_print(const sim_scenario *sc, FILE *f)
         fprintf(f, "\nspeed_step_kmh = %.2f\nspeed_max_kmh = %.1f\n", sc->speed_step_mps * 3.6,
                 sc->speed_max_mps * 3.6);
     }
-    fprintf(f, "\n[sea]\nstate = %d\nship_speed_kt = %.1f\n", sc->sea_state,
-            sc->ship_speed_mps / CORE_KT_TO_MPS);
-    fprintf(f, "\n[task]\ntype = %s\nhover_height_m = %.2f\nstation_S_m = %.2f, %.2f, %.2f\n"
-               "approach_dir_deg = %.1f\n",
-            tasks[sc->task], sc->hover_height_m, sc->station_S_m[0], sc->station_S_m[1],
-            sc->station_S_m[2], sc->approach_dir_deg);
-    fprintf(f, "\n[pilot]\ntype = %s\n", pilots[sc->pilot]);
-    if (sc->pilot == SIM_PILOT_REPLAY)
-        fprintf(f, "replay_file = %s\n", sc->replay_path);
-    if (sc->pilot == SIM_PILOT_STATION)
-        fprintf(f, "station_id = %s\n", sc->station_id);
-    fprintf(f, "\n[cfd]\nengine = %s\ngrid = %s\nrotor = %s\ncoupling = %s\nmax_iterations = %d\n"
-               "residual_tol = %g\n",
-            sc->engine == SIM_ENGINE_EMBEDDED ? "embedded" : "openfoam", sim_grid_name(sc->grid),
-            sim_rotor_name(sc->rotor), sc->coupling == SIM_COUPLING_TWO_WAY ? "two-way" : "one-way",
-            sc->max_iterations, sc->residual_tol);
-    fprintf(f, "\n[output]\ndir = %s\ncsv = %s\nplots = %s\n", sc->output_dir,
-            sc->write_csv ? "true" : "false", sc->write_plots ? "true" : "false");
+    fprintf(f, "\n[task]\ntype = shol\nhover_height_m = %.2f\nstation_S_m = %.2f, %.2f, %.2f\n",
+            sc->hover_height_m, sc->station_S_m[0], sc->station_S_m[1], sc->station_S_m[2]);
+    fprintf(f, "\n[cfd]\nengine = embedded\ngrid = %s\nrotor = %s\ncoupling = %s\n",
+            sim_grid_name(sc->grid), sim_rotor_name(sc->rotor),
+            sc->coupling == SIM_COUPLING_TWO_WAY ? "two-way" : "one-way");
+    if (sc->coupling == SIM_COUPLING_TWO_WAY)
+        fprintf(f, "coupled_domain = %s\n", sc->coupled_zone ? "zone" : "whole");
+    if (sc->max_iterations > 0)
+        fprintf(f, "max_iterations = %d\n", sc->max_iterations);
+    else
+        fprintf(f, "max_iterations = 0 (the solver's default)\n");
+    fprintf(f, "\n[output]\ndir = %s\n", sc->output_dir);
 }

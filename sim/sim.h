@@ -3,8 +3,10 @@
  * fixed-rate flight loop, ship motion, deck contact and LCM stations).
  *
  * A scenario (INI, see scenarios/README.md) names the ship-aircraft
- * combination, the WOD or WOD sweep, the sea state, the landing task, the
- * pilot, CFD settings and outputs. Paths inside are relative to the file.
+ * combination, the WOD or WOD sweep, the hover-over-spot station of the
+ * SHOL task, CFD settings and the output folder. Paths inside are relative
+ * to the file. Every key it accepts acts; the sections and keys of later
+ * work ([sea], [pilot], the piloted tasks, the OpenFOAM engine) are refused.
  */
 #ifndef DISIM_SIM_H
 #define DISIM_SIM_H
@@ -21,8 +23,6 @@ extern "C" {
 #define SIM_MAX_WOD 128
 
 typedef enum { SIM_WOD_SINGLE = 0, SIM_WOD_SWEEP = 1 } sim_wod_mode;
-typedef enum { SIM_TASK_HOVER = 0, SIM_TASK_LANDING = 1, SIM_TASK_SHOL = 2 } sim_task_type;
-typedef enum { SIM_PILOT_AUTOMATED = 0, SIM_PILOT_REPLAY = 1, SIM_PILOT_STATION = 2 } sim_pilot_type;
 typedef enum { SIM_GRID_COARSE = 0, SIM_GRID_DEFAULT = 1, SIM_GRID_FINE = 2 } sim_grid;
 typedef enum { SIM_ROTOR_OFF = 0, SIM_ROTOR_UNIFORM = 1, SIM_ROTOR_LOADED = 2 } sim_rotor;
 typedef enum { SIM_COUPLING_TWO_WAY = 0, SIM_COUPLING_ONE_WAY = 1 } sim_coupling;
@@ -45,39 +45,30 @@ typedef struct sim_scenario {
     double dirs_rad[SIM_MAX_WOD];
     double speed_step_mps, speed_max_mps;
 
-    /* sea */
-    int sea_state;      /* WMO code 0-9 */
-    double ship_speed_mps;
-
-    /* task */
-    sim_task_type task;
+    /* task (shol, the only one) */
     double hover_height_m; /* CG height above the landing spot for the hover-over-spot station */
     double station_S_m[3]; /* hover-over-spot station in S (CG position) */
-    double approach_dir_deg;
 
-    /* pilot */
-    sim_pilot_type pilot;
-    char replay_path[SIM_PATH_MAX];
-    char station_id[64];
-
-    /* CFD */
-    sim_engine engine;
+    /* CFD (the embedded engine, the only one) */
     sim_grid grid;
     sim_rotor rotor;
     sim_coupling coupling;
     int coupled_zone;     /* [cfd] coupled_domain = zone: a coupled point's fields in the deck zone
                              (couple_settings.zone); whole (default): the whole domain */
-    int max_iterations;
-    double residual_tol;
+    int max_iterations;   /* [cfd] max_iterations: the CFD iteration limit of the fields this
+                             scenario builds; 0 (absent): the solver's default */
 
     /* outputs */
-    char output_dir[SIM_PATH_MAX];
-    int write_csv, write_plots;
+    char output_dir[SIM_PATH_MAX]; /* [output] dir; default out/NAME */
 } sim_scenario;
 
 /* Parse and resolve a scenario file. Returns 0, or < 0 with err naming the
  * file, line, key and what was expected (unknown keys and sections, wrong
- * types, values out of range, missing files, errors in referenced files). */
+ * types, values out of range, missing files, errors in referenced files), or
+ * why a key no command acts on yet is refused ([sea], [pilot], [task] type =
+ * hover|landing, [task] approach_dir_deg, [cfd] engine = openfoam, [cfd]
+ * residual_tol, [output] csv|plots; a key of a mode not chosen; rotor = off
+ * with the two-way coupling). */
 int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err);
 
 /* Print the resolved configuration as INI-like text. */

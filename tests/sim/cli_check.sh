@@ -1,6 +1,8 @@
 #!/bin/sh
-# Every bad-input class of the scenario parser: `disim check FILE` must exit 1
-# and print the error named on the file's first line ("; expect: ...").
+# Every bad-input class of the scenario parser, and every key that no command
+# acts on yet (refused_*.ini: the message names file, line, key and why):
+# `disim check FILE` must exit 1 and print the error named on the file's
+# first line ("; expect: ...").
 # Usage: cli_check.sh DISIM_BINARY
 set -u
 disim=$1

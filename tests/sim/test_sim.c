@@ -1,5 +1,7 @@
 /* test_sim.c -- scenario files resolve to the values their keys say, in SI,
- * with the conventions applied (WOD wrap and velocity, station in S). */
+ * with the conventions applied (WOD wrap and velocity, station in S), and
+ * every key that no command acts on is refused naming file, line, key and
+ * why, never read and ignored. */
 #include "check.h"
 #include "sim.h"
 
@@ -17,6 +19,44 @@ static void dotted_path(char *buf, size_t size, size_t min_len)
     snprintf(buf + n, size - n, "cg47_uh60a.ini");
 }
 
+/* A key or section that no command acts on yet: the file's first refused
+ * entry (file:line: [section] key) and the reason. */
+static const struct {
+    const char *file, *where, *why;
+} refusals[] = {
+    {"refused_sea_state.ini", "refused_sea_state.ini:13: [sea] state: ",
+     "not supported yet: ship motion and the sea state come with the flight loop (disim fly)"},
+    {"refused_sea_ship_speed.ini", "refused_sea_ship_speed.ini:13: [sea] ship_speed_kt: ",
+     "not supported yet: ship motion and the sea state come with the flight loop (disim fly)"},
+    {"refused_pilot_type.ini", "refused_pilot_type.ini:16: [pilot] type: ",
+     "not supported yet: the pilots (automated, replay, station) come with the flight loop (disim fly)"},
+    {"refused_pilot_replay.ini", "refused_pilot_replay.ini:16: [pilot] replay_file: ",
+     "not supported yet: the pilots (automated, replay, station) come with the flight loop (disim fly)"},
+    {"refused_pilot_station.ini", "refused_pilot_station.ini:16: [pilot] station_id: ",
+     "not supported yet: the pilots (automated, replay, station) come with the flight loop (disim fly)"},
+    {"refused_task_hover.ini", "refused_task_hover.ini:13: [task] type = hover: ",
+     "not supported yet: the piloted hover and landing tasks come with the flight loop (disim fly); "
+     "the task now is shol"},
+    {"refused_task_landing.ini", "refused_task_landing.ini:13: [task] type = landing: ",
+     "not supported yet: the piloted hover and landing tasks come with the flight loop (disim fly); "
+     "the task now is shol"},
+    {"refused_task_approach.ini", "refused_task_approach.ini:15: [task] approach_dir_deg: ",
+     "not supported yet: the approach comes with the landing task of the flight loop (disim fly)"},
+    {"refused_engine_openfoam.ini", "refused_engine_openfoam.ini:16: [cfd] engine = openfoam: ",
+     "not supported yet: the OpenFOAM engine is not built"},
+    {"refused_residual_tol.ini", "refused_residual_tol.ini:17: [cfd] residual_tol: ",
+     "not supported: every airwake field is solved to the embedded solver's own convergence test"},
+    {"refused_output_csv.ini", "refused_output_csv.ini:19: [output] csv: ",
+     "not supported: disim shol always writes its CSV table, JSON, plots and report"},
+    {"refused_output_plots.ini", "refused_output_plots.ini:20: [output] plots: ",
+     "not supported: disim shol always writes its CSV table, JSON, plots and report"},
+    /* keys the file's other settings would leave unread */
+    {"rotor_off_two_way.ini", "rotor_off_two_way.ini:17: [cfd] rotor = off: ",
+     "the two-way coupling (coupling = two-way, the default) solves with the rotor's disk"},
+    {"mode_key_domain.ini", "mode_key_domain.ini:18: [cfd] coupled_domain: ",
+     "only used with coupling = two-way"},
+};
+
 int main(void)
 {
     sim_scenario *sc = malloc(sizeof *sc);
@@ -32,6 +72,9 @@ int main(void)
     CHECK_NEAR(sc->wod_dir_rad, 0.0, 1e-12);
     CHECK(sc->rotor == SIM_ROTOR_OFF && sc->grid == SIM_GRID_DEFAULT);
     CHECK_NEAR(sc->station_S_m[2], -6.8, 1e-12);
+    /* no [cfd] max_iterations: 0, the solver's default */
+    CHECK(sc->max_iterations == 0);
+    CHECK(sc->coupling == SIM_COUPLING_ONE_WAY && sc->coupled_zone == 0);
 
     CHECK(sim_scenario_load("scenarios/cg47_uh60a.ini", sc, &err) == 0);
     CHECK(sc->wod_mode == SIM_WOD_SWEEP && sc->n_dirs == 7);
@@ -60,6 +103,7 @@ int main(void)
     /* A full circle sweeps the stern once (-180 and 180 are one direction). */
     CHECK(sim_scenario_load("tests/sim/data/full_circle.ini", sc, &err) == 0);
     CHECK(sc->n_dirs == 12);
+    CHECK(sc->max_iterations == 400);
     int sterns = 0;
     for (int i = 0; i < sc->n_dirs; i++)
         sterns += fabs(fabs(sc->dirs_rad[i]) - M_PI) < 1e-9;
@@ -79,6 +123,18 @@ int main(void)
          * paths resolved beside it) loads */
         dotted_path(okp, sizeof okp, 400);
         CHECK(sim_scenario_load(okp, sc, &err) == 0);
+    }
+    /* Each key that no command acts on is refused with its reason. */
+    for (size_t i = 0; i < sizeof refusals / sizeof refusals[0]; i++) {
+        char path[128];
+        snprintf(path, sizeof path, "tests/sim/bad/%s", refusals[i].file);
+        err.msg[0] = '\0';
+        int rc = sim_scenario_load(path, sc, &err);
+        CHECK(rc < 0);
+        CHECK(strstr(err.msg, refusals[i].where) != NULL);
+        CHECK(strstr(err.msg, refusals[i].why) != NULL);
+        if (rc >= 0 || !strstr(err.msg, refusals[i].where) || !strstr(err.msg, refusals[i].why))
+            fprintf(stderr, "  %s: got '%s'\n", refusals[i].file, rc < 0 ? err.msg : "(loaded)");
     }
     free(sc);
     return check_done("test_sim");
