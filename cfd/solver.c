@@ -324,35 +324,21 @@ static int sample_open_faces(cfd_solver *s, core_err *err)
     return 0;
 }
 
-cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *err)
+/* The configurations cfd_solver_create accepts (the message below names the ranges). */
+static int config_ok(const cfd_config *cfg)
 {
-    if (!grid) {
-        core_err_set(err, -1, "cfd solver: no grid");
-        return NULL;
-    }
-    if (!(cfg->nu_m2ps > 0.0) || !(cfg->rho_kgpm3 > 0.0) || !(cfg->u_ref_mps > 0.0) ||
-        cfg->max_iter < 1 || cfg->n_monitor < 0 || cfg->n_monitor > CFD_MAX_MONITOR ||
-        !(cfg->relax_u > 0.0 && cfg->relax_u <= 1.0) || !(cfg->relax_p > 0.0 && cfg->relax_p <= 1.0) ||
-        !(cfg->relax_turb > 0.0 && cfg->relax_turb <= 1.0) ||
-        (cfg->limiter != CFD_LIMITER_VANLEER && cfg->limiter != CFD_LIMITER_MINMOD) ||
-        cfg->accel_depth < 0 || cfg->accel_depth > 16 ||
-        (cfg->inflow.type == CFD_INFLOW_FIELD && !cfg->inflow.fn)) {
-        cfd_grid_destroy(grid);
-        core_err_set(err, -1,
-                     "cfd solver: bad configuration (need nu, rho, u_ref > 0, max_iter >= 1, "
-                     "relaxation factors in (0, 1], at most %d monitors, a known limiter, "
-                     "accel_depth 0..16, a sampler for a sampled inflow)",
-                     CFD_MAX_MONITOR);
-        return NULL;
-    }
-    cfd_solver *s = calloc(1, sizeof *s);
-    if (!s) {
-        cfd_grid_destroy(grid);
-        core_err_set(err, -2, "cfd solver: out of memory");
-        return NULL;
-    }
-    s->g = grid;
-    s->cfg = *cfg;
+    return cfg->nu_m2ps > 0.0 && cfg->rho_kgpm3 > 0.0 && cfg->u_ref_mps > 0.0 && cfg->max_iter >= 1 &&
+           cfg->n_monitor >= 0 && cfg->n_monitor <= CFD_MAX_MONITOR && cfg->relax_u > 0.0 && cfg->relax_u <= 1.0 &&
+           cfg->relax_p > 0.0 && cfg->relax_p <= 1.0 && cfg->relax_turb > 0.0 && cfg->relax_turb <= 1.0 &&
+           (cfg->limiter == CFD_LIMITER_VANLEER || cfg->limiter == CFD_LIMITER_MINMOD) && cfg->accel_depth >= 0 &&
+           cfg->accel_depth <= 16 && !(cfg->inflow.type == CFD_INFLOW_FIELD && !cfg->inflow.fn);
+}
+
+/* The solver's arrays and the multigrid pressure solver, counted in
+ * s->bytes; 0 ok, < 0 out of memory (the caller destroys s). */
+static int alloc_arrays(cfd_solver *s)
+{
+    const cfd_grid *grid = s->g;
     size_t n = grid->ncell;
     /* the grid: solid flags and three coordinate arrays per axis */
     s->bytes = sizeof *s + n + 3 * sizeof(double) * (grid->n[0] + grid->n[1] + grid->n[2] + 3);
@@ -380,38 +366,39 @@ cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *e
     ok &= (s->wallcell = calloc(n ? n : 1, 1)) != NULL;
     s->bytes += n;
     s->mg = ok ? cfd_mg_create(grid->n) : NULL;
-    if (!ok || !s->mg) {
-        cfd_solver_destroy(s);
-        core_err_set(err, -2, "cfd solver: out of memory for %zu cells", n);
-        return NULL;
-    }
+    if (!ok || !s->mg)
+        return -1;
     s->bytes += cfd_mg_bytes(s->mg);
-    if (cfg->accel_depth > 0) {
-        /* the state Anderson mixes: cell u, v, w (1/u_ref), p (1/(rho
-         * u_ref^2)) and the face velocities (1/u_ref), whose combination
-         * keeps the discrete continuity of the iterates it mixes */
-        size_t len[7];
-        double w[7];
-        for (int q = 0; q < 4; q++) {
-            len[q] = n;
-            w[q] = q < 3 ? 1.0 / cfg->u_ref_mps : 1.0 / (cfg->rho_kgpm3 * cfg->u_ref_mps * cfg->u_ref_mps);
-        }
-        for (int d = 0; d < 3; d++) {
-            len[4 + d] = nfaces(grid, d);
-            w[4 + d] = 1.0 / cfg->u_ref_mps;
-        }
-        if (!(s->aa = cfd_aa_create(cfg->accel_depth, 7, len, w))) {
-            cfd_solver_destroy(s);
-            core_err_set(err, -2, "cfd solver: out of memory for Anderson acceleration (%zu cells, depth %d)", n,
-                         cfg->accel_depth);
-            return NULL;
-        }
-        s->bytes += cfd_aa_bytes(s->aa);
+    return 0;
+}
+
+/* Anderson acceleration (accel_depth > 0) over the state it mixes: cell u,
+ * v, w (1/u_ref), p (1/(rho u_ref^2)) and the face velocities (1/u_ref),
+ * whose combination keeps the discrete continuity of the iterates it
+ * mixes. 0 ok, < 0 out of memory. */
+static int accel_create(cfd_solver *s)
+{
+    const cfd_config *cfg = &s->cfg;
+    size_t len[7];
+    double w[7];
+    for (int q = 0; q < 4; q++) {
+        len[q] = s->g->ncell;
+        w[q] = q < 3 ? 1.0 / cfg->u_ref_mps : 1.0 / (cfg->rho_kgpm3 * cfg->u_ref_mps * cfg->u_ref_mps);
     }
-    s->singular = 1;
-    for (int f = 0; f < CFD_NFACES; f++)
-        if (cfg->bc[f].type == CFD_BC_OUTLET)
-            s->singular = 0;
+    for (int d = 0; d < 3; d++) {
+        len[4 + d] = nfaces(s->g, d);
+        w[4 + d] = 1.0 / cfg->u_ref_mps;
+    }
+    if (!(s->aa = cfd_aa_create(cfg->accel_depth, 7, len, w)))
+        return -1;
+    s->bytes += cfd_aa_bytes(s->aa);
+    return 0;
+}
+
+/* The wall-function cells: fluid cells with a wall face. */
+static void mark_wall_cells(cfd_solver *s)
+{
+    const cfd_grid *grid = s->g;
     #pragma omp parallel for schedule(static)
     for (int k = 0; k < grid->n[2]; k++)
         for (int j = 0; j < grid->n[1]; j++)
@@ -423,6 +410,47 @@ cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *e
                     w |= nb_kind(s, ijk, f, c, &cn) == NB_WALL;
                 s->wallcell[c] = w;
             }
+}
+
+cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *err)
+{
+    if (!grid) {
+        core_err_set(err, -1, "cfd solver: no grid");
+        return NULL;
+    }
+    if (!config_ok(cfg)) {
+        cfd_grid_destroy(grid);
+        core_err_set(err, -1,
+                     "cfd solver: bad configuration (need nu, rho, u_ref > 0, max_iter >= 1, "
+                     "relaxation factors in (0, 1], at most %d monitors, a known limiter, "
+                     "accel_depth 0..16, a sampler for a sampled inflow)",
+                     CFD_MAX_MONITOR);
+        return NULL;
+    }
+    cfd_solver *s = calloc(1, sizeof *s);
+    if (!s) {
+        cfd_grid_destroy(grid);
+        core_err_set(err, -2, "cfd solver: out of memory");
+        return NULL;
+    }
+    s->g = grid;
+    s->cfg = *cfg;
+    if (alloc_arrays(s) != 0) {
+        cfd_solver_destroy(s);
+        core_err_set(err, -2, "cfd solver: out of memory for %zu cells", grid->ncell);
+        return NULL;
+    }
+    if (cfg->accel_depth > 0 && accel_create(s) != 0) {
+        cfd_solver_destroy(s);
+        core_err_set(err, -2, "cfd solver: out of memory for Anderson acceleration (%zu cells, depth %d)",
+                     grid->ncell, cfg->accel_depth);
+        return NULL;
+    }
+    s->singular = 1;
+    for (int f = 0; f < CFD_NFACES; f++)
+        if (cfg->bc[f].type == CFD_BC_OUTLET)
+            s->singular = 0;
+    mark_wall_cells(s);
     if (cfg->inflow.type == CFD_INFLOW_FIELD && sample_open_faces(s, err) != 0) {
         cfd_solver_destroy(s);
         return NULL;
@@ -1099,8 +1127,11 @@ static void rhie_chow(cfd_solver *s)
     }
 }
 
-/* SIMPLEC pressure correction; returns the continuity residual (before). */
-static double pressure_correction(cfd_solver *s)
+/* The pressure-correction equation's coefficients (into the multigrid
+ * solver's fine level) and right-hand side (s->b: minus each cell's mass
+ * imbalance, with the face velocities as they are); returns the sum of
+ * |mass imbalance|, the raw continuity residual. */
+static double pp_assemble(cfd_solver *s)
 {
     const cfd_grid *g = s->g;
     const double rho = s->cfg.rho_kgpm3;
@@ -1149,6 +1180,16 @@ static double pressure_correction(cfd_solver *s)
                 rhs[c] = -imb;
                 cont += fabs(imb);
             }
+    return cont;
+}
+
+/* Solve for the pressure correction s->pp from the system pp_assemble
+ * left. Without an outlet the system is singular (pressure up to a
+ * constant): the right-hand side loses its mean first. */
+static void pp_solve(cfd_solver *s)
+{
+    const cfd_grid *g = s->g;
+    double *rhs = s->b;
     cfd_mg_setup(s->mg, s->singular);
     if (s->singular) {
         double sum = 0.0, cnt = 0.0;
@@ -1167,7 +1208,14 @@ static double pressure_correction(cfd_solver *s)
     /* an inexact inner solve is enough for SIMPLEC: the outer iterations
      * converge the pressure */
     cfd_mg_solve(s->mg, s->pp, rhs, 2e-2, 30, &rel);
-    /* correct face velocities */
+}
+
+/* SIMPLEC's correction of the face velocities by the pressure-correction
+ * gradient across each face (at an outlet, against pp = 0 on the face). */
+static void pp_correct_faces(cfd_solver *s)
+{
+    const cfd_grid *g = s->g;
+    const double rho = s->cfg.rho_kgpm3;
     const double *pp = s->pp;
     for (int d = 0; d < 3; d++) {
         #pragma omp parallel for schedule(static)
@@ -1201,7 +1249,15 @@ static double pressure_correction(cfd_solver *s)
                     }
                 }
     }
-    /* correct cell velocities and pressure */
+}
+
+/* ... and of the cell velocities and, under-relaxed by relax_p, the
+ * pressure. */
+static void pp_correct_cells(cfd_solver *s)
+{
+    const cfd_grid *g = s->g;
+    const double rho = s->cfg.rho_kgpm3;
+    const double *pp = s->pp;
     const double ap_ = s->relax[1];
     #pragma omp parallel for schedule(static)
     for (int k = 0; k < g->n[2]; k++)
@@ -1218,6 +1274,16 @@ static double pressure_correction(cfd_solver *s)
     for (size_t c = 0; c < g->ncell; c++)
         if (!g->solid[c])
             s->var[CFD_VAR_P][c] += ap_ * pp[c];
+}
+
+/* SIMPLEC pressure correction: assemble, solve, correct faces and cells.
+ * Returns the raw continuity residual (before the correction). */
+static double pressure_correction(cfd_solver *s)
+{
+    double cont = pp_assemble(s);
+    pp_solve(s);
+    pp_correct_faces(s);
+    pp_correct_cells(s);
     return cont;
 }
 
