@@ -55,9 +55,9 @@ static void set_col(cairo_t *cr, rgb c)
     cairo_set_source_rgb(cr, c.r, c.g, c.b);
 }
 
-/* Text at (x, y): ha -1 left, 0 centre, 1 right; va -1 top, 0 middle,
- * 1 baseline. */
-/* Draws s; returns its advance width (legends lay their entries out with it). */
+/* Text s at (x, y): ha -1 left, 0 centre, 1 right; va -1 top, 0 middle,
+ * 1 baseline. Returns its advance width (legends lay their entries out
+ * with it). */
 static double text(cairo_t *cr, double x, double y, double size, int bold, int ha, int va,
                    const char *s)
 {
@@ -306,13 +306,11 @@ static void polar_envelope(cairo_t *cr, const polar *p, const shol_result *r, rg
     free(v);
 }
 
-static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
-                       const shol_report_info *info)
+/* The scale: rings every *step kt (at least 5), the outer ring above the
+ * highest envelope speed of r and of the comparison c with room for the
+ * labels; the centre and radius on a W-wide page. */
+static polar polar_scale(const shol_result *r, const shol_result *c, double W, double *step_kt)
 {
-    const shol_result *c = info ? info->compare : NULL;
-    set_col(cr, (rgb){1, 1, 1});
-    cairo_paint(cr);
-
     double top_kt = 0;
     for (int i = 0; i < r->n_dirs; i++)
         top_kt = fmax(top_kt, dir_kt(&r->dirs[i]));
@@ -325,8 +323,13 @@ static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
     p.rmax_kt = fmax(step, ceil(top_kt / step - 1e-9) * step);
     if (p.rmax_kt - top_kt < 0.15 * p.rmax_kt) /* room for the labels */
         p.rmax_kt += step;
+    *step_kt = step;
+    return p;
+}
 
-    /* Title. */
+/* The title and, under it, the rejection criteria. */
+static void polar_title(cairo_t *cr, double W, const shol_result *r, const shol_report_info *info)
+{
     char buf[256];
     set_col(cr, ink);
     snprintf(buf, sizeof buf, "Candidate SHOL: %s",
@@ -339,27 +342,28 @@ static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
              k->roll_max_rad * CORE_RAD_TO_DEG, k->pitch_max_rad * CORE_RAD_TO_DEG,
              k->long_cyclic_pct, k->lat_cyclic_pct, k->collective_pct, k->pedal_pct);
     text(cr, W / 2, 62, 13, 0, 0, 0, buf);
+}
 
-    /* Speed rings and spokes. */
-    int open_after;
-    double label_dir;
-    const shol_dir_result **v = sorted_dirs(r, &open_after, &label_dir);
-    free(v);
+/* The axes: speed rings, spokes every 30 deg with the direction names at
+ * the rim, the sides, and the ship in the centre. */
+static void polar_grid(cairo_t *cr, const polar *p, double step)
+{
+    char buf[32];
     cairo_set_line_width(cr, 1.0);
-    for (double s = step; s <= p.rmax_kt + 1e-9; s += step) {
+    for (double s = step; s <= p->rmax_kt + 1e-9; s += step) {
         set_col(cr, grid_col);
         cairo_new_path(cr);
-        cairo_arc(cr, p.cx, p.cy, p.R * s / p.rmax_kt, 0, 2 * CORE_PI);
+        cairo_arc(cr, p->cx, p->cy, p->R * s / p->rmax_kt, 0, 2 * CORE_PI);
         cairo_stroke(cr);
     }
     for (int a = -150; a <= 180; a += 30) {
         double x, y;
-        polar_xy(&p, a * CORE_DEG_TO_RAD, p.rmax_kt, &x, &y);
+        polar_xy(p, a * CORE_DEG_TO_RAD, p->rmax_kt, &x, &y);
         set_col(cr, grid_col);
-        cairo_move_to(cr, p.cx, p.cy);
+        cairo_move_to(cr, p->cx, p->cy);
         cairo_line_to(cr, x, y);
         cairo_stroke(cr);
-        polar_xy(&p, a * CORE_DEG_TO_RAD, p.rmax_kt * 1.075, &x, &y);
+        polar_xy(p, a * CORE_DEG_TO_RAD, p->rmax_kt * 1.075, &x, &y);
         set_col(cr, ink);
         if (a == 0)
             snprintf(buf, sizeof buf, "BOW 0");
@@ -369,50 +373,53 @@ static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
             snprintf(buf, sizeof buf, "%s %d", a > 0 ? "G" : "R", abs(a));
         text(cr, x, y, 15, a == 0 || abs(a) == 90, 0, 0, buf);
     }
-    text(cr, p.cx + p.R * 1.075, p.cy + 20, 12, 0, 0, 0, "starboard");
-    text(cr, p.cx - p.R * 1.075, p.cy + 20, 12, 0, 0, 0, "port");
+    text(cr, p->cx + p->R * 1.075, p->cy + 20, 12, 0, 0, 0, "starboard");
+    text(cr, p->cx - p->R * 1.075, p->cy + 20, 12, 0, 0, 0, "port");
 
     /* The ship, bow up, to scale with nothing: a reminder of the sense. */
-    double L = 0.10 * p.R, B = 0.028 * p.R;
+    double L = 0.10 * p->R, B = 0.028 * p->R;
     cairo_new_path(cr);
-    cairo_move_to(cr, p.cx, p.cy - L);
-    cairo_curve_to(cr, p.cx + B, p.cy - 0.6 * L, p.cx + B, p.cy - 0.3 * L, p.cx + B, p.cy);
-    cairo_line_to(cr, p.cx + B, p.cy + 0.8 * L);
-    cairo_line_to(cr, p.cx - B, p.cy + 0.8 * L);
-    cairo_line_to(cr, p.cx - B, p.cy);
-    cairo_curve_to(cr, p.cx - B, p.cy - 0.3 * L, p.cx - B, p.cy - 0.6 * L, p.cx, p.cy - L);
+    cairo_move_to(cr, p->cx, p->cy - L);
+    cairo_curve_to(cr, p->cx + B, p->cy - 0.6 * L, p->cx + B, p->cy - 0.3 * L, p->cx + B, p->cy);
+    cairo_line_to(cr, p->cx + B, p->cy + 0.8 * L);
+    cairo_line_to(cr, p->cx - B, p->cy + 0.8 * L);
+    cairo_line_to(cr, p->cx - B, p->cy);
+    cairo_curve_to(cr, p->cx - B, p->cy - 0.3 * L, p->cx - B, p->cy - 0.6 * L, p->cx, p->cy - L);
     cairo_set_source_rgb(cr, 0.55, 0.55, 0.6);
     cairo_fill(cr);
+}
 
-    /* Envelopes: the comparison under the main one. */
-    if (c)
-        polar_envelope(cr, &p, c, cmp_col, 1, 0);
-    polar_envelope(cr, &p, r, env_col, 0, 1);
-
-    /* Ring labels in the widest unswept sector, on white boxes. */
-    for (double s = step; s <= p.rmax_kt + 1e-9; s += step) {
+/* Ring labels along label_dir (the widest unswept sector), on white boxes. */
+static void polar_ring_labels(cairo_t *cr, const polar *p, double step, double label_dir)
+{
+    char buf[32];
+    for (double s = step; s <= p->rmax_kt + 1e-9; s += step) {
         double x, y;
-        polar_xy(&p, label_dir, s, &x, &y);
+        polar_xy(p, label_dir, s, &x, &y);
         snprintf(buf, sizeof buf, "%g kt", s);
         text_boxed(cr, x, y, 13, 0, 0, 0, buf, ink);
     }
+}
 
-    /* Each direction's limit: a marker, then "NN kt limit" beside it. */
+/* Each direction's limiting criterion: a marker on the line, then "NN kt
+ * limit" beside it. Labels go outside the line if they stay clear of the
+ * direction names at the rim, else inside; one that would cover an earlier
+ * label moves further out (or in) by a label offset at a time. */
+static void polar_limits(cairo_t *cr, const polar *p, const shol_result *r)
+{
+    char buf[256];
     for (int i = 0; i < r->n_dirs; i++) {
         double x, y;
-        polar_xy(&p, r->dirs[i].dir_rad, dir_kt(&r->dirs[i]), &x, &y);
+        polar_xy(p, r->dirs[i].dir_rad, dir_kt(&r->dirs[i]), &x, &y);
         marker(cr, r->dirs[i].limit, x, y, 7);
     }
-    /* Labels outside the line if they stay clear of the direction names at
-     * the rim, else inside; one that would cover an earlier label moves
-     * further out (or in) by a label offset at a time. */
     double (*box)[4] = calloc(r->n_dirs ? r->n_dirs : 1, sizeof *box);
     int nbox = 0;
     for (int i = 0; box && i < r->n_dirs; i++) {
         const shol_dir_result *d = &r->dirs[i];
         if (!d->has_pass)
             continue; /* listed under the title: labels at the centre would pile up */
-        double kt = dir_kt(d), off = 0.09 * p.rmax_kt, sx = sin(d->dir_rad), cx_ = cos(d->dir_rad);
+        double kt = dir_kt(d), off = 0.09 * p->rmax_kt, sx = sin(d->dir_rad), cx_ = cos(d->dir_rad);
         int ha0 = sx > 0.25 ? -1 : sx < -0.25 ? 1 : 0;
         snprintf(buf, sizeof buf, "%.1f kt %s", kt, short_label[limit_index(d->limit)]);
         cairo_text_extents_t te;
@@ -425,14 +432,14 @@ static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
         for (int k = 0; k < 6 && !found; k++) {
             double o = steps[k] * off, rkt = kt + o;
             int h = o > 0 ? ha0 : -ha0;
-            double reach = p.R * rkt / p.rmax_kt + (h ? te.width : 0.5 * te.width) * fabs(sx) +
+            double reach = p->R * rkt / p->rmax_kt + (h ? te.width : 0.5 * te.width) * fabs(sx) +
                            0.5 * te.height * fabs(cx_);
-            if (o > 0 && reach > 0.97 * p.R)
+            if (o > 0 && reach > 0.97 * p->R)
                 continue; /* would reach the direction names */
             if (rkt < 0.0)
                 break;
             double tx, ty;
-            polar_xy(&p, d->dir_rad, rkt, &tx, &ty);
+            polar_xy(p, d->dir_rad, rkt, &tx, &ty);
             double b0[4] = {h < 0 ? tx : h == 0 ? tx - te.width / 2 : tx - te.width, ty - te.height / 2, 0, 0};
             b0[2] = b0[0] + te.width;
             b0[3] = b0[1] + te.height;
@@ -448,14 +455,20 @@ static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
             found = clear;
         }
         if (!have) { /* nowhere inside the rim: just inside the line */
-            polar_xy(&p, d->dir_rad, kt - off, &lx, &ly);
+            polar_xy(p, d->dir_rad, kt - off, &lx, &ly);
             ha = -ha0;
         }
         memcpy(box[nbox++], best, sizeof best);
         text_boxed(cr, lx, ly, 13, 1, ha, 0, buf, limit_col[limit_index(d->limit)]);
     }
     free(box);
-    /* Directions rejected already at 0 kt, in one line under the title. */
+}
+
+/* Directions rejected already at 0 kt, in one line under the title
+ * (shrunk to the page width rather than run off it). */
+static void polar_not_cleared(cairo_t *cr, double W, const shol_result *r)
+{
+    char buf[256];
     size_t used = 0;
     buf[0] = '\0';
     for (int i = 0; i < r->n_dirs; i++) {
@@ -472,19 +485,26 @@ static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
         }
         used += n;
     }
-    if (buf[0]) {
-        char line[300];
-        snprintf(line, sizeof line, "Not cleared at any speed: %s", buf);
-        /* Shrink to the page width rather than run off it. */
-        cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
-        cairo_set_font_size(cr, 13);
-        cairo_text_extents_t te;
-        cairo_text_extents(cr, line, &te);
-        double size = te.width > W - 60 ? 13 * (W - 60) / te.width : 13;
-        text_boxed(cr, W / 2, 84, size, 1, 0, 0, line, (rgb){0.84, 0.15, 0.16});
-    }
+    if (!buf[0])
+        return;
+    char line[300];
+    snprintf(line, sizeof line, "Not cleared at any speed: %s", buf);
+    cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
+    cairo_set_font_size(cr, 13);
+    cairo_text_extents_t te;
+    cairo_text_extents(cr, line, &te);
+    double size = te.width > W - 60 ? 13 * (W - 60) / te.width : 13;
+    text_boxed(cr, W / 2, 84, size, 1, 0, 0, line, (rgb){0.84, 0.15, 0.16});
+}
 
-    /* Legend. */
+/* The legend at the foot: the markers of the limiting criteria that occur,
+ * the envelope's line (and the comparison's), and, when a sector was not
+ * swept (open), what the line through the centre means. */
+static void polar_legend(cairo_t *cr, double W, double H, const shol_result *r, const shol_report_info *info,
+                         int open)
+{
+    const shol_result *c = info ? info->compare : NULL;
+    char buf[256];
     double ly = H - 118, lx = 40;
     set_col(cr, ink);
     text(cr, lx, ly, 14, 1, -1, 0, "Limiting criterion at each direction:");
@@ -526,11 +546,34 @@ static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
         text(cr, lx + 500, y2, 13, 0, -1, 0,
              info->compare_label ? info->compare_label : "comparison");
     }
-    if (open_after >= 0) {
+    if (open) {
         set_col(cr, ink);
         text(cr, W - 20, H - 16, 12, 0, 1, 1,
              "Directions not swept are not cleared: the line closes through the centre.");
     }
+}
+
+static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
+                       const shol_report_info *info)
+{
+    const shol_result *c = info ? info->compare : NULL;
+    set_col(cr, (rgb){1, 1, 1});
+    cairo_paint(cr);
+    double step;
+    polar p = polar_scale(r, c, W, &step);
+    polar_title(cr, W, r, info);
+    int open_after;
+    double label_dir;
+    free(sorted_dirs(r, &open_after, &label_dir));
+    polar_grid(cr, &p, step);
+    /* Envelopes: the comparison under the main one. */
+    if (c)
+        polar_envelope(cr, &p, c, cmp_col, 1, 0);
+    polar_envelope(cr, &p, r, env_col, 0, 1);
+    polar_ring_labels(cr, &p, step, label_dir);
+    polar_limits(cr, &p, r);
+    polar_not_cleared(cr, W, r);
+    polar_legend(cr, W, H, r, info, open_after >= 0);
 }
 
 /* Reject data cairo cannot place: a NaN or infinite coordinate is not an
@@ -828,6 +871,72 @@ static const shol_dir_result *find_dir(const shol_result *c, double dir_rad)
     return NULL;
 }
 
+/* The trim plots' legend: the entries flow from the left, each after the
+ * last one's text (labels such as "one-way (ship-only airwake)" vary in
+ * length); an entry that does not fit starts a row above. dc: the
+ * comparison's direction, or NULL. */
+static void trim_legend(cairo_t *cr, double W, double H, const shol_dir_result *d, const shol_dir_result *dc,
+                        const shol_report_info *info)
+{
+    char buf[256];
+    double ly = H - 30, lx = 40;
+    const double gap = 26;
+    set_col(cr, env_col);
+    cairo_set_line_width(cr, 2.2);
+    cairo_move_to(cr, lx, ly);
+    cairo_line_to(cr, lx + 40, ly);
+    cairo_stroke(cr);
+    cairo_arc(cr, lx + 20, ly, 3.5, 0, 2 * CORE_PI);
+    cairo_fill(cr);
+    set_col(cr, ink);
+    snprintf(buf, sizeof buf, "%s: trims passing", info && info->label ? info->label : "trim");
+    lx += 48 + text(cr, lx + 48, ly, 13, 0, -1, 0, buf) + gap;
+    cairo_set_source_rgb(cr, 0.84, 0.15, 0.16);
+    cairo_set_line_width(cr, 2);
+    cairo_new_path(cr);
+    cairo_arc(cr, lx + 6, ly, 6, 0, 2 * CORE_PI);
+    cairo_stroke(cr);
+    set_col(cr, ink);
+    lx += 18 + text(cr, lx + 18, ly, 13, 0, -1, 0, "beyond this limit") + gap;
+    set_col(cr, env_col);
+    double dash[] = {8, 5};
+    cairo_set_dash(cr, dash, 2, 0);
+    cairo_set_line_width(cr, 1.8);
+    cairo_move_to(cr, lx, ly - 8);
+    cairo_line_to(cr, lx, ly + 8);
+    cairo_stroke(cr);
+    cairo_set_dash(cr, NULL, 0, 0);
+    set_col(cr, ink);
+    lx += 8 + text(cr, lx + 8, ly, 13, 0, -1, 0, "envelope edge (last pass)") + gap;
+    if (dc) {
+        const char *cl = info->compare_label ? info->compare_label : "comparison";
+        legend_wrap(cr, cl, 48, W, &lx, &ly);
+        set_col(cr, cmp_col);
+        cairo_set_dash(cr, dash, 2, 0);
+        cairo_move_to(cr, lx, ly);
+        cairo_line_to(cr, lx + 40, ly);
+        cairo_stroke(cr);
+        cairo_set_dash(cr, NULL, 0, 0);
+        set_col(cr, ink);
+        lx += 48 + text(cr, lx + 48, ly, 13, 0, -1, 0, cl) + gap;
+    }
+    int any_fail = 0;
+    for (int i = 0; i < d->n_samples; i++)
+        any_fail |= d->samples[i].trim_status != 0;
+    if (any_fail) {
+        const char *fl = "trim did not converge (a rejection)";
+        legend_wrap(cr, fl, 33, W, &lx, &ly);
+        set_col(cr, ink);
+        cairo_set_line_width(cr, 2.5);
+        cairo_move_to(cr, lx + 15, ly - 5);
+        cairo_line_to(cr, lx + 25, ly + 5);
+        cairo_move_to(cr, lx + 15, ly + 5);
+        cairo_line_to(cr, lx + 25, ly - 5);
+        cairo_stroke(cr);
+        text(cr, lx + 33, ly, 13, 0, -1, 0, fl);
+    }
+}
+
 static void draw_trim(cairo_t *cr, double W, double H, const shol_result *r,
                       const shol_dir_result *d, const shol_report_info *info)
 {
@@ -898,65 +1007,7 @@ static void draw_trim(cairo_t *cr, double W, double H, const shol_result *r,
         draw_panel(cr, &p, q, titles[q], lo, hi, d, dc);
     }
 
-    /* Legend: the entries flow from the left, each after the last one's
-     * text (labels such as "one-way (ship-only airwake)" vary in length); an
-     * entry that does not fit starts a row above. */
-    double ly = H - 30, lx = 40;
-    const double gap = 26;
-    set_col(cr, env_col);
-    cairo_set_line_width(cr, 2.2);
-    cairo_move_to(cr, lx, ly);
-    cairo_line_to(cr, lx + 40, ly);
-    cairo_stroke(cr);
-    cairo_arc(cr, lx + 20, ly, 3.5, 0, 2 * CORE_PI);
-    cairo_fill(cr);
-    set_col(cr, ink);
-    snprintf(buf, sizeof buf, "%s: trims passing", info && info->label ? info->label : "trim");
-    lx += 48 + text(cr, lx + 48, ly, 13, 0, -1, 0, buf) + gap;
-    cairo_set_source_rgb(cr, 0.84, 0.15, 0.16);
-    cairo_set_line_width(cr, 2);
-    cairo_new_path(cr);
-    cairo_arc(cr, lx + 6, ly, 6, 0, 2 * CORE_PI);
-    cairo_stroke(cr);
-    set_col(cr, ink);
-    lx += 18 + text(cr, lx + 18, ly, 13, 0, -1, 0, "beyond this limit") + gap;
-    set_col(cr, env_col);
-    double dash[] = {8, 5};
-    cairo_set_dash(cr, dash, 2, 0);
-    cairo_set_line_width(cr, 1.8);
-    cairo_move_to(cr, lx, ly - 8);
-    cairo_line_to(cr, lx, ly + 8);
-    cairo_stroke(cr);
-    cairo_set_dash(cr, NULL, 0, 0);
-    set_col(cr, ink);
-    lx += 8 + text(cr, lx + 8, ly, 13, 0, -1, 0, "envelope edge (last pass)") + gap;
-    if (dc) {
-        const char *cl = info->compare_label ? info->compare_label : "comparison";
-        legend_wrap(cr, cl, 48, W, &lx, &ly);
-        set_col(cr, cmp_col);
-        cairo_set_dash(cr, dash, 2, 0);
-        cairo_move_to(cr, lx, ly);
-        cairo_line_to(cr, lx + 40, ly);
-        cairo_stroke(cr);
-        cairo_set_dash(cr, NULL, 0, 0);
-        set_col(cr, ink);
-        lx += 48 + text(cr, lx + 48, ly, 13, 0, -1, 0, cl) + gap;
-    }
-    int any_fail = 0;
-    for (int i = 0; i < d->n_samples; i++)
-        any_fail |= d->samples[i].trim_status != 0;
-    if (any_fail) {
-        const char *fl = "trim did not converge (a rejection)";
-        legend_wrap(cr, fl, 33, W, &lx, &ly);
-        set_col(cr, ink);
-        cairo_set_line_width(cr, 2.5);
-        cairo_move_to(cr, lx + 15, ly - 5);
-        cairo_line_to(cr, lx + 25, ly + 5);
-        cairo_move_to(cr, lx + 15, ly + 5);
-        cairo_line_to(cr, lx + 25, ly - 5);
-        cairo_stroke(cr);
-        text(cr, lx + 33, ly, 13, 0, -1, 0, fl);
-    }
+    trim_legend(cr, W, H, d, dc, info);
 }
 
 int shol_plot_trim(const char *dir, const shol_result *r, const shol_report_info *info,
