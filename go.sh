@@ -1,7 +1,16 @@
 #!/bin/sh
 # disim set-up and entry point. On a fresh Debian 12 machine, as root:
-#   ./go.sh run    install what is missing, build, run the main job
+#   ./go.sh quick  install what is missing, build, run the quick job: every
+#                  scenario checked, the coarse one-way CG-47 + UH-60A
+#                  envelope (about 10 minutes on 2 cores from an empty
+#                  airwake database) into out/quick/cg47_uh60a
+#   ./go.sh run    install what is missing, build, run the main job: every
+#                  scenario checked, the default-grid two-way envelopes of
+#                  both combinations (many hours on 2 cores) into
+#                  out/<scenario>
 #   ./go.sh test   install what is missing, build (sanitizers on), run all tests
+# quick and run share the airwake database out/airwake-db: a field built by
+# one is not built again by the other.
 set -eu
 cd "$(dirname "$0")"
 
@@ -33,17 +42,36 @@ build() { # build DIR [cmake options]
     cmake --build "$dir" -j "$(nproc)"
 }
 
+check_scenarios() {
+    for s in scenarios/*.ini; do
+        echo "== disim check $s"
+        ./build/app/disim check "$s" >/dev/null
+    done
+}
+
 case "${1:-}" in
+quick)
+    install_deps
+    build build -DCMAKE_BUILD_TYPE=Release
+    # Quick job: check every scenario, then the candidate SHOL envelope of
+    # CG-47 + UH-60A on the coarse grid, one-way (ship-only airwake, one
+    # field per direction): the whole pipeline in minutes. The coarse grid
+    # is not grid-converged: this shows the pipeline working, not a result.
+    check_scenarios
+    echo "== disim shol scenarios/cg47_uh60a.ini --grid coarse --coupling one-way"
+    ./build/app/disim shol scenarios/cg47_uh60a.ini --grid coarse --coupling one-way \
+        -o out/quick/cg47_uh60a --db out/airwake-db
+    ;;
 run)
+    echo "go.sh run: the main job, the default-grid two-way envelopes of CG-47 + UH-60A and" \
+        "LPD-17 + SA365N, takes many hours on 2 cores; ./go.sh quick is the variant that" \
+        "finishes in about 10 minutes (coarse grid, one-way, CG-47 + UH-60A)."
     install_deps
     build build -DCMAKE_BUILD_TYPE=Release
     # Main job: check every scenario, then the candidate SHOL envelopes of
     # both combinations (CG-47 + UH-60A first, then LPD-17 + SA365N) on the
     # default grid, sharing one airwake database (out/airwake-db).
-    for s in scenarios/*.ini; do
-        echo "== disim check $s"
-        ./build/app/disim check "$s" >/dev/null
-    done
+    check_scenarios
     for s in scenarios/cg47_uh60a.ini scenarios/lpd17_sa365n.ini; do
         echo "== disim shol $s"
         ./build/app/disim shol "$s"
@@ -58,7 +86,10 @@ test)
     ctest --output-on-failure -j "$(nproc)"
     ;;
 *)
-    echo "usage: ./go.sh run | ./go.sh test" >&2
+    echo "usage: ./go.sh quick | ./go.sh run | ./go.sh test" >&2
+    echo "  quick  build, check the scenarios, the coarse one-way CG-47 + UH-60A envelope (minutes)" >&2
+    echo "  run    build, check the scenarios, the default-grid two-way envelopes of both (hours)" >&2
+    echo "  test   build with sanitizers, run every test" >&2
     exit 2
     ;;
 esac

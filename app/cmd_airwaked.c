@@ -318,7 +318,7 @@ int cmd_airwaked(int argc, char **argv)
     sigaction(SIGTERM, &sa, NULL);
     awdb_engine eng;
     awdb_embedded_engine(emb, &eng);
-    awdb_builder_opts o = {(int)jobs, once, 0.2, on_status, &ctx, on_idle, &ctx};
+    awdb_builder_opts o = {(int)jobs, once, 0.2, on_status, &ctx, on_idle, &ctx, 0.0};
     fprintf(stderr, "airwaked: serving %s with %ld job%s (ships from %s)%s\n", dir, jobs, jobs > 1 ? "s" : "",
             ships, ctx.lc ? ", LCM requests on " DISIM_CH_AIRWAKE_REQUEST : "");
     int rc = awdb_builder_run(db, &eng, &o, &stop_flag, &err);

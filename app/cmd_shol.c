@@ -20,6 +20,7 @@
 #include "cmds.h"
 #include "couple.h"
 #include "hfm.h"
+#include "progress.h"
 #include "shol.h"
 #include "sim.h"
 
@@ -292,6 +293,10 @@ int cmd_shol(int argc, char **argv)
     /* [cfd] rotor: the disk of the coupled solves (loaded: the trim's blade loads) */
     cs.uniform_disk = sc->rotor == SIM_ROTOR_UNIFORM;
     cs.max_iter = (int)maxit;
+    app_progress pw; /* the status line on a terminal while a field is built (progress.c) */
+    app_progress_init(&pw, db, tty);
+    cs.wait_fn = app_progress_wait;
+    cs.wait_user = &pw;
     cs.cfd_max_iter = (int)cfdit;
     memcpy(cs.station_S_m, sc->station_S_m, sizeof cs.station_S_m);
     char exe[PATH_MAX], ships[1024];

@@ -640,3 +640,98 @@ int awdb_pending(awdb *db, int *queued, int *running)
     *running = count_dir(db, "running");
     return 0;
 }
+
+/* ------------------------------------------------------------- progress */
+/* One running/NAME.prog (builder.c writes it): 1 read, 0 absent or not
+ * whole (a file from before a power cut: the rename is not synced). */
+static int read_run_progress(const awdb *db, awdb_run_progress *r)
+{
+    char path[AWDB_PATH];
+    if (awdb_fmt(path, sizeof path, "%s/running/%s.prog", db->dir, r->name) < 0)
+        return 0;
+    core_err err = {{0}};
+    core_ini *ini = core_ini_load(path, &err);
+    if (!ini)
+        return 0;
+    long it = 0, max = 0;
+    int ok = core_ini_get_int(ini, "progress", "iteration", 1, 0, 1000000000L, &it, &err) == 0 &&
+             core_ini_get_int(ini, "progress", "max_iterations", 1, 0, 1000000000L, &max, &err) == 0 &&
+             core_ini_get_double(ini, "progress", "residual", 1, 0, 1e300, &r->residual, &err) == 0 &&
+             core_ini_get_double(ini, "progress", "fraction", 1, 0, 1e6, &r->frac, &err) == 0 &&
+             core_ini_get_double(ini, "progress", "elapsed_s", 1, 0, 1e12, &r->elapsed_s, &err) == 0 &&
+             core_ini_get_double(ini, "progress", "left_s", 1, -1, 1e12, &r->left_s, &err) == 0;
+    core_ini_destroy(ini);
+    r->iteration = (int)it;
+    r->max_iterations = (int)max;
+    return ok;
+}
+
+static int cmp_run(const void *a, const void *b)
+{
+    return strcmp(((const awdb_run_progress *)a)->name, ((const awdb_run_progress *)b)->name);
+}
+
+int awdb_progress_read(awdb *db, awdb_progress *out, core_err *err)
+{
+    memset(out, 0, sizeof *out);
+    char p[AWDB_PATH];
+    awdb_fmt(p, sizeof p, "%s/fields", db->dir);
+    DIR *d = opendir(p);
+    if (!d)
+        return core_err_set(err, -1, "%s: cannot read: %s", p, strerror(errno));
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        size_t l = strlen(e->d_name);
+        /* an entry counts with its checksum file; "NAME.sum.part" is a
+         * commit under way */
+        if (e->d_name[0] != '.' && l > 4 && !strcmp(e->d_name + l - 4, ".sum"))
+            out->ready++;
+    }
+    closedir(d);
+    out->queued = count_dir(db, "queue");
+    awdb_fmt(p, sizeof p, "%s/running", db->dir);
+    if (!(d = opendir(p)))
+        return core_err_set(err, -1, "%s: cannot read: %s", p, strerror(errno));
+    /* Every running request, the first AWDB_PROGRESS_MAX_RUNS by name kept
+     * (a fixed choice, so a display does not hop between builds). */
+    awdb_run_progress *runs = out->runs;
+    while ((e = readdir(d))) {
+        size_t l = strlen(e->d_name);
+        if (l < 5 || strcmp(e->d_name + l - 4, ".req") || l - 4 >= AWDB_NAME_MAX)
+            continue;
+        out->running++;
+        awdb_run_progress r;
+        memset(&r, 0, sizeof r);
+        awdb_fmt(r.name, sizeof r.name, "%.*s", (int)(l - 4), e->d_name);
+        int k = out->n_runs;
+        if (k == AWDB_PROGRESS_MAX_RUNS) { /* full: replace the last by name if this one comes before */
+            if (strcmp(r.name, runs[k - 1].name) >= 0)
+                continue;
+            k--;
+        } else {
+            out->n_runs++;
+        }
+        runs[k] = r;
+        qsort(runs, (size_t)out->n_runs, sizeof *runs, cmp_run);
+    }
+    closedir(d);
+    for (int i = 0; i < out->n_runs; i++) {
+        runs[i].left_s = -1.0;
+        runs[i].have = read_run_progress(db, &runs[i]);
+        if (!runs[i].have) {
+            runs[i].iteration = runs[i].max_iterations = 0;
+            runs[i].residual = runs[i].frac = runs[i].elapsed_s = 0.0;
+            runs[i].left_s = -1.0;
+        }
+    }
+    out->builder_alive = awdb_builder_alive(db);
+    return 0;
+}
+
+const awdb_run_progress *awdb_progress_find(const awdb_progress *p, const char *name)
+{
+    for (int i = 0; i < p->n_runs; i++)
+        if (!strcmp(p->runs[i].name, name))
+            return &p->runs[i];
+    return NULL;
+}

@@ -7,12 +7,15 @@
  *                       there and agree, so a torn write is never read
  *   queue/SEQ-NAME.req  requests waiting (one small INI file each)
  *   running/NAME.req    requests a builder has claimed (rename is the claim)
+ *   running/NAME.prog   the progress of a claimed request's build (about once
+ *                       a second; awdb_progress_read), removed when it ends
  *   failed/NAME.txt     requests that failed, with the reason
  *   builder.lock        flock()ed by the one running builder
  * Every file is written to a temporary name and renamed into place, so a
  * crash or kill at any instant leaves the database consistent; a restarted
  * builder returns running/ requests to the queue and removes stray
- * temporaries. Fields are keyed by ship, aircraft, WOD, rotor mode, thrust,
+ * temporaries and progress files. A progress file is replaced by rename
+ * too, so a reader finds a whole one or none. Fields are keyed by ship, aircraft, WOD, rotor mode, thrust,
  * rotor station and grid (awdb_key). Several clients (disim shol, disim
  * airwake --queue, LCM requests relayed by the builder) share one database;
  * a key is built once however many ask for it.
@@ -127,6 +130,43 @@ int awdb_builder_alive(awdb *db);
 /* Number of requests queued and running. */
 int awdb_pending(awdb *db, int *queued, int *running);
 
+/* ------------------------------------------------------------- progress */
+/* What a database is doing, for a client that waits on it (disim shol's
+ * status line). The builder publishes each build's progress in
+ * running/NAME.prog ([progress] iteration, max_iterations, residual,
+ * fraction, elapsed_s, left_s; written to a temporary name and renamed, at
+ * most about once a second, the first at the build's start, removed when
+ * the build ends). Advisory: a progress file is not synced to disk, and one
+ * that cannot be parsed reads as none. */
+typedef struct awdb_run_progress {
+    char name[AWDB_NAME_MAX]; /* the key's file stem (awdb_key_name) */
+    int have;                 /* 1: the builder published its progress; 0: claimed, not started */
+    int iteration;            /* the solver's iteration now */
+    int max_iterations;       /* its iteration cap (0: not known) */
+    double residual;          /* normalised residual of the last iteration */
+    double frac;              /* fraction done: iteration / max_iterations (an upper bound on the
+                                 time used: a field can stop at convergence) */
+    double elapsed_s;         /* since the build started */
+    double left_s;            /* time left at the rate so far up to the cap; < 0: not known yet */
+} awdb_run_progress;
+
+#define AWDB_PROGRESS_MAX_RUNS 16
+typedef struct awdb_progress {
+    int ready;         /* finished fields (entries with their checksum file; not verified here) */
+    int queued;        /* requests waiting in queue/ */
+    int running;       /* requests claimed by a builder (running/) */
+    int builder_alive; /* 1 if a builder holds the database's lock */
+    int n_runs;        /* entries of runs[]: the first AWDB_PROGRESS_MAX_RUNS running, by name */
+    awdb_run_progress runs[AWDB_PROGRESS_MAX_RUNS];
+} awdb_progress;
+
+/* Read the database's state into *out (a directory scan and one small
+ * file per running request: cheap enough once a second). 0, or < 0 with
+ * err when the database folder cannot be read. */
+int awdb_progress_read(awdb *db, awdb_progress *out, core_err *err);
+/* The progress entry of the build named name (awdb_key_name), or NULL. */
+const awdb_run_progress *awdb_progress_find(const awdb_progress *p, const char *name);
+
 /* CRC-64 (ECMA-182) of a file; 0 or < 0 with err. */
 int awdb_file_crc64(const char *path, uint64_t *crc, uint64_t *size, core_err *err);
 
@@ -168,6 +208,9 @@ typedef struct awdb_builder_opts {
      * requests); may be NULL. */
     void (*idle)(void *user);
     void *idle_user;
+    /* Least interval between two writes of a build's progress file
+     * (running/NAME.prog); 0: 1 s. */
+    double progress_interval_s;
 } awdb_builder_opts;
 
 /* Run the builder on db until *stop becomes non-zero (or the queue empties

@@ -1,14 +1,16 @@
 /* builder.c -- the background airwake builder: claims queued requests (a
  * hard link into running/ is the claim, so two claimers cannot both win),
- * runs up to `jobs` CFD builds at once in threads, commits each field
+ * runs up to `jobs` CFD builds at once in threads, publishes each build's
+ * progress (running/NAME.prog, replaced by rename), commits each field
  * atomically (checksum file prepared, field renamed, checksum renamed), and
  * recovers from a crash by returning running/ requests to the front of the
- * queue and removing stray temporaries. */
+ * queue and removing stray temporaries and progress files. */
 #include "awdb_private.h"
 
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <math.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,7 +49,46 @@ static void status(builder *b, const awdb_key *k, awdb_state s, double frac, dou
 typedef struct prog {
     job *j;
     struct timespec last;
+    /* the progress file: the build's start, the first report (iteration
+     * and time, for the rate), the last write, the cap once known */
+    struct timespec t0, first, written;
+    int have_first, written_once, iter0, max_iter;
 } prog;
+
+static double secs(struct timespec a, struct timespec b)
+{
+    return (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
+}
+
+/* running/NAME.prog, replaced by rename so that a reader finds a whole file
+ * or none. Advisory: not synced (a restarted builder removes them all), and
+ * a write that fails is skipped (the next one may succeed). */
+static void write_progress(awdb *db, const char *name, int iter, int max_iter, double residual, double frac,
+                           double elapsed_s, double left_s)
+{
+    char path[AWDB_PATH], tmp[AWDB_PATH + 32], text[512];
+    awdb_path(db, path, sizeof path, "running", name, ".prog");
+    if (awdb_fmt(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid()) < 0)
+        return;
+    int len = awdb_fmt(text, sizeof text,
+                       "[progress]\niteration = %d\nmax_iterations = %d\nresidual = %.6e\nfraction = %.6f\n"
+                       "elapsed_s = %.3f\nleft_s = %.3f\n",
+                       iter, max_iter, residual, frac, elapsed_s, left_s);
+    FILE *f = len > 0 ? fopen(tmp, "w") : NULL;
+    if (!f)
+        return;
+    int ok = fwrite(text, 1, (size_t)len, f) == (size_t)len;
+    ok = fclose(f) == 0 && ok;
+    if (!ok || rename(tmp, path) != 0)
+        remove(tmp);
+}
+
+static void remove_progress(awdb *db, const char *name)
+{
+    char path[AWDB_PATH];
+    awdb_path(db, path, sizeof path, "running", name, ".prog");
+    remove(path);
+}
 
 static int on_progress(void *user, double frac, double residual, int iter)
 {
@@ -59,6 +100,24 @@ static int on_progress(void *user, double frac, double residual, int iter)
     if ((now.tv_sec - p->last.tv_sec) * 1e9 + (now.tv_nsec - p->last.tv_nsec) > 5e8) {
         p->last = now;
         status(b, &p->j->key, AWDB_RUNNING, frac, residual, iter, "", "");
+    }
+    /* The cap: the engines report frac = iteration / cap. */
+    if (frac > 0.0 && iter > 0)
+        p->max_iter = (int)lround(iter / frac);
+    if (!p->have_first) {
+        p->have_first = 1;
+        p->first = now;
+        p->iter0 = iter;
+    }
+    double interval = b->opts->progress_interval_s > 0.0 ? b->opts->progress_interval_s : 1.0;
+    if (!p->written_once || secs(p->written, now) >= interval) {
+        p->written_once = 1;
+        p->written = now;
+        /* the time left at the rate since the first report, up to the cap */
+        double dt = secs(p->first, now), left = -1.0;
+        if (p->max_iter > 0 && iter > p->iter0 && dt > 0.0)
+            left = fmax(0.0, (p->max_iter - iter) * dt / (iter - p->iter0));
+        write_progress(b->db, p->j->name, iter, p->max_iter, residual, frac, secs(p->t0, now), left);
     }
     return *b->stop != 0;
 }
@@ -129,9 +188,15 @@ static void *run_job(void *arg)
     core_log_msg(db->log, CORE_LOG_INFO, "building %s%s%s", j->name, warm_path ? " from " : "",
                  warm_path ? warm_path : "");
     status(b, &j->key, AWDB_RUNNING, 0.0, 0.0, 0, "", "");
-    prog p = {j, {0, 0}};
+    prog p;
+    memset(&p, 0, sizeof p);
+    p.j = j;
+    clock_gettime(CLOCK_MONOTONIC, &p.t0);
+    /* a reader sees the build started before its first iteration */
+    write_progress(db, j->name, 0, 0, 0.0, 0.0, 0.0, -1.0);
     remove(tmp);
     int rc = b->engine->build(b->engine->user, &j->key, warm_path, tmp, on_progress, &p, &err);
+    remove_progress(db, j->name); /* before the claim goes: no progress without its request */
     int committed = 0;
     if (rc == 0 && !*b->stop) {
         rc = commit(db, &j->key, j->name, tmp, &err);
@@ -185,7 +250,25 @@ static int stray_temporary(const char *name)
     return pid <= 0 || (kill((pid_t)pid, 0) != 0 && errno == ESRCH);
 }
 
-/* After a crash: running/ back to the front of the queue, temporaries out. */
+/* 1 if name is a progress file or a progress file's temporary
+ * ("NAME.prog", "NAME.prog.tmpPID"). */
+static int progress_file(const char *name)
+{
+    size_t l = strlen(name);
+    if (l > 5 && !strcmp(name + l - 5, ".prog"))
+        return 1;
+    const char *t = strstr(name, ".prog.tmp");
+    if (!t)
+        return 0;
+    for (t += 9; *t; t++)
+        if (*t < '0' || *t > '9')
+            return 0;
+    return 1;
+}
+
+/* After a crash: running/ back to the front of the queue, progress files
+ * and temporaries out. Every progress file is stale here: the builder that
+ * wrote it held the lock this one now holds, so it has exited. */
 static void recover(awdb *db)
 {
     char p[AWDB_PATH];
@@ -194,6 +277,12 @@ static void recover(awdb *db)
     struct dirent *e;
     while (d && (e = readdir(d))) {
         size_t l = strlen(e->d_name);
+        if (progress_file(e->d_name)) {
+            char f[AWDB_PATH + 300];
+            awdb_fmt(f, sizeof f, "%s/%s", p, e->d_name);
+            remove(f);
+            continue;
+        }
         if (l < 5 || strcmp(e->d_name + l - 4, ".req"))
             continue;
         char from[AWDB_PATH + 300], to[AWDB_PATH + 300];

@@ -1,8 +1,9 @@
 /* test_awdb.c -- the airwake database and builder: canonical keys, CRC-64,
  * one build per key however often it is asked for, corrupt and torn fields
  * detected and rebuilt, warm starts from the nearest field, failures kept
- * with their reason, a second builder refused, and a builder killed with
- * SIGKILL mid-build leaving a consistent database that a restart finishes.
+ * with their reason, a second builder refused, a builder killed with
+ * SIGKILL mid-build leaving a consistent database that a restart finishes,
+ * and the builder's progress files as a client reads them.
  * The engine here is a test engine that writes a small file derived from the
  * key (the real CFD engine is exercised by the cfd tests); what is under test
  * is the database's bookkeeping. */
@@ -103,7 +104,7 @@ static void on_term(int sig)
 static int run_builder(awdb *db, test_engine *te, int jobs, core_err *err)
 {
     awdb_engine eng = {"test", te_build, te, NULL};
-    awdb_builder_opts o = {jobs, 1, 0.01, NULL, NULL, NULL, NULL};
+    awdb_builder_opts o = {jobs, 1, 0.01, NULL, NULL, NULL, NULL, 0.0};
     return awdb_builder_run(db, &eng, &o, &no_stop, err);
 }
 
@@ -543,7 +544,7 @@ static void test_term(const char *dir)
         test_engine te = {0, -1, 3.0, ""};
         awdb *dbc = awdb_open(dir, NULL, &err);
         awdb_engine eng = {"test", te_build, &te, NULL};
-        awdb_builder_opts o = {1, 0, 0.01, NULL, NULL, NULL, NULL};
+        awdb_builder_opts o = {1, 0, 0.01, NULL, NULL, NULL, NULL, 0.0};
         int rc = awdb_builder_run(dbc, &eng, &o, &term_flag, &err);
         awdb_close(dbc);
         _exit(rc == 0 ? 0 : 3);
@@ -627,7 +628,7 @@ static void test_source(const char *dir)
     CHECK(awdb_submit(db, &g60, NULL, &err) == 0);
     CHECK(awdb_submit(db, &r60, NULL, &err) == 0);
     awdb_engine eng = {"test-source", se_build, &se, se_source};
-    awdb_builder_opts o = {2, 1, 0.01, NULL, NULL, NULL, NULL};
+    awdb_builder_opts o = {2, 1, 0.01, NULL, NULL, NULL, NULL, 0.0};
     CHECK(awdb_builder_run(db, &eng, &o, &no_stop, &err) == 0);
     printf("source: build order");
     for (int i = 0; i < se.norder; i++)
@@ -862,6 +863,194 @@ static void test_unclaimable(const char *dir)
     awdb_close(db);
 }
 
+/* The builder's progress files (running/NAME.prog) and awdb_progress_read.
+ * An engine of PROG_MAX iterations, 25 ms each, reporting frac = iteration
+ * / cap as the embedded engine does; three requests built one at a time
+ * with a progress file written at most every 20 ms. A reader races the
+ * writer: each read of the file finds it whole or finds none, and every
+ * awdb_progress_read is sane (counts consistent, iteration within the cap,
+ * fraction = iteration / cap, time left bounded); after the builds no
+ * progress file is left. A restarted builder removes stale progress files,
+ * and a torn one (from before a power cut) reads as none. */
+#define PROG_MAX 40
+static int pe_build(void *user, const awdb_key *k, const char *warm, const char *out, awdb_progress_fn progress,
+                    void *pu, core_err *err)
+{
+    (void)user;
+    (void)warm;
+    FILE *f = fopen(out, "w");
+    if (!f)
+        return core_err_set(err, -1, "%s: cannot write", out);
+    fprintf(f, "%s %.2f\n", k->ship, k->wod_speed_mps);
+    fclose(f);
+    for (int i = 1; i <= PROG_MAX; i++) {
+        struct timespec ts = {0, 25000000};
+        nanosleep(&ts, NULL);
+        if (progress(pu, (double)i / PROG_MAX, 1e-2 / i, i))
+            break;
+    }
+    return 0;
+}
+
+typedef struct prog_thread {
+    awdb *db;
+    int rc;
+    core_err err;
+} prog_thread;
+
+static void *prog_builder(void *arg)
+{
+    prog_thread *t = arg;
+    awdb_engine eng = {"progress", pe_build, NULL, NULL};
+    awdb_builder_opts o = {1, 1, 0.01, NULL, NULL, NULL, NULL, 0.02};
+    t->rc = awdb_builder_run(t->db, &eng, &o, &no_stop, &t->err);
+    return NULL;
+}
+
+/* A raw read of a progress file: 1 whole, 0 absent, -1 anything else. */
+static int read_raw_progress(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return errno == ENOENT ? 0 : -1;
+    char text[1024];
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    return !strncmp(text, "[progress]\n", 11) && strstr(text, "\nleft_s = ") && text[n - 1] == '\n' ? 1 : -1;
+}
+
+static void test_progress(const char *dir)
+{
+    core_err err = {{0}};
+    awdb *db = awdb_open(dir, NULL, &err);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    awdb_progress pr;
+    CHECK(awdb_progress_read(db, &pr, &err) == 0);
+    CHECK(pr.ready == 0 && pr.queued == 0 && pr.running == 0 && pr.n_runs == 0 && pr.builder_alive == 0);
+    awdb_key k[3] = {key(12, 0), key(13, 0), key(14, 0)};
+    char names[3][200], progp[3][1400];
+    for (int i = 0; i < 3; i++) {
+        CHECK(awdb_submit(db, &k[i], NULL, &err) == 0);
+        CHECK(awdb_key_canon(&k[i], &err) == 0);
+        awdb_key_name(&k[i], names[i], sizeof names[i]);
+        snprintf(progp[i], sizeof progp[i], "%s/running/%s.prog", dir, names[i]);
+    }
+    CHECK(awdb_progress_read(db, &pr, &err) == 0 && pr.queued == 3 && pr.running == 0 && pr.ready == 0);
+    prog_thread t = {awdb_open(dir, NULL, &err), 0, {{0}}};
+    pthread_t th;
+    CHECK(t.db && pthread_create(&th, NULL, prog_builder, &t) == 0);
+    int whole = 0, torn = 0, reads = 0, insane = 0, seen_first = 0, seen_left = 0, last_ready = 0, last_queued = 3,
+        order = 0, seen_which[3] = {0, 0, 0};
+    for (int loop = 0; loop < 200000; loop++) {
+        for (int i = 0; i < 3; i++) {
+            int r = read_raw_progress(progp[i]);
+            whole += r == 1;
+            torn += r < 0;
+        }
+        if (awdb_progress_read(db, &pr, &err) != 0) {
+            insane++;
+            break;
+        }
+        reads++;
+        int total = pr.ready + pr.queued + pr.running;
+        /* a request counts twice for an instant (the claim links before it
+         * unlinks; a commit renames its .sum before the claim goes) */
+        if (total < 3 || total > 4 || pr.running > 1 || pr.n_runs != pr.running)
+            insane++;
+        if (pr.ready < last_ready || pr.queued > last_queued)
+            order++;
+        last_ready = pr.ready;
+        last_queued = pr.queued;
+        for (int r = 0; r < pr.n_runs; r++) {
+            const awdb_run_progress *p = &pr.runs[r];
+            int which = -1;
+            for (int i = 0; i < 3; i++)
+                if (!strcmp(p->name, names[i]))
+                    which = i;
+            if (which < 0)
+                insane++;
+            if (!p->have)
+                continue;
+            if (which >= 0)
+                seen_which[which] = 1;
+            if (p->iteration < 0 || p->iteration > PROG_MAX || p->elapsed_s < 0 || p->elapsed_s > 60 ||
+                p->left_s > 10 || (p->left_s < 0 && p->left_s != -1.0) || fabs(p->frac - (double)p->iteration / PROG_MAX) > 1e-6)
+                insane++;
+            if (p->iteration > 0 && (p->max_iterations != PROG_MAX || !(p->residual > 0)))
+                insane++;
+            if (p->iteration == 0 && p->left_s != -1.0)
+                insane++;
+            if (p->iteration > 0 && pr.queued >= 1 && awdb_progress_find(&pr, p->name) == p)
+                seen_first = 1;
+            if (p->iteration > 2 && p->left_s >= 0)
+                seen_left = 1;
+        }
+        if (pr.ready == 3 && pr.running == 0)
+            break;
+        usleep(500);
+    }
+    pthread_join(th, NULL);
+    CHECK(t.rc == 0);
+    if (torn || insane || order)
+        fprintf(stderr, "  progress: %d reads, %d whole files, %d torn, %d insane, %d out of order\n", reads, whole, torn,
+                insane, order);
+    CHECK(torn == 0 && insane == 0 && order == 0);
+    CHECK(whole > 10 && seen_first && seen_left);
+    CHECK(seen_which[0] && seen_which[1] && seen_which[2]);
+    /* after the builds: every field ready, nothing running, no progress file */
+    CHECK(awdb_progress_read(db, &pr, &err) == 0);
+    CHECK(pr.ready == 3 && pr.queued == 0 && pr.running == 0 && pr.n_runs == 0 && pr.builder_alive == 0);
+    CHECK(count(dir, "running", ".prog") == 0 && count(dir, "running", "") == 0);
+    CHECK(awdb_progress_find(&pr, names[0]) == NULL);
+    /* A builder killed mid-build leaves running/NAME.req with a progress
+     * file, here torn (as after a power cut), and a stray temporary: the
+     * torn file reads as no progress; a restart requeues the request and
+     * removes both. */
+    awdb_key kk = key(15, 0);
+    CHECK(awdb_key_canon(&kk, &err) == 0);
+    char kname[200], req[1400], text[AWDB_KEY_TEXT];
+    awdb_key_name(&kk, kname, sizeof kname);
+    snprintf(req, sizeof req, "%s/running/%s.req", dir, kname);
+    awdb_key_format(&kk, text, sizeof text);
+    FILE *f = fopen(req, "w");
+    CHECK(f != NULL);
+    if (f) {
+        fputs(text, f);
+        fclose(f);
+    }
+    char pp[1400], ptmp[1500], orphan[1400];
+    snprintf(pp, sizeof pp, "%s/running/%s.prog", dir, kname);
+    snprintf(ptmp, sizeof ptmp, "%s.tmp%ld", pp, (long)getpid());
+    snprintf(orphan, sizeof orphan, "%s/running/gone.prog", dir);
+    f = fopen(pp, "w");
+    if (f) {
+        fputs("[progress]\niteration = 7\nmax_iter", f);
+        fclose(f);
+    }
+    f = fopen(ptmp, "w");
+    if (f)
+        fclose(f);
+    f = fopen(orphan, "w");
+    if (f) {
+        fputs("[progress]\niteration = 1\nmax_iterations = 9\nresidual = 1\nfraction = 0.1\nelapsed_s = 1\nleft_s = 8\n", f);
+        fclose(f);
+    }
+    CHECK(awdb_progress_read(db, &pr, &err) == 0);
+    CHECK(pr.running == 1 && pr.n_runs == 1 && !strcmp(pr.runs[0].name, kname) && pr.runs[0].have == 0 &&
+          pr.runs[0].left_s == -1.0);
+    t.rc = -1;
+    CHECK(pthread_create(&th, NULL, prog_builder, &t) == 0);
+    pthread_join(th, NULL);
+    CHECK(t.rc == 0);
+    CHECK(access(pp, F_OK) != 0 && access(ptmp, F_OK) != 0 && access(orphan, F_OK) != 0);
+    CHECK(awdb_progress_read(db, &pr, &err) == 0 && pr.ready == 4 && pr.queued == 0 && pr.running == 0);
+    awdb_close(t.db);
+    awdb_close(db);
+}
+
 /* A ships folder whose file paths do not fit the loader's buffer: refused
  * by name (the path was cut, and the ship then "not found" later). */
 static void test_long_ships_path(const char *dir)
@@ -919,6 +1108,8 @@ int main(void)
     test_probe(d5);
     snprintf(d5, sizeof d5, "%s/db9", dir);
     test_unclaimable(d5);
+    snprintf(d5, sizeof d5, "%s/db10", dir);
+    test_progress(d5);
     snprintf(d5, sizeof d5, "%s/ships", dir);
     test_long_ships_path(d5);
     char cmd[128];
