@@ -266,8 +266,14 @@ typedef struct core_ship {
     core_ship_block blocks[CORE_SHIP_MAX_BLOCKS];
 } core_ship;
 
-/* Load a ship file (INI, [ship] and one [block NAME] per block). */
+/* Load a ship file (INI, [ship] and one [block NAME] per block; the format
+ * is docs/ship-format.md). An unknown section, and an anemometer below the
+ * waterline, are errors. */
 int core_ship_load(const char *path, core_ship *ship, core_err *err);
+/* The same, with the consistency warnings (CORE_LOG_WARN) on log: a landing
+ * spot not on a deck at deck_height_m, an anemometer below the deck, blocks
+ * longer or wider than the ship, a flight deck off the blocks. */
+int core_ship_load_log(const char *path, core_ship *ship, const core_log *log, core_err *err);
 /* 1 if point p (S) lies inside one of the ship's blocks. The sea surface is
  * a boundary of the CFD domain, not a block, so it does not count here. */
 int core_ship_contains(const core_ship *ship, core_vec3 p_S_m);

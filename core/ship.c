@@ -8,7 +8,14 @@
  *   [block NAME]  x_m = aft,fwd (S), y_m = port,starboard (S),
  *            height_m = bottom,top above the waterline, bow_taper_m (optional)
  * Heights above the waterline are what drawings give; S has z down from the
- * deck, so z = deck_height_m - height. */
+ * deck, so z = deck_height_m - height. The format, key by key, is
+ * docs/ship-format.md. Beyond each key's range: an unknown section is named
+ * before any key is read, an anemometer below the waterline is refused, and
+ * (core_ship_load_log) the slips that keep every value in range are warned
+ * about: heights measured from the deck instead of the waterline (the landing
+ * spot is then not on a deck at deck_height_m), an anemometer below the deck
+ * (z taken up-positive), blocks beyond the ship's length or beam, a flight
+ * deck that no block carries. */
 #include "core.h"
 
 #include <math.h>
@@ -32,7 +39,87 @@ static int get_pair(core_ini *ini, const char *sec, const char *key, double lo, 
     return 0;
 }
 
+/* Every section is [ship] or [block NAME]. */
+static int check_sections(const core_ini *ini, core_err *err)
+{
+    for (size_t i = 0; i < core_ini_count(ini); i++) {
+        const core_ini_entry *e = core_ini_at(ini, i);
+        if (strcmp(e->section, "ship") != 0 && strncmp(e->section, "block ", 6) != 0)
+            return core_err_set(err, -1,
+                                "%s:%d: unknown section [%s] (a ship file has [ship] and one [block NAME] "
+                                "per block)",
+                                core_ini_path(ini), e->line, e->section);
+    }
+    return 0;
+}
+
+static int key_line(const core_ini *ini, const char *sec, const char *key)
+{
+    const core_ini_entry *e = core_ini_find(ini, sec, key);
+    return e ? e->line : 0;
+}
+
+/* The consistency warnings of a loaded ship (see the file's opening). */
+static void warn_ship(const core_ini *ini, const core_ship *ship, const core_log *log)
+{
+    const char *path = core_ini_path(ini);
+    const double tol = 0.05; /* m */
+    double x0 = 1e30, x1 = -1e30, y0 = 1e30, y1 = -1e30, top = -1e30, fwd = -1e30, aft = 1e30;
+    for (int i = 0; i < ship->nblocks; i++) {
+        const core_ship_block *b = &ship->blocks[i];
+        x0 = fmin(x0, b->x0_m);
+        x1 = fmax(x1, b->x1_m);
+        y0 = fmin(y0, b->y0_m);
+        y1 = fmax(y1, b->y1_m);
+        /* the top of the blocks that carry the landing spot (S origin), height above the waterline */
+        if (b->x0_m <= 0.0 && b->x1_m >= 0.0 && b->y0_m <= 0.0 && b->y1_m >= 0.0)
+            top = fmax(top, ship->deck_height_m - b->z0_m);
+        /* the extent in x of the blocks whose top is the flight deck */
+        if (fabs(b->z0_m) <= tol) { /* z0 is the top (z down from the deck) */
+            aft = fmin(aft, b->x0_m);
+            fwd = fmax(fwd, b->x1_m);
+        }
+    }
+    if (top < -1e29)
+        core_log_msg(log, CORE_LOG_WARN,
+                     "%s: no [block] carries the landing spot (x = 0, y = 0 of S): S has its origin at the centre "
+                     "of the landing spot on the deck",
+                     path);
+    else if (fabs(top - ship->deck_height_m) > tol)
+        core_log_msg(log, CORE_LOG_WARN,
+                     "%s:%d: [ship] deck_height_m = %g: the blocks under the landing spot reach %g m above the "
+                     "waterline, so the landing spot is not on a deck at deck_height_m: block height_m values are "
+                     "metres above the WATERLINE (not the deck)",
+                     path, key_line(ini, "ship", "deck_height_m"), ship->deck_height_m, top);
+    else if (ship->deck_x0_m < aft - tol || ship->deck_x1_m > fwd + tol)
+        core_log_msg(log, CORE_LOG_WARN,
+                     "%s:%d: [ship] deck_x_m = %g, %g: beyond the blocks whose top is the deck (x %g to %g)", path,
+                     key_line(ini, "ship", "deck_x_m"), ship->deck_x0_m, ship->deck_x1_m, aft, fwd);
+    if (ship->anemometer_S_m[2] > 0.0)
+        core_log_msg(log, CORE_LOG_WARN,
+                     "%s:%d: [ship] anemometer_S_m: z = %g m is below the flight deck (S has z down: an anemometer "
+                     "on a mast above the deck has z < 0)",
+                     path, key_line(ini, "ship", "anemometer_S_m"), ship->anemometer_S_m[2]);
+    if (x1 - x0 > ship->length_m * 1.02)
+        core_log_msg(log, CORE_LOG_WARN,
+                     "%s:%d: [ship] length_m = %g: the blocks span %g m (x %g to %g), longer than the ship", path,
+                     key_line(ini, "ship", "length_m"), ship->length_m, x1 - x0, x0, x1);
+    if (y1 - y0 > ship->beam_m * 1.02)
+        core_log_msg(log, CORE_LOG_WARN,
+                     "%s:%d: [ship] beam_m = %g: the blocks span %g m (y %g to %g), wider than the ship", path,
+                     key_line(ini, "ship", "beam_m"), ship->beam_m, y1 - y0, y0, y1);
+    if (ship->deck_halfwidth_m > 0.5 * ship->beam_m * 1.02)
+        core_log_msg(log, CORE_LOG_WARN,
+                     "%s:%d: [ship] deck_halfwidth_m = %g: wider than half the beam (%g m): the key is the HALF width",
+                     path, key_line(ini, "ship", "deck_halfwidth_m"), ship->deck_halfwidth_m, 0.5 * ship->beam_m);
+}
+
 int core_ship_load(const char *path, core_ship *ship, core_err *err)
+{
+    return core_ship_load_log(path, ship, NULL, err);
+}
+
+int core_ship_load_log(const char *path, core_ship *ship, const core_log *log, core_err *err)
 {
     memset(ship, 0, sizeof *ship);
     core_ini *ini = core_ini_load(path, err);
@@ -42,6 +129,8 @@ int core_ship_load(const char *path, core_ship *ship, core_err *err)
     const char *S = "ship";
     double pair[2], anem[3];
     int n = 0;
+    if ((rc = check_sections(ini, err)))
+        goto out;
     if ((rc = core_ini_get_string(ini, S, "name", 1, ship->name, sizeof ship->name, err)) ||
         (rc = core_ini_get_double(ini, S, "length_m", 1, 1.0, 500.0, &ship->length_m, err)) ||
         (rc = core_ini_get_double(ini, S, "beam_m", 1, 1.0, 100.0, &ship->beam_m, err)) ||
@@ -60,6 +149,14 @@ int core_ship_load(const char *path, core_ship *ship, core_err *err)
         goto out;
     }
     memcpy(ship->anemometer_S_m, anem, sizeof anem);
+    if (anem[2] > ship->deck_height_m) {
+        rc = core_err_set(err, -1,
+                          "%s:%d: [ship] anemometer_S_m: z = %g m is %g m below the waterline (S has z down from "
+                          "the deck, deck_height_m = %g above the waterline): an anemometer above the deck has z < 0",
+                          path, core_ini_find(ini, S, "anemometer_S_m")->line, anem[2],
+                          anem[2] - ship->deck_height_m, ship->deck_height_m);
+        goto out;
+    }
 
     for (size_t i = 0; i < core_ini_count(ini); i++) {
         const core_ini_entry *e = core_ini_at(ini, i);
@@ -114,6 +211,8 @@ int core_ship_load(const char *path, core_ship *ship, core_err *err)
         goto out;
     }
     rc = core_ini_check_unused(ini, err);
+    if (rc == 0 && log)
+        warn_ship(ini, ship, log);
 out:
     core_ini_destroy(ini);
     return rc;

@@ -1,14 +1,22 @@
 /* aircraft.c -- the aircraft data file (INI) read into hfm_aircraft.
  *
- * Every parameter is required and range-checked by core's typed getters, so a
- * missing or non-physical value is an error "file:line: [section] key: ...";
- * a few cross-checks (root cut-out inside the blade, table abscissae
- * increasing, the airfoil table spanning -180..180 deg) follow. The
+ * The file's format, key by key, is docs/aircraft-format.md. One loader per
+ * section; every parameter is required and range-checked by core's typed
+ * getters, so a missing or non-physical value is an error
+ * "file:line: [section] key: ...". A section the loader does not know is an
+ * error naming it before any key is read (a misspelt section would otherwise
+ * surface as a missing key of the section meant). Cross-checks inside a
+ * section (root cut-out inside the blade, table abscissae increasing, the
+ * airfoil table spanning -180..180 deg, mass properties some body has)
+ * follow its keys; the checks across sections that catch unit slips
+ * (hfm_aircraft_check, aircraft_check.c) run on the whole aircraft. The
  * [rejection] section belongs to shol and is skipped. Tables are resampled
  * here so that the evaluation never searches: the airfoil on a 1 deg grid.
  */
 #include "hfm_priv.h"
 
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -27,67 +35,205 @@ double hfm_table_eval(const hfm_table *t, double x)
     return t->y[i - 1] + f * (t->y[i] - t->y[i - 1]);
 }
 
-/* Getter shorthands: each returns from the loader on failure. */
-#define GETD(sec, key, lo, hi, dst)                                                 \
-    do {                                                                            \
-        if (core_ini_get_double(ini, sec, key, 1, lo, hi, &(dst), err))             \
-            goto fail;                                                              \
-    } while (0)
+/* ------------------------------------------------ read-and-check helpers */
+/* The file being read and where its errors go. */
+typedef struct rd {
+    core_ini *ini;
+    const char *path;
+    core_err *err;
+} rd;
 
-static int get_vec3(core_ini *ini, const char *sec, const char *key, double lo, double hi,
-                    double out[3], core_err *err)
+int hfm_aircraft_key_line(const core_ini *ini, const char *sec, const char *key)
 {
-    int cnt = 0;
-    int rc = core_ini_get_doubles(ini, sec, key, 1, lo, hi, out, 3, &cnt, err);
-    if (rc)
+    const core_ini_entry *e = core_ini_find(ini, sec, key);
+    return e ? e->line : 0;
+}
+
+/* "file:line: [sec] key: why" (the line of the key), returns -1. */
+static int rd_fail(const rd *r, const char *sec, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static int rd_fail(const rd *r, const char *sec, const char *key, const char *fmt, ...)
+{
+    char why[768];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(why, sizeof why, fmt, ap);
+    va_end(ap);
+    return core_err_set(r->err, -1, "%s:%d: [%s] %s: %s", r->path,
+                        hfm_aircraft_key_line(r->ini, sec, key), sec, key, why);
+}
+
+/* A required number in [lo, hi]. */
+static int rd_num(rd *r, const char *sec, const char *key, double lo, double hi, double *dst)
+{
+    return core_ini_get_double(r->ini, sec, key, 1, lo, hi, dst, r->err) ? -1 : 0;
+}
+
+/* A required angle in degrees in [lo, hi], stored in radians. */
+static int rd_deg(rd *r, const char *sec, const char *key, double lo, double hi, double *dst_rad)
+{
+    double d;
+    if (rd_num(r, sec, key, lo, hi, &d))
         return -1;
-    if (cnt != 3) {
-        const core_ini_entry *e = core_ini_find(ini, sec, key);
-        return core_err_set(err, -1, "%s:%d: [%s] %s: expected 3 numbers (x, y, z), got %d",
-                            core_ini_path(ini), e ? e->line : 0, sec, key, cnt);
-    }
+    *dst_rad = d * D2R;
     return 0;
 }
 
-/* A table from two keys (abscissa in deg, values in [lo, hi]). */
-static int get_table(core_ini *ini, const char *sec, const char *kx, const char *ky, double lo,
-                     double hi, hfm_table *t, core_err *err)
+/* A required whole number in [lo, hi]. */
+static int rd_int(rd *r, const char *sec, const char *key, long lo, long hi, int *dst)
+{
+    long l;
+    if (core_ini_get_int(r->ini, sec, key, 1, lo, hi, &l, r->err))
+        return -1;
+    *dst = (int)l;
+    return 0;
+}
+
+/* A required position "x, y, z" with each coordinate in [lo, hi]. */
+static int rd_vec3(rd *r, const char *sec, const char *key, double lo, double hi, double out[3])
+{
+    int cnt = 0;
+    if (core_ini_get_doubles(r->ini, sec, key, 1, lo, hi, out, 3, &cnt, r->err))
+        return -1;
+    if (cnt != 3)
+        return rd_fail(r, sec, key, "expected 3 numbers (x, y, z), got %d", cnt);
+    return 0;
+}
+
+/* A table from two keys (abscissa in deg, increasing; values in [lo, hi]),
+ * its abscissa stored in radians. */
+static int rd_table(rd *r, const char *sec, const char *kx, const char *ky, double lo, double hi,
+                    hfm_table *t)
 {
     int nx = 0, ny = 0;
-    if (core_ini_get_doubles(ini, sec, kx, 1, -180.0, 180.0, t->x, HFM_TAB_MAX, &nx, err) ||
-        core_ini_get_doubles(ini, sec, ky, 1, lo, hi, t->y, HFM_TAB_MAX, &ny, err))
+    if (core_ini_get_doubles(r->ini, sec, kx, 1, -180.0, 180.0, t->x, HFM_TAB_MAX, &nx, r->err) ||
+        core_ini_get_doubles(r->ini, sec, ky, 1, lo, hi, t->y, HFM_TAB_MAX, &ny, r->err))
         return -1;
-    const core_ini_entry *e = core_ini_find(ini, sec, ky);
     if (nx != ny)
-        return core_err_set(err, -1, "%s:%d: [%s] %s: %d values for %d abscissae in %s",
-                            core_ini_path(ini), e->line, sec, ky, ny, nx, kx);
+        return rd_fail(r, sec, ky, "%d values for %d abscissae in %s", ny, nx, kx);
     for (int i = 1; i < nx; i++)
-        if (!(t->x[i] > t->x[i - 1])) {
-            e = core_ini_find(ini, sec, kx);
-            return core_err_set(err, -1, "%s:%d: [%s] %s: abscissae must increase (item %d)",
-                                core_ini_path(ini), e->line, sec, kx, i + 1);
-        }
+        if (!(t->x[i] > t->x[i - 1]))
+            return rd_fail(r, sec, kx, "abscissae must increase (item %d)", i + 1);
     for (int i = 0; i < nx; i++)
         t->x[i] *= D2R;
     t->n = nx;
     return 0;
 }
 
-static int load_airfoil(core_ini *ini, hfm_airfoil *af, core_err *err)
+/* ------------------------------------------------------------- sections */
+static const char *const known_sections[] = {"aircraft", "main_rotor", "main_rotor_airfoil",
+                                             "tail_rotor", "fuselage",   "stabilator",
+                                             "fin",      "controls",   "rejection"};
+
+static int check_sections(const rd *r)
+{
+    for (size_t i = 0; i < core_ini_count(r->ini); i++) {
+        const core_ini_entry *e = core_ini_at(r->ini, i);
+        int known = 0;
+        for (size_t k = 0; k < sizeof known_sections / sizeof known_sections[0]; k++)
+            known |= strcmp(e->section, known_sections[k]) == 0;
+        if (!known)
+            return core_err_set(r->err, -1,
+                                "%s:%d: unknown section [%s] (an aircraft file has [aircraft], [main_rotor], "
+                                "[main_rotor_airfoil], [tail_rotor], [fuselage], [stabilator], [fin], "
+                                "[controls] and [rejection])",
+                                r->path, e->line, e->section);
+    }
+    return 0;
+}
+
+/* [aircraft]: name, mass and inertia about the CG in body axes. */
+static int load_mass(rd *r, hfm_aircraft *ac)
+{
+    const char *A = "aircraft";
+    double ixx, iyy, izz, ixz;
+    if (core_ini_get_string(r->ini, A, "name", 1, ac->name, sizeof ac->name, r->err) ||
+        rd_num(r, A, "mass_kg", 100.0, 1e5, &ac->mass) || rd_num(r, A, "Ixx_kgm2", 1.0, 1e7, &ixx) ||
+        rd_num(r, A, "Iyy_kgm2", 1.0, 1e7, &iyy) || rd_num(r, A, "Izz_kgm2", 1.0, 1e7, &izz) ||
+        rd_num(r, A, "Ixz_kgm2", -1e6, 1e6, &ixz))
+        return -1;
+    if (ixz * ixz >= ixx * izz)
+        return rd_fail(r, A, "Ixz_kgm2", "inertia matrix not positive definite");
+    /* A rigid body's principal moments obey the triangle inequality
+     * (I1 + I2 >= I3: each is a sum of two of the three second moments of
+     * mass); a data file that breaks it is mistyped, and the 6-DOF
+     * equations would still run on it. The x-z block's principal moments,
+     * and Iyy. */
+    double mean = 0.5 * (ixx + izz), rad = sqrt(0.25 * (ixx - izz) * (ixx - izz) + ixz * ixz);
+    double p[3] = {mean + rad, mean - rad, iyy};
+    /* largest first: only the largest can exceed the other two's sum */
+    for (int a = 0; a < 2; a++)
+        for (int b = a + 1; b < 3; b++)
+            if (p[b] > p[a]) {
+                double t = p[a];
+                p[a] = p[b];
+                p[b] = t;
+            }
+    if (p[0] > (p[1] + p[2]) * (1.0 + 1e-9))
+        return core_err_set(r->err, -1,
+                            "%s: [%s] Ixx_kgm2, Iyy_kgm2, Izz_kgm2, Ixz_kgm2: principal moments %.0f, %.0f, %.0f "
+                            "kg m^2 break the triangle inequality (%.0f > %.0f + %.0f: each must be at most the sum "
+                            "of the other two)",
+                            r->path, A, p[0], p[1], p[2], p[0], p[1], p[2]);
+    double I[3][3] = {{ixx, 0, -ixz}, {0, iyy, 0}, {-ixz, 0, izz}};
+    memcpy(ac->I, I, sizeof I);
+    double det = ixx * izz - ixz * ixz;
+    double Ii[3][3] = {{izz / det, 0, ixz / det}, {0, 1.0 / iyy, 0}, {ixz / det, 0, ixx / det}};
+    memcpy(ac->Iinv, Ii, sizeof Ii);
+    return 0;
+}
+
+/* [main_rotor]: geometry, blade mass properties, hub, model resolution. */
+static int load_main_rotor(rd *r, hfm_mr *mr)
+{
+    const char *M = "main_rotor";
+    int sense;
+    if (rd_int(r, M, "blades", 2, HFM_MAX_BLADES, &mr->nb) ||
+        core_ini_get_enum(r->ini, M, "sense", 1, "ccw|cw", &sense, r->err))
+        return -1;
+    mr->sense = sense == 0 ? 1 : -1;
+    if (rd_num(r, M, "radius_m", 0.5, 30.0, &mr->R) || rd_num(r, M, "omega_radps", 1.0, 200.0, &mr->omega) ||
+        rd_num(r, M, "chord_m", 0.01, 3.0, &mr->chord) ||
+        rd_num(r, M, "hinge_offset_m", 0.0, 0.3 * mr->R, &mr->e) ||
+        rd_num(r, M, "root_cutout_m", mr->e, 0.5 * mr->R, &mr->root) ||
+        rd_num(r, M, "tip_loss", 0.85, 1.0, &mr->B) || rd_deg(r, M, "twist_deg", -40.0, 10.0, &mr->twist) ||
+        rd_num(r, M, "twist_ref_r_over_R", 0.0, 1.0, &mr->twist_ref) ||
+        rd_num(r, M, "blade_flap_inertia_kgm2", 1.0, 1e5, &mr->I_beta) ||
+        rd_num(r, M, "blade_first_moment_kgm", 0.1, 1e4, &mr->S_beta) ||
+        rd_num(r, M, "blade_mass_kg", 0.1, 2000.0, &mr->m_blade))
+        return -1;
+    /* the blade's mass moments about the flap hinge, from one mass
+     * distribution over the span R - e: S^2 <= m I (Cauchy-Schwarz),
+     * S <= m (R - e) and I <= m (R - e)^2 */
+    const double span = mr->R - mr->e, m = mr->m_blade, S = mr->S_beta, Ib = mr->I_beta;
+    const char *why = S * S > m * Ib * (1.0 + 1e-9)        ? "first moment^2 > mass x flap inertia"
+                      : S > m * span * (1.0 + 1e-9)         ? "first moment > mass x (radius - hinge offset)"
+                      : Ib > m * span * span * (1.0 + 1e-9) ? "flap inertia > mass x (radius - hinge offset)^2"
+                                                            : NULL;
+    if (why)
+        return core_err_set(r->err, -1,
+                            "%s: [%s] blade_flap_inertia_kgm2 %g, blade_first_moment_kgm %g, blade_mass_kg %g: %s: "
+                            "no blade has these",
+                            r->path, M, Ib, S, m, why);
+    if (rd_num(r, M, "flap_spring_Nmprad", 0.0, 1e7, &mr->K_beta) ||
+        rd_deg(r, M, "shaft_tilt_deg", -15.0, 15.0, &mr->shaft_tilt) ||
+        rd_vec3(r, M, "hub_B_m", -20.0, 20.0, mr->hub_B) || rd_int(r, M, "segments", 8, HFM_MAX_SEG, &mr->nseg) ||
+        rd_int(r, M, "trim_azimuths", 8, HFM_MAX_AZ, &mr->naz) ||
+        rd_num(r, M, "wake_factor_fuselage", 0.0, 2.5, &mr->k_fus) ||
+        rd_num(r, M, "wake_factor_tail", 0.0, 2.5, &mr->k_tail))
+        return -1;
+    return 0;
+}
+
+/* [main_rotor_airfoil]: cl and cd over the full circle, resampled to 1 deg. */
+static int load_airfoil(rd *r, hfm_airfoil *af)
 {
     hfm_table cl, cd;
     const char *S = "main_rotor_airfoil";
-    if (get_table(ini, S, "alpha_deg", "cl", -3.0, 3.0, &cl, err))
+    if (rd_table(r, S, "alpha_deg", "cl", -3.0, 3.0, &cl) || rd_table(r, S, "alpha_deg", "cd", 0.0, 3.0, &cd))
         return -1;
-    if (get_table(ini, S, "alpha_deg", "cd", 0.0, 3.0, &cd, err))
-        return -1;
-    if (cl.x[0] > -CORE_PI + 1e-9 || cl.x[cl.n - 1] < CORE_PI - 1e-9) {
-        const core_ini_entry *e = core_ini_find(ini, S, "alpha_deg");
-        return core_err_set(err, -1,
-                            "%s:%d: [%s] alpha_deg: the table must span -180 to 180 deg "
-                            "(reversed flow)",
-                            core_ini_path(ini), e->line, S);
-    }
+    if (cl.x[0] > -CORE_PI + 1e-9 || cl.x[cl.n - 1] < CORE_PI - 1e-9)
+        return rd_fail(r, S, "alpha_deg", "the table must span -180 to 180 deg (reversed flow)");
     for (int i = 0; i <= 360; i++) {
         double a = (i - 180) * D2R;
         af->cl[i] = hfm_table_eval(&cl, a);
@@ -96,26 +242,129 @@ static int load_airfoil(core_ini *ini, hfm_airfoil *af, core_err *err)
     return 0;
 }
 
-static int load_surface(core_ini *ini, const char *S, hfm_surf *s, int vertical, core_err *err)
+/* What the blade-element loop uses, derived once from the main rotor's data. */
+static void derive_main_rotor(hfm_mr *mr)
+{
+    mr->rho = CORE_RHO_SL_KGPM3;
+    mr->area = CORE_PI * mr->R * mr->R;
+    mr->hqc = 0.5 * mr->rho * mr->chord;
+    mr->inv_I_beta = 1.0 / mr->I_beta;
+    mr->inv_R = 1.0 / mr->R;
+    for (int j = 0; j < mr->naz; j++) {
+        mr->az_c[j] = cos(2.0 * CORE_PI * j / mr->naz);
+        mr->az_s[j] = sin(2.0 * CORE_PI * j / mr->naz);
+    }
+    /* hub axes: z down the shaft, tilted forward by the shaft tilt */
+    double s = sin(mr->shaft_tilt), c = cos(mr->shaft_tilt);
+    double xh[3] = {c, 0, s}, yh[3] = {0, 1, 0}, zh[3] = {-s, 0, c};
+    for (int i = 0; i < 3; i++) {
+        mr->C_BH[i][0] = xh[i];
+        mr->C_BH[i][1] = yh[i];
+        mr->C_BH[i][2] = zh[i];
+    }
+    /* radial segments of equal width; the lift stops at the tip-loss radius */
+    double dr = (mr->R - mr->root) / mr->nseg, rB = mr->B * mr->R;
+    for (int i = 0; i < mr->nseg; i++) {
+        double r0 = mr->root + i * dr, r1 = r0 + dr;
+        mr->r[i] = 0.5 * (r0 + r1);
+        mr->drd[i] = dr;
+        mr->drl[i] = r1 <= rB ? dr : (r0 >= rB ? 0.0 : rB - r0);
+        mr->x[i] = mr->r[i] - mr->e;
+        mr->tw[i] = mr->twist * mr->r[i] / mr->R;
+    }
+}
+
+/* [tail_rotor]: an open tail rotor or a fenestron. */
+static int load_tail_rotor(rd *r, hfm_tr *tr)
+{
+    const char *T = "tail_rotor";
+    double d3, cant;
+    int side;
+    if (core_ini_get_enum(r->ini, T, "type", 1, "open|fenestron", &tr->kind, r->err) ||
+        rd_int(r, T, "blades", 2, 20, &tr->nb) || rd_num(r, T, "radius_m", 0.1, 5.0, &tr->R) ||
+        rd_num(r, T, "omega_radps", 10.0, 1000.0, &tr->omega) || rd_num(r, T, "chord_m", 0.005, 1.0, &tr->chord) ||
+        rd_num(r, T, "lift_slope_per_rad", 2.0, 7.0, &tr->a) || rd_num(r, T, "cd0", 0.0, 0.05, &tr->cd0) ||
+        rd_deg(r, T, "twist_deg", -40.0, 10.0, &tr->twist) ||
+        rd_num(r, T, "pitch_ref_r_over_R", 0.0, 1.0, &tr->twist_ref) ||
+        rd_num(r, T, "tip_loss", 0.85, 1.0, &tr->B) || rd_deg(r, T, "delta3_deg", 0.0, 60.0, &d3) ||
+        rd_num(r, T, "lock_number", 0.0, 20.0, &tr->lock) || rd_vec3(r, T, "hub_B_m", -30.0, 30.0, tr->hub_B) ||
+        core_ini_get_enum(r->ini, T, "thrust_side", 1, "starboard|port", &side, r->err) ||
+        rd_deg(r, T, "cant_deg", -45.0, 45.0, &cant))
+        return -1;
+    tr->tan_d3 = tan(d3);
+    double s = side == 0 ? 1.0 : -1.0;
+    tr->dir_B[0] = 0.0;
+    tr->dir_B[1] = s * cos(cant);
+    tr->dir_B[2] = -sin(cant);
+    if (rd_num(r, T, "blockage", 0.5, 1.0, &tr->blockage) ||
+        rd_num(r, T, "blockage_below_kt", 0.0, 100.0, &tr->blockage_kt))
+        return -1;
+    tr->fan_fraction = 1.0;
+    if (tr->kind == HFM_TR_FENESTRON && rd_num(r, T, "fan_thrust_fraction", 0.3, 1.0, &tr->fan_fraction))
+        return -1;
+    tr->sigma = tr->nb * tr->chord / (CORE_PI * tr->R);
+    if (tr->sigma > 0.8)
+        return rd_fail(r, T, "chord_m", "solidity %.3f is not physical", tr->sigma);
+    return 0;
+}
+
+/* [fuselage]: force and moment tables per dynamic pressure. */
+static int load_fuselage(rd *r, hfm_fus *fu)
+{
+    const char *F = "fuselage";
+    if (rd_vec3(r, F, "ref_B_m", -20.0, 20.0, fu->ref_B) ||
+        rd_table(r, F, "drag_alpha_deg", "drag_m2", 0.0, 100.0, &fu->drag) ||
+        rd_table(r, F, "lift_alpha_deg", "lift_m2", -50.0, 50.0, &fu->lift) ||
+        rd_table(r, F, "pitch_alpha_deg", "pitch_m3", -500.0, 500.0, &fu->pitch) ||
+        rd_table(r, F, "sideslip_beta_deg", "sideslip_drag_m2", 0.0, 100.0, &fu->dbeta) ||
+        rd_num(r, F, "yaw_m3_at_10deg", 0.0, 500.0, &fu->yaw_m3_10deg) ||
+        rd_num(r, F, "side_force_m2", 0.0, 100.0, &fu->side_m2))
+        return -1;
+    return 0;
+}
+
+/* [stabilator] (vertical = 0) or [fin] (vertical = 1). */
+static int load_surface(rd *r, const char *S, hfm_surf *s, int vertical)
 {
     s->vertical = vertical;
-    if (get_vec3(ini, S, "pos_B_m", -50.0, 50.0, s->pos_B, err))
-        return -1;
-    if (core_ini_get_double(ini, S, "area_m2", 1, 1e-3, 100.0, &s->area, err) ||
-        core_ini_get_double(ini, S, "aspect_ratio", 1, 0.2, 20.0, &s->ar, err) ||
-        core_ini_get_double(ini, S, "lift_slope_per_rad", 1, 0.5, 7.0, &s->a, err) ||
-        core_ini_get_double(ini, S, "clmax", 1, 0.2, 2.5, &s->clmax, err) ||
-        core_ini_get_double(ini, S, "cd0", 1, 0.0, 0.2, &s->cd0, err))
+    if (rd_vec3(r, S, "pos_B_m", -50.0, 50.0, s->pos_B) || rd_num(r, S, "area_m2", 1e-3, 100.0, &s->area) ||
+        rd_num(r, S, "aspect_ratio", 0.2, 20.0, &s->ar) || rd_num(r, S, "lift_slope_per_rad", 0.5, 7.0, &s->a) ||
+        rd_num(r, S, "clmax", 0.2, 2.5, &s->clmax) || rd_num(r, S, "cd0", 0.0, 0.2, &s->cd0))
         return -1;
     s->schedule = HFM_STAB_FIXED;
-    if (!vertical && core_ini_get_enum(ini, S, "schedule", 1, "fixed|uh60a", &s->schedule, err))
+    if (!vertical && core_ini_get_enum(r->ini, S, "schedule", 1, "fixed|uh60a", &s->schedule, r->err))
         return -1;
     s->incidence = 0.0;
-    if (s->schedule == HFM_STAB_FIXED) {
-        if (core_ini_get_double(ini, S, "incidence_deg", 1, -45.0, 45.0, &s->incidence, err))
-            return -1;
-        s->incidence *= D2R;
-    }
+    if (s->schedule == HFM_STAB_FIXED && rd_deg(r, S, "incidence_deg", -45.0, 45.0, &s->incidence))
+        return -1;
+    return 0;
+}
+
+/* [controls]: the rig from stick inches to blade pitch, and its mixing. */
+static int load_controls(rd *r, hfm_rig *rg)
+{
+    const char *C = "controls";
+    if (rd_num(r, C, "collective_travel_in", 1.0, 30.0, &rg->coll_travel) ||
+        rd_num(r, C, "collective_pitch0_deg", -10.0, 40.0, &rg->coll_pitch0) ||
+        rd_num(r, C, "collective_deg_per_in", 0.1, 10.0, &rg->coll_gain) ||
+        rd_num(r, C, "long_travel_in", 1.0, 30.0, &rg->long_travel) ||
+        rd_num(r, C, "long_deg_per_in", 0.1, 10.0, &rg->long_gain) ||
+        rd_num(r, C, "lat_travel_in", 1.0, 30.0, &rg->lat_travel) ||
+        rd_num(r, C, "lat_deg_per_in", 0.1, 10.0, &rg->lat_gain) ||
+        rd_num(r, C, "pedal_travel_in", 1.0, 30.0, &rg->ped_travel) ||
+        rd_num(r, C, "tr_pitch0_deg", -30.0, 50.0, &rg->tr_pitch0) ||
+        rd_num(r, C, "tr_deg_per_in", -20.0, 20.0, &rg->tr_gain) ||
+        rd_num(r, C, "mix_coll_to_long", -2.0, 2.0, &rg->mix_cl) ||
+        rd_num(r, C, "mix_ped_to_long", -2.0, 2.0, &rg->mix_pl) ||
+        rd_num(r, C, "mix_coll_to_lat", -2.0, 2.0, &rg->mix_ca) ||
+        rd_num(r, C, "mix_coll_to_ped", -2.0, 2.0, &rg->mix_cp) ||
+        rd_num(r, C, "mix_coll_ref_in", 0.0, 30.0, &rg->mix_cref) ||
+        rd_deg(r, C, "swash_phase_deg", -45.0, 45.0, &rg->swash_phase))
+        return -1;
+    rg->swash_c = cos(rg->swash_phase);
+    rg->swash_s = sin(rg->swash_phase);
+    if (fabs(rg->tr_gain) < 0.1)
+        return rd_fail(r, C, "tr_deg_per_in", "pedal gain too small (|gain| >= 0.1)");
     return 0;
 }
 
@@ -130,232 +379,21 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
         core_ini_destroy(ini);
         return NULL;
     }
-    const char *A = "aircraft", *M = "main_rotor", *T = "tail_rotor", *F = "fuselage",
-               *C = "controls";
-    double ixx, iyy, izz, ixz, d;
-    long l;
-    int sense, e;
-
-    if (core_ini_get_string(ini, A, "name", 1, ac->name, sizeof ac->name, err))
+    rd r = {ini, path, err};
+    if (check_sections(&r) || load_mass(&r, ac) || load_main_rotor(&r, &ac->mr) ||
+        load_airfoil(&r, &ac->mr.af))
         goto fail;
-    GETD(A, "mass_kg", 100.0, 1e5, ac->mass);
-    GETD(A, "Ixx_kgm2", 1.0, 1e7, ixx);
-    GETD(A, "Iyy_kgm2", 1.0, 1e7, iyy);
-    GETD(A, "Izz_kgm2", 1.0, 1e7, izz);
-    GETD(A, "Ixz_kgm2", -1e6, 1e6, ixz);
-    if (ixz * ixz >= ixx * izz) {
-        const core_ini_entry *en = core_ini_find(ini, A, "Ixz_kgm2");
-        core_err_set(err, -1, "%s:%d: [%s] Ixz_kgm2: inertia matrix not positive definite",
-                     path, en->line, A);
+    derive_main_rotor(&ac->mr);
+    if (load_tail_rotor(&r, &ac->tr) || load_fuselage(&r, &ac->fus) ||
+        load_surface(&r, "stabilator", &ac->stab, 0) || load_surface(&r, "fin", &ac->fin, 1) ||
+        load_controls(&r, &ac->rig))
         goto fail;
-    }
-    {
-        /* A rigid body's principal moments obey the triangle inequality
-         * (I1 + I2 >= I3: each is a sum of two of the three second moments
-         * of mass); a data file that breaks it is mistyped, and the 6-DOF
-         * equations would still run on it. The x-z block's principal
-         * moments, and Iyy. */
-        double mean = 0.5 * (ixx + izz), rad = sqrt(0.25 * (ixx - izz) * (ixx - izz) + ixz * ixz);
-        double p[3] = {mean + rad, mean - rad, iyy};
-        /* largest first: only the largest can exceed the other two's sum */
-        for (int a = 0; a < 2; a++)
-            for (int b = a + 1; b < 3; b++)
-                if (p[b] > p[a]) {
-                    double t = p[a];
-                    p[a] = p[b];
-                    p[b] = t;
-                }
-        if (p[0] > (p[1] + p[2]) * (1.0 + 1e-9)) {
-            core_err_set(err, -1,
-                         "%s: [%s] Ixx_kgm2, Iyy_kgm2, Izz_kgm2, Ixz_kgm2: principal moments %.0f, %.0f, %.0f "
-                         "kg m^2 break the triangle inequality (%.0f > %.0f + %.0f: each must be at most the sum "
-                         "of the other two)",
-                         path, A, p[0], p[1], p[2], p[0], p[1], p[2]);
-            goto fail;
-        }
-    }
-    double I[3][3] = {{ixx, 0, -ixz}, {0, iyy, 0}, {-ixz, 0, izz}};
-    memcpy(ac->I, I, sizeof I);
-    double det = ixx * izz - ixz * ixz;
-    double Ii[3][3] = {{izz / det, 0, ixz / det}, {0, 1.0 / iyy, 0}, {ixz / det, 0, ixx / det}};
-    memcpy(ac->Iinv, Ii, sizeof Ii);
-
-    /* main rotor */
-    hfm_mr *mr = &ac->mr;
-    if (core_ini_get_int(ini, M, "blades", 1, 2, HFM_MAX_BLADES, &l, err))
-        goto fail;
-    mr->nb = (int)l;
-    if (core_ini_get_enum(ini, M, "sense", 1, "ccw|cw", &sense, err))
-        goto fail;
-    mr->sense = sense == 0 ? 1 : -1;
-    GETD(M, "radius_m", 0.5, 30.0, mr->R);
-    GETD(M, "omega_radps", 1.0, 200.0, mr->omega);
-    GETD(M, "chord_m", 0.01, 3.0, mr->chord);
-    GETD(M, "hinge_offset_m", 0.0, 0.3 * mr->R, mr->e);
-    GETD(M, "root_cutout_m", mr->e, 0.5 * mr->R, mr->root);
-    GETD(M, "tip_loss", 0.85, 1.0, mr->B);
-    GETD(M, "twist_deg", -40.0, 10.0, mr->twist);
-    mr->twist *= D2R;
-    GETD(M, "twist_ref_r_over_R", 0.0, 1.0, mr->twist_ref);
-    GETD(M, "blade_flap_inertia_kgm2", 1.0, 1e5, mr->I_beta);
-    GETD(M, "blade_first_moment_kgm", 0.1, 1e4, mr->S_beta);
-    GETD(M, "blade_mass_kg", 0.1, 2000.0, mr->m_blade);
-    /* the blade's mass moments about the flap hinge, from one mass
-     * distribution over the span R - e: S^2 <= m I (Cauchy-Schwarz),
-     * S <= m (R - e) and I <= m (R - e)^2 */
-    {
-        const double span = mr->R - mr->e, m = mr->m_blade, S = mr->S_beta, Ib = mr->I_beta;
-        const char *why = S * S > m * Ib * (1.0 + 1e-9)                 ? "first moment^2 > mass x flap inertia"
-                          : S > m * span * (1.0 + 1e-9)                  ? "first moment > mass x (radius - hinge offset)"
-                          : Ib > m * span * span * (1.0 + 1e-9)          ? "flap inertia > mass x (radius - hinge offset)^2"
-                                                                         : NULL;
-        if (why) {
-            core_err_set(err, -1,
-                         "%s: [%s] blade_flap_inertia_kgm2 %g, blade_first_moment_kgm %g, blade_mass_kg %g: %s: "
-                         "no blade has these",
-                         path, M, Ib, S, m, why);
-            goto fail;
-        }
-    }
-    GETD(M, "flap_spring_Nmprad", 0.0, 1e7, mr->K_beta);
-    GETD(M, "shaft_tilt_deg", -15.0, 15.0, mr->shaft_tilt);
-    mr->shaft_tilt *= D2R;
-    if (get_vec3(ini, M, "hub_B_m", -20.0, 20.0, mr->hub_B, err))
-        goto fail;
-    if (core_ini_get_int(ini, M, "segments", 1, 8, HFM_MAX_SEG, &l, err))
-        goto fail;
-    mr->nseg = (int)l;
-    if (core_ini_get_int(ini, M, "trim_azimuths", 1, 8, HFM_MAX_AZ, &l, err))
-        goto fail;
-    mr->naz = (int)l;
-    GETD(M, "wake_factor_fuselage", 0.0, 2.5, mr->k_fus);
-    GETD(M, "wake_factor_tail", 0.0, 2.5, mr->k_tail);
-    if (load_airfoil(ini, &mr->af, err))
-        goto fail;
-    mr->rho = CORE_RHO_SL_KGPM3;
-    mr->area = CORE_PI * mr->R * mr->R;
-    mr->hqc = 0.5 * mr->rho * mr->chord;
-    mr->inv_I_beta = 1.0 / mr->I_beta;
-    mr->inv_R = 1.0 / mr->R;
-    for (int j = 0; j < mr->naz; j++) {
-        mr->az_c[j] = cos(2.0 * CORE_PI * j / mr->naz);
-        mr->az_s[j] = sin(2.0 * CORE_PI * j / mr->naz);
-    }
-    /* hub axes: z down the shaft, tilted forward by the shaft tilt */
-    {
-        double s = sin(mr->shaft_tilt), c = cos(mr->shaft_tilt);
-        double xh[3] = {c, 0, s}, yh[3] = {0, 1, 0}, zh[3] = {-s, 0, c};
-        for (int i = 0; i < 3; i++) {
-            mr->C_BH[i][0] = xh[i];
-            mr->C_BH[i][1] = yh[i];
-            mr->C_BH[i][2] = zh[i];
-        }
-    }
-    /* radial segments of equal width; the lift stops at the tip-loss radius */
-    {
-        double dr = (mr->R - mr->root) / mr->nseg, rB = mr->B * mr->R;
-        for (int i = 0; i < mr->nseg; i++) {
-            double r0 = mr->root + i * dr, r1 = r0 + dr;
-            mr->r[i] = 0.5 * (r0 + r1);
-            mr->drd[i] = dr;
-            mr->drl[i] = r1 <= rB ? dr : (r0 >= rB ? 0.0 : rB - r0);
-            mr->x[i] = mr->r[i] - mr->e;
-            mr->tw[i] = mr->twist * mr->r[i] / mr->R;
-        }
-    }
-
-    /* tail rotor */
-    hfm_tr *tr = &ac->tr;
-    if (core_ini_get_enum(ini, T, "type", 1, "open|fenestron", &tr->kind, err))
-        goto fail;
-    if (core_ini_get_int(ini, T, "blades", 1, 2, 20, &l, err))
-        goto fail;
-    tr->nb = (int)l;
-    GETD(T, "radius_m", 0.1, 5.0, tr->R);
-    GETD(T, "omega_radps", 10.0, 1000.0, tr->omega);
-    GETD(T, "chord_m", 0.005, 1.0, tr->chord);
-    GETD(T, "lift_slope_per_rad", 2.0, 7.0, tr->a);
-    GETD(T, "cd0", 0.0, 0.05, tr->cd0);
-    GETD(T, "twist_deg", -40.0, 10.0, tr->twist);
-    tr->twist *= D2R;
-    GETD(T, "pitch_ref_r_over_R", 0.0, 1.0, tr->twist_ref);
-    GETD(T, "tip_loss", 0.85, 1.0, tr->B);
-    GETD(T, "delta3_deg", 0.0, 60.0, d);
-    tr->tan_d3 = tan(d * D2R);
-    GETD(T, "lock_number", 0.0, 20.0, tr->lock);
-    if (get_vec3(ini, T, "hub_B_m", -30.0, 30.0, tr->hub_B, err))
-        goto fail;
-    if (core_ini_get_enum(ini, T, "thrust_side", 1, "starboard|port", &e, err))
-        goto fail;
-    GETD(T, "cant_deg", -45.0, 45.0, d);
-    {
-        double side = e == 0 ? 1.0 : -1.0;
-        tr->dir_B[0] = 0.0;
-        tr->dir_B[1] = side * cos(d * D2R);
-        tr->dir_B[2] = -sin(d * D2R);
-    }
-    GETD(T, "blockage", 0.5, 1.0, tr->blockage);
-    GETD(T, "blockage_below_kt", 0.0, 100.0, tr->blockage_kt);
-    tr->fan_fraction = 1.0;
-    if (tr->kind == HFM_TR_FENESTRON)
-        GETD(T, "fan_thrust_fraction", 0.3, 1.0, tr->fan_fraction);
-    tr->sigma = tr->nb * tr->chord / (CORE_PI * tr->R);
-    if (tr->sigma > 0.8) {
-        const core_ini_entry *en = core_ini_find(ini, T, "chord_m");
-        core_err_set(err, -1, "%s:%d: [%s] chord_m: solidity %.3f is not physical", path,
-                     en->line, T, tr->sigma);
-        goto fail;
-    }
-
-    /* fuselage */
-    hfm_fus *fu = &ac->fus;
-    if (get_vec3(ini, F, "ref_B_m", -20.0, 20.0, fu->ref_B, err) ||
-        get_table(ini, F, "drag_alpha_deg", "drag_m2", 0.0, 100.0, &fu->drag, err) ||
-        get_table(ini, F, "lift_alpha_deg", "lift_m2", -50.0, 50.0, &fu->lift, err) ||
-        get_table(ini, F, "pitch_alpha_deg", "pitch_m3", -500.0, 500.0, &fu->pitch, err) ||
-        get_table(ini, F, "sideslip_beta_deg", "sideslip_drag_m2", 0.0, 100.0, &fu->dbeta, err))
-        goto fail;
-    GETD(F, "yaw_m3_at_10deg", 0.0, 500.0, fu->yaw_m3_10deg);
-    GETD(F, "side_force_m2", 0.0, 100.0, fu->side_m2);
-
-    if (load_surface(ini, "stabilator", &ac->stab, 0, err) ||
-        load_surface(ini, "fin", &ac->fin, 1, err))
-        goto fail;
-
-    /* rigging */
-    hfm_rig *rg = &ac->rig;
-    GETD(C, "collective_travel_in", 1.0, 30.0, rg->coll_travel);
-    GETD(C, "collective_pitch0_deg", -10.0, 40.0, rg->coll_pitch0);
-    GETD(C, "collective_deg_per_in", 0.1, 10.0, rg->coll_gain);
-    GETD(C, "long_travel_in", 1.0, 30.0, rg->long_travel);
-    GETD(C, "long_deg_per_in", 0.1, 10.0, rg->long_gain);
-    GETD(C, "lat_travel_in", 1.0, 30.0, rg->lat_travel);
-    GETD(C, "lat_deg_per_in", 0.1, 10.0, rg->lat_gain);
-    GETD(C, "pedal_travel_in", 1.0, 30.0, rg->ped_travel);
-    GETD(C, "tr_pitch0_deg", -30.0, 50.0, rg->tr_pitch0);
-    GETD(C, "tr_deg_per_in", -20.0, 20.0, rg->tr_gain);
-    GETD(C, "mix_coll_to_long", -2.0, 2.0, rg->mix_cl);
-    GETD(C, "mix_ped_to_long", -2.0, 2.0, rg->mix_pl);
-    GETD(C, "mix_coll_to_lat", -2.0, 2.0, rg->mix_ca);
-    GETD(C, "mix_coll_to_ped", -2.0, 2.0, rg->mix_cp);
-    GETD(C, "mix_coll_ref_in", 0.0, 30.0, rg->mix_cref);
-    GETD(C, "swash_phase_deg", -45.0, 45.0, rg->swash_phase);
-    rg->swash_phase *= D2R;
-    rg->swash_c = cos(rg->swash_phase);
-    rg->swash_s = sin(rg->swash_phase);
-    if (fabs(rg->tr_gain) < 0.1) {
-        const core_ini_entry *en = core_ini_find(ini, C, "tr_deg_per_in");
-        core_err_set(err, -1, "%s:%d: [%s] tr_deg_per_in: pedal gain too small (|gain| >= 0.1)",
-                     path, en->line, C);
-        goto fail;
-    }
-
     core_ini_skip_section(ini, "rejection");
-    if (core_ini_check_unused(ini, err))
+    if (core_ini_check_unused(ini, err) || hfm_aircraft_check(ac, ini, log, err))
         goto fail;
     core_ini_destroy(ini);
-    core_log_msg(log, CORE_LOG_INFO, "hfm: loaded %s (%s), %.0f kg, %d blades, %d segments",
-                 ac->name, path, ac->mass, mr->nb, mr->nseg);
+    core_log_msg(log, CORE_LOG_INFO, "hfm: loaded %s (%s), %.0f kg, %d blades, %d segments", ac->name, path,
+                 ac->mass, ac->mr.nb, ac->mr.nseg);
     return ac;
 fail:
     core_ini_destroy(ini);

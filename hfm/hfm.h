@@ -65,6 +65,27 @@ double hfm_aircraft_rotor_omega_radps(const hfm_aircraft *ac);
 /* 1 if the main rotor turns counter-clockwise seen from above (UH-60A), 0 if clockwise (SA365N). */
 int hfm_aircraft_rotor_ccw(const hfm_aircraft *ac);
 
+/* Figures derived from an aircraft file, for comparing it with published
+ * data; hfm_aircraft_load checks them against the bands of real helicopters
+ * (docs/aircraft-format.md, "Consistency checks"). */
+typedef struct hfm_aircraft_figures {
+    double tip_speed_mps;            /* main rotor Omega R */
+    double solidity;                 /* blades x chord / (pi R) */
+    double lift_slope_per_rad;       /* airfoil table, from cl at -4 and +4 deg */
+    double airfoil_cl_max;           /* largest cl of the airfoil table */
+    double lock_number;              /* rho a c R^4 / I_beta */
+    double flap_freq_per_rev;        /* sqrt(1 + e S_beta/I_beta + K_beta/(I_beta Omega^2)) */
+    double flap_freq_offset_per_rev; /* the hinge offset alone (no spring) */
+    double flap_freq_spring_per_rev; /* the spring alone (no offset) */
+    double disk_loading_Pa;          /* weight / disk area */
+    double ct_over_sigma_hover;      /* weight / (rho A (Omega R)^2) / solidity */
+    double hover_pitch75_deg;        /* blade-element momentum estimate of the hover collective at 0.75 R */
+    double coll_pitch75_min_deg, coll_pitch75_max_deg; /* the collective rig's range at 0.75 R */
+    double tr_tip_speed_mps, tr_solidity;
+    double drag_area_m2;             /* fuselage D/q at alpha = 0 */
+} hfm_aircraft_figures;
+void hfm_aircraft_get_figures(const hfm_aircraft *ac, hfm_aircraft_figures *f);
+
 /* ---------------------------------------------------------- state, loads */
 /* Rigid-body state relative to S (transparent). */
 typedef struct hfm_body {

@@ -135,6 +135,11 @@ static inline double clampd(double x, double lo, double hi)
 
 /* aircraft.c */
 double hfm_table_eval(const hfm_table *t, double x);
+/* The line of section/key in ini (0 if absent). */
+int hfm_aircraft_key_line(const core_ini *ini, const char *sec, const char *key);
+/* aircraft_check.c: the physical-consistency checks of a loaded aircraft
+ * (errors name file, line and key of ini; warnings go to log). 0 or -1. */
+int hfm_aircraft_check(const hfm_aircraft *ac, const core_ini *ini, const core_log *log, core_err *err);
 /* Lift and drag at alpha (rad, any value; NaN reads the -180 deg entry). */
 static inline void hfm_airfoil_eval(const hfm_airfoil *af, double alpha_rad, double *cl,
                                     double *cd)
