@@ -23,13 +23,6 @@
 #include <omp.h>
 #endif
 
-static void log_stderr(void *user, int level, const char *msg)
-{
-    (void)user;
-    static const char *names[] = {"error", "warning", "info", "debug"};
-    fprintf(stderr, "%s: %s\n", names[level < 0 ? 0 : level > 3 ? 3 : level], msg);
-}
-
 typedef struct progress_state {
     int tty;
     double last_print_s;
@@ -72,14 +65,7 @@ static int parse_vec(const char *s, double v[3])
 
 static int parse_double(const char *flag, const char *s, double lo, double hi, double *out)
 {
-    char *end;
-    double v = strtod(s, &end);
-    if (end == s || *end || !(v >= lo && v <= hi)) {
-        fprintf(stderr, "%s: expected a number in [%g, %g], got '%s'\n", flag, lo, hi, s);
-        return -1;
-    }
-    *out = v;
-    return 0;
+    return app_parse_double("disim airwake", flag, s, lo, hi, out);
 }
 
 /* --queue: the same case as an airwake database request. */
@@ -142,251 +128,230 @@ static void usage_airwake(void)
             "       disim airwake SCENARIO ... --queue DB_DIR   (queue it for `disim airwaked DB_DIR`)\n");
 }
 
-int cmd_airwake(int argc, char **argv)
+/* The command line of `disim airwake`. -1 (NAN for numbers, 0 for the
+ * grid-study options): not given, the scenario's or the level's. */
+typedef struct airwake_args {
+    const char *scen, *out, *warm, *queue, *zone;
+    double speed_kt, dir_deg, thrust_N, radius_m, h_fine_m, growth, h_max_m, focus_fwd_m;
+    int rotor, level, abl, max_iter, threads, avg_window, limiter_fixed;
+    cfd_limiter limiter;
+} airwake_args;
+
+/* 0 ok, 1 bad value (printed), 2 usage. */
+static int airwake_parse(int argc, char **argv, airwake_args *o)
 {
-    const char *scen = NULL, *out = NULL, *warm = NULL, *queue = NULL, *zone = NULL;
-    double speed_kt = NAN, dir_deg = NAN, thrust = NAN, radius = NAN, h_fine = 0.0, growth = 0.0, h_max = 0.0, focus_fwd = 0.0;
-    int rotor = -1, level = -1, abl = 0, max_iter = 0, threads = 0, limiter = 0, avg_window = 0;
+    memset(o, 0, sizeof *o);
+    o->speed_kt = o->dir_deg = o->thrust_N = o->radius_m = NAN;
+    o->rotor = o->level = -1;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         int more = i + 1 < argc;
+        double v;
         if (!strcmp(a, "-o") && more)
-            out = argv[++i];
+            o->out = argv[++i];
         else if (!strcmp(a, "--queue") && more)
-            queue = argv[++i];
+            o->queue = argv[++i];
         else if (!strcmp(a, "--wod-speed-kt") && more) {
-            if (parse_double(a, argv[++i], 0.0, 200.0, &speed_kt))
+            if (parse_double(a, argv[++i], 0.0, 200.0, &o->speed_kt))
                 return 1;
         } else if (!strcmp(a, "--wod-dir-deg") && more) {
-            if (parse_double(a, argv[++i], -360.0, 360.0, &dir_deg))
+            if (parse_double(a, argv[++i], -360.0, 360.0, &o->dir_deg))
                 return 1;
         } else if (!strcmp(a, "--thrust-n") && more) {
-            if (parse_double(a, argv[++i], 0.0, 1e7, &thrust))
+            if (parse_double(a, argv[++i], 0.0, 1e7, &o->thrust_N))
                 return 1;
         } else if (!strcmp(a, "--radius-m") && more) {
-            if (parse_double(a, argv[++i], 0.1, 50.0, &radius))
+            if (parse_double(a, argv[++i], 0.1, 50.0, &o->radius_m))
                 return 1;
         } else if (!strcmp(a, "--rotor") && more) {
-            const char *v = argv[++i];
-            rotor = !strcmp(v, "off") ? 0 : !strcmp(v, "uniform") ? 1 : !strcmp(v, "loaded") ? 2 : -2;
-            if (rotor == -2) {
-                fprintf(stderr, "--rotor: expected off, uniform or loaded, got '%s'\n", v);
+            const char *r = argv[++i];
+            if ((o->rotor = core_rotor_parse(r)) < 0) {
+                fprintf(stderr, "--rotor: expected off, uniform or loaded, got '%s'\n", r);
                 return 1;
             }
         } else if (!strcmp(a, "--grid") && more) {
-            const char *v = argv[++i];
-            level = core_grid_parse(v);
-            if (level < 0) {
-                fprintf(stderr, "--grid: expected coarse, default or fine, got '%s'\n", v);
+            const char *g = argv[++i];
+            if ((o->level = core_grid_parse(g)) < 0) {
+                fprintf(stderr, "--grid: expected coarse, default or fine, got '%s'\n", g);
                 return 1;
             }
         } else if (!strcmp(a, "--h-fine-m") && more) {
             /* grid studies past the three levels: the focus box's spacing */
-            if (parse_double(a, argv[++i], 0.1, 5.0, &h_fine))
+            if (parse_double(a, argv[++i], 0.1, 5.0, &o->h_fine_m))
                 return 1;
         } else if (!strcmp(a, "--growth") && more) {
             /* grid studies: the stretching outside the focus box */
-            if (parse_double(a, argv[++i], 1.01, 1.5, &growth))
+            if (parse_double(a, argv[++i], 1.01, 1.5, &o->growth))
                 return 1;
         } else if (!strcmp(a, "--focus-fwd-m") && more) {
             /* grid studies: the focus box's reach forward of the deck */
-            if (parse_double(a, argv[++i], 0.5, 500.0, &focus_fwd))
+            if (parse_double(a, argv[++i], 0.5, 500.0, &o->focus_fwd_m))
                 return 1;
         } else if (!strcmp(a, "--avg-window") && more) {
             /* studies of shedding fields: how long a mean the field is */
-            double v;
             if (parse_double(a, argv[++i], 2, 1e6, &v))
                 return 1;
-            avg_window = (int)v;
+            o->avg_window = (int)v;
         } else if (!strcmp(a, "--h-max-m") && more) {
-            if (parse_double(a, argv[++i], 0.1, 50.0, &h_max))
+            if (parse_double(a, argv[++i], 0.1, 50.0, &o->h_max_m))
                 return 1;
         } else if (!strcmp(a, "--limiter") && more) {
             /* grid studies: one convection scheme on every grid */
-            const char *v = argv[++i];
-            limiter = !strcmp(v, "vanleer") ? 1 + CFD_LIMITER_VANLEER : !strcmp(v, "minmod") ? 1 + CFD_LIMITER_MINMOD : -1;
-            if (limiter < 0) {
-                fprintf(stderr, "--limiter: expected vanleer or minmod, got '%s'\n", v);
+            const char *l = argv[++i];
+            o->limiter_fixed = 1;
+            if (!strcmp(l, "vanleer"))
+                o->limiter = CFD_LIMITER_VANLEER;
+            else if (!strcmp(l, "minmod"))
+                o->limiter = CFD_LIMITER_MINMOD;
+            else {
+                fprintf(stderr, "--limiter: expected vanleer or minmod, got '%s'\n", l);
                 return 1;
             }
         } else if (!strcmp(a, "--abl"))
-            abl = 1;
+            o->abl = 1;
         else if (!strcmp(a, "--warm") && more)
-            warm = argv[++i];
+            o->warm = argv[++i];
         else if (!strcmp(a, "--zone") && more)
-            zone = argv[++i];
+            o->zone = argv[++i];
         else if (!strcmp(a, "--max-iter") && more) {
-            double v;
             if (parse_double(a, argv[++i], 1, 1e6, &v))
                 return 1;
-            max_iter = (int)v;
+            o->max_iter = (int)v;
         } else if (!strcmp(a, "--threads") && more) {
-            double v;
             if (parse_double(a, argv[++i], 1, 1024, &v))
                 return 1;
-            threads = (int)v;
-        } else if (a[0] != '-' && !scen)
-            scen = a;
+            o->threads = (int)v;
+        } else if (a[0] != '-' && !o->scen)
+            o->scen = a;
         else {
             fprintf(stderr, "disim airwake: unknown or incomplete argument '%s'\n", a);
             usage_airwake();
             return 2;
         }
     }
-    if (!scen || (!out && !queue)) {
+    if (!o->scen || (!o->out && !o->queue)) {
         usage_airwake();
         return 2;
     }
     /* a grading of its own outside the focus box (grid studies) */
-    const int graded = growth > 0.0 || h_max > 0.0 || focus_fwd > 0.0;
-    if ((h_fine > 0.0 || graded || limiter || zone || avg_window) && queue) {
+    const int graded = o->growth > 0.0 || o->h_max_m > 0.0 || o->focus_fwd_m > 0.0;
+    if ((o->h_fine_m > 0.0 || graded || o->limiter_fixed || o->zone || o->avg_window) && o->queue) {
         /* the database keys fields by grid level; a spacing of its own
          * would put a field under a level it was not solved on */
-        fprintf(stderr,
-                "disim airwake: --h-fine-m, --growth, --h-max-m, --focus-fwd-m, --avg-window, --limiter and --zone write a field (-o), they cannot be queued (--queue)\n");
+        fprintf(stderr, "disim airwake: --h-fine-m, --growth, --h-max-m, --focus-fwd-m, --avg-window, --limiter and "
+                        "--zone write a field (-o), they cannot be queued (--queue)\n");
         return 2;
     }
-#ifdef _OPENMP
-    if (threads > 0)
-        omp_set_num_threads(threads);
-#endif
-    sim_scenario *sc = malloc(sizeof *sc);
-    if (!sc)
+    return 0;
+}
+
+/* The database key of the case: the scenario's ship at the WOD, and with
+ * the rotor on the disk of its aircraft trimmed in the free-air WOD at the
+ * hover-over-spot station (thrust, hub, shaft tilt and, loaded, its blade
+ * loads: the coupling loop's first step), --thrust-n and --radius-m
+ * overriding. 0, or 1 (printed). */
+static int airwake_key(const sim_scenario *sc, const airwake_args *o, double speed, double dir,
+                       core_rotor_mode rotor, core_grid_level level, awdb_key *key, const core_log *log)
+{
+    awdb_key_ship_only(key, sc->ship.name, NULL, speed, dir, level);
+    if (rotor == CORE_ROTOR_OFF)
+        return 0;
+    snprintf(key->aircraft, sizeof key->aircraft, "%.63s", sc->aircraft_name);
+    if (rotor_from_trim(sc, speed, dir, rotor == CORE_ROTOR_LOADED, key, log) != 0)
         return 1;
+    if (!isnan(o->thrust_N))
+        key->thrust_N = o->thrust_N;
+    if (!isnan(o->radius_m))
+        key->radius_m = o->radius_m;
     core_err err = {{0}};
-    if (sim_scenario_load(scen, sc, &err)) {
+    if (awdb_key_canon(key, &err) != 0) {
         fprintf(stderr, "disim airwake: %s\n", err.msg);
-        free(sc);
         return 1;
     }
-    double speed = isnan(speed_kt) ? sc->wod_speed_mps : speed_kt * CORE_KT_TO_MPS;
-    double dir = isnan(dir_deg) ? sc->wod_dir_rad : core_wod_wrap_deg(dir_deg) * CORE_DEG_TO_RAD;
-    if (rotor < 0)
-        rotor = sc->rotor == SIM_ROTOR_OFF ? 0 : sc->rotor == SIM_ROTOR_UNIFORM ? 1 : 2;
-    if (!(speed > 0.0) && (isnan(speed_kt) || rotor == 0)) {
-        fprintf(stderr, "disim airwake: %s: %s\n", scen,
-                isnan(speed_kt) ? "no single WOD speed; give --wod-speed-kt"
-                                : "a WOD speed of 0 needs the rotor (--rotor uniform|loaded)");
-        free(sc);
-        return 1;
-    }
-    if (level < 0)
-        level = (int)sc->grid;
-    cfd_airwake_spec sp;
-    memset(&sp, 0, sizeof sp);
-    sp.ship = &sc->ship;
-    sp.wod_speed_mps = speed;
-    sp.wod_dir_rad = dir;
-    sp.level = (cfd_grid_level)level;
-    sp.abl = abl;
-    sp.rotor = rotor;
-    sp.max_iter = max_iter;
-    sp.h_fine_m = h_fine;
-    sp.growth = growth;
-    sp.h_max_m = h_max;
-    sp.focus_fwd_m = focus_fwd;
-    sp.limiter = limiter;
-    sp.avg_window = avg_window;
-    cfd_meta meta;
-    memset(&meta, 0, sizeof meta);
-    core_log log = {log_stderr, NULL, CORE_LOG_INFO};
-    awdb_key key;
-    memset(&key, 0, sizeof key);
-    snprintf(key.ship, sizeof key.ship, "%.63s", sc->ship.name);
-    key.wod_speed_mps = speed;
-    key.wod_dir_rad = dir;
-    key.grid = level;
-    key.rotor = AWDB_ROTOR_OFF;
-    if (zone && !rotor) {
-        /* a ship-only zone: the box round the hub of the free-air hover
-         * trim, of the rotor's radius; the key stays a ship-only one */
-        awdb_key hub = key;
+    fprintf(stderr, "rotor: %s disk, thrust %.0f N, radius %.2f m, hub (%.2f, %.2f, %.2f) m in S, shaft pitch %.1f deg, roll %.1f deg\n",
+            core_rotor_name(rotor), key->thrust_N, key->radius_m, key->station_S_m[0], key->station_S_m[1],
+            key->station_S_m[2], key->shaft_pitch_rad * CORE_RAD_TO_DEG, key->shaft_roll_rad * CORE_RAD_TO_DEG);
+    if (rotor == CORE_ROTOR_LOADED)
+        fprintf(stderr, "rotor: torque %.0f N m, root cut %.3f R, %s from above\n", key->torque_Nm, key->root_cut,
+                key->ccw_from_above ? "counter-clockwise" : "clockwise");
+    return 0;
+}
+
+/* --zone: the outer field, checked to be a ship-only field of this ship
+ * and direction; the spec's zone set from it (its box, with the rotor off,
+ * round the hub of the free-air hover trim, of the rotor's radius). NULL
+ * after printing why. */
+static cfd_field *airwake_zone(const sim_scenario *sc, const airwake_args *o, const awdb_key *key,
+                               cfd_airwake_spec *sp, const core_log *log)
+{
+    if (key->rotor == CORE_ROTOR_OFF) {
+        awdb_key hub = *key;
         snprintf(hub.aircraft, sizeof hub.aircraft, "%.63s", sc->aircraft_name);
-        if (rotor_from_trim(sc, speed, dir, 0, &hub, &log) != 0) {
-            free(sc);
-            return 1;
-        }
-        memcpy(sp.disk.centre_m, hub.station_S_m, sizeof sp.disk.centre_m);
-        sp.disk.radius_m = hub.radius_m;
+        if (rotor_from_trim(sc, key->wod_speed_mps, key->wod_dir_rad, 0, &hub, log) != 0)
+            return NULL;
+        memcpy(sp->disk.centre_m, hub.station_S_m, sizeof sp->disk.centre_m);
+        sp->disk.radius_m = hub.radius_m;
     }
-    if (rotor) {
-        /* The disk of the scenario's aircraft trimmed in the free-air WOD at
-         * the hover-over-spot station: thrust, hub, shaft tilt and, for
-         * --rotor loaded, its blade loads (the coupling loop's first step). */
-        snprintf(key.aircraft, sizeof key.aircraft, "%.63s", sc->aircraft_name);
-        if (rotor_from_trim(sc, speed, dir, rotor == 2, &key, &log) != 0) {
-            free(sc);
-            return 1;
-        }
-        if (!isnan(thrust))
-            key.thrust_N = thrust;
-        if (!isnan(radius))
-            key.radius_m = radius;
-        if (awdb_key_canon(&key, &err) != 0 || awdb_key_disk(&key, &sp.disk) != 0) {
-            fprintf(stderr, "disim airwake: %s\n", err.msg);
-            free(sc);
-            return 1;
-        }
-        fprintf(stderr, "rotor: %s disk, thrust %.0f N, radius %.2f m, hub (%.2f, %.2f, %.2f) m in S, shaft pitch %.1f deg, roll %.1f deg\n",
-                rotor == 2 ? "loaded" : "uniform", key.thrust_N, key.radius_m, key.station_S_m[0],
-                key.station_S_m[1], key.station_S_m[2], key.shaft_pitch_rad * CORE_RAD_TO_DEG,
-                key.shaft_roll_rad * CORE_RAD_TO_DEG);
-        if (rotor == 2)
-            fprintf(stderr, "rotor: torque %.0f N m, root cut %.3f R, %s from above\n", key.torque_Nm, key.root_cut,
-                    key.ccw_from_above ? "counter-clockwise" : "clockwise");
-        meta.rotor_thrust_N = key.thrust_N;
-        meta.rotor_radius_m = key.radius_m;
-        memcpy(meta.rotor_centre_S_m, key.station_S_m, sizeof meta.rotor_centre_S_m);
-    }
-    cfd_field *outer = NULL; /* the zone's boundary; outlives the solver */
-    if (zone) {
-        outer = cfd_field_load(zone, &err);
-        const cfd_meta *om = outer ? cfd_field_meta(outer) : NULL;
-        const char *why = !outer                                     ? err.msg
-                          : strcmp(om->rotor, "off") != 0            ? "expected a ship-only field (rotor off)"
-                          : strcmp(om->ship, sc->ship.name) != 0     ? "another ship's field"
-                          : !(om->wod_speed_mps > 0.0)               ? "no WOD speed in the field"
-                          : fabs(core_wod_wrap_deg(om->wod_dir_deg - dir * CORE_RAD_TO_DEG)) > 0.05
-                              ? "another WOD direction's field"
-                              : NULL;
-        if (why) {
-            fprintf(stderr, "disim airwake: --zone %s: %s\n", zone, why);
-            cfd_field_destroy(outer);
-            free(sc);
-            return 1;
-        }
-        sp.zone = 1;
-        sp.zone_field = outer;
-        sp.zone_scale = speed / om->wod_speed_mps;
-    }
-    /* the builder's monitor line (it also bounds the grid): the field
-     * written here is the one the builder would put in the database */
-    sp.monitor_z_m = awdb_key_monitor_z_m(&key);
-    if (queue) {
-        int rc = queue_request(queue, &key, &log);
+    core_err err = {{0}};
+    cfd_field *outer = cfd_field_load(o->zone, &err);
+    const cfd_meta *om = outer ? cfd_field_meta(outer) : NULL;
+    const char *why = !outer                                 ? err.msg
+                      : strcmp(om->rotor, core_rotor_name(CORE_ROTOR_OFF)) != 0 ? "expected a ship-only field (rotor off)"
+                      : strcmp(om->ship, sc->ship.name) != 0 ? "another ship's field"
+                      : !(om->wod_speed_mps > 0.0)           ? "no WOD speed in the field"
+                      : fabs(core_wod_wrap_deg(om->wod_dir_deg - key->wod_dir_rad * CORE_RAD_TO_DEG)) > 0.05
+                          ? "another WOD direction's field"
+                          : NULL;
+    if (why) {
+        fprintf(stderr, "disim airwake: --zone %s: %s\n", o->zone, why);
         cfd_field_destroy(outer);
-        free(sc);
-        return rc;
+        return NULL;
     }
+    sp->zone = 1;
+    sp->zone_field = outer;
+    sp->zone_scale = key->wod_speed_mps / om->wod_speed_mps;
+    return outer;
+}
+
+/* The field's grid attribute: the level's name, or the study's spacing,
+ * its grading, the scheme when forced and the zone. */
+static void airwake_grid_name(const airwake_args *o, core_grid_level level, char *buf, size_t n)
+{
+    char base[48];
+    if (o->h_fine_m > 0.0)
+        snprintf(base, sizeof base, "h%.3f m", o->h_fine_m);
+    else
+        snprintf(base, sizeof base, "%s", core_grid_name(level));
+    if (o->growth > 0.0 || o->h_max_m > 0.0 || o->focus_fwd_m > 0.0) {
+        size_t nb = strlen(base);
+        snprintf(base + nb, sizeof base - nb, " g%.2f hm%.0f ff%.0f", o->growth > 0.0 ? o->growth : CFD_GRID_GROWTH,
+                 o->h_max_m, o->focus_fwd_m);
+    }
+    snprintf(buf, n, "%s%s%s", base,
+             !o->limiter_fixed ? "" : o->limiter == CFD_LIMITER_VANLEER ? " vanleer" : " minmod",
+             o->zone ? " zone" : "");
+}
+
+/* Solve the spec (warm-started from --warm) and write the field. 0 or 1. */
+static int airwake_solve(const airwake_args *o, const cfd_airwake_spec *sp, const awdb_key *key,
+                         const core_log *log)
+{
+    core_err err = {{0}};
     progress_state ps = {isatty(2), -1.0};
-    cfd_solver *s = cfd_airwake_create(&sp, &log, progress_print, &ps, &err);
+    cfd_solver *s = cfd_airwake_create(sp, log, progress_print, &ps, &err);
     if (!s) {
         fprintf(stderr, "disim airwake: %s\n", err.msg);
-        cfd_field_destroy(outer);
-        free(sc);
         return 1;
     }
-    if (warm) {
-        cfd_field *f = cfd_field_load(warm, &err);
-        if (!f || cfd_solver_init_from_field(s, f, &err)) {
+    if (o->warm) {
+        cfd_field *f = cfd_field_load(o->warm, &err);
+        int bad = !f || cfd_solver_init_from_field(s, f, &err);
+        cfd_field_destroy(f);
+        if (bad) {
             fprintf(stderr, "disim airwake: warm start: %s\n", err.msg);
-            cfd_field_destroy(f);
             cfd_solver_destroy(s);
-            cfd_field_destroy(outer);
-            free(sc);
             return 1;
         }
-        cfd_field_destroy(f);
     }
     cfd_result res;
     int rc = cfd_solver_run(s, &res, &err);
@@ -394,45 +359,105 @@ int cmd_airwake(int argc, char **argv)
     if (rc < 0) {
         fprintf(stderr, "disim airwake: %s (nothing written)\n", err.msg);
         cfd_solver_destroy(s);
-        cfd_field_destroy(outer);
-        free(sc);
         return 1;
     }
     if (rc > 0)
         fprintf(stderr, "disim airwake: warning: not converged after %d iterations (residuals %.2e); the field is "
                         "written with converged = 0\n",
                 res.iterations, res.residual[0]);
-    meta.wod_speed_mps = speed;
-    meta.wod_dir_deg = dir * CORE_RAD_TO_DEG;
-    snprintf(meta.ship, sizeof meta.ship, "%s", sc->ship.name);
-    snprintf(meta.rotor, sizeof meta.rotor, "%s", rotor == 0 ? "off" : rotor == 1 ? "uniform" : "loaded");
-    /* the level's name, or the study's spacing, and the scheme when forced */
-    char base[48];
-    if (h_fine > 0.0)
-        snprintf(base, sizeof base, "h%.3f m", h_fine);
-    else
-        snprintf(base, sizeof base, "%s", core_grid_name(level));
-    if (graded) {
-        size_t nb = strlen(base);
-        snprintf(base + nb, sizeof base - nb, " g%.2f hm%.0f ff%.0f", growth > 0.0 ? growth : CFD_GRID_GROWTH,
-                 h_max, focus_fwd);
+    cfd_meta meta;
+    memset(&meta, 0, sizeof meta);
+    meta.wod_speed_mps = key->wod_speed_mps;
+    meta.wod_dir_deg = key->wod_dir_rad * CORE_RAD_TO_DEG;
+    snprintf(meta.ship, sizeof meta.ship, "%s", sp->ship->name);
+    snprintf(meta.rotor, sizeof meta.rotor, "%s", core_rotor_name(key->rotor));
+    if (key->rotor != CORE_ROTOR_OFF) {
+        meta.rotor_thrust_N = key->thrust_N;
+        meta.rotor_radius_m = key->radius_m;
+        memcpy(meta.rotor_centre_S_m, key->station_S_m, sizeof meta.rotor_centre_S_m);
     }
-    snprintf(meta.grid, sizeof meta.grid, "%s%s%s", base,
-             !limiter ? "" : limiter == 1 + CFD_LIMITER_VANLEER ? " vanleer" : " minmod", zone ? " zone" : "");
+    airwake_grid_name(o, key->grid, meta.grid, sizeof meta.grid);
     meta.result = res;
-    if (cfd_solver_write(s, &meta, out, &err)) {
+    rc = cfd_solver_write(s, &meta, o->out, &err);
+    cfd_solver_destroy(s);
+    if (rc) {
         fprintf(stderr, "disim airwake: %s\n", err.msg);
-        cfd_solver_destroy(s);
-        cfd_field_destroy(outer);
+        return 1;
+    }
+    fprintf(stderr, "disim airwake: wrote %s (%d iterations, %.1f s, %s)\n", o->out, res.iterations, res.wall_s,
+            res.converged ? "converged" : "not converged");
+    return 0;
+}
+
+int cmd_airwake(int argc, char **argv)
+{
+    airwake_args o;
+    int rc = airwake_parse(argc, argv, &o);
+    if (rc)
+        return rc;
+#ifdef _OPENMP
+    if (o.threads > 0)
+        omp_set_num_threads(o.threads);
+#endif
+    sim_scenario *sc = malloc(sizeof *sc);
+    if (!sc)
+        return 1;
+    core_err err = {{0}};
+    if (sim_scenario_load(o.scen, sc, &err)) {
+        fprintf(stderr, "disim airwake: %s\n", err.msg);
         free(sc);
         return 1;
     }
-    fprintf(stderr, "disim airwake: wrote %s (%d iterations, %.1f s, %s)\n", out, res.iterations, res.wall_s,
-            res.converged ? "converged" : "not converged");
-    cfd_solver_destroy(s);
+    double speed = isnan(o.speed_kt) ? sc->wod_speed_mps : o.speed_kt * CORE_KT_TO_MPS;
+    double dir = isnan(o.dir_deg) ? sc->wod_dir_rad : core_wod_wrap_deg(o.dir_deg) * CORE_DEG_TO_RAD;
+    core_rotor_mode rotor = o.rotor >= 0 ? (core_rotor_mode)o.rotor : sc->rotor;
+    core_grid_level level = o.level >= 0 ? (core_grid_level)o.level : sc->grid;
+    if (!(speed > 0.0) && (isnan(o.speed_kt) || rotor == CORE_ROTOR_OFF)) {
+        fprintf(stderr, "disim airwake: %s: %s\n", o.scen,
+                isnan(o.speed_kt) ? "no single WOD speed; give --wod-speed-kt"
+                                  : "a WOD speed of 0 needs the rotor (--rotor uniform|loaded)");
+        free(sc);
+        return 1;
+    }
+    app_log al = {NULL, 0};
+    core_log log = {app_log_stderr, &al, CORE_LOG_INFO};
+    awdb_key key;
+    if (airwake_key(sc, &o, speed, dir, rotor, level, &key, &log) != 0) {
+        free(sc);
+        return 1;
+    }
+    if (o.queue) {
+        rc = queue_request(o.queue, &key, &log);
+        free(sc);
+        return rc;
+    }
+    /* the builder's case for this key (awdb_key_spec), so that the field
+     * written here is the one the builder would put in the database, with
+     * the grid-study options on top */
+    cfd_airwake_spec sp;
+    if (awdb_key_spec(&key, &sc->ship, &sp, &err) != 0) {
+        fprintf(stderr, "disim airwake: %s\n", err.msg);
+        free(sc);
+        return 1;
+    }
+    sp.abl = o.abl;
+    sp.max_iter = o.max_iter > 0 ? o.max_iter : sc->max_iterations;
+    sp.h_fine_m = o.h_fine_m;
+    sp.growth = o.growth;
+    sp.h_max_m = o.h_max_m;
+    sp.focus_fwd_m = o.focus_fwd_m;
+    sp.limiter_fixed = o.limiter_fixed;
+    sp.limiter = o.limiter;
+    sp.avg_window = o.avg_window;
+    cfd_field *outer = NULL; /* the zone's boundary; outlives the solver */
+    if (o.zone && !(outer = airwake_zone(sc, &o, &key, &sp, &log))) {
+        free(sc);
+        return 1;
+    }
+    rc = airwake_solve(&o, &sp, &key, &log);
     cfd_field_destroy(outer);
     free(sc);
-    return 0;
+    return rc;
 }
 
 int cmd_probe(int argc, char **argv)
@@ -526,7 +551,8 @@ int cmd_validate(int argc, char **argv)
     if (threads > 0)
         omp_set_num_threads(threads);
 #endif
-    core_log log = {log_stderr, NULL, CORE_LOG_INFO};
+    app_log al = {NULL, 0};
+    core_log log = {app_log_stderr, &al, CORE_LOG_INFO};
     progress_state ps = {isatty(2), -1.0};
     cfd_report *rep = malloc(sizeof *rep);
     if (!rep)

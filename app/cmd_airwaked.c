@@ -171,7 +171,7 @@ static void on_request(daemon_ctx *c, const disim_airwake_request_t *m)
     snprintf(k.aircraft, sizeof k.aircraft, "%s", m->aircraft);
     k.wod_speed_mps = m->wod_speed_mps;
     k.wod_dir_rad = m->wod_dir_rad;
-    k.rotor = m->rotor == DISIM_AIRWAKE_REQUEST_T_ROTOR_OFF ? AWDB_ROTOR_OFF : AWDB_ROTOR_UNIFORM;
+    k.rotor = m->rotor == DISIM_AIRWAKE_REQUEST_T_ROTOR_OFF ? CORE_ROTOR_OFF : CORE_ROTOR_UNIFORM;
     k.thrust_N = m->rotor_thrust_N;
     memcpy(k.station_S_m, m->station_S_m, sizeof k.station_S_m);
     k.radius_m = m->rotor_radius_m;
@@ -231,13 +231,6 @@ static void on_idle(void *user)
             ;
 }
 
-static void log_stderr(void *user, int level, const char *msg)
-{
-    (void)user;
-    static const char *names[] = {"error", "warning", "info", "debug"};
-    fprintf(stderr, "airwaked: %s: %s\n", names[level & 3], msg);
-}
-
 int cmd_airwaked(int argc, char **argv)
 {
     const char *dir = NULL, *ships = "scenarios/ships";
@@ -286,7 +279,8 @@ int cmd_airwaked(int argc, char **argv)
     }
     if (jobs < 1)
         jobs = 1;
-    core_log log = {log_stderr, NULL, CORE_LOG_INFO};
+    app_log al = {"airwaked", 0};
+    core_log log = {app_log_stderr, &al, CORE_LOG_INFO};
     core_err err = {{0}};
     awdb *db = awdb_open(dir, &log, &err);
     awdb_embedded *emb = db ? awdb_embedded_create(ships, (int)max_iter, (int)(ncores / jobs > 0 ? ncores / jobs : 1), &log, &err) : NULL;

@@ -24,8 +24,6 @@
 #include "shol.h"
 #include "sim.h"
 
-#include <libgen.h>
-#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -45,13 +43,6 @@ static void on_progress(void *user, const shol_progress *p)
     char line[256];
     shol_progress_format(p, line, sizeof line);
     fprintf(stderr, "%s%s: %s%s", pc->tty ? "\r\033[K" : "", pc->label, line, p->done || !pc->tty ? "\n" : "");
-}
-
-static void log_stderr(void *user, int level, const char *msg)
-{
-    int tty = *(int *)user;
-    static const char *names[] = {"error", "warning", "info", "debug"};
-    fprintf(stderr, "%sshol: %s: %s\n", tty ? "\r\033[K" : "", names[level & 3], msg);
 }
 
 /* The two-way trim of the sweep (shol_envelope_run_near calls it near the
@@ -89,43 +80,6 @@ static int two_trim(void *user, double v, double dir, shol_trim_point *out)
     return rc;
 }
 
-/* Markdown of the coupling iterations for the report. */
-static char *coupling_md(const couple_ctx *two)
-{
-    int n = 0;
-    const couple_point *h = couple_history(two, &n);
-    core_str md = {0};
-    core_str_printf(&md,
-                    "Coupled points (trim -> CFD with the loaded disk -> re-trim), each row one "
-                    "iteration; `change` is the largest relative change of a control or attitude "
-                    "from the previous iteration, against at least 20 %% of travel or 5 deg "
-                    "(converged below 5 %%).\n\n"
-                    "| WOD | speed (kt) | iter | thrust (kN) | coll %% | long %% | lat %% | pedal %% | roll (deg) | pitch (deg) | change |\n"
-                    "|---|---|---|---|---|---|---|---|---|---|---|\n");
-    for (int i = 0; i < n; i++) {
-        char wn[32];
-        core_wod_name(h[i].wod_dir_rad * CORE_RAD_TO_DEG, wn, sizeof wn);
-        for (int k = 0; k < h[i].n_iter; k++) {
-            const couple_iter *it = &h[i].iter[k];
-            char ch[64] = "free air";
-            if (k == 0 && h[i].seed == COUPLE_SEED_PREVIOUS)
-                snprintf(ch, sizeof ch, "seed: interaction at %.1f kt", h[i].seed_speed_mps / CORE_KT_TO_MPS);
-            else if (k == 0 && h[i].seed == COUPLE_SEED_ONE_WAY)
-                snprintf(ch, sizeof ch, "seed: one-way trim");
-            if (k > 0)
-                snprintf(ch, sizeof ch, "%.1f %%", 100.0 * it->change_frac);
-            core_str_printf(&md,
-                            "| %s | %.1f | %d | %.2f | %.1f | %.1f | %.1f | %.1f | %.2f | %.2f | %s |\n", wn,
-                            h[i].wod_speed_mps / CORE_KT_TO_MPS, k, it->thrust_N / 1000.0, it->collective_pct,
-                            it->long_pct, it->lat_pct, it->pedal_pct, it->phi_rad * CORE_RAD_TO_DEG,
-                            it->theta_rad * CORE_RAD_TO_DEG, ch);
-        }
-    }
-    if (n == 0)
-        core_str_printf(&md, "\nNo point needed a coupled trim.\n");
-    return core_str_take(&md);
-}
-
 /* Markdown of the airwake fields the envelope used (couple_fields_md). */
 static char *fields_md(const couple_ctx *one, const couple_ctx *two)
 {
@@ -136,14 +90,7 @@ static char *fields_md(const couple_ctx *one, const couple_ctx *two)
 
 static int parse_num(const char *flag, const char *v, double lo, double hi, double *out)
 {
-    char *end;
-    double d = strtod(v, &end);
-    if (*end || !(d >= lo && d <= hi)) {
-        fprintf(stderr, "disim shol: %s '%s': expected a number from %g to %g\n", flag, v, lo, hi);
-        return -1;
-    }
-    *out = d;
-    return 0;
+    return app_parse_double("disim shol", flag, v, lo, hi, out);
 }
 
 int cmd_shol(int argc, char **argv)
@@ -181,8 +128,8 @@ int cmd_shol(int argc, char **argv)
                 return 2;
             }
         } else if (!strcmp(a, "--coupling")) {
-            coupling = !strcmp(v, "two-way") ? COUPLE_TWO_WAY : !strcmp(v, "one-way") ? COUPLE_ONE_WAY : -2;
-            if (coupling == -2) {
+            coupling = core_coupling_parse(v);
+            if (coupling < 0) {
                 fprintf(stderr, "disim shol: --coupling '%s': expected two-way or one-way\n", v);
                 return 2;
             }
@@ -230,7 +177,8 @@ int cmd_shol(int argc, char **argv)
         return 2;
     }
     int tty = isatty(2);
-    core_log log = {log_stderr, &tty, CORE_LOG_INFO};
+    app_log al = {"shol", tty};
+    core_log log = {app_log_stderr, &al, CORE_LOG_INFO};
     core_err err = {{0}};
     sim_scenario *sc = calloc(1, sizeof *sc);
     hfm_aircraft *ac = NULL;
@@ -246,18 +194,8 @@ int cmd_shol(int argc, char **argv)
     if (!(ac = hfm_aircraft_load(sc->aircraft_path, &log, &err)))
         goto fail;
     shol_settings set;
-    shol_settings_default(&set);
-    if (shol_criteria_load(sc->aircraft_path, &set.criteria, &err) != 0)
+    if (couple_shol_settings_scenario(&set, sc, &err) != 0)
         goto fail;
-    if (sc->wod_mode == SIM_WOD_SWEEP) {
-        set.n_dirs = sc->n_dirs;
-        memcpy(set.dirs_rad, sc->dirs_rad, sc->n_dirs * sizeof(double));
-        set.speed_step_mps = sc->speed_step_mps;
-        set.speed_max_mps = sc->speed_max_mps;
-    } else {
-        set.n_dirs = 1;
-        set.dirs_rad[0] = sc->wod_dir_rad;
-    }
     if (full && shol_settings_full_circle(&set, (dstep > 0 ? dstep : 30.0) * CORE_DEG_TO_RAD, &err) != 0)
         goto fail;
     if (!full && dstep > 0 && shol_settings_dirs(&set, -90 * CORE_DEG_TO_RAD, 90 * CORE_DEG_TO_RAD, dstep * CORE_DEG_TO_RAD, &err) != 0)
@@ -284,32 +222,27 @@ int cmd_shol(int argc, char **argv)
         goto fail;
 
     couple_settings cs;
-    couple_settings_default(&cs);
-    cs.grid = grid >= 0 ? grid : (int)sc->grid;
+    couple_settings_scenario(&cs, sc);
+    if (grid >= 0)
+        cs.grid = (core_grid_level)grid;
+    if (zone >= 0) /* --domain, else the scenario's [cfd] coupled_domain */
+        cs.zone = zone;
     cs.direct = direct;
     cs.seed_from_previous = !no_seed;
     cs.seed_one_way = !no_seed;
-    cs.zone = zone >= 0 ? zone : sc->coupled_zone; /* --domain, else the scenario's [cfd] coupled_domain */
-    /* [cfd] rotor: the disk of the coupled solves (loaded: the trim's blade loads) */
-    cs.uniform_disk = sc->rotor == SIM_ROTOR_UNIFORM;
     cs.max_iter = (int)maxit;
     app_progress pw; /* the status line on a terminal while a field is built (progress.c) */
     app_progress_init(&pw, db, tty);
     cs.wait_fn = app_progress_wait;
     cs.wait_user = &pw;
-    cs.cfd_max_iter = (int)cfdit;
-    memcpy(cs.station_S_m, sc->station_S_m, sizeof cs.station_S_m);
-    char exe[PATH_MAX], ships[1024];
-    ssize_t el = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    if (el > 0) {
-        exe[el] = '\0';
-        cs.disim_exe = exe;
+    app_launcher launcher;
+    if (app_launcher_init(&launcher, sc->ship_path, cfdit > 0 ? (int)cfdit : sc->max_iterations) == 0) {
+        cs.launch = app_launch_builder;
+        cs.launch_user = &launcher;
     }
-    snprintf(ships, sizeof ships, "%s", sc->ship_path);
-    cs.ships_dir = dirname(ships);
-    int mode = coupling >= 0 ? coupling : (sc->coupling == SIM_COUPLING_ONE_WAY ? COUPLE_ONE_WAY : COUPLE_TWO_WAY);
+    int mode = coupling >= 0 ? coupling : (int)cs.mode;
 
-    cs.mode = COUPLE_ONE_WAY;
+    cs.mode = CORE_COUPLING_ONE_WAY;
     if (!(one = couple_create(ac, &sc->ship, db, &cs, &log, &err)))
         goto fail;
     /* calm air only needs no ship-only field (couple_trim) */
@@ -317,8 +250,8 @@ int cmd_shol(int argc, char **argv)
         goto fail;
     progress_ctx pc = {tty, "one-way"};
     fprintf(stderr, "shol: %s + %s, %d directions, grid %s, %s\n", sc->ship.name, hfm_aircraft_name(ac), set.n_dirs,
-            sim_grid_name((sim_grid)cs.grid),
-            mode != COUPLE_TWO_WAY ? "one-way" : cs.zone ? "two-way coupling in the deck zone" : "two-way coupling");
+            core_grid_name(cs.grid),
+            mode != CORE_COUPLING_TWO_WAY ? "one-way" : cs.zone ? "two-way coupling in the deck zone" : "two-way coupling");
     if (shol_envelope_run(&set, couple_shol_trim, one, on_progress, &pc, &log, &r1, &err) != 0) {
         if (couple_last_error(one)[0])
             snprintf(err.msg, sizeof err.msg, "%s", couple_last_error(one));
@@ -331,10 +264,10 @@ int cmd_shol(int argc, char **argv)
     info.title = title;
     info.scenario_path = scen;
     info.aircraft_path = sc->aircraft_path;
-    info.grid = sim_grid_name((sim_grid)cs.grid);
+    info.grid = core_grid_name(cs.grid);
     const shol_result *main_r = &r1;
-    if (mode == COUPLE_TWO_WAY) {
-        cs.mode = COUPLE_TWO_WAY;
+    if (mode == CORE_COUPLING_TWO_WAY) {
+        cs.mode = CORE_COUPLING_TWO_WAY;
         if (!(two = couple_create(ac, &sc->ship, db, &cs, &log, &err)))
             goto fail;
         /* coupled from two steps of the resolution below the one-way limit
@@ -349,7 +282,7 @@ int cmd_shol(int argc, char **argv)
             goto fail;
         }
         main_r = &r2;
-        md = coupling_md(two);
+        md = couple_points_md(two);
         info.label = "two-way coupled";
         if (cs.zone)
             info.coupling = cs.direct ? "two-way, coupled field used directly; coupled fields in the deck zone (5 R "

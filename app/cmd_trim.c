@@ -7,6 +7,7 @@
  * point that does not trim is reported with its residual norm and the
  * equation that did not close, converged = 0, and exit status 1. The CSV is
  * written to a temporary file and renamed, so nothing is half-written. */
+#include "cmds.h"
 #include "core.h"
 #include "hfm.h"
 #ifdef DISIM_HAVE_CFD
@@ -32,12 +33,6 @@ static void usage(void)
             "  (rotor off) scaled from its WOD speed; the direction is the field's.\n"
             "  power_kW is main plus tail rotor aerodynamic power; --modes prints each\n"
             "  trim's eigenvalues and mode names (linearised, rotor quasi-steady).\n");
-}
-
-static void log_stderr(void *user, int level, const char *msg)
-{
-    (void)user;
-    fprintf(stderr, "%s: %s\n", level == CORE_LOG_ERROR ? "error" : "warning", msg);
 }
 
 #ifdef DISIM_HAVE_CFD
@@ -198,7 +193,8 @@ int cmd_trim(int argc, char **argv)
         mps[i] = kt[i] * CORE_KT_TO_MPS;
     }
     core_err err = {{0}};
-    core_log log = {log_stderr, NULL, CORE_LOG_WARN};
+    app_log al = {NULL, 0};
+    core_log log = {app_log_stderr, &al, CORE_LOG_WARN};
     ac = hfm_aircraft_load(ac_path, &log, &err);
     if (!ac) {
         fprintf(stderr, "disim trim: %s\n", err.msg);

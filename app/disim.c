@@ -19,62 +19,6 @@
 typedef int (*cmd_fn)(int argc, char **argv);
 
 static int cmd_help(int argc, char **argv);
-#ifdef DISIM_HAVE_CFD
-int cmd_airwake(int argc, char **argv);
-int cmd_probe(int argc, char **argv);
-int cmd_validate(int argc, char **argv);
-#endif
-#ifdef DISIM_HAVE_HFM
-int cmd_trim(int argc, char **argv); /* cmd_trim.c */
-#endif
-
-static int cmd_check(int argc, char **argv)
-{
-    if (argc != 2) {
-        fprintf(stderr, "usage: disim check SCENARIO.ini\n");
-        return 2;
-    }
-    sim_scenario *sc = malloc(sizeof *sc);
-    if (!sc)
-        return 1;
-    core_err err = {{0}};
-    int rc = sim_scenario_load(argv[1], sc, &err);
-    if (rc) {
-        fprintf(stderr, "disim check: %s\n", err.msg);
-        free(sc);
-        return 1;
-    }
-#ifdef DISIM_HAVE_HFM
-    /* The aircraft file in full: every parameter and the rejection criteria. */
-    hfm_aircraft *ac = hfm_aircraft_load(sc->aircraft_path, NULL, &err);
-    if (!ac) {
-        fprintf(stderr, "disim check: %s\n", err.msg);
-        free(sc);
-        return 1;
-    }
-#endif
-    sim_scenario_print(sc, stdout);
-#ifdef DISIM_HAVE_HFM
-    printf("\n[aircraft]\nname = %s\nmass_kg = %.1f\nrotor_radius_m = %.3f\nrotor_omega_radps = %.3f\nblades = %d\n",
-           hfm_aircraft_name(ac), hfm_aircraft_mass_kg(ac), hfm_aircraft_rotor_radius_m(ac),
-           hfm_aircraft_rotor_omega_radps(ac), hfm_aircraft_blades(ac));
-    hfm_aircraft_destroy(ac);
-#endif
-#ifdef DISIM_HAVE_SHOL
-    shol_criteria crit;
-    if (shol_criteria_load(sc->aircraft_path, &crit, &err) != 0) {
-        fprintf(stderr, "disim check: %s\n", err.msg);
-        free(sc);
-        return 1;
-    }
-    printf("\n[rejection]\nroll_deg = %g\npitch_deg = %g\nlong_cyclic_pct = %g\nlat_cyclic_pct = %g\n"
-           "collective_pct = %g\npedal_pct = %g\n",
-           crit.roll_max_rad * CORE_RAD_TO_DEG, crit.pitch_max_rad * CORE_RAD_TO_DEG, crit.long_cyclic_pct,
-           crit.lat_cyclic_pct, crit.collective_pct, crit.pedal_pct);
-#endif
-    free(sc);
-    return 0;
-}
 
 static const struct {
     const char *name;
@@ -82,7 +26,7 @@ static const struct {
     const char *usage;
 } cmds[] = {
     {"help", cmd_help, "help                      this text"},
-    {"check", cmd_check, "check SCENARIO            parse and resolve a scenario, print it"},
+    {"check", cmd_check, "check FILE                check a scenario, aircraft or ship file fully, print it"},
 #ifdef DISIM_HAVE_HFM
     {"trim", cmd_trim, "trim AIRCRAFT             trim sweep to CSV (--airspeed-kt A:B:S | --hover-wod-kt A:B:S, --wod-dir-deg, --trim-constraint, --csv, --modes, --field F.h5 --cg-S X,Y,Z)"},
 #endif

@@ -78,7 +78,7 @@ void awdb_key_format(const awdb_key *k, char *buf, size_t n)
              k->shaft_pitch_rad, k->shaft_roll_rad, k->grid);
     if (k->zone_ref_mps > 0.0 && len >= 0 && (size_t)len < n)
         len += snprintf(buf + len, n - len, "zone_ref_mps = %.17g\n", k->zone_ref_mps);
-    if (k->rotor != AWDB_ROTOR_LOADED || len < 0 || (size_t)len >= n)
+    if (k->rotor != CORE_ROTOR_LOADED || len < 0 || (size_t)len >= n)
         return;
     /* The loaded disk. */
     len += snprintf(buf + len, n - len, "torque_Nm = %.17g\nroot_cut = %.17g\nccw_from_above = %d\nswirl =",
@@ -121,7 +121,7 @@ int awdb_key_read(core_ini *ini, awdb_key *k, core_err *err)
         k->aircraft[0] = '\0';
     k->rotor = (int)rotor;
     k->grid = (int)grid;
-    if (k->rotor != AWDB_ROTOR_LOADED)
+    if (k->rotor != CORE_ROTOR_LOADED)
         return 0;
     int ns = 0, ccw = 0;
     if ((rc = core_ini_get_double(ini, "key", "torque_Nm", 1, 0, 1e7, &k->torque_Nm, err)) ||
@@ -513,7 +513,7 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
      * docs/validation/cfd.md), so a warm start would make the field depend
      * on what the database held, not on its key. Its cost: a few hundred
      * iterations more at most (the fields run to the cap either way). */
-    if (key->rotor == AWDB_ROTOR_OFF && !(key->zone_ref_mps > 0.0))
+    if (key->rotor == CORE_ROTOR_OFF && !(key->zone_ref_mps > 0.0))
         return 1;
     char dirp[AWDB_PATH];
     awdb_fmt(dirp, sizeof dirp, "%s/fields", db->dir);
@@ -567,7 +567,7 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
          * field is the best start of the next (thrust in fractions, hub in
          * radii, shaft tilt in radians). */
         double rd = 0.0;
-        if (key->rotor != AWDB_ROTOR_OFF) {
+        if (key->rotor != CORE_ROTOR_OFF) {
             rd = fabs(k.thrust_N - key->thrust_N) / fmax(key->thrust_N, 1.0) +
                  fabs(k.shaft_pitch_rad - key->shaft_pitch_rad) + fabs(k.shaft_roll_rad - key->shaft_roll_rad);
             for (int i = 0; i < 3; i++)

@@ -33,8 +33,6 @@
 extern "C" {
 #endif
 
-enum { AWDB_ROTOR_OFF = 0, AWDB_ROTOR_UNIFORM = 1, AWDB_ROTOR_LOADED = 2 };
-enum { AWDB_GRID_COARSE = 0, AWDB_GRID_DEFAULT = 1, AWDB_GRID_FINE = 2 };
 /* The loaded-disk table of a key: radial stations x azimuths. */
 #define AWDB_LOAD_NR 8
 #define AWDB_LOAD_NPSI 12
@@ -47,12 +45,12 @@ typedef struct awdb_key {
     char aircraft[64];     /* "" for a ship-only field */
     double wod_speed_mps;
     double wod_dir_rad;
-    int rotor;             /* AWDB_ROTOR_* */
+    core_rotor_mode rotor;
     double thrust_N;       /* 0 with the rotor off */
     double station_S_m[3]; /* rotor hub in S */
     double radius_m;       /* rotor radius */
     double shaft_pitch_rad, shaft_roll_rad; /* shaft tilt in S (0.1 deg resolution) */
-    int grid;              /* AWDB_GRID_* */
+    core_grid_level grid;
     /* > 0: the field covers the deck zone only (cfd_airwake_spec.zone; a
      * coupled point's coupled and isolated fields), its open faces set from
      * the ship-only field of the same ship, direction and grid at this
@@ -62,7 +60,7 @@ typedef struct awdb_key {
      * coupling's reference for what the zone changes) station_S_m and
      * radius_m still place the zone and the aircraft name stays. */
     double zone_ref_mps;
-    /* rotor == AWDB_ROTOR_LOADED: the blade loads of a trim (from the flight
+    /* rotor == CORE_ROTOR_LOADED: the blade loads of a trim (from the flight
      * model), as the CFD disk takes them: the pressure-jump shape
      * load[ipsi * AWDB_LOAD_NR + ir] at r/R = (ir + 0.5) / AWDB_LOAD_NR and
      * psi = 2 pi ipsi / AWDB_LOAD_NPSI from the tail in the rotation sense
@@ -240,6 +238,73 @@ void awdb_embedded_destroy(awdb_embedded *e);
  * builds fail with an error saying so. */
 void awdb_embedded_set_db(awdb_embedded *e, awdb *db);
 void awdb_embedded_engine(awdb_embedded *e, awdb_engine *eng);
+
+/* ------------------------------------------------ a client's fields */
+/* What a program that reads fields (the coupling, later the flight loop)
+ * keeps of the database: the fields it loaded (least recently used
+ * dropped first) and a fetch that queues a missing key and waits for the
+ * builder, starting one through the caller's launcher when none serves the
+ * database. Needs the CFD module. A fetched field stays loaded until
+ * cache_n other fields have been fetched after it. */
+struct cfd_field;
+struct cfd_field_scaled;
+struct cfd_airwake_spec;
+typedef struct awdb_fields awdb_fields;
+typedef struct awdb_fields_opts {
+    int cache_n;              /* fields kept loaded, 1 to 32 (default 8) */
+    double wait_timeout_s;    /* longest wait for one field (default 3 h) */
+    double poll_s;            /* database poll while waiting (default 0.2 s) */
+    /* Start a builder on db_dir (e.g. `disim airwaked DB --exit-when-idle`
+     * in the background); called while no builder serves the database and
+     * a field is wanted. Returns 0 (started, or one of ours is still
+     * starting), < 0 it cannot. NULL: never start one (a missing field
+     * with no builder is an error). */
+    int (*launch)(void *user, const char *db_dir);
+    void *launch_user;
+    /* Called every poll while a field is waited for (NULL: never), with the
+     * key waited for and the seconds waited so far (progress displays). */
+    void (*wait_fn)(void *user, const awdb_key *key, double waited_s);
+    void *wait_user;
+    /* Called when a field file is loaded into the cache (NULL: never). */
+    void (*loaded_fn)(void *user, const char *path, const struct cfd_field *f);
+    void *loaded_user;
+} awdb_fields_opts;
+
+void awdb_fields_opts_default(awdb_fields_opts *o);
+/* Over an open database that outlives it. NULL with err. */
+awdb_fields *awdb_fields_create(awdb *db, const awdb_fields_opts *o, const core_log *log, core_err *err);
+void awdb_fields_destroy(awdb_fields *fc);
+awdb *awdb_fields_db(const awdb_fields *fc);
+/* The field of key (canonicalised in place): loaded from the database when
+ * READY, else queued and waited for. NULL with err: the key is invalid,
+ * its build failed, no builder serves it (and none can be started), or it
+ * was not built within wait_timeout_s. */
+const struct cfd_field *awdb_fields_get(awdb_fields *fc, awdb_key *key, core_err *err);
+/* A field file by path, through the cache. NULL with err. */
+const struct cfd_field *awdb_fields_load(awdb_fields *fc, const char *path, core_err *err);
+/* The path of a loaded field; NULL if it is not in the cache. */
+const char *awdb_fields_path(const awdb_fields *fc, const struct cfd_field *f);
+/* Start a builder (launch) if none serves the database: 0, or < 0. */
+int awdb_fields_start_builder(awdb_fields *fc);
+
+/* The key of a whole-domain ship-only field (aircraft may be NULL or ""). */
+void awdb_key_ship_only(awdb_key *k, const char *ship, const char *aircraft, double speed_mps, double dir_rad,
+                        core_grid_level grid);
+/* The one-way air at a WOD: the direction's ship-only field, built at
+ * ref_speed_mps, scaled to speed_mps (a ship-only airwake scales with the
+ * wind speed). 0 with air filled, or -1 with err when the field cannot be
+ * had. The field stays loaded until the cache drops it. */
+int awdb_fields_ship_only_air(awdb_fields *fc, const char *ship, const char *aircraft, core_grid_level grid,
+                              double ref_speed_mps, double speed_mps, double dir_rad,
+                              struct cfd_field_scaled *air, core_err *err);
+
+/* The CFD case of a key, the one place a key becomes a solver spec (the
+ * builder's engine and `disim airwake` both take it from here, so that a
+ * field is the same whoever solved it): ship, WOD, grid level, rotor disk,
+ * the monitor line, the isolated rotor's open ship cells, and a deck zone's
+ * flag and (rotor off) box; a zone's boundary field, the iteration limit
+ * and the grid-study options are the caller's. 0, or < 0 with err. */
+int awdb_key_spec(const awdb_key *key, const core_ship *ship, struct cfd_airwake_spec *spec, core_err *err);
 
 /* The CFD actuator disk of a key with the rotor on: centred at the station,
  * tilted by the shaft angles (heading along the ship's), psi = 0 aft;

@@ -178,7 +178,7 @@ static const core_ship *find_ship(const awdb_embedded *e, const char *name, size
 static int mirror_source(void *user, const awdb_key *k, awdb_key *src)
 {
     const awdb_embedded *e = user;
-    if (k->rotor != AWDB_ROTOR_OFF || k->zone_ref_mps > 0.0 || strchr(k->ship, '.'))
+    if (k->rotor != CORE_ROTOR_OFF || k->zone_ref_mps > 0.0 || strchr(k->ship, '.'))
         return 0;
     double d = k->wod_dir_rad;
     if (fabs(d) < 1e-9 || fabs(fabs(d) - M_PI) < 1e-9)
@@ -246,30 +246,15 @@ static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, cons
     if (!ship)
         return core_err_set(err, -1, "ship '%s': no ship file of that name", k->ship);
     cfd_airwake_spec spec;
-    memset(&spec, 0, sizeof spec);
-    spec.ship = ship;
-    spec.wod_speed_mps = k->wod_speed_mps;
-    spec.wod_dir_rad = k->wod_dir_rad;
-    spec.level = (cfd_grid_level)k->grid;
-    spec.rotor = k->rotor;
-    spec.monitor_z_m = awdb_key_monitor_z_m(k);
+    if (awdb_key_spec(k, ship, &spec, err) != 0)
+        return -1;
     spec.max_iter = e->max_iter;
-    spec.open_ship = open_ship;
-    if (spec.rotor)
-        awdb_key_disk(k, &spec.disk);
     cfd_field *outer = NULL; /* a deck zone's boundary field; outlives the solver */
-    if (k->zone_ref_mps > 0.0) {
-        spec.zone = 1;
-        if (!spec.rotor) { /* the zone's ship-only field: the box from the station and radius */
-            memcpy(spec.disk.centre_m, k->station_S_m, sizeof spec.disk.centre_m);
-            spec.disk.radius_m = k->radius_m;
-        }
-        if (!open_ship) {
-            if (!(outer = zone_outer(e, k, err)))
-                return -1;
-            spec.zone_field = outer;
-            spec.zone_scale = k->wod_speed_mps / k->zone_ref_mps;
-        }
+    if (spec.zone && !open_ship) {
+        if (!(outer = zone_outer(e, k, err)))
+            return -1;
+        spec.zone_field = outer;
+        spec.zone_scale = k->wod_speed_mps / k->zone_ref_mps;
     }
     prog_adapter pa = {progress, pu, e};
     cfd_solver *s = cfd_airwake_create(&spec, e->log, on_cfd_progress, &pa, err);
@@ -316,13 +301,12 @@ static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, cons
                      k->ship, k->wod_speed_mps, k->wod_dir_rad * CORE_RAD_TO_DEG, res.iterations, res.residual[0],
                      res.steady_mean ? "; the mean flow is steady: the field is the mean of the last iterations"
                      : res.averaged ? "; the field is the mean of the last iterations" : "");
-    static const char *rotor[] = {"off", "uniform", "loaded"};
     cfd_meta meta;
     memset(&meta, 0, sizeof meta);
     meta.wod_speed_mps = k->wod_speed_mps;
     meta.wod_dir_deg = k->wod_dir_rad * CORE_RAD_TO_DEG;
     snprintf(meta.ship, sizeof meta.ship, "%.63s", k->ship);
-    snprintf(meta.rotor, sizeof meta.rotor, "%s", rotor[k->rotor]);
+    snprintf(meta.rotor, sizeof meta.rotor, "%s", core_rotor_name(k->rotor));
     snprintf(meta.grid, sizeof meta.grid, "%s%s", core_grid_name(k->grid), spec.zone ? "-zone" : "");
     meta.rotor_thrust_N = k->thrust_N;
     meta.rotor_radius_m = k->radius_m;
@@ -337,11 +321,11 @@ static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, cons
 
 int awdb_key_disk(const awdb_key *k, cfd_disk *d)
 {
-    if (k->rotor == AWDB_ROTOR_OFF)
+    if (k->rotor == CORE_ROTOR_OFF)
         return -1;
     core_euler att = {k->shaft_roll_rad, k->shaft_pitch_rad, 0.0};
     cfd_disk_from_attitude(d, k->station_S_m, att, k->radius_m, k->thrust_N);
-    if (k->rotor == AWDB_ROTOR_LOADED) {
+    if (k->rotor == CORE_ROTOR_LOADED) {
         d->nr = AWDB_LOAD_NR;
         d->npsi = AWDB_LOAD_NPSI;
         memcpy(d->load, k->load, sizeof k->load);
@@ -356,7 +340,7 @@ int awdb_key_disk(const awdb_key *k, cfd_disk *d)
 double awdb_key_monitor_z_m(const awdb_key *k)
 {
     /* a ship-only key has no station (it serves every hover height) */
-    return k->rotor == AWDB_ROTOR_OFF ? -5.0 : k->station_S_m[2];
+    return k->rotor == CORE_ROTOR_OFF ? -5.0 : k->station_S_m[2];
 }
 
 void awdb_embedded_engine(awdb_embedded *e, awdb_engine *eng)

@@ -40,13 +40,13 @@ int awdb_key_canon(awdb_key *k, core_err *err)
         return core_err_set(err, -1, "airwake key: wod_speed_mps = %g: expected 0 to 100", k->wod_speed_mps);
     if (!isfinite(k->wod_dir_rad))
         return core_err_set(err, -1, "airwake key: wod_dir_rad: expected a finite angle");
-    if (k->rotor < AWDB_ROTOR_OFF || k->rotor > AWDB_ROTOR_LOADED)
+    if ((int)k->rotor < CORE_ROTOR_OFF || (int)k->rotor > CORE_ROTOR_LOADED)
         return core_err_set(err, -1, "airwake key: rotor = %d: expected 0 (off), 1 (uniform) or 2 (loaded)", k->rotor);
-    if (k->grid < AWDB_GRID_COARSE || k->grid > AWDB_GRID_FINE)
+    if ((int)k->grid < CORE_GRID_COARSE || (int)k->grid > CORE_GRID_FINE)
         return core_err_set(err, -1, "airwake key: grid = %d: expected 0 (coarse), 1 (default) or 2 (fine)", k->grid);
     /* the request file's reader takes 0 to 1e7 N: a key it would refuse
      * must be refused here, not queued and failed by the builder */
-    if (k->rotor != AWDB_ROTOR_OFF && !(isfinite(k->thrust_N) && k->thrust_N > 0.0 && k->thrust_N <= 1e7))
+    if (k->rotor != CORE_ROTOR_OFF && !(isfinite(k->thrust_N) && k->thrust_N > 0.0 && k->thrust_N <= 1e7))
         return core_err_set(err, -1, "airwake key: thrust_N = %g: expected a positive thrust (at most 1e7 N) with the rotor on",
                             k->thrust_N);
     if (!isfinite(k->zone_ref_mps) || k->zone_ref_mps < 0.0 || k->zone_ref_mps > 100.0)
@@ -55,7 +55,7 @@ int awdb_key_canon(awdb_key *k, core_err *err)
     if (k->wod_speed_mps == 0.0) /* a zone needs a ship-only field at a wind */
         k->zone_ref_mps = 0.0;
     const int zone = k->zone_ref_mps > 0.0;
-    if ((k->rotor != AWDB_ROTOR_OFF || zone) && !(isfinite(k->radius_m) && k->radius_m > 0.1 && k->radius_m < 50.0))
+    if ((k->rotor != CORE_ROTOR_OFF || zone) && !(isfinite(k->radius_m) && k->radius_m > 0.1 && k->radius_m < 50.0))
         return core_err_set(err, -1, "airwake key: radius_m = %g: expected 0.1 to 50 m with the rotor on or a zone",
                             k->radius_m);
     if (!isfinite(k->shaft_pitch_rad) || !isfinite(k->shaft_roll_rad) || fabs(k->shaft_pitch_rad) > 1.0 ||
@@ -74,13 +74,13 @@ int awdb_key_canon(awdb_key *k, core_err *err)
     if (k->wod_speed_mps == 0.0)
         k->wod_dir_rad = 0.0;
     k->zone_ref_mps = round_to(k->zone_ref_mps, 0.01);
-    if (k->rotor == AWDB_ROTOR_OFF && !zone) {
+    if (k->rotor == CORE_ROTOR_OFF && !zone) {
         /* A ship-only field does not depend on the helicopter. */
         k->thrust_N = 0.0;
         k->aircraft[0] = '\0';
         k->station_S_m[0] = k->station_S_m[1] = k->station_S_m[2] = 0.0;
         k->radius_m = k->shaft_pitch_rad = k->shaft_roll_rad = 0.0;
-    } else if (k->rotor == AWDB_ROTOR_OFF) {
+    } else if (k->rotor == CORE_ROTOR_OFF) {
         /* A ship-only field in a deck zone: the zone's box is the rotor's
          * reach from the station, so station and radius name it. */
         k->thrust_N = k->shaft_pitch_rad = k->shaft_roll_rad = 0.0;
@@ -104,7 +104,7 @@ int awdb_key_canon(awdb_key *k, core_err *err)
         return core_err_set(err, -1, "airwake key: ship '%s', aircraft '%s': names too long (%zu characters together; "
                             "expected at most %zu)", k->ship, k->aircraft, strlen(k->ship) + strlen(k->aircraft),
                             strlen(k->ship) + strlen(k->aircraft) - (strlen(name) - (AWDB_NAME_MAX - 1)));
-    if (k->rotor != AWDB_ROTOR_LOADED) {
+    if (k->rotor != CORE_ROTOR_LOADED) {
         memset(k->load, 0, sizeof k->load);
         memset(k->swirl, 0, sizeof k->swirl);
         k->torque_Nm = k->root_cut = 0.0;
@@ -142,13 +142,12 @@ void awdb_key_zone_boundary(const awdb_key *zone, awdb_key *b)
     snprintf(b->ship, sizeof b->ship, "%s", zone->ship);
     b->wod_speed_mps = zone->zone_ref_mps;
     b->wod_dir_rad = zone->wod_dir_rad;
-    b->rotor = AWDB_ROTOR_OFF;
+    b->rotor = CORE_ROTOR_OFF;
     b->grid = zone->grid;
 }
 
 void awdb_key_name(const awdb_key *k, char *buf, size_t n)
 {
-    static const char *rotor[] = {"off", "uniform", "loaded"};
     char text[512]; /* holds the longest canonical key's values: all of them are hashed */
     double dir_deg = k->wod_dir_rad * CORE_RAD_TO_DEG;
     awdb_fmt(text, sizeof text, "%s|%s|%.2f|%.2f|%d|%.0f|%.2f|%.2f|%.2f|%.2f|%.1f|%.1f|%d|%s", k->ship,
@@ -164,7 +163,7 @@ void awdb_key_name(const awdb_key *k, char *buf, size_t n)
         h ^= (unsigned char)*p;
         h *= 1099511628211ULL;
     }
-    if (k->rotor == AWDB_ROTOR_LOADED) {
+    if (k->rotor == CORE_ROTOR_LOADED) {
         /* the table as canon rounded it: torque, root cut, sense, swirl, load */
         char v[48];
         int nv = AWDB_LOAD_NR * AWDB_LOAD_NPSI + AWDB_LOAD_NR + 3;
@@ -180,5 +179,5 @@ void awdb_key_name(const awdb_key *k, char *buf, size_t n)
     }
     awdb_fmt(buf, n, "%s_%s_v%05.2f_d%+07.2f_%s_%s%s_%016llx", k->ship,
              k->aircraft[0] ? k->aircraft : "shiponly", k->wod_speed_mps, dir_deg,
-             rotor[k->rotor], core_grid_name(k->grid), k->zone_ref_mps > 0.0 ? "-zone" : "", (unsigned long long)h);
+             core_rotor_name(k->rotor), core_grid_name(k->grid), k->zone_ref_mps > 0.0 ? "-zone" : "", (unsigned long long)h);
 }

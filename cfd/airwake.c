@@ -91,8 +91,8 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
                      sp->wod_speed_mps);
         return NULL;
     }
-    if (!sh || sh->nblocks < 1 || !(sp->wod_speed_mps > 0.0 || calm) || sp->level < CFD_GRID_COARSE ||
-        sp->level > CFD_GRID_FINE) {
+    if (!sh || sh->nblocks < 1 || !(sp->wod_speed_mps > 0.0 || calm) || sp->level < CORE_GRID_COARSE ||
+        sp->level > CORE_GRID_FINE) {
         core_err_set(err, -1,
                      "cfd airwake: expected a ship, a WOD speed > 0 (or 0 with a loaded rotor) and a grid level "
                      "(got %g m/s)",
@@ -207,8 +207,8 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
         cfg.relax_u = 0.7;
         cfg.limiter = CFD_LIMITER_MINMOD;
     }
-    if (sp->limiter > 0)
-        cfg.limiter = sp->limiter - 1;
+    if (sp->limiter_fixed)
+        cfg.limiter = sp->limiter;
     /* On every ship grid Anderson starts where the residuals stall (the
      * default grid from about iteration 100; SFS2 green 30 on the coarse
      * grid: converged in 351 iterations instead of a 7e-2 stall), and

@@ -135,7 +135,7 @@ typedef int (*cfd_progress_fn)(void *user, int iter, int max_iter, double residu
  * default; minmod max(0, min(r, 1)), the most diffusive second-order TVD
  * limiter, which ship airwakes on grids finer than about 1 m use (see
  * cfd_airwake_create). */
-enum { CFD_LIMITER_VANLEER = 0, CFD_LIMITER_MINMOD = 1 };
+typedef enum { CFD_LIMITER_VANLEER = 0, CFD_LIMITER_MINMOD = 1 } cfd_limiter;
 
 typedef struct cfd_config {
     int turbulence;        /* 0 laminar, 1 RNG k-epsilon with wall functions */
@@ -163,7 +163,7 @@ typedef struct cfd_config {
     double monitor_m[CFD_MAX_MONITOR][3];
     double relax_u, relax_p, relax_turb; /* under-relaxation (0.7, 0.9, 0.6; ship airwakes u 0.85) */
     int second_order;      /* 1: TVD deferred correction (first order on the faces of wall-function cells), 0: upwind */
-    int limiter;           /* the TVD limiter: CFD_LIMITER_VANLEER (default) or CFD_LIMITER_MINMOD */
+    cfd_limiter limiter;   /* the TVD limiter: CFD_LIMITER_VANLEER (default) or CFD_LIMITER_MINMOD */
     int max_retries;       /* retries with more under-relaxation after divergence (2) */
     int accel_depth;       /* > 0: Anderson acceleration of the SIMPLEC iteration keeping this many
                               differences (1..16; about 140 B per cell plus 56 B per cell and
@@ -323,16 +323,15 @@ cfd_field *cfd_field_mirror_y(const cfd_field *src, core_err *err);
 void cfd_field_dims(const cfd_field *f, int n[3]);
 
 /* ----------------------------------------------------------------- airwake */
-typedef enum { CFD_GRID_COARSE = 0, CFD_GRID_DEFAULT = 1, CFD_GRID_FINE = 2 } cfd_grid_level;
 /* the ship grids' growth ratio of the cells outside the focus box, every level */
 #define CFD_GRID_GROWTH 1.12
 
 typedef struct cfd_airwake_spec {
     const core_ship *ship;
     double wod_speed_mps, wod_dir_rad;
-    cfd_grid_level level;
+    core_grid_level level;
     int abl;                 /* 1: ABL inflow (z0 = 2e-4 m, sea), 0: uniform */
-    int rotor;               /* 0 off, 1 uniform, 2 loaded (disk filled in) */
+    core_rotor_mode rotor;   /* with the rotor on, disk is filled in */
     cfd_disk disk;
     double monitor_z_m;      /* monitor line height in S (CG height, z < 0 above deck) */
     int max_iter;            /* 0: default */
@@ -346,9 +345,10 @@ typedef struct cfd_airwake_spec {
     int avg_window;          /* > 0: the averaging window of a field that does not converge
                                 (iterations, at most max_iter; the default min(max_iter / 4,
                                 200); grid studies of shedding fields) */
-    int limiter;             /* 0: the level's (van Leer on the coarse grid, minmod below
-                                1 m spacing); 1 + CFD_LIMITER_*: that one (grid studies
-                                with one scheme on every grid) */
+    int limiter_fixed;       /* 1: limiter on every level (grid studies with one scheme on
+                                every grid); 0: the level's (van Leer on the coarse grid,
+                                minmod below 1 m spacing) */
+    cfd_limiter limiter;
     int open_ship;           /* 1: the same grid and boundaries with no cell blocked
                                 (the isolated rotor of the coupling's interaction velocity) */
     /* 1: the deck zone only, for a coupled point (needs a wind and the disk's

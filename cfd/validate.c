@@ -401,16 +401,16 @@ typedef struct sfs2_out {
 
 /* One SFS2 run. warm: a solved coarser level to start from (coarse-to-fine),
  * or NULL; keep: if not NULL, receives the solver instead of destroying it. */
-static int run_sfs2_seq(vctx *v, const core_ship *ship, double speed, double dir_deg, int rotor, cfd_grid_level lv,
+static int run_sfs2_seq(vctx *v, const core_ship *ship, double speed, double dir_deg, int rotor, core_grid_level lv,
                         const cfd_solver *warm, cfd_solver **keep, sfs2_out *o, core_err *err);
 
-static int run_sfs2(vctx *v, const core_ship *ship, double speed, double dir_deg, int rotor, cfd_grid_level lv,
+static int run_sfs2(vctx *v, const core_ship *ship, double speed, double dir_deg, int rotor, core_grid_level lv,
                     sfs2_out *o, core_err *err)
 {
     return run_sfs2_seq(v, ship, speed, dir_deg, rotor, lv, NULL, NULL, o, err);
 }
 
-static int run_sfs2_seq(vctx *v, const core_ship *ship, double speed, double dir_deg, int rotor, cfd_grid_level lv,
+static int run_sfs2_seq(vctx *v, const core_ship *ship, double speed, double dir_deg, int rotor, core_grid_level lv,
                         const cfd_solver *warm, cfd_solver **keep, sfs2_out *o, core_err *err)
 {
     cfd_airwake_spec sp;
@@ -504,7 +504,7 @@ static int case_sfs2(vctx *v, core_err *err)
     int rc = load_sfs2(v, &ship, err);
     if (rc)
         return rc;
-    cfd_grid_level lv = CFD_GRID_COARSE;
+    core_grid_level lv = CORE_GRID_COARSE;
     const double U = 15.0; /* 54 km/h, the seed paper's validation WOD */
     double deck = ship.deck_x1_m - ship.deck_x0_m;
     sfs2_out head, g30, rot, fast;
@@ -548,7 +548,7 @@ static int case_sfs2_grid(vctx *v, core_err *err)
     cfd_solver *prev = NULL;
     for (int l = 0; l < nlev; l++) {
         cfd_solver *cur = NULL;
-        rc = run_sfs2_seq(v, &ship, U, 0.0, 0, (cfd_grid_level)l, prev, &cur, &o[l], err);
+        rc = run_sfs2_seq(v, &ship, U, 0.0, 0, (core_grid_level)l, prev, &cur, &o[l], err);
         cfd_solver_destroy(prev);
         prev = cur;
         if (rc)

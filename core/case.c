@@ -1,21 +1,38 @@
-/* grid.c -- the names of the airwake grid levels, shared by the scenario
- * reader, the command line, the airwake database's keys and the CFD
- * validation, so that a level has one spelling everywhere. */
+/* case.c -- the named options of an airwake case (grid level, rotor mode,
+ * coupling mode), shared by the scenario reader, the command line, the
+ * airwake database's keys, the CFD solver and the coupling, so that each
+ * has one type and one spelling everywhere. The choice strings for the
+ * INI reader are the same names joined by '|' (test_core checks that
+ * they agree). */
 #include "core.h"
 
 #include <string.h>
 
-static const char *const names[CORE_GRID_NLEVELS] = {"coarse", "default", "fine"};
+static const char *const grid_names[CORE_GRID_NLEVELS] = {"coarse", "default", "fine"};
+static const char *const rotor_names[CORE_ROTOR_NMODES] = {"off", "uniform", "loaded"};
+static const char *const coupling_names[CORE_COUPLING_NMODES] = {"two-way", "one-way"};
 
-const char *core_grid_name(int level)
+static const char *name_of(const char *const *names, int n, int v)
 {
-    return level >= 0 && level < CORE_GRID_NLEVELS ? names[level] : "?";
+    return v >= 0 && v < n ? names[v] : "?";
 }
 
-int core_grid_parse(const char *s)
+static int parse_of(const char *const *names, int n, const char *s)
 {
-    for (int l = 0; s && l < CORE_GRID_NLEVELS; l++)
-        if (!strcmp(s, names[l]))
-            return l;
+    for (int v = 0; s && v < n; v++)
+        if (!strcmp(s, names[v]))
+            return v;
     return -1;
 }
+
+const char *core_grid_name(int level) { return name_of(grid_names, CORE_GRID_NLEVELS, level); }
+int core_grid_parse(const char *s) { return parse_of(grid_names, CORE_GRID_NLEVELS, s); }
+const char *core_grid_choices(void) { return "coarse|default|fine"; }
+
+const char *core_rotor_name(int mode) { return name_of(rotor_names, CORE_ROTOR_NMODES, mode); }
+int core_rotor_parse(const char *s) { return parse_of(rotor_names, CORE_ROTOR_NMODES, s); }
+const char *core_rotor_choices(void) { return "off|uniform|loaded"; }
+
+const char *core_coupling_name(int mode) { return name_of(coupling_names, CORE_COUPLING_NMODES, mode); }
+int core_coupling_parse(const char *s) { return parse_of(coupling_names, CORE_COUPLING_NMODES, s); }
+const char *core_coupling_choices(void) { return "two-way|one-way"; }

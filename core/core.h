@@ -173,14 +173,40 @@ int core_mkdir_p(const char *dir, core_err *err);
  * with errno set. */
 int core_sync_path(const char *path);
 
-/* ------------------------------------------------------ airwake grid levels */
-/* The three airwake grid levels: 0 coarse, 1 default, 2 fine (the values
- * of cfd_grid_level, sim_grid and the database keys' grid). */
+/* ------------------------------------------------- airwake case options */
+/* The named options of an airwake case, each defined here once (the
+ * lowest module that the scenario reader, the CFD solver, the database's
+ * keys and the coupling all share). Names: core_*_name gives "?" for a
+ * value out of range; core_*_parse gives the value, or -1 for NULL or an
+ * unknown name; core_*_choices the names joined by '|' for
+ * core_ini_get_enum. */
+
+/* The airwake grid levels (cfd/airwake.c gives each its spacing). */
+typedef enum { CORE_GRID_COARSE = 0, CORE_GRID_DEFAULT = 1, CORE_GRID_FINE = 2 } core_grid_level;
 #define CORE_GRID_NLEVELS 3
-/* "coarse", "default" or "fine"; "?" for a level out of range. */
+/* "coarse", "default" or "fine". */
 const char *core_grid_name(int level);
-/* The level named s, or -1 for NULL or an unknown name. */
 int core_grid_parse(const char *s);
+const char *core_grid_choices(void);
+
+/* The rotor in an airwake case: none (ship-only), the uniform actuator
+ * disk of the seed paper's eq. 5, or the disk loaded with a trim's blade
+ * loads. */
+typedef enum { CORE_ROTOR_OFF = 0, CORE_ROTOR_UNIFORM = 1, CORE_ROTOR_LOADED = 2 } core_rotor_mode;
+#define CORE_ROTOR_NMODES 3
+/* "off", "uniform" or "loaded". */
+const char *core_rotor_name(int mode);
+int core_rotor_parse(const char *s);
+const char *core_rotor_choices(void);
+
+/* Ship-rotor coupling: two-way (the rotor in the CFD, seed paper section
+ * 2.5) or one-way (the ship-only airwake). */
+typedef enum { CORE_COUPLING_TWO_WAY = 0, CORE_COUPLING_ONE_WAY = 1 } core_coupling_mode;
+#define CORE_COUPLING_NMODES 2
+/* "two-way" or "one-way". */
+const char *core_coupling_name(int mode);
+int core_coupling_parse(const char *s);
+const char *core_coupling_choices(void);
 
 /* ----------------------------------------------------------- INI reader */
 /* An INI file read whole (libinih), each entry with its line number, and a

@@ -8,7 +8,7 @@
  *    0.1 deg and the load shape to 0.001 of its mean, so a converged loop
  *    re-reads its last field.
  *  - "Change less than 5 %" is measured per quantity as |dx| / max(|x|, f)
- *    with floors f = 10 % of travel for controls and 1 deg for attitudes, so
+ *    with floors f = 20 % of travel for controls and 5 deg for attitudes, so
  *    quantities near zero do not demand impossible relative accuracy.
  *  - The isolated-rotor field for the interaction velocity is the same case
  *    with the ship's cells left open (ship name + ".isolated").
@@ -26,120 +26,21 @@
  *    inflow modes of the flight model's Pitt-Peters model (uniform and
  *    first harmonics, linear in r; Peters and HaQuang 1988): the blade
  *    elements see the disk-scale interaction, not the pointwise difference
- *    of two slipstream edges a cell wide (disk_fit). Fuselage, tail rotor
+ *    of two slipstream edges a cell wide (interaction.c). Fuselage, tail rotor
  *    and empennage see the pointwise field.
  */
-#include "couple.h"
-#include "cfd.h"
+#include "couple_priv.h"
 
-#include <errno.h>
-#include <fcntl.h>
 #include <math.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
-#include <time.h>
-#include <unistd.h>
-
-#define CACHE_N 8
-/* seed a coupled point with the interaction of one at most this far in
- * speed (a point trimmed again at the same speed is not seeded: it starts
- * from free air as before and re-reads its fields) */
-#define SEED_MAX_DV_MPS 3.0
-/* seeds kept: one per direction, a full circle in 5 deg steps */
-#define SEED_DIRS 72
-
-/* The interaction velocity, under-relaxed: weight w on this iteration's
- * fields and 1 - w on the previous iteration's (prev_coupled NULL: none). */
-typedef struct air_interaction {
-    const cfd_field *coupled, *isolated;
-    const cfd_field *prev_coupled, *prev_isolated;
-    double w;
-    double wind[3];
-    /* the interaction over the rotor disk, projected on the Pitt-Peters
-     * modes (see disk_fit): v_k(r, psi) = m[k] + (r/R)(c[k] cos psi +
-     * s[k] sin psi), psi from the hub frame's x axis */
-    double hub[3], R;
-    core_quat q_SH;
-    double m[3], c[3], s[3];
-    /* deck zone: corr_scale (ship_whole - ship_zone), the whole domain's
-     * ship-only airwake in place of the zone's own (NULL: none) */
-    const cfd_field *ship_whole, *ship_zone;
-    double corr_scale;
-} air_interaction;
-
-struct couple_ctx {
-    const hfm_aircraft *ac;
-    const core_ship *ship;
-    awdb *db;
-    couple_settings s;
-    const core_log *log;
-    hfm_trim *trim;
-    hfm_disk *disk;
-    struct {
-        char path[1024];
-        cfd_field *f;
-        unsigned long used;
-    } cache[CACHE_N];
-    unsigned long tick;
-    hfm_trim_result last;   /* warm start for the next trim */
-    int have_last;
-    couple_point *hist;
-    int nhist, caphist;
-    char last_error[1024];
-    pid_t builder_pid;
-    couple_field_info *fields;
-    int nfields, capfields;
-    /* The interaction of the last coupled point of each direction (the
-     * next speed's seed there): its air with the field pointers cleared
-     * (the cache may drop the fields) and the fields' database paths (""
-     * where ai has none). One per direction: the envelope sweeps every
-     * direction before it walks any down, and a walk-down's first point
-     * is seeded from its own direction's last point, as in a run of that
-     * direction alone (the same trims, hence the same database keys). */
-    struct seed_slot {
-        int valid;
-        double v, dir;
-        unsigned long used;
-        air_interaction ai;
-        char coupled[1024], isolated[1024], prev_coupled[1024], prev_isolated[1024];
-    } seeds[SEED_DIRS];
-    unsigned long seed_tick;
-};
-
-/* The seed of a direction, or NULL. */
-static struct seed_slot *seed_find(couple_ctx *c, double dir)
-{
-    for (int i = 0; i < SEED_DIRS; i++)
-        if (c->seeds[i].valid && fabs(c->seeds[i].dir - dir) < 1e-9)
-            return &c->seeds[i];
-    return NULL;
-}
-
-/* The slot for a direction's seed: its own, a free one or the least
- * recently stored. */
-static struct seed_slot *seed_slot_for(couple_ctx *c, double dir)
-{
-    struct seed_slot *s = seed_find(c, dir);
-    if (s)
-        return s;
-    int lru = 0;
-    for (int i = 0; i < SEED_DIRS; i++) {
-        if (!c->seeds[i].valid)
-            return &c->seeds[i];
-        if (c->seeds[i].used < c->seeds[lru].used)
-            lru = i;
-    }
-    return &c->seeds[lru];
-}
 
 void couple_settings_default(couple_settings *s)
 {
     memset(s, 0, sizeof *s);
-    s->mode = COUPLE_TWO_WAY;
-    s->grid = AWDB_GRID_DEFAULT;
+    s->mode = CORE_COUPLING_TWO_WAY;
+    s->grid = CORE_GRID_DEFAULT;
     s->max_iter = 6;
     s->tol_frac = 0.05;
     s->ref_speed_mps = 15.0;
@@ -156,7 +57,7 @@ couple_ctx *couple_create(const hfm_aircraft *ac, const core_ship *ship, awdb *d
         core_err_set(err, -1, "coupling: max_iter = %d: expected 1 to %d", s->max_iter, COUPLE_MAX_ITER);
         return NULL;
     }
-    if (s->zone && s->direct && s->mode == COUPLE_TWO_WAY) {
+    if (s->zone && s->direct && s->mode == CORE_COUPLING_TWO_WAY) {
         core_err_set(err, -1, "coupling: the deck zone (zone = 1) works with the interaction velocity only, not "
                               "with the coupled field used directly (direct = 1)");
         return NULL;
@@ -175,6 +76,20 @@ couple_ctx *couple_create(const hfm_aircraft *ac, const core_ship *ship, awdb *d
     c->db = db;
     c->s = *s;
     c->log = log;
+    awdb_fields_opts fo;
+    awdb_fields_opts_default(&fo);
+    fo.cache_n = COUPLE_CACHE_N;
+    fo.wait_timeout_s = s->wait_timeout_s;
+    fo.launch = s->launch;
+    fo.launch_user = s->launch_user;
+    fo.wait_fn = s->wait_fn;
+    fo.wait_user = s->wait_user;
+    fo.loaded_fn = couple_field_note;
+    fo.loaded_user = c;
+    if (!(c->fc = awdb_fields_create(db, &fo, log, err))) {
+        couple_destroy(c);
+        return NULL;
+    }
     c->trim = hfm_trim_create(ac, log);
     c->disk = malloc(sizeof *c->disk);
     if (!c->trim || !c->disk) {
@@ -189,394 +104,13 @@ void couple_destroy(couple_ctx *c)
 {
     if (!c)
         return;
-    for (int i = 0; i < CACHE_N; i++)
-        cfd_field_destroy(c->cache[i].f);
+    awdb_fields_destroy(c->fc);
     hfm_trim_destroy(c->trim);
     free(c->disk);
     free(c->hist);
     free(c->fields);
-    if (c->builder_pid > 0)
-        waitpid(c->builder_pid, NULL, WNOHANG);
     free(c);
 }
-
-/* Start `disim airwaked DB --exit-when-idle` in the background, its output
- * into DB/builder.log. */
-static void spawn_builder(couple_ctx *c)
-{
-    if (!c->s.disim_exe || !c->s.ships_dir)
-        return;
-    if (c->builder_pid > 0 && waitpid(c->builder_pid, NULL, WNOHANG) == 0)
-        return; /* ours is still starting up */
-    pid_t pid = fork();
-    if (pid == 0) {
-        char logp[1100];
-        snprintf(logp, sizeof logp, "%s/builder.log", awdb_dir(c->db));
-        int fd = open(logp, O_WRONLY | O_CREAT | O_APPEND, 0666);
-        if (fd >= 0) {
-            dup2(fd, 1);
-            dup2(fd, 2);
-            close(fd);
-        }
-        setsid(); /* outlives this process if another client still waits */
-        char it[32];
-        snprintf(it, sizeof it, "%d", c->s.cfd_max_iter);
-        if (c->s.cfd_max_iter > 0)
-            execl(c->s.disim_exe, c->s.disim_exe, "airwaked", awdb_dir(c->db), "--exit-when-idle", "--ships",
-                  c->s.ships_dir, "--no-lcm", "--max-iter", it, (char *)NULL);
-        else
-            execl(c->s.disim_exe, c->s.disim_exe, "airwaked", awdb_dir(c->db), "--exit-when-idle", "--ships",
-                  c->s.ships_dir, "--no-lcm", (char *)NULL);
-        _exit(127);
-    }
-    if (pid > 0) {
-        c->builder_pid = pid;
-        core_log_msg(c->log, CORE_LOG_INFO, "started an airwake builder (pid %ld)", (long)pid);
-    }
-}
-
-/* Record a loaded field's solver state once (for couple_fields); out of
- * memory only loses the record. */
-static void note_field(couple_ctx *c, const char *path, const cfd_field *f)
-{
-    const char *base = strrchr(path, '/');
-    base = base ? base + 1 : path;
-    size_t len = strlen(base);
-    if (len > 3 && !strcmp(base + len - 3, ".h5"))
-        len -= 3;
-    for (int i = 0; i < c->nfields; i++)
-        if (strlen(c->fields[i].name) == len && !strncmp(c->fields[i].name, base, len))
-            return;
-    if (c->nfields == c->capfields) {
-        int cap = c->capfields ? 2 * c->capfields : 16;
-        couple_field_info *p = realloc(c->fields, (size_t)cap * sizeof *p);
-        if (!p)
-            return;
-        c->fields = p;
-        c->capfields = cap;
-    }
-    const cfd_meta *m = cfd_field_meta(f);
-    couple_field_info *fi = &c->fields[c->nfields++];
-    memset(fi, 0, sizeof *fi);
-    snprintf(fi->name, sizeof fi->name, "%.*s", (int)(len < sizeof fi->name ? len : sizeof fi->name - 1), base);
-    fi->wod_speed_mps = m->wod_speed_mps;
-    fi->wod_dir_deg = m->wod_dir_deg;
-    snprintf(fi->rotor, sizeof fi->rotor, "%s", m->rotor);
-    fi->iterations = m->result.iterations;
-    fi->converged = m->result.converged;
-    fi->averaged = m->result.averaged;
-    fi->steady_mean = m->result.steady_mean;
-    fi->mean_drift = m->result.mean_drift;
-    fi->mean_change = m->result.mean_change;
-    fi->residual_continuity = m->result.residual[0];
-    fi->mirrored = m->mirrored;
-}
-
-const couple_field_info *couple_fields(const couple_ctx *c, int *n)
-{
-    *n = c->nfields;
-    return c->fields;
-}
-
-static const cfd_field *load_cached(couple_ctx *c, const char *path, core_err *err)
-{
-    int lru = 0;
-    for (int i = 0; i < CACHE_N; i++) {
-        if (c->cache[i].f && !strcmp(c->cache[i].path, path)) {
-            c->cache[i].used = ++c->tick;
-            return c->cache[i].f;
-        }
-        if (c->cache[i].used < c->cache[lru].used)
-            lru = i;
-    }
-    cfd_field *f = cfd_field_load(path, err);
-    if (!f)
-        return NULL;
-    note_field(c, path, f);
-    cfd_field_destroy(c->cache[lru].f);
-    c->cache[lru].f = f;
-    snprintf(c->cache[lru].path, sizeof c->cache[lru].path, "%s", path);
-    c->cache[lru].used = ++c->tick;
-    return f;
-}
-
-/* The database path of a loaded field (NULL: not in the cache). */
-static const char *cached_path(const couple_ctx *c, const cfd_field *f)
-{
-    for (int i = 0; i < CACHE_N; i++)
-        if (f && c->cache[i].f == f)
-            return c->cache[i].path;
-    return NULL;
-}
-
-/* The field for key: from the database, or queued and waited for. */
-static const cfd_field *get_field(couple_ctx *c, awdb_key *key, core_err *err)
-{
-    if (awdb_key_canon(key, err))
-        return NULL;
-    char path[1024], name[200];
-    awdb_key_name(key, name, sizeof name);
-    struct timespec t0, now;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
-    int announced = 0;
-    for (;;) {
-        awdb_state st = awdb_query(c->db, key, path, sizeof path);
-        if (st == AWDB_READY)
-            return load_cached(c, path, err);
-        if (st == AWDB_FAILED) {
-            core_err_set(err, -1, "airwake %s failed to build (see %s/failed/%s.txt)", name, awdb_dir(c->db), name);
-            return NULL;
-        }
-        if (st == AWDB_ABSENT && awdb_submit(c->db, key, NULL, err) != 0)
-            return NULL;
-        if (!announced) {
-            core_log_msg(c->log, CORE_LOG_INFO, "waiting for airwake %s", name);
-            announced = 1;
-        }
-        if (!awdb_builder_alive(c->db)) {
-            if (!c->s.disim_exe) {
-                core_err_set(err, -1, "airwake %s is not in %s and no builder serves it (start `disim airwaked %s`)",
-                             name, awdb_dir(c->db), awdb_dir(c->db));
-                return NULL;
-            }
-            spawn_builder(c);
-        }
-        clock_gettime(CLOCK_MONOTONIC, &now);
-        double waited_s = (double)(now.tv_sec - t0.tv_sec) + 1e-9 * (double)(now.tv_nsec - t0.tv_nsec);
-        if (c->s.wait_fn)
-            c->s.wait_fn(c->s.wait_user, key, waited_s);
-        if (waited_s > c->s.wait_timeout_s) {
-            core_err_set(err, -1, "airwake %s: still not built after %.0f s", name, c->s.wait_timeout_s);
-            return NULL;
-        }
-        if (c->builder_pid > 0)
-            waitpid(c->builder_pid, NULL, WNOHANG);
-        struct timespec ts = {0, 200000000};
-        nanosleep(&ts, NULL);
-    }
-}
-
-/* ---------------------------------------------------------- air sources */
-/* The pointwise interaction velocity (coupled - isolated), under-relaxed
- * against the previous iteration's. */
-static int interaction_at(const air_interaction *a, const double pos[3], double out[3])
-{
-    double c[CFD_NVARS], i[CFD_NVARS], pc[CFD_NVARS], pi[CFD_NVARS];
-    int rc = cfd_field_sample(a->coupled, pos, c);
-    int ri = cfd_field_sample(a->isolated, pos, i);
-    double w = a->prev_coupled ? a->w : 1.0;
-    if (a->prev_coupled) {
-        cfd_field_sample(a->prev_coupled, pos, pc);
-        cfd_field_sample(a->prev_isolated, pos, pi);
-    }
-    for (int k = 0; k < 3; k++)
-        out[k] = w * (c[k] - i[k]) + (a->prev_coupled ? (1.0 - w) * (pc[k] - pi[k]) : 0.0);
-    if (a->ship_zone) {
-        double sw[CFD_NVARS], sz[CFD_NVARS];
-        cfd_field_sample(a->ship_whole, pos, sw);
-        cfd_field_sample(a->ship_zone, pos, sz);
-        for (int k = 0; k < 3; k++)
-            out[k] += a->corr_scale * (sw[k] - sz[k]);
-    }
-    return (rc > 0 || ri > 0) ? 1 : (rc < 0 ? rc : ri);
-}
-
-/* Where the disk's projected interaction applies: within 1.1 R of the
- * shaft and 0.3 R of the disk plane (flapping blades stay inside). Sets
- * r/R and psi. */
-static int in_disk(const air_interaction *a, const double pos[3], double *rr, double *psi)
-{
-    core_vec3 d = core_vec3_make(pos[0] - a->hub[0], pos[1] - a->hub[1], pos[2] - a->hub[2]);
-    core_vec3 h = core_quat_rotate_inv(a->q_SH, d);
-    double r = sqrt(h.x * h.x + h.y * h.y);
-    if (r > 1.1 * a->R || fabs(h.z) > 0.3 * a->R)
-        return 0;
-    *rr = r / a->R;
-    *psi = atan2(h.y, h.x);
-    return 1;
-}
-
-/* Project the interaction over the disk on the modes of the flight model's
- * own inflow model (Pitt-Peters: uniform and the two first harmonics,
- * linear in r), by area-weighted least squares on a polar grid over 0.2 R
- * to R. Why: pointwise, the difference of two resolved slipstreams is
- * dominated at the blade tips by the slipstream edge, which sits within
- * a cell or two of the tip and moves by a fraction of a cell between the
- * coupled and the isolated solution. On a flat deck in calm air (hub 0.95 R
- * above the deck) the pointwise difference was 0.5-0.7 m/s downward at
- * r = 0.9-0.95 R and 0.5-1.5 m/s upward inboard; the trim, loaded at the
- * tips, took 5 % more collective in ground effect. The projection keeps
- * the disk-scale interaction (ground effect, the airwake's up- and
- * downwash, its gradients) and drops the tip-cell noise; the fuselage,
- * tail and empennage still see the pointwise field. */
-static void disk_fit(air_interaction *a, const hfm_disk *d, double R)
-{
-    memcpy(a->hub, d->hub_S_m, sizeof a->hub);
-    a->q_SH = d->q_SH;
-    a->R = R;
-    double sm[3] = {0}, sc[3] = {0}, ss[3] = {0}, w0 = 0, wc = 0, ws = 0;
-    const int nr = 16, np = 36;
-    for (int ir = 0; ir < nr; ir++) {
-        double x = 0.2 + 0.8 * (ir + 0.5) / nr; /* r/R */
-        for (int ip = 0; ip < np; ip++) {
-            double psi = 2.0 * M_PI * (ip + 0.5) / np;
-            core_vec3 hp = core_vec3_make(x * R * cos(psi), x * R * sin(psi), 0.0);
-            core_vec3 sp = core_quat_rotate(a->q_SH, hp);
-            double pos[3] = {a->hub[0] + sp.x, a->hub[1] + sp.y, a->hub[2] + sp.z}, v[3];
-            interaction_at(a, pos, v);
-            double wt = x; /* area element r dr dpsi */
-            double cc = x * cos(psi), sn = x * sin(psi);
-            for (int k = 0; k < 3; k++) {
-                sm[k] += wt * v[k];
-                sc[k] += wt * v[k] * cc;
-                ss[k] += wt * v[k] * sn;
-            }
-            w0 += wt;
-            wc += wt * cc * cc;
-            ws += wt * sn * sn;
-        }
-    }
-    for (int k = 0; k < 3; k++) {
-        a->m[k] = sm[k] / w0;
-        a->c[k] = sc[k] / wc;
-        a->s[k] = ss[k] / ws;
-    }
-}
-
-static int air_interaction_fn(void *user, const double pos[3], double t, double vel[3])
-{
-    (void)t;
-    air_interaction *a = user;
-    double rr, psi;
-    if (in_disk(a, pos, &rr, &psi)) {
-        for (int k = 0; k < 3; k++)
-            vel[k] = a->wind[k] + a->m[k] + rr * (a->c[k] * cos(psi) + a->s[k] * sin(psi));
-        return 0;
-    }
-    double v[3];
-    int rc = interaction_at(a, pos, v);
-    for (int k = 0; k < 3; k++)
-        vel[k] = a->wind[k] + v[k];
-    return rc;
-}
-
-static void base_key(couple_ctx *c, awdb_key *k, double v, double dir)
-{
-    memset(k, 0, sizeof *k);
-    snprintf(k->ship, sizeof k->ship, "%s", c->ship->name);
-    snprintf(k->aircraft, sizeof k->aircraft, "%s", hfm_aircraft_name(c->ac));
-    k->wod_speed_mps = v;
-    k->wod_dir_rad = dir;
-    k->grid = c->s.grid;
-}
-
-/* Linear interpolation in a radial-major table t[i * np + j] of the flight
- * model's disk at radius r (clamped to the cell centres) and azimuth index
- * position y (periodic; cell j is centred at j + 0.5). */
-static double disk_sample(const hfm_disk *d, const double *t, double r, double y)
-{
-    int i0 = 0;
-    while (i0 < d->nr - 2 && d->r_m[i0 + 1] < r)
-        i0++;
-    int i1 = d->nr > 1 ? i0 + 1 : i0;
-    double fr = d->nr > 1 ? (r - d->r_m[i0]) / (d->r_m[i1] - d->r_m[i0]) : 0.0;
-    fr = fmin(fmax(fr, 0.0), 1.0);
-    double x = y - 0.5;
-    x -= floor(x / d->npsi) * d->npsi;
-    int j0 = (int)floor(x) % d->npsi, j1 = (j0 + 1) % d->npsi;
-    double fp = x - floor(x);
-    double a = (1 - fr) * t[i0 * d->npsi + j0] + fr * t[i1 * d->npsi + j0];
-    double b = (1 - fr) * t[i0 * d->npsi + j1] + fr * t[i1 * d->npsi + j1];
-    return (1 - fp) * a + fp * b;
-}
-
-int couple_key_set_rotor(const hfm_aircraft *ac, const hfm_disk *d, int loaded, awdb_key *k)
-{
-    if (!(d->thrust_N > 0.0) || d->nr < 1 || d->npsi < 4)
-        return -1;
-    core_euler sh = core_quat_to_euler(d->q_SH);
-    double R = hfm_aircraft_rotor_radius_m(ac);
-    k->rotor = loaded ? AWDB_ROTOR_LOADED : AWDB_ROTOR_UNIFORM;
-    k->thrust_N = d->thrust_N;
-    memcpy(k->station_S_m, d->hub_S_m, sizeof k->station_S_m);
-    k->radius_m = R;
-    k->shaft_pitch_rad = sh.theta_rad;
-    k->shaft_roll_rad = sh.phi_rad;
-    if (!loaded)
-        return 0;
-    /* cells of the flight model's disk run from the root cut to the tip */
-    double dr = d->nr > 1 ? d->r_m[1] - d->r_m[0] : 2.0 * (R - d->r_m[0]);
-    double root = fmax(d->r_m[0] - 0.5 * dr, 0.0);
-    k->root_cut = fmin(root / R, 0.5);
-    k->ccw_from_above = d->sense > 0;
-    double wsum = 0.0, lsum = 0.0, smax = 0.0;
-    for (int i = 0; i < AWDB_LOAD_NR; i++) {
-        double r = (i + 0.5) / AWDB_LOAD_NR * R;
-        double sw = 0.0;
-        for (int j = 0; j < AWDB_LOAD_NPSI; j++) {
-            double y = (double)j * d->npsi / AWDB_LOAD_NPSI;
-            double l = r < root ? 0.0 : disk_sample(d, d->thrust_Pa, r, y);
-            k->load[j * AWDB_LOAD_NR + i] = l;
-            lsum += l * r;
-            sw += r < root ? 0.0 : disk_sample(d, d->swirl_Pa, r, y);
-        }
-        wsum += r * AWDB_LOAD_NPSI;
-        k->swirl[i] = sw / AWDB_LOAD_NPSI;
-        smax = fmax(smax, fabs(k->swirl[i]));
-    }
-    if (!(lsum > 0.0))
-        return -1;
-    double mean = lsum / wsum; /* area-weighted mean pressure jump */
-    for (int i = 0; i < AWDB_LOAD_NR * AWDB_LOAD_NPSI; i++)
-        k->load[i] /= mean;
-    for (int i = 0; i < AWDB_LOAD_NR; i++)
-        k->swirl[i] = smax > 0.0 ? k->swirl[i] / smax : 0.0;
-    /* the in-plane forces' moment about the shaft: the rotor torque */
-    double q = 0.0, dpsi = 2.0 * CORE_PI / d->npsi;
-    for (int i = 0; i < d->nr; i++)
-        for (int j = 0; j < d->npsi; j++)
-            q += d->swirl_Pa[i * d->npsi + j] * d->r_m[i] * d->r_m[i] * dr * dpsi;
-    k->torque_Nm = fmax(q, 0.0);
-    return 0;
-}
-
-int couple_free_air_rotor(const hfm_aircraft *ac, const double station_S_m[3], double v, double dir, int loaded,
-                          awdb_key *key, core_err *err)
-{
-    hfm_trim *t = hfm_trim_create(ac, NULL);
-    hfm_disk *d = malloc(sizeof *d);
-    if (!t || !d) {
-        hfm_trim_destroy(t);
-        free(d);
-        return core_err_set(err, -1, "free-air trim: out of memory");
-    }
-    hfm_trim_cond cond;
-    memset(&cond, 0, sizeof cond);
-    cond.kind = HFM_TRIM_HOVER_SHIP;
-    cond.wod_speed_mps = v;
-    cond.wod_dir_rad = dir;
-    memcpy(cond.pos_S_m, station_S_m, sizeof cond.pos_S_m);
-    hfm_trim_result r;
-    int rc = hfm_trim_solve(t, &cond, NULL, &r);
-    if (rc == 0) {
-        hfm_air_uniform uni;
-        core_vec3 w = core_wod_vel_S_mps(v, dir);
-        uni.vel_S_mps[0] = w.x, uni.vel_S_mps[1] = w.y, uni.vel_S_mps[2] = w.z;
-        hfm_air air = {hfm_air_uniform_fn, &uni, NULL};
-        if (hfm_rotor_disk(ac, &air, 0.0, &r.body, &r.u, &r.rotor, 8, 12, d) != 0 ||
-            couple_key_set_rotor(ac, d, loaded, key) != 0)
-            rc = core_err_set(err, -1, "free-air trim at %.2f m/s from %.1f deg: rotor disk evaluation failed", v,
-                              dir * CORE_RAD_TO_DEG);
-    } else if (rc > 0) {
-        core_err_set(err, rc, "free-air trim at %.2f m/s from %.1f deg did not converge", v, dir * CORE_RAD_TO_DEG);
-    } else {
-        core_err_set(err, rc, "free-air trim at %.2f m/s from %.1f deg: fatal error", v, dir * CORE_RAD_TO_DEG);
-    }
-    hfm_trim_destroy(t);
-    free(d);
-    return rc;
-}
-
 /* The relative change of a control or attitude, against at least `floor`.
  * The floors are the smallest margins the rejection criteria leave
  * (CONVENTIONS.md): 20 % of travel (the pedal's) for a control, 5 deg (the
@@ -630,12 +164,14 @@ static int solve(couple_ctx *c, const hfm_trim_cond *cond, hfm_trim_result *res)
  * had. The field stays in the cache until the next fetch. */
 static int ship_only_air(couple_ctx *c, double v, double dir, cfd_field_scaled *a, core_err *err)
 {
-    awdb_key k;
-    base_key(c, &k, c->s.ref_speed_mps, dir);
-    k.rotor = AWDB_ROTOR_OFF;
-    a->field = get_field(c, &k, err);
-    a->scale = v / c->s.ref_speed_mps;
-    return a->field ? 0 : -1;
+    return awdb_fields_ship_only_air(c->fc, c->ship->name, hfm_aircraft_name(c->ac), c->s.grid, c->s.ref_speed_mps,
+                                     v, dir, a, err);
+}
+
+/* The key of a field of this ship and aircraft at a WOD (rotor off). */
+static void base_key(const couple_ctx *c, awdb_key *k, double v, double dir)
+{
+    awdb_key_ship_only(k, c->ship->name, hfm_aircraft_name(c->ac), v, dir, c->s.grid);
 }
 
 /* Deck zone: the whole domain's and the zone's own ship-only fields of the
@@ -650,7 +186,6 @@ static int ship_only_air(couple_ctx *c, double v, double dir, cfd_field_scaled *
 static void zone_ship_key(couple_ctx *c, double dir, awdb_key *k)
 {
     base_key(c, k, c->s.ref_speed_mps, dir);
-    k->rotor = AWDB_ROTOR_OFF;
     k->zone_ref_mps = c->s.ref_speed_mps;
     memcpy(k->station_S_m, c->s.station_S_m, sizeof k->station_S_m);
     k->radius_m = hfm_aircraft_rotor_radius_m(c->ac);
@@ -663,18 +198,203 @@ static int zone_correction(couple_ctx *c, double v, double dir, air_interaction 
         return 0;
     awdb_key k;
     zone_ship_key(c, dir, &k);
-    const cfd_field *sz = get_field(c, &k, err);
+    const cfd_field *sz = awdb_fields_get(c->fc, &k, err);
     if (!sz)
         return -1;
     cfd_field_scaled so;
     if (ship_only_air(c, v, dir, &so, err) != 0)
         return -1;
     /* the whole field's fetch may have evicted the zone's: fetch it again */
-    if (!(sz = get_field(c, &k, err)))
+    if (!(sz = awdb_fields_get(c->fc, &k, err)))
         return -1;
     ai->ship_whole = so.field;
     ai->ship_zone = sz;
     ai->corr_scale = v / c->s.ref_speed_mps;
+    return 0;
+}
+
+/* A coupled point's airs while it is trimmed. The air of the latest trim
+ * outlives each iteration because the next disk is evaluated in it (before
+ * any field is fetched, so the cached fields it points to are still
+ * loaded). Lives on couple_trim's stack: cond.air and air point into it. */
+typedef struct trim_state {
+    hfm_trim_cond cond;
+    hfm_air_uniform uni;
+    hfm_air free_air;
+    air_interaction ai;    /* the interaction air (air.user) */
+    cfd_field_scaled direct; /* the coupled field used directly (air.user with direct) */
+    hfm_air air;
+    cfd_field_scaled ship_air; /* the one-way seed's scaled ship-only field */
+    hfm_air ship_hfm_air;
+} trim_state;
+
+/* One-way: the trim in the ship-only airwake scaled to v. */
+static int trim_one_way(couple_ctx *c, trim_state *st, double v, double dir, couple_point *p, core_err *err)
+{
+    /* calm air: the ship-only field scaled by v is zero everywhere, so
+     * the one-way trim is the free-air one and needs no field */
+    cfd_field_scaled a;
+    hfm_air air = {cfd_field_air_scaled, &a, NULL};
+    if (v > 0.0) {
+        if (ship_only_air(c, v, dir, &a, err) != 0)
+            return -1;
+        st->cond.air = &air;
+    }
+    int rc = solve(c, &st->cond, &p->trim);
+    st->cond.air = NULL;
+    if (rc < 0)
+        return core_err_set(err, rc, "trim at %.2f m/s from %.1f deg: fatal error", v, dir * CORE_RAD_TO_DEG);
+    p->converged = rc == 0;
+    p->coupling_converged = 1;
+    p->n_iter = 1;
+    record(&p->iter[0], &p->trim, NULL);
+    return rc;
+}
+
+/* Iteration 0 seeded with the interaction of the previous coupled point of
+ * this direction (seed_from_previous). Why: from free air the first
+ * coupled trim always moved more than 5 %, so every speed took two coupled
+ * and two isolated fields; the interaction changes little over one speed
+ * step, and a trim seeded with it is usually within 5 % of the trim in its
+ * own fields after one pair. The first coupled iteration takes the new
+ * fields whole (no relaxation), so a point that converges there is trimmed
+ * in its own fields only. 0 trimmed, 1 no seed or no trim (free air
+ * again), < 0 fatal. */
+static int seed_previous(couple_ctx *c, trim_state *st, double v, double dir, couple_point *p, core_err *err)
+{
+    const struct couple_seed_slot *sd = couple_seed_find(c, dir);
+    if (!(c->s.seed_from_previous && !c->s.direct && sd && fabs(sd->v - v) <= SEED_MAX_DV_MPS &&
+          fabs(sd->v - v) > 1e-6))
+        return 1;
+    /* four fields in a cache of COUPLE_CACHE_N: none evicts another */
+    air_interaction *ai = &st->ai;
+    *ai = sd->ai;
+    int ok = (ai->coupled = awdb_fields_load(c->fc, sd->coupled, err)) != NULL &&
+             (ai->isolated = awdb_fields_load(c->fc, sd->isolated, err)) != NULL;
+    if (ok && sd->prev_coupled[0])
+        ok = (ai->prev_coupled = awdb_fields_load(c->fc, sd->prev_coupled, err)) != NULL &&
+             (ai->prev_isolated = awdb_fields_load(c->fc, sd->prev_isolated, err)) != NULL;
+    if (ok && zone_correction(c, v, dir, ai, err) != 0)
+        return -1;
+    if (!ok) { /* a field gone from the database: start in free air */
+        memset(ai, 0, sizeof *ai);
+        return 1;
+    }
+    memcpy(ai->wind, st->uni.vel_S_mps, sizeof ai->wind);
+    st->air.fn = couple_interaction_air;
+    st->air.user = ai;
+    st->air.wake = &st->free_air; /* the flight model's wake is the isolated rotor's (hfm.h) */
+    st->cond.air = &st->air;
+    int rc = solve(c, &st->cond, &p->trim);
+    if (rc < 0)
+        return core_err_set(err, rc, "seeded trim at %.2f m/s: fatal error", v);
+    if (rc == 0) {
+        p->seed = COUPLE_SEED_PREVIOUS;
+        p->seed_speed_mps = sd->v;
+    } else
+        st->cond.air = NULL;
+    return rc;
+}
+
+/* Iteration 0 of a point with no previous coupled point to seed it: the
+ * one-way trim (seed_one_way). Why: the ship-only airwake holds most of
+ * what moves the trim away from free air (CG-47 red 60: one-way pedal 70 %
+ * at 60 km/h, free-air pedal 39 % at 50 km/h), so the first coupled disk,
+ * loaded from it, is nearer the coupled solution. The scaled field stays
+ * in the cache while the first disk is evaluated in it (nothing is fetched
+ * before). 0 trimmed, 1 not (free air again), < 0 fatal. */
+static int seed_one_way(couple_ctx *c, trim_state *st, double v, double dir, couple_point *p, core_err *err)
+{
+    if (!(c->s.seed_one_way && !c->s.direct && v > 0.0)) /* calm: the scaled field is free air */
+        return 1;
+    if (ship_only_air(c, v, dir, &st->ship_air, err) != 0)
+        return -1;
+    st->ship_hfm_air.fn = cfd_field_air_scaled;
+    st->ship_hfm_air.user = &st->ship_air;
+    st->ship_hfm_air.wake = NULL;
+    st->cond.air = &st->ship_hfm_air;
+    int rc = solve(c, &st->cond, &p->trim);
+    if (rc < 0)
+        return core_err_set(err, rc, "one-way seed trim at %.2f m/s: fatal error", v);
+    if (rc == 0)
+        p->seed = COUPLE_SEED_ONE_WAY;
+    else
+        st->cond.air = NULL;
+    return rc;
+}
+
+/* The fields of coupled iteration it: the disk from the current trim,
+ * evaluated in the air it was trimmed in, solved with the ship (and, for
+ * the interaction velocity, without it), and the air made of them. 0, or
+ * < 0 fatal. */
+static int coupled_air(couple_ctx *c, trim_state *st, double v, double dir, int it, couple_point *p, core_err *err)
+{
+    const hfm_air *air_now = st->cond.air ? st->cond.air : &st->free_air;
+    if (hfm_rotor_disk(c->ac, air_now, 0.0, &p->trim.body, &p->trim.u, &p->trim.rotor, 8, 12, c->disk) != 0)
+        return core_err_set(err, -1, "rotor disk at %.2f m/s from %.1f deg: evaluation failed", v, dir * CORE_RAD_TO_DEG);
+    awdb_key kc;
+    base_key(c, &kc, v, dir);
+    if (couple_key_set_rotor(c->ac, c->disk, !c->s.uniform_disk, &kc) != 0)
+        return core_err_set(err, -1, "rotor disk at %.2f m/s from %.1f deg: no thrust", v, dir * CORE_RAD_TO_DEG);
+    if (c->s.zone && v > 0.0) {
+        /* the zone's boundary must be in the database before the zone
+         * is built (it usually is: the one-way trim used it) */
+        kc.zone_ref_mps = c->s.ref_speed_mps;
+        awdb_key kb;
+        awdb_key_zone_boundary(&kc, &kb);
+        if (!awdb_fields_get(c->fc, &kb, err))
+            return -1;
+        /* the zone's own ship-only field (zone_correction), queued now
+         * to be built beside the first pair */
+        awdb_key kz;
+        zone_ship_key(c, dir, &kz);
+        if (awdb_submit(c->db, &kz, NULL, err) != 0)
+            return -1;
+    }
+    awdb_key ki = kc;
+    snprintf(ki.ship, sizeof ki.ship, "%s.isolated", c->ship->name);
+    if (!c->s.direct) {
+        /* queue the isolated rotor now, so that a builder with two jobs
+         * runs it beside the coupled field */
+        if (awdb_key_canon(&ki, err) != 0 || awdb_submit(c->db, &ki, NULL, err) != 0)
+            return -1;
+    }
+    const cfd_field *fc = awdb_fields_get(c->fc, &kc, err);
+    if (!fc)
+        return -1;
+    st->direct.field = fc;
+    st->direct.scale = 1.0;
+    if (c->s.direct) {
+        st->air.fn = cfd_field_air_scaled;
+        st->air.user = &st->direct;
+    } else {
+        const cfd_field *fi = awdb_fields_get(c->fc, &ki, err);
+        if (!fi)
+            return -1;
+        /* the fetch may have evicted fc from the cache: fetch it again. */
+        fc = awdb_fields_get(c->fc, &kc, err);
+        if (!fc)
+            return -1;
+        /* The fixed-point iteration trim -> CFD -> trim overshoots where
+         * the interaction is strong (the collective was seen to swing
+         * +-10 % between iterations): each iteration takes half of the
+         * new interaction and half of the previous one. */
+        air_interaction *ai = &st->ai;
+        ai->prev_coupled = it > 1 ? ai->coupled : NULL;
+        ai->prev_isolated = it > 1 ? ai->isolated : NULL;
+        ai->w = 0.5;
+        ai->coupled = fc;
+        ai->isolated = fi;
+        /* after fc and fi: six fields in a cache of COUPLE_CACHE_N */
+        if (zone_correction(c, v, dir, ai, err) != 0)
+            return -1;
+        memcpy(ai->wind, st->uni.vel_S_mps, sizeof ai->wind);
+        couple_interaction_fit(ai, c->disk, hfm_aircraft_rotor_radius_m(c->ac));
+        st->air.fn = couple_interaction_air;
+        st->air.user = ai;
+        st->air.wake = &st->free_air; /* the flight model's wake is the isolated rotor's (hfm.h) */
+    }
+    st->cond.air = &st->air;
     return 0;
 }
 
@@ -683,109 +403,31 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
     memset(p, 0, sizeof *p);
     p->wod_speed_mps = v;
     p->wod_dir_rad = dir;
-    hfm_trim_cond cond;
-    memset(&cond, 0, sizeof cond);
-    cond.kind = HFM_TRIM_HOVER_SHIP;
-    cond.wod_speed_mps = v;
-    cond.wod_dir_rad = dir;
-    memcpy(cond.pos_S_m, c->s.station_S_m, sizeof cond.pos_S_m);
+    trim_state st;
+    memset(&st, 0, sizeof st);
+    st.cond.kind = HFM_TRIM_HOVER_SHIP;
+    st.cond.wod_speed_mps = v;
+    st.cond.wod_dir_rad = dir;
+    memcpy(st.cond.pos_S_m, c->s.station_S_m, sizeof st.cond.pos_S_m);
+    if (c->s.mode == CORE_COUPLING_ONE_WAY)
+        return trim_one_way(c, &st, v, dir, p, err);
 
-    if (c->s.mode == COUPLE_ONE_WAY) {
-        /* calm air: the ship-only field scaled by v is zero everywhere, so
-         * the one-way trim is the free-air one and needs no field */
-        cfd_field_scaled a;
-        hfm_air air = {cfd_field_air_scaled, &a, NULL};
-        if (v > 0.0) {
-            if (ship_only_air(c, v, dir, &a, err) != 0)
-                return -1;
-            cond.air = &air;
-        }
-        int rc = solve(c, &cond, &p->trim);
-        if (rc < 0)
-            return core_err_set(err, rc, "trim at %.2f m/s from %.1f deg: fatal error", v, dir * CORE_RAD_TO_DEG);
-        p->converged = rc == 0;
-        p->coupling_converged = 1;
-        p->n_iter = 1;
-        record(&p->iter[0], &p->trim, NULL);
-        return rc;
-    }
-
-    hfm_air_uniform uni;
     core_vec3 w = core_wod_vel_S_mps(v, dir);
-    uni.vel_S_mps[0] = w.x;
-    uni.vel_S_mps[1] = w.y;
-    uni.vel_S_mps[2] = w.z;
-    hfm_air free_air = {hfm_air_uniform_fn, &uni, NULL};
-    /* The air of the latest trim; it outlives each iteration because the next
-     * disk is evaluated in it (before any field is fetched, so the cached
-     * fields it points to are still loaded). */
-    air_interaction ai;
-    memset(&ai, 0, sizeof ai);
-    cfd_field_scaled direct;
-    hfm_air air = {NULL, NULL, NULL};
+    st.uni.vel_S_mps[0] = w.x;
+    st.uni.vel_S_mps[1] = w.y;
+    st.uni.vel_S_mps[2] = w.z;
+    st.free_air.fn = hfm_air_uniform_fn;
+    st.free_air.user = &st.uni;
 
-    /* Iteration 0: the trim in the interaction of the previous coupled
-     * point of this direction (seed_from_previous), else in free air. Why:
-     * from free air the first coupled trim always moved more than 5 %, so
-     * every speed took two coupled and two isolated fields; the interaction
-     * changes little over one speed step, and a trim seeded with it is
-     * usually within 5 % of the trim in its own fields after one pair. The
-     * first coupled iteration takes the new fields whole (no relaxation),
-     * so a point that converges there is trimmed in its own fields only. */
-    int rc = 1;
-    const struct seed_slot *sd = seed_find(c, dir);
-    if (c->s.seed_from_previous && !c->s.direct && sd && fabs(sd->v - v) <= SEED_MAX_DV_MPS &&
-        fabs(sd->v - v) > 1e-6) {
-        /* four fields in a cache of CACHE_N: none evicts another */
-        ai = sd->ai;
-        int ok = (ai.coupled = load_cached(c, sd->coupled, err)) != NULL &&
-                 (ai.isolated = load_cached(c, sd->isolated, err)) != NULL;
-        if (ok && sd->prev_coupled[0])
-            ok = (ai.prev_coupled = load_cached(c, sd->prev_coupled, err)) != NULL &&
-                 (ai.prev_isolated = load_cached(c, sd->prev_isolated, err)) != NULL;
-        if (ok && zone_correction(c, v, dir, &ai, err) != 0)
-            return -1;
-        if (!ok) { /* a field gone from the database: start in free air */
-            memset(&ai, 0, sizeof ai);
-        } else {
-            memcpy(ai.wind, uni.vel_S_mps, sizeof ai.wind);
-            air.fn = air_interaction_fn;
-            air.user = &ai;
-            air.wake = &free_air; /* the flight model's wake is the isolated rotor's (hfm.h) */
-            cond.air = &air;
-            rc = solve(c, &cond, &p->trim);
-            if (rc < 0)
-                return core_err_set(err, rc, "seeded trim at %.2f m/s: fatal error", v);
-            if (rc == 0) {
-                p->seed = COUPLE_SEED_PREVIOUS;
-                p->seed_speed_mps = sd->v;
-            }
-            else
-                cond.air = NULL;
-        }
-    }
-    /* A point with no previous coupled point to seed it: the one-way trim.
-     * Why: the ship-only airwake holds most of what moves the trim away
-     * from free air (CG-47 red 60: one-way pedal 70 % at 60 km/h, free-air
-     * pedal 39 % at 50 km/h), so the first coupled disk, loaded from it,
-     * is nearer the coupled solution. The scaled field stays in the cache
-     * while the first disk is evaluated in it (nothing is fetched before). */
-    cfd_field_scaled ship_air;
-    hfm_air ship_hfm_air = {cfd_field_air_scaled, &ship_air, NULL};
-    if (rc != 0 && c->s.seed_one_way && !c->s.direct && v > 0.0) { /* calm: the scaled field is free air */
-        if (ship_only_air(c, v, dir, &ship_air, err) != 0)
-            return -1;
-        cond.air = &ship_hfm_air;
-        rc = solve(c, &cond, &p->trim);
-        if (rc < 0)
-            return core_err_set(err, rc, "one-way seed trim at %.2f m/s: fatal error", v);
-        if (rc == 0)
-            p->seed = COUPLE_SEED_ONE_WAY;
-        else
-            cond.air = NULL;
-    }
-    if (rc != 0) {
-        rc = solve(c, &cond, &p->trim);
+    /* Iteration 0: seeded from the previous point of the direction, else
+     * from the one-way trim, else the free-air trim. */
+    int rc = seed_previous(c, &st, v, dir, p, err);
+    if (rc > 0)
+        rc = seed_one_way(c, &st, v, dir, p, err);
+    if (rc < 0)
+        return -1;
+    if (rc > 0) {
+        rc = solve(c, &st.cond, &p->trim);
         if (rc != 0) {
             if (rc < 0)
                 return core_err_set(err, rc, "free-air trim at %.2f m/s: fatal error", v);
@@ -796,74 +438,10 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
     record(&p->iter[0], &p->trim, NULL);
     p->n_iter = 1;
     for (int it = 1; it < c->s.max_iter + 1 && it < COUPLE_MAX_ITER; it++) {
-        /* The disk from the current trim, evaluated in the air it was trimmed in. */
-        const hfm_air *air_now = cond.air ? cond.air : &free_air;
-        if (hfm_rotor_disk(c->ac, air_now, 0.0, &p->trim.body, &p->trim.u, &p->trim.rotor, 8, 12, c->disk) != 0)
-            return core_err_set(err, -1, "rotor disk at %.2f m/s from %.1f deg: evaluation failed", v, dir * CORE_RAD_TO_DEG);
-        awdb_key kc;
-        base_key(c, &kc, v, dir);
-        if (couple_key_set_rotor(c->ac, c->disk, !c->s.uniform_disk, &kc) != 0)
-            return core_err_set(err, -1, "rotor disk at %.2f m/s from %.1f deg: no thrust", v, dir * CORE_RAD_TO_DEG);
-        if (c->s.zone && v > 0.0) {
-            /* the zone's boundary must be in the database before the zone
-             * is built (it usually is: the one-way trim used it) */
-            kc.zone_ref_mps = c->s.ref_speed_mps;
-            awdb_key kb;
-            awdb_key_zone_boundary(&kc, &kb);
-            if (!get_field(c, &kb, err))
-                return -1;
-            /* the zone's own ship-only field (zone_correction), queued now
-             * to be built beside the first pair */
-            awdb_key kz;
-            zone_ship_key(c, dir, &kz);
-            if (awdb_submit(c->db, &kz, NULL, err) != 0)
-                return -1;
-        }
-        awdb_key ki = kc;
-        snprintf(ki.ship, sizeof ki.ship, "%s.isolated", c->ship->name);
-        if (!c->s.direct) {
-            /* queue the isolated rotor now, so that a builder with two jobs
-             * runs it beside the coupled field */
-            if (awdb_key_canon(&ki, err) != 0 || awdb_submit(c->db, &ki, NULL, err) != 0)
-                return -1;
-        }
-        const cfd_field *fc = get_field(c, &kc, err);
-        if (!fc)
+        if (coupled_air(c, &st, v, dir, it, p, err) != 0)
             return -1;
-        direct.field = fc;
-        direct.scale = 1.0;
-        if (c->s.direct) {
-            air.fn = cfd_field_air_scaled;
-            air.user = &direct;
-        } else {
-            const cfd_field *fi = get_field(c, &ki, err);
-            if (!fi)
-                return -1;
-            /* get_field may have evicted fc from the cache: fetch it again. */
-            fc = get_field(c, &kc, err);
-            if (!fc)
-                return -1;
-            /* The fixed-point iteration trim -> CFD -> trim overshoots where
-             * the interaction is strong (the collective was seen to swing
-             * +-10 % between iterations): each iteration takes half of the
-             * new interaction and half of the previous one. */
-            ai.prev_coupled = it > 1 ? ai.coupled : NULL;
-            ai.prev_isolated = it > 1 ? ai.isolated : NULL;
-            ai.w = 0.5;
-            ai.coupled = fc;
-            ai.isolated = fi;
-            /* after fc and fi: six fields in a cache of CACHE_N */
-            if (zone_correction(c, v, dir, &ai, err) != 0)
-                return -1;
-            memcpy(ai.wind, uni.vel_S_mps, sizeof ai.wind);
-            disk_fit(&ai, c->disk, hfm_aircraft_rotor_radius_m(c->ac));
-            air.fn = air_interaction_fn;
-            air.user = &ai;
-            air.wake = &free_air; /* the flight model's wake is the isolated rotor's (hfm.h) */
-        }
-        cond.air = &air;
         hfm_trim_result next;
-        rc = solve(c, &cond, &next);
+        rc = solve(c, &st.cond, &next);
         if (rc != 0) {
             if (rc < 0)
                 return core_err_set(err, rc, "coupled trim at %.2f m/s: fatal error", v);
@@ -879,25 +457,8 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
         }
     }
     p->converged = 1;
-    if (!c->s.direct) {
-        /* keep this point's interaction as the seed of the next speed */
-        const char *pc = cached_path(c, ai.coupled), *pi = cached_path(c, ai.isolated);
-        const char *ppc = ai.prev_coupled ? cached_path(c, ai.prev_coupled) : "";
-        const char *ppi = ai.prev_isolated ? cached_path(c, ai.prev_isolated) : "";
-        struct seed_slot *ss = seed_slot_for(c, dir);
-        ss->valid = pc && pi && ppc && ppi;
-        if (ss->valid) {
-            ss->v = v;
-            ss->dir = dir;
-            ss->used = ++c->seed_tick;
-            snprintf(ss->coupled, sizeof ss->coupled, "%s", pc);
-            snprintf(ss->isolated, sizeof ss->isolated, "%s", pi);
-            snprintf(ss->prev_coupled, sizeof ss->prev_coupled, "%s", ppc);
-            snprintf(ss->prev_isolated, sizeof ss->prev_isolated, "%s", ppi);
-            ss->ai = ai;
-            ss->ai.coupled = ss->ai.isolated = ss->ai.prev_coupled = ss->ai.prev_isolated = NULL;
-        }
-    }
+    if (!c->s.direct) /* keep this point's interaction as the seed of the next speed */
+        couple_seed_keep(c, v, dir, &st.ai);
     if (!p->coupling_converged)
         core_log_msg(c->log, CORE_LOG_WARN, "coupling at %.2f m/s from %.1f deg: change %.1f %% after %d iterations",
                      v, dir * CORE_RAD_TO_DEG, 100.0 * p->iter[p->n_iter - 1].change_frac, p->n_iter - 1);
@@ -911,13 +472,12 @@ int couple_prefetch(couple_ctx *c, const double *dirs, int n, core_err *err)
         awdb_key k;
         awdb_state st;
         base_key(c, &k, c->s.ref_speed_mps, dirs[i]);
-        k.rotor = AWDB_ROTOR_OFF;
         if (awdb_submit(c->db, &k, &st, err) != 0)
             return -1;
         missing += st != AWDB_READY;
     }
-    if (missing && c->s.disim_exe && !awdb_builder_alive(c->db))
-        spawn_builder(c);
+    if (missing && awdb_fields_start_builder(c->fc) < 0)
+        return core_err_set(err, -1, "coupling: no builder serves %s and none could be started", awdb_dir(c->db));
     return 0;
 }
 
@@ -960,83 +520,3 @@ const couple_point *couple_history(const couple_ctx *c, int *n)
 }
 
 const char *couple_last_error(const couple_ctx *c) { return c->last_error; }
-
-/* The report's field table. Why each flag: an unconverged field is the
- * mean of its last iterations (cfd.h avg_window); its mean_drift and
- * mean_change say how far that mean still moves (within its window, and
- * from the window before); a continuity residual above 1 means the mass
- * imbalance grew past the run's first iterations, which the solver's
- * divergence test (1e4) lets pass. */
-char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_info *f2, int n2)
-{
-    core_str md = {0};
-    int nconv = 0, navg = 0, ngrew = 0, nmir = 0;
-    for (int i = 0; i < n1 + n2; i++) {
-        const couple_field_info *fi = i < n1 ? &f1[i] : &f2[i - n1];
-        nmir += fi->mirrored;
-        nconv += fi->converged;
-        navg += fi->averaged > 0;
-        ngrew += !fi->converged && fi->residual_continuity > 1.0;
-    }
-    core_str_printf(&md,
-                    "%d fields, %d converged (residuals below 1e-4 and deck-line monitors changing less than "
-                    "2 %% of the WOD speed per 50 iterations), %d not converged and averaged over their last "
-                    "iterations (an unconverged field is the mean of its limit cycle; docs/validation/cfd.md; "
-                    "\"steady mean\": the run stopped before its iteration cap once the means over the two "
-                    "halves of its last window, and that window's mean and the mean of the window before "
-                    "it, agreed at the deck monitors within 2 %% of the WOD speed; before solver 0.5.0 the "
-                    "halves alone). Trims in unconverged fields are less certain than the others; \"mean "
-                    "drift\" and \"mean change\" say how much: the largest difference between the deck "
-                    "monitors' mean velocities over the two halves of the averaging window, and between "
-                    "the window and the one before it (\"-\": none before it), in %% of the WOD speed (a "
-                    "steady mean is below 2 %% in both).\n\n",
-                    n1 + n2, nconv, navg);
-    if (nmir)
-        core_str_printf(&md,
-                        "%d field%s the mirror image of the opposite direction's (the ship is symmetric about "
-                        "its centre line; \"mirror of\" in the state; iterations and residuals are the "
-                        "solved field's).\n\n",
-                        nmir, nmir > 1 ? "s are" : " is");
-    /* Continuity is divided by its largest value over a run's first five
-     * iterations: above 1 at the end, the mass imbalance grew (CG-47 green
-     * 90 on the default grid ended at 68 with its monitors settled), and
-     * the divergence test (1e4) does not stop it. */
-    if (ngrew)
-        core_str_printf(&md,
-                        "**%d field%s ended with a continuity residual above 1**: the mass imbalance grew "
-                        "beyond that of the run's first iterations, even where its monitors settled. Trims in "
-                        "%s are the least certain of all.\n\n",
-                        ngrew, ngrew > 1 ? "s" : "", ngrew > 1 ? "them" : "it");
-    core_str_printf(&md,
-                    "| field | WOD speed (m/s) | WOD dir (deg) | rotor | iterations | state | continuity "
-                    "| mean drift (%% of U) | mean change (%% of U) |\n"
-                    "|---|---|---|---|---|---|---|---|---|\n");
-    for (int i = 0; i < n1 + n2; i++) {
-        const couple_field_info *fi = i < n1 ? &f1[i] : &f2[i - n1];
-        char st[128] = "";
-        size_t sl = 0;
-        if (fi->mirrored)
-            sl = (size_t)snprintf(st, sizeof st, "mirror of %.1f: ", core_wod_mirror_deg(fi->wod_dir_deg));
-        if (fi->converged)
-            snprintf(st + sl, sizeof st - sl, "converged");
-        else if (fi->averaged && fi->steady_mean)
-            snprintf(st + sl, sizeof st - sl, "steady mean of last %d", fi->averaged);
-        else if (fi->averaged)
-            snprintf(st + sl, sizeof st - sl, "not converged, mean of last %d", fi->averaged);
-        else
-            snprintf(st + sl, sizeof st - sl, "not converged");
-        if (!fi->converged && fi->residual_continuity > 1.0) {
-            size_t l = strlen(st);
-            snprintf(st + l, sizeof st - l, "; continuity grew");
-        }
-        char drift[24] = "-", change[24] = "-";
-        if (fi->averaged && fi->mean_drift > 0.0)
-            snprintf(drift, sizeof drift, "%.1f", 100.0 * fi->mean_drift);
-        if (fi->averaged && fi->mean_change >= 0.0)
-            snprintf(change, sizeof change, "%.1f", 100.0 * fi->mean_change);
-        core_str_printf(&md, "| %s | %.2f | %.1f | %s | %d | %s | %.1e | %s | %s |\n", fi->name,
-                        fi->wod_speed_mps, fi->wod_dir_deg, fi->rotor, fi->iterations, st, fi->residual_continuity,
-                        drift, change);
-    }
-    return core_str_take(&md);
-}

@@ -17,9 +17,9 @@
  * bluff-body flow; checked by the cfd tests), so one field per direction at
  * a reference speed serves every speed: velocities scale with V.
  *
- * Fields come from the airwake database (awdb); missing ones are queued for
- * the builder, which is started as a child process (`disim airwaked DB
- * --exit-when-idle`) whenever none serves the database.
+ * Fields come from the airwake database (awdb_fields); missing ones are
+ * queued for the builder, which the caller's launcher starts whenever none
+ * serves the database.
  */
 #ifndef DISIM_COUPLE_H
 #define DISIM_COUPLE_H
@@ -33,12 +33,11 @@
 extern "C" {
 #endif
 
-typedef enum { COUPLE_TWO_WAY = 0, COUPLE_ONE_WAY = 1 } couple_mode;
 
 typedef struct couple_settings {
-    couple_mode mode;
+    core_coupling_mode mode;
     int direct;               /* two-way: 1 uses the coupled field directly */
-    int grid;                 /* AWDB_GRID_* */
+    core_grid_level grid;
     int max_iter;             /* coupling iterations (default 6) */
     double tol_frac;          /* change between iterations (default 0.05) */
     double ref_speed_mps;     /* one-way: the speed of the ship-only fields (15 m/s) */
@@ -49,11 +48,10 @@ typedef struct couple_settings {
      * the builder's progress on a terminal. */
     void (*wait_fn)(void *user, const awdb_key *key, double waited_s);
     void *wait_user;
-    /* How to start a builder when none serves the database: the disim
-     * executable and the ships folder (NULL: never start one). */
-    const char *disim_exe;
-    const char *ships_dir;
-    int cfd_max_iter;         /* > 0: iteration limit passed to a started builder */
+    /* How to start a builder when none serves the database
+     * (awdb_fields_opts.launch; NULL: never start one). */
+    int (*launch)(void *user, const char *db_dir);
+    void *launch_user;
     int uniform_disk;         /* 1: uniform disk (seed paper eq. 5) instead of the trim's blade loads */
     /* 1 (default): two-way with the interaction velocity starts a point
      * (iteration 0) from the trim in the interaction of the last coupled
@@ -176,6 +174,19 @@ const couple_field_info *couple_fields(const couple_ctx *c, int *n);
  * mean drift and mean change.
  * Returns a malloc'd string (the caller frees it) or NULL without memory. */
 char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_info *f2, int n2);
+/* The coupling iterations of a context's points as Markdown for a report
+ * (one row per iteration: thrust, controls, attitudes, change, seed).
+ * A malloc'd string (the caller frees it) or NULL without memory. */
+char *couple_points_md(const couple_ctx *c);
+
+/* From a scenario (sim.h): the envelope's directions, speeds and the
+ * aircraft's rejection criteria (0, or < 0 with err naming the aircraft
+ * file), and the coupling settings (mode, grid, rotor disk, domain,
+ * station; the rest at their defaults). */
+struct sim_scenario;
+int couple_shol_settings_scenario(shol_settings *set, const struct sim_scenario *sc, core_err *err);
+void couple_settings_scenario(couple_settings *cs, const struct sim_scenario *sc);
+
 /* The last fatal error of couple_shol_trim. */
 const char *couple_last_error(const couple_ctx *c);
 

@@ -3,6 +3,7 @@
  * intact; a station's bad message must be refused with its field named, never
  * fed to the flight model. */
 #include "disim_lcm.h"
+#include "core.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -89,7 +90,7 @@ int disim_lcm_check_airwake_request(const disim_airwake_request_t *m, char *err,
              !isfinite(m->station_S_m[1]) || fabs(m->station_S_m[1]) > 1000.0 ||
              !isfinite(m->station_S_m[2]) || fabs(m->station_S_m[2]) > 1000.0)
         bad = "station_S_m", want = "three finite coordinates within -1000 to 1000 m";
-    else if (!m->grid || (strcmp(m->grid, "coarse") && strcmp(m->grid, "default") && strcmp(m->grid, "fine")))
+    else if (core_grid_parse(m->grid) < 0)
         bad = "grid", want = "coarse, default or fine";
     if (!bad)
         return 0;

@@ -12,20 +12,6 @@
 #include <math.h>
 #include <string.h>
 
-#define GRIDS "coarse|default|fine"
-#define ROTORS "off|uniform|loaded"
-
-const char *sim_grid_name(sim_grid g)
-{
-    return core_grid_name((int)g);
-}
-
-const char *sim_rotor_name(sim_rotor r)
-{
-    static const char *n[] = {"off", "uniform", "loaded"};
-    return (unsigned)r < 3 ? n[r] : "?";
-}
-
 /* The aircraft file is owned by hfm; here only its identity is read so that a
  * scenario names a real aircraft. hfm_aircraft_load checks the physics. */
 static int peek_aircraft(const char *path, char *name, size_t n, core_err *err)
@@ -221,32 +207,32 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
 
     /* cfd */
     long it = 0;
-    sc->grid = SIM_GRID_DEFAULT;
-    sc->rotor = SIM_ROTOR_UNIFORM;
+    sc->grid = CORE_GRID_DEFAULT;
+    sc->rotor = CORE_ROTOR_UNIFORM;
     /* embedded is the only engine (openfoam is refused above) */
     if ((rc = core_ini_get_enum(ini, "cfd", "engine", 0, "embedded", &v, err)) < 0)
         goto out;
-    if ((rc = core_ini_get_enum(ini, "cfd", "grid", 0, GRIDS, &v, err)) < 0)
+    if ((rc = core_ini_get_enum(ini, "cfd", "grid", 0, core_grid_choices(), &v, err)) < 0)
         goto out;
     if (rc == 0)
-        sc->grid = (sim_grid)v;
-    if ((rc = core_ini_get_enum(ini, "cfd", "rotor", 0, ROTORS, &v, err)) < 0)
+        sc->grid = (core_grid_level)v;
+    if ((rc = core_ini_get_enum(ini, "cfd", "rotor", 0, core_rotor_choices(), &v, err)) < 0)
         goto out;
     if (rc == 0)
-        sc->rotor = (sim_rotor)v;
-    if ((rc = core_ini_get_enum(ini, "cfd", "coupling", 0, "two-way|one-way", &v, err)) < 0)
+        sc->rotor = (core_rotor_mode)v;
+    if ((rc = core_ini_get_enum(ini, "cfd", "coupling", 0, core_coupling_choices(), &v, err)) < 0)
         goto out;
-    sc->coupling = rc == 0 ? (sim_coupling)v : SIM_COUPLING_TWO_WAY;
+    sc->coupling = rc == 0 ? (core_coupling_mode)v : CORE_COUPLING_TWO_WAY;
     /* the deck zone is a coupled point's: with the one-way coupling the key
      * stays unused and mode_keys names it */
-    if (sc->coupling == SIM_COUPLING_TWO_WAY) {
+    if (sc->coupling == CORE_COUPLING_TWO_WAY) {
         if ((rc = core_ini_get_enum(ini, "cfd", "coupled_domain", 0, "whole|zone", &v, err)) < 0)
             goto out;
         sc->coupled_zone = rc == 0 && v == 1;
     }
     /* the two-way coupling solves with the rotor's disk: rotor = off would
      * be read and ignored there */
-    if (sc->rotor == SIM_ROTOR_OFF && sc->coupling == SIM_COUPLING_TWO_WAY) {
+    if (sc->rotor == CORE_ROTOR_OFF && sc->coupling == CORE_COUPLING_TWO_WAY) {
         const core_ini_entry *e = core_ini_find(ini, "cfd", "rotor");
         rc = core_err_set(err, -1,
                           "%s:%d: [cfd] rotor = off: the two-way coupling (coupling = two-way, "
@@ -305,9 +291,9 @@ void sim_scenario_print(const sim_scenario *sc, FILE *f)
     fprintf(f, "\n[task]\ntype = shol\nhover_height_m = %.2f\nstation_S_m = %.2f, %.2f, %.2f\n",
             sc->hover_height_m, sc->station_S_m[0], sc->station_S_m[1], sc->station_S_m[2]);
     fprintf(f, "\n[cfd]\nengine = embedded\ngrid = %s\nrotor = %s\ncoupling = %s\n",
-            sim_grid_name(sc->grid), sim_rotor_name(sc->rotor),
-            sc->coupling == SIM_COUPLING_TWO_WAY ? "two-way" : "one-way");
-    if (sc->coupling == SIM_COUPLING_TWO_WAY)
+            core_grid_name(sc->grid), core_rotor_name(sc->rotor),
+            core_coupling_name(sc->coupling));
+    if (sc->coupling == CORE_COUPLING_TWO_WAY)
         fprintf(f, "coupled_domain = %s\n", sc->coupled_zone ? "zone" : "whole");
     if (sc->max_iterations > 0)
         fprintf(f, "max_iterations = %d\n", sc->max_iterations);

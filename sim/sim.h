@@ -23,10 +23,6 @@ extern "C" {
 #define SIM_MAX_WOD 128
 
 typedef enum { SIM_WOD_SINGLE = 0, SIM_WOD_SWEEP = 1 } sim_wod_mode;
-typedef enum { SIM_GRID_COARSE = 0, SIM_GRID_DEFAULT = 1, SIM_GRID_FINE = 2 } sim_grid;
-typedef enum { SIM_ROTOR_OFF = 0, SIM_ROTOR_UNIFORM = 1, SIM_ROTOR_LOADED = 2 } sim_rotor;
-typedef enum { SIM_COUPLING_TWO_WAY = 0, SIM_COUPLING_ONE_WAY = 1 } sim_coupling;
-typedef enum { SIM_ENGINE_EMBEDDED = 0, SIM_ENGINE_OPENFOAM = 1 } sim_engine;
 
 /* A resolved scenario: plain data. */
 typedef struct sim_scenario {
@@ -50,9 +46,9 @@ typedef struct sim_scenario {
     double station_S_m[3]; /* hover-over-spot station in S (CG position) */
 
     /* CFD (the embedded engine, the only one) */
-    sim_grid grid;
-    sim_rotor rotor;
-    sim_coupling coupling;
+    core_grid_level grid;
+    core_rotor_mode rotor;
+    core_coupling_mode coupling;
     int coupled_zone;     /* [cfd] coupled_domain = zone: a coupled point's fields in the deck zone
                              (couple_settings.zone); whole (default): the whole domain */
     int max_iterations;   /* [cfd] max_iterations: the CFD iteration limit of the fields this
@@ -73,10 +69,6 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err);
 
 /* Print the resolved configuration as INI-like text. */
 void sim_scenario_print(const sim_scenario *sc, FILE *out);
-
-/* Names of the enum values, as written in scenario files. */
-const char *sim_grid_name(sim_grid g);
-const char *sim_rotor_name(sim_rotor r);
 
 #ifdef __cplusplus
 }

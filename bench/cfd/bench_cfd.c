@@ -61,7 +61,7 @@ static void log_fn(void *user, int level, const char *msg)
     fprintf(stderr, "  %s\n", msg);
 }
 
-static int setup_ship(core_ship *ship, cfd_airwake_spec *sp, const char *name, double speed_mps, cfd_grid_level lv,
+static int setup_ship(core_ship *ship, cfd_airwake_spec *sp, const char *name, double speed_mps, core_grid_level lv,
                       double dir_deg, int rotor)
 {
     core_err err;
@@ -86,7 +86,7 @@ static int setup_ship(core_ship *ship, cfd_airwake_spec *sp, const char *name, d
     return 0;
 }
 
-static int setup(core_ship *ship, cfd_airwake_spec *sp, cfd_grid_level lv, double dir_deg, int rotor)
+static int setup(core_ship *ship, cfd_airwake_spec *sp, core_grid_level lv, double dir_deg, int rotor)
 {
     return setup_ship(ship, sp, "sfs2", 15.0, lv, dir_deg, rotor);
 }
@@ -96,7 +96,7 @@ static double run_iters(int threads, int iters, double *cells)
     omp_set_num_threads(threads);
     core_ship ship;
     cfd_airwake_spec sp;
-    if (setup(&ship, &sp, CFD_GRID_COARSE, 0.0, 1))
+    if (setup(&ship, &sp, CORE_GRID_COARSE, 0.0, 1))
         return -1;
     sp.max_iter = iters;
     core_err err;
@@ -203,7 +203,7 @@ int main(int argc, char **argv)
         omp_set_num_threads(threads);
         core_ship ship;
         cfd_airwake_spec sp;
-        if (setup_ship(&ship, &sp, ship_name, speed, (cfd_grid_level)lv, dir, rotor))
+        if (setup_ship(&ship, &sp, ship_name, speed, (core_grid_level)lv, dir, rotor))
             return 1;
         sp.max_iter = max_iter;
         core_err err;
@@ -215,7 +215,7 @@ int main(int argc, char **argv)
         if (seq > 0 && lv > 0) {
             /* coarse-to-fine start: the same case on the coarse grid first */
             cfd_airwake_spec sc = sp;
-            sc.level = CFD_GRID_COARSE;
+            sc.level = CORE_GRID_COARSE;
             sc.max_iter = seq;
             limit lc = {tl, every, NULL};
             pre = cfd_airwake_create(&sc, &log, progress, &lc, &err);

@@ -65,12 +65,12 @@ static awdb_key key(double v, double dir_deg)
     snprintf(k.aircraft, sizeof k.aircraft, "UH-60A");
     k.wod_speed_mps = v;
     k.wod_dir_rad = dir_deg * CORE_DEG_TO_RAD;
-    k.rotor = AWDB_ROTOR_UNIFORM;
+    k.rotor = CORE_ROTOR_UNIFORM;
     k.thrust_N = 72950.4;
     k.station_S_m[2] = -6.0;
     k.radius_m = 8.18;
     k.shaft_pitch_rad = 0.05;
-    k.grid = AWDB_GRID_COARSE;
+    k.grid = CORE_GRID_COARSE;
     return k;
 }
 
@@ -124,7 +124,7 @@ static void test_keys(void)
     CHECK(strcmp(na, nb) != 0);
     /* A ship-only field ignores the helicopter. */
     awdb_key s1 = key(10, 0), s2 = key(10, 0);
-    s1.rotor = s2.rotor = AWDB_ROTOR_OFF;
+    s1.rotor = s2.rotor = CORE_ROTOR_OFF;
     snprintf(s2.aircraft, sizeof s2.aircraft, "SA365N");
     s2.thrust_N = 1;
     awdb_key_canon(&s1, &err);
@@ -145,7 +145,7 @@ static void test_keys(void)
     {
         awdb_key w = key(10, -30), z = key(10, -30), zoff = key(10, -30), zoff2 = key(10, -30), zcalm = key(0, 0);
         z.zone_ref_mps = zoff.zone_ref_mps = zoff2.zone_ref_mps = zcalm.zone_ref_mps = 15.0;
-        zoff.rotor = zoff2.rotor = AWDB_ROTOR_OFF;
+        zoff.rotor = zoff2.rotor = CORE_ROTOR_OFF;
         zoff2.station_S_m[0] += 1.0;
         CHECK(awdb_key_canon(&w, &err) == 0 && awdb_key_canon(&z, &err) == 0 && awdb_key_canon(&zoff, &err) == 0 &&
               awdb_key_canon(&zoff2, &err) == 0 && awdb_key_canon(&zcalm, &err) == 0);
@@ -341,7 +341,7 @@ static void test_flow(const char *dir)
      * own wind; a deck zone's ship-only field may. */
     {
         awdb_key s30 = key(10, 30), s60 = key(10, 60);
-        s30.rotor = s60.rotor = AWDB_ROTOR_OFF;
+        s30.rotor = s60.rotor = CORE_ROTOR_OFF;
         s30.thrust_N = s60.thrust_N = 0.0;
         CHECK(awdb_submit(db, &s30, &st, &err) == 0);
         CHECK(run_builder(db, &te, 1, &err) == 0);
@@ -349,7 +349,7 @@ static void test_flow(const char *dir)
         CHECK(awdb_key_canon(&s60, &err) == 0);
         CHECK(awdb_nearest(db, &s60, near, sizeof near) == 1);
         awdb_key s30d = s30;
-        s30d.grid = AWDB_GRID_DEFAULT;
+        s30d.grid = CORE_GRID_DEFAULT;
         CHECK(awdb_key_canon(&s30d, &err) == 0);
         CHECK(awdb_nearest(db, &s30d, near, sizeof near) == 1);
         /* built: from the inflow, with the green 30 field finished */

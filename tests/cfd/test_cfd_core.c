@@ -68,7 +68,7 @@ static void test_ship_and_wod(void)
         sp.ship = &ship;
         sp.wod_speed_mps = 10.0;
         sp.wod_dir_rad = cases[i].dir_deg * CORE_DEG_TO_RAD;
-        sp.level = CFD_GRID_COARSE;
+        sp.level = CORE_GRID_COARSE;
         sp.h_fine_m = 4.0;
         sp.monitor_z_m = -6.8;
         cfd_solver *s = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
@@ -127,12 +127,12 @@ static void test_ship_and_wod(void)
         cfd_airwake_spec sp;
         memset(&sp, 0, sizeof sp);
         sp.ship = &ship;
-        sp.level = CFD_GRID_COARSE;
+        sp.level = CORE_GRID_COARSE;
         sp.h_fine_m = 4.0;
         sp.monitor_z_m = -6.8;
         CHECK(cfd_airwake_create(&sp, NULL, NULL, NULL, &err) == NULL);
         CHECK(strstr(err.msg, "WOD speed") != NULL);
-        sp.rotor = 1;
+        sp.rotor = CORE_ROTOR_UNIFORM;
         double c[3] = {0.0, 0.0, -8.0};
         core_euler att = {0.0, 0.0, 0.0};
         cfd_disk_from_attitude(&sp.disk, c, att, 8.18, 72950.0);
@@ -1063,7 +1063,7 @@ static void test_zone(void)
     sp.ship = &ship;
     sp.wod_speed_mps = 10.0;
     sp.wod_dir_rad = 0.0;
-    sp.level = CFD_GRID_COARSE;
+    sp.level = CORE_GRID_COARSE;
     sp.h_fine_m = 4.0;
     sp.monitor_z_m = -6.8;
     sp.max_iter = 20;
@@ -1097,7 +1097,7 @@ static void test_zone(void)
     sp.wod_speed_mps = 20.0;
     CHECK(cfd_airwake_create(&sp, NULL, NULL, NULL, &err) == NULL);
     CHECK(strstr(err.msg, "deck zone") != NULL);
-    sp.rotor = 1;
+    sp.rotor = CORE_ROTOR_UNIFORM;
     const double R = 5.97, hub[3] = {0.0, 0.0, -8.0};
     core_euler att = {0.0, 0.0, 0.0};
     cfd_disk_from_attitude(&sp.disk, hub, att, R, 40000.0);
@@ -1151,7 +1151,7 @@ static void test_zone(void)
     }
     /* the zone's own ship-only field: no rotor, the box from the disk's
      * centre and radius */
-    sp.rotor = 0;
+    sp.rotor = CORE_ROTOR_OFF;
     cfd_solver *zs = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
     CHECK(zs != NULL);
     if (zs) {
@@ -1160,7 +1160,7 @@ static void test_zone(void)
         CHECK(cfd_solver_disk_force(zs, 0) == NULL);
         cfd_solver_destroy(zs);
     }
-    sp.rotor = 1;
+    sp.rotor = CORE_ROTOR_UNIFORM;
     /* no zone in calm air */
     sp.open_ship = 0;
     sp.zone_field = outer;
@@ -1188,7 +1188,7 @@ static cfd_solver *sfs2_run(const core_ship *ship, double dir_deg, cfd_result *r
     sp.ship = ship;
     sp.wod_speed_mps = 10.0;
     sp.wod_dir_rad = dir_deg * CORE_DEG_TO_RAD;
-    sp.level = CFD_GRID_COARSE;
+    sp.level = CORE_GRID_COARSE;
     sp.h_fine_m = 4.0;
     sp.monitor_z_m = -6.8;
     sp.max_iter = 1500;

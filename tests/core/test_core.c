@@ -128,6 +128,16 @@ static void test_frames(void)
     vec_near(zS, 0, sin(5 * CORE_DEG_TO_RAD), cos(5 * CORE_DEG_TO_RAD), 1e-12);
 }
 
+/* 1 if choices ("a|b|c") lists name(0) .. name(n - 1) in that order. */
+static int choices_agree(const char *choices, const char *(*name)(int), int n)
+{
+    char buf[256] = "";
+    size_t len = 0;
+    for (int v = 0; v < n; v++)
+        len += (size_t)snprintf(buf + len, sizeof buf - len, "%s%s", v ? "|" : "", name(v));
+    return len < sizeof buf && strcmp(buf, choices) == 0;
+}
+
 static void test_range(void)
 {
     double v[16];
@@ -168,6 +178,15 @@ static void test_range(void)
     CHECK(strcmp(core_grid_name(1), "default") == 0);
     CHECK(strcmp(core_grid_name(3), "?") == 0 && strcmp(core_grid_name(-1), "?") == 0);
     CHECK(core_grid_parse("Fine") == -1 && core_grid_parse("") == -1 && core_grid_parse(NULL) == -1);
+    CHECK(core_grid_parse("default") == CORE_GRID_DEFAULT && core_grid_parse("fine") == CORE_GRID_FINE);
+    CHECK(core_rotor_parse("loaded") == CORE_ROTOR_LOADED && core_rotor_parse("off") == CORE_ROTOR_OFF);
+    CHECK(core_rotor_parse("Loaded") == -1 && strcmp(core_rotor_name(3), "?") == 0);
+    CHECK(core_coupling_parse("one-way") == CORE_COUPLING_ONE_WAY && core_coupling_parse("oneway") == -1);
+    CHECK(strcmp(core_coupling_name(CORE_COUPLING_TWO_WAY), "two-way") == 0);
+    /* the INI reader's choice strings are the names in value order */
+    CHECK(choices_agree(core_grid_choices(), core_grid_name, CORE_GRID_NLEVELS));
+    CHECK(choices_agree(core_rotor_choices(), core_rotor_name, CORE_ROTOR_NMODES));
+    CHECK(choices_agree(core_coupling_choices(), core_coupling_name, CORE_COUPLING_NMODES));
 }
 
 static const char *write_tmp(const char *name, const char *text)

@@ -281,9 +281,9 @@ int main(void)
     snprintf(k.ship, sizeof k.ship, "BOX40");
     snprintf(k.aircraft, sizeof k.aircraft, "%s", hfm_aircraft_name(ac));
     k.wod_speed_mps = 10.0;
-    k.grid = AWDB_GRID_COARSE;
+    k.grid = CORE_GRID_COARSE;
     CHECK(couple_free_air_rotor(ac, station, 10.0, 0.0, 1, &k, &err) == 0);
-    CHECK(k.rotor == AWDB_ROTOR_LOADED);
+    CHECK(k.rotor == CORE_ROTOR_LOADED);
     CHECK(k.ccw_from_above == 1); /* the UH-60A's rotor turns counter-clockwise seen from above */
     CHECK_NEAR(k.thrust_N / hfm_aircraft_weight_N(ac), 1.0, 0.1);
     double wsum = 0.0, lsum = 0.0, in = 0.0, out = 0.0;
@@ -335,7 +335,7 @@ int main(void)
     CHECK_NEAR(awdb_key_monitor_z_m(&k), k.station_S_m[2], 0.0);
     {
         awdb_key ko = k;
-        ko.rotor = AWDB_ROTOR_OFF;
+        ko.rotor = CORE_ROTOR_OFF;
         CHECK_NEAR(awdb_key_monitor_z_m(&ko), -5.0, 0.0);
     }
 
@@ -368,7 +368,7 @@ int main(void)
         memset(&sp, 0, sizeof sp);
         sp.ship = &ship;
         sp.wod_speed_mps = 1e4;
-        sp.level = CFD_GRID_COARSE;
+        sp.level = CORE_GRID_COARSE;
         sp.monitor_z_m = -5.0;
         sp.max_iter = 1;
         cfd_solver *bad = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
@@ -395,8 +395,8 @@ int main(void)
         snprintf(kw.ship, sizeof kw.ship, "BOX40");
         snprintf(kw.aircraft, sizeof kw.aircraft, "%s", hfm_aircraft_name(ac));
         kw.wod_speed_mps = 10.0;
-        kw.grid = AWDB_GRID_COARSE;
-        kw.rotor = AWDB_ROTOR_OFF;
+        kw.grid = CORE_GRID_COARSE;
+        kw.rotor = CORE_ROTOR_OFF;
         CHECK(awdb_key_canon(&kw, &err) == 0);
         int brc = eng.build(eng.user, &kw, warm, out, NULL, NULL, &err);
         if (brc < 0)
@@ -431,8 +431,8 @@ int main(void)
         snprintf(kr.ship, sizeof kr.ship, "BOX40");
         kr.wod_speed_mps = 10.0;
         kr.wod_dir_rad = -30.0 * CORE_DEG_TO_RAD;
-        kr.grid = AWDB_GRID_COARSE;
-        kr.rotor = AWDB_ROTOR_OFF;
+        kr.grid = CORE_GRID_COARSE;
+        kr.rotor = CORE_ROTOR_OFF;
         kg = kr;
         kg.wod_dir_rad = 30.0 * CORE_DEG_TO_RAD;
         CHECK(awdb_key_canon(&kr, &err) == 0 && awdb_key_canon(&kg, &err) == 0);
@@ -499,7 +499,7 @@ int main(void)
     /* 2. Two-way with the interaction velocity. */
     couple_settings s;
     couple_settings_default(&s);
-    s.grid = AWDB_GRID_COARSE;
+    s.grid = CORE_GRID_COARSE;
     memcpy(s.station_S_m, station, sizeof station);
     s.wait_timeout_s = 600;
     /* from free air: section 3's hub check reads the first iteration's fields
@@ -698,7 +698,7 @@ int main(void)
 
     /* 4. One-way: one ship-only field at the reference speed. */
     s.direct = 0;
-    s.mode = COUPLE_ONE_WAY;
+    s.mode = CORE_COUPLING_ONE_WAY;
     c = couple_create(ac, &ship, db, &s, &log, &err);
     couple_point p1;
     CHECK(couple_trim(c, 10.0, 0.0, &p1, &err) == 0);

@@ -70,11 +70,11 @@ int main(void)
     /* 29.16 kt = 15.00 m/s (the seed paper's 54 km/h). */
     CHECK_NEAR(sc->wod_speed_mps, 15.0, 0.01);
     CHECK_NEAR(sc->wod_dir_rad, 0.0, 1e-12);
-    CHECK(sc->rotor == SIM_ROTOR_OFF && sc->grid == SIM_GRID_DEFAULT);
+    CHECK(sc->rotor == CORE_ROTOR_OFF && sc->grid == CORE_GRID_DEFAULT);
     CHECK_NEAR(sc->station_S_m[2], -6.8, 1e-12);
     /* no [cfd] max_iterations: 0, the solver's default */
     CHECK(sc->max_iterations == 0);
-    CHECK(sc->coupling == SIM_COUPLING_ONE_WAY && sc->coupled_zone == 0);
+    CHECK(sc->coupling == CORE_COUPLING_ONE_WAY && sc->coupled_zone == 0);
 
     CHECK(sim_scenario_load("scenarios/cg47_uh60a.ini", sc, &err) == 0);
     CHECK(sc->wod_mode == SIM_WOD_SWEEP && sc->n_dirs == 7);
@@ -82,7 +82,7 @@ int main(void)
     CHECK_NEAR(sc->dirs_rad[6], M_PI / 2, 1e-12);
     CHECK_NEAR(sc->speed_step_mps, 5.0 / 3.6, 1e-12);
     CHECK(sc->ship.nblocks >= 5);
-    CHECK(sc->coupling == SIM_COUPLING_TWO_WAY && sc->coupled_zone == 1);
+    CHECK(sc->coupling == CORE_COUPLING_TWO_WAY && sc->coupled_zone == 1);
 
     CHECK(sim_scenario_load("scenarios/lpd17_sa365n.ini", sc, &err) == 0);
     CHECK(strcmp(sc->aircraft_name, "SA365N") == 0);
