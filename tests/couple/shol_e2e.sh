@@ -66,6 +66,14 @@ cmp -s "$tmp/runa.csv" "$tmp/runb.csv" || { echo "the two concurrent runs gave d
 "$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --rotor off --h-fine-m 2.0 --max-iter 2 \
     --threads 1 -o "$tmp/h2.h5" 2> "$tmp/h2.log"
 grep -q "= 71832 cells .* h_fine 2.00 m" "$tmp/h2.log" && [ -s "$tmp/h2.h5" ] || { echo "--h-fine-m 2.0 not applied"; cat "$tmp/h2.log"; fail=1; }
+# The scenario's [cfd] max_iterations is the iteration limit of the fields
+# it builds (--max-iter overrides it).
+sed "s|^aircraft = .*|aircraft = $src/scenarios/aircraft/uh60a.ini|; s|^ship = .*|ship = $src/scenarios/ships/sfs2.ini|; s|^coupling = one-way|coupling = one-way\nmax_iterations = 3|" \
+    "$src/tests/couple/sfs2_uh60a.ini" > "$tmp/it3.ini"
+"$disim" airwake "$tmp/it3.ini" --wod-speed-kt 20 --rotor off --h-fine-m 2.0 --threads 1 -o "$tmp/it3.h5" 2> "$tmp/it3.log"
+grep -q "wrote $tmp/it3.h5 (3 iterations" "$tmp/it3.log" || { echo "[cfd] max_iterations = 3 not applied"; cat "$tmp/it3.log"; fail=1; }
+"$disim" airwake "$tmp/it3.ini" --wod-speed-kt 20 --rotor off --h-fine-m 2.0 --threads 1 --max-iter 4 -o "$tmp/it4.h5" 2> "$tmp/it4.log"
+grep -q "wrote $tmp/it4.h5 (4 iterations" "$tmp/it4.log" || { echo "--max-iter did not override max_iterations"; cat "$tmp/it4.log"; fail=1; }
 "$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --h-fine-m 0.01 -o "$tmp/h3.h5" 2> "$tmp/bad.log"
 [ $? -ne 0 ] && grep -q "h-fine-m: expected a number in \[0.1, 5\], got '0.01'" "$tmp/bad.log" && [ ! -e "$tmp/h3.h5" ] || { echo "bad --h-fine-m accepted"; fail=1; }
 "$disim" airwake "$src/tests/couple/sfs2_uh60a.ini" --wod-speed-kt 20 --h-fine-m 0.5 --queue "$tmp/q" 2> "$tmp/bad.log"
