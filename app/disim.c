@@ -2,14 +2,6 @@
  * subcommand parses its flags, calls one library entry point and maps its
  * return code to the exit status (0 ok, 1 bad input or failure). */
 #include "cmds.h"
-#include "core.h"
-#include "sim.h"
-#ifdef DISIM_HAVE_HFM
-#include "hfm.h"
-#endif
-#ifdef DISIM_HAVE_SHOL
-#include "shol.h"
-#endif
 
 #include <stdio.h>
 #include <stdlib.h>
