@@ -674,27 +674,18 @@ static int cmp_run(const void *a, const void *b)
 int awdb_progress_read(awdb *db, awdb_progress *out, core_err *err)
 {
     memset(out, 0, sizeof *out);
+    /* queue/, running/, fields/: the order a request moves in, so that one
+     * moving on during the read counts in two places, never in none */
+    out->queued = count_dir(db, "queue");
     char p[AWDB_PATH];
-    awdb_fmt(p, sizeof p, "%s/fields", db->dir);
+    awdb_fmt(p, sizeof p, "%s/running", db->dir);
     DIR *d = opendir(p);
     if (!d)
-        return core_err_set(err, -1, "%s: cannot read: %s", p, strerror(errno));
-    struct dirent *e;
-    while ((e = readdir(d))) {
-        size_t l = strlen(e->d_name);
-        /* an entry counts with its checksum file; "NAME.sum.part" is a
-         * commit under way */
-        if (e->d_name[0] != '.' && l > 4 && !strcmp(e->d_name + l - 4, ".sum"))
-            out->ready++;
-    }
-    closedir(d);
-    out->queued = count_dir(db, "queue");
-    awdb_fmt(p, sizeof p, "%s/running", db->dir);
-    if (!(d = opendir(p)))
         return core_err_set(err, -1, "%s: cannot read: %s", p, strerror(errno));
     /* Every running request, the first AWDB_PROGRESS_MAX_RUNS by name kept
      * (a fixed choice, so a display does not hop between builds). */
     awdb_run_progress *runs = out->runs;
+    struct dirent *e;
     while ((e = readdir(d))) {
         size_t l = strlen(e->d_name);
         if (l < 5 || strcmp(e->d_name + l - 4, ".req") || l - 4 >= AWDB_NAME_MAX)
@@ -713,6 +704,17 @@ int awdb_progress_read(awdb *db, awdb_progress *out, core_err *err)
         }
         runs[k] = r;
         qsort(runs, (size_t)out->n_runs, sizeof *runs, cmp_run);
+    }
+    closedir(d);
+    awdb_fmt(p, sizeof p, "%s/fields", db->dir);
+    if (!(d = opendir(p)))
+        return core_err_set(err, -1, "%s: cannot read: %s", p, strerror(errno));
+    while ((e = readdir(d))) {
+        size_t l = strlen(e->d_name);
+        /* an entry counts with its checksum file; "NAME.sum.part" is a
+         * commit under way */
+        if (e->d_name[0] != '.' && l > 4 && !strcmp(e->d_name + l - 4, ".sum"))
+            out->ready++;
     }
     closedir(d);
     for (int i = 0; i < out->n_runs; i++) {

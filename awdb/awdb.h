@@ -159,8 +159,12 @@ typedef struct awdb_progress {
 } awdb_progress;
 
 /* Read the database's state into *out (a directory scan and one small
- * file per running request: cheap enough once a second). 0, or < 0 with
- * err when the database folder cannot be read. */
+ * file per running request: cheap enough once a second). Not a snapshot:
+ * the folders are read in the order a request moves (queue/, running/,
+ * fields/), so a request that moves on during the read counts twice, never
+ * not at all; ready never decreases and queued never grows from one read
+ * to the next but by new submissions. 0, or < 0 with err when the database
+ * folder cannot be read. */
 int awdb_progress_read(awdb *db, awdb_progress *out, core_err *err);
 /* The progress entry of the build named name (awdb_key_name), or NULL. */
 const awdb_run_progress *awdb_progress_find(const awdb_progress *p, const char *name);
