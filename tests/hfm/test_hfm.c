@@ -1,9 +1,10 @@
 /* test_hfm.c -- hfm acceptance tests of issue 3 (run from the source root):
  * aircraft files and bad input, UH-60A trim against the GenHel table
- * (uh60a_genhel_trim.csv beside this file), hover thrust balance and figure
- * of merit, the power bucket, SA365N hover, a 0-150 kt continuation sweep,
- * turning-point handling on a curve with folds, pedal in a WOD, and WOD-speed
- * sweeps over the ship. */
+ * (uh60a_genhel_trim.csv beside this file, each row under the constraint
+ * the reference flew), the hover thrust balance (a consistency check) and
+ * figure of merit (plausibility), the power bucket, SA365N hover, a 0-150 kt
+ * continuation sweep, turning-point handling on a curve with folds, pedal in
+ * a WOD, and WOD-speed sweeps over the ship. */
 #include "check.h"
 #include "hfm.h"
 
@@ -111,6 +112,31 @@ static double pct_ped(double in_right)
     return 50.0 + in_right / 5.38 * 100.0;
 }
 
+/* Each row is trimmed under the constraint the reference flew (the CSV's
+ * constraint column and its comment say why): "sideslip" rows hold zero
+ * sideslip and leave roll free, so roll is compared with the published
+ * roll; "roll" rows are wings level, so roll is the constraint (checked only
+ * as a consistency check that the row was flown so) and the sideslip is
+ * what the trim leaves free. The references publish no sideslip, so on
+ * wings-level rows it is held to a physical band rather than compared: in
+ * wings-level flight gravity has no lateral component and the tail rotor's
+ * starboard thrust (4-5 kN) is carried partly by the airframe's side force,
+ * which needs the relative wind from starboard (sideslip > 0), and the
+ * band's upper end keeps it where the fin (aspect ratio 1.92) is far from
+ * stall and GenHel's sideslip tables are dense (0-30 deg). */
+#define GENHEL_TOL_CONTROL_PCT 8.0   /* each control, % of full travel */
+#define GENHEL_TOL_ATTITUDE_DEG 1.5  /* pitch; roll where roll is free */
+#define GENHEL_SIDESLIP_MIN_DEG 0.5  /* wings-level rows: sideslip band */
+#define GENHEL_SIDESLIP_MAX_DEG 10.0
+
+static int genhel_cmp(double v, const char *what, double model, double ref, double tol)
+{
+    int ok = fabs(model - ref) <= tol;
+    printf("GenHel %5.0f kt %-14s model %7.2f GenHel %7.2f diff %+6.2f tol %.1f %s\n", v, what,
+           model, ref, model - ref, tol, ok ? "holds" : "FAILS");
+    return ok;
+}
+
 static void test_genhel(hfm_trim *tr)
 {
     FILE *f = fopen("tests/hfm/uh60a_genhel_trim.csv", "r");
@@ -118,35 +144,51 @@ static void test_genhel(hfm_trim *tr)
     if (!f)
         return;
     char line[512];
-    int rows = 0;
+    int rows = 0, level_rows = 0;
     while (fgets(line, sizeof line, f)) {
         double v, c, lo, la, pe, th, ph;
-        if (line[0] == '#' || sscanf(line, "%lf,%lf,%lf,%lf,%lf,%lf,%lf", &v, &c, &lo, &la, &pe,
-                                     &th, &ph) != 7)
+        char con[16];
+        if (line[0] == '#' || sscanf(line, "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%15s", &v, &c, &lo, &la,
+                                     &pe, &th, &ph, con) != 8)
             continue;
+        int level = !strcmp(con, "roll");
+        CHECK(level || !strcmp(con, "sideslip"));
         rows++;
+        level_rows += level;
         hfm_trim_cond cd;
         memset(&cd, 0, sizeof cd);
         cd.kind = HFM_TRIM_FORWARD;
-        cd.constraint = HFM_CONSTRAINT_AUTO;
+        cd.constraint = level ? HFM_CONSTRAINT_ROLL : HFM_CONSTRAINT_SIDESLIP;
         cd.airspeed_mps = v * KT;
         hfm_trim_result r;
         int rc = hfm_trim_solve(tr, &cd, NULL, &r);
         CHECK(rc == 0);
-        printf("GenHel %5.0f kt: coll %6.2f (%6.2f) long %6.2f (%6.2f) lat %6.2f (%6.2f) "
-               "ped %6.2f (%6.2f) pitch %6.2f (%6.2f) roll %6.2f (%6.2f)\n",
-               v, r.u.collective_pct, pct_coll(c), r.u.long_pct, pct_long(lo), r.u.lat_pct,
-               pct_lat(la), r.u.pedal_pct, pct_ped(pe), r.body.euler_rad[1] * R2D, th,
-               r.body.euler_rad[0] * R2D, ph);
-        CHECK_NEAR(r.u.collective_pct, pct_coll(c), 8.0);
-        CHECK_NEAR(r.u.long_pct, pct_long(lo), 8.0);
-        CHECK_NEAR(r.u.lat_pct, pct_lat(la), 8.0);
-        CHECK_NEAR(r.u.pedal_pct, pct_ped(pe), 8.0);
-        CHECK_NEAR(r.body.euler_rad[1] * R2D, th, 1.5);
-        CHECK_NEAR(r.body.euler_rad[0] * R2D, ph, 1.5);
+        CHECK(r.converged);
+        const double tc = GENHEL_TOL_CONTROL_PCT, ta = GENHEL_TOL_ATTITUDE_DEG;
+        CHECK(genhel_cmp(v, "collective %", r.u.collective_pct, pct_coll(c), tc));
+        CHECK(genhel_cmp(v, "longitudinal %", r.u.long_pct, pct_long(lo), tc));
+        CHECK(genhel_cmp(v, "lateral %", r.u.lat_pct, pct_lat(la), tc));
+        CHECK(genhel_cmp(v, "pedal %", r.u.pedal_pct, pct_ped(pe), tc));
+        CHECK(genhel_cmp(v, "pitch deg", r.body.euler_rad[1] * R2D, th, ta));
+        double beta_deg = r.sideslip_rad * R2D, phi_deg = r.body.euler_rad[0] * R2D;
+        /* consistency: the row was flown under its constraint */
+        CHECK(r.wings_level == level);
+        if (level) {
+            CHECK(fabs(phi_deg) < 1e-9);
+            int ok = beta_deg >= GENHEL_SIDESLIP_MIN_DEG && beta_deg <= GENHEL_SIDESLIP_MAX_DEG;
+            printf("GenHel %5.0f kt %-14s model %7.2f (wings level: roll held at %.2f; no published "
+                   "sideslip) band %.1f..%.1f %s\n",
+                   v, "sideslip deg", beta_deg, phi_deg, GENHEL_SIDESLIP_MIN_DEG,
+                   GENHEL_SIDESLIP_MAX_DEG, ok ? "holds" : "FAILS");
+            CHECK(ok);
+        } else {
+            CHECK(fabs(beta_deg) < 1e-9);
+            CHECK(genhel_cmp(v, "roll deg", phi_deg, ph, ta));
+        }
     }
     fclose(f);
     CHECK(rows == 3);
+    CHECK(level_rows == 2);
 }
 
 /* ---------------------------------------------------------------- hover */
@@ -158,6 +200,18 @@ static double vertical_S(const hfm_body *b, const double F_B[3])
     return v.z; /* down positive */
 }
 
+/* Hover: no validation here, since the references publish neither hover
+ * power nor figure of merit for the UH-60A (GenHel's hover row is checked in
+ * test_genhel).
+ * - Consistency check: thrust along the shaft against weight + fuselage
+ *   download + the other components' vertical loads. This is the trim's own
+ *   vertical-force equation, evaluated again from the loads it returns; it
+ *   shows that the loads the trim reports are the ones it balanced, not that
+ *   the model is right.
+ * - Plausibility: the figure of merit T^1.5 / sqrt(2 rho A) / P_MR inside the
+ *   range of full-scale rotors, 0.6-0.8 (Leishman, "Principles of Helicopter
+ *   Aerodynamics", 2nd ed., sec. 2.8), and a fuselage download above 1 % of
+ *   the weight (the rotor's wake is on the airframe). */
 static void test_hover(const hfm_aircraft *ac, hfm_trim *tr)
 {
     hfm_trim_cond cd;
@@ -165,23 +219,26 @@ static void test_hover(const hfm_aircraft *ac, hfm_trim *tr)
     cd.kind = HFM_TRIM_HOVER_SHIP;
     hfm_trim_result r;
     CHECK(hfm_trim_solve(tr, &cd, NULL, &r) == 0);
+    CHECK(r.converged);
     const hfm_loads *L = &r.loads;
     double W = hfm_aircraft_weight_N(ac);
     double Dfus = vertical_S(&r.body, L->fus.F_B_N);
     double others = vertical_S(&r.body, L->tr.F_B_N) + vertical_S(&r.body, L->stab.F_B_N) +
                     vertical_S(&r.body, L->fin.F_B_N);
-    /* thrust along the shaft against weight + fuselage download + the other
-     * components' vertical loads (tail-rotor cant lift is up: negative) */
+    /* tail-rotor cant lift is up: negative */
     double need = W + Dfus + others;
-    printf("hover: T %.0f N, W %.0f N, fuselage download %.0f N, tail rotor+tail %.0f N, "
-           "T/(W+D+others) - 1 = %.5f, T/(W+Dfus) - 1 = %.5f; rotor vertical force %.0f N\n",
+    printf("hover (consistency, the trim's own equation): T %.0f N, W %.0f N, fuselage download "
+           "%.0f N, tail rotor+tail %.0f N, T/(W+D+others) - 1 = %.5f (tol 0.005), "
+           "T/(W+Dfus) - 1 = %.5f; rotor vertical force %.0f N\n",
            L->mr_thrust_N, W, Dfus, others, L->mr_thrust_N / need - 1.0,
            L->mr_thrust_N / (W + Dfus) - 1.0, -vertical_S(&r.body, L->mr.F_B_N));
-    CHECK(Dfus > 0.01 * W); /* the download is real */
+    CHECK(Dfus > 0.01 * W);
     CHECK_NEAR(L->mr_thrust_N / need, 1.0, 0.005);
     double A = CORE_PI * pow(hfm_aircraft_rotor_radius_m(ac), 2);
     double fm = pow(L->mr_thrust_N, 1.5) / sqrt(2.0 * CORE_RHO_SL_KGPM3 * A) / L->mr_power_W;
-    printf("hover: main rotor power %.0f kW, figure of merit %.3f\n", L->mr_power_W / 1e3, fm);
+    printf("hover (plausibility, no published value): main rotor power %.0f kW, figure of merit "
+           "%.3f (band 0.6-0.8)\n",
+           L->mr_power_W / 1e3, fm);
     CHECK(fm > 0.6 && fm < 0.8);
 }
 
@@ -303,14 +360,23 @@ static void test_fold(void)
     CHECK(r.x_last > 1.9);     /* ended on the upper branch */
     CHECK(r.lam_last > 3.0);
     CHECK(r.max_err < 1e-9);
-    /* natural-parameter Newton from the lower branch cannot follow past the fold */
+    /* Natural-parameter Newton from the lower branch past its fold (lam =
+     * 2.5 > 2): the only root is on the upper branch (x = 2.04), so Newton
+     * either fails or jumps there. What is checked is that hfm_newton does
+     * not report convergence at a point that is not a root (the Jacobian
+     * vanishes at x = -1, where a step-size test alone would stop). */
     double x = -1.05;
     hfm_newton_info ni;
     hfm_newton(cubic, NULL, 1, &x, 2.5, NULL, &ni);
-    CHECK(!ni.converged || x > 1.0); /* it must jump (or fail): no solution near x = -1 */
+    printf("Newton past the fold: converged %d at x %.4f, |F| %.2g\n", ni.converged, x,
+           fabs(x * x * x - 3.0 * x - 2.5));
+    CHECK(!ni.converged || fabs(x * x * x - 3.0 * x - 2.5) < 1e-8);
 }
 
 /* -------------------------------------------------------------- SA365N */
+/* Plausibility, not validation: the references publish no SA365N trim, and
+ * most of its data file is estimated. The bands are issue 3's: collective
+ * 40-75 %, attitudes within 6 deg, power within twice 550 kW. */
 static void test_sa365n(hfm_trim *tr)
 {
     hfm_trim_cond cd;
