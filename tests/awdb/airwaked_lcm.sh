@@ -8,12 +8,13 @@
 # its NUL is refused before decoding; the database holds one verified
 # field and no temporaries.
 # Usage: airwaked_lcm.sh DISIM AW_CLIENT SOURCE_DIR
+# Where unshare or ip is missing: skipped (exit 77), and a failure with CI
+# set (tests/skip.sh).
 set -u
 disim=$1 client=$2 src=$3
-if ! unshare -n true 2>/dev/null; then
-    echo "airwaked_lcm: SKIPPED: 'unshare -n' is not permitted here"
-    exit 77
-fi
+. "$src/tests/skip.sh"
+unshare -n true 2>/dev/null || skip airwaked_lcm "'unshare -n' is not permitted here (needs root or user namespaces)"
+command -v ip >/dev/null 2>&1 || skip airwaked_lcm "the 'ip' command (iproute2) is missing"
 db=$(mktemp -d /tmp/disim_airwaked_XXXXXX)
 exec unshare -n sh -c '
 ip link set lo up; ip link set lo multicast on; ip route add 224.0.0.0/4 dev lo

@@ -4,7 +4,8 @@
 # usage: airwaked_tty.sh DISIM SRC_DIR
 disim=$1
 src=$2
-command -v script > /dev/null || { echo "no script(1): skipped"; exit 77; }
+. "$src/tests/skip.sh"
+command -v script > /dev/null || skip airwaked_tty "no script(1) (util-linux) to give it a terminal"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail=0

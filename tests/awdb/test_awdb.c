@@ -3,12 +3,16 @@
  * detected and rebuilt, warm starts from the nearest field, failures kept
  * with their reason, a second builder refused, a builder killed with
  * SIGKILL mid-build leaving a consistent database that a restart finishes,
- * and the builder's progress files as a client reads them.
- * The engine here is a test engine that writes a small file derived from the
- * key (the real CFD engine is exercised by the cfd tests); what is under test
- * is the database's bookkeeping. */
+ * SIGTERM putting the running request back at the front of the queue, and
+ * the builder's progress files as a client reads them.
+ * The engine here is mostly a test engine that writes a small file derived
+ * from the key: what is under test is the database's bookkeeping. Once,
+ * the embedded CFD engine builds a field through the builder (a coarse
+ * SFS2, a few iterations) so that the real engine's temporary and its
+ * rename are exercised too (test_embedded). */
 #include "awdb.h"
 #include "awdb_private.h" /* the request file format (awdb_key_format, awdb_key_read) */
+#include "cfd.h"          /* test_embedded reads back the field it built */
 #include "check.h"
 
 #include <dirent.h>
@@ -30,7 +34,22 @@ typedef struct test_engine {
     int fail_speed_cmps; /* fail when the speed (cm/s) equals this */
     double sleep_s;      /* per build, in steps, to be killed in the middle */
     char last_warm[1024];
+    const char *db_dir;  /* when set: each build counts the temporaries it finds at its start */
+    int stray_at_start;
+    int norder; /* the builds' speeds (cm/s), in the order they started */
+    int order_cmps[8];
 } test_engine;
+
+static int count_tmp(const char *dir, const char *sub);
+
+static test_engine te_init(double sleep_s)
+{
+    test_engine te;
+    memset(&te, 0, sizeof te);
+    te.fail_speed_cmps = -1;
+    te.sleep_s = sleep_s;
+    return te;
+}
 
 static int te_build(void *user, const awdb_key *k, const char *warm, const char *out,
                     awdb_progress_fn progress, void *pu, core_err *err)
@@ -38,6 +57,10 @@ static int te_build(void *user, const awdb_key *k, const char *warm, const char 
     test_engine *te = user;
     te->builds++;
     snprintf(te->last_warm, sizeof te->last_warm, "%s", warm ? warm : "");
+    if (te->db_dir)
+        te->stray_at_start += count_tmp(te->db_dir, "fields");
+    if (te->norder < 8)
+        te->order_cmps[te->norder++] = (int)(k->wod_speed_mps * 100 + 0.5);
     if ((int)(k->wod_speed_mps * 100 + 0.5) == te->fail_speed_cmps)
         return core_err_set(err, -1, "diverged at iteration 17 (test)");
     FILE *f = fopen(out, "w");
@@ -91,6 +114,43 @@ static int count(const char *dir, const char *sub, const char *suffix)
     if (d)
         closedir(d);
     return c;
+}
+
+/* Entries of dir/sub named as the builder's temporaries (".tmp-NAME.h5"
+ * and the engine's side files beside it). */
+static int count_tmp(const char *dir, const char *sub)
+{
+    char p[1024];
+    snprintf(p, sizeof p, "%s/%s", dir, sub);
+    DIR *d = opendir(p);
+    int c = 0;
+    struct dirent *e;
+    while (d && (e = readdir(d)))
+        c += !strncmp(e->d_name, ".tmp-", 5);
+    if (d)
+        closedir(d);
+    return c;
+}
+
+/* Whether the queue's first request (in the builder's order: file names
+ * sorted) is the one for name. */
+static int queue_first_is(const char *dir, const char *name)
+{
+    char p[1024], first[600] = "";
+    snprintf(p, sizeof p, "%s/queue", dir);
+    DIR *d = opendir(p);
+    struct dirent *e;
+    while (d && (e = readdir(d))) {
+        size_t l = strlen(e->d_name);
+        if (e->d_name[0] == '.' || l < 5 || strcmp(e->d_name + l - 4, ".req"))
+            continue;
+        if (!first[0] || strcmp(e->d_name, first) < 0)
+            snprintf(first, sizeof first, "%s", e->d_name);
+    }
+    if (d)
+        closedir(d);
+    const char *stem = strchr(first, '-');
+    return stem && !strncmp(stem + 1, name, strlen(name)) && !strcmp(stem + 1 + strlen(name), ".req");
 }
 
 static volatile sig_atomic_t no_stop = 0;
@@ -256,7 +316,7 @@ static void test_flow(const char *dir)
     awdb *db = awdb_open(dir, NULL, &err);
     awdb *db2 = awdb_open(dir, NULL, &err); /* a second client */
     CHECK(db && db2);
-    test_engine te = {0, -1, 0, ""};
+    test_engine te = te_init(0);
     awdb_key k1 = key(10, 0), k2 = key(12, 0), k3 = key(10, 30);
     awdb_state st;
     CHECK(awdb_submit(db, &k1, &st, &err) == 0 && st == AWDB_ABSENT);
@@ -491,19 +551,25 @@ static void test_kill(const char *dir)
     pid_t pid = fork();
     if (pid == 0) {
         /* The builder to be killed: slow builds, two at a time. */
-        test_engine te = {0, -1, 2.0, ""};
+        test_engine te = te_init(2.0);
         awdb *dbc = awdb_open(dir, NULL, &err);
         run_builder(dbc, &te, 2, &err);
         _exit(0);
     }
-    /* Wait until it is mid-build (something in running/ and a temporary). */
-    for (int t = 0; t < 500 && count(dir, "running", ".req") == 0; t++)
+    /* Wait until it is mid-build: requests in running/ and their
+     * temporaries in fields/ (without one, the clean-up checked below would
+     * have nothing to clean). */
+    for (int t = 0; t < 500 && (count(dir, "running", ".req") < 2 || count_tmp(dir, "fields") < 2); t++)
         usleep(10000);
     usleep(300000);
-    CHECK(count(dir, "running", ".req") > 0);
+    int running_before = count(dir, "running", ".req"), tmp_before = count_tmp(dir, "fields");
+    printf("kill: %d builds running, %d temporaries in fields/ before SIGKILL\n", running_before, tmp_before);
+    CHECK(running_before == 2 && tmp_before == 2);
+    /* mid-build: nothing committed yet (count's loud temporaries taken out) */
+    CHECK(count(dir, "fields", ".sum") - 1000 * tmp_before == 0);
     CHECK(awdb_builder_alive(db) == 1);
     /* A second builder on the same database is refused, naming the first. */
-    test_engine te2 = {0, -1, 0, ""};
+    test_engine te2 = te_init(0);
     char want[64];
     snprintf(want, sizeof want, "another builder (pid %ld)", (long)pid);
     CHECK(run_builder(db, &te2, 1, &err) < 0 && strstr(err.msg, want) != NULL);
@@ -513,10 +579,14 @@ static void test_kill(const char *dir)
     waitpid(pid, &ws, 0);
     CHECK(WIFSIGNALED(ws));
     CHECK(awdb_builder_alive(db) == 0); /* the kernel dropped the dead builder's lock */
-    /* Restart: interrupted builds are requeued, temporaries removed, and the
-     * queue finishes; every field's checksum holds. */
-    CHECK(run_builder(db, &te2, 2, &err) == 0);
-    CHECK(te2.builds >= 2 && te2.builds <= 4);
+    CHECK(count_tmp(dir, "fields") == tmp_before); /* the dead builder's temporaries stay until a restart */
+    /* Restart: interrupted builds are requeued, temporaries removed before
+     * any build starts (one job: the first build finds none, not even the
+     * other killed job's, which no rebuild of its own would remove first),
+     * and the queue finishes; every field's checksum holds. */
+    te2.db_dir = dir;
+    CHECK(run_builder(db, &te2, 1, &err) == 0);
+    CHECK(te2.builds == 4 && te2.stray_at_start == 0);
     awdb *fresh = awdb_open(dir, NULL, &err);
     for (int i = 0; i < 4; i++) {
         awdb_key k = key(20 + i, -60);
@@ -524,24 +594,32 @@ static void test_kill(const char *dir)
         CHECK(awdb_query(fresh, &k, NULL, 0) == AWDB_READY);
     }
     CHECK(count(dir, "running", ".req") == 0 && count(dir, "queue", ".req") == 0);
-    CHECK(count(dir, "fields", ".part") == 0 && count(dir, "fields", ".h5") < 1000);
+    CHECK(count(dir, "fields", ".part") == 0 && count(dir, "fields", ".h5") < 1000 && count_tmp(dir, "fields") == 0);
     awdb_close(fresh);
     awdb_close(db);
 }
 
-/* SIGTERM mid-build: the build is abandoned, not failed and not committed;
- * its request goes back to the front of the queue. */
+/* SIGTERM mid-build: the build is abandoned, not failed and not committed,
+ * its temporary removed; its request goes back to the front of a queue of
+ * several, so that the restarted builder takes it first and the others in
+ * the order they were asked for. */
 static void test_term(const char *dir)
 {
     core_err err = {{0}};
     awdb *db = awdb_open(dir, NULL, &err);
-    awdb_key k = key(30, 90);
-    awdb_state st;
-    CHECK(awdb_submit(db, &k, &st, &err) == 0);
+    enum { NT = 4 };
+    awdb_key k[NT];
+    char first[200];
+    for (int i = 0; i < NT; i++) {
+        k[i] = key(30 + i, 90);
+        CHECK(awdb_submit(db, &k[i], NULL, &err) == 0);
+        CHECK(awdb_key_canon(&k[i], &err) == 0);
+    }
+    awdb_key_name(&k[0], first, sizeof first);
     pid_t pid = fork();
     if (pid == 0) {
         signal(SIGTERM, on_term);
-        test_engine te = {0, -1, 3.0, ""};
+        test_engine te = te_init(3.0);
         awdb *dbc = awdb_open(dir, NULL, &err);
         awdb_engine eng = {"test", te_build, &te, NULL};
         awdb_builder_opts o = {1, 0, 0.01, NULL, NULL, NULL, NULL, 0.0};
@@ -549,18 +627,37 @@ static void test_term(const char *dir)
         awdb_close(dbc);
         _exit(rc == 0 ? 0 : 3);
     }
-    for (int t = 0; t < 500 && count(dir, "running", ".req") == 0; t++)
+    char run[1400];
+    snprintf(run, sizeof run, "%s/running/%s.req", dir, first);
+    for (int t = 0; t < 500 && (access(run, F_OK) != 0 || count_tmp(dir, "fields") == 0); t++)
         usleep(10000);
     usleep(200000);
+    /* mid-build of the first request: its claim and its temporary, the
+     * other requests still queued */
+    int tmp_before = count_tmp(dir, "fields");
+    CHECK(access(run, F_OK) == 0 && tmp_before == 1 && count(dir, "queue", ".req") == NT - 1);
     kill(pid, SIGTERM);
     int ws;
     waitpid(pid, &ws, 0);
     CHECK(WIFEXITED(ws) && WEXITSTATUS(ws) == 0);
-    awdb_key_canon(&k, &err);
     awdb *fresh = awdb_open(dir, NULL, &err);
-    CHECK(awdb_query(fresh, &k, NULL, 0) == AWDB_QUEUED);
-    CHECK(count(dir, "running", ".req") == 0 && count(dir, "queue", ".req") == 1);
-    CHECK(count(dir, "fields", ".h5") == 0 && count(dir, "failed", ".txt") == 0);
+    CHECK(awdb_query(fresh, &k[0], NULL, 0) == AWDB_QUEUED);
+    CHECK(count(dir, "running", ".req") == 0 && count(dir, "queue", ".req") == NT);
+    CHECK(count(dir, "fields", ".h5") == 0 && count(dir, "failed", ".txt") == 0 && count_tmp(dir, "fields") == 0);
+    CHECK(queue_first_is(dir, first));
+    /* the restarted builder: the interrupted request first, then the rest
+     * in submission order */
+    test_engine te = te_init(0);
+    CHECK(run_builder(fresh, &te, 1, &err) == 0);
+    printf("term: %d temporary before SIGTERM; restart order (cm/s)", tmp_before);
+    for (int i = 0; i < te.norder; i++)
+        printf(" %d", te.order_cmps[i]);
+    printf("\n");
+    CHECK(te.norder == NT);
+    for (int i = 0; i < NT && i < te.norder; i++)
+        CHECK(te.order_cmps[i] == (int)(k[i].wod_speed_mps * 100 + 0.5));
+    for (int i = 0; i < NT; i++)
+        CHECK(awdb_query(fresh, &k[i], NULL, 0) == AWDB_READY);
     awdb_close(fresh);
     awdb_close(db);
 }
@@ -656,7 +753,7 @@ static void test_recover(const char *dir)
     CHECK(db != NULL);
     if (!db)
         return;
-    test_engine te = {0, -1, 0, ""};
+    test_engine te = te_init(0);
     awdb_key k1 = key(10, 0), k2 = key(12, 0);
     snprintf(k1.ship, sizeof k1.ship, "LHA.partial");
     snprintf(k2.ship, sizeof k2.ship, "LHA.tmp2");
@@ -715,7 +812,7 @@ static void test_commit_race(const char *dir)
     CHECK(db != NULL);
     if (!db)
         return;
-    test_engine te = {0, -1, 0, ""};
+    test_engine te = te_init(0);
     awdb_key k = key(11, 0);
     CHECK(awdb_submit(db, &k, NULL, &err) == 0 && run_builder(db, &te, 1, &err) == 0);
     CHECK(awdb_key_canon(&k, &err) == 0);
@@ -763,7 +860,7 @@ static void test_check_fails(const char *dir)
     CHECK(db != NULL);
     if (!db)
         return;
-    test_engine te = {0, -1, 0, ""};
+    test_engine te = te_init(0);
     awdb_key k = key(13, 0);
     CHECK(awdb_submit(db, &k, NULL, &err) == 0 && run_builder(db, &te, 1, &err) == 0);
     CHECK(awdb_key_canon(&k, &err) == 0);
@@ -816,7 +913,7 @@ static void test_probe(const char *dir)
     close(pfd[0]);
     close(pfd[1]);
     CHECK(awdb_builder_alive(db) == 0);
-    test_engine te = {0, -1, 0, ""};
+    test_engine te = te_init(0);
     awdb_key k = key(9, 0);
     CHECK(awdb_submit(db, &k, NULL, &err) == 0);
     CHECK(run_builder(db, &te, 1, &err) == 0 && te.builds == 1);
@@ -844,7 +941,7 @@ static void test_unclaimable(const char *dir)
     CHECK(f != NULL);
     if (f)
         fclose(f);
-    test_engine te = {0, -1, 0, ""};
+    test_engine te = te_init(0);
     CHECK(run_builder(db, &te, 1, &err) == 0); /* returns: the queue is empty */
     CHECK(te.builds == 0 && count(dir, "queue", ".req") == 0 && count(dir, "failed", ".txt") == 1);
     char name[256], failed[1400], text[1400] = "";
@@ -1051,6 +1148,80 @@ static void test_progress(const char *dir)
     awdb_close(db);
 }
 
+/* The embedded CFD engine through the builder, once: a coarse SFS2
+ * ship-only field, EMB_ITER iterations (this checks the path, not the
+ * flow). The engine, wrapped, is seen to write its field to the builder's
+ * temporary (fields/.tmp-NAME.h5, beside the final name so that the commit
+ * is a rename); after the commit the field is READY (its checksum holds)
+ * and reads back as a field, and neither the temporary nor the writer's
+ * XDMF side file (.tmp-NAME.xmf) is left. */
+#define EMB_ITER 3
+typedef struct watch_engine {
+    awdb_engine real;
+    const char *dir;
+    int builds, tmp_named, tmp_written;
+    long tmp_bytes;
+} watch_engine;
+
+static int watch_build(void *user, const awdb_key *k, const char *warm, const char *out, awdb_progress_fn progress,
+                       void *pu, core_err *err)
+{
+    watch_engine *w = user;
+    char want[1200];
+    snprintf(want, sizeof want, "%s/fields/.tmp-", w->dir);
+    w->builds++;
+    w->tmp_named += !strncmp(out, want, strlen(want));
+    int rc = w->real.build(w->real.user, k, warm, out, progress, pu, err);
+    struct stat sb;
+    if (rc == 0 && stat(out, &sb) == 0 && sb.st_size > 0) {
+        w->tmp_written++;
+        w->tmp_bytes = (long)sb.st_size;
+    }
+    return rc;
+}
+
+static void test_embedded(const char *dir)
+{
+    core_err err = {{0}};
+    core_log log = {NULL, NULL, CORE_LOG_ERROR};
+    awdb *db = awdb_open(dir, NULL, &err);
+    awdb_embedded *e = awdb_embedded_create("scenarios/ships", EMB_ITER, 1, &log, &err);
+    CHECK(db && e);
+    if (!db || !e) {
+        fprintf(stderr, "  embedded: %s\n", err.msg);
+        awdb_embedded_destroy(e);
+        awdb_close(db);
+        return;
+    }
+    awdb_embedded_set_db(e, db);
+    watch_engine w;
+    memset(&w, 0, sizeof w);
+    w.dir = dir;
+    awdb_embedded_engine(e, &w.real);
+    awdb_engine eng = {"embedded-watched", watch_build, &w, NULL};
+    awdb_key k = key(10, 0);
+    snprintf(k.ship, sizeof k.ship, "SFS2");
+    k.rotor = CORE_ROTOR_OFF;
+    k.thrust_N = 0.0;
+    CHECK(awdb_submit(db, &k, NULL, &err) == 0 && awdb_key_canon(&k, &err) == 0);
+    awdb_builder_opts o = {1, 1, 0.01, NULL, NULL, NULL, NULL, 0.0};
+    CHECK(awdb_builder_run(db, &eng, &o, &no_stop, &err) == 0);
+    printf("embedded: %d build(s), the field written to its temporary (%ld bytes), then renamed\n", w.builds,
+           w.tmp_bytes);
+    CHECK(w.builds == 1 && w.tmp_named == 1 && w.tmp_written == 1 && w.tmp_bytes > 0);
+    char path[1200];
+    CHECK(awdb_query(db, &k, path, sizeof path) == AWDB_READY);
+    cfd_field *f = cfd_field_load(path, &err);
+    CHECK(f != NULL);
+    if (!f)
+        fprintf(stderr, "  embedded: %s\n", err.msg);
+    cfd_field_destroy(f);
+    CHECK(count_tmp(dir, "fields") == 0 && count(dir, "fields", ".xmf") == 0 && count(dir, "fields", ".h5") == 1);
+    CHECK(count(dir, "running", "") == 0 && count(dir, "queue", ".req") == 0 && count(dir, "failed", ".txt") == 0);
+    awdb_embedded_destroy(e);
+    awdb_close(db);
+}
+
 /* A ships folder whose file paths do not fit the loader's buffer: refused
  * by name (the path was cut, and the ship then "not found" later). */
 static void test_long_ships_path(const char *dir)
@@ -1110,6 +1281,8 @@ int main(void)
     test_unclaimable(d5);
     snprintf(d5, sizeof d5, "%s/db10", dir);
     test_progress(d5);
+    snprintf(d5, sizeof d5, "%s/db11", dir);
+    test_embedded(d5);
     snprintf(d5, sizeof d5, "%s/ships", dir);
     test_long_ships_path(d5);
     char cmd[128];

@@ -1,18 +1,14 @@
 #!/bin/sh
 # Cross-process publish/subscribe over UDP multicast, inside a private network
-# namespace so that nothing leaves loopback (CONVENTIONS.md). Exit 77 (ctest:
-# skipped) with a message where unshare is not permitted.
+# namespace so that nothing leaves loopback (CONVENTIONS.md). Where unshare
+# or ip is missing: skipped (exit 77), and a failure with CI set
+# (tests/skip.sh).
 # Usage: lcm_xproc.sh LCM_XPROC_BINARY
 set -u
 bin=$1
-if ! unshare -n true 2>/dev/null; then
-    echo "lcm_xproc: SKIPPED: 'unshare -n' is not permitted here (needs root or user namespaces)"
-    exit 77
-fi
-if ! command -v ip >/dev/null 2>&1; then
-    echo "lcm_xproc: SKIPPED: the 'ip' command (iproute2) is missing"
-    exit 77
-fi
+. "$(dirname "$0")/../skip.sh"
+unshare -n true 2>/dev/null || skip lcm_xproc "'unshare -n' is not permitted here (needs root or user namespaces)"
+command -v ip >/dev/null 2>&1 || skip lcm_xproc "the 'ip' command (iproute2) is missing"
 exec unshare -n sh -c '
 set -e
 ip link set lo up
