@@ -9,6 +9,10 @@
  * frame S (x bow, y starboard, z down) is the reference frame of the
  * kinematics and is treated as inertial (steady ship translation); body
  * frame B at the centre of gravity; Euler angles 3-2-1 of B relative to S.
+ * The time simulation only needs the reference frame to be inertial: the
+ * flight loop (sim/) runs it in the Earth frame E, with an air callback
+ * that takes positions in E and gives the air in E (names ending in _S
+ * then mean "the kinematics frame").
  * Controls are percent of travel (collective 0 = full down, longitudinal
  * 0 = full forward, lateral 0 = full left, pedal 0 = full left).
  *
@@ -309,6 +313,14 @@ void hfm_tsim_destroy(hfm_tsim *ts);
 int hfm_tsim_init(hfm_tsim *ts, double t0_s, const hfm_body *b, const hfm_controls *u,
                   const hfm_rotor_harm *rh);
 void hfm_tsim_set_controls(hfm_tsim *ts, const hfm_controls *u);
+/* External loads on the airframe (the landing gear on the deck, a test
+ * load): the force and the moment about the centre of gravity, both in B,
+ * for the body state b at t_s. Added to the aerodynamic loads and gravity
+ * at every right-hand side. Returns 0, or non-zero to fail the evaluation
+ * (the step then fails). */
+typedef int (*hfm_ext_fn)(void *user, double t_s, const hfm_body *b, double F_B_N[3], double M_B_Nm[3]);
+/* fn NULL: none (the default). */
+void hfm_tsim_set_external(hfm_tsim *ts, hfm_ext_fn fn, void *user);
 /* Advance to t_s. Returns 0, or < 0 on a solver failure. */
 int hfm_tsim_advance(hfm_tsim *ts, double t_s);
 void hfm_tsim_body(const hfm_tsim *ts, hfm_body *b);

@@ -51,6 +51,8 @@ struct hfm_tsim {
     long evals;
     double blade_c[HFM_MAX_BLADES], blade_s[HFM_MAX_BLADES]; /* blade i at az + 2 pi i / nb */
     double tr_inflow; /* tail-rotor inflow of the last evaluation: Newton's first guess */
+    hfm_ext_fn ext;   /* external loads (NULL: none) */
+    void *ext_user;
 };
 
 int hfm_tsim_size(const hfm_tsim *ts)
@@ -183,6 +185,16 @@ int hfm_tsim_rhs(hfm_tsim *ts, double t, const double *y, double *yd)
     w.tr_inflow = ts->method == HFM_TSIM_ARKODE_FIXED ? &ts->tr_inflow : NULL;
     if (hfm_eval_rest(ac, &k, &b, &ts->u, &w, &L))
         return -1;
+    if (ts->ext) {
+        double Fe[3] = {0, 0, 0}, Me[3] = {0, 0, 0};
+        if (ts->ext(ts->ext_user, t, &b, Fe, Me))
+            return -1;
+        for (int i = 0; i < 3; i++) {
+            L.total.F_B_N[i] += Fe[i];
+            L.total.M_B_Nm[i] += Me[i];
+        }
+        hfm_body_accel(ac, &b, &L);
+    }
     double vS[3];
     m3_mul(k.C_SB, b.vel_B_mps, vS);
     for (int i = 0; i < 3; i++) {
@@ -356,6 +368,12 @@ int hfm_tsim_init(hfm_tsim *ts, double t0, const hfm_body *b, const hfm_controls
             return -1;
     }
     return 0;
+}
+
+void hfm_tsim_set_external(hfm_tsim *ts, hfm_ext_fn fn, void *user)
+{
+    ts->ext = fn;
+    ts->ext_user = user;
 }
 
 void hfm_tsim_set_controls(hfm_tsim *ts, const hfm_controls *u)

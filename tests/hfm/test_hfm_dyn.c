@@ -249,6 +249,64 @@ static void test_disk(const hfm_aircraft *ac, hfm_trim *tr)
     CHECK_NEAR(d.thrust_N / r.loads.mr_thrust_N, 1.0, 0.03);
 }
 
+/* A test load: a fixed force and moment in B (user: six doubles), or a
+ * failure (user NULL). */
+static int test_load(void *user, double t_s, const hfm_body *b, double F_B_N[3], double M_B_Nm[3])
+{
+    (void)t_s, (void)b;
+    const double *fm = user;
+    if (!fm)
+        return -1;
+    for (int i = 0; i < 3; i++) {
+        F_B_N[i] = fm[i];
+        M_B_Nm[i] = fm[3 + i];
+    }
+    return 0;
+}
+
+/* External loads (hfm_tsim_set_external) add to the body's equations of
+ * motion: a force F in B changes u' v' w' by F / m exactly, a moment
+ * changes p' q' r' linearly (twice the moment, twice the change), and a
+ * failing load fails the evaluation. */
+static void test_external(const hfm_aircraft *ac, hfm_trim *tr)
+{
+    hfm_trim_cond cd;
+    hfm_trim_result r;
+    trim_at(tr, 0.0, &cd, &r);
+    hfm_air_uniform calm = {{0.0, 0.0, 0.0}};
+    hfm_air air = {hfm_air_uniform_fn, &calm, NULL};
+    hfm_tsim *ts = hfm_tsim_create(ac, &air, HFM_TSIM_ARKODE_FIXED, 0.005, 0.0, NULL);
+    CHECK(ts != NULL);
+    if (!ts)
+        return;
+    CHECK(hfm_tsim_init(ts, 0.0, &r.body, &r.u, &r.rotor) == 0);
+    double y[64], y0[64], y1[64], y2[64];
+    CHECK(hfm_tsim_state(ts, y, 64) == 0);
+    CHECK(hfm_tsim_rhs(ts, 0.0, y, y0) == 0);
+    const double W = hfm_aircraft_weight_N(ac);
+    double one[6] = {0.02 * W, -0.03 * W, 0.1 * W, 5000.0, -3000.0, 2000.0};
+    double two[6] = {0.02 * W, -0.03 * W, 0.1 * W, 10000.0, -6000.0, 4000.0};
+    hfm_tsim_set_external(ts, test_load, one);
+    CHECK(hfm_tsim_rhs(ts, 0.0, y, y1) == 0);
+    hfm_tsim_set_external(ts, test_load, two);
+    CHECK(hfm_tsim_rhs(ts, 0.0, y, y2) == 0);
+    const double g_frac[3] = {0.02, -0.03, 0.1};
+    for (int i = 0; i < 3; i++) {
+        CHECK_NEAR(y1[3 + i] - y0[3 + i], g_frac[i] * CORE_G_MPS2, 1e-9);
+        double d1 = y1[6 + i] - y0[6 + i], d2 = y2[6 + i] - y0[6 + i];
+        CHECK(fabs(d1) > 1e-4);
+        CHECK_NEAR(d2, 2.0 * d1, 1e-9 * (1.0 + fabs(d2)));
+    }
+    CHECK(y1[6] > y0[6]); /* a right-wing-down moment rolls right */
+    hfm_tsim_set_external(ts, test_load, NULL);
+    CHECK(hfm_tsim_rhs(ts, 0.0, y, y1) != 0);
+    hfm_tsim_set_external(ts, NULL, NULL);
+    CHECK(hfm_tsim_rhs(ts, 0.0, y, y1) == 0 && y1[5] == y0[5]);
+    printf("external loads: w' %+.4f m/s^2 for 0.1 W down, p' %+.5f rad/s^2 for 10 kN m\n", y2[5] - y0[5],
+           y2[6] - y0[6]);
+    hfm_tsim_destroy(ts);
+}
+
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -268,6 +326,7 @@ int main(void)
     test_mbc(ac, tr);
     test_air_paths(ac, tr);
     test_disk(ac, tr);
+    test_external(ac, tr);
     hfm_trim_destroy(tr);
     hfm_aircraft_destroy(ac);
     return check_done("test_hfm_dyn");
