@@ -176,7 +176,7 @@ static void test_genhel(hfm_trim *tr)
         if (level) {
             CHECK(fabs(phi_deg) < 1e-9);
             int ok = beta_deg >= GENHEL_SIDESLIP_MIN_DEG && beta_deg <= GENHEL_SIDESLIP_MAX_DEG;
-            printf("GenHel %5.0f kt %-14s model %7.2f (wings level: roll held at %.2f; no published "
+            printf("GenHel %5.0f kt %-14s model %7.2f (wings level, roll %.2f; no published "
                    "sideslip) band %.1f..%.1f %s\n",
                    v, "sideslip deg", beta_deg, phi_deg, GENHEL_SIDESLIP_MIN_DEG,
                    GENHEL_SIDESLIP_MAX_DEG, ok ? "holds" : "FAILS");
