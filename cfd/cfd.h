@@ -383,7 +383,9 @@ int cfd_airwake_reattachment(const cfd_solver *s, const core_ship *ship, double 
 
 typedef struct cfd_check {
     char name[64];
-    double measured, reference, tol; /* pass when |measured - reference| <= tol */
+    double measured, reference, tol; /* pass when |measured - reference| <= tol; a window
+                                        (reference its centre, tol its half-width) passes
+                                        strictly inside; NaN (nothing measured) fails */
     int pass;
 } cfd_check;
 
