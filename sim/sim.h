@@ -70,6 +70,67 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err);
 /* Print the resolved configuration as INI-like text. */
 void sim_scenario_print(const sim_scenario *sc, FILE *out);
 
+/* ------------------------------------ turbulence (sim/turbulence.c, issue 25) */
+/* Seeded Dryden turbulence (MIL-F-8785C / MIL-HDBK-1797 Dryden form) from
+ * the steady field's k and epsilon: per component sigma = sqrt(2k/3) at
+ * each point, length scale L = Cmu^0.75 k^1.5 / epsilon held within
+ * [length_min_m, length_max_m], one frozen gust field convected at the
+ * reference point's mean velocity (its speed at least speed_min_mps), so
+ * points along the wind see the same gust delayed by their distance / V
+ * and points across it are correlated by the Dryden correlation. One L and
+ * one convection velocity (the reference's) over the field; no variation
+ * with height across the wind; the field covers extent_m around the
+ * reference. sim/turbulence.c has the model, its references and limits.
+ *
+ * Use: once per loop step, sim_turb_step with the reference point (e.g. the
+ * rotor hub) and the mean air, k and epsilon there; then sim_turb_sample at
+ * any number of points (blade elements, fuselage, tail), as often as the
+ * integrator asks: sampling changes nothing, so repeated evaluations within
+ * a step agree. Positions and velocities in S, relative to the ship. */
+#include <stdint.h>
+
+typedef struct sim_turb sim_turb;
+typedef struct sim_turb_opts {
+    int enabled;          /* 1 (default): gusts; 0: sim_turb_sample gives exactly zero */
+    double cmu;           /* k-epsilon model constant in L (0.09) */
+    double length_min_m;  /* floor of L (2 m; also k = 0) */
+    double length_max_m;  /* cap of L (300 m; also epsilon = 0) */
+    double speed_min_mps; /* floor of the convection speed, hover in calm air (2 m/s) */
+    double extent_m;      /* the field's width along and across the wind around the reference (40 m) */
+    double ds_m;          /* along-wind spacing of the field's rows (0.25 m, at most length_min_m / 4) */
+    double dy_m;          /* across-wind spacing of its lanes (0.5 m, at most length_min_m / 2) */
+} sim_turb_opts;
+void sim_turb_opts_default(sim_turb_opts *o);
+
+/* NULL with err naming the option and what was expected for bad options
+ * (non-finite or non-positive values, enabled not 0 or 1, cmu > 1,
+ * length_max_m < length_min_m, a spacing too coarse for length_min_m, a
+ * field too large). The generator is private and seeded by seed. */
+sim_turb *sim_turb_create(const sim_turb_opts *o, uint64_t seed, core_err *err);
+void sim_turb_destroy(sim_turb *t);
+/* Back to the state just after create with this seed (the loop's reset). */
+void sim_turb_reset(sim_turb *t, uint64_t seed);
+/* Advance the field by dt_s (>= 0) and set its length scale and convection
+ * from the reference point: its position, mean air velocity (m/s, S), k
+ * (m^2/s^2) and epsilon (m^2/s^3). 0, or < 0 with err for non-finite or
+ * negative input. Off, it checks the input and does nothing else. */
+int sim_turb_step(sim_turb *t, const double ref_S_m[3], const double mean_vel_S_mps[3], double k_m2ps2,
+                  double eps_m2ps3, double dt_s, core_err *err);
+/* The gust (m/s, S) at pos_S_m where the field's k is k_m2ps2: 0; 1 (zero
+ * gust) before the first step; -1 (zero gust) for a non-finite position or
+ * a k that is negative or not finite. Off: exactly zero, 0. */
+int sim_turb_sample(const sim_turb *t, const double pos_S_m[3], double k_m2ps2, double gust_S_mps[3]);
+/* L (m) that sim_turb_step uses for k and epsilon, floors and caps applied. */
+double sim_turb_length_m(const sim_turb_opts *o, double k_m2ps2, double eps_m2ps3);
+/* The field now (plain data). */
+typedef struct sim_turb_state {
+    double length_m, conv_speed_mps; /* of the last step */
+    double e1[3], e2[3], e3[3];      /* wind axes in S: along, across (horizontal), e1 x e2 */
+    int lanes, rows;                 /* the field's size */
+    long relays;                     /* times laid anew after drifting across the wind */
+} sim_turb_state;
+void sim_turb_info(const sim_turb *t, sim_turb_state *s);
+
 #ifdef __cplusplus
 }
 #endif
