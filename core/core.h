@@ -288,13 +288,20 @@ typedef struct core_ship {
     double deck_height_m;   /* flight deck above the waterline */
     double deck_x0_m, deck_x1_m, deck_halfwidth_m; /* flight deck extent in S */
     double anemometer_S_m[3];
+    /* Seakeeping (optional keys; sim/ship_motion.c needs them at a sea state
+     * above 0): 0 when absent. hull_draft_m is draft_m when absent. */
+    double block_coefficient;  /* C_B = displacement volume / (L B T_hull) */
+    double hull_draft_m;       /* the hull's draft for the motions (no sonar dome) */
+    double roll_period_s;      /* natural roll period */
+    double roll_damping_ratio; /* roll damping, fraction of critical */
     int nblocks;
     core_ship_block blocks[CORE_SHIP_MAX_BLOCKS];
 } core_ship;
 
 /* Load a ship file (INI, [ship] and one [block NAME] per block; the format
- * is docs/ship-format.md). An unknown section, and an anemometer below the
- * waterline, are errors. */
+ * is docs/ship-format.md). An unknown section, an anemometer below the
+ * waterline, and seakeeping keys given in part (block_coefficient,
+ * roll_period_s, roll_damping_ratio: all three or none), are errors. */
 int core_ship_load(const char *path, core_ship *ship, core_err *err);
 /* The same, with the consistency warnings (CORE_LOG_WARN) on log: a landing
  * spot not on a deck at deck_height_m, an anemometer below the deck, blocks

@@ -4,7 +4,9 @@
  * File format (INI):
  *   [ship]   name, length_m, beam_m, draft_m, deck_height_m (flight deck above
  *            the waterline), deck_x_m = aft,fwd and deck_halfwidth_m (flight
- *            deck extent in S), anemometer_S_m = x,y,z
+ *            deck extent in S), anemometer_S_m = x,y,z; the seakeeping keys
+ *            block_coefficient, roll_period_s, roll_damping_ratio (all or
+ *            none) and hull_draft_m (optional) for the ship's motion
  *   [block NAME]  x_m = aft,fwd (S), y_m = port,starboard (S),
  *            height_m = bottom,top above the waterline, bow_taper_m (optional)
  * Heights above the waterline are what drawings give; S has z down from the
@@ -114,6 +116,34 @@ static void warn_ship(const core_ini *ini, const core_ship *ship, const core_log
                      path, key_line(ini, "ship", "deck_halfwidth_m"), ship->deck_halfwidth_m, 0.5 * ship->beam_m);
 }
 
+/* The seakeeping keys of [ship] (optional; sim/ship_motion.c uses them):
+ * the three that the motion needs come together or not at all, so that a
+ * forgotten one is named here rather than when a sea state is asked for. */
+static int read_seakeeping(core_ini *ini, core_ship *ship, core_err *err)
+{
+    static const char *const keys[3] = {"block_coefficient", "roll_period_s", "roll_damping_ratio"};
+    static const double lo[3] = {0.3, 2.0, 0.005}, hi[3] = {1.0, 60.0, 1.0};
+    double *out[3] = {&ship->block_coefficient, &ship->roll_period_s, &ship->roll_damping_ratio};
+    int given = -1, missing = -1;
+    for (int i = 0; i < 3; i++) {
+        int rc = core_ini_get_double(ini, "ship", keys[i], 0, lo[i], hi[i], out[i], err);
+        if (rc < 0)
+            return rc;
+        if (rc == 0 && given < 0)
+            given = i;
+        if (rc == 1 && missing < 0)
+            missing = i;
+    }
+    if (given >= 0 && missing >= 0)
+        return core_err_set(err, -1,
+                            "%s:%d: [ship] %s given without %s: the seakeeping keys block_coefficient, "
+                            "roll_period_s and roll_damping_ratio come together (docs/ship-format.md)",
+                            core_ini_path(ini), key_line(ini, "ship", keys[given]), keys[given], keys[missing]);
+    ship->hull_draft_m = ship->draft_m;
+    int rc = core_ini_get_double(ini, "ship", "hull_draft_m", 0, 0.1, 50.0, &ship->hull_draft_m, err);
+    return rc < 0 ? rc : 0;
+}
+
 int core_ship_load(const char *path, core_ship *ship, core_err *err)
 {
     return core_ship_load_log(path, ship, NULL, err);
@@ -157,6 +187,9 @@ int core_ship_load_log(const char *path, core_ship *ship, const core_log *log, c
                           anem[2] - ship->deck_height_m, ship->deck_height_m);
         goto out;
     }
+
+    if ((rc = read_seakeeping(ini, ship, err)))
+        goto out;
 
     for (size_t i = 0; i < core_ini_count(ini); i++) {
         const core_ini_entry *e = core_ini_at(ini, i);

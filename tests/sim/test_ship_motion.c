@@ -1,0 +1,541 @@
+/* test_ship_motion.c -- the ship's motion in a sea state (sim/ship_motion.c):
+ * the sea-state table and the spectra as published, the closed-form RAOs'
+ * long-wave limits, the long-record statistics of the sum of sinusoids
+ * against the table and the spectral integrals, calm seas, determinism by
+ * seed, the landing spot's derivatives, the roll resonance at the ship
+ * file's period, and refusals of bad input naming the field or key.
+ *
+ * Significant amplitudes here are single amplitudes, 2 sigma (for a narrow
+ * band process the mean of the highest third of the amplitudes); the
+ * significant wave height is 4 sigma of the elevation. Records are 3 h of
+ * ship time at 2 Hz. */
+#include "check.h"
+#include "sim.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define REC_DT_S 0.5
+#define REC_N 21600 /* 3 h at 2 Hz */
+#define PITCH_DOF 1
+
+static core_ship cg47, lpd17, sfs2;
+
+static sim_sea make_sea(int state, double speed_kt, double dir_deg, sim_spectrum spec)
+{
+    sim_sea s;
+    sim_sea_default(&s);
+    s.state = state;
+    s.ship_speed_mps = speed_kt * CORE_KT_TO_MPS;
+    s.wave_dir_rad = dir_deg * CORE_DEG_TO_RAD;
+    s.spectrum = spec;
+    return s;
+}
+
+static double stdev(const double *x, int n)
+{
+    double mean = 0.0, var = 0.0;
+    for (int i = 0; i < n; i++)
+        mean += x[i];
+    mean /= n;
+    for (int i = 0; i < n; i++)
+        var += (x[i] - mean) * (x[i] - mean);
+    return sqrt(var / n);
+}
+
+/* The record of a motion: elevation, heave, pitch, roll. */
+typedef struct record {
+    double *elev, *heave, *pitch, *roll;
+} record;
+
+static void record_take(const sim_ship_motion *m, record *r)
+{
+    r->elev = malloc(REC_N * sizeof(double));
+    r->heave = malloc(REC_N * sizeof(double));
+    r->pitch = malloc(REC_N * sizeof(double));
+    r->roll = malloc(REC_N * sizeof(double));
+    for (int i = 0; i < REC_N; i++) {
+        sim_ship_state st;
+        CHECK(sim_ship_motion_at(m, i * REC_DT_S, &st) == 0);
+        r->elev[i] = st.wave_elev_m;
+        r->heave[i] = st.heave_m;
+        r->pitch[i] = st.att.theta_rad;
+        r->roll[i] = st.att.phi_rad;
+    }
+}
+
+static void record_free(record *r)
+{
+    free(r->elev);
+    free(r->heave);
+    free(r->pitch);
+    free(r->roll);
+}
+
+/* m0 of each motion: the integral of S(w) RAO(w)^2 over 0..w_max (trapezoid, fine grid). */
+static void spectral_m0(const sim_ship_motion *m, double m0[4])
+{
+    sim_ship_motion_info info;
+    sim_ship_motion_get_info(m, &info);
+    const int n = 40000;
+    double dw = info.omega_max_radps / n;
+    memset(m0, 0, 4 * sizeof m0[0]);
+    for (int j = 1; j <= n; j++) {
+        double w = j * dw, S = sim_ship_motion_spectrum(m, w), h, p, r;
+        CHECK(sim_ship_motion_rao(m, w, &h, &p, &r) == 0);
+        double wt = j == n ? 0.5 : 1.0;
+        m0[0] += wt * S * dw;
+        m0[1] += wt * S * h * h * dw;
+        m0[2] += wt * S * p * p * dw;
+        m0[3] += wt * S * r * r * dw;
+    }
+}
+
+/* ---------------------------------------------------------------- table */
+static void test_table(void)
+{
+    double hs, tp;
+    core_err err = {{0}};
+    /* Bales (1983) Table 1, North Atlantic: state 5 3.25 m, 9.7 s; state 6 5.0 m, 12.4 s */
+    CHECK(sim_sea_state_table(5, &hs, &tp, &err) == 0);
+    CHECK_NEAR(hs, 3.25, 1e-12);
+    CHECK_NEAR(tp, 9.7, 1e-12);
+    CHECK(sim_sea_state_table(6, &hs, &tp, &err) == 0);
+    CHECK_NEAR(hs, 5.0, 1e-12);
+    CHECK_NEAR(tp, 12.4, 1e-12);
+    CHECK(sim_sea_state_table(0, &hs, &tp, &err) == 0 && hs == 0.0);
+    CHECK(sim_sea_state_table(7, &hs, &tp, &err) < 0 && strstr(err.msg, "expected 0 to 6"));
+}
+
+/* --------------------------------------------------------------- spectra */
+static void test_spectra(void)
+{
+    core_err err = {{0}};
+    for (int sp = 0; sp < 2; sp++) {
+        sim_sea sea = make_sea(5, 0.0, 0.0, (sim_spectrum)sp);
+        sim_ship_motion *m = sim_ship_motion_create(&cg47, &sea, 1, &err);
+        CHECK(m != NULL);
+        if (!m)
+            continue;
+        sim_ship_motion_info info;
+        sim_ship_motion_get_info(m, &info);
+        double m0[4];
+        spectral_m0(m, m0);
+        /* the zeroth moment is the table's H_s^2 / 16 */
+        CHECK_NEAR(4.0 * sqrt(m0[0]), 3.25, 3.25 * 0.002);
+        /* the peak at the modal period */
+        double wp = 2.0 * CORE_PI / 9.7, best = 0.0, wbest = 0.0;
+        for (double w = 0.2; w < 2.0; w += 1e-4) {
+            double S = sim_ship_motion_spectrum(m, w);
+            if (S > best) {
+                best = S;
+                wbest = w;
+            }
+        }
+        CHECK_NEAR(wbest, wp, wp * 0.005);
+        /* (S1) at its peak, 5/16 H_s^2 / w_p e^(-5/4) (the cut at 8 w_p scales it by 1.0003);
+         * JONSWAP's peak is about gamma (1 - 0.287 ln gamma) = 2.17 times that */
+        double s1 = 5.0 / 16.0 * 3.25 * 3.25 / wp * exp(-1.25);
+        double want = sp == SIM_SPECTRUM_ITTC ? s1 : s1 * 3.3 * (1.0 - 0.287 * log(3.3));
+        CHECK_NEAR(sim_ship_motion_spectrum(m, wp), want, want * (sp == SIM_SPECTRUM_ITTC ? 0.001 : 0.05));
+        printf("spectrum %s, sea state 5: 4 sqrt(m0) = %.4f m (table 3.25), peak %.4f rad/s (2 pi / 9.7 = %.4f), "
+               "S(w_p) = %.4f m^2 s (formula %.4f)\n",
+               sp ? "JONSWAP" : "ITTC", 4.0 * sqrt(m0[0]), wbest, wp, sim_ship_motion_spectrum(m, wp), want);
+        CHECK(sim_ship_motion_spectrum(m, info.omega_max_radps * 1.01) == 0.0);
+        sim_ship_motion_destroy(m);
+    }
+}
+
+/* ------------------------------------------------------------------ RAOs */
+static void test_rao_limits(void)
+{
+    core_err err = {{0}};
+    /* Long waves (w = 0.05 rad/s, 25 km long), no speed: the ship lies in
+     * the surface: heave 1 m/m, pitch the slope k in head seas, roll the
+     * slope k in beam seas, and nothing of the other angle. */
+    double w = 0.05, k = w * w / CORE_G_MPS2, h, p, r;
+    sim_sea head = make_sea(5, 0.0, 0.0, SIM_SPECTRUM_ITTC), beam = make_sea(5, 0.0, 90.0, SIM_SPECTRUM_ITTC);
+    sim_ship_motion *mh = sim_ship_motion_create(&cg47, &head, 1, &err);
+    sim_ship_motion *mb = sim_ship_motion_create(&cg47, &beam, 1, &err);
+    CHECK(mh && mb);
+    if (!mh || !mb)
+        return;
+    CHECK(sim_ship_motion_rao(mh, w, &h, &p, &r) == 0);
+    CHECK_NEAR(h, 1.0, 0.01);
+    CHECK_NEAR(p / k, 1.0, 0.01);
+    CHECK(r < 1e-12);
+    CHECK(sim_ship_motion_rao(mb, w, &h, &p, &r) == 0);
+    CHECK_NEAR(h, 1.0, 0.01);
+    CHECK(p < 1e-12);
+    CHECK_NEAR(r / k, 1.0, 0.01);
+    /* waves far shorter than the ship move it little */
+    CHECK(sim_ship_motion_rao(mh, 3.0, &h, &p, &r) == 0);
+    CHECK(h < 0.01 && p < 0.001);
+    CHECK(sim_ship_motion_rao(mh, -1.0, &h, &p, &r) < 0);
+    sim_ship_motion_destroy(mh);
+    sim_ship_motion_destroy(mb);
+}
+
+/* ----------------------------------------------- long-record statistics */
+/* 4 sigma of the elevation against the table, 2 sigma of each motion
+ * against 2 sqrt(integral of S RAO^2), both within 10 %. */
+static void check_record(const char *what, const core_ship *ship, const sim_sea *sea, uint64_t seed, int motions)
+{
+    core_err err = {{0}};
+    sim_ship_motion *m = sim_ship_motion_create(ship, sea, seed, &err);
+    CHECK(m != NULL);
+    if (!m) {
+        fprintf(stderr, "%s\n", err.msg);
+        return;
+    }
+    double hs;
+    sim_sea_state_table(sea->state, &hs, NULL, &err);
+    record r;
+    record_take(m, &r);
+    double hs_rec = 4.0 * stdev(r.elev, REC_N);
+    CHECK_NEAR(hs_rec / hs, 1.0, 0.10);
+    printf("%s: H_s 4 sigma %.3f m, table %.3f m (%+.1f %%)", what, hs_rec, hs, 100.0 * (hs_rec / hs - 1.0));
+    if (motions) {
+        double m0[4];
+        spectral_m0(m, m0);
+        const double *rec[3] = {r.heave, r.pitch, r.roll};
+        const char *name[3] = {"heave", "pitch", "roll"};
+        const char *unit[3] = {"m", "deg", "deg"};
+        for (int d = 0; d < 3; d++) {
+            double f = d ? CORE_RAD_TO_DEG : 1.0;
+            double sig_rec = 2.0 * stdev(rec[d], REC_N) * f, sig_spec = 2.0 * sqrt(m0[d + 1]) * f;
+            if (d == PITCH_DOF && fabs(cos(sea->wave_dir_rad)) < 1e-9) {
+                CHECK(sig_rec < 1e-9); /* beam seas: no pitch */
+                printf("; pitch 2 sigma %.1e deg (beam seas)", sig_rec);
+                continue;
+            }
+            CHECK(sig_spec > 0.0);
+            CHECK_NEAR(sig_rec / sig_spec, 1.0, 0.10);
+            printf("; %s 2 sigma %.3f %s, spectral %.3f (%+.1f %%)", name[d], sig_rec, unit[d], sig_spec,
+                   100.0 * (sig_rec / sig_spec - 1.0));
+        }
+    }
+    printf("\n");
+    record_free(&r);
+    sim_ship_motion_destroy(m);
+}
+
+static void test_long_records(void)
+{
+    char what[96];
+    for (int state = 1; state <= SIM_SEA_MAX_STATE; state++)
+        for (int sp = 0; sp < 2; sp++) {
+            sim_sea sea = make_sea(state, 10.0, 0.0, (sim_spectrum)sp);
+            snprintf(what, sizeof what, "CG-47 sea state %d %s 10 kt head", state, sp ? "JONSWAP" : "ITTC");
+            check_record(what, &cg47, &sea, 100u + (uint64_t)state, 0);
+        }
+    sim_sea a = make_sea(5, 15.0, 30.0, SIM_SPECTRUM_ITTC);
+    check_record("CG-47 sea state 5 ITTC 15 kt green 30", &cg47, &a, 7, 1);
+    sim_sea b = make_sea(6, 10.0, -135.0, SIM_SPECTRUM_JONSWAP);
+    check_record("LPD-17 sea state 6 JONSWAP 10 kt red 135", &lpd17, &b, 8, 1);
+    sim_sea c = make_sea(4, 0.0, 90.0, SIM_SPECTRUM_ITTC);
+    check_record("LPD-17 sea state 4 ITTC 0 kt green 90", &lpd17, &c, 9, 1);
+}
+
+/* ------------------------------------------------------------ calm seas */
+static void test_calm(void)
+{
+    core_err err = {{0}};
+    /* still water, no way on: everything exactly zero, at any time */
+    sim_sea sea = make_sea(0, 0.0, 30.0, SIM_SPECTRUM_ITTC);
+    sim_ship_motion *m = sim_ship_motion_create(&cg47, &sea, 5, &err);
+    CHECK(m != NULL);
+    if (!m)
+        return;
+    core_vec3 bow = core_vec3_make(120.0, 3.0, -5.0);
+    for (int i = 0; i < 50; i++) {
+        double t = i * 37.3;
+        sim_ship_state st;
+        sim_ship_point pt;
+        CHECK(sim_ship_motion_at(m, t, &st) == 0);
+        CHECK(st.pose.pos_E_m.x == 0.0 && st.pose.pos_E_m.y == 0.0 && st.pose.pos_E_m.z == 0.0);
+        CHECK(st.att.phi_rad == 0.0 && st.att.theta_rad == 0.0 && st.att.psi_rad == 0.0);
+        CHECK(st.vel_E_mps.x == 0.0 && st.vel_E_mps.y == 0.0 && st.vel_E_mps.z == 0.0);
+        CHECK(st.omega_S_radps.x == 0.0 && st.omega_S_radps.y == 0.0 && st.omega_S_radps.z == 0.0);
+        CHECK(st.heave_m == 0.0 && st.wave_elev_m == 0.0);
+        CHECK(sim_ship_motion_point(m, t, bow, &pt) == 0);
+        CHECK(pt.vel_E_mps.x == 0.0 && pt.vel_E_mps.y == 0.0 && pt.vel_E_mps.z == 0.0);
+        CHECK(pt.acc_E_mps2.x == 0.0 && pt.acc_E_mps2.y == 0.0 && pt.acc_E_mps2.z == 0.0);
+        CHECK_NEAR(pt.pos_E_m.x, bow.x, 1e-12);
+        CHECK_NEAR(pt.pos_E_m.y, bow.y, 1e-12);
+        CHECK_NEAR(pt.pos_E_m.z, bow.z, 1e-12);
+    }
+    sim_ship_motion_destroy(m);
+
+    /* calm, under way on course 060: level, at exactly U along the course */
+    sea.ship_speed_mps = 8.0;
+    sea.course_rad = 60.0 * CORE_DEG_TO_RAD;
+    m = sim_ship_motion_create(&sfs2, &sea, 5, &err); /* no seakeeping keys: none needed at state 0 */
+    CHECK(m != NULL);
+    if (!m)
+        return;
+    for (int i = 0; i < 20; i++) {
+        double t = i * 11.0;
+        sim_ship_state st;
+        CHECK(sim_ship_motion_at(m, t, &st) == 0);
+        CHECK(st.att.phi_rad == 0.0 && st.att.theta_rad == 0.0);
+        CHECK(st.att.psi_rad == sea.course_rad);
+        CHECK(st.vel_E_mps.x == 8.0 * cos(sea.course_rad) && st.vel_E_mps.y == 8.0 * sin(sea.course_rad) &&
+              st.vel_E_mps.z == 0.0);
+        CHECK(st.omega_S_radps.x == 0.0 && st.omega_S_radps.y == 0.0 && st.omega_S_radps.z == 0.0);
+        CHECK_NEAR(st.pose.pos_E_m.x, 8.0 * t * cos(sea.course_rad), 1e-9);
+        CHECK_NEAR(st.pose.pos_E_m.y, 8.0 * t * sin(sea.course_rad), 1e-9);
+        CHECK(st.pose.pos_E_m.z == 0.0);
+    }
+    sim_ship_motion_destroy(m);
+}
+
+/* ---------------------------------------------------------- determinism */
+static void test_seeds(void)
+{
+    core_err err = {{0}};
+    sim_sea sea = make_sea(5, 12.0, 45.0, SIM_SPECTRUM_JONSWAP);
+    sim_ship_motion *a = sim_ship_motion_create(&cg47, &sea, 42, &err);
+    sim_ship_motion *b = sim_ship_motion_create(&cg47, &sea, 43, &err);
+    sim_ship_motion *a2 = sim_ship_motion_create(&cg47, &sea, 42, &err); /* made after another seed's */
+    CHECK(a && b && a2);
+    if (!a || !b || !a2)
+        return;
+    const int n = 7200; /* 1 h at 2 Hz */
+    int same = 1;
+    double sab = 0.0, saa = 0.0, sbb = 0.0;
+    for (int i = 0; i < n; i++) {
+        double t = i * REC_DT_S;
+        sim_ship_state sa, sb, sa2;
+        sim_ship_point pa, pa2;
+        /* evaluate out of order too: a pure function of t */
+        sim_ship_motion_at(a, t, &sa);
+        sim_ship_motion_at(b, t, &sb);
+        sim_ship_motion_at(a2, (n - 1 - i) * REC_DT_S, &sa2);
+        sim_ship_motion_at(a2, t, &sa2);
+        sim_ship_motion_point(a, t, core_vec3_make(0, 0, 0), &pa);
+        sim_ship_motion_point(a2, t, core_vec3_make(0, 0, 0), &pa2);
+        if (memcmp(&sa, &sa2, sizeof sa) != 0 || memcmp(&pa, &pa2, sizeof pa) != 0)
+            same = 0;
+        sab += sa.att.phi_rad * sb.att.phi_rad;
+        saa += sa.att.phi_rad * sa.att.phi_rad;
+        sbb += sb.att.phi_rad * sb.att.phi_rad;
+    }
+    CHECK(same);
+    double corr = sab / sqrt(saa * sbb);
+    CHECK(fabs(corr) < 0.3);
+    printf("seeds: 42 twice bit for bit %s; roll of seeds 42 and 43 correlate %.3f\n", same ? "yes" : "NO", corr);
+    sim_ship_motion_destroy(a);
+    sim_ship_motion_destroy(b);
+    sim_ship_motion_destroy(a2);
+}
+
+/* ------------------------------------------------ derivatives of a point */
+static double vdist(core_vec3 a, core_vec3 b)
+{
+    return core_vec3_norm(core_vec3_sub(a, b));
+}
+
+static void test_derivatives(void)
+{
+    core_err err = {{0}};
+    sim_sea sea = make_sea(6, 10.0, 60.0, SIM_SPECTRUM_ITTC);
+    sea.course_rad = 200.0 * CORE_DEG_TO_RAD;
+    sim_ship_motion *m = sim_ship_motion_create(&lpd17, &sea, 3, &err);
+    CHECK(m != NULL);
+    if (!m)
+        return;
+    const core_vec3 pts[2] = {core_vec3_make(0, 0, 0), core_vec3_make(150.0, 8.0, -10.0)}; /* spot, bow */
+    const double h = 1e-3;
+    double ev = 0.0, ea = 0.0, ew = 0.0, vmax = 0.0, amax = 0.0, wmax = 0.0;
+    for (int i = 0; i < 40; i++) {
+        double t = 17.0 + i * 91.7;
+        for (int k = 0; k < 2; k++) {
+            sim_ship_point p0, pm, pp;
+            sim_ship_motion_point(m, t, pts[k], &p0);
+            sim_ship_motion_point(m, t - h, pts[k], &pm);
+            sim_ship_motion_point(m, t + h, pts[k], &pp);
+            core_vec3 fd_v = core_vec3_scale(core_vec3_sub(pp.pos_E_m, pm.pos_E_m), 0.5 / h);
+            core_vec3 fd_a = core_vec3_scale(core_vec3_sub(pp.vel_E_mps, pm.vel_E_mps), 0.5 / h);
+            ev = fmax(ev, vdist(fd_v, p0.vel_E_mps));
+            ea = fmax(ea, vdist(fd_a, p0.acc_E_mps2));
+            vmax = fmax(vmax, fabs(p0.vel_E_mps.z));
+            amax = fmax(amax, core_vec3_norm(p0.acc_E_mps2));
+        }
+        /* the state's pose and velocity are the spot's; its rate the attitude's derivative */
+        sim_ship_state st, sm, sp;
+        sim_ship_point spot;
+        sim_ship_motion_at(m, t, &st);
+        sim_ship_motion_point(m, t, pts[0], &spot);
+        CHECK(vdist(st.pose.pos_E_m, spot.pos_E_m) == 0.0 && vdist(st.vel_E_mps, spot.vel_E_mps) == 0.0);
+        sim_ship_motion_at(m, t - h, &sm);
+        sim_ship_motion_at(m, t + h, &sp);
+        core_mat3 C = core_mat3_from_euler(st.att), Cm = core_mat3_from_euler(sm.att),
+                  Cp = core_mat3_from_euler(sp.att);
+        double W[3][3]; /* C^T dC/dt = [w x] */
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) {
+                W[r][c] = 0.0;
+                for (int j = 0; j < 3; j++)
+                    W[r][c] += C.m[j][r] * (Cp.m[j][c] - Cm.m[j][c]) * 0.5 / h;
+            }
+        core_vec3 w_fd = core_vec3_make(W[2][1], W[0][2], W[1][0]);
+        ew = fmax(ew, vdist(w_fd, st.omega_S_radps));
+        wmax = fmax(wmax, core_vec3_norm(st.omega_S_radps));
+    }
+    CHECK(vmax > 0.1 && amax > 0.1 && wmax > 0.005); /* the sea moves the ship */
+    CHECK(ev < 1e-5);
+    CHECK(ea < 1e-5);
+    CHECK(ew < 1e-7);
+    printf("LPD-17 sea state 6: |v - dx/dt| <= %.1e m/s (vertical speeds to %.2f m/s), |a - dv/dt| <= %.1e m/s^2 "
+           "(to %.2f), |w - C^T dC/dt| <= %.1e rad/s (to %.3f)\n",
+           ev, vmax, ea, amax, ew, wmax);
+    sim_ship_motion_destroy(m);
+}
+
+/* ------------------------------------------------------- roll resonance */
+/* Welch estimate (Hann, 2048-sample segments, half overlap) of the ratio
+ * of the roll's spectrum to the elevation's over w in [w0, w1]: the roll
+ * RAO squared as a record shows it. Returns the frequency of its peak. */
+static double roll_peak(const record *r, double w0, double w1)
+{
+    const int ns = 2048, nw = (int)((w1 - w0) / 0.001) + 1;
+    double best = 0.0, wbest = 0.0, *see = calloc((size_t)nw, sizeof *see), *srr = calloc((size_t)nw, sizeof *srr);
+    double smax = 0.0;
+    for (int j = 0; j < nw; j++) {
+        double w = w0 + j * 0.001;
+        for (int s0 = 0; s0 + ns <= REC_N; s0 += ns / 2) {
+            double er = 0.0, ei = 0.0, rr = 0.0, ri = 0.0;
+            double c1 = cos(w * REC_DT_S), s1 = sin(w * REC_DT_S), pc = 1.0, ps = 0.0;
+            for (int i = 0; i < ns; i++) {
+                double win = 0.5 - 0.5 * cos(2.0 * CORE_PI * i / (ns - 1));
+                er += win * r->elev[s0 + i] * pc;
+                ei += win * r->elev[s0 + i] * ps;
+                rr += win * r->roll[s0 + i] * pc;
+                ri += win * r->roll[s0 + i] * ps;
+                double t = pc * c1 - ps * s1; /* the phasor e^(i w t) by rotation */
+                ps = pc * s1 + ps * c1;
+                pc = t;
+            }
+            see[j] += er * er + ei * ei;
+            srr[j] += rr * rr + ri * ri;
+        }
+        smax = fmax(smax, see[j]);
+    }
+    for (int j = 0; j < nw; j++)
+        if (see[j] > 1e-3 * smax && srr[j] / see[j] > best) {
+            best = srr[j] / see[j];
+            wbest = w0 + j * 0.001;
+        }
+    free(see);
+    free(srr);
+    return wbest;
+}
+
+static void test_roll_resonance(void)
+{
+    core_err err = {{0}};
+    /* CG-47 in beam seas at rest, sea state 5: the roll's peak is at the
+     * ship file's roll_period_s (11 s), and follows it when it changes */
+    const double periods[2] = {cg47.roll_period_s, 8.0};
+    for (int k = 0; k < 2; k++) {
+        core_ship ship = cg47;
+        ship.roll_period_s = periods[k];
+        sim_sea sea = make_sea(5, 0.0, 90.0, SIM_SPECTRUM_ITTC);
+        sim_ship_motion *m = sim_ship_motion_create(&ship, &sea, 11, &err);
+        CHECK(m != NULL);
+        if (!m)
+            return;
+        record r;
+        record_take(m, &r);
+        double wn = 2.0 * CORE_PI / periods[k], wpk = roll_peak(&r, 0.3, 1.2);
+        CHECK_NEAR(wpk / wn, 1.0, 0.03);
+        printf("CG-47 roll_period_s %.1f s, sea state 5 beam seas: roll/elevation spectrum peaks at %.3f rad/s "
+               "(%.2f s; 2 pi / T_roll = %.3f rad/s, %+.1f %%)\n",
+               periods[k], wpk, 2.0 * CORE_PI / wpk, wn, 100.0 * (wpk / wn - 1.0));
+        record_free(&r);
+        sim_ship_motion_destroy(m);
+    }
+}
+
+/* ------------------------------------------------------------ bad input */
+static void expect_refused(const core_ship *ship, const sim_sea *sea, const char *a, const char *b)
+{
+    core_err err = {{0}};
+    sim_ship_motion *m = sim_ship_motion_create(ship, sea, 1, &err);
+    CHECK(m == NULL);
+    CHECK(strstr(err.msg, a) != NULL);
+    CHECK(strstr(err.msg, b) != NULL);
+    if (m || !strstr(err.msg, a) || !strstr(err.msg, b))
+        fprintf(stderr, "expected '%s' ... '%s', got: %s\n", a, b, err.msg);
+    sim_ship_motion_destroy(m);
+}
+
+static void test_refusals(void)
+{
+    sim_sea sea = make_sea(3, 10.0, 0.0, SIM_SPECTRUM_ITTC);
+    sim_sea bad = sea;
+    bad.state = 7;
+    expect_refused(&cg47, &bad, "sea state = 7", "expected 0 to 6");
+    bad.state = -1;
+    expect_refused(&cg47, &bad, "sea state = -1", "expected 0 to 6");
+    bad = sea;
+    bad.ship_speed_mps = -2.0;
+    expect_refused(&cg47, &bad, "ship_speed_mps = -2", "not negative");
+    bad.ship_speed_mps = NAN;
+    expect_refused(&cg47, &bad, "ship_speed_mps = nan", "expected 0 to");
+    bad = sea;
+    bad.wave_dir_rad = INFINITY;
+    expect_refused(&cg47, &bad, "wave_dir_rad", "finite");
+    bad = sea;
+    bad.spectrum = (sim_spectrum)5;
+    expect_refused(&cg47, &bad, "spectrum = 5", "JONSWAP");
+    bad = sea;
+    bad.n_waves = SIM_SEA_MAX_WAVES + 1;
+    expect_refused(&cg47, &bad, "n_waves = 4097", "expected 0");
+    /* a ship without seakeeping keys at a sea state: the key is named */
+    expect_refused(&sfs2, &sea, "ship SFS2: [ship] block_coefficient missing", "sea state 3");
+    core_ship ship = cg47;
+    ship.roll_damping_ratio = 0.0;
+    expect_refused(&ship, &sea, "[ship] roll_damping_ratio missing", "CG-47");
+
+    /* the ship loader: the values, the default hull draft, a partial set refused */
+    CHECK_NEAR(cg47.block_coefficient, 0.51, 1e-12);
+    CHECK_NEAR(cg47.hull_draft_m, 6.5, 1e-12);
+    CHECK_NEAR(cg47.roll_period_s, 11.0, 1e-12);
+    CHECK_NEAR(lpd17.hull_draft_m, lpd17.draft_m, 1e-12);
+    CHECK(sfs2.block_coefficient == 0.0 && sfs2.roll_period_s == 0.0);
+    core_ship partial;
+    core_err err = {{0}};
+    CHECK(core_ship_load("tests/sim/data/ship_partial_seakeeping.ini", &partial, &err) < 0);
+    CHECK(strstr(err.msg, "ship_partial_seakeeping.ini:12: [ship] roll_period_s given without block_coefficient"));
+    if (!strstr(err.msg, "given without block_coefficient"))
+        fprintf(stderr, "got: %s\n", err.msg);
+
+    /* a time that is not finite */
+    sim_ship_motion *m = sim_ship_motion_create(&cg47, &sea, 1, &err);
+    sim_ship_state st;
+    CHECK(m && sim_ship_motion_at(m, NAN, &st) < 0);
+    sim_ship_motion_destroy(m);
+}
+
+int main(void)
+{
+    core_err err = {{0}};
+    if (core_ship_load("scenarios/ships/cg47.ini", &cg47, &err) || core_ship_load("scenarios/ships/lpd17.ini", &lpd17, &err) ||
+        core_ship_load("scenarios/ships/sfs2.ini", &sfs2, &err)) {
+        fprintf(stderr, "%s\n", err.msg);
+        return 1;
+    }
+    test_table();
+    test_spectra();
+    test_rao_limits();
+    test_calm();
+    test_seeds();
+    test_derivatives();
+    test_refusals();
+    test_long_records();
+    test_roll_resonance();
+    return check_done("test_ship_motion");
+}
