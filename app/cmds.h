@@ -14,6 +14,7 @@ int cmd_airwake(int argc, char **argv);  /* cmd_airwake.c */
 int cmd_probe(int argc, char **argv);    /* cmd_airwake.c */
 int cmd_validate(int argc, char **argv); /* cmd_airwake.c */
 int cmd_airwaked(int argc, char **argv); /* cmd_airwaked.c */
+int cmd_fly(int argc, char **argv);      /* cmd_fly.c */
 int cmd_shol(int argc, char **argv);     /* cmd_shol.c */
 
 /* ------------------------------------------------------------ log (log.c) */

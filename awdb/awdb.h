@@ -291,6 +291,10 @@ const char *awdb_fields_path(const awdb_fields *fc, const struct cfd_field *f);
 /* Start a builder (launch) if none serves the database: 0, or < 0. */
 int awdb_fields_start_builder(awdb_fields *fc);
 
+/* The WOD speed the ship-only fields are built at (m/s); they serve every
+ * speed scaled by v / AWDB_SHIP_ONLY_REF_MPS (the coupling's one-way trims,
+ * the flight loop). */
+#define AWDB_SHIP_ONLY_REF_MPS 15.0
 /* The key of a whole-domain ship-only field (aircraft may be NULL or ""). */
 void awdb_key_ship_only(awdb_key *k, const char *ship, const char *aircraft, double speed_mps, double dir_rad,
                         core_grid_level grid);

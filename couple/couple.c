@@ -43,7 +43,7 @@ void couple_settings_default(couple_settings *s)
     s->grid = CORE_GRID_DEFAULT;
     s->max_iter = 6;
     s->tol_frac = 0.05;
-    s->ref_speed_mps = 15.0;
+    s->ref_speed_mps = AWDB_SHIP_ONLY_REF_MPS;
     s->station_S_m[2] = -6.0;
     s->wait_timeout_s = 3 * 3600.0;
     s->seed_from_previous = 1;

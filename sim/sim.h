@@ -12,6 +12,7 @@
 #define DISIM_SIM_H
 
 #include "core.h"
+#include "hfm.h"
 
 #include <stdio.h>
 
@@ -70,66 +71,120 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err);
 /* Print the resolved configuration as INI-like text. */
 void sim_scenario_print(const sim_scenario *sc, FILE *out);
 
-/* ------------------------------------ turbulence (sim/turbulence.c, issue 25) */
-/* Seeded Dryden turbulence (MIL-F-8785C / MIL-HDBK-1797 Dryden form) from
- * the steady field's k and epsilon: per component sigma = sqrt(2k/3) at
- * each point, length scale L = Cmu^0.75 k^1.5 / epsilon held within
- * [length_min_m, length_max_m], one frozen gust field convected at the
- * reference point's mean velocity (its speed at least speed_min_mps), so
- * points along the wind see the same gust delayed by their distance / V
- * and points across it are correlated by the Dryden correlation. One L and
- * one convection velocity (the reference's) over the field; no variation
- * with height across the wind; the field covers extent_m around the
- * reference. sim/turbulence.c has the model, its references and limits.
- *
- * Use: once per loop step, sim_turb_step with the reference point (e.g. the
- * rotor hub) and the mean air, k and epsilon there; then sim_turb_sample at
- * any number of points (blade elements, fuselage, tail), as often as the
- * integrator asks: sampling changes nothing, so repeated evaluations within
- * a step agree. Positions and velocities in S, relative to the ship. */
-#include <stdint.h>
+/* ------------------------------------------------ the ship's frame (flight) */
+/* The ship frame S in the Earth frame E at one instant: its origin (the
+ * landing spot on the deck), the rotation C_ES (row major, v_E = C_ES v_S)
+ * and the ship's mean velocity (its steady translation, which the airwake
+ * is relative to). */
+typedef struct sim_ship_frame {
+    double origin_E_m[3];
+    double C_ES[9];
+    double mean_vel_E_mps[3];
+} sim_ship_frame;
+/* The ship's frame at t_s (a pure function of t_s: the loop stays
+ * deterministic). Returns 0, or non-zero when it cannot be had. */
+typedef int (*sim_ship_frame_fn)(void *user, double t_s, sim_ship_frame *out);
 
-typedef struct sim_turb sim_turb;
-typedef struct sim_turb_opts {
-    int enabled;          /* 1 (default): gusts; 0: sim_turb_sample gives exactly zero */
-    double cmu;           /* k-epsilon model constant in L (0.09) */
-    double length_min_m;  /* floor of L (2 m; also k = 0) */
-    double length_max_m;  /* cap of L (300 m; also epsilon = 0) */
-    double speed_min_mps; /* floor of the convection speed, hover in calm air (2 m/s) */
-    double extent_m;      /* the field's width along and across the wind around the reference (40 m) */
-    double ds_m;          /* along-wind spacing of the field's rows (0.25 m, at most length_min_m / 4) */
-    double dy_m;          /* across-wind spacing of its lanes (0.5 m, at most length_min_m / 2) */
-} sim_turb_opts;
-void sim_turb_opts_default(sim_turb_opts *o);
+/* ---------------------------------------------------- the air (sim/air.c) */
+/* The air in E that the flight model meets: the ship-only airwake field
+ * attached to the ship, scaled to the WOD speed, the log-law free stream
+ * outside it (or with no field), a newly offered field blended in over
+ * blend_s. See sim/air.c for the model. */
+struct cfd_field;
+typedef struct sim_air sim_air;
+typedef struct sim_air_opts {
+    double wod_speed_mps, wod_dir_rad; /* the WOD at anemometer height */
+    double anemometer_height_m;        /* above the sea (20 m) */
+    double deck_height_m;              /* S's origin above the waterline */
+    double z0_m;                       /* sea-surface roughness (2e-4 m) */
+    double blend_s;                    /* a new field's blend time (3 s) */
+} sim_air_opts;
+void sim_air_opts_default(sim_air_opts *o);
+sim_air *sim_air_create(const sim_air_opts *o, sim_ship_frame_fn frame, void *frame_user, core_err *err);
+void sim_air_destroy(sim_air *a);
+/* Fly the ship-only field f (NULL: the free stream) from t_s on, blended
+ * from the air before over blend_s. f must outlive its use (this call and
+ * the next). 0, or < 0 with err for a field that is not ship-only. */
+int sim_air_set_field(sim_air *a, const struct cfd_field *f, double t_s, core_err *err);
+/* The air at a point of S (m/s, S, relative to the ship's mean motion).
+ * Returns 1 where it is the free stream, 0 inside the field. */
+int sim_air_sample_S(const sim_air *a, const double p_S[3], double t_s, double v_S[3]);
+/* An hfm_air_fn over E (user: a sim_air). */
+int sim_air_fn(void *user, const double pos_E_m[3], double t_s, double vel_E_mps[3]);
+/* The weight of the newest field at t_s, 0 to 1 (1: no blend under way). */
+double sim_air_blend(const sim_air *a, double t_s);
+enum { SIM_AIR_FREE_STREAM = 1u, SIM_AIR_BLENDING = 2u };
+unsigned sim_air_flags(const sim_air *a, double t_s);
 
-/* NULL with err naming the option and what was expected for bad options
- * (non-finite or non-positive values, enabled not 0 or 1, cmu > 1,
- * length_max_m < length_min_m, a spacing too coarse for length_min_m, a
- * field too large). The generator is private and seeded by seed. */
-sim_turb *sim_turb_create(const sim_turb_opts *o, uint64_t seed, core_err *err);
-void sim_turb_destroy(sim_turb *t);
-/* Back to the state just after create with this seed (the loop's reset). */
-void sim_turb_reset(sim_turb *t, uint64_t seed);
-/* Advance the field by dt_s (>= 0) and set its length scale and convection
- * from the reference point: its position, mean air velocity (m/s, S), k
- * (m^2/s^2) and epsilon (m^2/s^3). 0, or < 0 with err for non-finite or
- * negative input. Off, it checks the input and does nothing else. */
-int sim_turb_step(sim_turb *t, const double ref_S_m[3], const double mean_vel_S_mps[3], double k_m2ps2,
-                  double eps_m2ps3, double dt_s, core_err *err);
-/* The gust (m/s, S) at pos_S_m where the field's k is k_m2ps2: 0; 1 (zero
- * gust) before the first step; -1 (zero gust) for a non-finite position or
- * a k that is negative or not finite. Off: exactly zero, 0. */
-int sim_turb_sample(const sim_turb *t, const double pos_S_m[3], double k_m2ps2, double gust_S_mps[3]);
-/* L (m) that sim_turb_step uses for k and epsilon, floors and caps applied. */
-double sim_turb_length_m(const sim_turb_opts *o, double k_m2ps2, double eps_m2ps3);
-/* The field now (plain data). */
-typedef struct sim_turb_state {
-    double length_m, conv_speed_mps; /* of the last step */
-    double e1[3], e2[3], e3[3];      /* wind axes in S: along, across (horizontal), e1 x e2 */
-    int lanes, rows;                 /* the field's size */
-    long relays;                     /* times laid anew after drifting across the wind */
-} sim_turb_state;
-void sim_turb_info(const sim_turb *t, sim_turb_state *s);
+/* ---------------------------------------------- the flight (sim/flight.c) */
+/* The deterministic flight step (see sim/flight.c): pilot input -> ship ->
+ * air -> flight model -> external loads -> outputs, at a fixed rate, with
+ * no clock, socket or print inside. */
+typedef struct sim_flight sim_flight;
+typedef struct sim_flight_opts {
+    double rate_hz;          /* the step rate (200) */
+    double wod_speed_mps, wod_dir_rad;
+    double ship_speed_mps;   /* the ship's steady speed, heading north (0) */
+    double station_S_m[3];   /* the start: a trimmed hover with the CG here */
+    double blend_s;          /* a field offered in flight blends in over this (3 s) */
+} sim_flight_opts;
+void sim_flight_opts_default(sim_flight_opts *o);
+
+/* The pilot's input to one step: the controls (percent of travel), or
+ * hold = 1 to keep the last ones (e.g. a silent station). */
+typedef struct sim_flight_inputs {
+    double collective_pct, long_pct, lat_pct, pedal_pct;
+    int hold;
+} sim_flight_inputs;
+
+/* The outputs of a step (plain data). */
+typedef struct sim_flight_out {
+    double t_s;
+    long step;
+    double pos_E_m[3], vel_E_mps[3], euler_E_rad[3], rate_B_radps[3];
+    double pos_S_m[3];       /* the CG in the ship frame */
+    double vel_S_mps[3];     /* relative to the ship's mean motion, in S */
+    double collective_pct, long_pct, lat_pct, pedal_pct;
+    double airspeed_mps;     /* at the fuselage reference */
+    sim_ship_frame ship;
+    unsigned air_flags;      /* SIM_AIR_* */
+} sim_flight_out;
+
+/* A flight of aircraft ac (kept by the caller) over ship (copied), its
+ * ship frame from frame (NULL: the ship steady at ship_speed_mps, its S
+ * level). The air starts as field (NULL: the free stream). Trims the hover
+ * at the station in that air and starts there at t = 0. NULL with err (a
+ * trim that does not converge is an error naming the station). */
+sim_flight *sim_flight_create(const hfm_aircraft *ac, const core_ship *ship, const sim_flight_opts *o,
+                              sim_ship_frame_fn frame, void *frame_user, const struct cfd_field *field,
+                              const core_log *log, core_err *err);
+void sim_flight_destroy(sim_flight *f);
+/* The trimmed start's controls (for a pilot that holds them). */
+void sim_flight_trim_inputs(const sim_flight *f, sim_flight_inputs *in);
+/* External loads on the airframe (hfm_ext_fn; the landing gear): NULL for none. */
+void sim_flight_set_external(sim_flight *f, hfm_ext_fn fn, void *user);
+/* Offer a better field from the next step on (blended in). 0 or < 0. */
+int sim_flight_set_field(sim_flight *f, const struct cfd_field *field, core_err *err);
+/* One step of 1 / rate_hz: 0, or < 0 (the integrator failed) with err. */
+int sim_flight_step(sim_flight *f, const sim_flight_inputs *in, sim_flight_out *out, core_err *err);
+/* The state at the current time without stepping. */
+void sim_flight_state(const sim_flight *f, sim_flight_out *out);
+
+/* ------------------------------------------------ pacing (sim/pacing.c) */
+/* The loop's clock: absolute deadlines every 1 / rate_hz (realtime 1), or
+ * none (0: as fast as it can); overruns counted, step times kept. */
+typedef struct sim_pacer sim_pacer;
+typedef struct sim_pacer_stats {
+    long steps, overruns;
+    double wall_s, sim_s, rate_hz, realtime_factor;
+    double step_p50_s, step_p99_s, step_max_s; /* the work of a step (between waits) */
+} sim_pacer_report;
+sim_pacer *sim_pacer_create(double rate_hz, int realtime, core_err *err);
+void sim_pacer_destroy(sim_pacer *p);
+/* Call once per step after its work: sleeps to the next deadline (real
+ * time). Returns 1 when the step overran its deadline, 0 otherwise. */
+int sim_pacer_wait(sim_pacer *p);
+void sim_pacer_stats(const sim_pacer *p, sim_pacer_report *s);
 
 /* ------------------------------------- ship motion (sim/ship_motion.c) */
 /* The ship's motion in a long-crested irregular sea (see sim/ship_motion.c
@@ -207,6 +262,8 @@ int sim_ship_motion_at(const sim_ship_motion *m, double t_s, sim_ship_state *out
 /* The position, velocity and acceleration in E at t_s of the point p_S_m
  * fixed to the ship (S). 0, or -1 as sim_ship_motion_at. */
 int sim_ship_motion_point(const sim_ship_motion *m, double t_s, core_vec3 p_S_m, sim_ship_point *out);
+/* A sim_ship_frame_fn (user: a const sim_ship_motion *) for the flight. */
+int sim_ship_motion_frame_fn(void *user, double t_s, sim_ship_frame *out);
 void sim_ship_motion_get_info(const sim_ship_motion *m, sim_ship_motion_info *info);
 /* The wave spectrum the sum samples, S(omega) in m^2 s at the wave
  * frequency omega (rad/s): the table's Hs exactly over 0 to
@@ -217,6 +274,67 @@ double sim_ship_motion_spectrum(const sim_ship_motion *m, double omega_radps);
  * roll (rad per m). 0, or -1 for omega not > 0. */
 int sim_ship_motion_rao(const sim_ship_motion *m, double omega_radps, double *heave_mpm,
                         double *pitch_radpm, double *roll_radpm);
+
+/* ------------------------------------ turbulence (sim/turbulence.c, issue 25) */
+/* Seeded Dryden turbulence (MIL-F-8785C / MIL-HDBK-1797 Dryden form) from
+ * the steady field's k and epsilon: per component sigma = sqrt(2k/3) at
+ * each point, length scale L = Cmu^0.75 k^1.5 / epsilon held within
+ * [length_min_m, length_max_m], one frozen gust field convected at the
+ * reference point's mean velocity (its speed at least speed_min_mps), so
+ * points along the wind see the same gust delayed by their distance / V
+ * and points across it are correlated by the Dryden correlation. One L and
+ * one convection velocity (the reference's) over the field; no variation
+ * with height across the wind; the field covers extent_m around the
+ * reference. sim/turbulence.c has the model, its references and limits.
+ *
+ * Use: once per loop step, sim_turb_step with the reference point (e.g. the
+ * rotor hub) and the mean air, k and epsilon there; then sim_turb_sample at
+ * any number of points (blade elements, fuselage, tail), as often as the
+ * integrator asks: sampling changes nothing, so repeated evaluations within
+ * a step agree. Positions and velocities in S, relative to the ship. */
+#include <stdint.h>
+
+typedef struct sim_turb sim_turb;
+typedef struct sim_turb_opts {
+    int enabled;          /* 1 (default): gusts; 0: sim_turb_sample gives exactly zero */
+    double cmu;           /* k-epsilon model constant in L (0.09) */
+    double length_min_m;  /* floor of L (2 m; also k = 0) */
+    double length_max_m;  /* cap of L (300 m; also epsilon = 0) */
+    double speed_min_mps; /* floor of the convection speed, hover in calm air (2 m/s) */
+    double extent_m;      /* the field's width along and across the wind around the reference (40 m) */
+    double ds_m;          /* along-wind spacing of the field's rows (0.25 m, at most length_min_m / 4) */
+    double dy_m;          /* across-wind spacing of its lanes (0.5 m, at most length_min_m / 2) */
+} sim_turb_opts;
+void sim_turb_opts_default(sim_turb_opts *o);
+
+/* NULL with err naming the option and what was expected for bad options
+ * (non-finite or non-positive values, enabled not 0 or 1, cmu > 1,
+ * length_max_m < length_min_m, a spacing too coarse for length_min_m, a
+ * field too large). The generator is private and seeded by seed. */
+sim_turb *sim_turb_create(const sim_turb_opts *o, uint64_t seed, core_err *err);
+void sim_turb_destroy(sim_turb *t);
+/* Back to the state just after create with this seed (the loop's reset). */
+void sim_turb_reset(sim_turb *t, uint64_t seed);
+/* Advance the field by dt_s (>= 0) and set its length scale and convection
+ * from the reference point: its position, mean air velocity (m/s, S), k
+ * (m^2/s^2) and epsilon (m^2/s^3). 0, or < 0 with err for non-finite or
+ * negative input. Off, it checks the input and does nothing else. */
+int sim_turb_step(sim_turb *t, const double ref_S_m[3], const double mean_vel_S_mps[3], double k_m2ps2,
+                  double eps_m2ps3, double dt_s, core_err *err);
+/* The gust (m/s, S) at pos_S_m where the field's k is k_m2ps2: 0; 1 (zero
+ * gust) before the first step; -1 (zero gust) for a non-finite position or
+ * a k that is negative or not finite. Off: exactly zero, 0. */
+int sim_turb_sample(const sim_turb *t, const double pos_S_m[3], double k_m2ps2, double gust_S_mps[3]);
+/* L (m) that sim_turb_step uses for k and epsilon, floors and caps applied. */
+double sim_turb_length_m(const sim_turb_opts *o, double k_m2ps2, double eps_m2ps3);
+/* The field now (plain data). */
+typedef struct sim_turb_state {
+    double length_m, conv_speed_mps; /* of the last step */
+    double e1[3], e2[3], e3[3];      /* wind axes in S: along, across (horizontal), e1 x e2 */
+    int lanes, rows;                 /* the field's size */
+    long relays;                     /* times laid anew after drifting across the wind */
+} sim_turb_state;
+void sim_turb_info(const sim_turb *t, sim_turb_state *s);
 
 #ifdef __cplusplus
 }

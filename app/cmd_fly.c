@@ -1,0 +1,267 @@
+/* cmd_fly.c -- `disim fly SCENARIO`: the flight loop. The helicopter starts
+ * in a trimmed hover at the scenario's station in the ship's airwake and is
+ * flown by the deterministic step (sim_flight_step), paced in real time
+ * (absolute deadlines, overruns counted) or as fast as it can (--fast);
+ * the trajectory goes to a CSV file. The airwake is the scenario's
+ * ship-only field from the database (or --field): while the database does
+ * not have it yet, it is requested and the loop flies the free stream, and
+ * blends the field in when it is ready. */
+#include "awdb.h"
+#include "cfd.h"
+#include "cmds.h"
+#include "hfm.h"
+#include "sim.h"
+
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static volatile sig_atomic_t fly_stop = 0;
+static void on_signal(int sig)
+{
+    (void)sig;
+    fly_stop = 1;
+}
+
+static void usage_fly(void)
+{
+    fprintf(stderr, "usage: disim fly SCENARIO [--realtime | --fast] [--duration S] [--rate-hz N]\n"
+                    "                  [--wod-speed-kt V] [--wod-dir-deg D] [--field F.h5 | --db DIR]\n"
+                    "                  [--csv OUT.csv] [--csv-rate-hz N]\n");
+}
+
+typedef struct fly_args {
+    const char *scen, *field, *db, *csv;
+    int realtime;
+    double duration_s, rate_hz, csv_rate_hz, speed_kt, dir_deg;
+} fly_args;
+
+static int fly_parse(int argc, char **argv, fly_args *o)
+{
+    memset(o, 0, sizeof *o);
+    o->realtime = 1;
+    o->duration_s = 60.0;
+    o->rate_hz = 200.0;
+    o->csv_rate_hz = 50.0;
+    o->speed_kt = o->dir_deg = NAN;
+    o->db = "out/airwake-db";
+    const char *P = "disim fly";
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        int more = i + 1 < argc;
+        if (!strcmp(a, "--fast"))
+            o->realtime = 0;
+        else if (!strcmp(a, "--realtime"))
+            o->realtime = 1;
+        else if (!strcmp(a, "--duration") && more) {
+            if (app_parse_double(P, a, argv[++i], 0.0, 1e6, &o->duration_s))
+                return 1;
+        } else if (!strcmp(a, "--rate-hz") && more) {
+            if (app_parse_double(P, a, argv[++i], 10.0, 10000.0, &o->rate_hz))
+                return 1;
+        } else if (!strcmp(a, "--csv-rate-hz") && more) {
+            if (app_parse_double(P, a, argv[++i], 0.1, 10000.0, &o->csv_rate_hz))
+                return 1;
+        } else if (!strcmp(a, "--wod-speed-kt") && more) {
+            if (app_parse_double(P, a, argv[++i], 0.0, 100.0, &o->speed_kt))
+                return 1;
+        } else if (!strcmp(a, "--wod-dir-deg") && more) {
+            if (app_parse_double(P, a, argv[++i], -360.0, 360.0, &o->dir_deg))
+                return 1;
+        } else if (!strcmp(a, "--field") && more)
+            o->field = argv[++i];
+        else if (!strcmp(a, "--db") && more)
+            o->db = argv[++i];
+        else if (!strcmp(a, "--csv") && more)
+            o->csv = argv[++i];
+        else if (a[0] != '-' && !o->scen)
+            o->scen = a;
+        else {
+            fprintf(stderr, "disim fly: unknown or incomplete argument '%s'\n", a);
+            usage_fly();
+            return 2;
+        }
+    }
+    if (!o->scen) {
+        usage_fly();
+        return 2;
+    }
+    return 0;
+}
+
+/* The scenario's ship-only field from the database: loaded when READY (1),
+ * requested when absent (0), or -1 with err. */
+static int db_field(awdb *db, const sim_scenario *sc, double dir_rad, cfd_field **out, core_err *err)
+{
+    awdb_key k;
+    awdb_key_ship_only(&k, sc->ship.name, sc->aircraft_name, AWDB_SHIP_ONLY_REF_MPS, dir_rad, sc->grid);
+    if (awdb_key_canon(&k, err) != 0)
+        return -1;
+    char path[1024];
+    awdb_state st = awdb_query(db, &k, path, sizeof path);
+    if (st == AWDB_READY) {
+        *out = cfd_field_load(path, err);
+        return *out ? 1 : -1;
+    }
+    if (st == AWDB_FAILED)
+        return 0; /* flown in the free stream; the failure is in the database */
+    return awdb_submit(db, &k, NULL, err) != 0 ? -1 : 0;
+}
+
+static int csv_row(FILE *f, const sim_flight_out *o)
+{
+    return fprintf(f, "%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%u\n",
+                   o->t_s, o->pos_S_m[0], o->pos_S_m[1], o->pos_S_m[2], o->euler_E_rad[0] * CORE_RAD_TO_DEG,
+                   o->euler_E_rad[1] * CORE_RAD_TO_DEG, o->euler_E_rad[2] * CORE_RAD_TO_DEG, o->vel_S_mps[0],
+                   o->vel_S_mps[1], o->vel_S_mps[2], o->pos_E_m[0], o->pos_E_m[1], o->pos_E_m[2], o->collective_pct,
+                   o->long_pct, o->lat_pct, o->pedal_pct, o->air_flags) < 0
+               ? -1
+               : 0;
+}
+
+int cmd_fly(int argc, char **argv)
+{
+    fly_args o;
+    int rc = fly_parse(argc, argv, &o);
+    if (rc)
+        return rc;
+    core_err err = {{0}};
+    int tty = isatty(2);
+    app_log al = {"fly", tty};
+    core_log log = {app_log_stderr, &al, CORE_LOG_WARN};
+    sim_scenario *sc = calloc(1, sizeof *sc);
+    hfm_aircraft *ac = NULL;
+    awdb *db = NULL;
+    cfd_field *fld = NULL, *later = NULL;
+    sim_flight *fl = NULL;
+    sim_pacer *pc = NULL;
+    FILE *csv = NULL;
+    char tmp[1100] = "";
+    rc = 1;
+    if (!sc || sim_scenario_load(o.scen, sc, &err) != 0)
+        goto fail;
+    if (!(ac = hfm_aircraft_load(sc->aircraft_path, &log, &err)))
+        goto fail;
+    double speed = isnan(o.speed_kt) ? sc->wod_speed_mps : o.speed_kt * CORE_KT_TO_MPS;
+    double dir = isnan(o.dir_deg) ? sc->wod_dir_rad : core_wod_wrap_deg(o.dir_deg) * CORE_DEG_TO_RAD;
+    if (sc->wod_mode == SIM_WOD_SWEEP && (isnan(o.speed_kt) || isnan(o.dir_deg))) {
+        core_err_set(&err, -1, "%s: a WOD sweep: give the flight's --wod-speed-kt and --wod-dir-deg",
+                     o.scen);
+        goto fail;
+    }
+    int waiting = 0; /* the database's field requested, not ready yet */
+    if (o.field) {
+        if (!(fld = cfd_field_load(o.field, &err)))
+            goto fail;
+    } else if (speed > 0.0) {
+        if (core_mkdir_p(o.db, &err) != 0 || !(db = awdb_open(o.db, &log, &err)))
+            goto fail;
+        int got = db_field(db, sc, dir, &fld, &err);
+        if (got < 0)
+            goto fail;
+        waiting = got == 0;
+    }
+    sim_flight_opts fo;
+    sim_flight_opts_default(&fo);
+    fo.rate_hz = o.rate_hz;
+    fo.wod_speed_mps = speed;
+    fo.wod_dir_rad = dir;
+    memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
+    if (!(fl = sim_flight_create(ac, &sc->ship, &fo, NULL, NULL, fld, &log, &err)))
+        goto fail;
+    if (o.csv) {
+        snprintf(tmp, sizeof tmp, "%s.tmp%ld", o.csv, (long)getpid());
+        if (!(csv = fopen(tmp, "w"))) {
+            core_err_set(&err, -1, "%s: cannot write", tmp);
+            goto fail;
+        }
+        fprintf(csv, "t_s,x_S_m,y_S_m,z_S_m,roll_deg,pitch_deg,yaw_deg,u_S_mps,v_S_mps,w_S_mps,x_E_m,y_E_m,z_E_m,"
+                     "collective_pct,long_pct,lat_pct,pedal_pct,air_flags\n");
+    }
+    if (!(pc = sim_pacer_create(o.rate_hz, o.realtime, &err)))
+        goto fail;
+    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, %s, %s, %.0f Hz, %.0f s\n", sc->ship.name,
+            hfm_aircraft_name(ac), speed / CORE_KT_TO_MPS, dir * CORE_RAD_TO_DEG,
+            fld ? "airwake field" : waiting ? "free stream until the airwake field is built" : "free stream",
+            o.realtime ? "real time" : "as fast as it can", o.rate_hz, o.duration_s);
+    signal(SIGINT, on_signal);
+    signal(SIGTERM, on_signal);
+    sim_flight_inputs in;
+    sim_flight_trim_inputs(fl, &in);
+    long nsteps = (long)llround(o.duration_s * o.rate_hz);
+    long csv_every = (long)fmax(1.0, llround(o.rate_hz / o.csv_rate_hz));
+    long poll_every = (long)llround(o.rate_hz); /* the database, once a simulated second */
+    sim_flight_out out;
+    sim_flight_state(fl, &out);
+    if (csv && csv_row(csv, &out) != 0)
+        goto write_fail;
+    for (long i = 0; i < nsteps && !fly_stop; i++) {
+        if (sim_flight_step(fl, &in, &out, &err) != 0)
+            goto fail;
+        if (csv && (i + 1) % csv_every == 0 && csv_row(csv, &out) != 0)
+            goto write_fail;
+        if (waiting && (i + 1) % poll_every == 0) {
+            int got = db_field(db, sc, dir, &later, &err);
+            if (got < 0)
+                goto fail;
+            if (got > 0) {
+                if (sim_flight_set_field(fl, later, &err) != 0)
+                    goto fail;
+                waiting = 0;
+                fprintf(stderr, "%sfly: the airwake field is ready at t = %.1f s: blended in\n", tty ? "\r\033[K" : "",
+                        out.t_s);
+            }
+        }
+        sim_pacer_wait(pc);
+        if (tty && (i + 1) % poll_every == 0) {
+            sim_pacer_report ps;
+            sim_pacer_stats(pc, &ps);
+            fprintf(stderr, "\r\033[Kfly: t %.0f s  x %.2f y %.2f z %.2f m (S)  roll %.1f pitch %.1f deg  %.1fx real time  "
+                            "%ld overruns%s",
+                    out.t_s, out.pos_S_m[0], out.pos_S_m[1], out.pos_S_m[2], out.euler_E_rad[0] * CORE_RAD_TO_DEG,
+                    out.euler_E_rad[1] * CORE_RAD_TO_DEG, ps.realtime_factor, ps.overruns,
+                    out.air_flags & SIM_AIR_FREE_STREAM ? "  free stream" : "");
+        }
+    }
+    if (csv) {
+        if (fflush(csv) != 0 || ferror(csv) || fsync(fileno(csv)) != 0) {
+            fclose(csv);
+            csv = NULL;
+            goto write_fail;
+        }
+        int bad = fclose(csv) != 0;
+        csv = NULL;
+        if (bad || rename(tmp, o.csv) != 0)
+            goto write_fail;
+        tmp[0] = '\0';
+    }
+    sim_pacer_report ps;
+    sim_pacer_stats(pc, &ps);
+    fprintf(stderr, "%sfly: %.2f s flown in %.2f s (%.1fx real time), %ld steps, %ld overruns, step p50 %.0f us p99 %.0f "
+                    "us max %.0f us; ends at (%.2f, %.2f, %.2f) m in S%s\n",
+            tty ? "\r\033[K" : "", out.t_s, ps.wall_s, ps.realtime_factor, ps.steps, ps.overruns, 1e6 * ps.step_p50_s,
+            1e6 * ps.step_p99_s, 1e6 * ps.step_max_s, out.pos_S_m[0], out.pos_S_m[1], out.pos_S_m[2],
+            fly_stop ? " (stopped)" : "");
+    rc = 0;
+    goto done;
+write_fail:
+    core_err_set(&err, -1, "%s: cannot write the trajectory (nothing written)", o.csv);
+fail:
+    fprintf(stderr, "%sdisim fly: %s\n", tty ? "\r\033[K" : "", err.msg);
+done:
+    if (csv)
+        fclose(csv);
+    if (tmp[0])
+        unlink(tmp);
+    sim_pacer_destroy(pc);
+    sim_flight_destroy(fl);
+    cfd_field_destroy(later);
+    cfd_field_destroy(fld);
+    awdb_close(db);
+    hfm_aircraft_destroy(ac);
+    free(sc);
+    return rc;
+}

@@ -1,0 +1,177 @@
+/* air.c -- the air the helicopter meets in the flight loop.
+ *
+ * Model:
+ *  - The ship-only airwake is a steady RANS field in the ship frame S,
+ *    solved at a reference WOD speed v_ref. Without the rotor a bluff
+ *    body's airwake at these Reynolds numbers scales with the wind speed
+ *    (the trims use the same scaling, couple/ and awdb_fields_ship_only_air),
+ *    so the field's velocities are multiplied by v_wod / v_ref.
+ *  - The field is attached to the ship: a point p_E of the Earth frame is
+ *    taken into S by the ship's pose at that instant, p_S = C_ES^T (p_E -
+ *    o_E), and the field's velocity, which is relative to the ship's mean
+ *    (steadily translating) motion, is rotated back and the ship's mean
+ *    velocity added: v_E = C_ES v_S + U_E. The airwake's own response to
+ *    the ship's oscillation is neglected (quasi-steady airwake, the usual
+ *    assumption of piloted ship-airwake simulation with steady CFD; the
+ *    deck's oscillation velocities are small against the WOD, a few
+ *    tenths of a m/s at sea state 5).
+ *  - Outside the field's domain, or with no field: the free stream, the
+ *    WOD at anemometer height with the neutral log law over the sea,
+ *    u(h) = u_an ln(h / z0) / ln(h_an / z0), z0 = 2e-4 m (open sea; the
+ *    roughness the CFD's ABL inflow uses, cfd.h; Richards and Hoxey 1993,
+ *    eq. 1), h above the sea surface, clamped at 0.5 m so that the profile
+ *    stays finite at the surface.
+ *  - A field offered while flying is blended in: the air is (1 - w) of the
+ *    old one plus w of the new, w rising linearly from 0 to 1 over
+ *    blend_s, so the air at a point changes by at most |v_new - v_old|
+ *    * dt / blend_s per step.
+ * Everything here is a pure function of position, time and what was
+ * offered when: the loop stays deterministic.
+ */
+#include "sim.h"
+#include "cfd.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* one air source: a field scaled to the WOD speed, or the free stream (f NULL) */
+typedef struct air_src {
+    const cfd_field *f;
+    double scale;
+} air_src;
+
+struct sim_air {
+    sim_air_opts o;
+    sim_ship_frame_fn frame;
+    void *frame_user;
+    air_src cur, old;
+    double t_blend0_s; /* blend from old to cur from this time (-inf: none) */
+    double wind_S[3];  /* the WOD free stream at anemometer height, in S */
+    double ln_an;      /* ln(h_an / z0) */
+};
+
+void sim_air_opts_default(sim_air_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->anemometer_height_m = 20.0;
+    o->z0_m = 2e-4;
+    o->blend_s = 3.0;
+}
+
+sim_air *sim_air_create(const sim_air_opts *o, sim_ship_frame_fn frame, void *frame_user, core_err *err)
+{
+    if (!frame || !(o->wod_speed_mps >= 0.0) || !(o->anemometer_height_m > o->z0_m) || !(o->z0_m > 0.0) ||
+        !(o->blend_s > 0.0) || !isfinite(o->wod_dir_rad)) {
+        core_err_set(err, -1, "flight air: expected a ship frame, a WOD speed >= 0, z0 > 0 below the anemometer "
+                              "height and a blend time > 0");
+        return NULL;
+    }
+    sim_air *a = calloc(1, sizeof *a);
+    if (!a) {
+        core_err_set(err, -1, "flight air: out of memory");
+        return NULL;
+    }
+    a->o = *o;
+    a->frame = frame;
+    a->frame_user = frame_user;
+    a->t_blend0_s = -INFINITY;
+    core_vec3 w = core_wod_vel_S_mps(o->wod_speed_mps, o->wod_dir_rad);
+    a->wind_S[0] = w.x, a->wind_S[1] = w.y, a->wind_S[2] = w.z;
+    a->ln_an = log(o->anemometer_height_m / o->z0_m);
+    return a;
+}
+
+void sim_air_destroy(sim_air *a) { free(a); }
+
+int sim_air_set_field(sim_air *a, const cfd_field *f, double t_s, core_err *err)
+{
+    double scale = 0.0;
+    if (f) {
+        const cfd_meta *m = cfd_field_meta(f);
+        if (strcmp(m->rotor, core_rotor_name(CORE_ROTOR_OFF)) != 0 || !(m->wod_speed_mps > 0.0))
+            return core_err_set(err, -1, "flight air: expected a ship-only field (rotor off) with a WOD speed, got rotor "
+                                         "'%s' at %g m/s", m->rotor, m->wod_speed_mps);
+        scale = a->o.wod_speed_mps / m->wod_speed_mps;
+    }
+    a->old = a->cur;
+    a->cur.f = f;
+    a->cur.scale = scale;
+    a->t_blend0_s = t_s;
+    return 0;
+}
+
+/* The free stream at a point of S: the log law over the sea surface (at
+ * z_S = deck height above the waterline). */
+static void free_stream_S(const sim_air *a, const double p_S[3], double v_S[3])
+{
+    double h = fmax(a->o.deck_height_m - p_S[2], 0.5);
+    double f = log(h / a->o.z0_m) / a->ln_an;
+    for (int i = 0; i < 3; i++)
+        v_S[i] = f * a->wind_S[i];
+}
+
+/* One source's air in S; 1 when it is the free stream (no field, or
+ * outside it). */
+static int src_S(const sim_air *a, const air_src *s, const double p_S[3], double v_S[3])
+{
+    if (s->f) {
+        double o[CFD_NVARS];
+        if (cfd_field_sample(s->f, p_S, o) == 0) {
+            v_S[0] = s->scale * o[CFD_VAR_U];
+            v_S[1] = s->scale * o[CFD_VAR_V];
+            v_S[2] = s->scale * o[CFD_VAR_W];
+            return 0;
+        }
+    }
+    free_stream_S(a, p_S, v_S);
+    return 1;
+}
+
+double sim_air_blend(const sim_air *a, double t_s)
+{
+    if (!isfinite(a->t_blend0_s))
+        return 1.0;
+    return fmin(fmax((t_s - a->t_blend0_s) / a->o.blend_s, 0.0), 1.0);
+}
+
+int sim_air_sample_S(const sim_air *a, const double p_S[3], double t_s, double v_S[3])
+{
+    int free_cur = src_S(a, &a->cur, p_S, v_S);
+    double w = sim_air_blend(a, t_s);
+    if (w < 1.0) {
+        double vo[3];
+        src_S(a, &a->old, p_S, vo);
+        for (int i = 0; i < 3; i++)
+            v_S[i] = w * v_S[i] + (1.0 - w) * vo[i];
+    }
+    return free_cur;
+}
+
+int sim_air_fn(void *user, const double pos_E_m[3], double t_s, double vel_E_mps[3])
+{
+    const sim_air *a = user;
+    sim_ship_frame fr;
+    if (a->frame(a->frame_user, t_s, &fr))
+        return -1;
+    double d[3], p_S[3], v_S[3];
+    for (int i = 0; i < 3; i++)
+        d[i] = pos_E_m[i] - fr.origin_E_m[i];
+    for (int i = 0; i < 3; i++) /* C_ES^T d */
+        p_S[i] = fr.C_ES[0 * 3 + i] * d[0] + fr.C_ES[1 * 3 + i] * d[1] + fr.C_ES[2 * 3 + i] * d[2];
+    sim_air_sample_S(a, p_S, t_s, v_S);
+    for (int i = 0; i < 3; i++)
+        vel_E_mps[i] = fr.C_ES[i * 3 + 0] * v_S[0] + fr.C_ES[i * 3 + 1] * v_S[1] + fr.C_ES[i * 3 + 2] * v_S[2] +
+                       fr.mean_vel_E_mps[i];
+    return 0;
+}
+
+unsigned sim_air_flags(const sim_air *a, double t_s)
+{
+    unsigned fl = 0;
+    if (!a->cur.f)
+        fl |= SIM_AIR_FREE_STREAM;
+    if (sim_air_blend(a, t_s) < 1.0)
+        fl |= SIM_AIR_BLENDING;
+    return fl;
+}
