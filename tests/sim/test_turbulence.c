@@ -9,7 +9,9 @@
  * correlated as the Dryden correlations say (within 0.04: the field's rows
  * L/16 apart and lanes L/8 apart, interpolated linearly, raise the
  * correlation at L/10 by 0.02 to 0.03 over the continuous form; u along the
- * wind above 0.9) and points more than 5 L apart are not (below 0.2); the
+ * wind above 0.9), and L/2 apart (within 0.04, where the longitudinal f
+ * and transverse g differ by 0.15), and points more than 5 L apart are not
+ * (below 0.2); the
  * intensity is local; off, the gust is exactly zero; the same seed gives
  * the same bits and another seed other ones; bad options and input are
  * refused. */
@@ -99,10 +101,10 @@ static double g_one_over_e(void)
 
 /* The points of the long run, as offsets from the reference in wind axes
  * (along e1, across e2): the reference, L/10 downstream, L/10 across, and
- * two pairs 5.5 L apart along and across the wind. */
-enum { P_REF, P_DOWN, P_ACROSS, P_UP_FAR, P_DOWN_FAR, P_LEFT_FAR, P_RIGHT_FAR, NP };
-static const double offs[NP][2] = {{0, 0},     {0.1, 0},  {0, 0.1},  {-2.75, 0},
-                                   {2.75, 0}, {0, -2.75}, {0, 2.75}}; /* in L */
+ * the same L/2 away, and two pairs 5.5 L apart along and across the wind. */
+enum { P_REF, P_DOWN, P_ACROSS, P_DOWN_HALF, P_ACROSS_HALF, P_UP_FAR, P_DOWN_FAR, P_LEFT_FAR, P_RIGHT_FAR, NP };
+static const double offs[NP][2] = {{0, 0},     {0.1, 0},  {0, 0.1},   {0.5, 0},  {0, 0.5},
+                                   {-2.75, 0}, {2.75, 0}, {0, -2.75}, {0, 2.75}}; /* in L */
 
 /* One long run with the wind vel_S; series[p][c][i] of the components in
  * wind axes at point p. every: keep one step in every. */
@@ -159,7 +161,7 @@ static void statistics(void)
             series[p][c] = malloc(sizeof(double) * NSTEP);
     const char *name[3] = {"u", "v", "w"};
     double sigma = sqrt(2.0 * K / 3.0), xg = g_one_over_e();
-    double f01 = exp(-0.1), g01 = 0.95 * exp(-0.1);
+    double f01 = exp(-0.1), g01 = 0.95 * exp(-0.1), f05 = exp(-0.5), g05 = 0.75 * exp(-0.5);
 
     /* a 10 m/s wind from green 30: S axes are not the wind axes */
     const double vel[3] = {-10.0 * cos(M_PI / 6), -10.0 * sin(M_PI / 6), 0.0};
@@ -172,17 +174,23 @@ static void statistics(void)
         double T = lag / (c == 0 ? 1.0 : xg);
         double r_along = corr(series[P_REF][c], series[P_DOWN][c], n);
         double r_across = corr(series[P_REF][c], series[P_ACROSS][c], n);
+        double r_along2 = corr(series[P_REF][c], series[P_DOWN_HALF][c], n);
+        double r_across2 = corr(series[P_REF][c], series[P_ACROSS_HALF][c], n);
         double r_far_along = corr(series[P_UP_FAR][c], series[P_DOWN_FAR][c], n);
         double r_far_across = corr(series[P_LEFT_FAR][c], series[P_RIGHT_FAR][c], n);
         printf("V 10 m/s, %s: sd %.4f m/s (sqrt(2k/3) %.4f), correlation time %.4f s (L/V %.4f), "
-               "corr L/10 along %.4f across %.4f, 5.5 L along %.4f across %.4f\n",
-               name[c], sd, sigma, T / RATE_HZ, T_steps / RATE_HZ, r_along, r_across, r_far_along, r_far_across);
+               "corr L/10 along %.4f across %.4f, L/2 along %.4f across %.4f, 5.5 L along %.4f across %.4f\n",
+               name[c], sd, sigma, T / RATE_HZ, T_steps / RATE_HZ, r_along, r_across, r_along2, r_across2,
+               r_far_along, r_far_across);
         CHECK(fabs(sd / sigma - 1.0) < 0.10);
         CHECK(fabs(T / T_steps - 1.0) < 0.20);
         /* Dryden: along the wind f for u, g for v and w; across, g for u
          * and w, f for v (its own direction) */
         CHECK(fabs(r_along - (c == 0 ? f01 : g01)) < 0.04);
         CHECK(fabs(r_across - (c == 1 ? f01 : g01)) < 0.04);
+        /* at L/2, where f (0.607) and g (0.455) differ */
+        CHECK(fabs(r_along2 - (c == 0 ? f05 : g05)) < 0.04);
+        CHECK(fabs(r_across2 - (c == 1 ? f05 : g05)) < 0.04);
         if (c == 0)
             CHECK(r_along > 0.9);
         CHECK(fabs(r_far_along) < 0.2);
