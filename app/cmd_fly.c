@@ -30,13 +30,14 @@ static void usage_fly(void)
 {
     fprintf(stderr, "usage: disim fly SCENARIO [--realtime | --fast] [--duration S] [--rate-hz N]\n"
                     "                  [--wod-speed-kt V] [--wod-dir-deg D] [--field F.h5 | --db DIR]\n"
-                    "                  [--csv OUT.csv] [--csv-rate-hz N]\n");
+                    "                  [--csv OUT.csv] [--csv-rate-hz N] [--sea-state N] [--wave-dir-deg D]\n"
+                    "                  [--ship-speed-kt U] [--seed N] [--no-turbulence]\n");
 }
 
 typedef struct fly_args {
     const char *scen, *field, *db, *csv;
-    int realtime;
-    double duration_s, rate_hz, csv_rate_hz, speed_kt, dir_deg;
+    int realtime, sea_state, turbulence;
+    double duration_s, rate_hz, csv_rate_hz, speed_kt, dir_deg, wave_dir_deg, ship_speed_kt, seed;
 } fly_args;
 
 static int fly_parse(int argc, char **argv, fly_args *o)
@@ -48,6 +49,8 @@ static int fly_parse(int argc, char **argv, fly_args *o)
     o->csv_rate_hz = 50.0;
     o->speed_kt = o->dir_deg = NAN;
     o->db = "out/airwake-db";
+    o->turbulence = 1;
+    o->seed = 1;
     const char *P = "disim fly";
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -71,6 +74,22 @@ static int fly_parse(int argc, char **argv, fly_args *o)
         } else if (!strcmp(a, "--wod-dir-deg") && more) {
             if (app_parse_double(P, a, argv[++i], -360.0, 360.0, &o->dir_deg))
                 return 1;
+        } else if (!strcmp(a, "--no-turbulence"))
+            o->turbulence = 0;
+        else if (!strcmp(a, "--sea-state") && more) {
+            if (app_parse_int(P, a, argv[++i], 0, 6, &o->sea_state))
+                return 1;
+        } else if (!strcmp(a, "--wave-dir-deg") && more) {
+            if (app_parse_double(P, a, argv[++i], -360.0, 360.0, &o->wave_dir_deg))
+                return 1;
+        } else if (!strcmp(a, "--ship-speed-kt") && more) {
+            if (app_parse_double(P, a, argv[++i], 0.0, 40.0, &o->ship_speed_kt))
+                return 1;
+        } else if (!strcmp(a, "--seed") && more) {
+            if (app_parse_double(P, a, argv[++i], 0.0, 9007199254740992.0, &o->seed) || o->seed != floor(o->seed)) {
+                fprintf(stderr, "disim fly: --seed: expected a whole number\n");
+                return 1;
+            }
         } else if (!strcmp(a, "--field") && more)
             o->field = argv[++i];
         else if (!strcmp(a, "--db") && more)
@@ -137,6 +156,7 @@ int cmd_fly(int argc, char **argv)
     awdb *db = NULL;
     cfd_field *fld = NULL, *later = NULL;
     sim_flight *fl = NULL;
+    sim_ship_motion *motion = NULL;
     sim_pacer *pc = NULL;
     FILE *csv = NULL;
     char tmp[1100] = "";
@@ -169,8 +189,19 @@ int cmd_fly(int argc, char **argv)
     fo.rate_hz = o.rate_hz;
     fo.wod_speed_mps = speed;
     fo.wod_dir_rad = dir;
+    fo.turbulence = o.turbulence;
+    fo.seed = (unsigned long long)o.seed;
+    fo.ship_speed_mps = o.ship_speed_kt * CORE_KT_TO_MPS;
     memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
-    if (!(fl = sim_flight_create(ac, &sc->ship, &fo, NULL, NULL, fld, &log, &err)))
+    /* the ship in a seaway (its own seed stream: the turbulence's + 1) */
+    sim_sea sea;
+    sim_sea_default(&sea);
+    sea.state = o.sea_state;
+    sea.ship_speed_mps = fo.ship_speed_mps;
+    sea.wave_dir_rad = core_wod_wrap_deg(o.wave_dir_deg) * CORE_DEG_TO_RAD;
+    if (!(motion = sim_ship_motion_create(&sc->ship, &sea, (uint64_t)o.seed + 1u, &err)))
+        goto fail;
+    if (!(fl = sim_flight_create(ac, &sc->ship, &fo, sim_ship_motion_frame_fn, motion, fld, &log, &err)))
         goto fail;
     if (o.csv) {
         snprintf(tmp, sizeof tmp, "%s.tmp%ld", o.csv, (long)getpid());
@@ -183,8 +214,8 @@ int cmd_fly(int argc, char **argv)
     }
     if (!(pc = sim_pacer_create(o.rate_hz, o.realtime, &err)))
         goto fail;
-    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, %s, %s, %.0f Hz, %.0f s\n", sc->ship.name,
-            hfm_aircraft_name(ac), speed / CORE_KT_TO_MPS, dir * CORE_RAD_TO_DEG,
+    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, %s, %s, %.0f Hz, %.0f s\n", sc->ship.name,
+            hfm_aircraft_name(ac), speed / CORE_KT_TO_MPS, dir * CORE_RAD_TO_DEG, o.sea_state,
             fld ? "airwake field" : waiting ? "free stream until the airwake field is built" : "free stream",
             o.realtime ? "real time" : "as fast as it can", o.rate_hz, o.duration_s);
     signal(SIGINT, on_signal);
@@ -258,6 +289,7 @@ done:
         unlink(tmp);
     sim_pacer_destroy(pc);
     sim_flight_destroy(fl);
+    sim_ship_motion_destroy(motion);
     cfd_field_destroy(later);
     cfd_field_destroy(fld);
     awdb_close(db);

@@ -21,6 +21,11 @@
  *    roughness the CFD's ABL inflow uses, cfd.h; Richards and Hoxey 1993,
  *    eq. 1), h above the sea surface, clamped at 0.5 m so that the profile
  *    stays finite at the surface.
+ *  - Turbulence (optional, sim/turbulence.c): the gust of the frozen
+ *    Dryden field at the point, with the local intensity of the field's
+ *    turbulent kinetic energy (k scales with the square of the WOD speed,
+ *    epsilon with its cube), added to the mean air in S; none in the free
+ *    stream (k = 0 there).
  *  - A field offered while flying is blended in: the air is (1 - w) of the
  *    old one plus w of the new, w rising linearly from 0 to 1 over
  *    blend_s, so the air at a point changes by at most |v_new - v_old|
@@ -49,6 +54,16 @@ struct sim_air {
     double t_blend0_s; /* blend from old to cur from this time (-inf: none) */
     double wind_S[3];  /* the WOD free stream at anemometer height, in S */
     double ln_an;      /* ln(h_an / z0) */
+    const sim_turb *turb; /* NULL: no turbulence */
+    /* the ship frames of the last few times asked for: the integrator
+     * samples the air at hundreds of points at each of a step's stage
+     * times, and the frame (a sum over the seaway's waves) is the same
+     * for all of them */
+    struct {
+        double t_s;
+        sim_ship_frame fr;
+    } frames[4];
+    int nframes, next_frame;
 };
 
 void sim_air_opts_default(sim_air_opts *o)
@@ -111,9 +126,9 @@ static void free_stream_S(const sim_air *a, const double p_S[3], double v_S[3])
         v_S[i] = f * a->wind_S[i];
 }
 
-/* One source's air in S; 1 when it is the free stream (no field, or
- * outside it). */
-static int src_S(const sim_air *a, const air_src *s, const double p_S[3], double v_S[3])
+/* One source's air in S and its k and epsilon; 1 when it is the free
+ * stream (no field, or outside it: k = epsilon = 0). */
+static int src_S(const sim_air *a, const air_src *s, const double p_S[3], double v_S[3], double ke[2])
 {
     if (s->f) {
         double o[CFD_NVARS];
@@ -121,10 +136,13 @@ static int src_S(const sim_air *a, const air_src *s, const double p_S[3], double
             v_S[0] = s->scale * o[CFD_VAR_U];
             v_S[1] = s->scale * o[CFD_VAR_V];
             v_S[2] = s->scale * o[CFD_VAR_W];
+            ke[0] = s->scale * s->scale * fmax(o[CFD_VAR_K], 0.0);
+            ke[1] = s->scale * s->scale * s->scale * fmax(o[CFD_VAR_EPS], 0.0);
             return 0;
         }
     }
     free_stream_S(a, p_S, v_S);
+    ke[0] = ke[1] = 0.0;
     return 1;
 }
 
@@ -135,24 +153,66 @@ double sim_air_blend(const sim_air *a, double t_s)
     return fmin(fmax((t_s - a->t_blend0_s) / a->o.blend_s, 0.0), 1.0);
 }
 
-int sim_air_sample_S(const sim_air *a, const double p_S[3], double t_s, double v_S[3])
+int sim_air_mean_S(const sim_air *a, const double p_S[3], double t_s, double v_S[3], double *k_m2ps2,
+                   double *eps_m2ps3)
 {
-    int free_cur = src_S(a, &a->cur, p_S, v_S);
+    double ke[2];
+    int free_cur = src_S(a, &a->cur, p_S, v_S, ke);
     double w = sim_air_blend(a, t_s);
     if (w < 1.0) {
-        double vo[3];
-        src_S(a, &a->old, p_S, vo);
+        double vo[3], keo[2];
+        src_S(a, &a->old, p_S, vo, keo);
         for (int i = 0; i < 3; i++)
             v_S[i] = w * v_S[i] + (1.0 - w) * vo[i];
+        for (int i = 0; i < 2; i++)
+            ke[i] = w * ke[i] + (1.0 - w) * keo[i];
     }
+    if (k_m2ps2)
+        *k_m2ps2 = ke[0];
+    if (eps_m2ps3)
+        *eps_m2ps3 = ke[1];
     return free_cur;
+}
+
+int sim_air_sample_S(const sim_air *a, const double p_S[3], double t_s, double v_S[3])
+{
+    double k;
+    int rc = sim_air_mean_S(a, p_S, t_s, v_S, &k, NULL);
+    if (a->turb && k > 0.0) {
+        double g[3];
+        if (sim_turb_sample(a->turb, p_S, k, g) == 0)
+            for (int i = 0; i < 3; i++)
+                v_S[i] += g[i];
+    }
+    return rc;
+}
+
+void sim_air_set_turb(sim_air *a, const sim_turb *t) { a->turb = t; }
+
+/* The ship's frame at t_s, through the small cache (exact times only, so
+ * the result is the frame function's own). */
+static int frame_at(sim_air *a, double t_s, sim_ship_frame *fr)
+{
+    for (int i = 0; i < a->nframes; i++)
+        if (a->frames[i].t_s == t_s) {
+            *fr = a->frames[i].fr;
+            return 0;
+        }
+    if (a->frame(a->frame_user, t_s, fr))
+        return -1;
+    a->frames[a->next_frame].t_s = t_s;
+    a->frames[a->next_frame].fr = *fr;
+    a->next_frame = (a->next_frame + 1) % 4;
+    if (a->nframes < 4)
+        a->nframes++;
+    return 0;
 }
 
 int sim_air_fn(void *user, const double pos_E_m[3], double t_s, double vel_E_mps[3])
 {
-    const sim_air *a = user;
+    sim_air *a = user;
     sim_ship_frame fr;
-    if (a->frame(a->frame_user, t_s, &fr))
+    if (frame_at(a, t_s, &fr))
         return -1;
     double d[3], p_S[3], v_S[3];
     for (int i = 0; i < 3; i++)

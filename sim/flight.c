@@ -7,7 +7,9 @@
  *               caller's sim_ship_frame_fn, or the ship steady at its speed)
  *   3. air:     the airwake attached to the ship, in E (sim/air.c), sampled
  *               by the flight model at every blade element, the tail rotor,
- *               fuselage and tail surfaces through one hfm_air callback
+ *               fuselage and tail surfaces through one hfm_air callback;
+ *               its frozen turbulence (sim/turbulence.c) advanced once per
+ *               step with the field's mean air, k and epsilon at the CG
  *   4. flight model: the helicopter integrated in the Earth frame E
  *               (inertial) by hfm_tsim, ARKODE explicit Runge-Kutta at the
  *               fixed step (Ralston's 2-stage method, hfm/tsim.c)
@@ -42,6 +44,7 @@ struct sim_flight {
     sim_ship_frame_fn frame;
     void *frame_user;
     sim_air *air;
+    sim_turb *turb;           /* NULL: no turbulence */
     hfm_air hair;
     hfm_tsim *ts;
     hfm_controls u, u_trim;
@@ -56,6 +59,8 @@ void sim_flight_opts_default(sim_flight_opts *o)
     o->rate_hz = 200.0;
     o->station_S_m[2] = -6.0;
     o->blend_s = 3.0;
+    o->turbulence = 1;
+    o->seed = 1;
 }
 
 /* The ship steady at its speed, heading north, S level: o_E = (U t, 0, 0). */
@@ -195,6 +200,13 @@ sim_flight *sim_flight_create(const hfm_aircraft *ac, const core_ship *ship, con
     }
     hfm_body bE;
     body_S_to_E(&fr0, &r.body, &bE);
+    if (o->turbulence) {
+        sim_turb_opts to;
+        sim_turb_opts_default(&to);
+        if (!(f->turb = sim_turb_create(&to, (uint64_t)o->seed, err)))
+            goto fail;
+        sim_air_set_turb(f->air, f->turb);
+    }
     f->hair.fn = sim_air_fn;
     f->hair.user = f->air;
     f->hair.wake = NULL;
@@ -215,6 +227,7 @@ void sim_flight_destroy(sim_flight *f)
         return;
     hfm_tsim_destroy(f->ts);
     sim_air_destroy(f->air);
+    sim_turb_destroy(f->turb);
     free(f);
 }
 
@@ -286,9 +299,19 @@ int sim_flight_step(sim_flight *f, const sim_flight_inputs *in, sim_flight_out *
         f->u.pedal_pct = clamp_pct(in->pedal_pct);
     }
     hfm_tsim_set_controls(f->ts, &f->u);
-    /* 2-5: the ship frame and the air are functions of time sampled by the
-     * flight model's right-hand sides, with the external loads */
-    double t1 = (double)(f->step + 1) * f->h_s;
+    /* 2-3: the ship frame and the air are functions of time, sampled by the
+     * flight model's right-hand sides; the turbulence's frozen field moves
+     * on by one step, convected by the mean air at the CG */
+    double t0 = (double)f->step * f->h_s, t1 = (double)(f->step + 1) * f->h_s;
+    if (f->turb) {
+        sim_flight_out now;
+        sim_flight_state(f, &now);
+        double v[3], k, eps;
+        sim_air_mean_S(f->air, now.pos_S_m, t0, v, &k, &eps);
+        if (sim_turb_step(f->turb, now.pos_S_m, v, k, eps, f->h_s, err) != 0)
+            return -1;
+    }
+    /* 4-5: the flight model with the external loads */
     if (hfm_tsim_advance(f->ts, t1) != 0)
         return core_err_set(err, -1, "flight: the integrator failed at t = %.3f s", t1);
     f->step++;

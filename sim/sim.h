@@ -106,9 +106,18 @@ void sim_air_destroy(sim_air *a);
  * from the air before over blend_s. f must outlive its use (this call and
  * the next). 0, or < 0 with err for a field that is not ship-only. */
 int sim_air_set_field(sim_air *a, const struct cfd_field *f, double t_s, core_err *err);
-/* The air at a point of S (m/s, S, relative to the ship's mean motion).
- * Returns 1 where it is the free stream, 0 inside the field. */
+/* The air at a point of S (m/s, S, relative to the ship's mean motion),
+ * the turbulence's gust included. Returns 1 where it is the free stream,
+ * 0 inside the field. */
 int sim_air_sample_S(const sim_air *a, const double p_S[3], double t_s, double v_S[3]);
+/* The mean air alone (no gust) and the field's k (m^2/s^2) and epsilon
+ * (m^2/s^3) there, scaled to the WOD speed (0 in the free stream); k and
+ * eps may be NULL. Returns as sim_air_sample_S. */
+int sim_air_mean_S(const sim_air *a, const double p_S[3], double t_s, double v_S[3], double *k_m2ps2,
+                   double *eps_m2ps3);
+/* Add the gusts of t (NULL: none) to the air (t outlives its use). */
+struct sim_turb;
+void sim_air_set_turb(sim_air *a, const struct sim_turb *t);
 /* An hfm_air_fn over E (user: a sim_air). */
 int sim_air_fn(void *user, const double pos_E_m[3], double t_s, double vel_E_mps[3]);
 /* The weight of the newest field at t_s, 0 to 1 (1: no blend under way). */
@@ -127,6 +136,8 @@ typedef struct sim_flight_opts {
     double ship_speed_mps;   /* the ship's steady speed, heading north (0) */
     double station_S_m[3];   /* the start: a trimmed hover with the CG here */
     double blend_s;          /* a field offered in flight blends in over this (3 s) */
+    int turbulence;          /* 1 (default): the field's turbulence (sim/turbulence.c) */
+    unsigned long long seed; /* the turbulence's seed (the ship motion has its own) */
 } sim_flight_opts;
 void sim_flight_opts_default(sim_flight_opts *o);
 

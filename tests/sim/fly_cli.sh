@@ -1,0 +1,37 @@
+#!/bin/sh
+# disim fly: --fast and --realtime fly the same trajectory (the step has no
+# clock; pacing only waits), also with a seaway and turbulence; the CSV is
+# complete and nothing is left half-written; bad flags and a sweep without
+# the flight's WOD are refused.
+# Usage: fly_cli.sh DISIM SOURCE_DIR
+set -u
+disim=$1 src=$2
+tmp=$(mktemp -d /tmp/disim_fly_XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+fail=0 pass=0
+ok() { pass=$((pass + 1)); }
+bad() { echo "FAIL: $1"; fail=$((fail + 1)); }
+args="$src/scenarios/cg47_uh60a.ini --duration 2 --wod-speed-kt 20 --wod-dir-deg -30 --sea-state 4 --ship-speed-kt 10 --db $tmp/db"
+"$disim" fly $args --fast --csv "$tmp/fast.csv" 2> "$tmp/fast.log" && ok || { bad "fly --fast failed"; cat "$tmp/fast.log"; }
+"$disim" fly $args --realtime --csv "$tmp/rt.csv" 2> "$tmp/rt.log" && ok || { bad "fly --realtime failed"; cat "$tmp/rt.log"; }
+[ "$(wc -l < "$tmp/fast.csv")" -eq 102 ] && ok || bad "expected a header and 101 rows at 50 Hz over 2 s"
+cmp -s "$tmp/fast.csv" "$tmp/rt.csv" && ok || bad "--fast and --realtime flew different trajectories"
+grep -q "2.00 s flown in [01]\.[0-9]* s" "$tmp/fast.log" && ok || bad "--fast: no summary, or slower than real time"
+grep -q "2.00 s flown in 2\.[0-9]* s (1.0x real time)" "$tmp/rt.log" && ok || { bad "--realtime: not paced at real time"; cat "$tmp/rt.log"; }
+# another seed, another seaway: another trajectory
+"$disim" fly $args --fast --seed 7 --csv "$tmp/s7.csv" 2> /dev/null && ! cmp -s "$tmp/fast.csv" "$tmp/s7.csv" && ok \
+    || bad "--seed 7 flew the same trajectory"
+ls "$tmp"/*.tmp* > /dev/null 2>&1 && bad "a temporary CSV was left" || ok
+# refusals: exit status and message, nothing written
+"$disim" fly $args --fast --sea-state 9 --csv "$tmp/x.csv" 2> "$tmp/bad.log"
+[ $? -eq 1 ] && grep -q "sea-state: expected a whole number in \[0, 6\], got '9'" "$tmp/bad.log" && [ ! -e "$tmp/x.csv" ] && ok \
+    || { bad "--sea-state 9 accepted"; cat "$tmp/bad.log"; }
+"$disim" fly "$src/scenarios/cg47_uh60a.ini" --fast --duration 1 --db "$tmp/db" 2> "$tmp/bad.log"
+[ $? -eq 1 ] && grep -q "a WOD sweep: give the flight's --wod-speed-kt and --wod-dir-deg" "$tmp/bad.log" && ok \
+    || { bad "a sweep scenario without the flight's WOD accepted"; cat "$tmp/bad.log"; }
+"$disim" fly "$src/scenarios/cg47_uh60a.ini" --rate-hz 5 2> "$tmp/bad.log"
+[ $? -eq 1 ] && grep -q "rate-hz: expected a number in \[10, 10000\], got '5'" "$tmp/bad.log" && ok || bad "--rate-hz 5 accepted"
+"$disim" fly "$src/scenarios/cg47_uh60a.ini" --wobble 2> "$tmp/bad.log"
+[ $? -eq 2 ] && ok || bad "an unknown flag: expected exit status 2"
+echo "fly_cli: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
