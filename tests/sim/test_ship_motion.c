@@ -394,43 +394,139 @@ static void test_derivatives(void)
     sim_ship_motion_destroy(m);
 }
 
-/* ------------------------------------------------------- roll resonance */
-/* Welch estimate (Hann, 2048-sample segments, half overlap) of the ratio
- * of the roll's spectrum to the elevation's over w in [w0, w1]: the roll
- * RAO squared as a record shows it. Returns the frequency of its peak. */
-static double roll_peak(const record *r, double w0, double w1)
+/* ---------------------------------------------------------------- phases */
+static double corr(const double *a, const double *b, int n)
 {
-    const int ns = 2048, nw = (int)((w1 - w0) / 0.001) + 1;
-    double best = 0.0, wbest = 0.0, *see = calloc((size_t)nw, sizeof *see), *srr = calloc((size_t)nw, sizeof *srr);
-    double smax = 0.0;
-    for (int j = 0; j < nw; j++) {
-        double w = w0 + j * 0.001;
-        for (int s0 = 0; s0 + ns <= REC_N; s0 += ns / 2) {
-            double er = 0.0, ei = 0.0, rr = 0.0, ri = 0.0;
-            double c1 = cos(w * REC_DT_S), s1 = sin(w * REC_DT_S), pc = 1.0, ps = 0.0;
-            for (int i = 0; i < ns; i++) {
-                double win = 0.5 - 0.5 * cos(2.0 * CORE_PI * i / (ns - 1));
-                er += win * r->elev[s0 + i] * pc;
-                ei += win * r->elev[s0 + i] * ps;
-                rr += win * r->roll[s0 + i] * pc;
-                ri += win * r->roll[s0 + i] * ps;
-                double t = pc * c1 - ps * s1; /* the phasor e^(i w t) by rotation */
-                ps = pc * s1 + ps * c1;
-                pc = t;
-            }
-            see[j] += er * er + ei * ei;
-            srr[j] += rr * rr + ri * ri;
-        }
-        smax = fmax(smax, see[j]);
+    double ab = 0.0, aa = 0.0, bb = 0.0;
+    for (int i = 0; i < n; i++) {
+        ab += a[i] * b[i];
+        aa += a[i] * a[i];
+        bb += b[i] * b[i];
     }
-    for (int j = 0; j < nw; j++)
-        if (see[j] > 1e-3 * smax && srr[j] / see[j] > best) {
-            best = srr[j] / see[j];
+    return ab / sqrt(aa * bb);
+}
+
+/* The senses of the motions against the wave at the centre, at rest in
+ * waves long against a small ship and its resonances (CG-47 cut to 40 m x
+ * 8 m, 2 m draft, roll period 2 s; sea state 6): heave rises with the
+ * elevation; in head seas the bow rises while the elevation at the centre
+ * rises (the crest is ahead); in beam seas from starboard the starboard
+ * side rises first (roll to port, negative), from port the other way. */
+static void test_phases(void)
+{
+    core_err err = {{0}};
+    core_ship ship = cg47;
+    ship.length_m = 40.0;
+    ship.beam_m = 8.0;
+    ship.hull_draft_m = 2.0;
+    ship.roll_period_s = 2.0;
+    const double dirs[3] = {0.0, 90.0, -90.0};
+    double c_heave = 0.0, c_pitch = 0.0, c_roll[3] = {0.0, 0.0, 0.0};
+    for (int k = 0; k < 3; k++) {
+        sim_sea sea = make_sea(6, 0.0, dirs[k], SIM_SPECTRUM_ITTC);
+        sim_ship_motion *m = sim_ship_motion_create(&ship, &sea, 21, &err);
+        CHECK(m != NULL);
+        if (!m)
+            return;
+        record r;
+        record_take(m, &r);
+        double *rate = malloc(REC_N * sizeof *rate);
+        for (int i = 1; i < REC_N - 1; i++)
+            rate[i] = (r.elev[i + 1] - r.elev[i - 1]) / (2.0 * REC_DT_S);
+        if (k == 0) {
+            c_heave = corr(r.heave, r.elev, REC_N);
+            c_pitch = corr(r.pitch + 1, rate + 1, REC_N - 2);
+        }
+        c_roll[k] = corr(r.roll + 1, rate + 1, REC_N - 2);
+        free(rate);
+        record_free(&r);
+        sim_ship_motion_destroy(m);
+    }
+    CHECK(c_heave > 0.5);
+    CHECK(c_pitch > 0.5);
+    CHECK(c_roll[1] < -0.5);
+    CHECK(c_roll[2] > 0.5);
+    printf("40 m ship, sea state 6 at rest: heave with elevation %.2f; head seas pitch with elevation rate %.2f; "
+           "beam seas roll with elevation rate %.2f (from starboard), %.2f (from port)\n",
+           c_heave, c_pitch, c_roll[1], c_roll[2]);
+}
+
+/* ------------------------------------------------------- roll resonance */
+/* Welch estimates (Hann, 2048-sample segments, half overlap) of the
+ * spectra of x and y (y may be NULL) at w: sums of the segments'
+ * periodograms, in arbitrary units. */
+static void welch_at(const double *x, const double *y, double w, double *sxx, double *syy)
+{
+    const int ns = 2048;
+    *sxx = 0.0;
+    *syy = 0.0;
+    double c1 = cos(w * REC_DT_S), s1 = sin(w * REC_DT_S);
+    for (int s0 = 0; s0 + ns <= REC_N; s0 += ns / 2) {
+        double xr = 0.0, xi = 0.0, yr = 0.0, yi = 0.0, pc = 1.0, ps = 0.0;
+        for (int i = 0; i < ns; i++) {
+            double win = 0.5 - 0.5 * cos(2.0 * CORE_PI * i / (ns - 1));
+            xr += win * x[s0 + i] * pc;
+            xi += win * x[s0 + i] * ps;
+            if (y) {
+                yr += win * y[s0 + i] * pc;
+                yi += win * y[s0 + i] * ps;
+            }
+            double t = pc * c1 - ps * s1; /* the phasor e^(i w t) by rotation */
+            ps = pc * s1 + ps * c1;
+            pc = t;
+        }
+        *sxx += xr * xr + xi * xi;
+        *syy += yr * yr + yi * yi;
+    }
+}
+
+/* The frequency in [w0, w1] (steps of 0.001 rad/s) where the spectrum of
+ * x peaks, or with y where the ratio of y's spectrum to x's does (where
+ * x's is above 1e-3 of its peak): with x the elevation and y the roll,
+ * the roll RAO squared as a record shows it. */
+static double spectrum_peak(const double *x, const double *y, double w0, double w1)
+{
+    const int nw = (int)((w1 - w0) / 0.001) + 1;
+    double *sx = calloc((size_t)nw, sizeof *sx), *sy = calloc((size_t)nw, sizeof *sy);
+    double smax = 0.0, best = 0.0, wbest = 0.0;
+    for (int j = 0; j < nw; j++) {
+        welch_at(x, y, w0 + j * 0.001, &sx[j], &sy[j]);
+        smax = fmax(smax, sx[j]);
+    }
+    for (int j = 0; j < nw; j++) {
+        double v = y ? (sx[j] > 1e-3 * smax ? sy[j] / sx[j] : 0.0) : sx[j];
+        if (v > best) {
+            best = v;
             wbest = w0 + j * 0.001;
         }
-    free(see);
-    free(srr);
+    }
+    free(sx);
+    free(sy);
     return wbest;
+}
+
+/* The elevation met at the moving centre peaks at the encounter frequency
+ * of the modal one, w_p + w_p^2 U / g in head seas (JONSWAP's sharp peak,
+ * CG-47 at 20 kt, sea state 5), and at w_p itself in beam seas. */
+static void test_encounter(void)
+{
+    core_err err = {{0}};
+    const double dirs[2] = {0.0, 90.0}, U = 20.0 * CORE_KT_TO_MPS, wp = 2.0 * CORE_PI / 9.7;
+    for (int k = 0; k < 2; k++) {
+        sim_sea sea = make_sea(5, 20.0, dirs[k], SIM_SPECTRUM_JONSWAP);
+        sim_ship_motion *m = sim_ship_motion_create(&cg47, &sea, 31, &err);
+        CHECK(m != NULL);
+        if (!m)
+            return;
+        record r;
+        record_take(m, &r);
+        double want = wp + wp * wp * U * cos(sea.wave_dir_rad) / CORE_G_MPS2, got = spectrum_peak(r.elev, NULL, 0.3, 2.0);
+        CHECK_NEAR(got / want, 1.0, 0.03);
+        printf("CG-47 at 20 kt, %s seas: the elevation met peaks at %.3f rad/s (encounter of w_p: %.3f, %+.1f %%)\n",
+               k ? "beam" : "head", got, want, 100.0 * (got / want - 1.0));
+        record_free(&r);
+        sim_ship_motion_destroy(m);
+    }
 }
 
 static void test_roll_resonance(void)
@@ -449,7 +545,7 @@ static void test_roll_resonance(void)
             return;
         record r;
         record_take(m, &r);
-        double wn = 2.0 * CORE_PI / periods[k], wpk = roll_peak(&r, 0.3, 1.2);
+        double wn = 2.0 * CORE_PI / periods[k], wpk = spectrum_peak(r.elev, r.roll, 0.3, 1.2);
         CHECK_NEAR(wpk / wn, 1.0, 0.03);
         printf("CG-47 roll_period_s %.1f s, sea state 5 beam seas: roll/elevation spectrum peaks at %.3f rad/s "
                "(%.2f s; 2 pi / T_roll = %.3f rad/s, %+.1f %%)\n",
@@ -536,6 +632,8 @@ int main(void)
     test_derivatives();
     test_refusals();
     test_long_records();
+    test_phases();
+    test_encounter();
     test_roll_resonance();
     return check_done("test_ship_motion");
 }
