@@ -524,3 +524,25 @@ int sim_ship_motion_at(const sim_ship_motion *m, double t_s, sim_ship_state *out
     out->wave_elev_m = elev;
     return 0;
 }
+
+int sim_ship_motion_frame_fn(void *user, double t_s, sim_ship_frame *out)
+{
+    const sim_ship_motion *m = user;
+    if (!m || !out || !isfinite(t_s))
+        return -1;
+    double x[3][3], elev;
+    eval_motions(m, t_s, x, &elev);
+    sim_ship_point o;
+    core_mat3 C;
+    point_from(m, t_s, x, core_vec3_make(0.0, 0.0, 0.0), &C, &o);
+    out->origin_E_m[0] = o.pos_E_m.x;
+    out->origin_E_m[1] = o.pos_E_m.y;
+    out->origin_E_m[2] = o.pos_E_m.z;
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            out->C_ES[3 * r + c] = C.m[r][c];
+    out->mean_vel_E_mps[0] = m->U_mps * m->e0.x;
+    out->mean_vel_E_mps[1] = m->U_mps * m->e0.y;
+    out->mean_vel_E_mps[2] = 0.0;
+    return 0;
+}

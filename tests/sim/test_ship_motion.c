@@ -616,6 +616,31 @@ static void test_refusals(void)
     sim_ship_motion_destroy(m);
 }
 
+/* The pieces a flight gets: the frame callback agrees with the state. */
+static void test_frame_fn(void)
+{
+    core_err err = {{0}};
+    sim_sea sea = make_sea(5, 15.0, 30.0, SIM_SPECTRUM_ITTC);
+    sim_ship_motion *m = sim_ship_motion_create(&cg47, &sea, 2, &err);
+    CHECK(m != NULL);
+    if (!m)
+        return;
+    sim_ship_frame fr;
+    sim_ship_state st;
+    CHECK(sim_ship_motion_frame_fn(m, 123.4, &fr) == 0);
+    CHECK(sim_ship_motion_at(m, 123.4, &st) == 0);
+    core_mat3 C = core_mat3_from_euler(st.att);
+    CHECK(fr.origin_E_m[0] == st.pose.pos_E_m.x && fr.origin_E_m[2] == st.pose.pos_E_m.z);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            CHECK(fr.C_ES[3 * r + c] == C.m[r][c]);
+    CHECK_NEAR(fr.mean_vel_E_mps[0], 15.0 * CORE_KT_TO_MPS, 1e-12);
+    /* the quaternion rotates as the matrix does */
+    core_vec3 v = core_vec3_make(1.0, 2.0, 3.0);
+    CHECK(vdist(core_quat_rotate(st.pose.q_EF, v), core_mat3_mul_vec(C, v)) < 1e-12);
+    sim_ship_motion_destroy(m);
+}
+
 int main(void)
 {
     core_err err = {{0}};
@@ -630,6 +655,7 @@ int main(void)
     test_calm();
     test_seeds();
     test_derivatives();
+    test_frame_fn();
     test_refusals();
     test_long_records();
     test_phases();
