@@ -49,7 +49,9 @@ static int fly_parse(int argc, char **argv, fly_args *o)
     o->csv_rate_hz = 50.0;
     o->speed_kt = o->dir_deg = NAN;
     o->db = "out/airwake-db";
-    o->turbulence = 1;
+    o->turbulence = -1;
+    o->sea_state = -1;
+    o->wave_dir_deg = o->ship_speed_kt = NAN;
     o->seed = 1;
     const char *P = "disim fly";
     for (int i = 1; i < argc; i++) {
@@ -189,16 +191,18 @@ int cmd_fly(int argc, char **argv)
     fo.rate_hz = o.rate_hz;
     fo.wod_speed_mps = speed;
     fo.wod_dir_rad = dir;
-    fo.turbulence = o.turbulence;
+    /* the flags, else the scenario's [sea] and [wod] turbulence */
+    fo.turbulence = o.turbulence >= 0 ? o.turbulence : sc->turbulence;
     fo.seed = (unsigned long long)o.seed;
-    fo.ship_speed_mps = o.ship_speed_kt * CORE_KT_TO_MPS;
+    fo.ship_speed_mps = isnan(o.ship_speed_kt) ? sc->ship_speed_mps : o.ship_speed_kt * CORE_KT_TO_MPS;
     memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
     /* the ship in a seaway (its own seed stream: the turbulence's + 1) */
     sim_sea sea;
     sim_sea_default(&sea);
-    sea.state = o.sea_state;
+    sea.state = o.sea_state >= 0 ? o.sea_state : sc->sea_state;
     sea.ship_speed_mps = fo.ship_speed_mps;
-    sea.wave_dir_rad = core_wod_wrap_deg(o.wave_dir_deg) * CORE_DEG_TO_RAD;
+    sea.wave_dir_rad = isnan(o.wave_dir_deg) ? sc->wave_dir_rad : core_wod_wrap_deg(o.wave_dir_deg) * CORE_DEG_TO_RAD;
+    sea.spectrum = sc->spectrum ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
     if (!(motion = sim_ship_motion_create(&sc->ship, &sea, (uint64_t)o.seed + 1u, &err)))
         goto fail;
     if (!(fl = sim_flight_create(ac, &sc->ship, &fo, sim_ship_motion_frame_fn, motion, fld, &log, &err)))
@@ -215,7 +219,7 @@ int cmd_fly(int argc, char **argv)
     if (!(pc = sim_pacer_create(o.rate_hz, o.realtime, &err)))
         goto fail;
     fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, %s, %s, %.0f Hz, %.0f s\n", sc->ship.name,
-            hfm_aircraft_name(ac), speed / CORE_KT_TO_MPS, dir * CORE_RAD_TO_DEG, o.sea_state,
+            hfm_aircraft_name(ac), speed / CORE_KT_TO_MPS, dir * CORE_RAD_TO_DEG, sea.state,
             fld ? "airwake field" : waiting ? "free stream until the airwake field is built" : "free stream",
             o.realtime ? "real time" : "as fast as it can", o.rate_hz, o.duration_s);
     signal(SIGINT, on_signal);

@@ -90,10 +90,6 @@ static int wod_section(core_ini *ini, sim_scenario *sc, core_err *err)
 static const struct {
     const char *section, *key, *value, *why;
 } refused[] = {
-    {"sea", NULL, NULL,
-     "not supported yet: ship motion and the sea state come with the flight loop (disim fly); "
-     "remove the [sea] section (disim now trims the aircraft over a ship at rest, and the wind "
-     "over deck already includes the ship's speed)"},
     {"pilot", NULL, NULL,
      "not supported yet: the pilots (automated, replay, station) come with the flight loop "
      "(disim fly); remove the [pilot] section (disim now finds trimmed hover, which needs no "
@@ -205,6 +201,29 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
     sc->station_S_m[1] = 0.0;
     sc->station_S_m[2] = -sc->hover_height_m;
 
+    /* sea: the ship's motion in disim fly (sim_ship_motion); the trims of
+     * disim shol are on a ship at rest and refuse a sea state above 0
+     * (couple_shol_settings_scenario) */
+    long state = 0;
+    if ((rc = core_ini_get_int(ini, "sea", "state", 0, 0, 6, &state, err)) < 0)
+        goto out;
+    sc->sea_state = (int)state;
+    double kt = 0.0, wave_deg = 0.0;
+    if ((rc = core_ini_get_double(ini, "sea", "ship_speed_kt", 0, 0.0, 40.0, &kt, err)) < 0 ||
+        (rc = core_ini_get_double(ini, "sea", "wave_dir_deg", 0, -180.0, 180.0, &wave_deg, err)) < 0)
+        goto out;
+    sc->ship_speed_mps = kt * CORE_KT_TO_MPS;
+    sc->wave_dir_rad = wave_deg * CORE_DEG_TO_RAD;
+    sc->spectrum = 0;
+    if ((rc = core_ini_get_enum(ini, "sea", "spectrum", 0, "ittc|jonswap", &v, err)) < 0)
+        goto out;
+    if (rc == 0)
+        sc->spectrum = v;
+    /* the air's turbulence in disim fly (the trims are in the mean air) */
+    sc->turbulence = 1;
+    if ((rc = core_ini_get_bool(ini, "wod", "turbulence", 0, &sc->turbulence, err)) < 0)
+        goto out;
+
     /* cfd */
     long it = 0;
     sc->grid = CORE_GRID_DEFAULT;
@@ -288,6 +307,9 @@ void sim_scenario_print(const sim_scenario *sc, FILE *f)
         fprintf(f, "\nspeed_step_kmh = %.2f\nspeed_max_kmh = %.1f\n", sc->speed_step_mps * 3.6,
                 sc->speed_max_mps * 3.6);
     }
+    fprintf(f, "turbulence = %s\n", sc->turbulence ? "true" : "false");
+    fprintf(f, "\n[sea]\nstate = %d\nship_speed_kt = %.1f\nwave_dir_deg = %.1f\nspectrum = %s\n", sc->sea_state,
+            sc->ship_speed_mps / CORE_KT_TO_MPS, sc->wave_dir_rad * CORE_RAD_TO_DEG, sc->spectrum ? "jonswap" : "ittc");
     fprintf(f, "\n[task]\ntype = shol\nhover_height_m = %.2f\nstation_S_m = %.2f, %.2f, %.2f\n",
             sc->hover_height_m, sc->station_S_m[0], sc->station_S_m[1], sc->station_S_m[2]);
     fprintf(f, "\n[cfd]\nengine = embedded\ngrid = %s\nrotor = %s\ncoupling = %s\n",

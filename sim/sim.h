@@ -46,6 +46,13 @@ typedef struct sim_scenario {
     double hover_height_m; /* CG height above the landing spot for the hover-over-spot station */
     double station_S_m[3]; /* hover-over-spot station in S (CG position) */
 
+    /* [sea] (disim fly: the ship's motion; disim shol refuses state > 0) */
+    int sea_state;          /* 0 calm (the ship still) to 6 */
+    double ship_speed_mps;  /* the ship's speed through the water */
+    double wave_dir_rad;    /* where the waves come from, from the bow, + starboard */
+    int spectrum;           /* 0 ITTC, 1 JONSWAP (sim_spectrum) */
+    int turbulence;         /* [wod] turbulence (disim fly): 1 the field's turbulence */
+
     /* CFD (the embedded engine, the only one) */
     core_grid_level grid;
     core_rotor_mode rotor;

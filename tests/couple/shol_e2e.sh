@@ -58,6 +58,10 @@ nb=$(grep -c "building " "$tmp/db2/builder.log" 2>/dev/null)
 nf=$(ls "$tmp/db2/fields/"*.h5 2>/dev/null | wc -l)
 [ "$nb" = 1 ] && [ "$nf" -eq 1 ] || { echo "two runs: $nb builds and $nf fields (expected 1 and 1)"; cat "$tmp/db2/builder.log"; fail=1; }
 cmp -s "$tmp/runa.csv" "$tmp/runb.csv" || { echo "the two concurrent runs gave different envelopes"; fail=1; }
+# A sea state is the flight loop's: the trims are over a ship at rest.
+"$disim" shol "$src/tests/sim/data/sea.ini" --db "$tmp/db" > /dev/null 2> "$tmp/sea.log"
+[ $? -eq 1 ] && grep -q "sea.ini: \[sea\] state = 4: the candidate SHOL trims the aircraft over a ship at rest" "$tmp/sea.log" \
+    || { echo "disim shol accepted a sea state"; cat "$tmp/sea.log"; fail=1; }
 # Bad flags.
 "$disim" shol "$src/tests/couple/sfs2_uh60a.ini" --grid medium > /dev/null 2> "$tmp/bad.log"
 [ $? -eq 2 ] && grep -q "expected coarse, default or fine" "$tmp/bad.log" || { echo "bad --grid accepted"; fail=1; }

@@ -22,6 +22,11 @@ grep -q "2.00 s flown in 2\.[0-9]* s (1.0x real time)" "$tmp/rt.log" && ok || { 
 "$disim" fly $args --fast --seed 7 --csv "$tmp/s7.csv" 2> /dev/null && ! cmp -s "$tmp/fast.csv" "$tmp/s7.csv" && ok \
     || bad "--seed 7 flew the same trajectory"
 ls "$tmp"/*.tmp* > /dev/null 2>&1 && bad "a temporary CSV was left" || ok
+# the scenario's [sea] and [wod] turbulence when no flag overrides them
+"$disim" fly "$src/tests/sim/data/sea.ini" --fast --duration 0.5 --db "$tmp/db" 2> "$tmp/sea.log" \
+    && grep -q "sea state 4" "$tmp/sea.log" && ok || { bad "the scenario's sea state was not flown"; cat "$tmp/sea.log"; }
+"$disim" fly "$src/tests/sim/data/sea.ini" --fast --duration 0.5 --sea-state 2 --db "$tmp/db" 2> "$tmp/sea.log" \
+    && grep -q "sea state 2" "$tmp/sea.log" && ok || bad "--sea-state did not override the scenario"
 # refusals: exit status and message, nothing written
 "$disim" fly $args --fast --sea-state 9 --csv "$tmp/x.csv" 2> "$tmp/bad.log"
 [ $? -eq 1 ] && grep -q "sea-state: expected a whole number in \[0, 6\], got '9'" "$tmp/bad.log" && [ ! -e "$tmp/x.csv" ] && ok \

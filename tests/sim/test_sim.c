@@ -24,10 +24,6 @@ static void dotted_path(char *buf, size_t size, size_t min_len)
 static const struct {
     const char *file, *where, *why;
 } refusals[] = {
-    {"refused_sea_state.ini", "refused_sea_state.ini:13: [sea] state: ",
-     "not supported yet: ship motion and the sea state come with the flight loop (disim fly)"},
-    {"refused_sea_ship_speed.ini", "refused_sea_ship_speed.ini:13: [sea] ship_speed_kt: ",
-     "not supported yet: ship motion and the sea state come with the flight loop (disim fly)"},
     {"refused_pilot_type.ini", "refused_pilot_type.ini:16: [pilot] type: ",
      "not supported yet: the pilots (automated, replay, station) come with the flight loop (disim fly)"},
     {"refused_pilot_replay.ini", "refused_pilot_replay.ini:16: [pilot] replay_file: ",
@@ -108,6 +104,16 @@ int main(void)
     for (int i = 0; i < sc->n_dirs; i++)
         sterns += fabs(fabs(sc->dirs_rad[i]) - M_PI) < 1e-9;
     CHECK(sterns == 1);
+    /* The sea and the turbulence as the flight loop reads them; absent, a
+     * calm sea, the ship at rest and turbulence on. */
+    CHECK(sim_scenario_load("tests/sim/data/sea.ini", sc, &err) == 0);
+    CHECK(sc->sea_state == 4 && sc->spectrum == 1 && sc->turbulence == 0);
+    CHECK_NEAR(sc->ship_speed_mps, 15.0 * CORE_KT_TO_MPS, 1e-12);
+    CHECK_NEAR(sc->wave_dir_rad, -30.0 * CORE_DEG_TO_RAD, 1e-12);
+    CHECK(sim_scenario_load("tests/sim/data/full_circle.ini", sc, &err) == 0);
+    CHECK(sc->sea_state == 0 && sc->ship_speed_mps == 0.0 && sc->spectrum == 0 && sc->turbulence == 1);
+    CHECK(sim_scenario_load("tests/sim/bad/bad_sea_state.ini", sc, &err) < 0);
+    CHECK(strstr(err.msg, "bad_sea_state.ini:13: [sea] state = 7: out of range, expected 0 to 6") != NULL);
     /* A speed step larger than the sweep's top is refused naming the line. */
     CHECK(sim_scenario_load("tests/sim/bad/speed_step_over_max.ini", sc, &err) < 0);
     CHECK(strstr(err.msg, "speed_step_over_max.ini:10: [wod] speed_step_kmh = 20: expected at most") != NULL);
