@@ -47,7 +47,8 @@ struct sim_flight {
     sim_turb *turb;           /* NULL: no turbulence */
     hfm_air hair;
     hfm_tsim *ts;
-    hfm_controls u, u_trim;
+    hfm_controls u, u_trim;   /* the pilot's (the rotor's: u with the SAS's) */
+    sim_sas *sas;             /* the stability augmentation (sim/sas.c) */
     double h_s;
     long step;
     const core_log *log;
@@ -61,6 +62,7 @@ void sim_flight_opts_default(sim_flight_opts *o)
     o->blend_s = 3.0;
     o->turbulence = 1;
     o->seed = 1;
+    o->sas = -1;
 }
 
 /* The ship steady at its speed, heading north, S level: o_E = (U t, 0, 0). */
@@ -200,6 +202,18 @@ sim_flight *sim_flight_create(const hfm_aircraft *ac, const core_ship *ship, con
     }
     hfm_body bE;
     body_S_to_E(&fr0, &r.body, &bE);
+    hfm_sas_gains sg;
+    int no_sas = hfm_aircraft_sas(ac, &sg);
+    if (o->sas < -1 || o->sas > 1 || (o->sas == 1 && no_sas)) {
+        core_err_set(err, -1, "flight: sas = %d: expected -1 (the aircraft file's), 0 (off) or 1 (on, for an aircraft "
+                              "file with a [sas] section%s)",
+                     o->sas, no_sas ? "; this one has none" : "");
+        goto fail;
+    }
+    if (!(f->sas = sim_sas_create(&sg, err)))
+        goto fail;
+    if (o->sas >= 0)
+        sim_sas_set_engaged(f->sas, o->sas);
     if (o->turbulence) {
         sim_turb_opts to;
         sim_turb_opts_default(&to);
@@ -207,6 +221,7 @@ sim_flight *sim_flight_create(const hfm_aircraft *ac, const core_ship *ship, con
             goto fail;
         sim_air_set_turb(f->air, f->turb);
     }
+    sim_air_set_step(f->air, f->h_s);
     f->hair.fn = sim_air_fn;
     f->hair.user = f->air;
     f->hair.wake = NULL;
@@ -228,6 +243,7 @@ void sim_flight_destroy(sim_flight *f)
     hfm_tsim_destroy(f->ts);
     sim_air_destroy(f->air);
     sim_turb_destroy(f->turb);
+    sim_sas_destroy(f->sas);
     free(f);
 }
 
@@ -239,6 +255,8 @@ void sim_flight_trim_inputs(const sim_flight *f, sim_flight_inputs *in)
     in->lat_pct = f->u_trim.lat_pct;
     in->pedal_pct = f->u_trim.pedal_pct;
 }
+
+sim_sas *sim_flight_sas(sim_flight *f) { return f->sas; }
 
 void sim_flight_set_external(sim_flight *f, hfm_ext_fn fn, void *user) { hfm_tsim_set_external(f->ts, fn, user); }
 
@@ -291,14 +309,19 @@ void sim_flight_state(const sim_flight *f, sim_flight_out *out)
 
 int sim_flight_step(sim_flight *f, const sim_flight_inputs *in, sim_flight_out *out, core_err *err)
 {
-    /* 1. pilot */
+    /* 1. pilot, and the stability augmentation between the pilot's
+     * controls and the rotor, from the body state at the step's start */
     if (in && !in->hold) {
         f->u.collective_pct = clamp_pct(in->collective_pct);
         f->u.long_pct = clamp_pct(in->long_pct);
         f->u.lat_pct = clamp_pct(in->lat_pct);
         f->u.pedal_pct = clamp_pct(in->pedal_pct);
     }
-    hfm_tsim_set_controls(f->ts, &f->u);
+    hfm_body b0;
+    hfm_tsim_body(f->ts, &b0);
+    hfm_controls u_rotor;
+    sim_sas_step(f->sas, &b0, &f->u, &u_rotor);
+    hfm_tsim_set_controls(f->ts, &u_rotor);
     /* 2-3: the ship frame and the air are functions of time, sampled by the
      * flight model's right-hand sides; the turbulence's frozen field moves
      * on by one step, convected by the mean air at the CG */

@@ -127,6 +127,9 @@ struct sim_turb;
 void sim_air_set_turb(sim_air *a, const struct sim_turb *t);
 /* An hfm_air_fn over E (user: a sim_air). */
 int sim_air_fn(void *user, const double pos_E_m[3], double t_s, double vel_E_mps[3]);
+/* The loop's step (s): the ship frame at a time between two steps is then
+ * interpolated between theirs (0: every time exact, the default). */
+void sim_air_set_step(sim_air *a, double step_s);
 /* The weight of the newest field at t_s, 0 to 1 (1: no blend under way). */
 double sim_air_blend(const sim_air *a, double t_s);
 enum { SIM_AIR_FREE_STREAM = 1u, SIM_AIR_BLENDING = 2u };
@@ -145,6 +148,8 @@ typedef struct sim_flight_opts {
     double blend_s;          /* a field offered in flight blends in over this (3 s) */
     int turbulence;          /* 1 (default): the field's turbulence (sim/turbulence.c) */
     unsigned long long seed; /* the turbulence's seed (the ship motion has its own) */
+    int sas;                 /* the stability augmentation (sim/sas.c) at the start: 1 on, 0 off,
+                                -1 (default) as the aircraft file's [sas] engaged */
 } sim_flight_opts;
 void sim_flight_opts_default(sim_flight_opts *o);
 
@@ -353,6 +358,207 @@ typedef struct sim_turb_state {
     long relays;                     /* times laid anew after drifting across the wind */
 } sim_turb_state;
 void sim_turb_info(const sim_turb *t, sim_turb_state *s);
+
+/* -------------------- stability augmentation (sim/sas.c, issue 25) */
+/* The aircraft's SAS between the pilot's controls and the rotor: rate
+ * damping and attitude (heading) hold per axis, roll on the lateral
+ * cyclic, pitch on the longitudinal, yaw on the pedals, each within +-
+ * its authority; gains from the aircraft file's [sas] (hfm_aircraft_sas).
+ * A discrete controller, once per step from the body state at the step's
+ * start. sim/sas.c has the model, its references and what it leaves out. */
+typedef struct sim_sas sim_sas;
+/* What the SAS did in its last step (plain data); axes roll, pitch, yaw. */
+typedef struct sim_sas_out {
+    int engaged;
+    double delta_pct[3];   /* its contribution: lateral, longitudinal, pedal (% of travel) */
+    double att_err_rad[3]; /* phi, theta, psi less the hold's reference */
+    int saturated[3];      /* 1: the contribution was cut to the authority */
+} sim_sas_out;
+/* NULL with err for gains that are not finite, an authority or detent
+ * outside 0-100 %, engaged not 0 or 1. Engaged as g->engaged. */
+sim_sas *sim_sas_create(const hfm_sas_gains *g, core_err *err);
+void sim_sas_destroy(sim_sas *s);
+/* The hold takes its references from the next step's state (a reset). */
+void sim_sas_reset(sim_sas *s);
+/* Engage (1) or disengage (0); engaging holds the attitude of the next step. */
+void sim_sas_set_engaged(sim_sas *s, int on);
+int sim_sas_engaged(const sim_sas *s);
+void sim_sas_gains(const sim_sas *s, hfm_sas_gains *g);
+/* One step: the rotor's controls from the pilot's and the body state b
+ * (Euler angles and rates as hfm_tsim_body gives them), each clamped to
+ * 0-100 %; disengaged, the pilot's (clamped). */
+void sim_sas_step(sim_sas *s, const hfm_body *b, const hfm_controls *pilot, hfm_controls *rotor);
+void sim_sas_last(const sim_sas *s, sim_sas_out *out);
+/* The flight's SAS (sim/flight.c; never NULL: an aircraft without [sas]
+ * has one with zero gains, disengaged). */
+sim_sas *sim_flight_sas(sim_flight *f);
+
+/* ---------------------------- the pilot station (sim/station.c, issue 25) */
+/* The parts of `disim station`, the reference pilot station: the sources of
+ * the four controls (a scripted CSV, the keyboard's keys, an evdev joystick
+ * or gamepad) and the LCM side, which publishes pilot_input_t on
+ * DISIM_PILOT_INPUT at a fixed rate and receives DISIM_HELI_STATE and
+ * DISIM_SIM_STATUS (each buffer checked with disim_lcm_check_raw before it
+ * is decoded; a bad one is counted, never used). Controls are percent of
+ * full travel (CONVENTIONS.md). */
+#include <signal.h>
+#include <stdint.h>
+typedef struct sim_station_controls {
+    double collective_pct, long_cyclic_pct, lat_cyclic_pct, pedal_pct;
+    int trim_button, trim_release; /* held (evdev buttons) */
+} sim_station_controls;
+/* All four at 50 %, the buttons released. */
+void sim_station_controls_centre(sim_station_controls *c);
+
+/* A scripted pilot: a CSV of rows time_s,collective,long,lat,pedal (times
+ * not decreasing from 0, percentages 0 to 100; '#' comments, blank lines
+ * and one header line allowed). Between rows the controls are interpolated
+ * linearly (two rows at one time make a step), before the first row they
+ * are the first row's, after the last they hold the last's. NULL with err
+ * naming file and line. */
+typedef struct sim_station_script sim_station_script;
+sim_station_script *sim_station_script_load(const char *path, core_err *err);
+void sim_station_script_destroy(sim_station_script *s);
+void sim_station_script_at(const sim_station_script *s, double t_s, sim_station_controls *c);
+
+/* The keyboard in a terminal (raw bytes): w / s collective up / down, the
+ * arrows the cyclic (up = forward, left = left), a / d the pedals, each by
+ * step_pct per press (clamped to 0..100); space centres the cyclic and the
+ * pedals (the collective is a lever and stays); q or ctrl-C quits. Escape
+ * sequences (ESC [ A, ESC O A) may arrive split across reads. */
+typedef struct sim_station_keys {
+    double step_pct;
+    int esc;     /* 0, 1 after ESC, 2 after ESC [ or ESC O */
+    long presses; /* keys that moved a control */
+} sim_station_keys;
+enum { SIM_KEY_NONE = 0, SIM_KEY_MOVED = 1, SIM_KEY_QUIT = 2 };
+void sim_station_keys_init(sim_station_keys *k, double step_pct);
+/* One byte from the terminal: SIM_KEY_NONE, SIM_KEY_MOVED (c changed or
+ * centred) or SIM_KEY_QUIT. */
+int sim_station_keys_feed(sim_station_keys *k, unsigned char byte, sim_station_controls *c);
+
+/* A joystick or gamepad through evdev (/dev/input/event*). Each control
+ * reads one EV_ABS axis: code (ABS_X = 0 ...), invert (1: the axis's
+ * minimum is 100 %), and the range and dead band (flat, around the
+ * centre) from EVIOCGABS. The default is a common gamepad in the
+ * helicopter layout: left stick up/down the collective (up = more,
+ * ABS_Y inverted), left stick left/right the pedals (ABS_X), right stick
+ * the cyclic (ABS_RY forward = 0 %, ABS_RX); the shoulder buttons BTN_TL
+ * and BTN_TR are the force-trim set and release. */
+enum { SIM_AXIS_COLLECTIVE = 0, SIM_AXIS_LONG = 1, SIM_AXIS_LAT = 2, SIM_AXIS_PEDAL = 3, SIM_AXES = 4 };
+typedef struct sim_station_axis {
+    int code, invert;
+    int min, max, flat;
+} sim_station_axis;
+typedef struct sim_station_axes {
+    sim_station_axis axis[SIM_AXES];
+    int trim_button_code, trim_release_code; /* EV_KEY codes, -1: none */
+} sim_station_axes;
+void sim_station_axes_default(sim_station_axes *a);
+/* "ABS_RY", "ABS_RY:invert" or a number ("4", "4:invert"): 0, or -1 with err. */
+int sim_station_axis_parse(const char *s, sim_station_axis *ax, core_err *err);
+/* "ABS_X" ... for an axis code, "ABS_0x.." style for others (static). */
+const char *sim_station_axis_name(int code, char *buf, size_t n);
+/* Percent of travel for a value of the axis (dead band, clamp, invert). */
+double sim_station_axis_pct(const sim_station_axis *ax, int value);
+/* Apply one input event (type, code, value) to c: 1 if it was one of the
+ * mapped axes or buttons, else 0. */
+int sim_station_axes_apply(const sim_station_axes *a, int type, int code, int value, sim_station_controls *c);
+
+typedef struct sim_station_evdev sim_station_evdev;
+/* Open the device read-only, non-blocking, read each mapped axis's range
+ * and position (EVIOCGABS) into the handle's axes and c. NULL with err
+ * naming the path: missing, unreadable, not an evdev device, or without
+ * one of the axes (the message names it and points to --list). */
+sim_station_evdev *sim_station_evdev_open(const char *path, const sim_station_axes *axes,
+                                          sim_station_controls *c, core_err *err);
+/* A handle on an open descriptor whose axes' ranges are already in axes (a
+ * pipe of struct input_event in the tests); takes the descriptor. */
+sim_station_evdev *sim_station_evdev_wrap(int fd, const sim_station_axes *axes, core_err *err);
+void sim_station_evdev_destroy(sim_station_evdev *d);
+int sim_station_evdev_fd(const sim_station_evdev *d);
+/* Read every pending event (read(2) of struct input_event) into c: 0 (none
+ * or some), or -1 with err when the device is gone or failed. After
+ * SYN_DROPPED the axes are read again with EVIOCGABS. */
+int sim_station_evdev_read(sim_station_evdev *d, sim_station_controls *c, core_err *err);
+
+/* The evdev devices in dir ("/dev/input"), event* in order of number. */
+#define SIM_STATION_MAX_DEV_AXES 64
+typedef struct sim_station_devinfo {
+    char path[512], name[256];
+    char error[256]; /* non-empty: it could not be read (what failed) */
+    int naxes;
+    struct {
+        int code, min, max, flat, value;
+    } axis[SIM_STATION_MAX_DEV_AXES];
+} sim_station_devinfo;
+typedef void (*sim_station_dev_fn)(void *user, const sim_station_devinfo *d);
+/* Calls fn for each device: the number of devices (0: none), or -1 with
+ * err when dir cannot be read. */
+int sim_station_evdev_list(const char *dir, sim_station_dev_fn fn, void *user, core_err *err);
+
+/* The station on LCM. */
+typedef struct sim_station sim_station;
+typedef struct sim_station_opts {
+    const char *id;      /* station_id, 1 to 63 characters [A-Za-z0-9._:/@-] */
+    const char *lcm_url; /* NULL: the library default */
+} sim_station_opts;
+/* What the station has sent and received (plain data). */
+typedef struct sim_station_view {
+    const char *id;
+    long published, late;  /* messages sent; deadlines missed (frames skipped) */
+    int64_t last_seq;      /* -1 before the first */
+    double t_s;            /* station time of the last message */
+    sim_station_controls sent;
+    long heli_rx, status_rx, bad_rx;
+    char bad_last[256]; /* why the last bad message was refused */
+    int have_heli;
+    double heli_t_s, heli_pos_S_m[3], heli_vel_S_mps[3], roll_rad, pitch_rad, yaw_rad;
+    double heli_ctl_pct[4]; /* collective, long, lat, pedal as the loop flies them */
+    int on_deck;
+    int have_status;
+    double sim_time_s, rate_hz, real_time_factor;
+    int64_t overruns;
+    int state; /* DISIM_SIM_STATUS_T_RUNNING ... */
+    char scenario[128];
+    int n_stations, listed; /* listed: this station's id is among them */
+    char stations[512];     /* the ids, comma-separated */
+} sim_station_view;
+sim_station *sim_station_create(const sim_station_opts *o, core_err *err);
+void sim_station_destroy(sim_station *st);
+/* The LCM descriptor to poll for received messages. */
+int sim_station_fd(const sim_station *st);
+/* Publish c as the next pilot_input_t (seq + 1) stamped utime: 0, or -1. */
+int sim_station_publish(sim_station *st, int64_t utime, const sim_station_controls *c, core_err *err);
+/* Handle every message already received (does not wait). */
+void sim_station_handle(sim_station *st);
+const sim_station_view *sim_station_get_view(const sim_station *st);
+/* The view as text: tty 1, a block of lines that redraws in place (ANSI:
+ * cursor home, each line cleared); tty 0, one line without escapes. */
+void sim_station_format(const sim_station_view *v, const char *source, int tty, char *buf, size_t n);
+
+/* The station's loop: publish every 1 / rate_hz on absolute deadlines
+ * (a deadline already missed is skipped and counted as late, never
+ * published in a burst), the controls from exactly one source, received
+ * messages handled between deadlines, show called show_hz times a second.
+ * With keys, the controls start at 50 % and take the first received
+ * heli_state_t's controls while no key has been pressed (no jump when the
+ * station joins a flight). Ends at duration_s (> 0), when *stop is set, on
+ * a quit key or the end of the key input: 0; < 0 with err (a device gone,
+ * a failed publish). */
+typedef struct sim_station_run_opts {
+    double rate_hz, duration_s; /* duration_s <= 0: until stopped */
+    const sim_station_script *script;
+    sim_station_evdev *dev;
+    int key_fd; /* >= 0: read keys from it, with keys */
+    sim_station_keys *keys;
+    sim_station_controls start; /* the controls of a device (from its open) */
+    const volatile sig_atomic_t *stop; /* set (by a signal handler): stop */
+    void (*show)(void *user, const sim_station_view *v);
+    void *user;
+    double show_hz;
+} sim_station_run_opts;
+int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *err);
 
 #ifdef __cplusplus
 }
