@@ -122,10 +122,12 @@ static const struct {
                      "q:spot_pos_E_m q:spot_vel_E_mps q:spot_vel_E_mps q:spot_vel_E_mps q:spot_acc_E_mps2 "
                      "q:spot_acc_E_mps2 q:spot_acc_E_mps2"},
     {"pilot_input_t", __disim_pilot_input_t_get_hash, "q:utime s:station_id q:seq q:collective_pct q:long_cyclic_pct q:lat_cyclic_pct "
-                      "q:pedal_pct b:trim_button b:trim_release"},
+                      "q:pedal_pct b:trim_button b:trim_release b:take_over"},
     {"sim_control_t", __disim_sim_control_t_get_hash, "q:utime q:seq b:command s:scenario_path"},
     {"sim_status_t", __disim_sim_status_t_get_hash, "q:utime q:seq q:sim_time_s q:rate_hz q:real_time_factor q:overruns b:state s:scenario "
-                     "I:n_stations S:station_ids Q:station_last_seq"},
+                     "I:n_stations S:station_ids Q:station_last_seq Q:station_received Q:station_refused "
+                     "Q:station_gaps i:active_station q:refused_unknown q:control_refused i:flags "
+                     "q:step_p50_s q:step_p99_s q:step_max_s s:message"},
     {"airwake_request_t", __disim_airwake_request_t_get_hash, "q:utime q:seq s:request_id s:ship s:aircraft q:wod_speed_mps q:wod_dir_rad b:rotor "
                           "q:rotor_thrust_N q:station_S_m q:station_S_m q:station_S_m q:rotor_radius_m "
                           "q:shaft_pitch_rad q:shaft_roll_rad s:grid"},

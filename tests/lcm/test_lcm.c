@@ -158,6 +158,13 @@ int main(void)
     st.n_stations = 2;
     st.station_ids = ids;
     st.station_last_seq = last;
+    int64_t rec[2] = {900, 16}, refd[2] = {3, 0}, gaps[2] = {2, 1};
+    st.station_received = rec;
+    st.station_refused = refd;
+    st.station_gaps = gaps;
+    st.active_station = 0;
+    st.flags = DISIM_SIM_STATUS_T_FLAG_INPUT_HELD;
+    st.message = "";
     round_trip_sim_status_t(lc, DISIM_CH_SIM_STATUS, &st);
 
     disim_airwake_request_t rq = {0};
