@@ -27,6 +27,19 @@ ls "$tmp"/*.tmp* > /dev/null 2>&1 && bad "a temporary CSV was left" || ok
     && grep -q "sea state 4" "$tmp/sea.log" && ok || { bad "the scenario's sea state was not flown"; cat "$tmp/sea.log"; }
 "$disim" fly "$src/tests/sim/data/sea.ini" --fast --duration 0.5 --sea-state 2 --db "$tmp/db" 2> "$tmp/sea.log" \
     && grep -q "sea state 2" "$tmp/sea.log" && ok || bad "--sea-state did not override the scenario"
+# the airwake from the database: the ship-only field disim shol built is
+# flown; a corrupt one never is (its checksum fails: free stream, requested anew)
+e2e="$src/tests/couple/sfs2_uh60a.ini"
+"$disim" shol "$e2e" --coupling one-way --cfd-max-iter 10 --speed-max-kmh 5 -o "$tmp/shol" --db "$tmp/db2" \
+    > /dev/null 2> "$tmp/shol.log" || { bad "disim shol could not build the field"; cat "$tmp/shol.log"; }
+"$disim" fly "$e2e" --fast --duration 1 --wod-speed-kt 10 --wod-dir-deg 0 --db "$tmp/db2" --csv "$tmp/f1.csv" 2> "$tmp/f1.log" \
+    && grep -q ", airwake field," "$tmp/f1.log" && ok || { bad "the database's field was not flown"; cat "$tmp/f1.log"; }
+tail -1 "$tmp/f1.csv" | awk -F, '{exit !($18 == 0)}' && ok || bad "air_flags: expected 0 (the field) at the end"
+for f in "$tmp"/db2/fields/*.h5; do printf 'corrupt' | dd of="$f" bs=1 seek=4096 conv=notrunc 2> /dev/null; done
+"$disim" fly "$e2e" --fast --duration 1 --wod-speed-kt 10 --wod-dir-deg 0 --db "$tmp/db2" --csv "$tmp/f2.csv" 2> "$tmp/f2.log" \
+    && grep -q "free stream until the airwake field is built" "$tmp/f2.log" && ok || { bad "a corrupt field was flown"; cat "$tmp/f2.log"; }
+tail -1 "$tmp/f2.csv" | awk -F, '{exit !($18 == 1)}' && ok || bad "air_flags: expected 1 (free stream) with the field corrupt"
+ls "$tmp"/db2/queue/*.req > /dev/null 2>&1 && ok || bad "the corrupt field was not requested again"
 # refusals: exit status and message, nothing written
 "$disim" fly $args --fast --sea-state 9 --csv "$tmp/x.csv" 2> "$tmp/bad.log"
 [ $? -eq 1 ] && grep -q "sea-state: expected a whole number in \[0, 6\], got '9'" "$tmp/bad.log" && [ ! -e "$tmp/x.csv" ] && ok \
