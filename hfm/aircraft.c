@@ -123,7 +123,8 @@ static int rd_table(rd *r, const char *sec, const char *kx, const char *ky, doub
 /* ------------------------------------------------------------- sections */
 static const char *const known_sections[] = {"aircraft", "main_rotor", "main_rotor_airfoil",
                                              "tail_rotor", "fuselage",   "stabilator",
-                                             "fin",      "controls",   "rejection"};
+                                             "fin",      "controls",   "sas",
+                                             "rejection"};
 
 static int check_sections(const rd *r)
 {
@@ -136,7 +137,7 @@ static int check_sections(const rd *r)
             return core_err_set(r->err, -1,
                                 "%s:%d: unknown section [%s] (an aircraft file has [aircraft], [main_rotor], "
                                 "[main_rotor_airfoil], [tail_rotor], [fuselage], [stabilator], [fin], "
-                                "[controls] and [rejection])",
+                                "[controls], [sas] and [rejection])",
                                 r->path, e->line, e->section);
     }
     return 0;
@@ -368,6 +369,46 @@ static int load_controls(rd *r, hfm_rig *rg)
     return 0;
 }
 
+/* [sas] (optional): the stability augmentation's gains per axis, in the
+ * file's degrees, stored per radian. Every key is required once the section
+ * is there. */
+static int load_sas(rd *r, hfm_aircraft *ac)
+{
+    const char *S = "sas";
+    memset(&ac->sas, 0, sizeof ac->sas);
+    ac->has_sas = core_ini_has_section(r->ini, S);
+    if (!ac->has_sas)
+        return 0;
+    static const char *const axis[3] = {"roll", "pitch", "yaw"};
+    int off;
+    if (core_ini_get_enum(r->ini, S, "engaged", 1, "on|off", &off, r->err) ||
+        rd_num(r, S, "detent_pct", 0.0, 10.0, &ac->sas.detent_pct))
+        return -1;
+    ac->sas.engaged = off == 0;
+    for (int i = 0; i < 3; i++) {
+        char k[64];
+        double rate, att;
+        snprintf(k, sizeof k, "%s_rate_pct_per_degps", axis[i]);
+        if (rd_num(r, S, k, -20.0, 20.0, &rate))
+            return -1;
+        snprintf(k, sizeof k, "%s_attitude_pct_per_deg", axis[i]);
+        if (rd_num(r, S, k, -20.0, 20.0, &att))
+            return -1;
+        snprintf(k, sizeof k, "%s_authority_pct", axis[i]);
+        if (rd_num(r, S, k, 0.0, 50.0, &ac->sas.authority_pct[i]))
+            return -1;
+        ac->sas.rate_pct_per_radps[i] = rate / D2R;
+        ac->sas.att_pct_per_rad[i] = att / D2R;
+    }
+    return 0;
+}
+
+int hfm_aircraft_sas(const hfm_aircraft *ac, hfm_sas_gains *g)
+{
+    *g = ac->sas;
+    return ac->has_sas ? 0 : 1;
+}
+
 hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err *err)
 {
     core_ini *ini = core_ini_load(path, err);
@@ -386,7 +427,7 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
     derive_main_rotor(&ac->mr);
     if (load_tail_rotor(&r, &ac->tr) || load_fuselage(&r, &ac->fus) ||
         load_surface(&r, "stabilator", &ac->stab, 0) || load_surface(&r, "fin", &ac->fin, 1) ||
-        load_controls(&r, &ac->rig))
+        load_controls(&r, &ac->rig) || load_sas(&r, ac))
         goto fail;
     core_ini_skip_section(ini, "rejection");
     if (core_ini_check_unused(ini, err) || hfm_aircraft_check(ac, ini, log, err))

@@ -69,6 +69,25 @@ double hfm_aircraft_rotor_omega_radps(const hfm_aircraft *ac);
 /* 1 if the main rotor turns counter-clockwise seen from above (UH-60A), 0 if clockwise (SA365N). */
 int hfm_aircraft_rotor_ccw(const hfm_aircraft *ac);
 
+/* The stability augmentation of the aircraft file's optional [sas] section
+ * (docs/aircraft-format.md): per axis (0 roll, 1 pitch, 2 yaw) a rate gain
+ * and an attitude-hold gain (percent of travel per rad/s and per rad of the
+ * rate or attitude error; positive opposes the motion) and the authority
+ * (+- percent of travel); engaged: on (1) or off (0) at the start of a
+ * flight; detent_pct: how far (percent of travel) a pilot's control must
+ * move from where the attitude hold last took its reference for the hold to
+ * take a new one. sim/sas.c is the controller. Plain data. */
+typedef struct hfm_sas_gains {
+    int engaged;
+    double rate_pct_per_radps[3];
+    double att_pct_per_rad[3];
+    double authority_pct[3];
+    double detent_pct;
+} hfm_sas_gains;
+/* 0 and g filled when the file has a [sas] section; 1 (g zeroed, engaged 0)
+ * when it has none (the aircraft flies bare). */
+int hfm_aircraft_sas(const hfm_aircraft *ac, hfm_sas_gains *g);
+
 /* Figures derived from an aircraft file, for comparing it with published
  * data; hfm_aircraft_load checks them against the bands of real helicopters
  * (docs/aircraft-format.md, "Consistency checks"). */

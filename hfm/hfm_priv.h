@@ -80,6 +80,8 @@ struct hfm_aircraft {
     hfm_fus fus;
     hfm_surf stab, fin;
     hfm_rig rig;
+    int has_sas;       /* the optional [sas] section (aircraft.c) */
+    hfm_sas_gains sas;
 };
 
 /* Kinematics shared by the components of one evaluation. */

@@ -406,6 +406,7 @@ sim_sas *sim_flight_sas(sim_flight *f);
 typedef struct sim_station_controls {
     double collective_pct, long_cyclic_pct, lat_cyclic_pct, pedal_pct;
     int trim_button, trim_release; /* held (evdev buttons) */
+    int take_over;                 /* this station takes the controls (sim/lcm_io.c) */
 } sim_station_controls;
 /* All four at 50 %, the buttons released. */
 void sim_station_controls_centre(sim_station_controls *c);
@@ -424,7 +425,8 @@ void sim_station_script_at(const sim_station_script *s, double t_s, sim_station_
 /* The keyboard in a terminal (raw bytes): w / s collective up / down, the
  * arrows the cyclic (up = forward, left = left), a / d the pedals, each by
  * step_pct per press (clamped to 0..100); space centres the cyclic and the
- * pedals (the collective is a lever and stays); q or ctrl-C quits. Escape
+ * pedals (the collective is a lever and stays); t takes the controls over
+ * (take_over in the next message); q or ctrl-C quits. Escape
  * sequences (ESC [ A, ESC O A) may arrive split across reads. */
 typedef struct sim_station_keys {
     double step_pct;
@@ -444,7 +446,8 @@ int sim_station_keys_feed(sim_station_keys *k, unsigned char byte, sim_station_c
  * helicopter layout: left stick up/down the collective (up = more,
  * ABS_Y inverted), left stick left/right the pedals (ABS_X), right stick
  * the cyclic (ABS_RY forward = 0 %, ABS_RX); the shoulder buttons BTN_TL
- * and BTN_TR are the force-trim set and release. */
+ * and BTN_TR are the force-trim set and release, BTN_START (held) takes
+ * the controls over. */
 enum { SIM_AXIS_COLLECTIVE = 0, SIM_AXIS_LONG = 1, SIM_AXIS_LAT = 2, SIM_AXIS_PEDAL = 3, SIM_AXES = 4 };
 typedef struct sim_station_axis {
     int code, invert;
@@ -452,7 +455,7 @@ typedef struct sim_station_axis {
 } sim_station_axis;
 typedef struct sim_station_axes {
     sim_station_axis axis[SIM_AXES];
-    int trim_button_code, trim_release_code; /* EV_KEY codes, -1: none */
+    int trim_button_code, trim_release_code, take_over_code; /* EV_KEY codes, -1: none */
 } sim_station_axes;
 void sim_station_axes_default(sim_station_axes *a);
 /* "ABS_RY", "ABS_RY:invert" or a number ("4", "4:invert"): 0, or -1 with err. */
@@ -523,6 +526,10 @@ typedef struct sim_station_view {
     char scenario[128];
     int n_stations, listed; /* listed: this station's id is among them */
     char stations[512];     /* the ids, comma-separated */
+    char active[64];        /* the station flying ("" none) */
+    int32_t flags;          /* DISIM_SIM_STATUS_T_FLAG_* */
+    int64_t my_received, my_refused, my_gaps; /* the loop's counts for this station (listed) */
+    char message[256];      /* why the loop refused the last sim_control_t */
 } sim_station_view;
 sim_station *sim_station_create(const sim_station_opts *o, core_err *err);
 void sim_station_destroy(sim_station *st);
@@ -532,6 +539,11 @@ int sim_station_fd(const sim_station *st);
 int sim_station_publish(sim_station *st, int64_t utime, const sim_station_controls *c, core_err *err);
 /* Handle every message already received (does not wait). */
 void sim_station_handle(sim_station *st);
+/* One received buffer of channel (DISIM_HELI_STATE or DISIM_SIM_STATUS,
+ * as lcm_recv_buf_t holds it), what the LCM handlers call: checked with
+ * disim_lcm_check_raw, decoded, its shown values checked finite, then
+ * taken into the view; otherwise counted as bad with the reason. */
+void sim_station_receive(sim_station *st, const char *channel, const void *buf, int size);
 const sim_station_view *sim_station_get_view(const sim_station *st);
 /* The view as text: tty 1, a block of lines that redraws in place (ANSI:
  * cursor home, each line cleared); tty 0, one line without escapes. */
@@ -541,6 +553,8 @@ void sim_station_format(const sim_station_view *v, const char *source, int tty, 
  * (a deadline already missed is skipped and counted as late, never
  * published in a burst), the controls from exactly one source, received
  * messages handled between deadlines, show called show_hz times a second.
+ * take_over 1: every message carries take_over (a keyboard's t, a
+ * device's button: the next message, or while held).
  * With keys, the controls start at 50 % and take the first received
  * heli_state_t's controls while no key has been pressed (no jump when the
  * station joins a flight). Ends at duration_s (> 0), when *stop is set, on
@@ -553,12 +567,129 @@ typedef struct sim_station_run_opts {
     int key_fd; /* >= 0: read keys from it, with keys */
     sim_station_keys *keys;
     sim_station_controls start; /* the controls of a device (from its open) */
+    int take_over;
     const volatile sig_atomic_t *stop; /* set (by a signal handler): stop */
     void (*show)(void *user, const sim_station_view *v);
     void *user;
     double show_hz;
 } sim_station_run_opts;
 int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *err);
+
+/* ------------------- the flight loop's LCM side (sim/lcm_io.c, issue 25) */
+/* Around the deterministic step, never inside it: pilot stations'
+ * pilot_input_t taken by their rules (sim_pilots), sim_control_t (pause,
+ * resume, reset, load scenario), heli_state_t, ship_state_t and
+ * sim_status_t published, every message sent and received written to an
+ * LCM event log, a log's inputs replayed (sim_loop). sim/lcm_io.c has the
+ * rules, the log's clock and its references. */
+#define SIM_PILOTS_MAX 16
+#define SIM_STATION_ID_MAX 64
+
+/* The pilot stations' rules (a pure function of the messages offered and
+ * the run clock t_s, the simulated time since the loop started, which a
+ * reset does not set back):
+ * - a message is refused, counted against its station and changes nothing
+ *   when it fails disim_lcm_check_raw or disim_lcm_check_pilot_input, when
+ *   its station is not on a given priority list, or when its seq is not
+ *   above the last taken while the station is live (stale); a refused
+ *   message whose station id cannot be read counts as refused_unknown;
+ * - seq gaps count the messages missing (seq - last - 1);
+ * - a station is live while its last taken message is at most
+ *   hold_after_s old; with no active station the first live one by
+ *   priority (the list's order, else the order of first connection) takes
+ *   the controls, and a live station higher in priority takes them from a
+ *   lower one; a message with take_over set gives its station the controls
+ *   at once, and priority does not take them back until it falls silent;
+ * - while the active station is silent the input is held (and the flag
+ *   raised) until it speaks again or another station takes over. */
+typedef struct sim_pilots sim_pilots;
+typedef struct sim_pilots_opts {
+    double hold_after_s; /* 0.5 */
+    int n_priority;      /* 0: the first to connect flies */
+    char priority[SIM_PILOTS_MAX][SIM_STATION_ID_MAX];
+} sim_pilots_opts;
+void sim_pilots_opts_default(sim_pilots_opts *o);
+/* A comma-separated list "A,B,C" as the priority list: 0, or -1 with err
+ * (an empty or too long id, a repeated one, too many). */
+int sim_pilots_opts_parse(sim_pilots_opts *o, const char *list, core_err *err);
+/* NULL with err for hold_after_s not in (0, 60]. */
+sim_pilots *sim_pilots_create(const sim_pilots_opts *o, core_err *err);
+void sim_pilots_destroy(sim_pilots *p);
+/* Offer one received DISIM_PILOT_INPUT buffer (encoded, its fingerprint
+ * first) at run time t_s: 0 taken, 1 refused (why, if not NULL, says
+ * why). */
+int sim_pilots_offer(sim_pilots *p, const void *buf, int size, double t_s, char *why, size_t n);
+/* The step's inputs at t_s: the active station's last controls, or hold.
+ * Returns 1 when the input is held (no live active station), else 0. */
+int sim_pilots_inputs(sim_pilots *p, double t_s, sim_flight_inputs *in);
+typedef struct sim_pilot_station {
+    char id[SIM_STATION_ID_MAX];
+    long long last_seq, received, refused, gaps;
+    double heard_t_s; /* run time of the last message taken (-1: none) */
+} sim_pilot_station;
+int sim_pilots_count(const sim_pilots *p);
+void sim_pilots_station(const sim_pilots *p, int i, sim_pilot_station *s);
+int sim_pilots_active(const sim_pilots *p); /* index, or -1 */
+long long sim_pilots_refused_unknown(const sim_pilots *p);
+
+/* The loop: one call of sim_loop_iterate per step takes the messages
+ * received (or the replayed log's, at their logged steps), carries out
+ * the controls, steps the flight unless paused, publishes and paces. */
+typedef struct sim_loop sim_loop;
+typedef struct sim_loop_world {
+    sim_flight *flight;            /* the flight stepped */
+    const sim_ship_motion *motion; /* its ship's motion (NULL: the frame alone) */
+    char scenario[64];             /* the scenario's name, for the status */
+} sim_loop_world;
+/* Build the world of the scenario at path (the running one's, for a
+ * reset): 0 after the caller has replaced its world with the new one (and
+ * freed the old) and filled w; < 0 with err and the old world untouched
+ * (the loop keeps flying it and publishes err in the status). */
+typedef int (*sim_loop_build_fn)(void *user, const char *path, sim_loop_world *w, core_err *err);
+typedef struct sim_loop_opts {
+    double rate_hz;          /* the step rate (200) */
+    int realtime;            /* 1: paced (sim_pacer), 0: as fast as it can */
+    double duration_s;       /* run time to fly (paused time not counted) */
+    double state_rate_hz;    /* heli_state_t and ship_state_t (50; at most rate_hz) */
+    double status_period_s;  /* sim_status_t, wall time (1) */
+    int lcm;                 /* 1: publish and receive on LCM */
+    const char *lcm_url;     /* NULL: the library default */
+    const char *log_path;    /* NULL: no log; else written to PATH.tmpPID, renamed by finish */
+    const char *replay_path; /* NULL; else the pilot inputs and controls of this log, not LCM's */
+    const char *scenario_path;
+    sim_pilots_opts pilots;
+} sim_loop_opts;
+void sim_loop_opts_default(sim_loop_opts *o);
+/* A loop flying w (built by the caller from o->scenario_path). NULL with
+ * err (the LCM URL, the log or the replayed log cannot be opened). */
+sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_loop_build_fn build, void *user,
+                          const core_log *log, core_err *err);
+/* A log not finished is removed. */
+void sim_loop_destroy(sim_loop *l);
+enum { SIM_LOOP_STEPPED = 0, SIM_LOOP_PAUSED = 1, SIM_LOOP_DONE = 2 };
+/* One pass: SIM_LOOP_STEPPED with out the step's outputs (a reset or a
+ * load shows as out->step back to 1), SIM_LOOP_PAUSED (nothing stepped;
+ * waited up to 100 ms for a message), SIM_LOOP_DONE (duration flown), or
+ * < 0 with err (the integrator, a log write, a publish that failed). */
+int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err);
+/* The end: a last status (STOPPED), the log flushed, synced and renamed.
+ * 0, or < 0 with err (the log is then removed). */
+int sim_loop_finish(sim_loop *l, core_err *err);
+typedef struct sim_loop_report {
+    sim_pacer_report pace; /* overruns counted over every pacer of the run */
+    double run_s;          /* run time flown */
+    int paused, held;
+    unsigned flags;        /* the sim_status_t FLAG_* bits */
+    long long sent, received, logged, control_refused;
+    char scenario[64];
+    char message[256];     /* why the last control was refused ("" none) */
+} sim_loop_report;
+void sim_loop_report_get(const sim_loop *l, sim_loop_report *r);
+const sim_pilots *sim_loop_pilots(const sim_loop *l);
+/* The loop's LCM instance (NULL without LCM): a memq:// test publishes
+ * into it and subscribes to what the loop sends. */
+struct _lcm_t;
+struct _lcm_t *sim_loop_lcm(sim_loop *l);
 
 #ifdef __cplusplus
 }
