@@ -5,7 +5,15 @@
  * the trajectory goes to a CSV file. The airwake is the scenario's
  * ship-only field from the database (or --field): while the database does
  * not have it yet, it is requested and the loop flies the free stream, and
- * blends the field in when it is ready. */
+ * blends the field in when it is ready.
+ *
+ * The loop's LCM side (sim_loop, sim/lcm_io.c): pilot stations fly it
+ * (pilot_input_t, by the stations' rules), sim_control_t pauses, resumes,
+ * resets it and loads another scenario; it publishes heli_state_t,
+ * ship_state_t and sim_status_t; --log records every message sent and
+ * received, --replay-inputs flies a log's pilot inputs and controls at
+ * their logged steps. LCM is on in real time (the library's default URL
+ * or --lcm URL) and off with --fast unless --lcm is given. */
 #include "awdb.h"
 #include "cfd.h"
 #include "cmds.h"
@@ -31,13 +39,16 @@ static void usage_fly(void)
     fprintf(stderr, "usage: disim fly SCENARIO [--realtime | --fast] [--duration S] [--rate-hz N]\n"
                     "                  [--wod-speed-kt V] [--wod-dir-deg D] [--field F.h5 | --db DIR]\n"
                     "                  [--csv OUT.csv] [--csv-rate-hz N] [--sea-state N] [--wave-dir-deg D]\n"
-                    "                  [--ship-speed-kt U] [--seed N] [--no-turbulence]\n");
+                    "                  [--ship-speed-kt U] [--seed N] [--no-turbulence]\n"
+                    "                  [--lcm URL | --no-lcm] [--log FILE] [--replay-inputs LOG]\n"
+                    "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N]\n");
 }
 
 typedef struct fly_args {
-    const char *scen, *field, *db, *csv;
-    int realtime, sea_state, turbulence;
+    const char *scen, *field, *db, *csv, *lcm_url, *log, *replay, *stations;
+    int realtime, sea_state, turbulence, lcm; /* lcm: -1 as the mode says, 0 off, 1 on */
     double duration_s, rate_hz, csv_rate_hz, speed_kt, dir_deg, wave_dir_deg, ship_speed_kt, seed;
+    double hold_after_s, state_rate_hz;
 } fly_args;
 
 static int fly_parse(int argc, char **argv, fly_args *o)
@@ -53,6 +64,9 @@ static int fly_parse(int argc, char **argv, fly_args *o)
     o->sea_state = -1;
     o->wave_dir_deg = o->ship_speed_kt = NAN;
     o->seed = 1;
+    o->lcm = -1;
+    o->hold_after_s = 0.5;
+    o->state_rate_hz = 50.0;
     const char *P = "disim fly";
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -69,6 +83,12 @@ static int fly_parse(int argc, char **argv, fly_args *o)
                 return 1;
         } else if (!strcmp(a, "--csv-rate-hz") && more) {
             if (app_parse_double(P, a, argv[++i], 0.1, 10000.0, &o->csv_rate_hz))
+                return 1;
+        } else if (!strcmp(a, "--state-rate-hz") && more) {
+            if (app_parse_double(P, a, argv[++i], 1.0, 10000.0, &o->state_rate_hz))
+                return 1;
+        } else if (!strcmp(a, "--hold-after-s") && more) {
+            if (app_parse_double(P, a, argv[++i], 0.01, 60.0, &o->hold_after_s))
                 return 1;
         } else if (!strcmp(a, "--wod-speed-kt") && more) {
             if (app_parse_double(P, a, argv[++i], 0.0, 100.0, &o->speed_kt))
@@ -98,6 +118,17 @@ static int fly_parse(int argc, char **argv, fly_args *o)
             o->db = argv[++i];
         else if (!strcmp(a, "--csv") && more)
             o->csv = argv[++i];
+        else if (!strcmp(a, "--lcm") && more) {
+            o->lcm = 1;
+            o->lcm_url = argv[++i];
+        } else if (!strcmp(a, "--no-lcm"))
+            o->lcm = 0;
+        else if (!strcmp(a, "--log") && more)
+            o->log = argv[++i];
+        else if (!strcmp(a, "--replay-inputs") && more)
+            o->replay = argv[++i];
+        else if (!strcmp(a, "--stations") && more)
+            o->stations = argv[++i];
         else if (a[0] != '-' && !o->scen)
             o->scen = a;
         else {
@@ -109,6 +140,11 @@ static int fly_parse(int argc, char **argv, fly_args *o)
     if (!o->scen) {
         usage_fly();
         return 2;
+    }
+    if (o->state_rate_hz > o->rate_hz) {
+        fprintf(stderr, "disim fly: --state-rate-hz %g: expected at most the loop's rate (%g Hz)\n", o->state_rate_hz,
+                o->rate_hz);
+        return 1;
     }
     return 0;
 }
@@ -143,6 +179,121 @@ static int csv_row(FILE *f, const sim_flight_out *o)
                : 0;
 }
 
+/* What one scenario flies: the scenario, the aircraft, the airwake fields,
+ * the ship's motion and the flight. A reset or a load builds a new world
+ * beside the running one, and replaces it only when the build succeeded. */
+typedef struct fly_world {
+    sim_scenario *sc;
+    hfm_aircraft *ac;
+    cfd_field *fld, *later;
+    sim_ship_motion *motion;
+    sim_flight *fl;
+    int waiting; /* the database's field requested, not ready yet */
+    double speed_mps, dir_rad;
+    int sea_state;
+} fly_world;
+
+static void world_free(fly_world *w)
+{
+    sim_flight_destroy(w->fl);
+    sim_ship_motion_destroy(w->motion);
+    cfd_field_destroy(w->later);
+    cfd_field_destroy(w->fld);
+    hfm_aircraft_destroy(w->ac);
+    free(w->sc);
+    memset(w, 0, sizeof *w);
+}
+
+typedef struct fly_ctx {
+    const fly_args *o;
+    const core_log *log;
+    awdb *db;
+    fly_world w;
+} fly_ctx;
+
+static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err)
+{
+    const fly_args *o = c->o;
+    memset(w, 0, sizeof *w);
+    if (!(w->sc = calloc(1, sizeof *w->sc))) {
+        core_err_set(err, -1, "out of memory");
+        goto fail;
+    }
+    sim_scenario *sc = w->sc;
+    if (sim_scenario_load(path, sc, err) != 0)
+        goto fail;
+    if (!(w->ac = hfm_aircraft_load(sc->aircraft_path, c->log, err)))
+        goto fail;
+    double speed = isnan(o->speed_kt) ? sc->wod_speed_mps : o->speed_kt * CORE_KT_TO_MPS;
+    double dir = isnan(o->dir_deg) ? sc->wod_dir_rad : core_wod_wrap_deg(o->dir_deg) * CORE_DEG_TO_RAD;
+    w->speed_mps = speed;
+    w->dir_rad = dir;
+    if (sc->wod_mode == SIM_WOD_SWEEP && (isnan(o->speed_kt) || isnan(o->dir_deg))) {
+        core_err_set(err, -1, "%s: a WOD sweep: give the flight's --wod-speed-kt and --wod-dir-deg", path);
+        goto fail;
+    }
+    if (o->field) {
+        if (!(w->fld = cfd_field_load(o->field, err)))
+            goto fail;
+    } else if (speed > 0.0) {
+        if (!c->db) {
+            if (core_mkdir_p(o->db, err) != 0 || !(c->db = awdb_open(o->db, c->log, err)))
+                goto fail;
+        }
+        int got = db_field(c->db, sc, dir, &w->fld, err);
+        if (got < 0)
+            goto fail;
+        w->waiting = got == 0;
+    }
+    sim_flight_opts fo;
+    sim_flight_opts_default(&fo);
+    fo.rate_hz = o->rate_hz;
+    fo.wod_speed_mps = speed;
+    fo.wod_dir_rad = dir;
+    /* the flags, else the scenario's [sea] and [wod] turbulence */
+    fo.turbulence = o->turbulence >= 0 ? o->turbulence : sc->turbulence;
+    fo.seed = (unsigned long long)o->seed;
+    fo.ship_speed_mps = isnan(o->ship_speed_kt) ? sc->ship_speed_mps : o->ship_speed_kt * CORE_KT_TO_MPS;
+    memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
+    /* the ship in a seaway (its own seed stream: the turbulence's + 1) */
+    sim_sea sea;
+    sim_sea_default(&sea);
+    sea.state = o->sea_state >= 0 ? o->sea_state : sc->sea_state;
+    sea.ship_speed_mps = fo.ship_speed_mps;
+    sea.wave_dir_rad = isnan(o->wave_dir_deg) ? sc->wave_dir_rad : core_wod_wrap_deg(o->wave_dir_deg) * CORE_DEG_TO_RAD;
+    sea.spectrum = sc->spectrum ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
+    w->sea_state = sea.state;
+    if (!(w->motion = sim_ship_motion_create(&sc->ship, &sea, (uint64_t)o->seed + 1u, err)))
+        goto fail;
+    if (!(w->fl = sim_flight_create(w->ac, &sc->ship, &fo, sim_ship_motion_frame_fn, w->motion, w->fld, c->log, err)))
+        goto fail;
+    return 0;
+fail:
+    world_free(w);
+    return -1;
+}
+
+static void loop_world(const fly_world *w, sim_loop_world *lw)
+{
+    memset(lw, 0, sizeof *lw);
+    lw->flight = w->fl;
+    lw->motion = w->motion;
+    snprintf(lw->scenario, sizeof lw->scenario, "%s", w->sc->name);
+}
+
+/* sim_loop's build: a new world, the old one freed only once it stands. */
+static int loop_build(void *user, const char *path, sim_loop_world *lw, core_err *err)
+{
+    fly_ctx *c = user;
+    fly_world nw;
+    if (world_build(c, path, &nw, err) != 0)
+        return -1;
+    world_free(&c->w);
+    c->w = nw;
+    loop_world(&c->w, lw);
+    return 0;
+}
+
 int cmd_fly(int argc, char **argv)
 {
     fly_args o;
@@ -153,59 +304,26 @@ int cmd_fly(int argc, char **argv)
     int tty = isatty(2);
     app_log al = {"fly", tty};
     core_log log = {app_log_stderr, &al, CORE_LOG_WARN};
-    sim_scenario *sc = calloc(1, sizeof *sc);
-    hfm_aircraft *ac = NULL;
-    awdb *db = NULL;
-    cfd_field *fld = NULL, *later = NULL;
-    sim_flight *fl = NULL;
-    sim_ship_motion *motion = NULL;
-    sim_pacer *pc = NULL;
+    fly_ctx ctx = {&o, &log, NULL, {0}};
+    sim_loop *loop = NULL;
     FILE *csv = NULL;
     char tmp[1100] = "";
     rc = 1;
-    if (!sc || sim_scenario_load(o.scen, sc, &err) != 0)
+    if (world_build(&ctx, o.scen, &ctx.w, &err) != 0)
         goto fail;
-    if (!(ac = hfm_aircraft_load(sc->aircraft_path, &log, &err)))
-        goto fail;
-    double speed = isnan(o.speed_kt) ? sc->wod_speed_mps : o.speed_kt * CORE_KT_TO_MPS;
-    double dir = isnan(o.dir_deg) ? sc->wod_dir_rad : core_wod_wrap_deg(o.dir_deg) * CORE_DEG_TO_RAD;
-    if (sc->wod_mode == SIM_WOD_SWEEP && (isnan(o.speed_kt) || isnan(o.dir_deg))) {
-        core_err_set(&err, -1, "%s: a WOD sweep: give the flight's --wod-speed-kt and --wod-dir-deg",
-                     o.scen);
-        goto fail;
-    }
-    int waiting = 0; /* the database's field requested, not ready yet */
-    if (o.field) {
-        if (!(fld = cfd_field_load(o.field, &err)))
-            goto fail;
-    } else if (speed > 0.0) {
-        if (core_mkdir_p(o.db, &err) != 0 || !(db = awdb_open(o.db, &log, &err)))
-            goto fail;
-        int got = db_field(db, sc, dir, &fld, &err);
-        if (got < 0)
-            goto fail;
-        waiting = got == 0;
-    }
-    sim_flight_opts fo;
-    sim_flight_opts_default(&fo);
-    fo.rate_hz = o.rate_hz;
-    fo.wod_speed_mps = speed;
-    fo.wod_dir_rad = dir;
-    /* the flags, else the scenario's [sea] and [wod] turbulence */
-    fo.turbulence = o.turbulence >= 0 ? o.turbulence : sc->turbulence;
-    fo.seed = (unsigned long long)o.seed;
-    fo.ship_speed_mps = isnan(o.ship_speed_kt) ? sc->ship_speed_mps : o.ship_speed_kt * CORE_KT_TO_MPS;
-    memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
-    /* the ship in a seaway (its own seed stream: the turbulence's + 1) */
-    sim_sea sea;
-    sim_sea_default(&sea);
-    sea.state = o.sea_state >= 0 ? o.sea_state : sc->sea_state;
-    sea.ship_speed_mps = fo.ship_speed_mps;
-    sea.wave_dir_rad = isnan(o.wave_dir_deg) ? sc->wave_dir_rad : core_wod_wrap_deg(o.wave_dir_deg) * CORE_DEG_TO_RAD;
-    sea.spectrum = sc->spectrum ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
-    if (!(motion = sim_ship_motion_create(&sc->ship, &sea, (uint64_t)o.seed + 1u, &err)))
-        goto fail;
-    if (!(fl = sim_flight_create(ac, &sc->ship, &fo, sim_ship_motion_frame_fn, motion, fld, &log, &err)))
+    sim_loop_opts lo;
+    sim_loop_opts_default(&lo);
+    lo.rate_hz = o.rate_hz;
+    lo.realtime = o.realtime;
+    lo.duration_s = o.duration_s;
+    lo.state_rate_hz = o.state_rate_hz;
+    lo.lcm = o.lcm >= 0 ? o.lcm : o.realtime;
+    lo.lcm_url = o.lcm_url;
+    lo.log_path = o.log;
+    lo.replay_path = o.replay;
+    lo.scenario_path = o.scen;
+    lo.pilots.hold_after_s = o.hold_after_s;
+    if (o.stations && sim_pilots_opts_parse(&lo.pilots, o.stations, &err) != 0)
         goto fail;
     if (o.csv) {
         snprintf(tmp, sizeof tmp, "%s.tmp%ld", o.csv, (long)getpid());
@@ -216,51 +334,64 @@ int cmd_fly(int argc, char **argv)
         fprintf(csv, "t_s,x_S_m,y_S_m,z_S_m,roll_deg,pitch_deg,yaw_deg,u_S_mps,v_S_mps,w_S_mps,x_E_m,y_E_m,z_E_m,"
                      "collective_pct,long_pct,lat_pct,pedal_pct,air_flags\n");
     }
-    if (!(pc = sim_pacer_create(o.rate_hz, o.realtime, &err)))
+    sim_loop_world lw;
+    loop_world(&ctx.w, &lw);
+    if (!(loop = sim_loop_create(&lo, &lw, loop_build, &ctx, &log, &err)))
         goto fail;
-    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, %s, %s, %.0f Hz, %.0f s\n", sc->ship.name,
-            hfm_aircraft_name(ac), speed / CORE_KT_TO_MPS, dir * CORE_RAD_TO_DEG, sea.state,
-            fld ? "airwake field" : waiting ? "free stream until the airwake field is built" : "free stream",
-            o.realtime ? "real time" : "as fast as it can", o.rate_hz, o.duration_s);
+    {
+        const fly_world *w = &ctx.w;
+        fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, %s, %s, %.0f Hz, %.0f s%s%s%s%s\n",
+                w->sc->ship.name, hfm_aircraft_name(w->ac), w->speed_mps / CORE_KT_TO_MPS, w->dir_rad * CORE_RAD_TO_DEG,
+                w->sea_state, w->fld ? "airwake field" : w->waiting ? "free stream until the airwake field is built" : "free stream",
+                o.realtime ? "real time" : "as fast as it can", o.rate_hz, o.duration_s, lo.lcm ? ", LCM " : "",
+                lo.lcm ? (o.lcm_url ? o.lcm_url : "(default URL)") : "", o.replay ? ", inputs from " : "",
+                o.replay ? o.replay : "");
+    }
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
-    sim_flight_inputs in;
-    sim_flight_trim_inputs(fl, &in);
-    long nsteps = (long)llround(o.duration_s * o.rate_hz);
     long csv_every = (long)fmax(1.0, llround(o.rate_hz / o.csv_rate_hz));
     long poll_every = (long)llround(o.rate_hz); /* the database, once a simulated second */
     sim_flight_out out;
-    sim_flight_state(fl, &out);
+    sim_flight_state(ctx.w.fl, &out);
     if (csv && csv_row(csv, &out) != 0)
         goto write_fail;
-    for (long i = 0; i < nsteps && !fly_stop; i++) {
-        if (sim_flight_step(fl, &in, &out, &err) != 0)
+    long n_stepped = 0;
+    while (!fly_stop) {
+        int r = sim_loop_iterate(loop, &out, &err);
+        if (r < 0)
             goto fail;
-        if (csv && (i + 1) % csv_every == 0 && csv_row(csv, &out) != 0)
+        if (r == SIM_LOOP_DONE)
+            break;
+        if (r != SIM_LOOP_STEPPED)
+            continue;
+        n_stepped++;
+        if (csv && out.step % csv_every == 0 && csv_row(csv, &out) != 0)
             goto write_fail;
-        if (waiting && (i + 1) % poll_every == 0) {
-            int got = db_field(db, sc, dir, &later, &err);
+        fly_world *w = &ctx.w; /* the running world (a load may have replaced it) */
+        if (w->waiting && out.step % poll_every == 0) {
+            int got = db_field(ctx.db, w->sc, w->dir_rad, &w->later, &err);
             if (got < 0)
                 goto fail;
             if (got > 0) {
-                if (sim_flight_set_field(fl, later, &err) != 0)
+                if (sim_flight_set_field(w->fl, w->later, &err) != 0)
                     goto fail;
-                waiting = 0;
+                w->waiting = 0;
                 fprintf(stderr, "%sfly: the airwake field is ready at t = %.1f s: blended in\n", tty ? "\r\033[K" : "",
                         out.t_s);
             }
         }
-        sim_pacer_wait(pc);
-        if (tty && (i + 1) % poll_every == 0) {
-            sim_pacer_report ps;
-            sim_pacer_stats(pc, &ps);
+        if (tty && n_stepped % poll_every == 0) {
+            sim_loop_report lr;
+            sim_loop_report_get(loop, &lr);
             fprintf(stderr, "\r\033[Kfly: t %.0f s  x %.2f y %.2f z %.2f m (S)  roll %.1f pitch %.1f deg  %.1fx real time  "
-                            "%ld overruns%s",
+                            "%ld overruns%s%s",
                     out.t_s, out.pos_S_m[0], out.pos_S_m[1], out.pos_S_m[2], out.euler_E_rad[0] * CORE_RAD_TO_DEG,
-                    out.euler_E_rad[1] * CORE_RAD_TO_DEG, ps.realtime_factor, ps.overruns,
-                    out.air_flags & SIM_AIR_FREE_STREAM ? "  free stream" : "");
+                    out.euler_E_rad[1] * CORE_RAD_TO_DEG, lr.pace.realtime_factor, lr.pace.overruns,
+                    out.air_flags & SIM_AIR_FREE_STREAM ? "  free stream" : "", lr.held && lo.lcm ? "  input held" : "");
         }
     }
+    if (sim_loop_finish(loop, &err) != 0)
+        goto fail;
     if (csv) {
         if (fflush(csv) != 0 || ferror(csv) || fsync(fileno(csv)) != 0) {
             fclose(csv);
@@ -273,13 +404,28 @@ int cmd_fly(int argc, char **argv)
             goto write_fail;
         tmp[0] = '\0';
     }
-    sim_pacer_report ps;
-    sim_pacer_stats(pc, &ps);
+    sim_loop_report lr;
+    sim_loop_report_get(loop, &lr);
+    const sim_pacer_report *ps = &lr.pace;
     fprintf(stderr, "%sfly: %.2f s flown in %.2f s (%.1fx real time), %ld steps, %ld overruns, step p50 %.0f us p99 %.0f "
                     "us max %.0f us; ends at (%.2f, %.2f, %.2f) m in S%s\n",
-            tty ? "\r\033[K" : "", out.t_s, ps.wall_s, ps.realtime_factor, ps.steps, ps.overruns, 1e6 * ps.step_p50_s,
-            1e6 * ps.step_p99_s, 1e6 * ps.step_max_s, out.pos_S_m[0], out.pos_S_m[1], out.pos_S_m[2],
-            fly_stop ? " (stopped)" : "");
+            tty ? "\r\033[K" : "", lr.run_s, ps->wall_s, ps->realtime_factor, n_stepped, ps->overruns,
+            1e6 * ps->step_p50_s, 1e6 * ps->step_p99_s, 1e6 * ps->step_max_s, out.pos_S_m[0], out.pos_S_m[1],
+            out.pos_S_m[2], fly_stop ? " (stopped)" : "");
+    if (lo.lcm || o.log || o.replay) {
+        const sim_pilots *pl = sim_loop_pilots(loop);
+        fprintf(stderr, "fly: LCM %lld sent, %lld received, %lld logged, %lld controls refused", lr.sent, lr.received,
+                lr.logged, lr.control_refused);
+        for (int i = 0; i < sim_pilots_count(pl); i++) {
+            sim_pilot_station st;
+            sim_pilots_station(pl, i, &st);
+            fprintf(stderr, "; station %s: %lld taken, %lld refused, %lld missing", st.id, st.received, st.refused,
+                    st.gaps);
+        }
+        if (sim_pilots_refused_unknown(pl))
+            fprintf(stderr, "; %lld refused from no readable station", sim_pilots_refused_unknown(pl));
+        fprintf(stderr, "%s%s\n", lr.message[0] ? "; last refusal: " : "", lr.message);
+    }
     rc = 0;
     goto done;
 write_fail:
@@ -291,13 +437,8 @@ done:
         fclose(csv);
     if (tmp[0])
         unlink(tmp);
-    sim_pacer_destroy(pc);
-    sim_flight_destroy(fl);
-    sim_ship_motion_destroy(motion);
-    cfd_field_destroy(later);
-    cfd_field_destroy(fld);
-    awdb_close(db);
-    hfm_aircraft_destroy(ac);
-    free(sc);
+    sim_loop_destroy(loop);
+    world_free(&ctx.w);
+    awdb_close(ctx.db);
     return rc;
 }

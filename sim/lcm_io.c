@@ -1,0 +1,807 @@
+/* lcm_io.c -- the flight loop's LCM side: pilot stations, sim control,
+ * published states and the event log, all around the deterministic step
+ * (sim/flight.c), never inside it.
+ *
+ * Model. The loop runs on a run clock: k steps of 1 / rate_hz since it
+ * started, which pauses do not advance and resets do not set back. One
+ * pass of sim_loop_iterate at run step k
+ *   1. takes what was received since the last pass (or, replaying, the
+ *      logged DISIM_PILOT_INPUT and DISIM_SIM_CONTROL events of run steps
+ *      <= k): each pilot_input_t is offered to the stations' rules at run
+ *      time k / rate_hz, each sim_control_t queued;
+ *   2. carries out the controls in the order received (pause, resume,
+ *      reset, load scenario);
+ *   3. unless paused, takes the step's inputs from the rules and steps the
+ *      flight (run step k + 1), then publishes heli_state_t and
+ *      ship_state_t every rate_hz / state_rate_hz steps;
+ *   4. publishes sim_status_t every status_period_s of wall time and at
+ *      once when the state, the flags, the active station or a refusal
+ *      change; then waits for the deadline (sim_pacer) in real time.
+ * The stations' rules see only the messages and the run clock, so the
+ * same messages at the same run steps give the same inputs, and with them
+ * the same trajectory, in real time or as fast as it can (lockstep).
+ *
+ * The log is LCM's event-log format (lcm/eventlog.h, as lcm-logger writes
+ * it: lcm-logplayer, lcm-spy and lcm_eventlog_read_next_event read it),
+ * every message sent and received in the order of the loop. An event's
+ * timestamp is the run clock in microseconds (llround(k * 1e6 / rate_hz)),
+ * not the wall clock, so that lcm-logplayer plays it at simulated speed
+ * and a replay applies each received message at the run step it was
+ * taken at (the replay must use the logged run's --rate-hz). Messages
+ * carry utime = the flight's simulation time and seq.
+ *
+ * A received buffer goes through disim_lcm_check_raw before lcm-gen's
+ * decoder sees it (lcm 1.3.1 decodes strings without checking their NUL),
+ * then through disim_lcm_check_pilot_input / _sim_control (NaN, range):
+ * lcm_types/lcm_types.c. The stations' rules are in sim.h.
+ *
+ * References: LCM, Huang, Olson and Moore, "LCM: Lightweight
+ * Communications and Marshalling", IROS 2010; the log format:
+ * lcm-proj.github.io/lcm/content/log-file-format.html.
+ */
+#include "sim.h"
+#include "disim_lcm.h"
+
+#include <lcm/eventlog.h>
+#include <lcm/lcm.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+/* ------------------------------------------------------- station rules */
+typedef struct station {
+    sim_pilot_station s;
+    int prio;          /* lower flies first */
+    double in[4];      /* the last controls taken */
+} station;
+
+struct sim_pilots {
+    sim_pilots_opts o;
+    station st[SIM_PILOTS_MAX];
+    int n, active, locked, next_order;
+    long long refused_unknown;
+};
+
+void sim_pilots_opts_default(sim_pilots_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->hold_after_s = 0.5;
+}
+
+int sim_pilots_opts_parse(sim_pilots_opts *o, const char *list, core_err *err)
+{
+    o->n_priority = 0;
+    const char *p = list;
+    while (1) {
+        const char *e = strchr(p, ',');
+        size_t len = e ? (size_t)(e - p) : strlen(p);
+        if (len == 0 || len >= SIM_STATION_ID_MAX)
+            return core_err_set(err, -1, "--stations '%s': expected ids of 1 to %d characters, comma-separated", list,
+                                SIM_STATION_ID_MAX - 1);
+        if (o->n_priority == SIM_PILOTS_MAX)
+            return core_err_set(err, -1, "--stations '%s': at most %d stations", list, SIM_PILOTS_MAX);
+        memcpy(o->priority[o->n_priority], p, len);
+        o->priority[o->n_priority][len] = '\0';
+        for (int i = 0; i < o->n_priority; i++)
+            if (!strcmp(o->priority[i], o->priority[o->n_priority]))
+                return core_err_set(err, -1, "--stations '%s': '%s' appears twice", list, o->priority[i]);
+        o->n_priority++;
+        if (!e)
+            return 0;
+        p = e + 1;
+    }
+}
+
+sim_pilots *sim_pilots_create(const sim_pilots_opts *o, core_err *err)
+{
+    if (!(o->hold_after_s > 0.0 && o->hold_after_s <= 60.0)) {
+        core_err_set(err, -1, "pilot stations: hold after %g s: expected more than 0 and at most 60 s", o->hold_after_s);
+        return NULL;
+    }
+    sim_pilots *p = calloc(1, sizeof *p);
+    if (!p) {
+        core_err_set(err, -1, "pilot stations: out of memory");
+        return NULL;
+    }
+    p->o = *o;
+    p->active = -1;
+    /* the listed stations exist from the start, in the list's order */
+    for (int i = 0; i < o->n_priority; i++) {
+        station *s = &p->st[p->n++];
+        snprintf(s->s.id, sizeof s->s.id, "%s", o->priority[i]);
+        s->s.last_seq = -1;
+        s->s.heard_t_s = -1.0;
+        s->prio = i;
+    }
+    return p;
+}
+
+void sim_pilots_destroy(sim_pilots *p) { free(p); }
+
+static int find_station(sim_pilots *p, const char *id, int add)
+{
+    for (int i = 0; i < p->n; i++)
+        if (!strcmp(p->st[i].s.id, id))
+            return i;
+    if (!add || p->n == SIM_PILOTS_MAX || p->o.n_priority > 0 || strlen(id) >= SIM_STATION_ID_MAX)
+        return -1;
+    station *s = &p->st[p->n];
+    memset(s, 0, sizeof *s);
+    snprintf(s->s.id, sizeof s->s.id, "%s", id);
+    s->s.last_seq = -1;
+    s->s.heard_t_s = -1.0;
+    s->prio = SIM_PILOTS_MAX + 1; /* set at its first message taken */
+    return p->n++;
+}
+
+/* The station id of a buffer that failed the raw check, where its bytes
+ * up to the id are whole: fingerprint (8), utime (8), then the string. */
+static int peek_id(const unsigned char *b, int size, char *id)
+{
+    if (size < 20 || !b)
+        return -1;
+    int64_t hash = __disim_pilot_input_t_get_hash();
+    for (int i = 0; i < 8; i++)
+        if (b[i] != (unsigned char)((uint64_t)hash >> (56 - 8 * i)))
+            return -1;
+    int32_t len = (int32_t)((uint32_t)b[16] << 24 | (uint32_t)b[17] << 16 | (uint32_t)b[18] << 8 | b[19]);
+    if (len < 2 || len > SIM_STATION_ID_MAX || len > size - 20 || b[20 + len - 1] != 0)
+        return -1;
+    memcpy(id, b + 20, (size_t)len);
+    return strlen(id) > 0 ? 0 : -1;
+}
+
+static int live(const sim_pilots *p, int i, double t_s)
+{
+    const station *s = &p->st[i];
+    return s->s.heard_t_s >= 0.0 && t_s - s->s.heard_t_s <= p->o.hold_after_s + 1e-9;
+}
+
+static int refuse(sim_pilots *p, int i, char *why, size_t n, const char *fmt, const char *arg)
+{
+    if (i >= 0)
+        p->st[i].s.refused++;
+    else
+        p->refused_unknown++;
+    if (why)
+        snprintf(why, n, fmt, arg);
+    return 1;
+}
+
+int sim_pilots_offer(sim_pilots *p, const void *buf, int size, double t_s, char *why, size_t n)
+{
+    char e[256], id[SIM_STATION_ID_MAX + 1] = "";
+    if (disim_lcm_check_raw("pilot_input_t", buf, size, e, sizeof e) != 0) {
+        int i = peek_id(buf, size, id) == 0 ? find_station(p, id, 1) : -1;
+        return refuse(p, i, why, n, "%s", e);
+    }
+    disim_pilot_input_t m;
+    memset(&m, 0, sizeof m);
+    if (disim_pilot_input_t_decode(buf, 0, size, &m) != size) {
+        disim_pilot_input_t_decode_cleanup(&m);
+        return refuse(p, -1, why, n, "%s", "pilot_input_t: not decoded");
+    }
+    int rc = 1;
+    int listed = find_station(p, m.station_id, 0) >= 0;
+    int i = find_station(p, m.station_id, 1);
+    if (disim_lcm_check_pilot_input(&m, e, sizeof e) != 0)
+        rc = refuse(p, i, why, n, "%s", e);
+    else if (i < 0 && p->o.n_priority > 0 && !listed)
+        rc = refuse(p, -1, why, n, "pilot_input_t from '%s': not on the station list", m.station_id);
+    else if (i < 0)
+        rc = refuse(p, -1, why, n, "pilot_input_t from '%s': too many stations", m.station_id);
+    else {
+        station *s = &p->st[i];
+        if (s->s.last_seq >= 0 && m.seq <= s->s.last_seq && live(p, i, t_s))
+            rc = refuse(p, i, why, n, "pilot_input_t from '%s': seq not above the last (stale)", s->s.id);
+        else {
+            /* a seq at or below the last after a silence: the station
+             * restarted; its count starts again there */
+            if (s->s.last_seq >= 0 && m.seq > s->s.last_seq + 1)
+                s->s.gaps += m.seq - s->s.last_seq - 1;
+            if (s->s.received == 0 && p->o.n_priority == 0)
+                s->prio = p->next_order++;
+            s->s.last_seq = m.seq;
+            s->s.heard_t_s = t_s;
+            s->s.received++;
+            s->in[0] = m.collective_pct;
+            s->in[1] = m.long_cyclic_pct;
+            s->in[2] = m.lat_cyclic_pct;
+            s->in[3] = m.pedal_pct;
+            if (m.take_over) {
+                p->active = i;
+                p->locked = 1;
+            }
+            rc = 0;
+        }
+    }
+    disim_pilot_input_t_decode_cleanup(&m);
+    return rc;
+}
+
+int sim_pilots_inputs(sim_pilots *p, double t_s, sim_flight_inputs *in)
+{
+    memset(in, 0, sizeof *in);
+    if (p->locked && (p->active < 0 || !live(p, p->active, t_s)))
+        p->locked = 0;
+    if (!p->locked) {
+        int best = -1;
+        for (int i = 0; i < p->n; i++)
+            if (live(p, i, t_s) && (best < 0 || p->st[i].prio < p->st[best].prio))
+                best = i;
+        if (best >= 0 && (p->active < 0 || p->st[best].prio < p->st[p->active].prio))
+            p->active = best;
+    }
+    if (p->active >= 0 && live(p, p->active, t_s)) {
+        const station *s = &p->st[p->active];
+        in->collective_pct = s->in[0];
+        in->long_pct = s->in[1];
+        in->lat_pct = s->in[2];
+        in->pedal_pct = s->in[3];
+        return 0;
+    }
+    in->hold = 1;
+    return 1;
+}
+
+int sim_pilots_count(const sim_pilots *p) { return p->n; }
+void sim_pilots_station(const sim_pilots *p, int i, sim_pilot_station *s) { *s = p->st[i].s; }
+int sim_pilots_active(const sim_pilots *p) { return p->active; }
+long long sim_pilots_refused_unknown(const sim_pilots *p) { return p->refused_unknown; }
+
+/* ---------------------------------------------------------------- loop */
+#define LOOP_CTL_MAX 64
+#define LOOP_BUF 16384
+
+typedef struct ctl {
+    int command;
+    char path[SIM_PATH_MAX];
+} ctl;
+
+struct sim_loop {
+    sim_loop_opts o;
+    sim_loop_world w;
+    sim_loop_build_fn build;
+    void *user;
+    const core_log *log;
+    char scenario_path[SIM_PATH_MAX];
+    char log_path[SIM_PATH_MAX + 32], log_tmp[SIM_PATH_MAX + 64], replay_path[SIM_PATH_MAX];
+    lcm_t *lc;
+    lcm_subscription_t *sub_pilot, *sub_ctl;
+    lcm_eventlog_t *elog;
+    lcm_eventlog_t *replay;
+    lcm_eventlog_event_t *pending; /* the next replayed event, not yet due */
+    int replay_done;
+    sim_pilots *pilots;
+    sim_pacer *pacer;
+    long prior_overruns;
+    long long run_step, nsteps, state_every;
+    int paused, held;
+    unsigned flags, last_flags;
+    int last_active, last_paused, dirty;
+    ctl q[LOOP_CTL_MAX];
+    int nq;
+    long long seq_heli, seq_ship, seq_status;
+    long long sent, received, logged, control_refused;
+    char message[256];
+    double status_wall_s;
+    sim_flight_out out;
+    int fatal;
+    core_err ferr;
+    unsigned char buf[LOOP_BUF];
+};
+
+void sim_loop_opts_default(sim_loop_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->rate_hz = 200.0;
+    o->realtime = 1;
+    o->duration_s = 60.0;
+    o->state_rate_hz = 50.0;
+    o->status_period_s = 1.0;
+    sim_pilots_opts_default(&o->pilots);
+}
+
+static double wall_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static int64_t run_us(const sim_loop *l) { return (int64_t)llround((double)l->run_step * 1e6 / l->o.rate_hz); }
+static double run_t(const sim_loop *l) { return (double)l->run_step / l->o.rate_hz; }
+
+/* One event into the log; a failure is fatal and kept for the caller. */
+static void log_event(sim_loop *l, const char *channel, const void *data, int size)
+{
+    if (!l->elog || l->fatal)
+        return;
+    lcm_eventlog_event_t ev;
+    memset(&ev, 0, sizeof ev);
+    ev.timestamp = run_us(l);
+    ev.channellen = (int32_t)strlen(channel);
+    ev.datalen = size;
+    ev.channel = (char *)channel;
+    ev.data = (void *)data;
+    if (lcm_eventlog_write_event(l->elog, &ev) != 0 || ferror(l->elog->f)) {
+        l->fatal = 1;
+        core_err_set(&l->ferr, -1, "%s: cannot write the LCM log", l->log_tmp);
+        return;
+    }
+    l->logged++;
+}
+
+static void send_buf(sim_loop *l, const char *channel, const void *data, int size)
+{
+    if (l->lc) {
+        if (lcm_publish(l->lc, channel, data, (unsigned)size) != 0 && !l->fatal) {
+            l->fatal = 1;
+            core_err_set(&l->ferr, -1, "LCM: cannot publish on %s", channel);
+        }
+        l->sent++;
+    }
+    log_event(l, channel, data, size);
+}
+
+#define SEND(l, T, chan, msg)                                                                                       \
+    do {                                                                                                            \
+        int n_ = disim_##T##_encoded_size(msg);                                                                     \
+        if (n_ > LOOP_BUF || disim_##T##_encode((l)->buf, 0, n_, msg) != n_) {                                      \
+            if (!(l)->fatal)                                                                                        \
+                core_err_set(&(l)->ferr, -1, "LCM: cannot encode %s", #T);                                          \
+            (l)->fatal = 1;                                                                                         \
+        } else                                                                                                      \
+            send_buf(l, chan, (l)->buf, n_);                                                                        \
+    } while (0)
+
+/* ---- received: taken by the rules and the control queue */
+static void got_pilot(sim_loop *l, const void *data, int size)
+{
+    l->received++;
+    char why[256];
+    if (sim_pilots_offer(l->pilots, data, size, run_t(l), why, sizeof why) != 0)
+        core_log_msg(l->log, CORE_LOG_DEBUG, "refused: %s", why);
+}
+
+static void refuse_ctl(sim_loop *l, const char *why)
+{
+    l->control_refused++;
+    snprintf(l->message, sizeof l->message, "%s", why);
+    l->dirty = 1;
+    core_log_msg(l->log, CORE_LOG_WARN, "sim control refused: %s", why);
+}
+
+static void got_ctl(sim_loop *l, const void *data, int size)
+{
+    l->received++;
+    char e[256];
+    if (disim_lcm_check_raw("sim_control_t", data, size, e, sizeof e) != 0) {
+        refuse_ctl(l, e);
+        return;
+    }
+    disim_sim_control_t m;
+    memset(&m, 0, sizeof m);
+    if (disim_sim_control_t_decode(data, 0, size, &m) != size)
+        refuse_ctl(l, "sim_control_t: not decoded");
+    else if (disim_lcm_check_sim_control(&m, e, sizeof e) != 0)
+        refuse_ctl(l, e);
+    else if (l->nq == LOOP_CTL_MAX)
+        refuse_ctl(l, "sim_control_t: too many controls at once");
+    else if (strlen(m.scenario_path) >= SIM_PATH_MAX)
+        refuse_ctl(l, "sim_control_t.scenario_path: too long");
+    else {
+        ctl *c = &l->q[l->nq++];
+        c->command = m.command;
+        snprintf(c->path, sizeof c->path, "%s", m.scenario_path);
+    }
+    disim_sim_control_t_decode_cleanup(&m);
+}
+
+static void on_raw(const lcm_recv_buf_t *rb, const char *channel, void *user)
+{
+    sim_loop *l = user;
+    log_event(l, channel, rb->data, (int)rb->data_size);
+    if (!strcmp(channel, DISIM_CH_PILOT_INPUT))
+        got_pilot(l, rb->data, (int)rb->data_size);
+    else
+        got_ctl(l, rb->data, (int)rb->data_size);
+}
+
+/* The replayed log's events due at this run step (and earlier). */
+static int replay_feed(sim_loop *l)
+{
+    int fed = 0;
+    while (!l->replay_done) {
+        if (!l->pending && !(l->pending = lcm_eventlog_read_next_event(l->replay))) {
+            l->replay_done = 1;
+            break;
+        }
+        lcm_eventlog_event_t *ev = l->pending;
+        long long step = llround((double)ev->timestamp * l->o.rate_hz / 1e6);
+        if (step > l->run_step)
+            break;
+        int pilot = !strcmp(ev->channel, DISIM_CH_PILOT_INPUT), control = !strcmp(ev->channel, DISIM_CH_SIM_CONTROL);
+        if (pilot || control) {
+            log_event(l, ev->channel, ev->data, ev->datalen);
+            if (pilot)
+                got_pilot(l, ev->data, ev->datalen);
+            else
+                got_ctl(l, ev->data, ev->datalen);
+            fed++;
+        }
+        lcm_eventlog_free_event(ev);
+        l->pending = NULL;
+    }
+    return fed;
+}
+
+/* Take what arrived; wait up to timeout_ms for the first message. */
+static void take_received(sim_loop *l, int timeout_ms)
+{
+    int fed = l->replay ? replay_feed(l) : 0;
+    if (!l->lc)
+        return;
+    int wait = fed || (l->replay && !l->replay_done && l->paused) ? 0 : timeout_ms;
+    for (int i = 0; i < 1000; i++) {
+        if (lcm_handle_timeout(l->lc, i == 0 ? wait : 0) <= 0)
+            break;
+    }
+}
+
+/* ---- published */
+static void publish_states(sim_loop *l, const sim_flight_out *o)
+{
+    disim_heli_state_t h;
+    memset(&h, 0, sizeof h);
+    h.utime = (int64_t)llround(o->t_s * 1e6);
+    h.seq = l->seq_heli++;
+    for (int i = 0; i < 3; i++) {
+        h.pos_E_m[i] = o->pos_E_m[i];
+        h.vel_E_mps[i] = o->vel_E_mps[i];
+        h.pos_S_m[i] = o->pos_S_m[i];
+        h.vel_S_mps[i] = o->vel_S_mps[i];
+        h.rates_B_radps[i] = o->rate_B_radps[i];
+    }
+    core_euler e = {o->euler_E_rad[0], o->euler_E_rad[1], o->euler_E_rad[2]};
+    core_quat q = core_quat_from_euler(e);
+    h.quat_EB[0] = q.w, h.quat_EB[1] = q.x, h.quat_EB[2] = q.y, h.quat_EB[3] = q.z;
+    h.roll_rad = e.phi_rad, h.pitch_rad = e.theta_rad, h.yaw_rad = e.psi_rad;
+    h.collective_pct = o->collective_pct;
+    h.long_cyclic_pct = o->long_pct;
+    h.lat_cyclic_pct = o->lat_pct;
+    h.pedal_pct = o->pedal_pct;
+    /* rotor thrust and power, deck contact and the gear: not in the
+     * step's outputs yet (0, no gear) */
+    SEND(l, heli_state_t, DISIM_CH_HELI_STATE, &h);
+
+    disim_ship_state_t s;
+    memset(&s, 0, sizeof s);
+    s.utime = h.utime;
+    s.seq = l->seq_ship++;
+    const sim_ship_frame *fr = &o->ship;
+    sim_ship_state ss;
+    sim_ship_point sp;
+    core_vec3 spot = {0.0, 0.0, 0.0}; /* the landing spot: S's origin */
+    if (l->w.motion && sim_ship_motion_at(l->w.motion, o->t_s, &ss) == 0 &&
+        sim_ship_motion_point(l->w.motion, o->t_s, spot, &sp) == 0) {
+        s.pos_E_m[0] = ss.pose.pos_E_m.x, s.pos_E_m[1] = ss.pose.pos_E_m.y, s.pos_E_m[2] = ss.pose.pos_E_m.z;
+        s.vel_E_mps[0] = ss.vel_E_mps.x, s.vel_E_mps[1] = ss.vel_E_mps.y, s.vel_E_mps[2] = ss.vel_E_mps.z;
+        s.quat_ES[0] = ss.pose.q_EF.w, s.quat_ES[1] = ss.pose.q_EF.x;
+        s.quat_ES[2] = ss.pose.q_EF.y, s.quat_ES[3] = ss.pose.q_EF.z;
+        s.roll_rad = ss.att.phi_rad, s.pitch_rad = ss.att.theta_rad, s.yaw_rad = ss.att.psi_rad;
+        s.rates_S_radps[0] = ss.omega_S_radps.x, s.rates_S_radps[1] = ss.omega_S_radps.y;
+        s.rates_S_radps[2] = ss.omega_S_radps.z;
+        s.spot_pos_E_m[0] = sp.pos_E_m.x, s.spot_pos_E_m[1] = sp.pos_E_m.y, s.spot_pos_E_m[2] = sp.pos_E_m.z;
+        s.spot_vel_E_mps[0] = sp.vel_E_mps.x, s.spot_vel_E_mps[1] = sp.vel_E_mps.y;
+        s.spot_vel_E_mps[2] = sp.vel_E_mps.z;
+        s.spot_acc_E_mps2[0] = sp.acc_E_mps2.x, s.spot_acc_E_mps2[1] = sp.acc_E_mps2.y;
+        s.spot_acc_E_mps2[2] = sp.acc_E_mps2.z;
+    } else {
+        /* the frame alone: its origin moving steadily, no rates */
+        const double *C = fr->C_ES;
+        core_euler a = {atan2(C[7], C[8]), asin(fmax(-1.0, fmin(1.0, -C[6]))), atan2(C[3], C[0])};
+        core_quat qs = core_quat_from_euler(a);
+        s.quat_ES[0] = qs.w, s.quat_ES[1] = qs.x, s.quat_ES[2] = qs.y, s.quat_ES[3] = qs.z;
+        s.roll_rad = a.phi_rad, s.pitch_rad = a.theta_rad, s.yaw_rad = a.psi_rad;
+        for (int i = 0; i < 3; i++) {
+            s.pos_E_m[i] = s.spot_pos_E_m[i] = fr->origin_E_m[i];
+            s.vel_E_mps[i] = s.spot_vel_E_mps[i] = fr->mean_vel_E_mps[i];
+        }
+    }
+    SEND(l, ship_state_t, DISIM_CH_SHIP_STATE, &s);
+}
+
+static void publish_status(sim_loop *l, int state)
+{
+    sim_loop_report r;
+    sim_loop_report_get(l, &r);
+    disim_sim_status_t m;
+    memset(&m, 0, sizeof m);
+    m.utime = (int64_t)llround(l->out.t_s * 1e6);
+    m.seq = l->seq_status++;
+    m.sim_time_s = l->out.t_s;
+    m.rate_hz = r.pace.rate_hz;
+    m.real_time_factor = r.pace.realtime_factor;
+    m.overruns = r.pace.overruns;
+    m.state = (int8_t)state;
+    m.scenario = l->w.scenario;
+    char *ids[SIM_PILOTS_MAX];
+    int64_t last[SIM_PILOTS_MAX], rec[SIM_PILOTS_MAX], refd[SIM_PILOTS_MAX], gaps[SIM_PILOTS_MAX];
+    sim_pilot_station st[SIM_PILOTS_MAX];
+    int n = sim_pilots_count(l->pilots);
+    for (int i = 0; i < n; i++) {
+        sim_pilots_station(l->pilots, i, &st[i]);
+        ids[i] = st[i].id;
+        last[i] = st[i].last_seq;
+        rec[i] = st[i].received;
+        refd[i] = st[i].refused;
+        gaps[i] = st[i].gaps;
+    }
+    m.n_stations = n;
+    m.station_ids = ids;
+    m.station_last_seq = last;
+    m.station_received = rec;
+    m.station_refused = refd;
+    m.station_gaps = gaps;
+    m.active_station = sim_pilots_active(l->pilots);
+    m.refused_unknown = sim_pilots_refused_unknown(l->pilots);
+    m.control_refused = l->control_refused;
+    m.flags = (int32_t)r.flags;
+    m.step_p50_s = r.pace.step_p50_s;
+    m.step_p99_s = r.pace.step_p99_s;
+    m.step_max_s = r.pace.step_max_s;
+    m.message = l->message;
+    SEND(l, sim_status_t, DISIM_CH_SIM_STATUS, &m);
+    l->status_wall_s = wall_s();
+    l->last_flags = r.flags;
+    l->last_active = m.active_station;
+    l->last_paused = l->paused;
+    l->dirty = 0;
+}
+
+static unsigned loop_flags(const sim_loop *l)
+{
+    unsigned f = 0;
+    if (l->held)
+        f |= DISIM_SIM_STATUS_T_FLAG_INPUT_HELD;
+    if (l->out.air_flags & SIM_AIR_FREE_STREAM)
+        f |= DISIM_SIM_STATUS_T_FLAG_FREE_STREAM;
+    if (l->out.air_flags & SIM_AIR_BLENDING)
+        f |= DISIM_SIM_STATUS_T_FLAG_FIELD_BLENDING;
+    if (l->paused)
+        f |= DISIM_SIM_STATUS_T_FLAG_PAUSED;
+    if (l->replay)
+        f |= DISIM_SIM_STATUS_T_FLAG_REPLAY;
+    return f;
+}
+
+static int new_pacer(sim_loop *l, core_err *err)
+{
+    if (l->pacer) {
+        sim_pacer_report r;
+        sim_pacer_stats(l->pacer, &r);
+        l->prior_overruns += r.overruns;
+        sim_pacer_destroy(l->pacer);
+    }
+    return (l->pacer = sim_pacer_create(l->o.rate_hz, l->o.realtime, err)) ? 0 : -1;
+}
+
+sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_loop_build_fn build, void *user,
+                          const core_log *log, core_err *err)
+{
+    if (!(o->rate_hz >= 1.0 && o->rate_hz <= 100000.0) || !(o->duration_s >= 0.0) ||
+        !(o->state_rate_hz > 0.0 && o->state_rate_hz <= o->rate_hz) || !(o->status_period_s > 0.0)) {
+        core_err_set(err, -1, "flight loop: rate %g Hz, duration %g s, state rate %g Hz, status every %g s: "
+                     "expected a rate of 1 to 100000 Hz, a duration >= 0, a state rate above 0 and at most the "
+                     "loop's, a status period above 0", o->rate_hz, o->duration_s, o->state_rate_hz,
+                     o->status_period_s);
+        return NULL;
+    }
+    if (!w || !w->flight || !build || !o->scenario_path || strlen(o->scenario_path) >= SIM_PATH_MAX ||
+        (o->log_path && strlen(o->log_path) >= SIM_PATH_MAX) ||
+        (o->replay_path && strlen(o->replay_path) >= SIM_PATH_MAX)) {
+        core_err_set(err, -1, "flight loop: expected a flight, a build function and paths under %d characters",
+                     SIM_PATH_MAX);
+        return NULL;
+    }
+    sim_loop *l = calloc(1, sizeof *l);
+    if (!l) {
+        core_err_set(err, -1, "flight loop: out of memory");
+        return NULL;
+    }
+    l->o = *o;
+    l->w = *w;
+    l->build = build;
+    l->user = user;
+    l->log = log;
+    l->last_active = -1;
+    snprintf(l->scenario_path, sizeof l->scenario_path, "%s", o->scenario_path);
+    l->o.scenario_path = l->scenario_path;
+    l->nsteps = llround(o->duration_s * o->rate_hz);
+    l->state_every = llround(o->rate_hz / o->state_rate_hz);
+    if (l->state_every < 1)
+        l->state_every = 1;
+    sim_flight_state(w->flight, &l->out);
+    if (!(l->pilots = sim_pilots_create(&o->pilots, err)))
+        goto fail;
+    if (o->replay_path) {
+        snprintf(l->replay_path, sizeof l->replay_path, "%s", o->replay_path);
+        l->o.replay_path = l->replay_path;
+        if (!(l->replay = lcm_eventlog_create(o->replay_path, "r"))) {
+            core_err_set(err, -1, "%s: cannot read the LCM log", o->replay_path);
+            goto fail;
+        }
+    }
+    if (o->log_path) {
+        snprintf(l->log_path, sizeof l->log_path, "%s", o->log_path);
+        l->o.log_path = l->log_path;
+        snprintf(l->log_tmp, sizeof l->log_tmp, "%s.tmp%ld", o->log_path, (long)getpid());
+        if (!(l->elog = lcm_eventlog_create(l->log_tmp, "w"))) {
+            core_err_set(err, -1, "%s: cannot write the LCM log", l->log_tmp);
+            goto fail;
+        }
+    }
+    if (o->lcm) {
+        if (!(l->lc = lcm_create(o->lcm_url))) {
+            core_err_set(err, -1, "LCM: cannot open '%s' (lcm_create failed)", o->lcm_url ? o->lcm_url : "the default URL");
+            goto fail;
+        }
+        l->o.lcm_url = NULL; /* the caller's string need not outlive create */
+        /* replaying, the log's inputs fly: live stations and controls are
+         * not listened to */
+        if (!l->replay) {
+            l->sub_pilot = lcm_subscribe(l->lc, DISIM_CH_PILOT_INPUT, on_raw, l);
+            l->sub_ctl = lcm_subscribe(l->lc, DISIM_CH_SIM_CONTROL, on_raw, l);
+            if (!l->sub_pilot || !l->sub_ctl) {
+                core_err_set(err, -1, "LCM: cannot subscribe");
+                goto fail;
+            }
+        }
+    }
+    if (new_pacer(l, err) != 0)
+        goto fail;
+    l->dirty = 1; /* the first status at once */
+    return l;
+fail:
+    sim_loop_destroy(l);
+    return NULL;
+}
+
+void sim_loop_destroy(sim_loop *l)
+{
+    if (!l)
+        return;
+    if (l->lc) {
+        if (l->sub_pilot)
+            lcm_unsubscribe(l->lc, l->sub_pilot);
+        if (l->sub_ctl)
+            lcm_unsubscribe(l->lc, l->sub_ctl);
+        lcm_destroy(l->lc);
+    }
+    if (l->elog) {
+        lcm_eventlog_destroy(l->elog);
+        unlink(l->log_tmp);
+    }
+    if (l->pending)
+        lcm_eventlog_free_event(l->pending);
+    if (l->replay)
+        lcm_eventlog_destroy(l->replay);
+    sim_pacer_destroy(l->pacer);
+    sim_pilots_destroy(l->pilots);
+    free(l);
+}
+
+static int do_controls(sim_loop *l, core_err *err)
+{
+    for (int i = 0; i < l->nq; i++) {
+        ctl *c = &l->q[i];
+        l->dirty = 1;
+        if (c->command == DISIM_SIM_CONTROL_T_PAUSE)
+            l->paused = 1;
+        else if (c->command == DISIM_SIM_CONTROL_T_RESUME) {
+            if (l->paused && new_pacer(l, err) != 0) /* deadlines from now, not from before the pause */
+                return -1;
+            l->paused = 0;
+        } else {
+            const char *path = c->command == DISIM_SIM_CONTROL_T_RESET ? l->scenario_path : c->path;
+            sim_loop_world w = {0};
+            core_err e = {{0}};
+            if (l->build(l->user, path, &w, &e) != 0 || !w.flight) {
+                char why[256];
+                snprintf(why, sizeof why, "%s refused: %.200s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "load",
+                         e.msg[0] ? e.msg : "no flight");
+                refuse_ctl(l, why);
+                continue;
+            }
+            l->w = w;
+            if (c->command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO)
+                snprintf(l->scenario_path, sizeof l->scenario_path, "%s", c->path);
+            sim_flight_state(l->w.flight, &l->out);
+            core_log_msg(l->log, CORE_LOG_INFO, "%s: %s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "loaded",
+                         l->scenario_path);
+        }
+        l->message[0] = '\0';
+    }
+    l->nq = 0;
+    return 0;
+}
+
+int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
+{
+    if (l->fatal)
+        return core_err_set(err, -1, "%s", l->ferr.msg);
+    if (!l->paused && l->run_step >= l->nsteps)
+        return SIM_LOOP_DONE;
+    take_received(l, l->paused ? 100 : 0);
+    if (do_controls(l, err) != 0)
+        return -1;
+    int rc = SIM_LOOP_PAUSED;
+    if (!l->paused) {
+        sim_flight_inputs in;
+        l->held = sim_pilots_inputs(l->pilots, run_t(l), &in);
+        if (sim_flight_step(l->w.flight, &in, &l->out, err) != 0)
+            return -1;
+        l->run_step++;
+        if ((l->lc || l->elog) && l->run_step % l->state_every == 0)
+            publish_states(l, &l->out);
+        rc = SIM_LOOP_STEPPED;
+        if (out)
+            *out = l->out;
+    }
+    if (l->lc || l->elog) {
+        unsigned f = loop_flags(l);
+        if (l->dirty || f != l->last_flags || sim_pilots_active(l->pilots) != l->last_active ||
+            wall_s() - l->status_wall_s >= l->o.status_period_s)
+            publish_status(l, l->paused ? DISIM_SIM_STATUS_T_PAUSED : DISIM_SIM_STATUS_T_RUNNING);
+    }
+    if (l->fatal)
+        return core_err_set(err, -1, "%s", l->ferr.msg);
+    if (rc == SIM_LOOP_STEPPED)
+        sim_pacer_wait(l->pacer);
+    return rc;
+}
+
+int sim_loop_finish(sim_loop *l, core_err *err)
+{
+    if (l->lc || l->elog)
+        publish_status(l, DISIM_SIM_STATUS_T_STOPPED);
+    if (l->lc) /* what arrived meanwhile, into the log */
+        take_received(l, 0);
+    if (l->fatal)
+        return core_err_set(err, -1, "%s", l->ferr.msg);
+    if (!l->elog)
+        return 0;
+    FILE *f = l->elog->f;
+    int bad = fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0;
+    lcm_eventlog_destroy(l->elog);
+    l->elog = NULL;
+    if (bad || rename(l->log_tmp, l->log_path) != 0) {
+        unlink(l->log_tmp);
+        return core_err_set(err, -1, "%s: cannot write the LCM log (nothing written)", l->log_path);
+    }
+    return 0;
+}
+
+void sim_loop_report_get(const sim_loop *l, sim_loop_report *r)
+{
+    memset(r, 0, sizeof *r);
+    sim_pacer_stats(l->pacer, &r->pace);
+    r->pace.overruns += l->prior_overruns;
+    r->run_s = run_t(l);
+    r->paused = l->paused;
+    r->held = l->held;
+    r->flags = loop_flags(l);
+    r->sent = l->sent;
+    r->received = l->received;
+    r->logged = l->logged;
+    r->control_refused = l->control_refused;
+    snprintf(r->scenario, sizeof r->scenario, "%s", l->w.scenario);
+    snprintf(r->message, sizeof r->message, "%s", l->message);
+}
+
+const sim_pilots *sim_loop_pilots(const sim_loop *l) { return l->pilots; }
+struct _lcm_t *sim_loop_lcm(sim_loop *l) { return l->lc; }
