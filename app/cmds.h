@@ -16,6 +16,7 @@ int cmd_validate(int argc, char **argv); /* cmd_airwake.c */
 int cmd_airwaked(int argc, char **argv); /* cmd_airwaked.c */
 int cmd_fly(int argc, char **argv);      /* cmd_fly.c */
 int cmd_shol(int argc, char **argv);     /* cmd_shol.c */
+int cmd_station(int argc, char **argv);  /* cmd_station.c */
 
 /* ------------------------------------------------------------ log (log.c) */
 /* The libraries' log on standard error: "PREFIX: LEVEL: message", the

@@ -35,6 +35,7 @@ static const struct {
 #ifdef DISIM_HAVE_SHOL_CMD
     {"shol", cmd_shol, "shol SCENARIO             candidate SHOL envelope (--grid, --coupling, -o DIR, --db DIR, --full-circle)"},
 #endif
+    {"station", cmd_station, "station                   pilot station: keyboard, evdev joystick or --script CSV on LCM (--device, --list, --id, --lcm)"},
 };
 
 static int cmd_help(int argc, char **argv)

@@ -531,6 +531,9 @@ typedef struct sim_station_view {
     int64_t my_received, my_refused, my_gaps; /* the loop's counts for this station (listed) */
     char message[256];      /* why the loop refused the last sim_control_t */
 } sim_station_view;
+/* 0 for an id the station may have, else -1 with err. */
+int sim_station_id_check(const char *id, core_err *err);
+/* NULL with err for a bad id or an LCM URL it cannot open. */
 sim_station *sim_station_create(const sim_station_opts *o, core_err *err);
 void sim_station_destroy(sim_station *st);
 /* The LCM descriptor to poll for received messages. */

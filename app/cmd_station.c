@@ -1,0 +1,316 @@
+/* cmd_station.c -- `disim station`: the reference pilot station. It reads
+ * the pilot's controls from a joystick or gamepad (evdev), the keyboard of
+ * a terminal or a script, publishes them as pilot_input_t on
+ * DISIM_PILOT_INPUT (sim_station_run: 50 Hz on absolute deadlines) and
+ * shows what the flight loop sends back. This file parses the flags, puts
+ * the terminal in raw mode for the keyboard (and gives it back on every
+ * way out: normal exit, SIGINT / SIGTERM / SIGHUP / SIGQUIT, and the fatal
+ * signals, whose handler restores it before the default action) and writes
+ * the display. */
+#include "cmds.h"
+#include "disim_lcm.h"
+#include "sim.h"
+
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <termios.h>
+#include <unistd.h>
+
+static volatile sig_atomic_t station_stop = 0;
+
+/* the terminal as it was, for the handlers (set before they are installed) */
+static struct termios tty_saved;
+static volatile sig_atomic_t tty_raw = 0, tty_display = 0;
+
+static void tty_restore(void)
+{
+    if (tty_raw) {
+        tcsetattr(STDIN_FILENO, TCSAFLUSH, &tty_saved);
+        tty_raw = 0;
+    }
+    if (tty_display) {
+        static const char show_cursor[] = "\033[?25h";
+        if (write(STDOUT_FILENO, show_cursor, sizeof show_cursor - 1) < 0) {
+            /* nothing more to do on the way out */
+        }
+        tty_display = 0;
+    }
+}
+
+static void on_stop_signal(int sig)
+{
+    (void)sig;
+    station_stop = 1;
+}
+
+/* A crash must not leave the user's terminal without echo: restore it
+ * (tcsetattr and write are async-signal-safe), then the default action. */
+static void on_fatal_signal(int sig)
+{
+    tty_restore();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+static void usage_station(FILE *f)
+{
+    fprintf(f,
+            "usage: disim station [--keyboard | --device /dev/input/eventN | --script FILE.csv]\n"
+            "                     [--id NAME] [--lcm URL] [--rate-hz N] [--duration S] [--step-pct P]\n"
+            "                     [--axis-collective AX] [--axis-long AX] [--axis-lat AX] [--axis-pedal AX]\n"
+            "                     [--take-over]\n"
+            "       disim station --list\n"
+            "  --keyboard   (the default) keys in this terminal: w/s collective, arrows cyclic,\n"
+            "               a/d pedal, space centres cyclic and pedal, t takes the controls over,\n"
+            "               q quits; --step-pct per press (2)\n"
+            "  --device     an evdev joystick or gamepad; AX is an axis name or number, ':invert'\n"
+            "               to reverse it; defaults: collective ABS_Y:invert, long ABS_RY, lat ABS_RX,\n"
+            "               pedal ABS_X (a common gamepad); BTN_TL / BTN_TR force-trim set / release,\n"
+            "               BTN_START (held) takes the controls over\n"
+            "  --script     rows time_s,collective,long,lat,pedal (percent), interpolated linearly,\n"
+            "               the last row held\n"
+            "  --list       the evdev devices and their axes\n"
+            "  publishes pilot_input_t on DISIM_PILOT_INPUT at --rate-hz (50); --lcm defaults to\n"
+            "  the LCM library's default URL; --duration ends it after S seconds; --take-over\n"
+            "  sets take_over in every message (this station flies, whoever was flying)\n");
+}
+
+static void list_one(void *user, const sim_station_devinfo *d)
+{
+    (void)user;
+    printf("%s  %s\n", d->path, d->error[0] ? d->error : d->name);
+    if (!d->error[0] && d->naxes == 0)
+        printf("    no absolute axes\n");
+    for (int i = 0; i < d->naxes; i++) {
+        char nb[32];
+        printf("    %-13s %3d  range %d to %d  flat %d  now %d\n",
+               sim_station_axis_name(d->axis[i].code, nb, sizeof nb), d->axis[i].code, d->axis[i].min,
+               d->axis[i].max, d->axis[i].flat, d->axis[i].value);
+    }
+}
+
+typedef struct show_ctx {
+    const char *source;
+    int tty;
+    char buf[4096];
+} show_ctx;
+
+static void show(void *user, const sim_station_view *v)
+{
+    show_ctx *s = user;
+    sim_station_format(v, s->source, s->tty, s->buf, sizeof s->buf);
+    fputs(s->buf, stdout);
+    if (!s->tty)
+        fputc('\n', stdout);
+    fflush(stdout);
+}
+
+/* A default id: the host's name (characters an id may hold) and the source. */
+static void default_id(char *id, size_t n, const char *source)
+{
+    char host[64] = "station";
+    if (gethostname(host, sizeof host) != 0)
+        snprintf(host, sizeof host, "station");
+    host[sizeof host - 1] = '\0';
+    for (char *p = host; *p; p++)
+        if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') || *p == '-'))
+            *p = '-';
+    snprintf(id, n, "%.40s-%.20s", host, source);
+}
+
+int cmd_station(int argc, char **argv)
+{
+    const char *P = "disim station";
+    const char *id = NULL, *url = NULL, *device = NULL, *script_path = NULL;
+    int keyboard = 0, list = 0, take_over = 0;
+    double rate_hz = 50.0, duration_s = 0.0, step_pct = 2.0;
+    sim_station_axes axes;
+    sim_station_axes_default(&axes);
+    static const char *axis_flag[SIM_AXES] = {"--axis-collective", "--axis-long", "--axis-lat", "--axis-pedal"};
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        int more = i + 1 < argc, ax = -1;
+        for (int k = 0; k < SIM_AXES; k++)
+            if (!strcmp(a, axis_flag[k]))
+                ax = k;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage_station(stdout);
+            return 0;
+        } else if (!strcmp(a, "--keyboard"))
+            keyboard = 1;
+        else if (!strcmp(a, "--list"))
+            list = 1;
+        else if (!strcmp(a, "--take-over"))
+            take_over = 1;
+        else if (!strcmp(a, "--id") && more)
+            id = argv[++i];
+        else if (!strcmp(a, "--lcm") && more)
+            url = argv[++i];
+        else if (!strcmp(a, "--device") && more)
+            device = argv[++i];
+        else if (!strcmp(a, "--script") && more)
+            script_path = argv[++i];
+        else if (!strcmp(a, "--rate-hz") && more) {
+            if (app_parse_double(P, a, argv[++i], 1.0, 1000.0, &rate_hz))
+                return 2;
+        } else if (!strcmp(a, "--duration") && more) {
+            if (app_parse_double(P, a, argv[++i], 0.001, 1e7, &duration_s))
+                return 2;
+        } else if (!strcmp(a, "--step-pct") && more) {
+            if (app_parse_double(P, a, argv[++i], 0.1, 50.0, &step_pct))
+                return 2;
+        } else if (ax >= 0 && more) {
+            core_err err;
+            if (sim_station_axis_parse(argv[++i], &axes.axis[ax], &err) != 0) {
+                fprintf(stderr, "%s: %s: %s\n", P, a, err.msg);
+                return 2;
+            }
+        } else {
+            static const char *valued[] = {"--id", "--lcm", "--device", "--script", "--rate-hz", "--duration",
+                                           "--step-pct"};
+            int needs = ax >= 0;
+            for (size_t k = 0; k < sizeof valued / sizeof valued[0]; k++)
+                needs |= !strcmp(a, valued[k]);
+            if (needs)
+                fprintf(stderr, "%s: %s: expected a value after it\n", P, a);
+            else
+                fprintf(stderr, "%s: unknown argument '%s'\n", P, a);
+            usage_station(stderr);
+            return 2;
+        }
+    }
+    if (keyboard + (device != NULL) + (script_path != NULL) > 1) {
+        fprintf(stderr, "%s: --keyboard, --device and --script exclude each other: choose one\n", P);
+        return 2;
+    }
+    if (list) {
+        core_err err;
+        int n = sim_station_evdev_list("/dev/input", list_one, NULL, &err);
+        if (n < 0 && access("/dev/input", F_OK) == 0) {
+            fprintf(stderr, "%s: --list: %s\n", P, err.msg);
+            return 1;
+        }
+        if (n <= 0)
+            printf("no evdev input devices in /dev/input\n");
+        return 0;
+    }
+    core_err err;
+    if (id && sim_station_id_check(id, &err) != 0) {
+        fprintf(stderr, "%s: --id: %s\n", P, err.msg);
+        return 2;
+    }
+    if (!device && !script_path)
+        keyboard = 1;
+
+    const char *source = keyboard ? "keyboard" : script_path ? "script" : device;
+    const char *dev_base = device ? strrchr(device, '/') : NULL;
+    char idbuf[80];
+    if (!id) {
+        default_id(idbuf, sizeof idbuf, keyboard ? "keyboard" : script_path ? "script" : dev_base ? dev_base + 1 : device);
+        id = idbuf;
+    }
+    sim_station_run_opts ro;
+    memset(&ro, 0, sizeof ro);
+    ro.rate_hz = rate_hz;
+    ro.duration_s = duration_s;
+    ro.key_fd = -1;
+    ro.take_over = take_over;
+    ro.stop = &station_stop;
+    sim_station_controls_centre(&ro.start);
+    sim_station_script *script = NULL;
+    sim_station_evdev *dev = NULL;
+    sim_station_keys keys;
+    if (script_path && !(script = sim_station_script_load(script_path, &err))) {
+        fprintf(stderr, "%s: %s\n", P, err.msg);
+        return 1;
+    }
+    if (device && !(dev = sim_station_evdev_open(device, &axes, &ro.start, &err))) {
+        fprintf(stderr, "%s: %s\n", P, err.msg);
+        return 1;
+    }
+    if (keyboard && !isatty(STDIN_FILENO)) {
+        fprintf(stderr, "%s: --keyboard: standard input is not a terminal (use --script or --device)\n", P);
+        return 1;
+    }
+    sim_station_opts so = {id, url};
+    sim_station *st = sim_station_create(&so, &err);
+    if (!st) {
+        fprintf(stderr, "%s: %s\n", P, err.msg);
+        sim_station_script_destroy(script);
+        sim_station_evdev_destroy(dev);
+        return 1;
+    }
+    ro.script = script;
+    ro.dev = dev;
+    if (keyboard) {
+        sim_station_keys_init(&keys, step_pct);
+        ro.keys = &keys;
+        ro.key_fd = STDIN_FILENO;
+    }
+
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sigemptyset(&sa.sa_mask);
+    sa.sa_handler = on_stop_signal; /* no SA_RESTART: the wait returns */
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGHUP, &sa, NULL);
+    sigaction(SIGQUIT, &sa, NULL);
+    sa.sa_handler = on_fatal_signal;
+    int fatal[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
+    for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++)
+        sigaction(fatal[i], &sa, NULL);
+
+    show_ctx sc;
+    sc.source = source;
+    sc.tty = isatty(STDOUT_FILENO);
+    ro.show = show;
+    ro.user = &sc;
+    ro.show_hz = sc.tty ? 10.0 : 1.0; /* a log gets one line a second */
+    if (keyboard) {
+        if (tcgetattr(STDIN_FILENO, &tty_saved) != 0) {
+            fprintf(stderr, "%s: --keyboard: cannot read the terminal's settings: %s\n", P, strerror(errno));
+            sim_station_destroy(st);
+            return 1;
+        }
+        struct termios raw = tty_saved;
+        /* no line editing, no echo; ISIG stays so that ctrl-C is SIGINT */
+        raw.c_lflag &= (tcflag_t) ~(ICANON | ECHO | IEXTEN);
+        raw.c_iflag &= (tcflag_t) ~(IXON | ICRNL);
+        raw.c_cc[VMIN] = 1;
+        raw.c_cc[VTIME] = 0;
+        tty_raw = 1;
+        if (tcsetattr(STDIN_FILENO, TCSAFLUSH, &raw) != 0) {
+            tty_raw = 0;
+            fprintf(stderr, "%s: --keyboard: cannot set the terminal to raw mode: %s\n", P, strerror(errno));
+            sim_station_destroy(st);
+            return 1;
+        }
+        atexit(tty_restore);
+    }
+    if (sc.tty) {
+        tty_display = 1;
+        fputs("\033[2J\033[H\033[?25l", stdout); /* clear, home, cursor hidden */
+        fflush(stdout);
+    } else {
+        fprintf(stderr, "%s: %s publishing on %s at %g Hz (%s)\n", P, id, DISIM_CH_PILOT_INPUT, rate_hz, source);
+    }
+    int rc = sim_station_run(st, &ro, &err);
+    const sim_station_view *v = sim_station_get_view(st);
+    sim_station_format(v, source, sc.tty, sc.buf, sizeof sc.buf);
+    if (sc.tty)
+        printf("%s\n", sc.buf);
+    else
+        printf("end: %s\n", sc.buf);
+    fflush(stdout);
+    tty_restore();
+    if (rc != 0)
+        fprintf(stderr, "%s: %s\n", P, err.msg);
+    sim_station_destroy(st);
+    sim_station_script_destroy(script);
+    sim_station_evdev_destroy(dev);
+    return rc != 0 ? 1 : 0;
+}

@@ -1,0 +1,190 @@
+#!/bin/sh
+# disim station, the reference pilot station, from outside:
+# - bad flags are refused with exit status 2 and a message naming them; a
+#   device, script or terminal that is not there with exit 1 naming it;
+# - a scripted station publishes pilot_input_t at 50 Hz for 2 s to a listener
+#   in another process (station_peer, UDP multicast inside a private network
+#   namespace, CONVENTIONS.md): every message arrives, seq 0..N-1 without a
+#   gap, the station's id, about 100 messages, the controls those of the
+#   script at the message's time within one message period; the messages it
+#   receives are shown (at most a line a second, no escapes: stdout is not
+#   a terminal) and the three bad ones counted;
+# - the keyboard, on a pseudo-terminal (pty_keys): the controls start from
+#   the flight's and move as the keys say, t sets take_over in one message,
+#   the display redraws in place, and ctrl-C, SIGTERM and SIGABRT each leave
+#   the terminal as it was.
+# Without unshare -n or ip the namespace parts are skipped (exit 77; a
+# failure with CI set, tests/skip.sh).
+# usage: station_cli.sh DISIM STATION_PEER PTY_KEYS SRC_DIR
+set -u
+disim=$1
+peer=$2
+ptyk=$3
+src=$4
+. "$src/tests/skip.sh"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+bad() { echo "FAIL: $*"; fail=1; }
+
+# ------------------------------------------------------------------ flags
+# expect STATUS TEXT ARGS...: the exit status and a message containing TEXT
+expect() {
+    want=$1 text=$2
+    shift 2
+    "$disim" station "$@" < /dev/null > "$tmp/o" 2> "$tmp/e"
+    got=$?
+    [ "$got" -eq "$want" ] || bad "disim station $*: exit $got, expected $want: $(head -2 "$tmp/e")"
+    grep -qF -- "$text" "$tmp/e" || bad "disim station $*: no '$text' in: $(head -2 "$tmp/e")"
+}
+printf 'time_s,collective,long,lat,pedal\n0,50,50,50,50\n1,50,120,50,50\n' > "$tmp/bad.csv"
+printf '0,50,50,50,50\n' > "$tmp/one.csv"
+expect 2 "unknown argument '--bogus'" --bogus
+expect 2 "--rate-hz: expected a number in [1, 1000], got '0'" --rate-hz 0 --script "$tmp/one.csv"
+expect 2 "--rate-hz: expected a value" --script "$tmp/one.csv" --rate-hz
+expect 2 "--duration: expected a number" --script "$tmp/one.csv" --duration -1
+expect 2 "exclude each other" --keyboard --script "$tmp/one.csv"
+expect 2 "--axis-long: axis 'ABS_NOPE'" --axis-long ABS_NOPE
+expect 2 "--id: station id 'two words'" --id "two words" --script "$tmp/one.csv"
+expect 1 "/nonexistent/event42: No such file or directory" --device /nonexistent/event42
+expect 1 "/dev/null: not an evdev input device" --device /dev/null
+expect 1 "$tmp/missing.csv: No such file or directory" --script "$tmp/missing.csv"
+expect 1 "bad.csv:3: long = 120: expected a percentage 0 to 100" --script "$tmp/bad.csv"
+expect 1 "standard input is not a terminal" --keyboard
+"$disim" station --help > "$tmp/o" 2>&1 || bad "disim station --help: exit $?"
+grep -q "usage: disim station" "$tmp/o" || bad "disim station --help: no usage"
+
+# ------------------------------------------------------- across processes
+unshare -n true 2>/dev/null || skip station_cli "'unshare -n' is not permitted here (needs root or user namespaces)"
+command -v ip > /dev/null 2>&1 || skip station_cli "the 'ip' command (iproute2) is missing"
+[ $fail -eq 0 ] || exit 1
+
+# in_ns PEER_SECONDS NAME CMD...: CMD in a fresh namespace beside a peer
+# that writes $tmp/NAME.csv; CMD's stdout in $tmp/NAME.out, stderr
+# $tmp/NAME.err, its exit status in $tmp/NAME.rc
+in_ns() {
+    secs=$1 name=$2
+    shift 2
+    unshare -n sh -c '
+ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo || exit 1
+peer=$1 secs=$2 base=$3
+shift 3
+"$peer" "$secs" "$base.ready" "$base.csv" > "$base.peer" 2>&1 & p=$!
+i=0
+while [ ! -e "$base.ready" ] && [ $i -lt 100 ]; do sleep 0.05; i=$((i + 1)); done
+"$@" > "$base.out" 2> "$base.err"
+echo $? > "$base.rc"
+wait $p
+' sh "$peer" "$secs" "$tmp/$name" "$@" || bad "$name: the namespace could not be set up"
+}
+
+# A script of ramps, a step (two rows at 1.0 s) and a held last row.
+cat > "$tmp/s.csv" <<EOF
+time_s,collective,long,lat,pedal
+0.0, 50, 50, 50, 50
+0.4, 50, 50, 50, 50
+1.0, 80, 35, 62, 20
+1.0, 30, 35, 62, 20
+1.6, 30, 65, 40, 70
+EOF
+in_ns 3.5 script "$disim" station --script "$tmp/s.csv" --id scripted-1 --duration 2
+rc=$(cat "$tmp/script.rc" 2>/dev/null || echo none)
+[ "$rc" = 0 ] || bad "scripted station: exit $rc: $(cat "$tmp/script.err")"
+n=$(wc -l < "$tmp/script.csv")
+sent=$(sed -n 's/^end: .* sent \([0-9]*\) seq .*/\1/p' "$tmp/script.out")
+late=$(sed -n 's/^end: .* late \([0-9]*\) .*/\1/p' "$tmp/script.out")
+echo "scripted station: sent ${sent:-?} (late ${late:-?}), the listener received $n"
+[ "${sent:-x}" = "$n" ] || bad "scripted station: sent ${sent:-?}, the listener received $n"
+[ "$n" -ge 90 ] && [ "$n" -le 101 ] || bad "scripted station: $n messages in 2 s at 50 Hz, expected about 100"
+[ -n "$late" ] && [ $((n + late)) -ge 99 ] && [ $((n + late)) -le 101 ] ||
+    bad "scripted station: $n sent and ${late:-?} late do not make the 100 deadlines of 2 s"
+# seq 0..N-1 in order, one id, the controls the script's at utime +- 1/50 s
+awk -F, -v n="$n" -v dt=0.02 '
+NR == FNR { if (FNR > 1) { m++; T[m] = $1; for (k = 1; k <= 4; k++) V[m, k] = $(k + 1) } next }
+function s(t, k,   i) {
+    if (t <= T[1]) return V[1, k]
+    i = 1
+    while (i < m && T[i + 1] <= t) i++
+    if (i == m) return V[m, k]
+    return V[i, k] + (t - T[i]) / (T[i + 1] - T[i]) * (V[i + 1, k] - V[i, k])
+}
+{
+    if ($4 != FNR - 1) { printf "message %d has seq %s\n", FNR, $4; bad++ }
+    if ($3 != "scripted-1") { printf "message %d has station_id %s\n", FNR, $3; bad++ }
+    t = $2 / 1e6
+    if (FNR == 1) { r0 = $1; u0 = t }
+    r1 = $1; u1 = t
+    seg[t < 0.4 ? 0 : t < 1.0 ? 1 : t < 1.6 ? 2 : 3]++
+    for (k = 1; k <= 4; k++) {
+        lo = s(t - dt, k); hi = lo
+        v = s(t + dt, k); if (v < lo) lo = v; if (v > hi) hi = v
+        for (i = 1; i <= m; i++) if (T[i] > t - dt && T[i] < t + dt) { if (V[i, k] < lo) lo = V[i, k]; if (V[i, k] > hi) hi = V[i, k] }
+        x = $(k + 4)
+        if (x < lo - 1e-6 || x > hi + 1e-6) {
+            if (off < 5) printf "t %.4f s: control %d = %g, the script gives %g to %g within 1/50 s\n", t, k, x, lo, hi
+            off++
+        }
+    }
+}
+END {
+    if (off) { printf "%d controls off the script\n", off; bad++ }
+    for (g = 0; g < 4; g++) if (seg[g] < 10) { printf "only %d messages in script segment %d\n", seg[g], g; bad++ }
+    if (u0 > 0.05) { printf "the first message at station time %.3f s, expected 0\n", u0; bad++ }
+    d = (r1 - r0) - (u1 - u0)
+    if (d < -0.1 || d > 0.1) { printf "utime spans %.3f s, the messages arrived over %.3f s\n", u1 - u0, r1 - r0; bad++ }
+    printf "script check: %d messages, utime %.3f to %.3f s, arrival span less utime span %+.4f s\n", FNR, u0, u1, d
+    exit bad ? 1 : 0
+}' "$tmp/s.csv" "$tmp/script.csv" || bad "scripted station: its messages do not follow the script"
+# the display: not a terminal, so lines without escapes, at most one a second
+lines=$(wc -l < "$tmp/script.out")
+[ "$lines" -le 3 ] || bad "scripted station: $lines display lines in 2 s, expected one a second and the end line"
+grep -q "$(printf '\033')" "$tmp/script.out" && bad "scripted station: escapes in a display that is not a terminal"
+tail -1 "$tmp/script.out" | grep -q "heli h 7.25 m x 1.50 y -2.00 roll 3.0 pitch -1.0 yaw 90.0 deg" ||
+    bad "scripted station: the helicopter's state is not shown: $(tail -1 "$tmp/script.out")"
+tail -1 "$tmp/script.out" | grep -q "sim t 12.50 s RUNNING 200.0 Hz rtf 1.00 overruns 3 stations 2 (listed) active scripted-1 INPUT-HELD" ||
+    bad "scripted station: the sim status is not shown: $(tail -1 "$tmp/script.out")"
+tail -1 "$tmp/script.out" | grep -q "bad 3 (DISIM_HELI_STATE: heli_state_t: a position, velocity, attitude or control is not finite)" ||
+    bad "scripted station: the three bad messages are not counted: $(tail -1 "$tmp/script.out")"
+grep -q "refused 0 bad sent 3" "$tmp/script.peer" || bad "station_peer: $(cat "$tmp/script.peer")"
+
+# The keyboard. The peer's heli_state_t carries controls 41/52/47/55: the
+# station takes them before the first key, then each key moves one control
+# by 2 %.
+keys="w w up up right a d d space s t ctrl-c"
+in_ns 6 keys "$ptyk" 1.0 0.15 "$keys" "$disim" station --keyboard --id keys-1
+rc=$(cat "$tmp/keys.rc" 2>/dev/null || echo none)
+grep -q "terminal restored" "$tmp/keys.err" || bad "keyboard, ctrl-C: $(cat "$tmp/keys.err")"
+[ "$rc" = 0 ] || bad "keyboard station ended by ctrl-C: exit $rc: $(cat "$tmp/keys.err")"
+cut -d, -f5-8 "$tmp/keys.csv" | uniq | sed '1{/^50,50,50,50$/d;}' > "$tmp/keys.states"
+cat > "$tmp/keys.want" <<EOF
+41,52,47,55
+43,52,47,55
+45,52,47,55
+45,50,47,55
+45,48,47,55
+45,48,49,55
+45,48,49,53
+45,48,49,55
+45,48,49,57
+45,50,50,50
+43,50,50,50
+EOF
+cmp -s "$tmp/keys.states" "$tmp/keys.want" ||
+    bad "keyboard: the controls published, in order (keys $keys): $(tr '\n' ' ' < "$tmp/keys.states"), expected $(tr '\n' ' ' < "$tmp/keys.want")"
+to=$(awk -F, '$9 == 1' "$tmp/keys.csv" | wc -l)
+[ "$to" -eq 1 ] || bad "keyboard: t set take_over in $to messages, expected 1"
+awk -F, '$4 != NR - 1 || $3 != "keys-1" { exit 1 }' "$tmp/keys.csv" || bad "keyboard: seq or station_id wrong"
+nk=$(wc -l < "$tmp/keys.csv")
+echo "keyboard station: $nk messages, states $(wc -l < "$tmp/keys.states") as expected after the sync"
+grep -q "$(printf '\033')\[H" "$tmp/keys.out" || bad "keyboard: the display does not redraw in place (no ESC [ H)"
+grep -q "height over deck   7.25 m" "$tmp/keys.out" || bad "keyboard: no height over the deck in the display"
+grep -q "w/s collective" "$tmp/keys.out" || bad "keyboard: no key help in the display"
+
+in_ns 3 term "$ptyk" 1.0 0.2 "w TERM" "$disim" station --keyboard --id keys-2
+grep -q "terminal restored" "$tmp/term.err" || bad "keyboard, SIGTERM: $(cat "$tmp/term.err")"
+[ "$(cat "$tmp/term.rc" 2>/dev/null)" = 0 ] || bad "keyboard, SIGTERM: exit $(cat "$tmp/term.rc" 2>/dev/null)"
+in_ns 3 abrt "$ptyk" 1.0 0.2 "w ABRT" "$disim" station --keyboard --id keys-3
+grep -q "terminal restored" "$tmp/abrt.err" || bad "keyboard, SIGABRT: $(cat "$tmp/abrt.err")"
+[ "$(cat "$tmp/abrt.rc" 2>/dev/null)" = 134 ] || bad "keyboard, SIGABRT: exit $(cat "$tmp/abrt.rc" 2>/dev/null), expected 134 (the signal)"
+[ $fail -eq 0 ] && echo "station_cli: all checks passed"
+exit $fail
