@@ -13,7 +13,7 @@ ok() { pass=$((pass + 1)); }
 bad() { echo "FAIL: $1"; fail=$((fail + 1)); }
 args="$src/scenarios/cg47_uh60a.ini --duration 2 --wod-speed-kt 20 --wod-dir-deg -30 --sea-state 4 --ship-speed-kt 10 --db $tmp/db"
 "$disim" fly $args --fast --csv "$tmp/fast.csv" 2> "$tmp/fast.log" && ok || { bad "fly --fast failed"; cat "$tmp/fast.log"; }
-"$disim" fly $args --realtime --csv "$tmp/rt.csv" 2> "$tmp/rt.log" && ok || { bad "fly --realtime failed"; cat "$tmp/rt.log"; }
+"$disim" fly $args --realtime --lcm memq:// --csv "$tmp/rt.csv" 2> "$tmp/rt.log" && ok || { bad "fly --realtime failed"; cat "$tmp/rt.log"; }
 [ "$(wc -l < "$tmp/fast.csv")" -eq 102 ] && ok || bad "expected a header and 101 rows at 50 Hz over 2 s"
 cmp -s "$tmp/fast.csv" "$tmp/rt.csv" && ok || bad "--fast and --realtime flew different trajectories"
 grep -q "2.00 s flown in [01]\.[0-9]* s" "$tmp/fast.log" && ok || bad "--fast: no summary, or slower than real time"
