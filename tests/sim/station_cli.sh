@@ -8,7 +8,7 @@
 #   gap, the station's id, about 100 messages, the controls those of the
 #   script at the message's time within one message period; the messages it
 #   receives are shown (at most a line a second, no escapes: stdout is not
-#   a terminal) and the three bad ones counted;
+#   a terminal) and the four bad ones counted;
 # - the keyboard, on a pseudo-terminal (pty_keys): the controls start from
 #   the flight's and move as the keys say, t sets take_over in one message,
 #   the display redraws in place, and ctrl-C, SIGTERM and SIGABRT each leave
@@ -95,7 +95,7 @@ sent=$(sed -n 's/^end: .* sent \([0-9]*\) seq .*/\1/p' "$tmp/script.out")
 late=$(sed -n 's/^end: .* late \([0-9]*\) .*/\1/p' "$tmp/script.out")
 echo "scripted station: sent ${sent:-?} (late ${late:-?}), the listener received $n"
 [ "${sent:-x}" = "$n" ] || bad "scripted station: sent ${sent:-?}, the listener received $n"
-[ "$n" -ge 90 ] && [ "$n" -le 101 ] || bad "scripted station: $n messages in 2 s at 50 Hz, expected about 100"
+[ "$n" -ge 80 ] && [ "$n" -le 101 ] || bad "scripted station: $n messages in 2 s at 50 Hz, expected about 100"
 [ -n "$late" ] && [ $((n + late)) -ge 99 ] && [ $((n + late)) -le 101 ] ||
     bad "scripted station: $n sent and ${late:-?} late do not make the 100 deadlines of 2 s"
 # seq 0..N-1 in order, one id, the controls the script's at utime +- 1/50 s
@@ -143,9 +143,9 @@ tail -1 "$tmp/script.out" | grep -q "heli h 7.25 m x 1.50 y -2.00 roll 3.0 pitch
     bad "scripted station: the helicopter's state is not shown: $(tail -1 "$tmp/script.out")"
 tail -1 "$tmp/script.out" | grep -q "sim t 12.50 s RUNNING 200.0 Hz rtf 1.00 overruns 3 stations 2 (listed) active scripted-1 INPUT-HELD" ||
     bad "scripted station: the sim status is not shown: $(tail -1 "$tmp/script.out")"
-tail -1 "$tmp/script.out" | grep -q "bad 3 (DISIM_HELI_STATE: heli_state_t: a position, velocity, attitude or control is not finite)" ||
-    bad "scripted station: the three bad messages are not counted: $(tail -1 "$tmp/script.out")"
-grep -q "refused 0 bad sent 3" "$tmp/script.peer" || bad "station_peer: $(cat "$tmp/script.peer")"
+tail -1 "$tmp/script.out" | grep -q "bad 4 (DISIM_HELI_STATE: heli_state_t.n_gear" ||
+    bad "scripted station: the four bad messages are not counted: $(tail -1 "$tmp/script.out")"
+grep -q "refused 0 bad sent 4" "$tmp/script.peer" || bad "station_peer: $(cat "$tmp/script.peer")"
 
 # The keyboard. The peer's heli_state_t carries controls 41/52/47/55: the
 # station takes them before the first key, then each key moves one control

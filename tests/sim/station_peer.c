@@ -12,9 +12,10 @@
  * forward of the spot and 2.00 m to port, roll 3, pitch -1, yaw 90 deg,
  * controls 41 / 52 / 47 / 55 %) and a sim_status_t (sim time 12.5 s,
  * 200 Hz, real-time factor 1, 3 overruns, the stations "other" and the
- * first one heard, flags INPUT_HELD). 0.3, 0.6 and 0.9 s after the first
- * pilot input it sends three bad messages on DISIM_HELI_STATE: one byte
- * short, a sim_status_t (another fingerprint), and a NaN roll. It creates
+ * first one heard, flags INPUT_HELD). 0.3, 0.6, 0.9 and 1.2 s after the
+ * first pilot input it sends four bad messages on DISIM_HELI_STATE: one
+ * byte short, a sim_status_t (another fingerprint), a NaN roll, and
+ * n_gear = -1 (which only disim_lcm_check_raw refuses). It creates
  * READY_FILE once subscribed and stops after SECONDS, printing a line
  * "station_peer: received N refused R". */
 #include "disim_lcm.h"
@@ -109,9 +110,14 @@ static void send_bad(lcm_t *lc, int which)
         s.message = "";
         n = disim_sim_status_t_encode(buf, 0, sizeof buf, &s);
         lcm_publish(lc, DISIM_CH_HELI_STATE, buf, (unsigned)n);
-    } else { /* well formed, a NaN roll */
+    } else if (which == 2) { /* well formed, a NaN roll */
         h.roll_rad = NAN;
         disim_heli_state_t_publish(lc, DISIM_CH_HELI_STATE, &h);
+    } else { /* n_gear = -1, no gear: lcm-gen's decoder takes it, the raw check does not */
+        h.n_gear = 0;
+        n = disim_heli_state_t_encode(buf, 0, sizeof buf, &h);
+        buf[n - 1] = 0xff;
+        lcm_publish(lc, DISIM_CH_HELI_STATE, buf, (unsigned)n);
     }
 }
 
@@ -178,7 +184,7 @@ int main(int argc, char **argv)
             disim_sim_status_t_publish(lc, DISIM_CH_SIM_STATUS, &s);
             next_pub += 0.1;
         }
-        if (p.first_s >= 0 && bad_sent < 3 && t >= p.first_s + 0.3 * (bad_sent + 1))
+        if (p.first_s >= 0 && bad_sent < 4 && t >= p.first_s + 0.3 * (bad_sent + 1))
             send_bad(lc, bad_sent++);
         lcm_handle_timeout(lc, 5);
     }

@@ -345,17 +345,27 @@ static void test_station_rx(void)
     CHECK(v->n_stations == 2 && v->listed == 1 && !strcmp(v->stations, "other, me"));
     CHECK(v->overruns == 3 && v->state == DISIM_SIM_STATUS_T_PAUSED && !strcmp(v->scenario, "sfs2"));
     CHECK(!strcmp(v->active, "other") && v->my_received == 2 && v->my_refused == 4 && v->my_gaps == 7);
-    /* a string without its NUL (its length counts one byte less) */
+    /* a string without its NUL, the size right: only the raw check sees it */
     unsigned char b2[2048];
     memcpy(b2, buf, (size_t)n);
     /* the scenario's length field: after 8 (hash) + 6 x 8 + 1 bytes */
     int off = 8 + 6 * 8 + 1;
     CHECK(b2[off + 3] == 5); /* "sfs2" and its NUL */
-    b2[off + 3] = 4;
-    sim_station_receive(st, DISIM_CH_SIM_STATUS, b2, n - 1);
-    CHECK(v->bad_rx == 4 && v->status_rx == 1);
+    b2[off + 4 + 4] = 'X'; /* its NUL overwritten, the size unchanged: lcm-gen's decoder takes it */
+    sim_station_receive(st, DISIM_CH_SIM_STATUS, b2, n);
+    CHECK(v->bad_rx == 4 && v->status_rx == 1 && strstr(v->bad_last, "scenario") != NULL);
     sim_station_receive(st, "DISIM_SOMETHING", buf, n);
     CHECK(v->bad_rx == 5);
+    /* a heli state with n_gear = -1 and no gear: lcm-gen's decoder takes
+     * it too (a NULL array), the raw check refuses a negative count */
+    h.roll_rad = 0.0;
+    h.n_gear = 0;
+    n = enc_heli(&h, buf, sizeof buf);
+    CHECK(n == 250 && buf[249] == 0);
+    buf[249] = 0xff;
+    sim_station_receive(st, DISIM_CH_HELI_STATE, buf, n);
+    CHECK(v->bad_rx == 6 && v->heli_rx == 1 && v->heli_pos_S_m[2] == -7.25);
+    CHECK(strstr(v->bad_last, "heli_state_t.n_gear") != NULL);
 
     /* the display: the values received, the counts; ANSI only on a tty */
     char text[4096];
@@ -363,7 +373,7 @@ static void test_station_rx(void)
     CHECK(strstr(text, "heli h 7.25 m x 1.50 y -2.00 roll 3.0 pitch 0.0 yaw 0.0 deg") != NULL);
     CHECK(strstr(text, "sim t 12.50 s PAUSED 200.0 Hz rtf 1.00 overruns 3 stations 2 (listed) active other "
                        "INPUT-HELD FREE-STREAM |") != NULL);
-    CHECK(strstr(text, "rx heli 1 status 1 bad 5") != NULL);
+    CHECK(strstr(text, "rx heli 1 status 1 bad 6") != NULL);
     CHECK(strchr(text, '\033') == NULL && strchr(text, '\n') == NULL);
     sim_station_format(v, "keyboard", 1, text, sizeof text);
     CHECK(strncmp(text, "\033[H", 3) == 0 && strstr(text, "height over deck   7.25 m") != NULL);
