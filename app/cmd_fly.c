@@ -336,6 +336,12 @@ int cmd_fly(int argc, char **argv)
     }
     sim_loop_world lw;
     loop_world(&ctx.w, &lw);
+    /* before the loop's clock starts: locking the memory takes a while */
+    if (o.realtime) { /* what the system grants a real-time loop, said either way */
+        char rt[256];
+        sim_pacer_os_realtime(50, rt, sizeof rt);
+        fprintf(stderr, "fly: %s\n", rt);
+    }
     if (!(loop = sim_loop_create(&lo, &lw, loop_build, &ctx, &log, &err)))
         goto fail;
     {
@@ -412,6 +418,9 @@ int cmd_fly(int argc, char **argv)
             tty ? "\r\033[K" : "", lr.run_s, ps->wall_s, ps->realtime_factor, n_stepped, ps->overruns,
             1e6 * ps->step_p50_s, 1e6 * ps->step_p99_s, 1e6 * ps->step_max_s, out.pos_S_m[0], out.pos_S_m[1],
             out.pos_S_m[2], fly_stop ? " (stopped)" : "");
+    if (o.realtime)
+        fprintf(stderr, "fly: wake-up after the deadline: p99 %.0f us, max %.0f us\n", 1e6 * ps->late_p99_s,
+                1e6 * ps->late_max_s);
     if (lo.lcm || o.log || o.replay) {
         const sim_pilots *pl = sim_loop_pilots(loop);
         fprintf(stderr, "fly: LCM %lld sent, %lld received, %lld logged, %lld controls refused", lr.sent, lr.received,

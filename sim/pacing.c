@@ -6,7 +6,9 @@
  * counted and reported, never absorbed: the next deadline stays on the
  * grid t0 + k / rate_hz, so a late step is followed by steps that catch up
  * without sleeping, and the count says how many were late. Step times
- * (the work between two waits) are kept for percentiles.
+ * (the work between two waits) go into a histogram of 1 us bins up to
+ * 20 ms (longer ones in its last bin; the maximum is kept exactly), so a
+ * percentile costs a pass over the bins however long the run.
  *
  * This is the only file of the flight loop that reads a clock; the step
  * itself (flight.c) never does, so paced and unpaced runs are the same
@@ -15,18 +17,25 @@
 #include "sim.h"
 
 #include <errno.h>
+#include <sched.h>
+#include <sys/mman.h>
+#include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 #include <time.h>
 
-#define PACER_SAMPLES 65536
+#define PACER_BINS 20000 /* 1 us each */
 
 struct sim_pacer {
     double period_s;
     int realtime;
     struct timespec t0, next, work0;
     long steps, overruns;
-    double step_s[PACER_SAMPLES]; /* the last PACER_SAMPLES step times (ring) */
+    long hist[PACER_BINS]; /* step times, 1 us bins */
+    long late_hist[PACER_BINS]; /* how late each wake-up came after its deadline */
+    long nlate;
+    double max_late_s;
     long nsamples;
     double max_step_s;
 };
@@ -71,7 +80,8 @@ int sim_pacer_wait(sim_pacer *p)
     clock_gettime(CLOCK_MONOTONIC, &now);
     double work = ts_s(&now) - ts_s(&p->work0);
     if (p->steps > 0) {
-        p->step_s[p->nsamples % PACER_SAMPLES] = work;
+        long b = (long)(work * 1e6);
+        p->hist[b < 0 ? 0 : b >= PACER_BINS ? PACER_BINS - 1 : b]++;
         p->nsamples++;
         if (work > p->max_step_s)
             p->max_step_s = work;
@@ -86,16 +96,31 @@ int sim_pacer_wait(sim_pacer *p)
         } else {
             while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &p->next, NULL) == EINTR)
                 ;
+            struct timespec woke;
+            clock_gettime(CLOCK_MONOTONIC, &woke);
+            double l = ts_s(&woke) - ts_s(&p->next);
+            long b = (long)(l * 1e6);
+            p->late_hist[b < 0 ? 0 : b >= PACER_BINS ? PACER_BINS - 1 : b]++;
+            p->nlate++;
+            if (l > p->max_late_s)
+                p->max_late_s = l;
         }
     }
     clock_gettime(CLOCK_MONOTONIC, &p->work0);
     return late;
 }
 
-static int cmp_d(const void *a, const void *b)
+/* The step time below which a fraction q of the steps fall (the bin's
+ * upper edge, s). */
+static double percentile(const long *hist, long count, double q, double max_s)
 {
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
+    long want = (long)ceil(q * (double)count), n = 0;
+    for (long b = 0; b < PACER_BINS; b++) {
+        n += hist[b];
+        if (n >= want && n > 0)
+            return fmin(1e-6 * (double)(b + 1), max_s);
+    }
+    return max_s;
 }
 
 void sim_pacer_stats(const sim_pacer *p, sim_pacer_report *s)
@@ -110,15 +135,31 @@ void sim_pacer_stats(const sim_pacer *p, sim_pacer_report *s)
     s->rate_hz = s->wall_s > 0.0 ? (double)p->steps / s->wall_s : 0.0;
     s->realtime_factor = s->wall_s > 0.0 ? s->sim_s / s->wall_s : 0.0;
     s->step_max_s = p->max_step_s;
-    long n = p->nsamples < PACER_SAMPLES ? p->nsamples : PACER_SAMPLES;
-    if (n > 0) {
-        double *v = malloc((size_t)n * sizeof *v);
-        if (v) {
-            memcpy(v, p->step_s, (size_t)n * sizeof *v);
-            qsort(v, (size_t)n, sizeof *v, cmp_d);
-            s->step_p50_s = v[n / 2];
-            s->step_p99_s = v[(long)(0.99 * (double)(n - 1))];
-            free(v);
-        }
+    if (p->nsamples > 0) {
+        s->step_p50_s = percentile(p->hist, p->nsamples, 0.5, p->max_step_s);
+        s->step_p99_s = percentile(p->hist, p->nsamples, 0.99, p->max_step_s);
     }
+    if (p->nlate > 0) {
+        s->late_p99_s = percentile(p->late_hist, p->nlate, 0.99, p->max_late_s);
+        s->late_max_s = p->max_late_s;
+    }
+}
+
+int sim_pacer_os_realtime(int priority, char *what, size_t n)
+{
+    struct sched_param sp;
+    memset(&sp, 0, sizeof sp);
+    sp.sched_priority = priority;
+    int fifo = sched_setscheduler(0, SCHED_FIFO, &sp) == 0;
+    int fifo_errno = fifo ? 0 : errno;
+    int locked = mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
+    int lock_errno = locked ? 0 : errno;
+    snprintf(what, n, "%s; %s", fifo ? "SCHED_FIFO real-time scheduling" : "no real-time scheduling",
+             locked ? "memory locked" : "memory not locked");
+    if (!fifo || !locked) {
+        size_t l = strlen(what);
+        snprintf(what + l, n - l, " (%s%s%s)", fifo ? "" : strerror(fifo_errno), !fifo && !locked ? "; " : "",
+                 locked ? "" : strerror(lock_errno));
+    }
+    return (fifo ? 1 : 0) | (locked ? 2 : 0);
 }

@@ -201,6 +201,7 @@ typedef struct sim_pacer_stats {
     long steps, overruns;
     double wall_s, sim_s, rate_hz, realtime_factor;
     double step_p50_s, step_p99_s, step_max_s; /* the work of a step (between waits) */
+    double late_p99_s, late_max_s; /* real time: how late the wake-ups came after their deadlines (jitter) */
 } sim_pacer_report;
 sim_pacer *sim_pacer_create(double rate_hz, int realtime, core_err *err);
 void sim_pacer_destroy(sim_pacer *p);
@@ -208,6 +209,11 @@ void sim_pacer_destroy(sim_pacer *p);
  * time). Returns 1 when the step overran its deadline, 0 otherwise. */
 int sim_pacer_wait(sim_pacer *p);
 void sim_pacer_stats(const sim_pacer *p, sim_pacer_report *s);
+/* Ask the system for what a real-time loop wants: SCHED_FIFO at priority
+ * (1-99) and all memory locked (no page faults mid-step). Returns bit 0
+ * set when the scheduling was granted, bit 1 when the memory was locked;
+ * what says which, and why not (e.g. not permitted for this user). */
+int sim_pacer_os_realtime(int priority, char *what, size_t n);
 
 /* ------------------------------------- ship motion (sim/ship_motion.c) */
 /* The ship's motion in a long-crested irregular sea (see sim/ship_motion.c
