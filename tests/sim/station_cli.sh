@@ -51,6 +51,10 @@ expect 1 "/dev/null: not an evdev input device" --device /dev/null
 expect 1 "$tmp/missing.csv: No such file or directory" --script "$tmp/missing.csv"
 expect 1 "bad.csv:3: long = 120: expected a percentage 0 to 100" --script "$tmp/bad.csv"
 expect 1 "standard input is not a terminal" --keyboard
+# --list names each device (here often none: /dev/input may be absent)
+"$disim" station --list > "$tmp/o" 2>&1 || bad "disim station --list: exit $?: $(head -2 "$tmp/o")"
+grep -q "^/dev/input/event[0-9]*  \|^no evdev input devices in /dev/input$" "$tmp/o" ||
+    bad "disim station --list: neither devices nor 'no evdev input devices': $(head -2 "$tmp/o")"
 "$disim" station --help > "$tmp/o" 2>&1 || bad "disim station --help: exit $?"
 grep -q "usage: disim station" "$tmp/o" || bad "disim station --help: no usage"
 
