@@ -2,7 +2,7 @@
 # disim set-up and entry point. On a fresh Debian 12 machine, as root:
 #   ./go.sh quick  install what is missing, build, run the quick job: every
 #                  scenario checked, the coarse one-way CG-47 + UH-60A
-#                  envelope (about 10 minutes on 2 cores from an empty
+#                  envelope (8-12 minutes on 2 cores from an empty
 #                  airwake database) into out/quick/cg47_uh60a
 #   ./go.sh run    install what is missing, build, run the main job: every
 #                  scenario checked, the default-grid two-way envelopes of
@@ -67,7 +67,7 @@ quick)
 run)
     echo "go.sh run: the main job, the default-grid two-way envelopes of CG-47 + UH-60A and" \
         "LPD-17 + SA365N, takes many hours on 2 cores; ./go.sh quick is the variant that" \
-        "finishes in about 10 minutes (coarse grid, one-way, CG-47 + UH-60A)."
+        "finishes in 8-12 minutes (coarse grid, one-way, CG-47 + UH-60A)."
     install_deps
     build build -DCMAKE_BUILD_TYPE=Release
     # Main job: check every scenario, then the candidate SHOL envelopes of
