@@ -700,6 +700,80 @@ const sim_pilots *sim_loop_pilots(const sim_loop *l);
 struct _lcm_t;
 struct _lcm_t *sim_loop_lcm(sim_loop *l);
 
+/* ------------------------- the automated pilot (sim/pilot_auto.c, issue 26) */
+/* A multi-loop pilot model (position -> velocity -> attitude -> rates,
+ * heading on the pedals, height on the collective) with a human pilot's
+ * crossover frequency and pure delay, its gains scheduled from the
+ * linearised flight model (hfm_linearise) at the task's hover; it flies a
+ * task file. sim/pilot_auto.c has the model and its references. */
+enum { SIM_TASK_STATION_KEEP = 0 };
+/* A task's tolerances (ADS-33E-PRF style): horizontal distance from the
+ * target, height, heading, and the time by which the helicopter must be
+ * (and from then on stay) within them. */
+typedef struct sim_task_tol {
+    double pos_m, height_m, heading_rad, time_s;
+} sim_task_tol;
+/* A task (INI, see sim/pilot_auto.c): station keeping holds the CG at
+ * target_S_m (z < 0: above the deck) at heading_rad from the bow for
+ * duration_s. */
+typedef struct sim_task {
+    int kind;
+    double target_S_m[3];
+    double heading_rad;
+    double duration_s;
+    sim_task_tol desired, adequate;
+} sim_task;
+/* Read a task file: 0, or < 0 with err naming the file, line and key. */
+int sim_task_load(const char *path, sim_task *t, core_err *err);
+/* The task's length: the adequate time plus the duration. */
+double sim_task_length_s(const sim_task *t);
+
+typedef struct sim_pilot_auto sim_pilot_auto;
+typedef struct sim_pilot_auto_opts {
+    double rate_hz;            /* the flight's step rate (200) */
+    double delay_s;            /* the pilot's pure delay (0.25 s) */
+    double att_crossover_radps;/* roll and pitch attitude loops (2.5) */
+    double yaw_crossover_radps;/* heading loop (1.5) */
+    double hgt_crossover_radps;/* height loop (1.0) */
+    double vel_bw_radps;       /* horizontal velocity loop (0.8) */
+    double pos_bw_radps;       /* horizontal position loop (0.3) */
+    double max_speed_mps;      /* the largest commanded speed (3) */
+    double max_att_rad;        /* the largest attitude command from trim (10 deg) */
+    double wod_speed_mps, wod_dir_rad; /* the WOD the gains are scheduled at */
+} sim_pilot_auto_opts;
+void sim_pilot_auto_opts_default(sim_pilot_auto_opts *o);
+/* The derivatives the gains come from (hfm_linearise at the task's hover;
+ * per s, per % of travel) and the inputs' trim. */
+typedef struct sim_pilot_gains {
+    double L_p, L_lat, M_q, M_long, N_r, N_ped, Z_w, Z_col; /* A, B entries */
+    double X_u, X_theta, Y_v, Y_phi;
+    double trim_pct[4];        /* collective, long, lat, pedal */
+    double trim_att_rad[2];    /* phi, theta */
+} sim_pilot_gains;
+/* A pilot for task t on aircraft ac, from the flight's trimmed inputs
+ * (sim_flight_trim_inputs). Trims and linearises ac at the target in the
+ * uniform WOD of o. NULL with err (bad options, no trim). */
+sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t, const sim_pilot_auto_opts *o,
+                                      const sim_flight_inputs *trim, const core_log *log, core_err *err);
+void sim_pilot_auto_destroy(sim_pilot_auto *p);
+void sim_pilot_auto_gains(const sim_pilot_auto *p, sim_pilot_gains *g);
+/* One step: from the flight's output (the state after the last step) the
+ * controls for the next step (within 0-100 %), the pilot's delay applied;
+ * the task's grading advanced. 0, or 1 when a control is at a stop. */
+int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight_inputs *in);
+/* The task's result so far (plain data). */
+typedef struct sim_task_result {
+    int grade;                 /* 2 desired, 1 adequate, 0 not (yet) met */
+    double t_desired_s;        /* since when within the desired tolerances (-1: not now) */
+    double t_adequate_s;       /* likewise adequate */
+    double err_pos_m, err_height_m, err_heading_rad; /* the latest */
+    double max_err_pos_m, max_err_height_m, max_err_heading_rad; /* after the desired time */
+    double min_pct[4], max_pct[4]; /* the controls' extremes: collective, long, lat, pedal */
+    long stop_steps;           /* steps with a control at a stop */
+    double t_s;                /* the latest time */
+} sim_task_result;
+void sim_pilot_auto_result(const sim_pilot_auto *p, sim_task_result *r);
+
 #ifdef __cplusplus
 }
 #endif
