@@ -1,6 +1,6 @@
 #!/bin/sh
 # ige_check.sh -- the ground-effect check of the two-way coupling (ctest
-# shol_ige; about 1 minute on 2 cores in Release, 3 in the sanitizer build).
+# shol_ige; 1-1.5 minutes on 2 cores in Release, on the development machine).
 # A UH-60A hovers with its CG 6 m above a flat deck 4 m above the sea
 # (bench/shol/ige/), in calm air (--speed-max-kmh 0: no ship-only field is
 # needed), two-way coupling with the interaction velocity on the coarse
