@@ -41,7 +41,8 @@ static void usage_fly(void)
                     "                  [--csv OUT.csv] [--csv-rate-hz N] [--sea-state N] [--wave-dir-deg D]\n"
                     "                  [--ship-speed-kt U] [--seed N] [--no-turbulence]\n"
                     "                  [--lcm URL | --no-lcm] [--log FILE] [--replay-inputs LOG]\n"
-                    "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N]\n");
+                    "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N]\n"
+                    "                  [--pilot auto --task FILE]  (headless, as fast as it can)\n");
 }
 
 typedef struct fly_args {
@@ -49,6 +50,8 @@ typedef struct fly_args {
     int realtime, sea_state, turbulence, lcm; /* lcm: -1 as the mode says, 0 off, 1 on */
     double duration_s, rate_hz, csv_rate_hz, speed_kt, dir_deg, wave_dir_deg, ship_speed_kt, seed;
     double hold_after_s, state_rate_hz;
+    const char *pilot, *task; /* --pilot auto --task FILE: the automated pilot flies */
+    int duration_set;
 } fly_args;
 
 static int fly_parse(int argc, char **argv, fly_args *o)
@@ -78,6 +81,7 @@ static int fly_parse(int argc, char **argv, fly_args *o)
         else if (!strcmp(a, "--duration") && more) {
             if (app_parse_double(P, a, argv[++i], 0.0, 1e6, &o->duration_s))
                 return 1;
+            o->duration_set = 1;
         } else if (!strcmp(a, "--rate-hz") && more) {
             if (app_parse_double(P, a, argv[++i], 10.0, 10000.0, &o->rate_hz))
                 return 1;
@@ -129,6 +133,10 @@ static int fly_parse(int argc, char **argv, fly_args *o)
             o->replay = argv[++i];
         else if (!strcmp(a, "--stations") && more)
             o->stations = argv[++i];
+        else if (!strcmp(a, "--pilot") && more)
+            o->pilot = argv[++i];
+        else if (!strcmp(a, "--task") && more)
+            o->task = argv[++i];
         else if (a[0] != '-' && !o->scen)
             o->scen = a;
         else {
@@ -141,6 +149,17 @@ static int fly_parse(int argc, char **argv, fly_args *o)
         usage_fly();
         return 2;
     }
+    if ((o->pilot || o->task) && (!o->pilot || strcmp(o->pilot, "auto") || !o->task)) {
+        fprintf(stderr, "disim fly: --pilot '%s': expected --pilot auto with --task FILE\n", o->pilot ? o->pilot : "");
+        return 1;
+    }
+    if (o->pilot && (o->lcm == 1 || o->log || o->replay || o->stations)) {
+        fprintf(stderr, "disim fly: --pilot auto flies headless: --lcm, --log, --replay-inputs and --stations do not "
+                        "apply\n");
+        return 1;
+    }
+    if (o->pilot)
+        o->realtime = 0;
     if (o->state_rate_hz > o->rate_hz) {
         fprintf(stderr, "disim fly: --state-rate-hz %g: expected at most the loop's rate (%g Hz)\n", o->state_rate_hz,
                 o->rate_hz);
@@ -255,6 +274,8 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
     fo.seed = (unsigned long long)o->seed;
     fo.ship_speed_mps = isnan(o->ship_speed_kt) ? sc->ship_speed_mps : o->ship_speed_kt * CORE_KT_TO_MPS;
     memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
+    if (o->pilot)
+        fo.sas = 0; /* the automated pilot's gains are the bare airframe's (sim/pilot_auto.c) */
     /* the ship in a seaway (its own seed stream: the turbulence's + 1) */
     sim_sea sea;
     sim_sea_default(&sea);
@@ -294,6 +315,91 @@ static int loop_build(void *user, const char *path, sim_loop_world *lw, core_err
     return 0;
 }
 
+/* --pilot auto: the automated pilot flies the task headless, as fast as
+ * it can (the task's length unless --duration), the trajectory to --csv;
+ * the task's grade and errors said at the end. 0, or < 0 with err. */
+static int fly_auto(fly_ctx *c, core_err *err)
+{
+    const fly_args *o = c->o;
+    fly_world *w = &c->w;
+    sim_task task;
+    if (sim_task_load(o->task, &task, err) != 0)
+        return -1;
+    sim_pilot_auto_opts po;
+    sim_pilot_auto_opts_default(&po);
+    po.rate_hz = o->rate_hz;
+    po.wod_speed_mps = w->speed_mps;
+    po.wod_dir_rad = w->dir_rad;
+    sim_flight_inputs in;
+    sim_flight_trim_inputs(w->fl, &in);
+    sim_pilot_auto *p = sim_pilot_auto_create(w->ac, &task, &po, &in, c->log, err);
+    if (!p)
+        return -1;
+    char tmp[1100] = "";
+    FILE *csv = NULL;
+    int rc = -1;
+    if (o->csv) {
+        snprintf(tmp, sizeof tmp, "%s.tmp%ld", o->csv, (long)getpid());
+        if (!(csv = fopen(tmp, "w"))) {
+            core_err_set(err, -1, "%s: cannot write", tmp);
+            tmp[0] = '\0';
+            goto out;
+        }
+        fprintf(csv, "t_s,x_S_m,y_S_m,z_S_m,roll_deg,pitch_deg,yaw_deg,u_S_mps,v_S_mps,w_S_mps,x_E_m,y_E_m,z_E_m,"
+                     "collective_pct,long_pct,lat_pct,pedal_pct,air_flags\n");
+    }
+    double T = o->duration_set ? o->duration_s : sim_task_length_s(&task);
+    long n = (long)llround(T * o->rate_hz), csv_every = (long)fmax(1.0, llround(o->rate_hz / o->csv_rate_hz));
+    long poll_every = (long)llround(o->rate_hz);
+    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, the automated pilot flies %s for %.0f s\n",
+            w->sc->ship.name, hfm_aircraft_name(w->ac), w->speed_mps / CORE_KT_TO_MPS, w->dir_rad * CORE_RAD_TO_DEG,
+            w->sea_state, o->task, T);
+    sim_flight_out out;
+    sim_flight_state(w->fl, &out);
+    if (csv && csv_row(csv, &out) != 0)
+        goto write_fail;
+    for (long s = 0; s < n && !fly_stop; s++) {
+        sim_pilot_auto_step(p, &out, &in);
+        if (sim_flight_step(w->fl, &in, &out, err) != 0)
+            goto out;
+        if (csv && out.step % csv_every == 0 && csv_row(csv, &out) != 0)
+            goto write_fail;
+        if (w->waiting && out.step % poll_every == 0) {
+            int got = db_field(c->db, w->sc, w->dir_rad, &w->later, err);
+            if (got < 0 || (got > 0 && sim_flight_set_field(w->fl, w->later, err) != 0))
+                goto out;
+            w->waiting = got == 0;
+        }
+    }
+    sim_pilot_auto_step(p, &out, &in); /* grades the last state */
+    if (csv) {
+        int bad = fflush(csv) != 0 || ferror(csv) || fsync(fileno(csv)) != 0;
+        bad |= fclose(csv) != 0;
+        csv = NULL;
+        if (bad || rename(tmp, o->csv) != 0)
+            goto write_fail;
+        tmp[0] = '\0';
+    }
+    sim_task_result r;
+    sim_pilot_auto_result(p, &r);
+    fprintf(stderr, "fly: task %s at %.1f s%s: within desired since %.2f s, adequate since %.2f s; largest error after "
+                    "%.0f s %.2f m, height %.2f m, heading %.1f deg; %ld steps with a control at a stop\n",
+            r.grade == 2 ? "desired" : r.grade == 1 ? "adequate" : "not met", r.t_s, fly_stop ? " (stopped)" : "",
+            r.t_desired_s, r.t_adequate_s, task.desired.time_s, r.max_err_pos_m, r.max_err_height_m,
+            r.max_err_heading_rad * CORE_RAD_TO_DEG, r.stop_steps);
+    rc = 0;
+    goto out;
+write_fail:
+    core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", o->csv);
+out:
+    if (csv)
+        fclose(csv);
+    if (tmp[0])
+        unlink(tmp);
+    sim_pilot_auto_destroy(p);
+    return rc;
+}
+
 int cmd_fly(int argc, char **argv)
 {
     fly_args o;
@@ -311,6 +417,12 @@ int cmd_fly(int argc, char **argv)
     rc = 1;
     if (world_build(&ctx, o.scen, &ctx.w, &err) != 0)
         goto fail;
+    if (o.pilot) {
+        if (fly_auto(&ctx, &err) != 0)
+            goto fail;
+        rc = 0;
+        goto done;
+    }
     sim_loop_opts lo;
     sim_loop_opts_default(&lo);
     lo.rate_hz = o.rate_hz;

@@ -1,0 +1,36 @@
+#!/bin/sh
+# disim fly --pilot auto --task FILE: the automated pilot flies a task
+# headless (sim/pilot_auto.c): the station-keeping task moved 3 m to
+# starboard of the scenario's hover is met (desired) and the CSV ends
+# within 1 m of the target; bad flags and a bad task file are refused,
+# naming what, with nothing written.
+# Usage: fly_auto_cli.sh DISIM SOURCE_DIR
+set -u
+disim=$1 src=$2
+tmp=$(mktemp -d /tmp/disim_fly_auto_XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+fail=0 pass=0
+ok() { pass=$((pass + 1)); }
+bad() { echo "FAIL: $1"; fail=$((fail + 1)); }
+sed 's/^target_S_m = .*/target_S_m = 0,3,-6/' "$src/scenarios/tasks/station_keep.ini" > "$tmp/task.ini"
+args="$src/scenarios/cg47_uh60a.ini --wod-speed-kt 0 --wod-dir-deg 0 --db $tmp/db"
+"$disim" fly $args --pilot auto --task "$tmp/task.ini" --csv "$tmp/auto.csv" 2> "$tmp/auto.log" && ok \
+    || { bad "fly --pilot auto failed"; cat "$tmp/auto.log"; }
+grep -q "task desired at 80.0 s" "$tmp/auto.log" && ok || { bad "the task was not met (desired)"; cat "$tmp/auto.log"; }
+[ "$(wc -l < "$tmp/auto.csv")" -eq 4002 ] && ok || bad "expected a header and 4001 rows at 50 Hz over the task's 80 s"
+tail -1 "$tmp/auto.csv" | awk -F, '{d = ($3 - 3) * ($3 - 3) + $2 * $2; exit !(d < 1 && $4 > -7 && $4 < -5)}' && ok \
+    || { bad "the flight did not end within 1 m of the target"; tail -1 "$tmp/auto.csv"; }
+"$disim" fly $args --pilot auto --task "$tmp/task.ini" --duration 2 2> "$tmp/d.log" && grep -q "for 2 s" "$tmp/d.log" \
+    && ok || bad "--duration did not override the task's length"
+# refused: another pilot, no task, LCM, a bad task file (its line named)
+"$disim" fly $args --pilot replay --task "$tmp/task.ini" 2> "$tmp/e1.log" && bad "--pilot replay accepted" \
+    || { grep -q "expected --pilot auto with --task FILE" "$tmp/e1.log" && ok || bad "--pilot replay: no reason"; }
+"$disim" fly $args --pilot auto 2> /dev/null && bad "--pilot auto without --task accepted" || ok
+"$disim" fly $args --pilot auto --task "$tmp/task.ini" --lcm memq:// 2> "$tmp/e3.log" && bad "--lcm accepted" \
+    || { grep -q "flies headless" "$tmp/e3.log" && ok || bad "--lcm: no reason"; }
+sed 's/^duration_s = .*/duration_s = -5/' "$tmp/task.ini" > "$tmp/bad.ini"
+"$disim" fly $args --pilot auto --task "$tmp/bad.ini" --csv "$tmp/bad.csv" 2> "$tmp/e4.log" && bad "a bad task accepted" \
+    || { grep -q "bad.ini:[0-9]*: \[task\] duration_s" "$tmp/e4.log" && ok || { bad "bad task: no file:line"; cat "$tmp/e4.log"; }; }
+ls "$tmp"/bad.csv* > /dev/null 2>&1 && bad "a refused run wrote a CSV" || ok
+echo "fly_auto_cli: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
