@@ -1,6 +1,7 @@
 /* test_pilot_auto.c -- the automated pilot (sim/pilot_auto.c, issue 26):
  * the station-keeping task of scenarios/tasks/station_keep.ini flown by
- * the UH-60A over the CG-47's spot through the flight API at 200 Hz
+ * the UH-60A and the SA365N over the CG-47's spot through the flight API
+ * at 200 Hz
  * (sim_flight_create / sim_flight_step, the flight's SAS off, no
  * turbulence, the free stream: no field). From a trimmed hover 3 m to
  * starboard of and 2 m above the target, the pilot must bring the
@@ -25,6 +26,7 @@
 #include <unistd.h>
 
 #define UH60 "scenarios/aircraft/uh60a.ini"
+#define SA365 "scenarios/aircraft/sa365n.ini"
 #define SHIP "scenarios/ships/cg47.ini"
 #define TASK "scenarios/tasks/station_keep.ini"
 #define RATE_HZ 200.0
@@ -128,7 +130,7 @@ static void test_station_keep(const hfm_aircraft *ac, const core_ship *ship, con
         run r;
         fly(ac, ship, t, start, wod_kt[k], 0.25, &r);
         char what[96];
-        snprintf(what, sizeof what, "UH-60A, %.0f kt head wind, delay 0.25 s", wod_kt[k]);
+        snprintf(what, sizeof what, "%s, %.0f kt head wind, delay 0.25 s", hfm_aircraft_name(ac), wod_kt[k]);
         print_run(what, &r);
         CHECK(!r.failed);
         CHECK(r.r.grade == 2);
@@ -157,7 +159,7 @@ static void test_delay(const hfm_aircraft *ac, const core_ship *ship, const sim_
         run r;
         fly(ac, ship, t, start, 0.0, delays[k], &r);
         char what[96];
-        snprintf(what, sizeof what, "UH-60A, calm, delay %.2f s", delays[k]);
+        snprintf(what, sizeof what, "%s, calm, delay %.2f s", hfm_aircraft_name(ac), delays[k]);
         print_run(what, &r);
         if (r.r.grade == 2 && all)
             best = delays[k];
@@ -166,7 +168,8 @@ static void test_delay(const hfm_aircraft *ac, const core_ship *ship, const sim_
         if (delays[k] == 1.5)
             grade15 = r.failed ? 0 : r.r.grade;
     }
-    printf("the largest delay flown that meets the desired band: %.2f s (1.5 s: %s)\n", best, grade_name(grade15));
+    printf("%s: the largest delay flown that meets the desired band: %.2f s (1.5 s: %s)\n", hfm_aircraft_name(ac), best,
+           grade_name(grade15));
     CHECK(grade15 == 0);
     /* the margin: the nominal 0.25 s and at least 0.1 s more are flown */
     CHECK(best >= 0.35);
@@ -220,9 +223,7 @@ int main(void)
     core_err err = {{0}};
     core_ship ship;
     sim_task task;
-    hfm_aircraft *ac = NULL;
-    if (core_ship_load(SHIP, &ship, &err) != 0 || sim_task_load(TASK, &task, &err) != 0 ||
-        !(ac = hfm_aircraft_load(UH60, NULL, &err))) {
+    if (core_ship_load(SHIP, &ship, &err) != 0 || sim_task_load(TASK, &task, &err) != 0) {
         fprintf(stderr, "set-up: %s\n", err.msg);
         CHECK(0);
         return check_done("test_pilot_auto");
@@ -230,14 +231,24 @@ int main(void)
     test_task_file(&task);
     /* 3 m to starboard of and 2 m above the target */
     const double start[3] = {task.target_S_m[0], task.target_S_m[1] + 3.0, task.target_S_m[2] - 2.0};
-    uint64_t h1 = 0;
-    test_station_keep(ac, &ship, &task, start, &h1);
-    /* 5. the same run again: bit-identical */
-    run again;
-    fly(ac, &ship, &task, start, 0.0, 0.25, &again);
-    printf("the calm run twice: hash %016llx and %016llx\n", (unsigned long long)h1, (unsigned long long)again.hash);
-    CHECK(!again.failed && again.hash == h1);
-    test_delay(ac, &ship, &task, start);
-    hfm_aircraft_destroy(ac);
+    const char *files[2] = {UH60, SA365};
+    for (int k = 0; k < 2; k++) {
+        hfm_aircraft *ac = hfm_aircraft_load(files[k], NULL, &err);
+        CHECK(ac != NULL);
+        if (!ac) {
+            fprintf(stderr, "set-up: %s\n", err.msg);
+            continue;
+        }
+        uint64_t h1 = 0;
+        test_station_keep(ac, &ship, &task, start, &h1);
+        /* 5. the same run again: bit-identical */
+        run again;
+        fly(ac, &ship, &task, start, 0.0, 0.25, &again);
+        printf("%s, the calm run twice: hash %016llx and %016llx\n", hfm_aircraft_name(ac), (unsigned long long)h1,
+               (unsigned long long)again.hash);
+        CHECK(!again.failed && again.hash == h1);
+        test_delay(ac, &ship, &task, start);
+        hfm_aircraft_destroy(ac);
+    }
     return check_done("test_pilot_auto");
 }
