@@ -124,7 +124,7 @@ static int rd_table(rd *r, const char *sec, const char *kx, const char *ky, doub
 static const char *const known_sections[] = {"aircraft", "main_rotor", "main_rotor_airfoil",
                                              "tail_rotor", "fuselage",   "stabilator",
                                              "fin",      "controls",   "sas",
-                                             "rejection"};
+                                             "rejection", "gear"};
 
 static int check_sections(const rd *r)
 {
@@ -137,7 +137,7 @@ static int check_sections(const rd *r)
             return core_err_set(r->err, -1,
                                 "%s:%d: unknown section [%s] (an aircraft file has [aircraft], [main_rotor], "
                                 "[main_rotor_airfoil], [tail_rotor], [fuselage], [stabilator], [fin], "
-                                "[controls], [sas] and [rejection])",
+                                "[controls], [sas], [gear] and [rejection])",
                                 r->path, e->line, e->section);
     }
     return 0;
@@ -409,6 +409,122 @@ int hfm_aircraft_sas(const hfm_aircraft *ac, hfm_sas_gains *g)
     return ac->has_sas ? 0 : 1;
 }
 
+/* ------------------------------------------------------------ [gear] */
+/* [gear] (optional): one value per leg in each per-leg list, the legs named
+ * by `legs`; the strike points named by `strike_points`. Every key is
+ * required once the section is there (docs/aircraft-format.md). */
+static int gear_names(rd *r, const char *key, int nmax, char names[][32], int *n)
+{
+    char buf[512];
+    if (core_ini_get_string(r->ini, "gear", key, 1, buf, sizeof buf, r->err))
+        return -1;
+    *n = 0;
+    for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
+        while (*tok == ' ' || *tok == '\t')
+            tok++;
+        size_t len = strlen(tok);
+        while (len && (tok[len - 1] == ' ' || tok[len - 1] == '\t'))
+            tok[--len] = 0;
+        if (!len || len >= 32)
+            return rd_fail(r, "gear", key, "names must be 1 to 31 characters, separated by commas");
+        if (*n >= nmax)
+            return rd_fail(r, "gear", key, "at most %d names", nmax);
+        memcpy(names[(*n)++], tok, len + 1);
+    }
+    if (!*n)
+        return rd_fail(r, "gear", key, "expected at least one name");
+    return 0;
+}
+
+/* A per-leg (or per-point) list of exactly n numbers in [lo, hi]. */
+static int gear_list(rd *r, const char *key, int n, double lo, double hi, double *out)
+{
+    int cnt = 0;
+    if (core_ini_get_doubles(r->ini, "gear", key, 1, lo, hi, out, HFM_GEAR_MAX_POINTS, &cnt, r->err))
+        return -1;
+    if (cnt != n)
+        return rd_fail(r, "gear", key, "expected %d values (one per name), got %d", n, cnt);
+    return 0;
+}
+
+static int load_gear(rd *r, hfm_aircraft *ac)
+{
+    const char *G = "gear";
+    hfm_gear *g = &ac->gear;
+    memset(g, 0, sizeof *g);
+    ac->has_gear = core_ini_has_section(r->ini, G);
+    if (!ac->has_gear)
+        return 0;
+    char names[HFM_GEAR_MAX_POINTS][32];
+    int n;
+    if (gear_names(r, "legs", HFM_GEAR_MAX_LEGS, names, &n))
+        return -1;
+    g->nlegs = n;
+    double v[11][HFM_GEAR_MAX_POINTS];
+    static const char *const key[11] = {"pos_x_m", "pos_y_m", "pos_z_m", "tyre_radius_m", "stroke_m",
+                                        "stiffness_N_per_m", "damping_compression_Ns_per_m",
+                                        "damping_rebound_Ns_per_m", "preload_N", "tyre_stiffness_N_per_m",
+                                        "brake"};
+    static const double lo[11] = {-30, -10, -1, 0.05, 0.01, 1e3, 0, 0, 0, 1e4, 0};
+    static const double hi[11] = {30, 10, 10, 1.0, 2.0, 1e8, 1e7, 1e7, 1e6, 1e8, 1};
+    for (int k = 0; k < 11; k++)
+        if (gear_list(r, key[k], n, lo[k], hi[k], v[k]))
+            return -1;
+    double cas[HFM_GEAR_MAX_POINTS];
+    if (gear_list(r, "castor", n, 0, 1, cas))
+        return -1;
+    for (int i = 0; i < n; i++) {
+        hfm_gear_leg *l = &g->leg[i];
+        memcpy(l->name, names[i], sizeof l->name);
+        l->pos_B_m[0] = v[0][i];
+        l->pos_B_m[1] = v[1][i];
+        l->pos_B_m[2] = v[2][i];
+        l->tyre_radius_m = v[3][i];
+        l->stroke_m = v[4][i];
+        l->stiffness_Npm = v[5][i];
+        l->damping_comp_Nspm = v[6][i];
+        l->damping_reb_Nspm = v[7][i];
+        l->preload_N = v[8][i];
+        l->tyre_stiffness_Npm = v[9][i];
+        l->brake = v[10][i] > 0.5;
+        l->castor = cas[i] > 0.5;
+        if (!(l->pos_B_m[2] + l->tyre_radius_m > 0))
+            return rd_fail(r, G, "pos_z_m", "leg %s: the tyre's bottom must be below the CG", l->name);
+    }
+    int off_b, off_l;
+    if (rd_num(r, G, "mu_static", 0.05, 2.0, &g->mu_static) ||
+        rd_num(r, G, "mu_dynamic", 0.05, 2.0, &g->mu_dynamic) ||
+        rd_num(r, G, "mu_rolling", 0.0, 0.2, &g->mu_rolling) ||
+        core_ini_get_enum(r->ini, G, "brakes", 1, "on|off", &off_b, r->err) ||
+        core_ini_get_enum(r->ini, G, "tail_wheel_lock", 1, "on|off", &off_l, r->err))
+        return -1;
+    if (g->mu_dynamic > g->mu_static)
+        return rd_fail(r, G, "mu_dynamic", "%g exceeds mu_static %g", g->mu_dynamic, g->mu_static);
+    g->brakes_on = off_b == 0;
+    g->tail_lock_on = off_l == 0;
+    if (gear_names(r, "strike_points", HFM_GEAR_MAX_POINTS, g->point_name, &g->npoints))
+        return -1;
+    double p[3][HFM_GEAR_MAX_POINTS];
+    if (gear_list(r, "strike_x_m", g->npoints, -30, 30, p[0]) ||
+        gear_list(r, "strike_y_m", g->npoints, -30, 30, p[1]) ||
+        gear_list(r, "strike_z_m", g->npoints, -10, 10, p[2]))
+        return -1;
+    for (int i = 0; i < g->npoints; i++)
+        for (int k = 0; k < 3; k++)
+            g->point_B_m[i][k] = p[k][i];
+    return 0;
+}
+
+int hfm_aircraft_gear(const hfm_aircraft *ac, hfm_gear *g)
+{
+    if (!ac->has_gear) {
+        memset(g, 0, sizeof *g);
+        return 1;
+    }
+    *g = ac->gear;
+    return 0;
+}
+
 hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err *err)
 {
     core_ini *ini = core_ini_load(path, err);
@@ -427,7 +543,7 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
     derive_main_rotor(&ac->mr);
     if (load_tail_rotor(&r, &ac->tr) || load_fuselage(&r, &ac->fus) ||
         load_surface(&r, "stabilator", &ac->stab, 0) || load_surface(&r, "fin", &ac->fin, 1) ||
-        load_controls(&r, &ac->rig) || load_sas(&r, ac))
+        load_controls(&r, &ac->rig) || load_sas(&r, ac) || load_gear(&r, ac))
         goto fail;
     core_ini_skip_section(ini, "rejection");
     if (core_ini_check_unused(ini, err) || hfm_aircraft_check(ac, ini, log, err))

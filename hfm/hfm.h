@@ -88,6 +88,38 @@ typedef struct hfm_sas_gains {
  * when it has none (the aircraft flies bare). */
 int hfm_aircraft_sas(const hfm_aircraft *ac, hfm_sas_gains *g);
 
+/* ------------------------------------------------ the landing gear [gear] */
+/* The optional [gear] section (docs/aircraft-format.md): the legs (an oleo
+ * strut along the body z axis in series with a tyre) and the body points
+ * checked for a strike on the ship (sim/contact.c uses both). */
+#define HFM_GEAR_MAX_LEGS 6
+#define HFM_GEAR_MAX_POINTS 16
+typedef struct hfm_gear_leg {
+    char name[32];
+    double pos_B_m[3];             /* the wheel's centre, strut fully extended */
+    double tyre_radius_m;
+    double stroke_m;               /* the strut's travel to its end stop */
+    double stiffness_Npm;          /* the strut's spring beyond the preload */
+    double damping_comp_Nspm;      /* compressing */
+    double damping_reb_Nspm;       /* extending (rebound) */
+    double preload_N;              /* the strut's force fully extended */
+    double tyre_stiffness_Npm;     /* vertical (and, assumed, lateral) */
+    int brake;                     /* 1: the wheel has a brake */
+    int castor;                    /* 1: the wheel castors unless locked */
+} hfm_gear_leg;
+typedef struct hfm_gear {
+    int nlegs;
+    hfm_gear_leg leg[HFM_GEAR_MAX_LEGS];
+    double mu_static, mu_dynamic, mu_rolling;
+    int brakes_on;                 /* the parking brake set at the start */
+    int tail_lock_on;              /* castoring wheels locked at the start */
+    int npoints;
+    char point_name[HFM_GEAR_MAX_POINTS][32];
+    double point_B_m[HFM_GEAR_MAX_POINTS][3];
+} hfm_gear;
+/* The gear of the aircraft file: 0, or 1 (g zeroed) when it has none. */
+int hfm_aircraft_gear(const hfm_aircraft *ac, hfm_gear *g);
+
 /* Figures derived from an aircraft file, for comparing it with published
  * data; hfm_aircraft_load checks them against the bands of real helicopters
  * (docs/aircraft-format.md, "Consistency checks"). */

@@ -82,6 +82,8 @@ struct hfm_aircraft {
     hfm_rig rig;
     int has_sas;       /* the optional [sas] section (aircraft.c) */
     hfm_sas_gains sas;
+    int has_gear;      /* the optional [gear] section (aircraft.c) */
+    hfm_gear gear;
 };
 
 /* Kinematics shared by the components of one evaluation. */

@@ -774,6 +774,66 @@ typedef struct sim_task_result {
 } sim_task_result;
 void sim_pilot_auto_result(const sim_pilot_auto *p, sim_task_result *r);
 
+/* ---------------------------------------- the landing gear (sim/contact.c) */
+/* The aircraft file's [gear] on the ship's deck: each leg an oleo strut in
+ * series with a tyre, pressed on the deck (the plane z_S = 0 over the flight
+ * deck, moving with the ship) with a regularised Coulomb friction that holds
+ * a standing aircraft; the body's strike points against the ship's blocks.
+ * ODE finds the contacts; the loads go to the flight model as an hfm_ext_fn
+ * (sim_flight_set_external(f, sim_contact_ext_fn, c)). See sim/contact.c. */
+typedef struct sim_contact sim_contact;
+enum {
+    SIM_CONTACT_SLIDE = 1u, /* a braked or locked wheel slid on the deck */
+    SIM_CONTACT_TIP = 2u,   /* tilted off the deck past the gear's tip-over angle */
+    SIM_CONTACT_CRASH = 4u  /* a strike on the ship, or the gear overloaded */
+};
+typedef struct sim_contact_leg {
+    int on_deck;
+    double compression_m;  /* tyre and strut together, along the deck normal */
+    double strut_m;        /* the strut's share of it */
+    double normal_N;       /* the deck's push on the tyre, along its normal */
+    double friction_N[2];  /* in the deck plane, along S x and S y */
+    double slip_m;         /* how far the tyre has slid on the deck so far */
+} sim_contact_leg;
+typedef struct sim_contact_report {
+    double t_s;
+    unsigned flags;        /* SIM_CONTACT_*, kept once set */
+    double t_slide_s, t_tip_s, t_crash_s; /* when each was first seen (-1: not) */
+    char what[160];        /* what happened: "tail_rotor_low hit hangar", ... */
+    int nlegs;
+    sim_contact_leg leg[HFM_GEAR_MAX_LEGS];
+    double tilt_rad;       /* the body z axis from the deck normal */
+    double tip_angle_rad;  /* the gear's static tip-over angle */
+} sim_contact_report;
+/* The gear of ac (it needs a [gear] section) on ship (copied), the ship's
+ * frame from frame (NULL: S is E, still), for a flight stepping at rate_hz.
+ * NULL with err. */
+sim_contact *sim_contact_create(const hfm_aircraft *ac, const core_ship *ship, sim_ship_frame_fn frame,
+                                void *frame_user, double rate_hz, core_err *err);
+void sim_contact_destroy(sim_contact *c);
+/* The hfm_ext_fn (user: a sim_contact): the gear's force and moment about
+ * the CG in B for the body state b in E (as sim/flight.c flies it) at t_s.
+ * Non-zero only when the loads are not finite. */
+int sim_contact_ext_fn(void *user, double t_s, const hfm_body *b, double F_B_N[3], double M_B_Nm[3]);
+/* After each flight step, with the state it ended at (sim_contact_body):
+ * the tyres' slides taken, the strike points checked, the report filled
+ * (rep may be NULL). 0; 1 when a crash stops the run (rep->what says what
+ * hit what). */
+int sim_contact_step(sim_contact *c, double t_s, const hfm_body *b, sim_contact_report *rep);
+void sim_contact_report_get(const sim_contact *c, sim_contact_report *rep);
+/* The body state in E of a flight step's output. */
+void sim_contact_body(const sim_flight_out *out, hfm_body *b);
+/* The parking brake and the castoring wheels' lock (as the file's at the start). */
+void sim_contact_set_brakes(sim_contact *c, int on);
+void sim_contact_set_lock(sim_contact *c, int on);
+/* The legs' static loads (N) holding weight_N on a level deck (the CG over
+ * the support, moments balanced; three legs exactly, more by least squares).
+ * 0, or < 0 with err when the CG is outside the support. */
+int sim_contact_static_loads(const hfm_gear *g, double weight_N, double load_N[], core_err *err);
+/* A leg's compression (m, tyre and strut) under the static load load_N,
+ * from the series law (the inverse of the leg's force law). */
+double sim_contact_leg_compression(const hfm_gear_leg *l, double load_N);
+
 #ifdef __cplusplus
 }
 #endif
