@@ -358,8 +358,12 @@ static int fly_auto(fly_ctx *c, core_err *err)
     sim_flight_state(w->fl, &out);
     if (csv && csv_row(csv, &out) != 0)
         goto write_fail;
+    sim_task_result r;
     for (long s = 0; s < n && !fly_stop; s++) {
         sim_pilot_auto_step(p, &out, &in);
+        sim_pilot_auto_result(p, &r);
+        if (r.touched) /* the landing task ends at touchdown */
+            break;
         if (sim_flight_step(w->fl, &in, &out, err) != 0)
             goto out;
         if (csv && out.step % csv_every == 0 && csv_row(csv, &out) != 0)
@@ -380,8 +384,14 @@ static int fly_auto(fly_ctx *c, core_err *err)
             goto write_fail;
         tmp[0] = '\0';
     }
-    sim_task_result r;
     sim_pilot_auto_result(p, &r);
+    if (task.kind == SIM_TASK_LAND && r.touched)
+        fprintf(stderr, "fly: touchdown %s at %.2f s (descent from %.2f s): sink %.2f m/s, drift %.2f m/s, %.2f m from "
+                        "the spot\n",
+                r.touchdown_grade == 2 ? "desired" : r.touchdown_grade == 1 ? "adequate" : "not met", r.t_touchdown_s,
+                r.t_descent_s, r.sink_mps, r.drift_mps, r.dist_m);
+    else if (task.kind == SIM_TASK_LAND)
+        fprintf(stderr, "fly: no touchdown by %.1f s\n", r.t_s);
     fprintf(stderr, "fly: task %s at %.1f s%s: within desired since %.2f s, adequate since %.2f s; largest error after "
                     "%.0f s %.2f m, height %.2f m, heading %.1f deg; %ld steps with a control at a stop\n",
             r.grade == 2 ? "desired" : r.grade == 1 ? "adequate" : "not met", r.t_s, fly_stop ? " (stopped)" : "",

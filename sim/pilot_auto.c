@@ -47,12 +47,24 @@
  * helicopter enters it no later than the band's time and then stays in it
  * for the task's duration.
  *
+ * Landing (type land): the hover as station keeping (duration_s is the
+ * stabilised hover before the descent); once it has met the desired
+ * band (or the adequate one by its end) the height loop's reference moves
+ * down at descent_mps (the rate fed forward) to 0.3 m below the touchdown
+ * height. Touchdown is the first state with the CG at touchdown_height_m
+ * above the deck (the wheels' contact, strut extended: the aircraft
+ * file's [gear]); its sink rate and drift are relative to the deck (the
+ * change of the position in S over the last step) and it is graded by
+ * the distance from the target's x, y and the sink rate. Not modelled
+ * yet: the deck-motion-aware timing (waiting for a quiescent period of
+ * heave) and the collective lowered after contact.
+ *
  * Task file (INI):
- *   [task]      type = station_keep; target_S_m = x,y,z (z < 0 above the
- *               deck); heading_deg (from the bow, 0); duration_s
- *   [desired]   pos_m, height_m, heading_deg, time_s
- *   [adequate]  pos_m, height_m, heading_deg, time_s (each no tighter
- *               than desired)
+ *   [task]      type = station_keep | land; target_S_m = x,y,z (z < 0
+ *               above the deck); heading_deg (from the bow, 0);
+ *               duration_s; land: touchdown_height_m, descent_mps
+ *   [desired]   pos_m, height_m, heading_deg, time_s; land: sink_mps
+ *   [adequate]  the same keys, each no tighter than desired
  */
 #include "sim.h"
 
@@ -73,15 +85,25 @@ struct sim_pilot_auto {
     double *buf;             /* nbuf x 4 */
     sim_task_result r;
     int met[2];              /* 1: the band (0 adequate, 1 desired) was met */
+    int descending;          /* land: the descent is under way */
+    double z_ref_S_m;        /* land: the height loop's reference (S, z down) */
+    double prev_pos_S_m[3], prev_t_s; /* the last state seen (deck-relative rates) */
+    int have_prev;
 };
 
-double sim_task_length_s(const sim_task *t) { return t->adequate.time_s + t->duration_s; }
+double sim_task_length_s(const sim_task *t)
+{
+    double T = t->adequate.time_s + t->duration_s;
+    if (t->kind == SIM_TASK_LAND) /* the descent, and as long again to settle */
+        T += 2.0 * fmax(-t->target_S_m[2] - t->touchdown_height_m, 0.0) / t->descent_mps + 5.0;
+    return T;
+}
 
-static int tol_section(core_ini *ini, const char *s, sim_task_tol *tol, core_err *err)
+static int tol_section(core_ini *ini, const char *s, int land, sim_task_tol *tol, core_err *err)
 {
     double hd;
     int rc;
-    if ((rc = core_ini_get_double(ini, s, "pos_m", 1, 0.01, 100.0, &tol->pos_m, err)) ||
+    if ((land && (rc = core_ini_get_double(ini, s, "sink_mps", 1, 0.01, 20.0, &tol->sink_mps, err))) ||(rc = core_ini_get_double(ini, s, "pos_m", 1, 0.01, 100.0, &tol->pos_m, err)) ||
         (rc = core_ini_get_double(ini, s, "height_m", 1, 0.01, 100.0, &tol->height_m, err)) ||
         (rc = core_ini_get_double(ini, s, "heading_deg", 1, 0.01, 180.0, &hd, err)) ||
         (rc = core_ini_get_double(ini, s, "time_s", 1, 0.0, 3600.0, &tol->time_s, err)))
@@ -98,7 +120,7 @@ int sim_task_load(const char *path, sim_task *t, core_err *err)
         return -1;
     int kind = 0, n = 0, rc;
     double hd = 0.0;
-    if ((rc = core_ini_get_enum(ini, "task", "type", 1, "station_keep", &kind, err)) ||
+    if ((rc = core_ini_get_enum(ini, "task", "type", 1, "station_keep|land", &kind, err)) ||
         (rc = core_ini_get_doubles(ini, "task", "target_S_m", 1, -500.0, 500.0, t->target_S_m, 3, &n, err)))
         goto out;
     if (n != 3) {
@@ -113,13 +135,25 @@ int sim_task_load(const char *path, sim_task *t, core_err *err)
     }
     if ((rc = core_ini_get_double(ini, "task", "heading_deg", 0, -180.0, 180.0, &hd, err)) < 0 ||
         (rc = core_ini_get_double(ini, "task", "duration_s", 1, 0.1, 3600.0, &t->duration_s, err)) ||
-        (rc = tol_section(ini, "desired", &t->desired, err)) || (rc = tol_section(ini, "adequate", &t->adequate, err)))
+        (rc = tol_section(ini, "desired", kind == SIM_TASK_LAND, &t->desired, err)) ||
+        (rc = tol_section(ini, "adequate", kind == SIM_TASK_LAND, &t->adequate, err)))
         goto out;
+    if (kind == SIM_TASK_LAND) {
+        if ((rc = core_ini_get_double(ini, "task", "touchdown_height_m", 1, 0.1, 20.0, &t->touchdown_height_m, err)) ||
+            (rc = core_ini_get_double(ini, "task", "descent_mps", 1, 0.05, 5.0, &t->descent_mps, err)))
+            goto out;
+        if (!(-t->target_S_m[2] > t->touchdown_height_m)) {
+            rc = core_err_set(err, -1, "%s:%d: [task] touchdown_height_m: expected below the hover's height (%.2f m)",
+                              path, core_ini_find(ini, "task", "touchdown_height_m")->line, -t->target_S_m[2]);
+            goto out;
+        }
+    }
     rc = 0;
     t->kind = kind;
     t->heading_rad = hd * D2R;
     if (t->adequate.pos_m < t->desired.pos_m || t->adequate.height_m < t->desired.height_m ||
-        t->adequate.heading_rad < t->desired.heading_rad || t->adequate.time_s < t->desired.time_s) {
+        t->adequate.heading_rad < t->desired.heading_rad || t->adequate.time_s < t->desired.time_s ||
+        t->adequate.sink_mps < t->desired.sink_mps) {
         rc = core_err_set(err, -1, "%s: [adequate]: expected each tolerance and time no tighter than [desired]'s",
                           path);
         goto out;
@@ -158,9 +192,13 @@ sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t,
                               "of 0 to 10 s and positive crossover frequencies, bandwidths and limits");
         return NULL;
     }
-    if (t->kind != SIM_TASK_STATION_KEEP) {
-        core_err_set(err, -1, "pilot_auto: task type %d: only station keeping (%d) is flown", t->kind,
-                     SIM_TASK_STATION_KEEP);
+    if (t->kind != SIM_TASK_STATION_KEEP && t->kind != SIM_TASK_LAND) {
+        core_err_set(err, -1, "pilot_auto: task type %d: expected station keeping (%d) or land (%d)", t->kind,
+                     SIM_TASK_STATION_KEEP, SIM_TASK_LAND);
+        return NULL;
+    }
+    if (t->kind == SIM_TASK_LAND && !(t->descent_mps > 0.0 && t->touchdown_height_m > 0.0)) {
+        core_err_set(err, -1, "pilot_auto: a landing task needs a descent rate and a touchdown height > 0");
         return NULL;
     }
     sim_pilot_auto *p = calloc(1, sizeof *p);
@@ -232,7 +270,8 @@ sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t,
     }
     for (int k = 0; k < p->nbuf; k++)
         memcpy(p->buf + 4 * k, g->trim_pct, sizeof g->trim_pct);
-    p->r.t_desired_s = p->r.t_adequate_s = -1.0;
+    p->r.t_desired_s = p->r.t_adequate_s = p->r.t_descent_s = p->r.t_touchdown_s = -1.0;
+    p->z_ref_S_m = t->target_S_m[2];
     for (int i = 0; i < 4; i++) {
         p->r.min_pct[i] = g->trim_pct[i];
         p->r.max_pct[i] = g->trim_pct[i];
@@ -259,11 +298,41 @@ static double wrap(double a) { return atan2(sin(a), cos(a)); }
 
 static double clampd(double v, double lo, double hi) { return fmin(fmax(v, lo), hi); }
 
+/* Landing: the descent starts once the hover has met the desired band
+ * (or, failing that, the adequate one by the hover's end); touchdown is
+ * the first state with the CG at the touchdown height above the deck,
+ * its sink rate and drift relative to the deck from the last two states
+ * (the deck heaves with S's origin). */
+static void land(sim_pilot_auto *p, const sim_flight_out *out)
+{
+    sim_task_result *r = &p->r;
+    const sim_task *t = &p->task;
+    if (!p->descending && (p->met[1] || (p->met[0] && out->t_s >= t->adequate.time_s + t->duration_s))) {
+        p->descending = 1;
+        r->t_descent_s = out->t_s;
+    }
+    if (r->touched || !p->have_prev || !(-out->pos_S_m[2] <= t->touchdown_height_m))
+        return;
+    double h = out->t_s - p->prev_t_s;
+    if (!(h > 0.0))
+        return;
+    r->touched = 1;
+    r->t_touchdown_s = out->t_s;
+    r->sink_mps = (out->pos_S_m[2] - p->prev_pos_S_m[2]) / h;
+    r->drift_mps = hypot(out->pos_S_m[0] - p->prev_pos_S_m[0], out->pos_S_m[1] - p->prev_pos_S_m[1]) / h;
+    r->dist_m = hypot(out->pos_S_m[0] - t->target_S_m[0], out->pos_S_m[1] - t->target_S_m[1]);
+    r->touchdown_grade = r->dist_m <= t->desired.pos_m && r->sink_mps <= t->desired.sink_mps     ? 2
+                         : r->dist_m <= t->adequate.pos_m && r->sink_mps <= t->adequate.sink_mps ? 1
+                                                                                                 : 0;
+}
+
 /* The grading of one step (the state the pilot sees, undelayed). */
 static void grade(sim_pilot_auto *p, const sim_flight_out *out, double psi_rel)
 {
     sim_task_result *r = &p->r;
     const sim_task *t = &p->task;
+    if (p->descending) /* the hover's grade stands; the touchdown is graded apart */
+        return;
     double dx = out->pos_S_m[0] - t->target_S_m[0], dy = out->pos_S_m[1] - t->target_S_m[1];
     r->err_pos_m = sqrt(dx * dx + dy * dy);
     r->err_height_m = -(out->pos_S_m[2] - t->target_S_m[2]);
@@ -298,6 +367,20 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     double psi_ship = atan2(out->ship.C_ES[3], out->ship.C_ES[0]);
     double psi_rel = wrap(out->euler_E_rad[2] - psi_ship);
     grade(p, out, psi_rel);
+    double w_ref = 0.0;
+    if (t->kind == SIM_TASK_LAND) {
+        land(p, out);
+        /* the height reference moves down at the descent rate to 0.3 m
+         * below the touchdown height (the wheels meet the deck on the way) */
+        double z_end = -t->touchdown_height_m + 0.3;
+        if (p->descending && p->z_ref_S_m < z_end) {
+            p->z_ref_S_m = fmin(p->z_ref_S_m + t->descent_mps / o->rate_hz, z_end);
+            w_ref = p->z_ref_S_m < z_end ? t->descent_mps : 0.0;
+        }
+    }
+    memcpy(p->prev_pos_S_m, out->pos_S_m, sizeof p->prev_pos_S_m);
+    p->prev_t_s = out->t_s;
+    p->have_prev = 1;
     /* outer loops in the heading axes H (x forward, y right, level) */
     double c = cos(psi_rel), s = sin(psi_rel);
     double ex = t->target_S_m[0] - out->pos_S_m[0], ey = t->target_S_m[1] - out->pos_S_m[1];
@@ -312,8 +395,8 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     double ph_c = g->trim_att_rad[0] + clampd((ac[1] - g->Y_v * vH[1]) / g->Y_phi, -o->max_att_rad, o->max_att_rad);
     /* inner loops: the crossover pilot's lead on each attitude (height) error */
     double e_att[4] = {ph_c - out->euler_E_rad[0], th_c - out->euler_E_rad[1], wrap(t->heading_rad - psi_rel),
-                       t->target_S_m[2] - out->pos_S_m[2]};
-    double rate[4] = {out->rate_B_radps[0], out->rate_B_radps[1], out->rate_B_radps[2], out->vel_S_mps[2]};
+                       p->z_ref_S_m - out->pos_S_m[2]};
+    double rate[4] = {out->rate_B_radps[0], out->rate_B_radps[1], out->rate_B_radps[2], out->vel_S_mps[2] - w_ref};
     const double K[4] = {g->L_lat, g->M_long, g->N_ped, g->Z_col};
     const double wc[4] = {o->att_crossover_radps, o->att_crossover_radps, o->yaw_crossover_radps,
                           o->hgt_crossover_radps};

@@ -706,21 +706,25 @@ struct _lcm_t *sim_loop_lcm(sim_loop *l);
  * crossover frequency and pure delay, its gains scheduled from the
  * linearised flight model (hfm_linearise) at the task's hover; it flies a
  * task file. sim/pilot_auto.c has the model and its references. */
-enum { SIM_TASK_STATION_KEEP = 0 };
+enum { SIM_TASK_STATION_KEEP = 0, SIM_TASK_LAND = 1 };
 /* A task's tolerances (ADS-33E-PRF style): horizontal distance from the
  * target, height, heading, and the time by which the helicopter must be
  * (and from then on stay) within them. */
 typedef struct sim_task_tol {
     double pos_m, height_m, heading_rad, time_s;
+    double sink_mps;       /* land: the largest sink rate at touchdown */
 } sim_task_tol;
 /* A task (INI, see sim/pilot_auto.c): station keeping holds the CG at
  * target_S_m (z < 0: above the deck) at heading_rad from the bow for
- * duration_s. */
+ * duration_s; land holds it there as station keeping does, then descends
+ * at descent_mps to touchdown. */
 typedef struct sim_task {
     int kind;
     double target_S_m[3];
     double heading_rad;
     double duration_s;
+    double touchdown_height_m; /* land: the CG's height above the deck at wheel contact */
+    double descent_mps;        /* land: the commanded rate of descent */
     sim_task_tol desired, adequate;
 } sim_task;
 /* Read a task file: 0, or < 0 with err naming the file, line and key. */
@@ -770,6 +774,11 @@ typedef struct sim_task_result {
     double max_err_pos_m, max_err_height_m, max_err_heading_rad; /* after the desired time */
     double min_pct[4], max_pct[4]; /* the controls' extremes: collective, long, lat, pedal */
     long stop_steps;           /* steps with a control at a stop */
+    /* land: the descent began at t_descent_s (-1: not yet); at touchdown
+     * (touched 1) the sink rate and drift relative to the deck, the
+     * distance from the spot, and the touchdown's grade (2, 1, 0) */
+    double t_descent_s, t_touchdown_s, sink_mps, drift_mps, dist_m;
+    int touched, touchdown_grade;
     double t_s;                /* the latest time */
 } sim_task_result;
 void sim_pilot_auto_result(const sim_pilot_auto *p, sim_task_result *r);

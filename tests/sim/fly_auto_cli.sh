@@ -2,7 +2,8 @@
 # disim fly --pilot auto --task FILE: the automated pilot flies a task
 # headless (sim/pilot_auto.c): the station-keeping task moved 3 m to
 # starboard of the scenario's hover is met (desired) and the CSV ends
-# within 1 m of the target; bad flags and a bad task file are refused,
+# within 1 m of the target; the landing task in sea state 4 touches down
+# within its desired tolerances; bad flags and a bad task file are refused,
 # naming what, with nothing written.
 # Usage: fly_auto_cli.sh DISIM SOURCE_DIR
 set -u
@@ -22,6 +23,9 @@ tail -1 "$tmp/auto.csv" | awk -F, '{d = ($3 - 3) * ($3 - 3) + $2 * $2; exit !(d 
     || { bad "the flight did not end within 1 m of the target"; tail -1 "$tmp/auto.csv"; }
 "$disim" fly $args --pilot auto --task "$tmp/task.ini" --duration 2 2> "$tmp/d.log" && grep -q "for 2 s" "$tmp/d.log" \
     && ok || bad "--duration did not override the task's length"
+# the landing task in sea state 4: the run ends at touchdown, within the desired touchdown tolerances
+"$disim" fly $args --sea-state 4 --pilot auto --task "$src/scenarios/tasks/land_uh60a.ini" 2> "$tmp/land.log" \
+    && grep -q "touchdown desired at" "$tmp/land.log" && ok || { bad "the landing was not within desired"; cat "$tmp/land.log"; }
 # refused: another pilot, no task, LCM, a bad task file (its line named)
 "$disim" fly $args --pilot replay --task "$tmp/task.ini" 2> "$tmp/e1.log" && bad "--pilot replay accepted" \
     || { grep -q "expected --pilot auto with --task FILE" "$tmp/e1.log" && ok || bad "--pilot replay: no reason"; }

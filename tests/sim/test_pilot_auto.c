@@ -29,6 +29,7 @@
 #define SA365 "scenarios/aircraft/sa365n.ini"
 #define SHIP "scenarios/ships/cg47.ini"
 #define TASK "scenarios/tasks/station_keep.ini"
+#define LAND "scenarios/tasks/land_uh60a.ini"
 #define RATE_HZ 200.0
 #define KT 0.514444
 
@@ -96,6 +97,10 @@ static void fly(const hfm_aircraft *ac, const core_ship *ship, const sim_task *t
         h = fnv(h, o.pos_E_m, sizeof o.pos_E_m);
         h = fnv(h, o.euler_E_rad, sizeof o.euler_E_rad);
         h = fnv(h, &in, sizeof in.collective_pct * 4);
+        sim_task_result tr;
+        sim_pilot_auto_result(p, &tr);
+        if (tr.touched) /* a landing ends at touchdown */
+            break;
         double d = hypot(o.pos_S_m[0] - task->target_S_m[0], o.pos_S_m[1] - task->target_S_m[1]);
         if (d > 30.0 || fabs(o.euler_E_rad[0]) > 0.785 || fabs(o.euler_E_rad[1]) > 0.785)
             break;
@@ -175,6 +180,41 @@ static void test_delay(const hfm_aircraft *ac, const core_ship *ship, const sim_
     CHECK(best >= 0.35);
 }
 
+/* 6. The landing (scenarios/tasks/land_uh60a.ini): from the same offset
+ * start the hover is met, the descent at 0.5 m/s begins and the wheels
+ * meet the deck (no gear yet: the CG at the touchdown height) within the
+ * desired touchdown tolerances: 1 m from the spot, sink below 1 m/s
+ * (issue 26's acceptance asks below 2 m/s and within 1 m), the sink
+ * within 0.2 m/s of the commanded descent. */
+static void test_land(const hfm_aircraft *ac, const core_ship *ship, const double start[3])
+{
+    sim_task t;
+    core_err err = {{0}};
+    if (sim_task_load(LAND, &t, &err) != 0) {
+        fprintf(stderr, "%s\n", err.msg);
+        CHECK(0);
+        return;
+    }
+    CHECK(t.kind == SIM_TASK_LAND);
+    const double wod_kt[2] = {0.0, 20.0};
+    for (int k = 0; k < 2; k++) {
+        run r;
+        fly(ac, ship, &t, start, wod_kt[k], 0.25, &r);
+        printf("%s, landing, %.0f kt head wind: hover %s, descent from %.2f s, touchdown %s at %.2f s: sink %.3f m/s, "
+               "drift %.3f m/s, %.3f m from the spot; %ld steps at a stop\n",
+               hfm_aircraft_name(ac), wod_kt[k], grade_name(r.r.grade), r.r.t_descent_s,
+               r.r.touched ? grade_name(r.r.touchdown_grade) : "none", r.r.t_touchdown_s, r.r.sink_mps, r.r.drift_mps,
+               r.r.dist_m, r.r.stop_steps);
+        CHECK(!r.failed && r.r.grade == 2);
+        CHECK(r.r.t_descent_s > 0.0 && r.r.t_descent_s <= t.desired.time_s + t.duration_s + 1e-9);
+        CHECK(r.r.touched && r.r.touchdown_grade == 2);
+        CHECK(r.r.dist_m <= t.desired.pos_m && r.r.sink_mps > 0.0 && r.r.sink_mps <= t.desired.sink_mps);
+        /* the descent is flown at the commanded rate to the deck */
+        CHECK(fabs(r.r.sink_mps - t.descent_mps) <= 0.2);
+        CHECK(r.r.stop_steps == 0);
+    }
+}
+
 /* 4. The task file: the shipped file's values, and errors that name what. */
 static void write_file(const char *path, const char *text)
 {
@@ -248,6 +288,8 @@ int main(void)
                (unsigned long long)again.hash);
         CHECK(!again.failed && again.hash == h1);
         test_delay(ac, &ship, &task, start);
+        if (k == 0)
+            test_land(ac, &ship, start);
         hfm_aircraft_destroy(ac);
     }
     return check_done("test_pilot_auto");
