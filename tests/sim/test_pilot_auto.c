@@ -35,6 +35,7 @@
 
 typedef struct run {
     sim_task_result r;
+    sim_pilot_gains g; /* the pilot's schedule */
     uint64_t hash;     /* FNV-1a over every step's state and controls */
     int failed;        /* set-up or integrator failure */
     double t_end_s;
@@ -83,6 +84,7 @@ static void fly(const hfm_aircraft *ac, const core_ship *ship, const sim_task *t
         out->failed = 1;
         return;
     }
+    sim_pilot_auto_gains(p, &out->g);
     sim_flight_out o;
     sim_flight_state(f, &o);
     uint64_t h = 1469598103934665603ull;
@@ -137,6 +139,10 @@ static void test_station_keep(const hfm_aircraft *ac, const core_ship *ship, con
         char what[96];
         snprintf(what, sizeof what, "%s, %.0f kt head wind, delay 0.25 s", hfm_aircraft_name(ac), wod_kt[k]);
         print_run(what, &r);
+        printf("  scheduled from the linear model (per s, per %% of travel): L_p %.3f L_lat %.4f, M_q %.3f M_long %.4f, "
+               "N_r %.3f N_ped %.4f, Z_w %.3f Z_col %.4f, X_u %.3f X_theta %.3f, Y_v %.3f Y_phi %.3f\n",
+               r.g.L_p, r.g.L_lat, r.g.M_q, r.g.M_long, r.g.N_r, r.g.N_ped, r.g.Z_w, r.g.Z_col, r.g.X_u, r.g.X_theta,
+               r.g.Y_v, r.g.Y_phi);
         CHECK(!r.failed);
         CHECK(r.r.grade == 2);
         /* within desired from no later than 15 s to the end (80 s) */
