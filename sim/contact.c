@@ -25,9 +25,12 @@
  *      Currey, "Aircraft Landing Gear Design: Principles and Practices"
  *      (AIAA 1988), ch. 5 (the oleo's spring, preload and orifice damping
  *      with separate compression and rebound), linearised here.
- *   3. Friction, in the deck plane (JSBSim's FGLGear documentation: static
- *      and dynamic coefficients, rolling friction, brakes, castoring and a
- *      steering lock). A tyre that must not slip (side-ways always; along
+ *   3. Friction, in the deck plane (JSBSim's FGLGear documentation,
+ *      jsbsim.sourceforge.net/JSBSim/classJSBSim_1_1FGLGear.html: static
+ *      and dynamic coefficients, rolling friction, brake groups, fixed and
+ *      castered wheels). JSBSim holds a standing aircraft with Lagrange
+ *      multipliers in its own integrator (FGAccelerations); hfm_tsim has
+ *      none, so here a tyre that must not slip (side-ways always; along
  *      its heading too when braked; a castoring wheel is free unless locked)
  *      is held by a tangential spring-damper to an anchor on the deck (the
  *      tyre's lateral stiffness, assumed equal to its vertical k_t, damped
