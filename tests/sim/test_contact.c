@@ -1,10 +1,13 @@
 /* test_contact.c -- the landing gear on the deck (sim/contact.c): the
- * static compression under the weight, a helicopter parked on a still deck
- * and in sea state 4 with 30 kt over the deck, a tilted deck that holds
- * below atan(mu_static) and slides above, a drop from 0.5 m, and the tail
- * driven into the CG-47's hangar face. Flown with the flight loop
- * (sim/flight.c) at 200 Hz, the collective full down. Run from the source
- * root. DISIM_CONTACT_DEBUG=1 prints each parked run's last state. */
+ * [gear] reader's errors, the static compression under the weight, the
+ * UH-60A parked 5 minutes (the SA365N 60 s) on a still deck and in sea
+ * state 4 with 30 kt over the deck, a deck tilting nose up that holds at
+ * half of atan(mu_static) and slides past it, a deck rolling to 45 deg that
+ * rolls it over, a drop from 0.5 m, and the tail driven into the CG-47's
+ * hangar face (moved kinematically: the flight cannot face aft). Flown with
+ * the flight loop (sim/flight.c) at 200 Hz, the collective lowered to full
+ * down. Run from the source root. DISIM_CONTACT_DEBUG=1 prints each parked
+ * run's last state. */
 #include "check.h"
 #include "hfm.h"
 #include "sim.h"
@@ -91,6 +94,7 @@ static void test_static(const hfm_aircraft *ac, const core_ship *ship)
  * smooth ramp over ramp_s; its origin fixed. */
 typedef struct tilt {
     double theta_rad, t0_s, ramp_s;
+    int roll; /* 1: rolls to starboard instead */
 } tilt;
 static int tilt_frame(void *user, double t_s, sim_ship_frame *out)
 {
@@ -100,9 +104,9 @@ static int tilt_frame(void *user, double t_s, sim_ship_frame *out)
     double th = tl->theta_rad * u * u * (3 - 2 * u);
     double c = cos(th), s = sin(th);
     memset(out, 0, sizeof *out);
-    /* C_ES of a pitch th: x_S = (c, 0, -s) in E */
-    double C[9] = {c, 0, s, 0, 1, 0, -s, 0, c};
-    memcpy(out->C_ES, C, sizeof C);
+    /* C_ES of a pitch th (x_S = (c, 0, -s) in E), or a roll th (y_S = (0, c, s)) */
+    double P[9] = {c, 0, s, 0, 1, 0, -s, 0, c}, R[9] = {1, 0, 0, 0, c, -s, 0, s, c};
+    memcpy(out->C_ES, tl->roll ? R : P, sizeof P);
     return 0;
 }
 
@@ -271,7 +275,7 @@ static void test_tilt(const hfm_aircraft *ac, const core_ship *ship)
     double lim = atan(g.mu_static);
     /* above atan(mu_static) no gear can hold; at half of it this one's
      * braked mains carry enough of the weight to */
-    tilt lo = {0.5 * lim, 6.0, 5.0}, hi = {lim + 8 * CORE_DEG_TO_RAD, 6.0, 5.0};
+    tilt lo = {0.5 * lim, 6.0, 5.0, 0}, hi = {lim + 8 * CORE_DEG_TO_RAD, 6.0, 5.0, 0};
     park p;
     CHECK(park_run(ac, ship, tilt_frame, &lo, 0.0, 0.0, 3.0, 6.0, 15.0, &p) == 0);
     print_park("deck tilted atan(mu) / 2", &p);
@@ -284,6 +288,21 @@ static void test_tilt(const hfm_aircraft *ac, const core_ship *ship)
     CHECK(p.rep.flags & SIM_CONTACT_SLIDE);
     /* not before the deck passes atan(mu) in its tilt */
     CHECK(p.rep.t_slide_s > 6.0 && p.rep.t_slide_s < 21.0);
+}
+
+/* Parked on a deck that rolls past the gear's lateral tip-over angle
+ * (below atan(mu_static), so it tips before it can slide): it rolls over,
+ * and says so, during the deck's roll. */
+static void test_rollover(const hfm_aircraft *ac, const core_ship *ship)
+{
+    tilt rl = {45 * CORE_DEG_TO_RAD, 6.0, 5.0, 1};
+    park p;
+    CHECK(park_run(ac, ship, tilt_frame, &rl, 0.0, 0.0, 3.0, 6.0, 10.0, &p) == 0);
+    print_park("deck rolled to 45 deg", &p);
+    printf("deck rolled to 45 deg: tipped at %.2f s\n", p.rep.t_tip_s);
+    CHECK(p.finite);
+    CHECK(p.rep.flags & SIM_CONTACT_TIP);
+    CHECK(p.rep.t_tip_s > 6.0 && p.rep.t_tip_s < 16.0);
 }
 
 /* A drop from 0.5 m: a bounded peak load, nothing not finite, no crash. */
@@ -409,6 +428,7 @@ int main(void)
     test_park(uh, &ship, hold_s);
     test_park(sa, &ship, 60.0);
     test_tilt(uh, &ship);
+    test_rollover(uh, &ship);
     test_drop(uh, &ship);
     test_hangar(uh, &ship);
     hfm_aircraft_destroy(uh);
