@@ -267,6 +267,24 @@ int sim_flight_set_field(sim_flight *f, const cfd_field *field, core_err *err)
 
 static double clamp_pct(double v) { return fmin(fmax(v, 0.0), 100.0); }
 
+/* A vector of E in the ship frame: C_ES^T v. */
+static void to_S(const sim_ship_frame *fr, const double v_E[3], double v_S[3])
+{
+    for (int i = 0; i < 3; i++)
+        v_S[i] = fr->C_ES[i] * v_E[0] + fr->C_ES[3 + i] * v_E[1] + fr->C_ES[6 + i] * v_E[2];
+}
+
+/* The CG's position in S for the body state b (in E) at t_s. */
+static void cg_pos_S(const sim_flight *f, const hfm_body *b, double t_s, double p_S[3])
+{
+    sim_ship_frame fr;
+    f->frame(f->frame_user, t_s, &fr);
+    double d[3];
+    for (int i = 0; i < 3; i++)
+        d[i] = b->pos_S_m[i] - fr.origin_E_m[i];
+    to_S(&fr, d, p_S);
+}
+
 void sim_flight_state(const sim_flight *f, sim_flight_out *out)
 {
     memset(out, 0, sizeof *out);
@@ -289,10 +307,8 @@ void sim_flight_state(const sim_flight *f, sim_flight_out *out)
         d[i] = out->pos_E_m[i] - fr->origin_E_m[i];
         dv[i] = vE[i] - fr->mean_vel_E_mps[i];
     }
-    for (int i = 0; i < 3; i++) {
-        out->pos_S_m[i] = fr->C_ES[i] * d[0] + fr->C_ES[3 + i] * d[1] + fr->C_ES[6 + i] * d[2];
-        out->vel_S_mps[i] = fr->C_ES[i] * dv[0] + fr->C_ES[3 + i] * dv[1] + fr->C_ES[6 + i] * dv[2];
-    }
+    to_S(fr, d, out->pos_S_m);
+    to_S(fr, dv, out->vel_S_mps);
     out->collective_pct = f->u.collective_pct;
     out->long_pct = f->u.long_pct;
     out->lat_pct = f->u.lat_pct;
@@ -327,11 +343,10 @@ int sim_flight_step(sim_flight *f, const sim_flight_inputs *in, sim_flight_out *
      * on by one step, convected by the mean air at the CG */
     double t0 = (double)f->step * f->h_s, t1 = (double)(f->step + 1) * f->h_s;
     if (f->turb) {
-        sim_flight_out now;
-        sim_flight_state(f, &now);
-        double v[3], k, eps;
-        sim_air_mean_S(f->air, now.pos_S_m, t0, v, &k, &eps);
-        if (sim_turb_step(f->turb, now.pos_S_m, v, k, eps, f->h_s, err) != 0)
+        double p_S[3], v[3], k, eps;
+        cg_pos_S(f, &b0, t0, p_S);
+        sim_air_mean_S(f->air, p_S, t0, v, &k, &eps);
+        if (sim_turb_step(f->turb, p_S, v, k, eps, f->h_s, err) != 0)
             return -1;
     }
     /* 4-5: the flight model with the external loads */
