@@ -198,6 +198,57 @@ static int csv_row(FILE *f, const sim_flight_out *o)
                : 0;
 }
 
+/* The trajectory CSV (--csv): written to PATH.tmpPID and renamed at a
+ * clean end, so a failed or stopped run leaves nothing half-written. */
+typedef struct traj_csv {
+    FILE *f;         /* NULL: no --csv (every call does nothing) */
+    char tmp[1100];  /* the temporary, "" once renamed or never made */
+    const char *path;
+} traj_csv;
+
+static int traj_open(traj_csv *t, const char *path, core_err *err)
+{
+    memset(t, 0, sizeof *t);
+    t->path = path;
+    if (!path)
+        return 0;
+    snprintf(t->tmp, sizeof t->tmp, "%s.tmp%ld", path, (long)getpid());
+    if (!(t->f = fopen(t->tmp, "w"))) {
+        core_err_set(err, -1, "%s: cannot write", t->tmp);
+        t->tmp[0] = '\0';
+        return -1;
+    }
+    fprintf(t->f, "t_s,x_S_m,y_S_m,z_S_m,roll_deg,pitch_deg,yaw_deg,u_S_mps,v_S_mps,w_S_mps,x_E_m,y_E_m,z_E_m,"
+                  "collective_pct,long_pct,lat_pct,pedal_pct,air_flags\n");
+    return 0;
+}
+
+static int traj_row(traj_csv *t, const sim_flight_out *o) { return t->f ? csv_row(t->f, o) : 0; }
+
+/* Flush, sync, close and rename into place: 0, or -1 with err. */
+static int traj_commit(traj_csv *t, core_err *err)
+{
+    if (!t->f)
+        return 0;
+    int bad = fflush(t->f) != 0 || ferror(t->f) || fsync(fileno(t->f)) != 0;
+    bad |= fclose(t->f) != 0;
+    t->f = NULL;
+    if (bad || rename(t->tmp, t->path) != 0)
+        return core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", t->path);
+    t->tmp[0] = '\0';
+    return 0;
+}
+
+/* After a failure: close and remove the temporary. */
+static void traj_close(traj_csv *t)
+{
+    if (t->f)
+        fclose(t->f);
+    t->f = NULL;
+    if (t->tmp[0])
+        unlink(t->tmp);
+}
+
 /* What one scenario flies: the scenario, the aircraft, the airwake fields,
  * the ship's motion and the flight. A reset or a load builds a new world
  * beside the running one, and replaces it only when the build succeeded. */
@@ -335,19 +386,10 @@ static int fly_auto(fly_ctx *c, core_err *err)
     sim_pilot_auto *p = sim_pilot_auto_create(w->ac, &task, &po, &in, c->log, err);
     if (!p)
         return -1;
-    char tmp[1100] = "";
-    FILE *csv = NULL;
+    traj_csv csv;
     int rc = -1;
-    if (o->csv) {
-        snprintf(tmp, sizeof tmp, "%s.tmp%ld", o->csv, (long)getpid());
-        if (!(csv = fopen(tmp, "w"))) {
-            core_err_set(err, -1, "%s: cannot write", tmp);
-            tmp[0] = '\0';
-            goto out;
-        }
-        fprintf(csv, "t_s,x_S_m,y_S_m,z_S_m,roll_deg,pitch_deg,yaw_deg,u_S_mps,v_S_mps,w_S_mps,x_E_m,y_E_m,z_E_m,"
-                     "collective_pct,long_pct,lat_pct,pedal_pct,air_flags\n");
-    }
+    if (traj_open(&csv, o->csv, err) != 0)
+        goto out;
     double T = o->duration_set ? o->duration_s : sim_task_length_s(&task);
     long n = (long)llround(T * o->rate_hz), csv_every = (long)fmax(1.0, llround(o->rate_hz / o->csv_rate_hz));
     long poll_every = (long)llround(o->rate_hz);
@@ -356,7 +398,7 @@ static int fly_auto(fly_ctx *c, core_err *err)
             w->sea_state, o->task, T);
     sim_flight_out out;
     sim_flight_state(w->fl, &out);
-    if (csv && csv_row(csv, &out) != 0)
+    if (traj_row(&csv, &out) != 0)
         goto write_fail;
     sim_task_result r;
     for (long s = 0; s < n && !fly_stop; s++) {
@@ -366,7 +408,7 @@ static int fly_auto(fly_ctx *c, core_err *err)
             break;
         if (sim_flight_step(w->fl, &in, &out, err) != 0)
             goto out;
-        if (csv && out.step % csv_every == 0 && csv_row(csv, &out) != 0)
+        if (out.step % csv_every == 0 && traj_row(&csv, &out) != 0)
             goto write_fail;
         if (w->waiting && out.step % poll_every == 0) {
             int got = db_field(c->db, w->sc, w->dir_rad, &w->later, err);
@@ -376,14 +418,8 @@ static int fly_auto(fly_ctx *c, core_err *err)
         }
     }
     sim_pilot_auto_step(p, &out, &in); /* grades the last state */
-    if (csv) {
-        int bad = fflush(csv) != 0 || ferror(csv) || fsync(fileno(csv)) != 0;
-        bad |= fclose(csv) != 0;
-        csv = NULL;
-        if (bad || rename(tmp, o->csv) != 0)
-            goto write_fail;
-        tmp[0] = '\0';
-    }
+    if (traj_commit(&csv, err) != 0)
+        goto out;
     sim_pilot_auto_result(p, &r);
     if (task.kind == SIM_TASK_LAND && r.touched)
         fprintf(stderr, "fly: touchdown %s at %.2f s (descent from %.2f s): sink %.2f m/s, drift %.2f m/s, %.2f m from "
@@ -402,10 +438,7 @@ static int fly_auto(fly_ctx *c, core_err *err)
 write_fail:
     core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", o->csv);
 out:
-    if (csv)
-        fclose(csv);
-    if (tmp[0])
-        unlink(tmp);
+    traj_close(&csv);
     sim_pilot_auto_destroy(p);
     return rc;
 }
@@ -422,8 +455,8 @@ int cmd_fly(int argc, char **argv)
     core_log log = {app_log_stderr, &al, CORE_LOG_WARN};
     fly_ctx ctx = {&o, &log, NULL, {0}};
     sim_loop *loop = NULL;
-    FILE *csv = NULL;
-    char tmp[1100] = "";
+    traj_csv csv;
+    memset(&csv, 0, sizeof csv);
     rc = 1;
     if (world_build(&ctx, o.scen, &ctx.w, &err) != 0)
         goto fail;
@@ -447,15 +480,8 @@ int cmd_fly(int argc, char **argv)
     lo.pilots.hold_after_s = o.hold_after_s;
     if (o.stations && sim_pilots_opts_parse(&lo.pilots, o.stations, &err) != 0)
         goto fail;
-    if (o.csv) {
-        snprintf(tmp, sizeof tmp, "%s.tmp%ld", o.csv, (long)getpid());
-        if (!(csv = fopen(tmp, "w"))) {
-            core_err_set(&err, -1, "%s: cannot write", tmp);
-            goto fail;
-        }
-        fprintf(csv, "t_s,x_S_m,y_S_m,z_S_m,roll_deg,pitch_deg,yaw_deg,u_S_mps,v_S_mps,w_S_mps,x_E_m,y_E_m,z_E_m,"
-                     "collective_pct,long_pct,lat_pct,pedal_pct,air_flags\n");
-    }
+    if (traj_open(&csv, o.csv, &err) != 0)
+        goto fail;
     sim_loop_world lw;
     loop_world(&ctx.w, &lw);
     /* before the loop's clock starts: locking the memory takes a while */
@@ -481,7 +507,7 @@ int cmd_fly(int argc, char **argv)
     long poll_every = (long)llround(o.rate_hz); /* the database, once a simulated second */
     sim_flight_out out;
     sim_flight_state(ctx.w.fl, &out);
-    if (csv && csv_row(csv, &out) != 0)
+    if (traj_row(&csv, &out) != 0)
         goto write_fail;
     long n_stepped = 0;
     while (!fly_stop) {
@@ -493,7 +519,7 @@ int cmd_fly(int argc, char **argv)
         if (r != SIM_LOOP_STEPPED)
             continue;
         n_stepped++;
-        if (csv && out.step % csv_every == 0 && csv_row(csv, &out) != 0)
+        if (out.step % csv_every == 0 && traj_row(&csv, &out) != 0)
             goto write_fail;
         fly_world *w = &ctx.w; /* the running world (a load may have replaced it) */
         if (w->waiting && out.step % poll_every == 0) {
@@ -520,18 +546,8 @@ int cmd_fly(int argc, char **argv)
     }
     if (sim_loop_finish(loop, &err) != 0)
         goto fail;
-    if (csv) {
-        if (fflush(csv) != 0 || ferror(csv) || fsync(fileno(csv)) != 0) {
-            fclose(csv);
-            csv = NULL;
-            goto write_fail;
-        }
-        int bad = fclose(csv) != 0;
-        csv = NULL;
-        if (bad || rename(tmp, o.csv) != 0)
-            goto write_fail;
-        tmp[0] = '\0';
-    }
+    if (traj_commit(&csv, &err) != 0)
+        goto fail;
     sim_loop_report lr;
     sim_loop_report_get(loop, &lr);
     const sim_pacer_report *ps = &lr.pace;
@@ -564,10 +580,7 @@ write_fail:
 fail:
     fprintf(stderr, "%sdisim fly: %s\n", tty ? "\r\033[K" : "", err.msg);
 done:
-    if (csv)
-        fclose(csv);
-    if (tmp[0])
-        unlink(tmp);
+    traj_close(&csv);
     sim_loop_destroy(loop);
     world_free(&ctx.w);
     awdb_close(ctx.db);
