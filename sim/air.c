@@ -219,9 +219,12 @@ static int frame_at(sim_air *a, double t_s, sim_ship_frame *fr)
 {
     if (!(a->step_s > 0.0))
         return frame_exact(a, t_s, fr);
+    /* a step time (k h, as the loop computes it) is exact; floor alone
+     * put 3 h / h = 2.9999... in the step before and interpolated there */
+    double kn = nearbyint(t_s / a->step_s);
+    if (fabs(t_s - kn * a->step_s) <= 1e-12 * fmax(1.0, fabs(t_s)))
+        return frame_exact(a, kn * a->step_s, fr);
     double k = floor(t_s / a->step_s), t0 = k * a->step_s;
-    if (t_s - t0 <= 1e-12 * fmax(1.0, fabs(t_s)))
-        return frame_exact(a, t0, fr);
     sim_ship_frame f0, f1;
     if (frame_exact(a, t0, &f0) || frame_exact(a, (k + 1.0) * a->step_s, &f1))
         return -1;
@@ -236,6 +239,8 @@ static int frame_at(sim_air *a, double t_s, sim_ship_frame *fr)
 }
 
 void sim_air_set_step(sim_air *a, double step_s) { a->step_s = step_s; }
+
+int sim_air_frame(sim_air *a, double t_s, sim_ship_frame *fr) { return frame_at(a, t_s, fr); }
 
 int sim_air_fn(void *user, const double pos_E_m[3], double t_s, double vel_E_mps[3])
 {

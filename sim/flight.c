@@ -278,7 +278,7 @@ static void to_S(const sim_ship_frame *fr, const double v_E[3], double v_S[3])
 static void cg_pos_S(const sim_flight *f, const hfm_body *b, double t_s, double p_S[3])
 {
     sim_ship_frame fr;
-    f->frame(f->frame_user, t_s, &fr);
+    sim_air_frame(f->air, t_s, &fr);
     double d[3];
     for (int i = 0; i < 3; i++)
         d[i] = b->pos_S_m[i] - fr.origin_E_m[i];
@@ -300,7 +300,7 @@ void sim_flight_state(const sim_flight *f, sim_flight_out *out)
     memcpy(out->vel_E_mps, vE, sizeof vE);
     memcpy(out->euler_E_rad, b.euler_rad, sizeof out->euler_E_rad);
     memcpy(out->rate_B_radps, b.rate_B_radps, sizeof out->rate_B_radps);
-    f->frame(f->frame_user, out->t_s, &out->ship);
+    sim_air_frame(f->air, out->t_s, &out->ship); /* the frame the air has just used, not a second wave sum */
     const sim_ship_frame *fr = &out->ship;
     double d[3], dv[3];
     for (int i = 0; i < 3; i++) {

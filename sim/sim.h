@@ -130,6 +130,11 @@ int sim_air_fn(void *user, const double pos_E_m[3], double t_s, double vel_E_mps
 /* The loop's step (s): the ship frame at a time between two steps is then
  * interpolated between theirs (0: every time exact, the default). */
 void sim_air_set_step(sim_air *a, double step_s);
+/* The ship's frame at t_s as the air sees it: through the air's cache of
+ * the last few frames (the step times exact, times between them
+ * interpolated when a step is set). 0, or non-zero as the frame
+ * function. */
+int sim_air_frame(sim_air *a, double t_s, sim_ship_frame *fr);
 /* The weight of the newest field at t_s, 0 to 1 (1: no blend under way). */
 double sim_air_blend(const sim_air *a, double t_s);
 enum { SIM_AIR_FREE_STREAM = 1u, SIM_AIR_BLENDING = 2u };
