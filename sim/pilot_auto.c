@@ -89,6 +89,9 @@ struct sim_pilot_auto {
     double z_ref_S_m;        /* land: the height loop's reference (S, z down) */
     double prev_pos_S_m[3], prev_t_s; /* the last state seen (deck-relative rates) */
     int have_prev;
+    sim_pilot_ref ref;       /* what the outer loops track */
+    int external;            /* 1: a caller sets the reference (the phases do not) */
+    double td_height_m;      /* the CG's height above the deck at wheel contact */
 };
 
 double sim_task_length_s(const sim_task *t)
@@ -179,6 +182,19 @@ void sim_pilot_auto_opts_default(sim_pilot_auto_opts *o)
 }
 
 static int pos_fin(double v) { return isfinite(v) && v > 0.0; }
+
+/* The CG's height above a level deck when the lowest wheel, strut
+ * extended, touches it (the aircraft file's [gear]; 2 m without one). */
+static double gear_height(const hfm_aircraft *ac)
+{
+    hfm_gear g;
+    if (hfm_aircraft_gear(ac, &g) != 0 || g.nlegs < 1)
+        return 2.0;
+    double h = 0.0;
+    for (int i = 0; i < g.nlegs; i++)
+        h = fmax(h, g.leg[i].pos_B_m[2] + g.leg[i].tyre_radius_m);
+    return h;
+}
 
 sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t, const sim_pilot_auto_opts *o,
                                       const sim_flight_inputs *trim, const core_log *log, core_err *err)
@@ -272,6 +288,10 @@ sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t,
         memcpy(p->buf + 4 * k, g->trim_pct, sizeof g->trim_pct);
     p->r.t_desired_s = p->r.t_adequate_s = p->r.t_descent_s = p->r.t_touchdown_s = -1.0;
     p->z_ref_S_m = t->target_S_m[2];
+    memcpy(p->ref.pos_S_m, t->target_S_m, sizeof p->ref.pos_S_m);
+    p->ref.heading_rad = t->heading_rad;
+    p->ref.mode = SIM_PILOT_HOLD;
+    p->td_height_m = t->kind == SIM_TASK_LAND ? t->touchdown_height_m : gear_height(ac);
     for (int i = 0; i < 4; i++) {
         p->r.min_pct[i] = g->trim_pct[i];
         p->r.max_pct[i] = g->trim_pct[i];
@@ -281,6 +301,36 @@ fail:
     sim_pilot_auto_destroy(p);
     return NULL;
 }
+
+static int ref_ok(const sim_pilot_ref *r)
+{
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(r->pos_S_m[i]) || !isfinite(r->vel_S_mps[i]))
+            return 0;
+    if (!(fabs(r->heading_rad) <= M_PI) || (r->mode != SIM_PILOT_HOLD && r->mode != SIM_PILOT_DESCEND))
+        return 0;
+    return r->mode == SIM_PILOT_HOLD || (r->vel_S_mps[2] > 0.0 && r->vel_S_mps[2] <= 5.0);
+}
+
+/* The one way the reference changes (the phases and a caller alike): a
+ * descent starts from the height reference where it is. */
+static void set_ref(sim_pilot_auto *p, const sim_pilot_ref *r)
+{
+    if (r->mode == SIM_PILOT_HOLD)
+        p->z_ref_S_m = r->pos_S_m[2];
+    p->ref = *r;
+}
+
+int sim_pilot_auto_set_reference(sim_pilot_auto *p, const sim_pilot_ref *r)
+{
+    if (!p || !r || !ref_ok(r))
+        return -1;
+    p->external = 1;
+    set_ref(p, r);
+    return 0;
+}
+
+void sim_pilot_auto_reference(const sim_pilot_auto *p, sim_pilot_ref *r) { *r = p->ref; }
 
 void sim_pilot_auto_destroy(sim_pilot_auto *p)
 {
@@ -310,6 +360,12 @@ static void land(sim_pilot_auto *p, const sim_flight_out *out)
     if (!p->descending && (p->met[1] || (p->met[0] && out->t_s >= t->adequate.time_s + t->duration_s))) {
         p->descending = 1;
         r->t_descent_s = out->t_s;
+        if (!p->external) {
+            sim_pilot_ref d = p->ref;
+            d.mode = SIM_PILOT_DESCEND;
+            d.vel_S_mps[2] = t->descent_mps;
+            set_ref(p, &d);
+        }
     }
     if (r->touched || !p->have_prev || !(-out->pos_S_m[2] <= t->touchdown_height_m))
         return;
@@ -368,25 +424,30 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     double psi_rel = wrap(out->euler_E_rad[2] - psi_ship);
     grade(p, out, psi_rel);
     double w_ref = 0.0;
-    if (t->kind == SIM_TASK_LAND) {
+    if (t->kind == SIM_TASK_LAND)
         land(p, out);
+    const sim_pilot_ref *R = &p->ref;
+    if (R->mode == SIM_PILOT_DESCEND) {
         /* the height reference moves down at the descent rate to 0.3 m
          * below the touchdown height (the wheels meet the deck on the way) */
-        double z_end = -t->touchdown_height_m + 0.3;
-        if (p->descending && p->z_ref_S_m < z_end) {
-            p->z_ref_S_m = fmin(p->z_ref_S_m + t->descent_mps / o->rate_hz, z_end);
-            w_ref = p->z_ref_S_m < z_end ? t->descent_mps : 0.0;
+        double z_end = -p->td_height_m + 0.3;
+        if (p->z_ref_S_m < z_end) {
+            p->z_ref_S_m = fmin(p->z_ref_S_m + R->vel_S_mps[2] / o->rate_hz, z_end);
+            w_ref = p->z_ref_S_m < z_end ? R->vel_S_mps[2] : 0.0;
         }
+    } else {
+        w_ref = R->vel_S_mps[2];
     }
     memcpy(p->prev_pos_S_m, out->pos_S_m, sizeof p->prev_pos_S_m);
     p->prev_t_s = out->t_s;
     p->have_prev = 1;
     /* outer loops in the heading axes H (x forward, y right, level) */
     double c = cos(psi_rel), s = sin(psi_rel);
-    double ex = t->target_S_m[0] - out->pos_S_m[0], ey = t->target_S_m[1] - out->pos_S_m[1];
+    double ex = R->pos_S_m[0] - out->pos_S_m[0], ey = R->pos_S_m[1] - out->pos_S_m[1];
     double eH[2] = {c * ex + s * ey, -s * ex + c * ey};
     double vH[2] = {c * out->vel_S_mps[0] + s * out->vel_S_mps[1], -s * out->vel_S_mps[0] + c * out->vel_S_mps[1]};
-    double vc[2] = {o->pos_bw_radps * eH[0], o->pos_bw_radps * eH[1]};
+    double vr[2] = {c * R->vel_S_mps[0] + s * R->vel_S_mps[1], -s * R->vel_S_mps[0] + c * R->vel_S_mps[1]};
+    double vc[2] = {vr[0] + o->pos_bw_radps * eH[0], vr[1] + o->pos_bw_radps * eH[1]};
     double vn = hypot(vc[0], vc[1]);
     if (vn > o->max_speed_mps)
         vc[0] *= o->max_speed_mps / vn, vc[1] *= o->max_speed_mps / vn;
@@ -394,7 +455,7 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     double th_c = g->trim_att_rad[1] + clampd((ac[0] - g->X_u * vH[0]) / g->X_theta, -o->max_att_rad, o->max_att_rad);
     double ph_c = g->trim_att_rad[0] + clampd((ac[1] - g->Y_v * vH[1]) / g->Y_phi, -o->max_att_rad, o->max_att_rad);
     /* inner loops: the crossover pilot's lead on each attitude (height) error */
-    double e_att[4] = {ph_c - out->euler_E_rad[0], th_c - out->euler_E_rad[1], wrap(t->heading_rad - psi_rel),
+    double e_att[4] = {ph_c - out->euler_E_rad[0], th_c - out->euler_E_rad[1], wrap(R->heading_rad - psi_rel),
                        p->z_ref_S_m - out->pos_S_m[2]};
     double rate[4] = {out->rate_B_radps[0], out->rate_B_radps[1], out->rate_B_radps[2], out->vel_S_mps[2] - w_ref};
     const double K[4] = {g->L_lat, g->M_long, g->N_ped, g->Z_col};

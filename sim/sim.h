@@ -770,6 +770,28 @@ void sim_pilot_auto_gains(const sim_pilot_auto *p, sim_pilot_gains *g);
  * controls for the next step (within 0-100 %), the pilot's delay applied;
  * the task's grading advanced. 0, or 1 when a control is at a stop. */
 int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight_inputs *in);
+/* The pilot's reference (plain data): what the outer loops track. The
+ * task's phases set it each step; a caller (e.g. a replay pilot) may set
+ * it instead. */
+enum { SIM_PILOT_HOLD = 0, SIM_PILOT_DESCEND = 1 };
+typedef struct sim_pilot_ref {
+    double pos_S_m[3];   /* the CG's reference in S, from the spot (z < 0: above the deck) */
+    double vel_S_mps[3]; /* its velocity in S, fed forward to the velocity loop; DESCEND:
+                            vel_S_mps[2] > 0 is the rate of descent */
+    double heading_rad;  /* from the bow, + to starboard, in [-pi, pi] */
+    int mode;            /* SIM_PILOT_HOLD: the height loop holds pos_S_m[2];
+                            SIM_PILOT_DESCEND: the height reference moves down at
+                            vel_S_mps[2] from where it is to the deck (pos_S_m[2] not
+                            used), the collective lowered once the wheels touch */
+} sim_pilot_ref;
+/* Set the reference the pilot flies from its next step on. Once a caller
+ * has set it, the task's phases no longer move it (the task is still
+ * graded against its own phases). 0, or -1 with the reference unchanged
+ * for a value not finite, a heading outside [-pi, pi], a mode not HOLD or
+ * DESCEND, or a DESCEND rate not in (0, 5] m/s. */
+int sim_pilot_auto_set_reference(sim_pilot_auto *p, const sim_pilot_ref *r);
+/* The reference the pilot flies now. */
+void sim_pilot_auto_reference(const sim_pilot_auto *p, sim_pilot_ref *r);
 /* The task's result so far (plain data). */
 typedef struct sim_task_result {
     int grade;                 /* 2 desired, 1 adequate, 0 not (yet) met */
