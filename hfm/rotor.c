@@ -42,6 +42,11 @@
  *   k = 15 pi/64 tan(chi/2), c = 4/(1 + cos chi), M = diag(8/(3pi), 16/(45pi), 16/(45pi)),
  * (chi held at <= 70 deg in L, see hfm_rotor_inflow), with CL, CM the first moments of the thrust in sin psi and cos psi (signed so
  * that a positive moment raises the inflow where its harmonic is positive).
+ * Lhat is written in wind axes (Peters and HaQuang: azimuth from the
+ * downstream direction of the in-plane air at the hub) and turned to the
+ * hub's azimuth, so that a side wind skews the wake to the side; with the
+ * in-plane speed's direction folded into k's components the inflow is
+ * smooth through the hover (no term in |mu| alone).
  */
 #include "hfm_priv.h"
 
@@ -392,12 +397,30 @@ void hfm_rotor_inflow(const hfm_aircraft *ac, const hfm_rotor_in *in, double CT,
         th2 = tan35;
     }
     double k = 15.0 * CORE_PI / 64.0 * th2, cc = 4.0 / (1.0 + cchl);
-    memset(Lh, 0, 9 * sizeof(double));
-    Lh[0][0] = 1.0 / (2.0 * VT);
-    Lh[0][2] = k / VM;
-    Lh[1][1] = cc / VM;
-    Lh[2][0] = k / VT;
-    Lh[2][2] = cc * cchl / VM;
+    /* Lhat in wind axes (psi_w from the downstream direction of the
+     * in-plane air at the hub), turned to the hub's azimuth: the blade at
+     * psi points downstream (-cos psi, s sin psi) = d at psi_d, cos psi_d =
+     * -d_x, sin psi_d = s d_y, and (lambda1s, lambda1c) = R(psi_d)
+     * (lambda1s_w, lambda1c_w), (CL_w, CM_w) = R^T (CL, CM); so Lhat =
+     * Q Lhat_w Q^T with Q = diag(1, R). In hover the direction is
+     * undefined, and k (proportional to mu) and the difference of the two
+     * harmonic terms (to mu^2) vanish there: with k cos psi_d and k sin psi_d
+     * taken from the velocity components, Lhat is smooth through mu = 0. */
+    double cd = 1.0, sd = 0.0, hm = hypot(in->rel_hub_H[0], in->rel_hub_H[1]);
+    if (hm > 0.0) {
+        cd = -in->rel_hub_H[0] / hm;
+        sd = mr->sense * in->rel_hub_H[1] / hm;
+    }
+    const double a = 1.0 / (2.0 * VT), b = k / VM, e = k / VT, c1 = cc / VM, c2 = cc * cchl / VM;
+    Lh[0][0] = a;
+    Lh[0][1] = b * sd;
+    Lh[0][2] = b * cd;
+    Lh[1][0] = e * sd;
+    Lh[1][1] = c1 * cd * cd + c2 * sd * sd;
+    Lh[1][2] = (c2 - c1) * sd * cd;
+    Lh[2][0] = e * cd;
+    Lh[2][1] = Lh[1][2];
+    Lh[2][2] = c1 * sd * sd + c2 * cd * cd;
     if (skew)
         *skew = chi;
 }

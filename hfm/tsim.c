@@ -166,12 +166,23 @@ int hfm_tsim_rhs(hfm_tsim *ts, double t, const double *y, double *yd)
     L.mr_power_W = P;
     double C[3] = {T / q, Lr / q, Mp / q}, Lh[3][3];
     hfm_rotor_inflow(ac, &in, C[0], C[1], C[2], Lh, NULL);
-    /* Lhat^-1: lambda1s alone, (lambda0, lambda1c) a 2x2 block */
+    /* Lhat^-1 lambda by the adjugate (Lhat in hub axes is full: its wind
+     * axes turned to the hub's, hfm_rotor_inflow; det Lhat = det Lhat_w > 0) */
     const double *lam = y + I_LAM;
-    double det = Lh[0][0] * Lh[2][2] - Lh[0][2] * Lh[2][0];
-    double li0 = (Lh[2][2] * lam[0] - Lh[0][2] * lam[2]) / det;
-    double li2 = (-Lh[2][0] * lam[0] + Lh[0][0] * lam[2]) / det;
-    double li1 = lam[1] / Lh[1][1];
+    double Li[3][3];
+    Li[0][0] = Lh[1][1] * Lh[2][2] - Lh[1][2] * Lh[2][1];
+    Li[0][1] = Lh[0][2] * Lh[2][1] - Lh[0][1] * Lh[2][2];
+    Li[0][2] = Lh[0][1] * Lh[1][2] - Lh[0][2] * Lh[1][1];
+    Li[1][0] = Lh[1][2] * Lh[2][0] - Lh[1][0] * Lh[2][2];
+    Li[1][1] = Lh[0][0] * Lh[2][2] - Lh[0][2] * Lh[2][0];
+    Li[1][2] = Lh[0][2] * Lh[1][0] - Lh[0][0] * Lh[1][2];
+    Li[2][0] = Lh[1][0] * Lh[2][1] - Lh[1][1] * Lh[2][0];
+    Li[2][1] = Lh[0][1] * Lh[2][0] - Lh[0][0] * Lh[2][1];
+    Li[2][2] = Lh[0][0] * Lh[1][1] - Lh[0][1] * Lh[1][0];
+    double det = Lh[0][0] * Li[0][0] + Lh[0][1] * Li[1][0] + Lh[0][2] * Li[2][0];
+    double li0 = (Li[0][0] * lam[0] + Li[0][1] * lam[1] + Li[0][2] * lam[2]) / det;
+    double li1 = (Li[1][0] * lam[0] + Li[1][1] * lam[1] + Li[1][2] * lam[2]) / det;
+    double li2 = (Li[2][0] * lam[0] + Li[2][1] * lam[1] + Li[2][2] * lam[2]) / det;
     const double m0 = 8.0 / (3.0 * CORE_PI), m1 = 16.0 / (45.0 * CORE_PI);
     yd[I_LAM + 0] = mr->omega * (C[0] - li0) / m0;
     yd[I_LAM + 1] = mr->omega * (C[1] - li1) / m1;
