@@ -2,7 +2,13 @@
  * [--coupling two-way|one-way] [-o DIR] [--db DIR] [--full-circle]
  * [--dir-step-deg D] [--speed-step-kmh S] [--speed-max-kmh M]
  * [--bisect-kmh T] [--direct] [--no-seed] [--domain whole|zone] [--max-coupling-iter N]
- * [--cfd-max-iter N]`.
+ * [--cfd-max-iter N] [--method trim|pilot] [--task FILE] [--seeds N]`.
+ * --method pilot (issue 26) flies the task (--task, default the landing
+ * task tasks/land_<aircraft>.ini beside the scenario) with the automated
+ * pilot at each WOD point, --seeds N flights per point, in the scenario's
+ * [sea] state and turbulence, over the one-way airwake, and writes the
+ * flown envelope beside the trim-based one (default folder: the
+ * scenario's output folder + /pilot); see run_pilot and docs/shol.md.
  * --speed-max-kmh 0 trims in calm air only (a hover check, e.g. ground
  * effect over the deck): no ship-only field is built for it.
  * --no-seed starts every coupled point from the free-air trim (see
@@ -17,6 +23,7 @@
  * near that boundary: from two speed steps below the one-way limit upward
  * the trim is coupled; below, the one-way trim stands in (the report marks
  * which points were coupled). */
+#include "awdb.h"
 #include "cmds.h"
 #include "couple.h"
 #include "hfm.h"
@@ -88,6 +95,154 @@ static char *fields_md(const couple_ctx *one, const couple_ctx *two)
     return couple_fields_md(f1, n1, f2, n2);
 }
 
+/* --method pilot: the ship-only field of a direction for the flights,
+ * through the database's field cache (the trim sweep has already fetched
+ * them; a missing one is built and waited for as the trims do). */
+typedef struct pilot_fields {
+    awdb_fields *fc;
+    const char *ship, *aircraft;
+    core_grid_level grid;
+    double ref_mps;
+} pilot_fields;
+
+static int pilot_field(void *user, double dir_rad, const struct cfd_field **out, core_err *err)
+{
+    pilot_fields *pf = user;
+    awdb_key k;
+    awdb_key_ship_only(&k, pf->ship, pf->aircraft, pf->ref_mps, dir_rad, pf->grid);
+    *out = awdb_fields_get(pf->fc, &k, err);
+    return *out ? 0 : -1;
+}
+
+static void on_progress_flown(void *user, const shol_progress *p)
+{
+    progress_ctx *pc = user;
+    if (!pc->tty && !p->done)
+        return; /* quiet in logs */
+    char name[32], left[48];
+    core_wod_name(p->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+    if (p->done)
+        snprintf(left, sizeof left, "done in %.0f s", p->elapsed_s);
+    else if (!isfinite(p->eta_s))
+        snprintf(left, sizeof left, "time left unknown");
+    else
+        snprintf(left, sizeof left, "%d min %02d s left", (int)(p->eta_s / 60), (int)fmod(p->eta_s, 60));
+    fprintf(stderr, "%sflown: %3.0f%% %s at %.0f km/h, %d flights, %.1f s/flight, %s%s", pc->tty ? "\r\033[K" : "",
+            100 * p->fraction, name, p->speed_mps / CORE_KMH_TO_MPS, p->n_trims,
+            p->rate_per_s > 0 ? 1.0 / p->rate_per_s : 0.0, left, p->done || !pc->tty ? "\n" : "");
+}
+
+/* The default task: tasks/land_<aircraft file's base name>.ini beside the scenario. */
+static void default_task(const sim_scenario *sc, char *buf, size_t n)
+{
+    const char *slash = strrchr(sc->path, '/');
+    int dl = slash ? (int)(slash - sc->path) : 1;
+    const char *ab = strrchr(sc->aircraft_path, '/');
+    ab = ab ? ab + 1 : sc->aircraft_path;
+    int al = (int)strcspn(ab, ".");
+    snprintf(buf, n, "%.*s/tasks/land_%.*s.ini", dl, slash ? sc->path : ".", al, ab);
+}
+
+/* Fly the flown envelope over the trim-based one (trim) and write it. */
+static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, const couple_settings *cs,
+                     const shol_settings *set, const shol_result *trim, const char *task_path, int seeds,
+                     const char *outdir, const char *scen, int tty, const core_log *log, core_err *err)
+{
+    char tbuf[1024];
+    if (!task_path) {
+        default_task(sc, tbuf, sizeof tbuf);
+        task_path = tbuf;
+    }
+    sim_task task;
+    if (sim_task_load(task_path, &task, err) != 0)
+        return -1;
+    sim_fly_task_opts fo;
+    sim_fly_task_opts_default(&fo);
+    fo.turbulence = sc->turbulence;
+    fo.sea.state = sc->sea_state;
+    fo.sea.ship_speed_mps = sc->ship_speed_mps;
+    fo.sea.wave_dir_rad = sc->wave_dir_rad;
+    fo.sea.spectrum = sc->spectrum ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
+    memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
+    sim_fly_task *ft = sim_fly_task_create(ac, &sc->ship, &task, &set->criteria, &fo, log, err);
+    if (!ft)
+        return -1;
+    awdb_fields_opts fopt;
+    awdb_fields_opts_default(&fopt);
+    fopt.cache_n = 32; /* every direction's field stays loaded */
+    fopt.launch = cs->launch;
+    fopt.launch_user = cs->launch_user;
+    fopt.wait_fn = cs->wait_fn;
+    fopt.wait_user = cs->wait_user;
+    awdb_fields *fc = awdb_fields_create(db, &fopt, log, err);
+    int rc = -1;
+    shol_flown_result fr;
+    shol_result as;
+    memset(&fr, 0, sizeof fr);
+    memset(&as, 0, sizeof as);
+    if (!fc)
+        goto out;
+    pilot_fields pf = {fc, sc->ship.name, hfm_aircraft_name(ac), cs->grid, cs->ref_speed_mps};
+    sim_fly_task_user fu = {ft, pilot_field, &pf};
+    shol_flown_settings fs;
+    shol_flown_settings_default(&fs);
+    if (seeds > 0)
+        fs.n_seeds = seeds;
+    progress_ctx pc = {tty, "flown"};
+    fprintf(stderr, "shol: flown: %s, %d seed%s per point, sea state %d, turbulence %s\n", task_path, fs.n_seeds,
+            fs.n_seeds == 1 ? "" : "s", fo.sea.state, fo.turbulence ? "on" : "off");
+    if (shol_flown_run(&fs, trim, sim_fly_task_shol, &fu, on_progress_flown, &pc, log, &fr, err) != 0) {
+        if (sim_fly_task_last_error(ft)[0])
+        {
+            char why[512];
+            snprintf(why, sizeof why, "%.500s", err->msg);
+            snprintf(err->msg, sizeof err->msg, "%.500s: %.500s", why, sim_fly_task_last_error(ft));
+        }
+        goto out;
+    }
+    char title[160], what[256];
+    snprintf(title, sizeof title, "%s + %s", sc->ship.name, hfm_aircraft_name(ac));
+    snprintf(what, sizeof what, "automated pilot, task %.150s, sea state %d, turbulence %s, one-way airwake", task_path,
+             fo.sea.state, fo.turbulence ? "on" : "off");
+    shol_report_info info;
+    memset(&info, 0, sizeof info);
+    info.title = title;
+    info.label = "flown (automated pilot)";
+    info.scenario_path = scen;
+    info.aircraft_path = sc->aircraft_path;
+    info.grid = core_grid_name(cs->grid);
+    info.coupling = what;
+    info.compare = trim;
+    info.compare_label = "one-way trim (ship-only airwake)";
+    shol_checks checks;
+    if (shol_flown_as_result(&fr, trim, &as, err) != 0)
+        goto out;
+    if (shol_checks_run(&as, hfm_aircraft_rotor_ccw(ac), &checks) == 0) {
+        info.checks = &checks;
+        for (int i = 0; i < checks.n; i++)
+            fprintf(stderr, "shol: flown check %s: %s (%s)\n", checks.c[i].name,
+                    !checks.c[i].applicable ? "not applicable" : checks.c[i].pass ? "pass" : "FAIL", checks.c[i].detail);
+    }
+    if (shol_flown_write_all(outdir, &fr, trim, &info, err) != 0)
+        goto out;
+    printf("wod_dir_deg,trim_max_speed_kt,flown_max_speed_kt,pass_rate_at_fail,cause\n");
+    for (int i = 0; i < fr.n_dirs; i++) {
+        const shol_flown_dir *d = &fr.dirs[i];
+        printf("%.1f,%.1f,%.1f,%.2f,%s\n", d->dir_rad * CORE_RAD_TO_DEG, d->trim_max_speed_mps / CORE_KT_TO_MPS,
+               d->max_speed_mps / CORE_KT_TO_MPS, d->pass_rate_fail, d->cause);
+    }
+    fprintf(stderr, "shol: %d flights, %.0f s flown in %.0f s; wrote %s/shol_flown.csv, shol_flown_points.csv, "
+                    "shol_flown.json, shol_polar_flown.png/.svg, report.md, shol.csv, shol.json\n",
+            fr.n_flights, fr.flown_s, fr.wall_s, outdir);
+    rc = 0;
+out:
+    shol_result_free(&as);
+    shol_flown_result_free(&fr);
+    awdb_fields_destroy(fc);
+    sim_fly_task_destroy(ft);
+    return rc;
+}
+
 static int parse_num(const char *flag, const char *v, double lo, double hi, double *out)
 {
     return app_parse_double("disim shol", flag, v, lo, hi, out);
@@ -95,7 +250,9 @@ static int parse_num(const char *flag, const char *v, double lo, double hi, doub
 
 int cmd_shol(int argc, char **argv)
 {
-    const char *scen = NULL, *outdir = NULL, *dbdir = NULL;
+    const char *scen = NULL, *outdir = NULL, *dbdir = NULL, *task_path = NULL;
+    int pilot = 0;
+    double seeds = 0;
     int grid = -1, coupling = -1, full = 0, direct = 0, no_seed = 0, zone = -1;
     double dstep = 0, sstep = 0, smax = -1, bisect = 0, maxit = 6, cfdit = 0;
     for (int i = 1; i < argc; i++) {
@@ -154,6 +311,20 @@ int cmd_shol(int argc, char **argv)
         } else if (!strcmp(a, "--cfd-max-iter")) {
             if (parse_num(a, v, 10, 1e6, &cfdit))
                 return 2;
+        } else if (!strcmp(a, "--method")) {
+            pilot = !strcmp(v, "pilot") ? 1 : !strcmp(v, "trim") ? 0 : -1;
+            if (pilot < 0) {
+                fprintf(stderr, "disim shol: --method '%s': expected trim or pilot\n", v);
+                return 2;
+            }
+        } else if (!strcmp(a, "--task"))
+            task_path = v;
+        else if (!strcmp(a, "--seeds")) {
+            if (parse_num(a, v, 1, SHOL_FLOWN_MAX_SEEDS, &seeds) || seeds != floor(seeds)) {
+                if (seeds != floor(seeds))
+                    fprintf(stderr, "disim shol: --seeds: expected a whole number\n");
+                return 2;
+            }
         } else if (!strcmp(a, "--max-coupling-iter")) {
             if (parse_num(a, v, 1, COUPLE_MAX_ITER - 1, &maxit))
                 return 2;
@@ -173,7 +344,11 @@ int cmd_shol(int argc, char **argv)
         fprintf(stderr, "usage: disim shol SCENARIO [--grid coarse|default|fine] [--coupling two-way|one-way] "
                         "[-o DIR] [--db DIR] [--full-circle] [--dir-step-deg D] [--speed-step-kmh S] "
                         "[--speed-max-kmh M] [--bisect-kmh T] [--direct] [--no-seed] [--domain whole|zone] [--max-coupling-iter N] "
-                        "[--cfd-max-iter N]\n");
+                        "[--cfd-max-iter N] [--method trim|pilot] [--task FILE] [--seeds N]\n");
+        return 2;
+    }
+    if (!pilot && (task_path || seeds > 0)) {
+        fprintf(stderr, "disim shol: --task and --seeds go with --method pilot\n");
         return 2;
     }
     int tty = isatty(2);
@@ -194,8 +369,17 @@ int cmd_shol(int argc, char **argv)
     if (!(ac = hfm_aircraft_load(sc->aircraft_path, &log, &err)))
         goto fail;
     shol_settings set;
-    if (couple_shol_settings_scenario(&set, sc, &err) != 0)
-        goto fail;
+    {
+        /* --method pilot flies in the scenario's sea; its trims, as every
+         * trim sweep, are over the ship at rest */
+        int sea = sc->sea_state;
+        if (pilot)
+            sc->sea_state = 0;
+        int src = couple_shol_settings_scenario(&set, sc, &err);
+        sc->sea_state = sea;
+        if (src != 0)
+            goto fail;
+    }
     if (full && shol_settings_full_circle(&set, (dstep > 0 ? dstep : 30.0) * CORE_DEG_TO_RAD, &err) != 0)
         goto fail;
     if (!full && dstep > 0 && shol_settings_dirs(&set, -90 * CORE_DEG_TO_RAD, 90 * CORE_DEG_TO_RAD, dstep * CORE_DEG_TO_RAD, &err) != 0)
@@ -209,9 +393,10 @@ int cmd_shol(int argc, char **argv)
         goto fail;
 
     char dbbuf[1024], outbuf[1024];
-    if (!outdir)
-        outdir = sc->output_dir;
-    snprintf(outbuf, sizeof outbuf, "%s", outdir);
+    if (!outdir && pilot)
+        snprintf(outbuf, sizeof outbuf, "%s/pilot", sc->output_dir);
+    else
+        snprintf(outbuf, sizeof outbuf, "%s", outdir ? outdir : sc->output_dir);
     if (!dbdir) {
         snprintf(dbbuf, sizeof dbbuf, "out/airwake-db");
         dbdir = dbbuf;
@@ -241,6 +426,8 @@ int cmd_shol(int argc, char **argv)
         cs.launch_user = &launcher;
     }
     int mode = coupling >= 0 ? coupling : (int)cs.mode;
+    if (pilot) /* the flights fly the one-way airwake: its trims are the comparison */
+        mode = CORE_COUPLING_ONE_WAY;
 
     cs.mode = CORE_COUPLING_ONE_WAY;
     if (!(one = couple_create(ac, &sc->ship, db, &cs, &log, &err)))
@@ -256,6 +443,13 @@ int cmd_shol(int argc, char **argv)
         if (couple_last_error(one)[0])
             snprintf(err.msg, sizeof err.msg, "%s", couple_last_error(one));
         goto fail;
+    }
+    if (pilot) {
+        cs.mode = CORE_COUPLING_ONE_WAY;
+        if (run_pilot(sc, ac, db, &cs, &set, &r1, task_path, (int)seeds, outbuf, scen, tty, &log, &err) != 0)
+            goto fail;
+        rc = 0;
+        goto done;
     }
     char title[160];
     snprintf(title, sizeof title, "%s + %s", sc->ship.name, hfm_aircraft_name(ac));

@@ -315,6 +315,140 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
 int shol_write_all(const char *dir, const shol_result *r, const shol_report_info *info,
                    core_err *err);
 
+/* ------------------------------------------- the flown envelope (issue 26) */
+/* SHOL points from flown tasks (shol/flown.c): at each WOD point the
+ * caller's fly callback flies the task (an automated pilot, ship motion,
+ * turbulence) with one seed; the point's pass rate over n_seeds seeds
+ * decides it. The criteria are judged at every step of the flown history
+ * (shol_flown_track), not only at trim. See docs/shol.md, "The flown
+ * envelope". */
+
+/* The worst of the criteria over a flown history. */
+typedef struct shol_flown_track {
+    shol_criteria criteria;
+    double min_frac[SHOL_NCRIT]; /* smallest margin over the history as a fraction of
+                                    its half-band (1 at the centre, < 0 exceeded) */
+    double min_t_s[SHOL_NCRIT];  /* when */
+    int first_crit;              /* the first criterion exceeded (SHOL_LIMIT_NONE: none) */
+    double first_t_s;
+    char first_phase[24];        /* the task's phase then ("hover", "descent", ...) */
+    long n_steps, n_bad;         /* steps judged; steps not finite */
+} shol_flown_track;
+void shol_flown_track_init(shol_flown_track *t, const shol_criteria *c);
+/* Judge one step's attitudes and controls (p) in phase at t_s. Returns 1
+ * when a criterion is exceeded at this step, 0 when none, -1 when p is not
+ * finite (counted in n_bad). */
+int shol_flown_track_step(shol_flown_track *t, double t_s, const char *phase, const shol_trim_point *p);
+
+/* One flight: what the fly callback fills. */
+#define SHOL_CAUSE_MAX 96
+typedef struct shol_flight {
+    int pass;                    /* 1: nothing exceeded, touchdown and tolerances met */
+    /* Why it failed ("" when it passed): "<criterion> in <phase>" (e.g.
+     * "roll in descent"), "touchdown sink", "touchdown position",
+     * "adequate tolerance: position|height|heading|time", "no touchdown",
+     * "crash: <what hit what>", "no trim". */
+    char cause[SHOL_CAUSE_MAX];
+    double flown_s;              /* simulated time flown */
+    double sink_mps, dist_m;     /* at touchdown (NAN: none) */
+    int grade;                   /* the task's grade: 2 desired, 1 adequate, 0 not met */
+    shol_flown_track track;
+} shol_flight;
+
+/* Fly the task at the WOD (speed, direction) with seed. 0 when flown (out
+ * filled, pass or not), > 0 when it could not start (no trim: out->cause
+ * "no trim", a rejection), < 0 on a fatal error (the sweep stops). */
+typedef int (*shol_fly_fn)(void *user, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
+                           shol_flight *out);
+
+#define SHOL_FLOWN_MAX_SEEDS 64
+typedef struct shol_flown_settings {
+    int n_seeds;                 /* flights per point, seeds seed0 .. seed0 + n - 1 (1..64; default 3) */
+    unsigned long long seed0;    /* 1 */
+    double pass_rate_min;        /* a point passes when its pass rate is >= this (0.8 with 3 seeds: all
+                                    three) */
+    int start_steps_below;       /* the search starts this many speed steps below the trim
+                                    envelope's radius (2) */
+    double bisect_tol_mps;       /* > 0: bisect [last pass, first failure] to this width; 0 off */
+} shol_flown_settings;
+void shol_flown_settings_default(shol_flown_settings *s);
+/* < 0 with err naming the field. */
+int shol_flown_settings_check(const shol_flown_settings *s, core_err *err);
+
+/* One WOD point: its flights' tally. */
+typedef struct shol_flown_point {
+    double speed_mps;
+    int n_flights, n_pass;
+    double pass_rate;            /* n_pass / n_flights */
+    int pass;                    /* pass_rate >= pass_rate_min */
+    char cause[SHOL_CAUSE_MAX];  /* the most frequent cause of the failed flights ("" none) */
+    int n_cause;                 /* flights that failed with it */
+    double flown_s;
+} shol_flown_point;
+
+typedef struct shol_flown_dir {
+    double dir_rad;
+    double trim_max_speed_mps;   /* the trim envelope's radius here (0 if it had no pass) */
+    int trim_has_pass, trim_limit;
+    int has_pass;                /* 0: even the lowest speed flown failed */
+    double max_speed_mps;        /* the last passing speed (0 if !has_pass) */
+    double fail_speed_mps;       /* the lowest failing speed flown, NAN if none */
+    double pass_rate_max, pass_rate_fail; /* at those two (NAN when absent) */
+    char cause[SHOL_CAUSE_MAX];  /* at fail_speed_mps ("none" when nothing failed) */
+    int n_points;                /* flown points, by speed */
+    shol_flown_point *points;
+} shol_flown_dir;
+
+typedef struct shol_flown_result {
+    shol_flown_settings flown;
+    double speed_step_mps, speed_max_mps; /* the trim sweep's, used for the search */
+    int n_dirs;
+    shol_flown_dir *dirs;        /* the trim result's directions, in its order */
+    int n_flights;
+    double flown_s, wall_s;      /* simulated and wall time of the whole run */
+} shol_flown_result;
+void shol_flown_result_free(shol_flown_result *r);
+
+/* The flown procedure, per direction of trim (the trim-based envelope,
+ * whose settings give the speed step and maximum): start at the speed
+ * grid point start_steps_below steps below the trim radius (at least 0);
+ * if that point passes, step up by the speed step until a point fails or
+ * speed_max is passed; if it fails, step down until a point passes or 0
+ * has failed; then optionally bisect. Points below the lowest flown speed
+ * are taken as passing (not flown). progress (n_trims counts flights) and
+ * log may be NULL. 0 and out filled, or < 0 with err (a fatal callback
+ * error names the direction, speed and seed). */
+int shol_flown_run(const shol_flown_settings *s, const shol_result *trim, shol_fly_fn fly, void *fly_user,
+                   shol_progress_fn progress, void *progress_user, const core_log *log, shol_flown_result *out,
+                   core_err *err);
+
+/* The flown envelope as a shol_result (radii, NAN-free), for the physics
+ * checks: a cause that names a criterion maps to it, any other to
+ * SHOL_LIMIT_TRIM, none to SHOL_LIMIT_NONE. Free with shol_result_free. */
+int shol_flown_as_result(const shol_flown_result *f, const shol_result *trim, shol_result *out, core_err *err);
+
+/* Outputs of the flown envelope into DIR (atomic, as the trim ones):
+ * shol_flown.csv, one row per direction, columns exactly: wod_dir_deg,
+ * max_speed_kt, max_speed_kmh, pass_rate_at_max, fail_speed_kt,
+ * pass_rate_at_fail, cause, trim_max_speed_kt, trim_limit;
+ * shol_flown_points.csv, one row per flown point: wod_dir_deg, speed_kt,
+ * speed_kmh, flights, passed, pass_rate, pass, cause; shol_flown.json (the
+ * settings and every point). */
+int shol_flown_write_csv(const char *dir, const shol_flown_result *f, core_err *err);
+int shol_flown_write_json(const char *dir, const shol_flown_result *f, const shol_report_info *info, core_err *err);
+/* DIR/shol_polar_flown.png and .svg: the trim envelope (dashed) and the
+ * flown one (solid) in one polar plot, each flown point a dot coloured by
+ * its pass rate, each direction's flown cause at its first failure. */
+int shol_flown_plot_polar(const char *dir, const shol_flown_result *f, const shol_result *trim,
+                          const shol_report_info *info, core_err *err);
+/* DIR/report.md: the settings, the plot, the flown envelope against the
+ * trim-based one direction by direction, every point's pass rate and cause. */
+int shol_flown_write_report(const char *dir, const shol_flown_result *f, const shol_result *trim,
+                            const shol_report_info *info, core_err *err);
+/* All four. */
+int shol_flown_write_all(const char *dir, const shol_flown_result *f, const shol_result *trim,
+                         const shol_report_info *info, core_err *err);
+
 #ifdef __cplusplus
 }
 #endif

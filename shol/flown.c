@@ -1,0 +1,380 @@
+/*
+ * flown.c -- the SHOL from flown tasks (issue 26): a WOD point is flown,
+ * not trimmed, and judged over its whole time history.
+ *
+ * Model. At each WOD point the caller's fly callback flies the task (an
+ * automated pilot landing on the moving deck in the field's turbulence)
+ * once per seed. A flight is rejected when any rejection criterion of the
+ * trim-based procedure (seed paper Table 4, CONVENTIONS.md) is exceeded
+ * at any step of the flight (shol_flown_track), when the touchdown is
+ * outside the task's adequate limits, when the task's adequate tolerances
+ * are not met, when the aircraft strikes the ship, or when it cannot be
+ * trimmed at the start. Turbulence and waves make a flight random, so a
+ * point is judged by its pass rate over n_seeds seeds: it passes when the
+ * rate reaches pass_rate_min (an ADS-33E-PRF style "most of the time";
+ * 0.8 with 3 seeds means all three).
+ *
+ * The search per direction (its cost is the point): flights cost about a
+ * second each where a one-way trim costs milliseconds, so the flown
+ * search starts near the trim envelope's boundary instead of at 0: at the
+ * grid speed start_steps_below steps below the trim radius; from a pass
+ * it steps up until a point fails, from a failure it steps down until a
+ * point passes (or 0 fails). The bracket may then be bisected. The points
+ * below the lowest speed flown are taken as passing without being flown:
+ * the assumption, as in the trim-based procedure, is that along a
+ * direction the envelope is crossed once.
+ */
+#include "io.h"
+#include "shol.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static const char *const crit_names[SHOL_NCRIT] = {"roll", "pitch", "long_cyclic", "lat_cyclic", "collective", "pedal"};
+
+void shol_flown_track_init(shol_flown_track *t, const shol_criteria *c)
+{
+    memset(t, 0, sizeof *t);
+    t->criteria = *c;
+    for (int i = 0; i < SHOL_NCRIT; i++) {
+        t->min_frac[i] = INFINITY;
+        t->min_t_s[i] = NAN;
+    }
+    t->first_crit = SHOL_LIMIT_NONE;
+    t->first_t_s = NAN;
+}
+
+int shol_flown_track_step(shol_flown_track *t, double t_s, const char *phase, const shol_trim_point *p)
+{
+    shol_eval e;
+    t->n_steps++;
+    if (shol_criteria_eval(&t->criteria, p, &e) != 0) {
+        t->n_bad++;
+        return -1;
+    }
+    const shol_criteria *c = &t->criteria;
+    const double band[SHOL_NCRIT] = {c->roll_max_rad,         c->pitch_max_rad,        c->long_cyclic_pct - 50,
+                                     c->lat_cyclic_pct - 50, c->collective_pct - 50, c->pedal_pct - 50};
+    int worst = -1;
+    double worst_f = INFINITY;
+    for (int i = 0; i < SHOL_NCRIT; i++) {
+        double f = band[i] > 0 ? e.margin[i] / band[i] : (e.margin[i] < 0 ? -INFINITY : 0.0);
+        if (f < t->min_frac[i]) {
+            t->min_frac[i] = f;
+            t->min_t_s[i] = t_s;
+        }
+        if (e.margin[i] < 0 && f < worst_f) {
+            worst_f = f;
+            worst = i;
+        }
+    }
+    if (worst < 0)
+        return 0;
+    if (t->first_crit == SHOL_LIMIT_NONE) {
+        t->first_crit = worst;
+        t->first_t_s = t_s;
+        snprintf(t->first_phase, sizeof t->first_phase, "%s", phase ? phase : "");
+    }
+    return 1;
+}
+
+void shol_flown_settings_default(shol_flown_settings *s)
+{
+    memset(s, 0, sizeof *s);
+    s->n_seeds = 3;
+    s->seed0 = 1;
+    s->pass_rate_min = 0.8;
+    s->start_steps_below = 2;
+    s->bisect_tol_mps = 0.0;
+}
+
+int shol_flown_settings_check(const shol_flown_settings *s, core_err *err)
+{
+    if (s->n_seeds < 1 || s->n_seeds > SHOL_FLOWN_MAX_SEEDS)
+        return core_err_set(err, -1, "shol: flown n_seeds = %d: expected 1 to %d", s->n_seeds, SHOL_FLOWN_MAX_SEEDS);
+    if (!(s->pass_rate_min > 0.0 && s->pass_rate_min <= 1.0))
+        return core_err_set(err, -1, "shol: flown pass_rate_min = %g: expected (0, 1]", s->pass_rate_min);
+    if (s->start_steps_below < 0 || s->start_steps_below > 1000)
+        return core_err_set(err, -1, "shol: flown start_steps_below = %d: expected 0 to 1000", s->start_steps_below);
+    if (!(s->bisect_tol_mps >= 0.0) || !isfinite(s->bisect_tol_mps))
+        return core_err_set(err, -1, "shol: flown bisect_tol_mps = %g: expected >= 0", s->bisect_tol_mps);
+    return 0;
+}
+
+void shol_flown_result_free(shol_flown_result *r)
+{
+    if (!r)
+        return;
+    if (r->dirs)
+        for (int i = 0; i < r->n_dirs; i++)
+            free(r->dirs[i].points);
+    free(r->dirs);
+    r->dirs = NULL;
+    r->n_dirs = 0;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+typedef struct search {
+    const shol_flown_settings *s;
+    const shol_result *trim;
+    shol_fly_fn fly;
+    void *fly_user;
+    shol_progress_fn progress;
+    void *progress_user;
+    const core_log *log;
+    double t0;
+    int n_flights;
+    double flown_s;
+    double speed_max;
+} search;
+
+static void report(search *w, int idir, double v, double dir_frac, int done)
+{
+    if (!w->progress)
+        return;
+    shol_progress p;
+    memset(&p, 0, sizeof p);
+    p.dir_index = idir;
+    p.n_dirs = w->trim->n_dirs;
+    p.dir_rad = w->trim->dirs[idir].dir_rad;
+    p.speed_mps = v;
+    p.n_trims = w->n_flights;
+    p.fraction = done ? 1.0 : (idir + fmin(fmax(dir_frac, 0.0), 1.0)) / w->trim->n_dirs;
+    p.elapsed_s = now_s() - w->t0;
+    p.rate_per_s = p.elapsed_s > 0 ? w->n_flights / p.elapsed_s : 0;
+    p.eta_s = done ? 0 : (p.fraction > 0 ? p.elapsed_s * (1 - p.fraction) / p.fraction : NAN);
+    p.done = done;
+    w->progress(w->progress_user, &p);
+}
+
+/* Fly the point at v with every seed; append it to d (kept sorted by speed
+ * at the end). 0, or < 0 with err. */
+static int fly_point(search *w, shol_flown_dir *d, int *cap, double v, shol_flown_point **out, core_err *err)
+{
+    if (d->n_points == *cap) {
+        int nc = *cap ? 2 * *cap : 16;
+        shol_flown_point *np = realloc(d->points, (size_t)nc * sizeof *np);
+        if (!np)
+            return core_err_set(err, -1, "shol: out of memory");
+        d->points = np;
+        *cap = nc;
+    }
+    shol_flown_point *pt = &d->points[d->n_points];
+    memset(pt, 0, sizeof *pt);
+    pt->speed_mps = v;
+    char causes[SHOL_FLOWN_MAX_SEEDS][SHOL_CAUSE_MAX];
+    int n_fail = 0;
+    for (int k = 0; k < w->s->n_seeds; k++) {
+        unsigned long long seed = w->s->seed0 + (unsigned long long)k;
+        shol_flight f;
+        memset(&f, 0, sizeof f);
+        int rc = w->fly(w->fly_user, v, d->dir_rad, seed, &f);
+        w->n_flights++;
+        if (rc < 0) {
+            char name[32];
+            core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+            return core_err_set(err, -1, "shol: flying %s at %.1f km/h, seed %llu failed", name, v / CORE_KMH_TO_MPS,
+                                seed);
+        }
+        if (rc > 0) {
+            f.pass = 0;
+            if (!f.cause[0])
+                snprintf(f.cause, sizeof f.cause, "no trim");
+        }
+        pt->n_flights++;
+        pt->flown_s += f.flown_s;
+        w->flown_s += f.flown_s;
+        if (f.pass)
+            pt->n_pass++;
+        else
+            snprintf(causes[n_fail++], SHOL_CAUSE_MAX, "%s", f.cause[0] ? f.cause : "unnamed");
+        char name[32];
+        core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+        core_log_msg(w->log, CORE_LOG_DEBUG, "flown %s %.0f km/h seed %llu: %s%s%s, %.1f s", name,
+                     v / CORE_KMH_TO_MPS, seed, f.pass ? "pass" : "fail", f.pass ? "" : ": ", f.pass ? "" : f.cause,
+                     f.flown_s);
+    }
+    pt->pass_rate = (double)pt->n_pass / pt->n_flights;
+    pt->pass = pt->pass_rate >= w->s->pass_rate_min - 1e-12;
+    /* the most frequent cause (ties: the first seen) */
+    for (int i = 0; i < n_fail; i++) {
+        int n = 0;
+        for (int j = 0; j < n_fail; j++)
+            n += !strcmp(causes[i], causes[j]);
+        if (n > pt->n_cause) {
+            pt->n_cause = n;
+            memcpy(pt->cause, causes[i], sizeof pt->cause);
+        }
+    }
+    d->n_points++;
+    *out = pt;
+    char name[32];
+    core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+    core_log_msg(w->log, CORE_LOG_INFO, "flown %s %.0f km/h: %d of %d passed (%s)%s%s", name, v / CORE_KMH_TO_MPS,
+                 pt->n_pass, pt->n_flights, pt->pass ? "pass" : "fail", pt->cause[0] ? ", mostly " : "", pt->cause);
+    return 0;
+}
+
+static int by_speed(const void *a, const void *b)
+{
+    double x = ((const shol_flown_point *)a)->speed_mps, y = ((const shol_flown_point *)b)->speed_mps;
+    return (x > y) - (x < y);
+}
+
+static int run_dir(search *w, int idir, shol_flown_dir *d, core_err *err)
+{
+    const shol_dir_result *td = &w->trim->dirs[idir];
+    double step = w->trim->settings.speed_step_mps, vmax = w->speed_max;
+    d->dir_rad = td->dir_rad;
+    d->trim_has_pass = td->has_pass;
+    d->trim_max_speed_mps = td->has_pass ? td->max_speed_mps : 0.0;
+    d->trim_limit = td->limit;
+    d->fail_speed_mps = d->pass_rate_max = d->pass_rate_fail = NAN;
+    int cap = 0;
+    long k_top = (long)floor(vmax / step + 1e-9);
+    long k = (long)floor(d->trim_max_speed_mps / step + 1e-9) - w->s->start_steps_below;
+    if (k < 0)
+        k = 0;
+    if (k > k_top)
+        k = k_top;
+    shol_flown_point *pt;
+    double frac_den = (double)k_top + 1.0;
+    report(w, idir, k * step, 0.0, 0);
+    if (fly_point(w, d, &cap, k * step, &pt, err) != 0)
+        return -1;
+    /* speeds, not pointers: the points move when the array grows */
+    double v_pass = NAN, v_fail = NAN;
+    if (pt->pass) {
+        v_pass = pt->speed_mps;
+        for (long j = k + 1; j <= k_top; j++) {
+            report(w, idir, j * step, (j - k) / (frac_den - k), 0);
+            if (fly_point(w, d, &cap, j * step, &pt, err) != 0)
+                return -1;
+            if (!pt->pass) {
+                v_fail = pt->speed_mps;
+                break;
+            }
+            v_pass = pt->speed_mps;
+        }
+    } else {
+        v_fail = pt->speed_mps;
+        for (long j = k - 1; j >= 0; j--) {
+            report(w, idir, j * step, (k - j) / (k + 1.0), 0);
+            if (fly_point(w, d, &cap, j * step, &pt, err) != 0)
+                return -1;
+            if (pt->pass) {
+                v_pass = pt->speed_mps;
+                break;
+            }
+            v_fail = pt->speed_mps;
+        }
+    }
+    if (w->s->bisect_tol_mps > 0 && !isnan(v_pass) && !isnan(v_fail)) {
+        while (v_fail - v_pass > w->s->bisect_tol_mps) {
+            double v = 0.5 * (v_pass + v_fail);
+            report(w, idir, v, 0.99, 0);
+            if (fly_point(w, d, &cap, v, &pt, err) != 0)
+                return -1;
+            if (pt->pass)
+                v_pass = v;
+            else
+                v_fail = v;
+        }
+    }
+    qsort(d->points, (size_t)d->n_points, sizeof *d->points, by_speed);
+    d->has_pass = !isnan(v_pass);
+    d->max_speed_mps = d->has_pass ? v_pass : 0.0;
+    d->fail_speed_mps = v_fail;
+    snprintf(d->cause, sizeof d->cause, "none");
+    for (int i = 0; i < d->n_points; i++) {
+        const shol_flown_point *q = &d->points[i];
+        if (d->has_pass && q->speed_mps == v_pass)
+            d->pass_rate_max = q->pass_rate;
+        if (!isnan(v_fail) && q->speed_mps == v_fail) {
+            d->pass_rate_fail = q->pass_rate;
+            snprintf(d->cause, sizeof d->cause, "%s", q->cause[0] ? q->cause : "unnamed");
+        }
+    }
+    return 0;
+}
+
+int shol_flown_run(const shol_flown_settings *s, const shol_result *trim, shol_fly_fn fly, void *fly_user,
+                   shol_progress_fn progress, void *progress_user, const core_log *log, shol_flown_result *out,
+                   core_err *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!s || !trim || !fly)
+        return core_err_set(err, -1, "shol: flown run: expected settings, a trim envelope and a fly callback");
+    if (shol_flown_settings_check(s, err) != 0)
+        return -1;
+    if (trim->n_dirs < 1 || !trim->dirs)
+        return core_err_set(err, -1, "shol: flown run: the trim envelope has no directions");
+    if (!(trim->settings.speed_step_mps > 0) || !(trim->settings.speed_max_mps >= 0))
+        return core_err_set(err, -1, "shol: flown run: the trim envelope's speed step %g m/s and maximum %g m/s: "
+                                     "expected > 0 and >= 0",
+                            trim->settings.speed_step_mps, trim->settings.speed_max_mps);
+    search w = {s, trim, fly, fly_user, progress, progress_user, log, now_s(), 0, 0.0, trim->settings.speed_max_mps};
+    out->dirs = calloc((size_t)trim->n_dirs, sizeof *out->dirs);
+    if (!out->dirs)
+        return core_err_set(err, -1, "shol: out of memory");
+    out->n_dirs = trim->n_dirs;
+    out->flown = *s;
+    out->speed_step_mps = trim->settings.speed_step_mps;
+    out->speed_max_mps = trim->settings.speed_max_mps;
+    for (int i = 0; i < trim->n_dirs; i++)
+        if (run_dir(&w, i, &out->dirs[i], err) != 0) {
+            shol_flown_result_free(out);
+            return -1;
+        }
+    out->n_flights = w.n_flights;
+    out->flown_s = w.flown_s;
+    out->wall_s = now_s() - w.t0;
+    report(&w, trim->n_dirs - 1, 0.0, 1.0, 1);
+    return 0;
+}
+
+/* The criterion a cause names ("roll in descent" -> roll), or -1. */
+static int cause_crit(const char *cause)
+{
+    for (int i = 0; i < SHOL_NCRIT; i++) {
+        size_t n = strlen(crit_names[i]);
+        if (!strncmp(cause, crit_names[i], n) && (cause[n] == ' ' || cause[n] == '\0'))
+            return i;
+    }
+    return -1;
+}
+
+int shol_flown_as_result(const shol_flown_result *f, const shol_result *trim, shol_result *out, core_err *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!(out->dirs = calloc((size_t)(f->n_dirs > 0 ? f->n_dirs : 1), sizeof *out->dirs)))
+        return core_err_set(err, -1, "shol: out of memory");
+    out->settings = trim ? trim->settings : out->settings;
+    out->n_dirs = f->n_dirs;
+    out->settings.n_dirs = f->n_dirs < SHOL_MAX_DIRS ? f->n_dirs : SHOL_MAX_DIRS;
+    for (int i = 0; i < f->n_dirs; i++) {
+        const shol_flown_dir *d = &f->dirs[i];
+        shol_dir_result *o = &out->dirs[i];
+        if (i < SHOL_MAX_DIRS)
+            out->settings.dirs_rad[i] = d->dir_rad;
+        o->dir_rad = d->dir_rad;
+        o->has_pass = d->has_pass;
+        o->max_speed_mps = d->max_speed_mps;
+        o->fail_speed_mps = d->fail_speed_mps;
+        int c = cause_crit(d->cause);
+        o->limit = isnan(d->fail_speed_mps) ? SHOL_LIMIT_NONE : c >= 0 ? c : SHOL_LIMIT_TRIM;
+        o->margins.limit = o->limit;
+    }
+    out->n_trims = f->n_flights;
+    out->wall_s = f->wall_s;
+    return 0;
+}

@@ -1,0 +1,241 @@
+/*
+ * report_flown.c -- the flown envelope's files: CSV per direction and per
+ * point, JSON, and the Markdown report that compares it with the
+ * trim-based envelope direction by direction. Each file is written under a
+ * temporary name and renamed into place (io.c).
+ */
+#include "io.h"
+#include "shol.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static double kt(double mps) { return mps / CORE_KT_TO_MPS; }
+
+/* A cause as one CSV field: commas and quotes never appear in the causes
+ * this module writes, but a crash names what hit what: quote it. */
+static void csv_str(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        if (*s == '"')
+            fputc('"', f);
+        fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
+static void json_str(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            fprintf(f, "\\%c", c);
+        else if (c < 0x20)
+            fprintf(f, "\\u%04x", c);
+        else
+            fputc(c, f);
+    }
+    fputc('"', f);
+}
+
+int shol_flown_write_csv(const char *dir, const shol_flown_result *fr, core_err *err)
+{
+    char final[SHOL_IO_PATH_MAX], tmp[SHOL_IO_PATH_MAX];
+    if (shol_io_mkdir(dir, err) < 0 || shol_io_paths(dir, "shol_flown.csv", final, tmp, err) < 0)
+        return -1;
+    FILE *f = shol_io_open(tmp, err);
+    if (!f)
+        return -1;
+    fprintf(f, "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,pass_rate_at_fail,cause,"
+               "trim_max_speed_kt,trim_limit\n");
+    for (int i = 0; i < fr->n_dirs; i++) {
+        const shol_flown_dir *d = &fr->dirs[i];
+        fprintf(f, "%.1f,", d->dir_rad * CORE_RAD_TO_DEG);
+        shol_io_num(f, "%.2f", d->has_pass ? kt(d->max_speed_mps) : NAN);
+        fputc(',', f);
+        shol_io_num(f, "%.1f", d->has_pass ? d->max_speed_mps / CORE_KMH_TO_MPS : NAN);
+        fputc(',', f);
+        shol_io_num(f, "%.3f", d->pass_rate_max);
+        fputc(',', f);
+        shol_io_num(f, "%.2f", kt(d->fail_speed_mps));
+        fputc(',', f);
+        shol_io_num(f, "%.3f", d->pass_rate_fail);
+        fputc(',', f);
+        csv_str(f, d->cause);
+        fputc(',', f);
+        shol_io_num(f, "%.2f", d->trim_has_pass ? kt(d->trim_max_speed_mps) : NAN);
+        fprintf(f, ",%s\n", shol_limit_name(d->trim_limit) ? shol_limit_name(d->trim_limit) : "none");
+    }
+    if (shol_io_commit(f, tmp, final, err) < 0)
+        return -1;
+    if (shol_io_paths(dir, "shol_flown_points.csv", final, tmp, err) < 0 || !(f = shol_io_open(tmp, err)))
+        return -1;
+    fprintf(f, "wod_dir_deg,speed_kt,speed_kmh,flights,passed,pass_rate,pass,cause\n");
+    for (int i = 0; i < fr->n_dirs; i++)
+        for (int k = 0; k < fr->dirs[i].n_points; k++) {
+            const shol_flown_point *q = &fr->dirs[i].points[k];
+            fprintf(f, "%.1f,%.2f,%.1f,%d,%d,%.3f,%d,", fr->dirs[i].dir_rad * CORE_RAD_TO_DEG, kt(q->speed_mps),
+                    q->speed_mps / CORE_KMH_TO_MPS, q->n_flights, q->n_pass, q->pass_rate, q->pass);
+            csv_str(f, q->cause);
+            fputc('\n', f);
+        }
+    return shol_io_commit(f, tmp, final, err);
+}
+
+int shol_flown_write_json(const char *dir, const shol_flown_result *fr, const shol_report_info *info, core_err *err)
+{
+    char final[SHOL_IO_PATH_MAX], tmp[SHOL_IO_PATH_MAX];
+    if (shol_io_mkdir(dir, err) < 0 || shol_io_paths(dir, "shol_flown.json", final, tmp, err) < 0)
+        return -1;
+    FILE *f = shol_io_open(tmp, err);
+    if (!f)
+        return -1;
+    fprintf(f, "{\n  \"title\": ");
+    json_str(f, info && info->title ? info->title : "Candidate SHOL");
+    fprintf(f, ",\n  \"method\": \"pilot\",\n  \"settings\": {\"seeds\": %d, \"seed0\": %llu, \"pass_rate_min\": %.3f, "
+               "\"start_steps_below\": %d, \"bisect_tol_kmh\": %.2f, \"speed_step_kmh\": %.2f, "
+               "\"speed_max_kmh\": %.2f},\n",
+            fr->flown.n_seeds, fr->flown.seed0, fr->flown.pass_rate_min, fr->flown.start_steps_below,
+            fr->flown.bisect_tol_mps / CORE_KMH_TO_MPS, fr->speed_step_mps / CORE_KMH_TO_MPS,
+            fr->speed_max_mps / CORE_KMH_TO_MPS);
+    fprintf(f, "  \"flights\": %d,\n  \"flown_s\": %.1f,\n  \"wall_s\": %.1f,\n  \"directions\": [", fr->n_flights,
+            fr->flown_s, fr->wall_s);
+    for (int i = 0; i < fr->n_dirs; i++) {
+        const shol_flown_dir *d = &fr->dirs[i];
+        fprintf(f, "%s\n    {\"wod_dir_deg\": %.2f, \"has_pass\": %d, \"max_speed_kt\": %.3f, \"fail_speed_kt\": ",
+                i ? "," : "", d->dir_rad * CORE_RAD_TO_DEG, d->has_pass, kt(d->max_speed_mps));
+        if (isnan(d->fail_speed_mps))
+            fprintf(f, "null");
+        else
+            fprintf(f, "%.3f", kt(d->fail_speed_mps));
+        fprintf(f, ", \"cause\": ");
+        json_str(f, d->cause);
+        fprintf(f, ", \"trim_max_speed_kt\": %.3f, \"trim_has_pass\": %d, \"trim_limit\": \"%s\", \"points\": [",
+                kt(d->trim_max_speed_mps), d->trim_has_pass,
+                shol_limit_name(d->trim_limit) ? shol_limit_name(d->trim_limit) : "none");
+        for (int k = 0; k < d->n_points; k++) {
+            const shol_flown_point *q = &d->points[k];
+            fprintf(f, "%s\n      {\"speed_kt\": %.3f, \"flights\": %d, \"passed\": %d, \"pass_rate\": %.4f, "
+                       "\"pass\": %d, \"cause\": ",
+                    k ? "," : "", kt(q->speed_mps), q->n_flights, q->n_pass, q->pass_rate, q->pass);
+            json_str(f, q->cause);
+            fprintf(f, ", \"cause_flights\": %d, \"flown_s\": %.1f}", q->n_cause, q->flown_s);
+        }
+        fprintf(f, "%s]}", d->n_points ? "\n    " : "");
+    }
+    fprintf(f, "\n  ]\n}\n");
+    return shol_io_commit(f, tmp, final, err);
+}
+
+static void fmt_kt(char *b, size_t n, int has, double mps)
+{
+    if (has)
+        snprintf(b, n, "%.1f", kt(mps));
+    else
+        snprintf(b, n, "none");
+}
+
+int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const shol_result *trim,
+                            const shol_report_info *info, core_err *err)
+{
+    char final[SHOL_IO_PATH_MAX], tmp[SHOL_IO_PATH_MAX];
+    if (shol_io_mkdir(dir, err) < 0 || shol_io_paths(dir, "report.md", final, tmp, err) < 0)
+        return -1;
+    FILE *f = shol_io_open(tmp, err);
+    if (!f)
+        return -1;
+    fprintf(f, "# %s: SHOL from flown landings\n\n", info && info->title ? info->title : "Candidate SHOL");
+    fprintf(f, "Method: `disim shol --method pilot` (docs/shol.md, \"The flown envelope\"): at each WOD point the "
+               "task is flown headless by the automated pilot, %d seed%s per point (seeds %llu to %llu); a flight "
+               "fails at the first step that exceeds a rejection criterion, at a crash, at a touchdown outside the "
+               "task's adequate limits or when the adequate tolerances are not met; a point passes when its pass "
+               "rate is at least %.2f. The search starts %d speed step%s below the trim-based radius.\n\n",
+            fr->flown.n_seeds, fr->flown.n_seeds == 1 ? "" : "s", fr->flown.seed0,
+            fr->flown.seed0 + (unsigned long long)fr->flown.n_seeds - 1, fr->flown.pass_rate_min,
+            fr->flown.start_steps_below, fr->flown.start_steps_below == 1 ? "" : "s");
+    if (info) {
+        if (info->scenario_path)
+            fprintf(f, "- scenario: `%s`\n", info->scenario_path);
+        if (info->aircraft_path)
+            fprintf(f, "- aircraft: `%s`\n", info->aircraft_path);
+        if (info->grid)
+            fprintf(f, "- grid: %s\n", info->grid);
+        if (info->coupling)
+            fprintf(f, "- flown: %s\n", info->coupling);
+        if (info->compare_label)
+            fprintf(f, "- trim-based envelope: %s\n", info->compare_label);
+    }
+    fprintf(f, "- %d flights, %.0f s flown in %.0f s of wall time (%.2f s of wall time per minute flown)\n\n",
+            fr->n_flights, fr->flown_s, fr->wall_s, fr->flown_s > 0 ? 60.0 * fr->wall_s / fr->flown_s : 0.0);
+    fprintf(f, "![flown over trim-based](shol_polar_flown.png)\n\n");
+    fprintf(f, "## Direction by direction\n\n");
+    fprintf(f, "| WOD | trim-based (kt) | its limit | flown (kt) | pass rate there | first failure (kt) | pass rate | "
+               "cause | flown - trim (kt) |\n|---|---|---|---|---|---|---|---|---|\n");
+    for (int i = 0; i < fr->n_dirs; i++) {
+        const shol_flown_dir *d = &fr->dirs[i];
+        char name[32], a[16], b[16], c[16], pr[16], pf[16], dd[16];
+        core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+        fmt_kt(a, sizeof a, d->trim_has_pass, d->trim_max_speed_mps);
+        fmt_kt(b, sizeof b, d->has_pass, d->max_speed_mps);
+        fmt_kt(c, sizeof c, !isnan(d->fail_speed_mps), d->fail_speed_mps);
+        snprintf(pr, sizeof pr, isnan(d->pass_rate_max) ? "-" : "%.2f", d->pass_rate_max);
+        snprintf(pf, sizeof pf, isnan(d->pass_rate_fail) ? "-" : "%.2f", d->pass_rate_fail);
+        snprintf(dd, sizeof dd, "%+.1f", kt((d->has_pass ? d->max_speed_mps : 0) - d->trim_max_speed_mps));
+        fprintf(f, "| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", name, a,
+                shol_limit_name(d->trim_limit) ? shol_limit_name(d->trim_limit) : "none", b, pr, c, pf, d->cause,
+                dd);
+    }
+    /* the shape, said in numbers: the largest radius and where */
+    int ibest = -1, tbest = -1;
+    for (int i = 0; i < fr->n_dirs; i++) {
+        if (fr->dirs[i].has_pass && (ibest < 0 || fr->dirs[i].max_speed_mps > fr->dirs[ibest].max_speed_mps))
+            ibest = i;
+        if (fr->dirs[i].trim_has_pass &&
+            (tbest < 0 || fr->dirs[i].trim_max_speed_mps > fr->dirs[tbest].trim_max_speed_mps))
+            tbest = i;
+    }
+    if (ibest >= 0) {
+        char n1[32], n2[32];
+        core_wod_name(fr->dirs[ibest].dir_rad * CORE_RAD_TO_DEG, n1, sizeof n1);
+        core_wod_name(tbest >= 0 ? fr->dirs[tbest].dir_rad * CORE_RAD_TO_DEG : 0, n2, sizeof n2);
+        fprintf(f, "\nThe flown envelope is largest at %s (%.1f kt); the trim-based one at %s (%.1f kt).\n", n1,
+                kt(fr->dirs[ibest].max_speed_mps), tbest >= 0 ? n2 : "none",
+                tbest >= 0 ? kt(fr->dirs[tbest].trim_max_speed_mps) : 0.0);
+    }
+    if (info && info->checks) {
+        fprintf(f, "\n## Physics checks of the flown envelope\n\n| check | result | detail |\n|---|---|---|\n");
+        for (int i = 0; i < info->checks->n; i++) {
+            const shol_check *c = &info->checks->c[i];
+            fprintf(f, "| %s | %s | %s |\n", c->name, !c->applicable ? "not applicable" : c->pass ? "pass" : "FAIL",
+                    c->detail);
+        }
+    }
+    fprintf(f, "\n## Every point flown\n\n| WOD | speed (kt) | flights | passed | pass rate | point | most frequent "
+               "cause |\n|---|---|---|---|---|---|---|\n");
+    for (int i = 0; i < fr->n_dirs; i++)
+        for (int k = 0; k < fr->dirs[i].n_points; k++) {
+            const shol_flown_point *q = &fr->dirs[i].points[k];
+            char name[32];
+            core_wod_name(fr->dirs[i].dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+            fprintf(f, "| %s | %.1f | %d | %d | %.2f | %s | %s |\n", name, kt(q->speed_mps), q->n_flights, q->n_pass,
+                    q->pass_rate, q->pass ? "pass" : "fail", q->cause[0] ? q->cause : "-");
+        }
+    (void)trim;
+    fprintf(f, "\nFiles: `shol_flown.csv` (per direction), `shol_flown_points.csv` (per point), `shol_flown.json`, "
+               "`shol_polar_flown.png`/`.svg`; the trim-based envelope beside them as `shol.csv` and `shol.json`.\n");
+    return shol_io_commit(f, tmp, final, err);
+}
+
+int shol_flown_write_all(const char *dir, const shol_flown_result *f, const shol_result *trim,
+                         const shol_report_info *info, core_err *err)
+{
+    if (shol_flown_write_csv(dir, f, err) < 0 || shol_flown_write_json(dir, f, info, err) < 0 ||
+        shol_flown_plot_polar(dir, f, trim, info, err) < 0 || shol_flown_write_report(dir, f, trim, info, err) < 0)
+        return -1;
+    if (trim && (shol_write_csv(dir, trim, err) < 0 || shol_write_json(dir, trim, NULL, err) < 0))
+        return -1;
+    return 0;
+}

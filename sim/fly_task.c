@@ -1,0 +1,263 @@
+/* fly_task.c -- one task flown headless at one WOD point with one seed:
+ * the flown SHOL's fly callback (shol_fly_fn, shol/flown.c).
+ *
+ * What is flown. The flight of sim/flight.c (trimmed hover at the
+ * station, the ship-only airwake of the direction scaled to the WOD
+ * speed, the field's turbulence seeded by seed), the ship in the sea
+ * state of the options (sim/ship_motion.c, seeded by seed + 1, as
+ * `disim fly` does), the landing gear on the deck where the aircraft has
+ * one (sim/contact.c: a strike on the ship is a crash), and the automated
+ * pilot (sim/pilot_auto.c) flying the task with the flight's SAS off (its
+ * gains are the bare airframe's). The flight ends at touchdown, at the
+ * task's end, at a crash, or at the first step that exceeds a rejection
+ * criterion: a flight is rejected at its first exceedance, so the rest
+ * would not change the verdict.
+ *
+ * How a flight is judged, in this order (the first that applies is the
+ * cause): a start that does not trim ("no trim"); a crash ("crash: WHAT",
+ * the gear's report, or "crash: the flight model diverged"); a rejection
+ * criterion exceeded at any step, judged on the attitudes in E and the
+ * controls the rotor gets ("roll in descent"; shol_flown_track); the
+ * task's adequate tolerances not met ("adequate tolerance: position",
+ * height, heading, or time when none is exceeded at the end but the
+ * helicopter was not within them by the adequate time); a landing with
+ * no touchdown ("no touchdown"); a touchdown outside the adequate limits
+ * ("touchdown sink" first, then "touchdown position").
+ */
+#include "shol.h"
+#include "sim.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct sim_fly_task {
+    const hfm_aircraft *ac;
+    core_ship ship;
+    sim_task task;
+    shol_criteria crit;
+    sim_fly_task_opts o;
+    int has_gear;
+    const core_log *log;
+    char err[1024];
+    sim_fly_task_last last;
+};
+
+void sim_fly_task_opts_default(sim_fly_task_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->rate_hz = 200.0;
+    o->turbulence = 1;
+    sim_sea_default(&o->sea);
+    o->max_s = 0.0;
+}
+
+sim_fly_task *sim_fly_task_create(const hfm_aircraft *ac, const core_ship *ship, const sim_task *task,
+                                  const struct shol_criteria *crit, const sim_fly_task_opts *o, const core_log *log,
+                                  core_err *err)
+{
+    if (!ac || !ship || !task || !crit || !o) {
+        core_err_set(err, -1, "fly_task: expected an aircraft, a ship, a task, criteria and options");
+        return NULL;
+    }
+    if (!(o->rate_hz >= 10.0 && o->rate_hz <= 10000.0) || (o->turbulence != 0 && o->turbulence != 1) ||
+        !(o->max_s >= 0.0) || o->sea.state < 0 || o->sea.state > SIM_SEA_MAX_STATE) {
+        core_err_set(err, -1, "fly_task: rate %g Hz, turbulence %d, max_s %g s, sea state %d: expected 10 to 10000 "
+                              "Hz, 0 or 1, >= 0 and 0 to %d",
+                     o->rate_hz, o->turbulence, o->max_s, o->sea.state, SIM_SEA_MAX_STATE);
+        return NULL;
+    }
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(o->station_S_m[i])) {
+            core_err_set(err, -1, "fly_task: station_S_m[%d] is not finite", i);
+            return NULL;
+        }
+    sim_fly_task *t = calloc(1, sizeof *t);
+    if (!t) {
+        core_err_set(err, -1, "fly_task: out of memory");
+        return NULL;
+    }
+    t->ac = ac;
+    t->ship = *ship;
+    t->task = *task;
+    t->crit = *crit;
+    t->o = *o;
+    t->log = log;
+    hfm_gear g;
+    t->has_gear = hfm_aircraft_gear(ac, &g) == 0 && g.nlegs >= 3;
+    return t;
+}
+
+void sim_fly_task_destroy(sim_fly_task *t) { free(t); }
+
+const char *sim_fly_task_last_error(const sim_fly_task *t) { return t ? t->err : ""; }
+
+void sim_fly_task_last_get(const sim_fly_task *t, sim_fly_task_last *out) { *out = t->last; }
+
+/* The adequate tolerance most exceeded (by its ratio), "time" if none. */
+static const char *tol_cause(const sim_task *task, const sim_task_result *r)
+{
+    const sim_task_tol *a = &task->adequate;
+    double q[3] = {fmax(r->err_pos_m, r->max_err_pos_m) / a->pos_m,
+                   fmax(fabs(r->err_height_m), r->max_err_height_m) / a->height_m,
+                   fmax(fabs(r->err_heading_rad), r->max_err_heading_rad) / a->heading_rad};
+    static const char *const name[3] = {"adequate tolerance: position", "adequate tolerance: height",
+                                        "adequate tolerance: heading"};
+    int k = 0;
+    for (int i = 1; i < 3; i++)
+        if (q[i] > q[k])
+            k = i;
+    return q[k] > 1.0 ? name[k] : "adequate tolerance: time";
+}
+
+static void track(shol_flown_track *tr, const sim_flight_out *o, const char *phase, int *exceeded)
+{
+    shol_trim_point p = {o->euler_E_rad[0], o->euler_E_rad[1], o->long_pct, o->lat_pct, o->collective_pct,
+                         o->pedal_pct};
+    if (shol_flown_track_step(tr, o->t_s, phase, &p) != 0)
+        *exceeded = 1;
+}
+
+int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
+                     const struct cfd_field *field, struct shol_flight *out)
+{
+    memset(out, 0, sizeof *out);
+    memset(&t->last, 0, sizeof t->last);
+    t->err[0] = '\0';
+    out->sink_mps = out->dist_m = NAN;
+    shol_flown_track_init(&out->track, &t->crit);
+    core_err err = {{0}};
+    int rc = -1;
+    sim_ship_motion *motion = NULL;
+    sim_flight *fl = NULL;
+    sim_contact *gear = NULL;
+    sim_pilot_auto *pilot = NULL;
+
+    sim_sea sea = t->o.sea;
+    if (!(motion = sim_ship_motion_create(&t->ship, &sea, (uint64_t)seed + 1u, &err)))
+        goto fatal;
+    sim_flight_opts fo;
+    sim_flight_opts_default(&fo);
+    fo.rate_hz = t->o.rate_hz;
+    fo.wod_speed_mps = wod_speed_mps;
+    fo.wod_dir_rad = wod_dir_rad;
+    fo.ship_speed_mps = sea.ship_speed_mps;
+    fo.turbulence = t->o.turbulence;
+    fo.seed = seed;
+    fo.sas = 0; /* the automated pilot's gains are the bare airframe's */
+    memcpy(fo.station_S_m, t->o.station_S_m, sizeof fo.station_S_m);
+    if (!(fl = sim_flight_create(t->ac, &t->ship, &fo, sim_ship_motion_frame_fn, motion, field, t->log, &err))) {
+        /* sim_flight_create says "does not trim" for a hover that does not
+         * converge: a rejection; anything else is fatal */
+        if (strstr(err.msg, "does not trim"))
+            goto no_trim;
+        goto fatal;
+    }
+    if (t->has_gear) {
+        if (!(gear = sim_contact_create(t->ac, &t->ship, sim_ship_motion_frame_fn, motion, fo.rate_hz, &err)))
+            goto fatal;
+        sim_flight_set_external(fl, sim_contact_ext_fn, gear);
+    }
+    sim_pilot_auto_opts po;
+    sim_pilot_auto_opts_default(&po);
+    po.rate_hz = fo.rate_hz;
+    po.wod_speed_mps = wod_speed_mps;
+    po.wod_dir_rad = wod_dir_rad;
+    sim_flight_inputs in;
+    sim_flight_trim_inputs(fl, &in);
+    if (!(pilot = sim_pilot_auto_create(t->ac, &t->task, &po, &in, t->log, &err))) {
+        if (strstr(err.msg, "does not trim"))
+            goto no_trim;
+        goto fatal;
+    }
+
+    double T = t->o.max_s > 0.0 ? t->o.max_s : sim_task_length_s(&t->task);
+    long n = (long)llround(T * fo.rate_hz);
+    sim_flight_out o;
+    sim_flight_state(fl, &o);
+    sim_task_result r;
+    int exceeded = 0, crashed = 0;
+    track(&out->track, &o, "hover", &exceeded);
+    for (long s = 0; s < n && !exceeded && !crashed; s++) {
+        sim_pilot_auto_step(pilot, &o, &in);
+        sim_pilot_auto_result(pilot, &r);
+        if (r.touched) /* the landing task ends at touchdown */
+            break;
+        const char *phase = t->task.kind == SIM_TASK_LAND && r.t_descent_s >= 0.0 ? "descent"
+                            : t->task.kind == SIM_TASK_LAND                       ? "hover"
+                                                                                  : "station keeping";
+        if (sim_flight_step(fl, &in, &o, &err) != 0) {
+            snprintf(out->cause, sizeof out->cause, "crash: the flight model diverged in %s", phase);
+            crashed = 1;
+            break;
+        }
+        track(&out->track, &o, phase, &exceeded);
+        if (gear) {
+            hfm_body b;
+            sim_contact_body(&o, &b);
+            sim_contact_report cr;
+            if (sim_contact_step(gear, o.t_s, &b, &cr) != 0) {
+                snprintf(out->cause, sizeof out->cause, "crash: %.80s", cr.what[0] ? cr.what : "a strike on the ship");
+                crashed = 1;
+            }
+        }
+    }
+    if (!crashed && !exceeded)
+        sim_pilot_auto_step(pilot, &o, &in); /* grades the last state */
+    sim_pilot_auto_result(pilot, &r);
+    out->flown_s = o.t_s;
+    out->grade = r.grade;
+    if (r.touched) {
+        out->sink_mps = r.sink_mps;
+        out->dist_m = r.dist_m;
+    }
+    t->last.result = r;
+    t->last.end = o;
+    if (crashed) {
+        /* cause set above */
+    } else if (exceeded) {
+        const shol_flown_track *k = &out->track;
+        if (k->first_crit >= 0)
+            snprintf(out->cause, sizeof out->cause, "%s in %s", shol_limit_name(k->first_crit), k->first_phase);
+        else
+            snprintf(out->cause, sizeof out->cause, "crash: the state is not finite");
+    } else if (t->task.kind == SIM_TASK_LAND && !r.touched)
+        snprintf(out->cause, sizeof out->cause, "%s", r.grade == 0 ? tol_cause(&t->task, &r) : "no touchdown");
+    else if (t->task.kind == SIM_TASK_LAND && r.touchdown_grade == 0)
+        snprintf(out->cause, sizeof out->cause, "%s",
+                 r.sink_mps > t->task.adequate.sink_mps ? "touchdown sink" : "touchdown position");
+    else if (t->task.kind != SIM_TASK_LAND && r.grade == 0)
+        snprintf(out->cause, sizeof out->cause, "%s", tol_cause(&t->task, &r));
+    out->pass = out->cause[0] == '\0';
+    rc = 0;
+    goto done;
+no_trim:
+    snprintf(out->cause, sizeof out->cause, "no trim");
+    snprintf(t->err, sizeof t->err, "%.1000s", err.msg);
+    rc = 1;
+    goto done;
+fatal:
+    snprintf(t->err, sizeof t->err, "%.1000s", err.msg);
+    rc = -1;
+done:
+    sim_pilot_auto_destroy(pilot);
+    sim_contact_destroy(gear);
+    sim_flight_destroy(fl);
+    sim_ship_motion_destroy(motion);
+    return rc;
+}
+
+int sim_fly_task_shol(void *user, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
+                      struct shol_flight *out)
+{
+    sim_fly_task_user *u = user;
+    const struct cfd_field *f = NULL;
+    if (u->field && wod_speed_mps > 0.0) { /* calm air needs no field (it scales to zero) */
+        core_err err = {{0}};
+        if (u->field(u->field_user, wod_dir_rad, &f, &err) != 0) {
+            snprintf(u->task->err, sizeof u->task->err, "%.1000s", err.msg);
+            return -1;
+        }
+    }
+    return sim_fly_task_run(u->task, wod_speed_mps, wod_dir_rad, seed, f, out);
+}
