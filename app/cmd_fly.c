@@ -25,6 +25,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static volatile sig_atomic_t fly_stop = 0;
@@ -187,6 +188,78 @@ static int db_field(awdb *db, const sim_scenario *sc, double dir_rad, cfd_field 
     return awdb_submit(db, &k, NULL, err) != 0 ? -1 : 0;
 }
 
+/* The coupled rotor interaction at the WOD (issue 25): among the database's
+ * whole-domain coupled fields of the scenario's ship, aircraft and grid
+ * within 0.25 m/s and 0.5 deg of the WOD (the SHOL's speeds are in km/h
+ * steps, the flight's in knots) whose isolated rotor's field (the same
+ * key, ship NAME.isolated) is ready too, the one whose hub is nearest the
+ * station, and of several within 0.5 m of that (the coupling's iterations
+ * at one station) the newest, its converged iteration. Deck-zone fields
+ * are left out: they hold the zone's version of the ship airwake. 1 with
+ * the fields and their interaction, 0 none, -1 with err. */
+typedef struct coupled_pick {
+    const sim_scenario *sc;
+    double v, dir_deg;
+    awdb *db;
+    awdb_key best;
+    double best_d, best_mtime;
+    char cpath[1024], ipath[1024];
+} coupled_pick;
+
+static int coupled_candidate(void *user, const awdb_key *k)
+{
+    coupled_pick *p = user;
+    double dd = fabs(remainder(k->wod_dir_rad * CORE_RAD_TO_DEG - p->dir_deg, 360.0));
+    if (strcmp(k->ship, p->sc->ship.name) || strcmp(k->aircraft, p->sc->aircraft_name) || k->rotor == CORE_ROTOR_OFF ||
+        k->zone_ref_mps > 0.0 || k->grid != p->sc->grid || fabs(k->wod_speed_mps - p->v) > 0.25 || dd > 0.5)
+        return 0;
+    double d2 = 0.0;
+    for (int i = 0; i < 3; i++)
+        d2 += (k->station_S_m[i] - p->sc->station_S_m[i]) * (k->station_S_m[i] - p->sc->station_S_m[i]);
+    double d = sqrt(d2);
+    if (d > p->best_d + 0.5)
+        return 0;
+    awdb_key ki = *k;
+    char cp[1024], ip[1024];
+    if (snprintf(ki.ship, sizeof ki.ship, "%s.isolated", k->ship) >= (int)sizeof ki.ship)
+        return 0;
+    struct stat st;
+    if (awdb_query(p->db, k, cp, sizeof cp) != AWDB_READY || awdb_query(p->db, &ki, ip, sizeof ip) != AWDB_READY ||
+        stat(cp, &st) != 0)
+        return 0;
+    double mt = (double)st.st_mtim.tv_sec + 1e-9 * (double)st.st_mtim.tv_nsec;
+    if (d < p->best_d - 0.5 || mt > p->best_mtime) {
+        p->best = *k;
+        p->best_d = fmin(d, p->best_d);
+        p->best_mtime = mt;
+        snprintf(p->cpath, sizeof p->cpath, "%s", cp);
+        snprintf(p->ipath, sizeof p->ipath, "%s", ip);
+    }
+    return 0;
+}
+
+static int db_coupled(awdb *db, const sim_scenario *sc, double v, double dir_rad, cfd_field **cpl, cfd_field **iso,
+                      sim_interaction **inter, core_err *err)
+{
+    coupled_pick p;
+    memset(&p, 0, sizeof p);
+    p.sc = sc;
+    p.v = v;
+    p.dir_deg = dir_rad * CORE_RAD_TO_DEG;
+    p.db = db;
+    p.best_d = INFINITY;
+    if (awdb_list(db, coupled_candidate, &p, err) < 0)
+        return -1;
+    if (!p.cpath[0])
+        return 0;
+    if (!(*cpl = cfd_field_load(p.cpath, err)) || !(*iso = cfd_field_load(p.ipath, err)))
+        return -1;
+    sim_interaction_opts io;
+    sim_interaction_opts_default(&io);
+    memcpy(io.station_S_m, sc->station_S_m, sizeof io.station_S_m);
+    return (*inter = sim_interaction_create(*cpl, *iso, &io, err)) ? 1 : -1;
+}
+
 static int csv_row(FILE *f, const sim_flight_out *o)
 {
     return fprintf(f, "%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%u\n",
@@ -259,6 +332,8 @@ typedef struct fly_world {
     sim_ship_motion *motion;
     sim_flight *fl;
     int waiting; /* the database's field requested, not ready yet */
+    cfd_field *cpl, *iso;   /* the coupled field of the WOD and its isolated rotor's (NULL: none) */
+    sim_interaction *inter; /* their interaction near the station (sim/interaction.c) */
     double speed_mps, dir_rad;
     int sea_state;
 } fly_world;
@@ -266,6 +341,9 @@ typedef struct fly_world {
 static void world_free(fly_world *w)
 {
     sim_flight_destroy(w->fl);
+    sim_interaction_destroy(w->inter);
+    cfd_field_destroy(w->cpl);
+    cfd_field_destroy(w->iso);
     sim_ship_motion_destroy(w->motion);
     cfd_field_destroy(w->later);
     cfd_field_destroy(w->fld);
@@ -315,8 +393,13 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
             goto fail;
         w->waiting = got == 0;
     }
+    if (!o->field && !c->db && access(o->db, F_OK) == 0 && !(c->db = awdb_open(o->db, c->log, err)))
+        goto fail; /* calm air: coupled fields (ground effect) without a ship-only one */
+    if (!o->field && c->db && db_coupled(c->db, sc, speed, dir, &w->cpl, &w->iso, &w->inter, err) < 0)
+        goto fail;
     sim_flight_opts fo;
     sim_flight_opts_default(&fo);
+    fo.interaction = w->inter;
     fo.rate_hz = o->rate_hz;
     fo.wod_speed_mps = speed;
     fo.wod_dir_rad = dir;
@@ -501,6 +584,14 @@ int cmd_fly(int argc, char **argv)
                 lo.lcm ? (o.lcm_url ? o.lcm_url : "(default URL)") : "", o.replay ? ", inputs from " : "",
                 o.replay ? o.replay : "");
     }
+    if (ctx.w.inter) {
+        sim_interaction_info ii;
+        sim_interaction_state(ctx.w.inter, &ii);
+        fprintf(stderr, "fly: the coupled rotor interaction near the station (the database's coupled field of %.0f N, "
+                        "hub (%.2f, %.2f, %.2f) m in S)\n",
+                ii.thrust_field_N, ii.hub_S_m[0], ii.hub_S_m[1], ii.hub_S_m[2]);
+    } else if (ctx.db)
+        fprintf(stderr, "fly: no coupled fields for this WOD in the database: the ship-only airwake alone\n");
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
     long csv_every = (long)fmax(1.0, llround(o.rate_hz / o.csv_rate_hz));

@@ -737,3 +737,31 @@ const awdb_run_progress *awdb_progress_find(const awdb_progress *p, const char *
             return &p->runs[i];
     return NULL;
 }
+
+int awdb_list(awdb *db, awdb_list_fn fn, void *user, core_err *err)
+{
+    char p[AWDB_PATH];
+    awdb_fmt(p, sizeof p, "%s/fields", db->dir);
+    DIR *d = opendir(p);
+    if (!d)
+        return core_err_set(err, -1, "%s: cannot read: %s", p, strerror(errno));
+    struct dirent *e;
+    int n = 0;
+    while ((e = readdir(d))) {
+        size_t l = strlen(e->d_name);
+        if (l < 5 || strcmp(e->d_name + l - 4, ".sum") || l - 4 >= AWDB_NAME_MAX)
+            continue;
+        char sp[AWDB_PATH];
+        awdb_fmt(sp, sizeof sp, "%s/%s", p, e->d_name);
+        uint64_t size, crc;
+        awdb_key k;
+        core_err e2 = {{0}};
+        if (read_sum(sp, &size, &crc, &k, &e2) != 0)
+            continue; /* a torn or foreign entry: not a field */
+        n++;
+        if (fn(user, &k))
+            break;
+    }
+    closedir(d);
+    return n;
+}

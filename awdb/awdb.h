@@ -123,6 +123,14 @@ int awdb_submit(awdb *db, const awdb_key *key, awdb_state *state, core_err *err)
  * its key alone (oblique winds keep the state they start in). */
 #define AWDB_WARM_MAX_DIR_RAD (30.5 * CORE_DEG_TO_RAD)
 int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n);
+/* Each field entry's key as its checksum file holds it, not verified (a
+ * client awdb_query()s a key it wants before reading its field): fn(user,
+ * key), in no set order, until fn returns non-zero. The number of entries
+ * given, or < 0 with err when the fields folder cannot be read; an entry
+ * whose checksum file cannot be read is left out. (The flight loop finds
+ * its WOD's coupled fields with it.) */
+typedef int (*awdb_list_fn)(void *user, const awdb_key *key);
+int awdb_list(awdb *db, awdb_list_fn fn, void *user, core_err *err);
 /* 1 if a builder holds the database's lock now, 0 if none does. */
 int awdb_builder_alive(awdb *db);
 /* Number of requests queued and running. */

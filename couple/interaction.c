@@ -9,6 +9,7 @@
  * rotor and empennage see the pointwise field. Assumptions: see couple.c.
  */
 #include "couple_priv.h"
+#include "sim.h"
 
 #include <math.h>
 #include <string.h>
@@ -37,28 +38,25 @@ static int interaction_at(const air_interaction *a, const double pos[3], double 
     return (rc > 0 || ri > 0) ? 1 : (rc < 0 ? rc : ri);
 }
 
-/* Where the disk's projected interaction applies: within 1.1 R of the
- * shaft and 0.3 R of the disk plane (flapping blades stay inside). Sets
- * r/R and psi. */
+/* The projected interaction's disk (sim_disk_modes: within 1.1 R of the
+ * shaft and 0.3 R of the disk plane, flapping blades stay inside). */
 static int in_disk(const air_interaction *a, const double pos[3], double *rr, double *psi)
 {
-    core_vec3 d = core_vec3_make(pos[0] - a->hub[0], pos[1] - a->hub[1], pos[2] - a->hub[2]);
-    core_vec3 h = core_quat_rotate_inv(a->q_SH, d);
-    double r = sqrt(h.x * h.x + h.y * h.y);
-    if (r > 1.1 * a->R || fabs(h.z) > 0.3 * a->R)
-        return 0;
-    *rr = r / a->R;
-    *psi = atan2(h.y, h.x);
-    return 1;
+    sim_disk_modes dm;
+    dm.q_SH = a->q_SH;
+    dm.R = a->R;
+    return sim_disk_modes_in(&dm, a->hub, pos, rr, psi);
 }
+
+static int fit_point(void *user, const double pos[3], double v[3]) { return interaction_at(user, pos, v); }
 
 /* Project the interaction over the disk on the modes of the flight model's
  * own inflow model (Pitt-Peters: uniform and the two first harmonics,
  * linear in r), by area-weighted least squares on a polar grid over 0.2 R
- * to R. Why: pointwise, the difference of two resolved slipstreams is
- * dominated at the blade tips by the slipstream edge, which sits within
- * a cell or two of the tip and moves by a fraction of a cell between the
- * coupled and the isolated solution. On a flat deck in calm air (hub 0.95 R
+ * to R (sim_disk_modes_fit). Why: pointwise, the difference of two
+ * resolved slipstreams is dominated at the blade tips by the slipstream
+ * edge, which sits within a cell or two of the tip and moves by a fraction
+ * of a cell between the coupled and the isolated solution. On a flat deck in calm air (hub 0.95 R
  * above the deck) the pointwise difference was 0.5-0.7 m/s downward at
  * r = 0.9-0.95 R and 0.5-1.5 m/s upward inboard; the trim, loaded at the
  * tips, took 5 % more collective in ground effect. The projection keeps
@@ -70,33 +68,11 @@ void couple_interaction_fit(air_interaction *a, const hfm_disk *d, double R)
     memcpy(a->hub, d->hub_S_m, sizeof a->hub);
     a->q_SH = d->q_SH;
     a->R = R;
-    double sm[3] = {0}, sc[3] = {0}, ss[3] = {0}, w0 = 0, wc = 0, ws = 0;
-    const int nr = 16, np = 36;
-    for (int ir = 0; ir < nr; ir++) {
-        double x = 0.2 + 0.8 * (ir + 0.5) / nr; /* r/R */
-        for (int ip = 0; ip < np; ip++) {
-            double psi = 2.0 * M_PI * (ip + 0.5) / np;
-            core_vec3 hp = core_vec3_make(x * R * cos(psi), x * R * sin(psi), 0.0);
-            core_vec3 sp = core_quat_rotate(a->q_SH, hp);
-            double pos[3] = {a->hub[0] + sp.x, a->hub[1] + sp.y, a->hub[2] + sp.z}, v[3];
-            interaction_at(a, pos, v);
-            double wt = x; /* area element r dr dpsi */
-            double cc = x * cos(psi), sn = x * sin(psi);
-            for (int k = 0; k < 3; k++) {
-                sm[k] += wt * v[k];
-                sc[k] += wt * v[k] * cc;
-                ss[k] += wt * v[k] * sn;
-            }
-            w0 += wt;
-            wc += wt * cc * cc;
-            ws += wt * sn * sn;
-        }
-    }
-    for (int k = 0; k < 3; k++) {
-        a->m[k] = sm[k] / w0;
-        a->c[k] = sc[k] / wc;
-        a->s[k] = ss[k] / ws;
-    }
+    sim_disk_modes dm; /* the fit is sim's, shared with the flight loop */
+    sim_disk_modes_fit(&dm, d->hub_S_m, d->q_SH, R, fit_point, a);
+    memcpy(a->m, dm.m, sizeof a->m);
+    memcpy(a->c, dm.c, sizeof a->c);
+    memcpy(a->s, dm.s, sizeof a->s);
 }
 
 int couple_interaction_air(void *user, const double pos[3], double t, double vel[3])

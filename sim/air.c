@@ -30,6 +30,9 @@
  *    old one plus w of the new, w rising linearly from 0 to 1 over
  *    blend_s, so the air at a point changes by at most |v_new - v_old|
  *    * dt / blend_s per step.
+ *  - With a coupled field pair (sim_air_set_interaction), the rotor's
+ *    interaction with the ship near the rotor station is added to the mean
+ *    air (sim/interaction.c).
  * Everything here is a pure function of position, time and what was
  * offered when: the loop stays deterministic.
  */
@@ -55,6 +58,7 @@ struct sim_air {
     double wind_S[3];  /* the WOD free stream at anemometer height, in S */
     double ln_an;      /* ln(h_an / z0) */
     const sim_turb *turb; /* NULL: no turbulence */
+    const sim_interaction *inter; /* NULL: none (sim/interaction.c) */
     /* the ship frames of the last few times asked for: the integrator
      * samples the air at hundreds of points at each of a step's stage
      * times, and the frame (a sum over the seaway's waves) is the same
@@ -168,6 +172,8 @@ int sim_air_mean_S(const sim_air *a, const double p_S[3], double t_s, double v_S
         for (int i = 0; i < 2; i++)
             ke[i] = w * ke[i] + (1.0 - w) * keo[i];
     }
+    if (a->inter) /* the coupled rotor interaction near the station */
+        sim_interaction_apply(a->inter, p_S, v_S);
     if (k_m2ps2)
         *k_m2ps2 = ke[0];
     if (eps_m2ps3)
@@ -189,6 +195,8 @@ int sim_air_sample_S(const sim_air *a, const double p_S[3], double t_s, double v
 }
 
 void sim_air_set_turb(sim_air *a, const sim_turb *t) { a->turb = t; }
+
+void sim_air_set_interaction(sim_air *a, const sim_interaction *ia) { a->inter = ia; }
 
 /* The ship's frame at t_s, through the small cache (exact times only, so
  * the result is the frame function's own). */
@@ -267,5 +275,11 @@ unsigned sim_air_flags(const sim_air *a, double t_s)
         fl |= SIM_AIR_FREE_STREAM;
     if (sim_air_blend(a, t_s) < 1.0)
         fl |= SIM_AIR_BLENDING;
+    if (a->inter) {
+        sim_interaction_info ii;
+        sim_interaction_state(a->inter, &ii);
+        if (ii.weight * ii.factor > 0.0)
+            fl |= SIM_AIR_INTERACTION;
+    }
     return fl;
 }

@@ -170,6 +170,7 @@ sim_flight *sim_flight_create(const hfm_aircraft *ac, const core_ship *ship, con
         goto fail;
     if (sim_air_set_field(f->air, field, -INFINITY, err) != 0)
         goto fail;
+    sim_air_set_interaction(f->air, o->interaction);
     /* the start: the hover trim at the station in the starting air */
     hfm_trim *tr = hfm_trim_create(ac, log);
     if (!tr) {
@@ -342,6 +343,12 @@ int sim_flight_step(sim_flight *f, const sim_flight_inputs *in, sim_flight_out *
      * flight model's right-hand sides; the turbulence's frozen field moves
      * on by one step, convected by the mean air at the CG */
     double t0 = (double)f->step * f->h_s, t1 = (double)(f->step + 1) * f->h_s;
+    if (f->o.interaction) { /* the rotor's place and thrust for the coupled interaction */
+        double p_S[3];
+        cg_pos_S(f, &b0, t0, p_S);
+        if (sim_interaction_set_rotor(f->o.interaction, p_S, NAN, f->h_s) != 0)
+            return core_err_set(err, -1, "flight: the CG is not finite at t = %.3f s", t0);
+    }
     if (f->turb) {
         double p_S[3], v[3], k, eps;
         cg_pos_S(f, &b0, t0, p_S);

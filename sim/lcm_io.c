@@ -572,6 +572,8 @@ static unsigned loop_flags(const sim_loop *l)
         f |= DISIM_SIM_STATUS_T_FLAG_FREE_STREAM;
     if (l->out.air_flags & SIM_AIR_BLENDING)
         f |= DISIM_SIM_STATUS_T_FLAG_FIELD_BLENDING;
+    if (l->out.air_flags & SIM_AIR_INTERACTION)
+        f |= DISIM_SIM_STATUS_T_FLAG_ROTOR_INTERACTION;
     if (l->paused)
         f |= DISIM_SIM_STATUS_T_FLAG_PAUSED;
     if (l->replay)

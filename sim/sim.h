@@ -137,7 +137,9 @@ void sim_air_set_step(sim_air *a, double step_s);
 int sim_air_frame(sim_air *a, double t_s, sim_ship_frame *fr);
 /* The weight of the newest field at t_s, 0 to 1 (1: no blend under way). */
 double sim_air_blend(const sim_air *a, double t_s);
-enum { SIM_AIR_FREE_STREAM = 1u, SIM_AIR_BLENDING = 2u };
+/* SIM_AIR_INTERACTION: the coupled rotor interaction is flown now (its
+ * weight above 0, sim/interaction.c); without it, the ship-only air alone. */
+enum { SIM_AIR_FREE_STREAM = 1u, SIM_AIR_BLENDING = 2u, SIM_AIR_INTERACTION = 4u };
 unsigned sim_air_flags(const sim_air *a, double t_s);
 
 /* ---------------------------------------------- the flight (sim/flight.c) */
@@ -155,6 +157,9 @@ typedef struct sim_flight_opts {
     unsigned long long seed; /* the turbulence's seed (the ship motion has its own) */
     int sas;                 /* the stability augmentation (sim/sas.c) at the start: 1 on, 0 off,
                                 -1 (default) as the aircraft file's [sas] engaged */
+    struct sim_interaction *interaction; /* NULL (default); else the coupled rotor interaction
+                                the air adds near the station, the start's trim included, its
+                                rotor set each step (sim/interaction.c); kept by the caller */
 } sim_flight_opts;
 void sim_flight_opts_default(sim_flight_opts *o);
 
@@ -915,6 +920,72 @@ typedef struct sim_fly_task_user {
 } sim_fly_task_user;
 int sim_fly_task_shol(void *user, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
                       struct shol_flight *out);
+
+/* -------------- the coupled rotor interaction (sim/interaction.c, issue 25) */
+/* An interaction over a rotor disk projected on the flight model's inflow
+ * modes (Pitt-Peters: uniform and first harmonics, linear in r), the hub
+ * frame q_SH (z down the shaft) giving r/R and psi: v(r, psi) = m + (r/R)
+ * (c cos psi + s sin psi). The coupling (couple/interaction.c) and the
+ * loop share it. */
+typedef int (*sim_point_fn)(void *user, const double pos_S_m[3], double v_S_mps[3]);
+typedef struct sim_disk_modes {
+    double hub_S_m[3];
+    core_quat q_SH;
+    double R;
+    double m[3], c[3], s[3];
+} sim_disk_modes;
+/* Fit fn over the disk at hub_S_m (area-weighted least squares on a polar
+ * grid of 16 x 36 points over 0.2 R to R). */
+void sim_disk_modes_fit(sim_disk_modes *dm, const double hub_S_m[3], core_quat q_SH, double R, sim_point_fn fn,
+                        void *user);
+/* 1 with r/R and psi when pos is within 1.1 R of the shaft through hub_S_m
+ * and 0.3 R of the disk plane (dm's frame and radius), else 0. */
+int sim_disk_modes_in(const sim_disk_modes *dm, const double hub_S_m[3], const double pos_S_m[3], double *rr,
+                      double *psi);
+
+/* The loop's air near the rotor station: the ship-only air S plus g times
+ * the interaction velocity v_int = wind + (coupled - isolated) - S (over
+ * the disk the difference's fitted modes, moving with the hub), g = w f:
+ * w 1 while the CG is within plateau_m of the station the coupled field's
+ * rotor was trimmed at, fading smoothly to 0 over fade_m beyond; f the
+ * rotor's induced velocity at its thrust over that at the field's (Glauert
+ * momentum theory in the WOD; the thrust through the wake's lag). See
+ * sim/interaction.c for the model and its assumptions. */
+typedef struct sim_interaction sim_interaction;
+typedef struct sim_interaction_opts {
+    double station_S_m[3];  /* the CG station of the coupling's trim (the scenario's) */
+    core_quat q_SH;         /* the disk frame of the fit (identity: the disk level in S) */
+    double plateau_m;       /* weight 1 within this of the station (0: 0.25 R) */
+    double fade_m;          /* the fade's length beyond it (0: R) */
+    double rho_kgpm3;       /* air density (1.225) */
+    /* set from the coupled field: its WOD (the coupling's wind) */
+    double wod_speed_mps, wod_dir_rad;
+} sim_interaction_opts;
+void sim_interaction_opts_default(sim_interaction_opts *o);
+/* The interaction of a coupled field and its isolated rotor's (the same
+ * case without the ship: rotor, thrust, hub, radius and WOD must agree),
+ * both kept by the caller. Starts at the station with the field's thrust
+ * (g = 1), as the start's trim needs. NULL with err. */
+sim_interaction *sim_interaction_create(const struct cfd_field *coupled, const struct cfd_field *isolated,
+                                        const sim_interaction_opts *o, core_err *err);
+void sim_interaction_destroy(sim_interaction *ia);
+/* The rotor now, once per step: the CG in S and the main rotor's thrust
+ * (N; NaN: not known, the lagged thrust kept) over dt_s. 0, or -1 for a
+ * position that is not finite or dt_s < 0. */
+int sim_interaction_set_rotor(sim_interaction *ia, const double cg_S_m[3], double thrust_N, double dt_s);
+/* Add g v_int at p_S to the ship-only air v_S (m/s, S), in place. */
+void sim_interaction_apply(const sim_interaction *ia, const double p_S[3], double v_S[3]);
+typedef struct sim_interaction_info {
+    double weight, factor;  /* w and f: g = w f */
+    double dist_m;          /* the CG from the station */
+    double thrust_N, thrust_field_N; /* the lagged thrust, the coupled field's */
+    double hub_S_m[3];      /* the coupled field's hub */
+    double m_mps[3], c_mps[3], s_mps[3]; /* the fitted modes of coupled - isolated */
+} sim_interaction_info;
+void sim_interaction_state(const sim_interaction *ia, sim_interaction_info *s);
+/* The air's interaction (NULL: none; ia outlives its use). The trim of a
+ * flight's start sees it: attach it through sim_flight_opts.interaction. */
+void sim_air_set_interaction(sim_air *a, const sim_interaction *ia);
 
 #ifdef __cplusplus
 }

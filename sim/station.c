@@ -817,10 +817,11 @@ static const char *state_name(int s)
 /* The loop's flags in words ("" none). */
 static void flag_words(int32_t f, char *b, size_t n)
 {
-    snprintf(b, n, "%s%s%s%s%s", f & DISIM_SIM_STATUS_T_FLAG_INPUT_HELD ? " INPUT-HELD" : "",
+    snprintf(b, n, "%s%s%s%s%s%s", f & DISIM_SIM_STATUS_T_FLAG_INPUT_HELD ? " INPUT-HELD" : "",
              f & DISIM_SIM_STATUS_T_FLAG_FREE_STREAM ? " FREE-STREAM" : "",
              f & DISIM_SIM_STATUS_T_FLAG_FIELD_BLENDING ? " FIELD-BLENDING" : "",
-             f & DISIM_SIM_STATUS_T_FLAG_PAUSED ? " PAUSED" : "", f & DISIM_SIM_STATUS_T_FLAG_REPLAY ? " REPLAY" : "");
+             f & DISIM_SIM_STATUS_T_FLAG_PAUSED ? " PAUSED" : "", f & DISIM_SIM_STATUS_T_FLAG_REPLAY ? " REPLAY" : "",
+             f & DISIM_SIM_STATUS_T_FLAG_ROTOR_INTERACTION ? " ROTOR-INTERACTION" : "");
 }
 
 void sim_station_format(const sim_station_view *v, const char *source, int tty, char *buf, size_t n)
