@@ -43,7 +43,8 @@ static void usage_fly(void)
                     "                  [--ship-speed-kt U] [--seed N] [--no-turbulence]\n"
                     "                  [--lcm URL | --no-lcm] [--log FILE] [--replay-inputs LOG]\n"
                     "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N]\n"
-                    "                  [--pilot auto --task FILE]  (headless, as fast as it can)\n");
+                    "                  [--pilot auto --task FILE]  (headless, as fast as it can)\n"
+                    "                  [--pilot replay LOG [--feed-controls]]  (headless: LOG's run re-flown)\n");
 }
 
 typedef struct fly_args {
@@ -53,6 +54,10 @@ typedef struct fly_args {
     double hold_after_s, state_rate_hz;
     const char *pilot, *task; /* --pilot auto --task FILE: the automated pilot flies */
     int duration_set;
+    const char *replay_log;   /* --pilot replay LOG: the replay pilot re-flies LOG (sim/pilot_replay.c) */
+    int feed_controls;        /* --feed-controls: LOG's controls fed forward too */
+    int has_start;            /* the flight starts at start_S_m (the replayed run's start) */
+    double start_S_m[3];
 } fly_args;
 
 static int fly_parse(int argc, char **argv, fly_args *o)
@@ -134,6 +139,12 @@ static int fly_parse(int argc, char **argv, fly_args *o)
             o->replay = argv[++i];
         else if (!strcmp(a, "--stations") && more)
             o->stations = argv[++i];
+        else if (!strcmp(a, "--pilot") && more && !strcmp(argv[i + 1], "replay") && i + 2 < argc &&
+                 argv[i + 2][0] != '-') {
+            o->pilot = argv[++i];
+            o->replay_log = argv[++i];
+        } else if (!strcmp(a, "--feed-controls"))
+            o->feed_controls = 1;
         else if (!strcmp(a, "--pilot") && more)
             o->pilot = argv[++i];
         else if (!strcmp(a, "--task") && more)
@@ -150,13 +161,16 @@ static int fly_parse(int argc, char **argv, fly_args *o)
         usage_fly();
         return 2;
     }
-    if ((o->pilot || o->task) && (!o->pilot || strcmp(o->pilot, "auto") || !o->task)) {
-        fprintf(stderr, "disim fly: --pilot '%s': expected --pilot auto with --task FILE\n", o->pilot ? o->pilot : "");
+    int auto_ok = o->pilot && !strcmp(o->pilot, "auto") && o->task && !o->feed_controls;
+    int replay_ok = o->replay_log && !o->task;
+    if ((o->pilot || o->task || o->feed_controls) && !auto_ok && !replay_ok) {
+        fprintf(stderr, "disim fly: --pilot '%s': expected --pilot auto with --task FILE, or --pilot replay LOG "
+                        "[--feed-controls]\n", o->pilot ? o->pilot : "");
         return 1;
     }
     if (o->pilot && (o->lcm == 1 || o->log || o->replay || o->stations)) {
-        fprintf(stderr, "disim fly: --pilot auto flies headless: --lcm, --log, --replay-inputs and --stations do not "
-                        "apply\n");
+        fprintf(stderr, "disim fly: --pilot %s flies headless: --lcm, --log, --replay-inputs and --stations do not "
+                        "apply\n", o->pilot);
         return 1;
     }
     if (o->pilot)
@@ -408,6 +422,8 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
     fo.seed = (unsigned long long)o->seed;
     fo.ship_speed_mps = isnan(o->ship_speed_kt) ? sc->ship_speed_mps : o->ship_speed_kt * CORE_KT_TO_MPS;
     memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
+    if (o->has_start) /* --pilot replay: where the replayed run starts */
+        memcpy(fo.station_S_m, o->start_S_m, sizeof fo.station_S_m);
     if (o->pilot)
         fo.sas = 0; /* the automated pilot's gains are the bare airframe's (sim/pilot_auto.c) */
     /* the ship in a seaway (its own seed stream: the turbulence's + 1) */
@@ -526,6 +542,84 @@ out:
     return rc;
 }
 
+/* --pilot replay LOG: the replay pilot re-flies LOG's run relative to the
+ * deck (sim/pilot_replay.c) headless, as fast as it can, for the log's
+ * length unless --duration; the trajectory to --csv; how far it stayed
+ * from the reference said at the end, per phase. 0, or < 0 with err. */
+static int fly_replay(fly_ctx *c, const sim_replay_log *ref, core_err *err)
+{
+    const fly_args *o = c->o;
+    fly_world *w = &c->w;
+    sim_replay_info info;
+    sim_replay_log_info(ref, &info);
+    sim_pilot_replay_opts po;
+    sim_pilot_replay_opts_default(&po);
+    po.pilot.rate_hz = o->rate_hz;
+    po.pilot.wod_speed_mps = w->speed_mps;
+    po.pilot.wod_dir_rad = w->dir_rad;
+    po.feed_controls = o->feed_controls;
+    sim_flight_inputs in;
+    sim_flight_trim_inputs(w->fl, &in);
+    sim_pilot_replay *p = sim_pilot_replay_create(w->ac, ref, &po, &in, c->log, err);
+    if (!p)
+        return -1;
+    traj_csv csv;
+    int rc = -1;
+    if (traj_open(&csv, o->csv, err) != 0)
+        goto out;
+    double T = o->duration_set ? o->duration_s : info.t1_s;
+    long n = (long)llround(T * o->rate_hz), csv_every = (long)fmax(1.0, llround(o->rate_hz / o->csv_rate_hz));
+    long poll_every = (long)llround(o->rate_hz);
+    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, the replay pilot re-flies %s (%ld states, "
+                    "%.2f s, controls from %s%s) for %.2f s\n",
+            w->sc->ship.name, hfm_aircraft_name(w->ac), w->speed_mps / CORE_KT_TO_MPS, w->dir_rad * CORE_RAD_TO_DEG,
+            w->sea_state, o->replay_log, info.n_states, info.t1_s,
+            info.n_inputs ? "the station's inputs" : "the flown states", o->feed_controls ? ", fed forward" : "", T);
+    sim_flight_out out;
+    sim_flight_state(w->fl, &out);
+    if (traj_row(&csv, &out) != 0)
+        goto write_fail;
+    for (long s = 0; s < n && !fly_stop; s++) {
+        sim_pilot_replay_step(p, &out, &in);
+        int st = sim_flight_step(w->fl, &in, &out, err);
+        if (st < 0)
+            goto out;
+        if (out.step % csv_every == 0 && traj_row(&csv, &out) != 0)
+            goto write_fail;
+        if (st > 0) { /* the flight ended (a crash): said, the trajectory kept */
+            fprintf(stderr, "fly: the flight ended at %.2f s: %s\n", out.t_s, err->msg);
+            break;
+        }
+        if (w->waiting && out.step % poll_every == 0) {
+            int got = db_field(c->db, w->sc, w->dir_rad, &w->later, err);
+            if (got < 0 || (got > 0 && sim_flight_set_field(w->fl, w->later, err) != 0))
+                goto out;
+            w->waiting = got == 0;
+        }
+    }
+    sim_pilot_replay_step(p, &out, &in); /* counts the last state */
+    if (traj_commit(&csv, err) != 0)
+        goto out;
+    sim_replay_result r;
+    sim_pilot_replay_result(p, &r);
+    fprintf(stderr, "fly: replay to %.2f s%s: from the reference rms %.3f m, max %.3f m at %.2f s, heading max %.2f deg; "
+                    "%ld steps with a control at a stop\n",
+            r.t_s, fly_stop ? " (stopped)" : r.ended ? "" : " (the reference not ended)", r.all.rms_m, r.all.max_m,
+            r.all.t_max_s, r.max_heading_err_rad * CORE_RAD_TO_DEG, r.stop_steps);
+    for (int ph = 0; ph < SIM_REPLAY_NPHASE; ph++)
+        if (r.phase[ph].n)
+            fprintf(stderr, "fly: replay %s: %.2f s, rms %.3f m, max %.3f m at %.2f s\n", sim_replay_phase_name(ph),
+                    r.phase[ph].duration_s, r.phase[ph].rms_m, r.phase[ph].max_m, r.phase[ph].t_max_s);
+    rc = 0;
+    goto out;
+write_fail:
+    core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", o->csv);
+out:
+    traj_close(&csv);
+    sim_pilot_replay_destroy(p);
+    return rc;
+}
+
 int cmd_fly(int argc, char **argv)
 {
     fly_args o;
@@ -541,8 +635,23 @@ int cmd_fly(int argc, char **argv)
     traj_csv csv;
     memset(&csv, 0, sizeof csv);
     rc = 1;
+    sim_replay_log *replay_ref = NULL; /* --pilot replay: read first, the flight starts where it does */
+    if (o.replay_log) {
+        sim_replay_sample s0;
+        if (!(replay_ref = sim_replay_log_load(o.replay_log, &err)))
+            goto fail;
+        sim_replay_log_sample(replay_ref, 0.0, &s0);
+        memcpy(o.start_S_m, s0.pos_S_m, sizeof o.start_S_m);
+        o.has_start = 1;
+    }
     if (world_build(&ctx, o.scen, &ctx.w, &err) != 0)
         goto fail;
+    if (o.replay_log) {
+        if (fly_replay(&ctx, replay_ref, &err) != 0)
+            goto fail;
+        rc = 0;
+        goto done;
+    }
     if (o.pilot) {
         if (fly_auto(&ctx, &err) != 0)
             goto fail;
@@ -675,5 +784,6 @@ done:
     sim_loop_destroy(loop);
     world_free(&ctx.w);
     awdb_close(ctx.db);
+    sim_replay_log_destroy(replay_ref);
     return rc;
 }

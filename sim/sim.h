@@ -815,6 +815,87 @@ typedef struct sim_task_result {
 } sim_task_result;
 void sim_pilot_auto_result(const sim_pilot_auto *p, sim_task_result *r);
 
+/* ---------------------------- the replay pilot (sim/pilot_replay.c, issue 26) */
+/* A recorded run (the LCM event log of `disim fly --log`) as a reference:
+ * the helicopter's position, velocity and heading relative to the ship's
+ * landing spot (S) as functions of the flight's time, and the recorded
+ * pilot's controls; the replay pilot re-flies it through the automated
+ * pilot's loops in another wind over deck and sea state, relative to its
+ * own deck. sim/pilot_replay.c has the model and the log's rules. */
+typedef struct sim_replay_log sim_replay_log;
+typedef struct sim_replay_info {
+    long n_events;      /* every event in the log */
+    long n_states;      /* heli_state_t (each with its ship_state_t): the reference's samples */
+    long n_ship;        /* ship_state_t */
+    long n_inputs;      /* pilot_input_t taken as the recorded controls (one station; else 0) */
+    long n_inputs_bad;  /* pilot_input_t that fail the checks (skipped: the loop refused them) */
+    int n_stations;     /* stations heard (2: two or more) */
+    char station[SIM_STATION_ID_MAX]; /* the one station's id ("" otherwise) */
+    double t0_s, t1_s;  /* the first and the last state's time */
+} sim_replay_info;
+enum { SIM_REPLAY_HOVER = 0, SIM_REPLAY_TRANSLATE = 1, SIM_REPLAY_DESCEND = 2, SIM_REPLAY_NPHASE = 3 };
+/* The reference at one time (plain data). */
+typedef struct sim_replay_sample {
+    double t_s;
+    double pos_S_m[3];        /* the CG from the landing spot, in S */
+    double vel_S_mps[3];      /* d pos_S_m / dt: relative to the deck, in S (0 after the end) */
+    double acc_S_mps2[3];     /* d vel_S_mps / dt (central differences over the samples) */
+    double heading_rad;       /* from the bow, + to starboard */
+    int phase;                /* SIM_REPLAY_*: of the reference's motion (sim/pilot_replay.c) */
+    /* the recorded state as sim_flight_out has it */
+    double vel_mean_S_mps[3]; /* relative to the ship's mean motion, in S */
+    double euler_E_rad[3], rate_B_radps[3];
+    double C_ES[9];
+    double controls_pct[4];   /* the recorded controls of the step from t_s: collective, long, lat, pedal */
+} sim_replay_sample;
+/* Read a log. NULL with err naming the file and, for a bad event, its
+ * number (from 1), channel and byte offset: missing, not a file, empty,
+ * not an event log, truncated, corrupt, a state failing
+ * disim_lcm_check_raw or not finite, fewer than two heli_state_t, a state
+ * without the ship state of its time, states not in time order (a reset
+ * or a load: one flight is expected). */
+sim_replay_log *sim_replay_log_load(const char *path, core_err *err);
+void sim_replay_log_destroy(sim_replay_log *r);
+void sim_replay_log_info(const sim_replay_log *r, sim_replay_info *i);
+/* The reference at t_s, linear between samples, held at the nearest end
+ * outside them. 0 inside [t0_s, t1_s], 1 outside. */
+int sim_replay_log_sample(const sim_replay_log *r, double t_s, sim_replay_sample *s);
+/* "hover", "translate", "descend"; "all" for SIM_REPLAY_NPHASE. */
+const char *sim_replay_phase_name(int phase);
+
+typedef struct sim_pilot_replay sim_pilot_replay;
+typedef struct sim_pilot_replay_opts {
+    sim_pilot_auto_opts pilot; /* the automated pilot's loops (rate, delay, the WOD of the gains) */
+    double preview_s;          /* the reference is taken this far ahead (< 0, the default: the pilot's delay) */
+    int feed_controls;         /* 1: the recorded controls fed forward, the loops acting on the
+                                  deviation from the recorded state; 0 (default): the loops alone */
+} sim_pilot_replay_opts;
+void sim_pilot_replay_opts_default(sim_pilot_replay_opts *o);
+/* The flown CG's distance from the reference at the same time (m). */
+typedef struct sim_replay_err {
+    long n;                    /* steps counted */
+    double duration_s, rms_m, max_m, t_max_s;
+} sim_replay_err;
+typedef struct sim_replay_result {
+    sim_replay_err all, phase[SIM_REPLAY_NPHASE]; /* the run's, and per phase of the reference */
+    double err_m;              /* the latest */
+    double max_heading_err_rad;
+    long stop_steps;           /* steps with a control at a stop */
+    double t_s;                /* the latest time counted */
+    int ended;                 /* the reference has ended (the run may stop) */
+} sim_replay_result;
+/* A replay pilot for ref (kept by the caller) on aircraft ac, from the
+ * flight's trimmed inputs; the flight should start at the reference's
+ * start (its first sample's pos_S_m) with the SAS off. NULL with err. */
+sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_replay_log *ref,
+                                          const sim_pilot_replay_opts *o, const sim_flight_inputs *trim,
+                                          const core_log *log, core_err *err);
+void sim_pilot_replay_destroy(sim_pilot_replay *p);
+/* One step: the errors of out counted, the controls for the next step.
+ * 0, or 1 when a control is at a stop. */
+int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_flight_inputs *in);
+void sim_pilot_replay_result(const sim_pilot_replay *p, sim_replay_result *r);
+
 /* ---------------------------------------- the landing gear (sim/contact.c) */
 /* The aircraft file's [gear] on the ship's deck: each leg an oleo strut in
  * series with a tyre, pressed on the deck (the plane z_S = 0 over the flight

@@ -1,0 +1,52 @@
+#!/bin/sh
+# disim fly --pilot replay LOG: the replay pilot (sim/pilot_replay.c)
+# re-flies a logged run headless. A 5 s run of the loop (the trim held, no
+# wind) logged with --log is re-flown in 10 kt from green 30: it flies the
+# log's 5 s, reports its errors, and ends within 0.5 m of where the logged
+# run ended (the last CSV rows); --feed-controls flies too. Bad logs
+# (missing, not a log, truncated, without a heli_state_t) and bad flags
+# are refused, naming what, with a non-zero exit and nothing written.
+# Usage: fly_replay_cli.sh DISIM SOURCE_DIR
+set -u
+disim=$1 src=$2
+tmp=$(mktemp -d /tmp/disim_fly_replay_XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+fail=0 pass=0
+ok() { pass=$((pass + 1)); }
+bad() { echo "FAIL: $1"; fail=$((fail + 1)); }
+scen="$src/scenarios/cg47_uh60a.ini"
+"$disim" fly "$scen" --fast --duration 5 --wod-speed-kt 0 --wod-dir-deg 0 --db "$tmp/db" --log "$tmp/rec.log" \
+    --csv "$tmp/rec.csv" 2> "$tmp/rec.err" && [ -s "$tmp/rec.log" ] && ok || { bad "the run was not logged"; cat "$tmp/rec.err"; }
+args="$scen --wod-speed-kt 10 --wod-dir-deg 30 --db $tmp/db"
+"$disim" fly $args --pilot replay "$tmp/rec.log" --csv "$tmp/rep.csv" 2> "$tmp/rep.err" && ok \
+    || { bad "fly --pilot replay failed"; cat "$tmp/rep.err"; }
+grep -q "the replay pilot re-flies .*rec.log (250 states, 5.00 s" "$tmp/rep.err" && ok || { bad "no start line"; cat "$tmp/rep.err"; }
+grep -q "fly: replay to 5.00 s: from the reference rms [0-9.]* m, max [0-9.]* m" "$tmp/rep.err" && ok \
+    || { bad "no report of the errors"; cat "$tmp/rep.err"; }
+grep -q "fly: replay hover: " "$tmp/rep.err" && ok || bad "no report per phase"
+[ "$(wc -l < "$tmp/rep.csv")" -eq 252 ] && ok || bad "expected a header and 251 rows at 50 Hz over the log's 5 s"
+paste -d, "$tmp/rec.csv" "$tmp/rep.csv" | tail -1 | awk -F, '{d = ($2 - $20) ^ 2 + ($3 - $21) ^ 2 + ($4 - $22) ^ 2; exit !(d < 0.25)}' \
+    && ok || { bad "the replay did not end within 0.5 m of the logged run's end"; tail -1 "$tmp/rec.csv" "$tmp/rep.csv"; }
+"$disim" fly $args --pilot replay "$tmp/rec.log" --feed-controls 2> "$tmp/ff.err" && grep -q "fed forward" "$tmp/ff.err" \
+    && ok || { bad "--feed-controls failed"; cat "$tmp/ff.err"; }
+# bad logs: each refused, naming the file and what is wrong, nothing written
+check_bad() { # NAME LOG PATTERN
+    "$disim" fly $args --pilot replay "$2" --csv "$tmp/bad.csv" 2> "$tmp/$1.err" && bad "$1: accepted" \
+        || { grep -q "$3" "$tmp/$1.err" && ok || { bad "$1: no reason"; cat "$tmp/$1.err"; }; }
+    ls "$tmp"/bad.csv* > /dev/null 2>&1 && bad "$1: a refused run wrote a CSV" || ok
+}
+check_bad missing "$tmp/none.log" "none.log: cannot read the LCM log"
+check_bad not_a_log "$scen" "cg47_uh60a.ini: not an LCM event log"
+head -c 100000 "$tmp/rec.log" > "$tmp/cut.log"
+check_bad truncated "$tmp/cut.log" "cut.log: event [0-9]* (byte [0-9]*): .*(truncated)"
+"$disim" fly "$scen" --fast --duration 0 --wod-speed-kt 0 --wod-dir-deg 0 --db "$tmp/db" --log "$tmp/empty.log" 2> /dev/null
+check_bad no_heli_state "$tmp/empty.log" "empty.log: 0 heli_state_t in [0-9]* events"
+# bad flags
+"$disim" fly $args --pilot replay "$tmp/rec.log" --log "$tmp/x.log" 2> "$tmp/f1.err" && bad "--log accepted" \
+    || { grep -q "replay flies headless" "$tmp/f1.err" && ok || bad "--log: no reason"; }
+"$disim" fly $args --pilot replay --task "$src/scenarios/tasks/land_uh60a.ini" 2> "$tmp/f2.err" && bad "--task accepted" \
+    || { grep -q "or --pilot replay LOG" "$tmp/f2.err" && ok || bad "--pilot replay --task: no reason"; }
+"$disim" fly $args --feed-controls 2> "$tmp/f3.err" && bad "--feed-controls alone accepted" \
+    || { grep -q "or --pilot replay LOG" "$tmp/f3.err" && ok || bad "--feed-controls: no reason"; }
+echo "fly_replay_cli: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
