@@ -409,7 +409,7 @@ static void test_bad(const char *good)
         put_event(el, DISIM_CH_HELI_STATE, "not a heli_state_t", 18, 0);
         lcm_eventlog_destroy(el);
     }
-    expect_refused("a heli_state_t that is not one", p, "event 2 (DISIM_HELI_STATE", "heli_state_t");
+    expect_refused("a heli_state_t that is not one", p, "event 2 (DISIM_HELI_STATE", "heli_state_t: fingerprint");
     int64_t ut[4] = {20000, 40000, 60000, 80000};
     snprintf(p, sizeof p, "%s/nan.log", dir);
     write_states(p, 4, ut, 2, -1);
