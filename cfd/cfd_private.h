@@ -13,6 +13,11 @@ struct cfd_grid {
     double *xc[3]; /* centres */
     double *h[3];  /* widths */
     unsigned char *solid;
+    /* cell lookup (grid.c): lut[d][b] a centre index at or below bucket b
+     * of lut_n[d] equal buckets from xc[d][0] (NULL: binary search) */
+    int *lut[3];
+    int lut_n[3];
+    double lut_inv[3]; /* buckets per metre */
 };
 
 #define CFD_IDX(g, i, j, k) ((size_t)(i) + (size_t)(g)->n[0] * ((size_t)(j) + (size_t)(g)->n[1] * (size_t)(k)))
@@ -53,10 +58,12 @@ void cfd_aa_save(cfd_aa *a, double *const *x);
  * non-finite residual (the history is cleared). */
 int cfd_aa_mix(cfd_aa *a, double *const *x);
 
-/* Trilinear weights on cell centres along one axis. */
+/* Trilinear weights on cell centres along one axis (binary search). */
 void cfd_axis_locate(const double *xc, int n, double x, int *i0, double *f);
 
-/* Trilinear interpolation of narr cell-centred arrays at pos (clamped). */
+/* Trilinear interpolation of narr cell-centred arrays at pos (clamped):
+ * the cells found through the grid's lookup tables in O(1), the same
+ * cells and weights as cfd_axis_locate's, the same bits. */
 void cfd_sample_arrays(const cfd_grid *g, double *const *arr, int narr, const double pos[3], double *out);
 
 /* Actuator-disk distribution (disk.c): fills f[3] (N per cell, force on the

@@ -106,6 +106,44 @@ int cfd_axis_build(const cfd_axis_spec *s, double **nodes, int *n, core_err *err
     return 0;
 }
 
+/* The lookup table of axis d (cfd_sample_arrays): equal buckets about as
+ * wide as the narrowest centre spacing (at most LUT_PER_CELL per cell),
+ * each holding the last centre at or below its start, so that a point
+ * lies within a step or two of the centre the table gives. Axes of one
+ * cell or centres not strictly increasing keep the binary search (NULL).
+ * Returns -1 out of memory. */
+#define LUT_PER_CELL 16
+
+static int axis_lut_build(cfd_grid *g, int d)
+{
+    const int n = g->n[d];
+    const double *xc = g->xc[d];
+    if (n < 2)
+        return 0;
+    double hmin = INFINITY;
+    for (int i = 0; i + 1 < n; i++)
+        hmin = fmin(hmin, xc[i + 1] - xc[i]);
+    double span = xc[n - 1] - xc[0];
+    if (!(hmin > 0.0) || !isfinite(span))
+        return 0;
+    double nb = fmin(ceil(span / hmin), (double)LUT_PER_CELL * (n - 1));
+    int nbi = (int)fmax(nb, 1.0);
+    int *lut = malloc(((size_t)nbi + 1) * sizeof *lut);
+    if (!lut)
+        return -1;
+    int lo = 0;
+    for (int b = 0; b <= nbi; b++) {
+        double x = xc[0] + span * ((double)b / nbi);
+        while (lo + 1 < n - 1 && xc[lo + 1] <= x)
+            lo++;
+        lut[b] = lo;
+    }
+    g->lut[d] = lut;
+    g->lut_n[d] = nbi;
+    g->lut_inv[d] = nbi / span;
+    return 0;
+}
+
 cfd_grid *cfd_grid_create(const double *xn, int nx, const double *yn, int ny, const double *zn,
                           int nz, core_err *err)
 {
@@ -143,6 +181,9 @@ cfd_grid *cfd_grid_create(const double *xn, int nx, const double *yn, int ny, co
     g->solid = calloc(g->ncell, 1);
     if (!g->solid)
         goto oom;
+    for (int d = 0; d < 3; d++)
+        if (axis_lut_build(g, d))
+            goto oom;
     return g;
 oom:
     cfd_grid_destroy(g);
@@ -173,6 +214,7 @@ void cfd_grid_destroy(cfd_grid *g)
         free(g->xn[d]);
         free(g->xc[d]);
         free(g->h[d]);
+        free(g->lut[d]);
     }
     free(g->solid);
     free(g);
@@ -253,33 +295,68 @@ void cfd_axis_locate(const double *xc, int n, double x, int *i0, double *f)
     *f = (x - xc[lo]) / (xc[lo + 1] - xc[lo]);
 }
 
+/* cfd_axis_locate through axis d's table: the walk from the bucket's
+ * centre ends at the one lo with xc[lo] <= x < xc[lo + 1], the binary
+ * search's, and f is computed the same way. */
+static void axis_locate_lut(const cfd_grid *g, int d, double x, int *i0, double *f)
+{
+    const double *xc = g->xc[d];
+    const int n = g->n[d];
+    if (!g->lut[d] || x <= xc[0] || x >= xc[n - 1]) {
+        cfd_axis_locate(xc, n, x, i0, f); /* also one cell, and the clamps */
+        return;
+    }
+    double u = (x - xc[0]) * g->lut_inv[d];
+    int b = u >= 0.0 ? (u < g->lut_n[d] ? (int)u : g->lut_n[d]) : 0; /* NaN: 0 */
+    int lo = g->lut[d][b];
+    while (lo > 0 && xc[lo] > x)
+        lo--;
+    while (lo < n - 2 && xc[lo + 1] <= x)
+        lo++;
+    *i0 = lo;
+    *f = (x - xc[lo]) / (xc[lo + 1] - xc[lo]);
+}
+
+/* The eight corners in the order c8 = up_x + 2 up_y + 4 up_z, each weight
+ * the product (w_x w_y) w_z as the corner loop forms it, corners of zero
+ * weight left out, the arrays summed corner by corner in that order: the
+ * bits of the loop over corners and axes, in one pass over each array. */
 void cfd_sample_arrays(const cfd_grid *g, double *const *arr, int narr, const double pos[3], double *out)
 {
     int i0[3];
     double f[3];
     for (int d = 0; d < 3; d++)
-        cfd_axis_locate(g->xc[d], g->n[d], pos[d], &i0[d], &f[d]);
-    for (int v = 0; v < narr; v++)
-        out[v] = 0.0;
+        axis_locate_lut(g, d, pos[d], &i0[d], &f[d]);
+    double w1[3][2];
+    size_t st[3] = {1, (size_t)g->n[0], (size_t)g->n[0] * (size_t)g->n[1]};
+    int nup[3];
+    for (int d = 0; d < 3; d++) {
+        w1[d][0] = 1.0 - f[d];
+        w1[d][1] = f[d];
+        nup[d] = g->n[d] == 1 ? 1 : 2; /* one cell: no upper corner */
+        if (g->n[d] == 1)
+            w1[d][0] = 1.0;
+    }
+    double w[8];
+    size_t off[8];
+    int nc = 0;
+    size_t base = CFD_IDX(g, i0[0], i0[1], i0[2]);
     for (int c8 = 0; c8 < 8; c8++) {
-        int ii[3];
-        double w = 1.0;
-        for (int d = 0; d < 3; d++) {
-            int up = (c8 >> d) & 1;
-            if (g->n[d] == 1) {
-                if (up)
-                    w = 0.0;
-                ii[d] = 0;
-                continue;
-            }
-            ii[d] = i0[d] + up;
-            w *= up ? f[d] : 1.0 - f[d];
-        }
-        if (w == 0.0)
+        int ux = c8 & 1, uy = (c8 >> 1) & 1, uz = (c8 >> 2) & 1;
+        if (ux >= nup[0] || uy >= nup[1] || uz >= nup[2])
             continue;
-        size_t c = CFD_IDX(g, ii[0], ii[1], ii[2]);
-        for (int v = 0; v < narr; v++)
-            out[v] += w * arr[v][c];
+        double wc = w1[0][ux] * w1[1][uy] * w1[2][uz];
+        if (wc == 0.0)
+            continue;
+        w[nc] = wc;
+        off[nc] = base + ux * st[0] + uy * st[1] + uz * st[2];
+        nc++;
+    }
+    for (int v = 0; v < narr; v++) {
+        const double *a = arr[v];
+        double s = 0.0;
+        for (int c = 0; c < nc; c++)
+            s += w[c] * a[off[c]];
+        out[v] = s;
     }
 }
-

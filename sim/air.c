@@ -68,7 +68,12 @@ struct sim_air {
         sim_ship_frame fr;
     } frames[4];
     int nframes, next_frame;
-    double step_s; /* > 0: the loop's step (frame_at interpolates within it) */
+    double step_s; /* > 0: the loop's step (frame_compute interpolates within it) */
+    /* the frame of the last time asked (a stage time: every point of the
+     * stage asks for the same one) */
+    int have_last;
+    double last_t_s;
+    sim_ship_frame last_fr;
 };
 
 void sim_air_opts_default(sim_air_opts *o)
@@ -223,7 +228,7 @@ static int frame_exact(sim_air *a, double t_s, sim_ship_frame *fr)
  * own (a frame sums the seaway's waves). The error is of order (h w)^2 of
  * the motion for a step h and a motion of frequency w: below 1e-5 of it at
  * 200 Hz for the ship's periods of 5 s and more. */
-static int frame_at(sim_air *a, double t_s, sim_ship_frame *fr)
+static int frame_compute(sim_air *a, double t_s, sim_ship_frame *fr)
 {
     if (!(a->step_s > 0.0))
         return frame_exact(a, t_s, fr);
@@ -246,25 +251,51 @@ static int frame_at(sim_air *a, double t_s, sim_ship_frame *fr)
     return 0;
 }
 
-void sim_air_set_step(sim_air *a, double step_s) { a->step_s = step_s; }
+/* frame_compute through the last time's frame; NULL on failure. */
+static const sim_ship_frame *frame_ptr(sim_air *a, double t_s)
+{
+    if (a->have_last && t_s == a->last_t_s)
+        return &a->last_fr;
+    a->have_last = 0;
+    if (frame_compute(a, t_s, &a->last_fr))
+        return NULL;
+    a->have_last = 1;
+    a->last_t_s = t_s;
+    return &a->last_fr;
+}
+
+static int frame_at(sim_air *a, double t_s, sim_ship_frame *fr)
+{
+    const sim_ship_frame *p = frame_ptr(a, t_s);
+    if (!p)
+        return -1;
+    *fr = *p;
+    return 0;
+}
+
+void sim_air_set_step(sim_air *a, double step_s)
+{
+    a->step_s = step_s;
+    a->have_last = 0;
+}
 
 int sim_air_frame(sim_air *a, double t_s, sim_ship_frame *fr) { return frame_at(a, t_s, fr); }
 
 int sim_air_fn(void *user, const double pos_E_m[3], double t_s, double vel_E_mps[3])
 {
     sim_air *a = user;
-    sim_ship_frame fr;
-    if (frame_at(a, t_s, &fr))
+    const sim_ship_frame *fr = frame_ptr(a, t_s);
+    if (!fr)
         return -1;
     double d[3], p_S[3], v_S[3];
     for (int i = 0; i < 3; i++)
-        d[i] = pos_E_m[i] - fr.origin_E_m[i];
+        d[i] = pos_E_m[i] - fr->origin_E_m[i];
     for (int i = 0; i < 3; i++) /* C_ES^T d */
-        p_S[i] = fr.C_ES[0 * 3 + i] * d[0] + fr.C_ES[1 * 3 + i] * d[1] + fr.C_ES[2 * 3 + i] * d[2];
+        p_S[i] = fr->C_ES[0 * 3 + i] * d[0] + fr->C_ES[1 * 3 + i] * d[1] + fr->C_ES[2 * 3 + i] * d[2];
     sim_air_sample_S(a, p_S, t_s, v_S);
     for (int i = 0; i < 3; i++)
-        vel_E_mps[i] = fr.C_ES[i * 3 + 0] * v_S[0] + fr.C_ES[i * 3 + 1] * v_S[1] + fr.C_ES[i * 3 + 2] * v_S[2] +
-                       fr.mean_vel_E_mps[i];
+        vel_E_mps[i] = fr->C_ES[i * 3 + 0] * v_S[0] + fr->C_ES[i * 3 + 1] * v_S[1] + fr->C_ES[i * 3 + 2] * v_S[2] +
+                       fr->mean_vel_E_mps[i];
     return 0;
 }
 

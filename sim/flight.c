@@ -223,6 +223,9 @@ sim_flight *sim_flight_create(const hfm_aircraft *ac, const core_ship *ship, con
         sim_air_set_turb(f->air, f->turb);
     }
     sim_air_set_step(f->air, f->h_s);
+    /* a seaway's frame at the step times by phasor rotation (sim/ship_motion.c) */
+    if (f->frame == sim_ship_motion_frame_fn && sim_ship_motion_set_step(f->frame_user, f->h_s, err) != 0)
+        goto fail;
     f->hair.fn = sim_air_fn;
     f->hair.user = f->air;
     f->hair.wake = NULL;

@@ -136,8 +136,29 @@ typedef struct wave {
 
 enum { HEAVE = 0, PITCH = 1, ROLL = 2 };
 
+/* The waves' phasors (cos th, sin th) at one step time k h, advanced step
+ * by step by the exact rotation (cos w_e h, sin w_e h) and re-anchored by
+ * the direct cos and sin every PHASOR_ANCHOR steps: the phasors of step k
+ * are those of the anchor floor(k / PHASOR_ANCHOR) PHASOR_ANCHOR rotated
+ * the same number of times whichever steps were asked before, so the
+ * motion stays a pure function of t. A rotation rounds each component to
+ * a few ulps: after at most PHASOR_ANCHOR - 1 rotations each phasor is
+ * within a few 1e-14 of the direct one (test_ship_motion checks the bound
+ * on every motion). */
+#define PHASOR_ANCHOR 256
+
+typedef struct phasors {
+    double h_s;      /* the step */
+    long long k;     /* the step the phasors hold (k_none: none) */
+    double *c, *s;   /* per wave, at step k */
+    double *rc, *rs; /* per wave, cos and sin of w_e h */
+} phasors;
+
+static const long long k_none = -(1LL << 62);
+
 struct sim_ship_motion {
     sim_sea sea;
+    phasors *ph; /* NULL: no step set (every time by the direct sum) */
     double hs_m, tp_s, omega_p, omega_max, scale; /* scale: m0 normalisation of the shape */
     int n;
     wave *w;
@@ -421,12 +442,51 @@ sim_ship_motion *sim_ship_motion_create(const core_ship *ship, const sim_sea *se
     return m;
 }
 
+static void phasors_free(phasors *p)
+{
+    if (!p)
+        return;
+    free(p->c);
+    free(p->s);
+    free(p->rc);
+    free(p->rs);
+    free(p);
+}
+
 void sim_ship_motion_destroy(sim_ship_motion *m)
 {
     if (!m)
         return;
+    phasors_free(m->ph);
     free(m->w);
     free(m);
+}
+
+int sim_ship_motion_set_step(sim_ship_motion *m, double step_s, core_err *err)
+{
+    if (!m)
+        return core_err_set(err, -1, "ship motion: NULL");
+    if (!(step_s >= 0.0) || !isfinite(step_s))
+        return core_err_set(err, -1, "ship motion step = %g s: expected 0 (none) or a finite step > 0", step_s);
+    phasors_free(m->ph);
+    m->ph = NULL;
+    if (step_s == 0.0 || m->n == 0)
+        return 0;
+    phasors *p = calloc(1, sizeof *p);
+    size_t n = (size_t)m->n;
+    if (!p || !(p->c = malloc(n * sizeof(double))) || !(p->s = malloc(n * sizeof(double))) ||
+        !(p->rc = malloc(n * sizeof(double))) || !(p->rs = malloc(n * sizeof(double)))) {
+        phasors_free(p);
+        return core_err_set(err, -1, "ship motion: out of memory for the phasors of %d waves", m->n);
+    }
+    p->h_s = step_s;
+    p->k = k_none;
+    for (int i = 0; i < m->n; i++) {
+        p->rc[i] = cos(m->w[i].omega_e * step_s);
+        p->rs[i] = sin(m->w[i].omega_e * step_s);
+    }
+    m->ph = p;
+    return 0;
 }
 
 void sim_ship_motion_get_info(const sim_ship_motion *m, sim_ship_motion_info *info)
@@ -448,14 +508,71 @@ void sim_ship_motion_get_info(const sim_ship_motion *m, sim_ship_motion_info *in
 /* ----------------------------------------------------------- evaluation */
 /* The motions at the centre at t: x[d][0..2] value, rate, acceleration;
  * the elevation there. */
+/* A wave's phase at t: the one expression the direct sum and the anchors use. */
+static double wave_phase(const wave *w, double t) { return w->omega_e * t + w->eps; }
+
+/* The step k of t when t is exactly the step time (double)k h, as a loop
+ * computes it; 0 when it is not (or no step is set). */
+static int step_of(const sim_ship_motion *m, double t, long long *k)
+{
+    if (!m->ph)
+        return 0;
+    double h = m->ph->h_s, kn = nearbyint(t / h);
+    if (!(fabs(kn) < 1e15) || kn * h != t)
+        return 0;
+    *k = (long long)kn;
+    return 1;
+}
+
+/* The phasors at step k (m's cache; see struct phasors). */
+static void phasors_at(const sim_ship_motion *m, long long k)
+{
+    phasors *p = m->ph;
+    if (p->k == k)
+        return;
+    long long r = k % PHASOR_ANCHOR;
+    long long k0 = k - (r < 0 ? r + PHASOR_ANCHOR : r);
+    if (!(p->k >= k0 && p->k < k)) { /* anchor: the direct phasors at k0 */
+        double t0 = (double)k0 * p->h_s;
+        for (int i = 0; i < m->n; i++) {
+            double th = wave_phase(&m->w[i], t0);
+            p->c[i] = cos(th);
+            p->s[i] = sin(th);
+        }
+        p->k = k0;
+    }
+    double *c = p->c, *s = p->s;
+    const double *rc = p->rc, *rs = p->rs;
+    for (; p->k < k; p->k++)
+        for (int i = 0; i < m->n; i++) {
+            double ci = c[i], si = s[i];
+            c[i] = ci * rc[i] - si * rs[i];
+            s[i] = si * rc[i] + ci * rs[i];
+        }
+}
+
 static void eval_motions(const sim_ship_motion *m, double t, double x[3][3], double *elev)
 {
     memset(x, 0, 9 * sizeof x[0][0]);
     double e = 0.0;
+    long long k;
+    const double *pc = NULL, *ps = NULL;
+    if (m->n > 0 && step_of(m, t, &k)) {
+        phasors_at(m, k);
+        pc = m->ph->c;
+        ps = m->ph->s;
+    }
     for (int i = 0; i < m->n; i++) {
         const wave *w = &m->w[i];
-        double th = w->omega_e * t + w->eps;
-        double ct = cos(th), st = sin(th), we = w->omega_e;
+        double ct, st, we = w->omega_e;
+        if (pc) {
+            ct = pc[i];
+            st = ps[i];
+        } else {
+            double th = wave_phase(w, t);
+            ct = cos(th);
+            st = sin(th);
+        }
         e += w->amp * ct;
         for (int d = 0; d < 3; d++) {
             double v = w->c[d] * ct + w->s[d] * st;

@@ -303,6 +303,16 @@ int sim_ship_motion_at(const sim_ship_motion *m, double t_s, sim_ship_state *out
 int sim_ship_motion_point(const sim_ship_motion *m, double t_s, core_vec3 p_S_m, sim_ship_point *out);
 /* A sim_ship_frame_fn (user: a const sim_ship_motion *) for the flight. */
 int sim_ship_motion_frame_fn(void *user, double t_s, sim_ship_frame *out);
+/* The loop's step (0: none, the default). With a step set, a time that is
+ * exactly a step time (double)k * step_s sums the waves from phasors
+ * advanced by exact rotation from the last step asked (re-anchored on the
+ * direct sum every 256 steps; off it by at most 1e-11 of the motion's
+ * standard deviation, test_ship_motion's bound, and still a pure function
+ * of t), other times by the direct sum. The
+ * phasors are a cache inside the motion: a motion with a step set is not
+ * to be evaluated from two threads at once. 0, or -1 with err for a step
+ * < 0 or not finite or out of memory. */
+int sim_ship_motion_set_step(sim_ship_motion *m, double step_s, core_err *err);
 void sim_ship_motion_get_info(const sim_ship_motion *m, sim_ship_motion_info *info);
 /* The wave spectrum the sum samples, S(omega) in m^2 s at the wave
  * frequency omega (rad/s): the table's Hs exactly over 0 to

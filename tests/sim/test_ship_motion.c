@@ -331,6 +331,98 @@ static void test_seeds(void)
     sim_ship_motion_destroy(a2);
 }
 
+/* ------------------------------------------- phasors at the loop's step */
+/* A motion with the loop's step set (sim_ship_motion_set_step) against the
+ * direct sum: bit for bit at every re-anchoring step (every 256) and at
+ * times off the step grid, whatever was asked before; in between within
+ * the rotations' rounding bound. A wave's phasor takes at most 255
+ * rotations from its anchor, each rounding it by at most 4 ulps (the
+ * complex product and the rotation's own rounding; a rotation keeps the
+ * error's size): |d| <= 255 * 4 * sqrt(2) * 2^-53 per unit amplitude. Over
+ * N waves sum_i (|c_i| + |s_i|) <= 2 sqrt(N) sigma (sigma^2 = sum (c_i^2 +
+ * s_i^2) / 2), so a motion is off by at most 2 sqrt(N) sigma |d|, its rate
+ * by w_max times that; checked an hour into the record, where w_e t is
+ * large. */
+static void test_phasors(void)
+{
+    core_err err = {{0}};
+    sim_sea sea = make_sea(6, 20.0, 30.0, SIM_SPECTRUM_ITTC);
+    const double h = 0.005;
+    sim_ship_motion *a = sim_ship_motion_create(&cg47, &sea, 11, &err); /* direct */
+    sim_ship_motion *b = sim_ship_motion_create(&cg47, &sea, 11, &err); /* in order */
+    sim_ship_motion *c = sim_ship_motion_create(&cg47, &sea, 11, &err); /* scrambled */
+    CHECK(a && b && c);
+    if (!a || !b || !c)
+        return;
+    CHECK(sim_ship_motion_set_step(b, h, &err) == 0 && sim_ship_motion_set_step(c, h, &err) == 0);
+    CHECK(sim_ship_motion_set_step(b, -1.0, &err) < 0 && strstr(err.msg, "expected 0 (none)"));
+    CHECK(sim_ship_motion_set_step(b, h, &err) == 0);
+    sim_ship_motion_info info;
+    sim_ship_motion_get_info(a, &info);
+    const long long k_start = 720000, nk = 4 * 256 + 77; /* 1 h at 200 Hz, then 5.4 s */
+    double sig[3] = {0, 0, 0}, dmax[3] = {0, 0, 0}, dvmax[3] = {0, 0, 0}, vsig[3] = {0, 0, 0};
+    int anchors_same = 1, off_grid_same = 1, scrambled_same = 1, anchors = 0;
+    sim_ship_state *sb = malloc((size_t)nk * sizeof *sb);
+    for (long long i = 0; i < nk; i++) {
+        long long k = k_start + i;
+        double t = (double)k * h;
+        sim_ship_state sa;
+        sim_ship_frame fa, fb;
+        CHECK(sim_ship_motion_at(a, t, &sa) == 0 && sim_ship_motion_at(b, t, &sb[i]) == 0);
+        sim_ship_motion_frame_fn(a, t, &fa);
+        sim_ship_motion_frame_fn(b, t, &fb);
+        double x[3] = {sa.heave_m, sa.att.theta_rad, sa.att.phi_rad};
+        double y[3] = {sb[i].heave_m, sb[i].att.theta_rad, sb[i].att.phi_rad};
+        double xv[3] = {sa.heave_rate_mps, sa.omega_S_radps.x, sa.omega_S_radps.y};
+        double yv[3] = {sb[i].heave_rate_mps, sb[i].omega_S_radps.x, sb[i].omega_S_radps.y};
+        for (int d = 0; d < 3; d++) {
+            sig[d] += x[d] * x[d];
+            vsig[d] += xv[d] * xv[d];
+            dmax[d] = fmax(dmax[d], fabs(x[d] - y[d]));
+            dvmax[d] = fmax(dvmax[d], fabs(xv[d] - yv[d]));
+        }
+        if (k % 256 == 0) {
+            anchors++;
+            if (memcmp(&sa, &sb[i], sizeof sa) != 0 || memcmp(&fa, &fb, sizeof fa) != 0)
+                anchors_same = 0;
+        }
+        /* between the steps: the direct sum, bit for bit */
+        sim_ship_state ha, hb;
+        sim_ship_motion_at(a, t + 0.5 * h, &ha);
+        sim_ship_motion_at(b, t + 0.5 * h, &hb);
+        if (memcmp(&ha, &hb, sizeof ha) != 0)
+            off_grid_same = 0;
+    }
+    /* the same steps asked backwards and in jumps: the same bits */
+    for (long long j = 0; j < nk; j++) {
+        long long i = (j * 389) % nk, k = k_start + i;
+        sim_ship_state sc;
+        sim_ship_motion_at(c, (double)k * h, &sc);
+        if (memcmp(&sc, &sb[i], sizeof sc) != 0)
+            scrambled_same = 0;
+    }
+    free(sb);
+    const double eps = 0x1.0p-53, dwave = 255.0 * 4.0 * sqrt(2.0) * eps;
+    const double kbound = 2.0 * sqrt((double)info.n_waves) * dwave;
+    const char *name[3] = {"heave", "pitch", "roll"};
+    for (int d = 0; d < 3; d++) {
+        double s = sqrt(sig[d] / (double)nk), sv = sqrt(vsig[d] / (double)nk);
+        /* sigma of the record stands for the spectral one (a 2x margin) */
+        CHECK(dmax[d] <= 2.0 * kbound * s);
+        CHECK(dvmax[d] <= 2.0 * kbound * fmax(sv, info.omega_max_radps * s));
+        printf("phasors: %s off the direct sum by %.2e sigma at most (bound %.2e), its rate %.2e\n", name[d],
+               dmax[d] / s, 2.0 * kbound, dvmax[d] / sv);
+    }
+    CHECK(anchors == 4 && anchors_same); /* 720128, 720384, 720640, 720896 */
+    CHECK(off_grid_same);
+    CHECK(scrambled_same);
+    printf("phasors: %d anchors bit for bit %s; off the grid %s; asked out of order %s\n", anchors,
+           anchors_same ? "yes" : "NO", off_grid_same ? "yes" : "NO", scrambled_same ? "the same bits" : "DIFFER");
+    sim_ship_motion_destroy(a);
+    sim_ship_motion_destroy(b);
+    sim_ship_motion_destroy(c);
+}
+
 /* ------------------------------------------------ derivatives of a point */
 static double vdist(core_vec3 a, core_vec3 b)
 {
@@ -654,6 +746,7 @@ int main(void)
     test_rao_limits();
     test_calm();
     test_seeds();
+    test_phasors();
     test_derivatives();
     test_frame_fn();
     test_refusals();
