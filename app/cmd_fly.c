@@ -208,16 +208,18 @@ static int db_field(awdb *db, const sim_scenario *sc, double dir_rad, cfd_field 
  * steps, the flight's in knots) whose isolated rotor's field (the same
  * key, ship NAME.isolated) is ready too, the one whose hub is nearest the
  * station, and of several within 0.5 m of that (the coupling's iterations
- * at one station) the newest, its converged iteration. Deck-zone fields
- * are left out: they hold the zone's version of the ship airwake. 1 with
- * the fields and their interaction, 0 none, -1 with err. */
+ * at one station) the newest, its converged iteration. A deck-zone pair
+ * (couple.h's settings.zone) needs the whole domain's ship-only field and
+ * the zone's own too (the coupling's keys: the zone at the station), for
+ * the coupling's correction. 1 with the fields and their interaction, 0
+ * none, -1 with err. */
 typedef struct coupled_pick {
     const sim_scenario *sc;
     double v, dir_deg;
     awdb *db;
     awdb_key best;
     double best_d, best_mtime;
-    char cpath[1024], ipath[1024];
+    char cpath[1024], ipath[1024], wpath[1024], zpath[1024]; /* wpath, zpath "": a whole-domain pair */
 } coupled_pick;
 
 static int coupled_candidate(void *user, const awdb_key *k)
@@ -225,7 +227,7 @@ static int coupled_candidate(void *user, const awdb_key *k)
     coupled_pick *p = user;
     double dd = fabs(remainder(k->wod_dir_rad * CORE_RAD_TO_DEG - p->dir_deg, 360.0));
     if (strcmp(k->ship, p->sc->ship.name) || strcmp(k->aircraft, p->sc->aircraft_name) || k->rotor == CORE_ROTOR_OFF ||
-        k->zone_ref_mps > 0.0 || k->grid != p->sc->grid || fabs(k->wod_speed_mps - p->v) > 0.25 || dd > 0.5)
+        k->grid != p->sc->grid || fabs(k->wod_speed_mps - p->v) > 0.25 || dd > 0.5)
         return 0;
     double d2 = 0.0;
     for (int i = 0; i < 3; i++)
@@ -242,17 +244,32 @@ static int coupled_candidate(void *user, const awdb_key *k)
         stat(cp, &st) != 0)
         return 0;
     double mt = (double)st.st_mtim.tv_sec + 1e-9 * (double)st.st_mtim.tv_nsec;
+    char wp[1024] = "", zp[1024] = "";
+    if (k->zone_ref_mps > 0.0) { /* the zone's correction: both ship-only fields at the zone's speed */
+        awdb_key kw, kz;
+        awdb_key_ship_only(&kw, k->ship, k->aircraft, k->zone_ref_mps, k->wod_dir_rad, k->grid);
+        kz = kw;
+        kz.zone_ref_mps = k->zone_ref_mps;
+        memcpy(kz.station_S_m, p->sc->station_S_m, sizeof kz.station_S_m);
+        kz.radius_m = k->radius_m;
+        core_err e2 = {{0}};
+        if (awdb_key_canon(&kw, &e2) || awdb_key_canon(&kz, &e2) || awdb_query(p->db, &kw, wp, sizeof wp) != AWDB_READY ||
+            awdb_query(p->db, &kz, zp, sizeof zp) != AWDB_READY)
+            return 0;
+    }
     if (d < p->best_d - 0.5 || mt > p->best_mtime) {
         p->best = *k;
         p->best_d = fmin(d, p->best_d);
         p->best_mtime = mt;
         snprintf(p->cpath, sizeof p->cpath, "%s", cp);
         snprintf(p->ipath, sizeof p->ipath, "%s", ip);
+        snprintf(p->wpath, sizeof p->wpath, "%s", wp);
+        snprintf(p->zpath, sizeof p->zpath, "%s", zp);
     }
     return 0;
 }
 
-static int db_coupled(awdb *db, const sim_scenario *sc, double v, double dir_rad, cfd_field **cpl, cfd_field **iso,
+static int db_coupled(awdb *db, const sim_scenario *sc, double v, double dir_rad, cfd_field *cf[4],
                       sim_interaction **inter, core_err *err)
 {
     coupled_pick p;
@@ -266,12 +283,16 @@ static int db_coupled(awdb *db, const sim_scenario *sc, double v, double dir_rad
         return -1;
     if (!p.cpath[0])
         return 0;
-    if (!(*cpl = cfd_field_load(p.cpath, err)) || !(*iso = cfd_field_load(p.ipath, err)))
+    if (!(cf[0] = cfd_field_load(p.cpath, err)) || !(cf[1] = cfd_field_load(p.ipath, err)))
+        return -1;
+    if (p.zpath[0] && (!(cf[2] = cfd_field_load(p.wpath, err)) || !(cf[3] = cfd_field_load(p.zpath, err))))
         return -1;
     sim_interaction_opts io;
     sim_interaction_opts_default(&io);
     memcpy(io.station_S_m, sc->station_S_m, sizeof io.station_S_m);
-    return (*inter = sim_interaction_create(*cpl, *iso, &io, err)) ? 1 : -1;
+    io.ship_whole = cf[2];
+    io.ship_zone = cf[3];
+    return (*inter = sim_interaction_create(cf[0], cf[1], &io, err)) ? 1 : -1;
 }
 
 static int csv_row(FILE *f, const sim_flight_out *o)
@@ -346,7 +367,8 @@ typedef struct fly_world {
     sim_ship_motion *motion;
     sim_flight *fl;
     int waiting; /* the database's field requested, not ready yet */
-    cfd_field *cpl, *iso;   /* the coupled field of the WOD and its isolated rotor's (NULL: none) */
+    cfd_field *cpl[4];      /* the coupled field of the WOD, its isolated rotor's (NULL: none) and, for a
+                               deck-zone pair, the whole domain's ship-only field and the zone's own */
     sim_interaction *inter; /* their interaction near the station (sim/interaction.c) */
     double speed_mps, dir_rad;
     int sea_state;
@@ -356,8 +378,8 @@ static void world_free(fly_world *w)
 {
     sim_flight_destroy(w->fl);
     sim_interaction_destroy(w->inter);
-    cfd_field_destroy(w->cpl);
-    cfd_field_destroy(w->iso);
+    for (int i = 0; i < 4; i++)
+        cfd_field_destroy(w->cpl[i]);
     sim_ship_motion_destroy(w->motion);
     cfd_field_destroy(w->later);
     cfd_field_destroy(w->fld);
@@ -409,7 +431,7 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
     }
     if (!o->field && !c->db && access(o->db, F_OK) == 0 && !(c->db = awdb_open(o->db, c->log, err)))
         goto fail; /* calm air: coupled fields (ground effect) without a ship-only one */
-    if (!o->field && c->db && db_coupled(c->db, sc, speed, dir, &w->cpl, &w->iso, &w->inter, err) < 0)
+    if (!o->field && c->db && db_coupled(c->db, sc, speed, dir, w->cpl, &w->inter, err) < 0)
         goto fail;
     sim_flight_opts fo;
     sim_flight_opts_default(&fo);
@@ -697,8 +719,8 @@ int cmd_fly(int argc, char **argv)
         sim_interaction_info ii;
         sim_interaction_state(ctx.w.inter, &ii);
         fprintf(stderr, "fly: the coupled rotor interaction near the station (the database's coupled field of %.0f N, "
-                        "hub (%.2f, %.2f, %.2f) m in S)\n",
-                ii.thrust_field_N, ii.hub_S_m[0], ii.hub_S_m[1], ii.hub_S_m[2]);
+                        "hub (%.2f, %.2f, %.2f) m in S%s)\n",
+                ii.thrust_field_N, ii.hub_S_m[0], ii.hub_S_m[1], ii.hub_S_m[2], ctx.w.cpl[3] ? ", deck zone" : "");
     } else if (ctx.db)
         fprintf(stderr, "fly: no coupled fields for this WOD in the database: the ship-only airwake alone\n");
     signal(SIGINT, on_signal);

@@ -61,6 +61,14 @@
  *      field's thrust, tau = R / sqrt(V^2 + v_field^2) (0.75 s for the
  *      UH-60A in hover): the interaction follows the slipstream, not each
  *      blade passage.
+ *  - A deck-zone pair (coupled and isolated fields over the deck zone
+ *    only, couple.h's settings.zone) holds the zone's version of the ship
+ *    airwake; the coupling adds the whole domain's ship-only airwake less
+ *    the zone's own, both scaled to the WOD speed, so that the zone adds
+ *    only what the rotor changes (couple/couple.c, zone_correction). The
+ *    loop does the same: coupled - isolated is then
+ *        (coupled - isolated) + (v / v_ref) (S_whole - S_zone)
+ *    in every formula above, and outside the zone the interaction is 0.
  *  - The coupling under-relaxes its last iteration against the one before
  *    (half each); the loop takes the pair it is given whole. The
  *    difference is within the coupling's 5 % tolerance on a converged
@@ -129,6 +137,8 @@ void sim_disk_modes_fit(sim_disk_modes *dm, const double hub_S_m[3], core_quat q
 /* ------------------------------------------------- the loop's interaction */
 struct sim_interaction {
     const cfd_field *coupled, *isolated;
+    const cfd_field *ship_whole, *ship_zone; /* a deck-zone pair's (NULL: a whole-domain pair) */
+    double whole_scale, zone_scale;          /* each to the coupled fields' WOD speed */
     sim_interaction_opts o;
     double wind_S[3];
     double thrust_field_N, vi_field_mps;
@@ -161,8 +171,9 @@ static double induced_mps(const sim_interaction *ia, double T_N)
     return sqrt(0.5 * (-V2 + sqrt(V2 * V2 + 4.0 * vh2 * vh2)));
 }
 
-/* coupled - isolated at a point (m/s, S); 1 where either field has no
- * value there (outside its domain), then out is 0. */
+/* coupled - isolated at a point (m/s, S), a deck zone's with the whole
+ * domain's ship-only airwake in place of the zone's own; 1 where the pair
+ * has no value there (outside its domain), then out is 0. */
 static int diff_at(const sim_interaction *ia, const double p[3], double out[3])
 {
     double c[CFD_NVARS], i[CFD_NVARS];
@@ -172,6 +183,13 @@ static int diff_at(const sim_interaction *ia, const double p[3], double out[3])
     }
     for (int k = 0; k < 3; k++)
         out[k] = c[k] - i[k];
+    if (ia->ship_zone) {
+        double sw[CFD_NVARS], sz[CFD_NVARS];
+        cfd_field_sample(ia->ship_whole, p, sw);
+        cfd_field_sample(ia->ship_zone, p, sz);
+        for (int k = 0; k < 3; k++)
+            out[k] += ia->whole_scale * sw[k] - ia->zone_scale * sz[k];
+    }
     return 0;
 }
 
@@ -213,6 +231,23 @@ sim_interaction *sim_interaction_create(const cfd_field *coupled, const cfd_fiel
                      mc->wod_speed_mps, mc->wod_dir_deg);
         return NULL;
     }
+    if (!o->ship_whole != !o->ship_zone) {
+        core_err_set(err, -1, "rotor interaction: a deck-zone pair needs both the whole domain's ship-only field and "
+                              "the zone's own");
+        return NULL;
+    }
+    if (o->ship_zone) {
+        const cfd_meta *mw = cfd_field_meta(o->ship_whole), *mz = cfd_field_meta(o->ship_zone);
+        if (strcmp(mw->rotor, core_rotor_name(CORE_ROTOR_OFF)) || strcmp(mz->rotor, core_rotor_name(CORE_ROTOR_OFF)) ||
+            !(mw->wod_speed_mps > 0.0) || !(mz->wod_speed_mps > 0.0) ||
+            fabs(remainder(mw->wod_dir_deg - mc->wod_dir_deg, 360.0)) > 0.011 ||
+            fabs(remainder(mz->wod_dir_deg - mc->wod_dir_deg, 360.0)) > 0.011) {
+            core_err_set(err, -1, "rotor interaction: the deck zone's ship-only fields (rotor '%s' and '%s', %.2f and "
+                                  "%.2f deg) are not ship-only fields of the coupled field's direction (%.2f deg)",
+                         mw->rotor, mz->rotor, mw->wod_dir_deg, mz->wod_dir_deg, mc->wod_dir_deg);
+            return NULL;
+        }
+    }
     double qn = sqrt(o->q_SH.w * o->q_SH.w + o->q_SH.x * o->q_SH.x + o->q_SH.y * o->q_SH.y + o->q_SH.z * o->q_SH.z);
     int st_ok = 1;
     for (int k = 0; k < 3; k++)
@@ -231,6 +266,12 @@ sim_interaction *sim_interaction_create(const cfd_field *coupled, const cfd_fiel
     ia->coupled = coupled;
     ia->isolated = isolated;
     ia->o = *o;
+    ia->ship_whole = o->ship_whole;
+    ia->ship_zone = o->ship_zone;
+    if (ia->ship_zone) {
+        ia->whole_scale = mc->wod_speed_mps / cfd_field_meta(o->ship_whole)->wod_speed_mps;
+        ia->zone_scale = mc->wod_speed_mps / cfd_field_meta(o->ship_zone)->wod_speed_mps;
+    }
     /* the fields' WOD is the coupling's wind */
     ia->o.wod_speed_mps = mc->wod_speed_mps;
     ia->o.wod_dir_rad = mc->wod_dir_deg * CORE_DEG_TO_RAD;

@@ -29,22 +29,32 @@
  *
  * The pilot. The automated pilot's loops (sim/pilot_auto.c: crossover
  * model, McRuer and Krendel 1974; outer loops after Lee and Horn 2005)
- * track the reference through sim_pilot_auto_set_reference each step:
- * position, heading and the reference's velocity fed forward to the
- * velocity loop (the height loop's rate too). The reference is taken
- * preview_s ahead of the flight's time (default: the pilot's delay): a
- * pilot flying a known profile leads it by about his delay (the
- * precognitive mode of McRuer and Krendel's successive organisation of
- * perception). With feed_controls, the recorded controls are fed forward
- * as well, and the loops act on the deviation from the recorded state:
- *     u = u_rec(t) + (P(x) - P(x_rec)),
- * P the pilot's delayed command for a state, x the flown state, x_rec
- * the recorded one at the same time (a second copy of the pilot flies the
+ * track the reference through sim_pilot_auto_set_reference each step.
+ * The loops act on the error from the reference now; what is fed forward
+ * is the reference's motion tau ahead (tau = preview_s, default the
+ * pilot's delay: a pilot flying a known profile leads it by about his
+ * delay, the precognitive mode of McRuer and Krendel's successive
+ * organisation of perception), through the pilot's own loop laws:
+ *     horizontal:  v_ff = v_S(t + tau) + a_S(t + tau) / w_v
+ * (the velocity loop's a_c = w_v (v_c - v) then carries a_S, the
+ * reference's acceleration, whole), and
+ *     vertical:    w_ff = w(t + tau) + (a_z(t + tau) - Z_w w(t + tau)) / w_h
+ * (the height loop's rate term then gives the collective the linear model
+ * needs for that rate and acceleration, (a_z - Z_w w) / Z_col; w_v and
+ * w_h the velocity loop's bandwidth and the height loop's crossover, Z_w
+ * the heave damping the gains come from); the heading is the reference's
+ * at t + tau. With feed_controls, the recorded pilot's control activity is
+ * fed forward as well, about this flight's trim, and the loops act on the
+ * deviation from the recorded state:
+ *     u = u_trim + (u_rec(t) - u_rec,0) + (P(x) - P(x_rec)),
+ * u_rec,0 the controls of the log's first state (the recorded run's trim),
+ * P the pilot's delayed command for a state, x the flown state, x_rec the
+ * recorded one at the same time (a second copy of the pilot flies the
  * recorded states: their delays match, and the correction is 0 while the
  * flight is on the recorded trajectory). In the recorded conditions that
- * reproduces the run to the integrator's and the samples' precision; in
- * other conditions the recorded trim is wrong and the loops' correction
- * carries the difference, with the position error it needs.
+ * reproduces the run to the samples' precision; in other conditions the
+ * loops' correction carries what the recorded controls get wrong, with the
+ * position error it needs (the loops have no integrator).
  *
  * Assumptions: the log is of one flight from its start at the scenario's
  * station (the replay's flight starts where the reference starts); the
@@ -554,6 +564,7 @@ struct sim_pilot_replay {
     sim_pilot_auto *pilot;  /* flies the flight */
     sim_pilot_auto *shadow; /* feed_controls: flies the recorded states */
     double Z_w;             /* the heave damping the pilot's gains come from (1/s) */
+    double trim_pct[4];     /* this flight's trim: the recorded controls are fed forward about it */
     double sum2[SIM_REPLAY_NPHASE + 1];
     sim_replay_result r;
 };
@@ -625,6 +636,8 @@ sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_repl
     sim_pilot_gains g;
     sim_pilot_auto_gains(p->pilot, &g);
     p->Z_w = g.Z_w;
+    p->trim_pct[0] = trim->collective_pct, p->trim_pct[1] = trim->long_pct;
+    p->trim_pct[2] = trim->lat_pct, p->trim_pct[3] = trim->pedal_pct;
     if (o->feed_controls && !(p->shadow = sim_pilot_auto_create(ac, &t, &o->pilot, trim, log, err)))
         goto fail;
     p->r.t_s = -1.0;
@@ -707,9 +720,11 @@ int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_fl
         sim_flight_inputs xs;
         sim_pilot_auto_set_reference(p->shadow, &ref);
         sim_pilot_auto_step(p->shadow, &x, &xs);
-        double u[4] = {now.controls_pct[0] + in->collective_pct - xs.collective_pct,
-                       now.controls_pct[1] + in->long_pct - xs.long_pct, now.controls_pct[2] + in->lat_pct - xs.lat_pct,
-                       now.controls_pct[3] + in->pedal_pct - xs.pedal_pct};
+        const double c[4] = {in->collective_pct, in->long_pct, in->lat_pct, in->pedal_pct};
+        const double cs[4] = {xs.collective_pct, xs.long_pct, xs.lat_pct, xs.pedal_pct};
+        double u[4];
+        for (int i = 0; i < 4; i++)
+            u[i] = p->trim_pct[i] + (now.controls_pct[i] - L->s[0].ctl[i]) + (c[i] - cs[i]);
         stop = 0;
         for (int i = 0; i < 4; i++) {
             if (u[i] <= 0.0 || u[i] >= 100.0)

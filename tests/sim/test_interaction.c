@@ -67,9 +67,12 @@ static int lin_inflow(void *user, const double pos[3], double out[5])
 
 /* Write a field holding L at every cell to path (the solver's initial
  * state from a sampled inflow, written without a run). 0, or -1 with err. */
+static double box_m = 40.0; /* the fields' half width: 40 m, a deck zone's 20 m */
+
 static int write_field(lin *L, const cfd_meta *meta, const char *path, core_err *err)
 {
-    cfd_axis_spec ax[3] = {{-40, 40, 0, 0, 2.0, 2.0, 1.0}, {-40, 40, 0, 0, 2.0, 2.0, 1.0}, {-30, 2, 0, 0, 2.0, 2.0, 1.0}};
+    cfd_axis_spec ax[3] = {{-box_m, box_m, 0, 0, 2.0, 2.0, 1.0}, {-box_m, box_m, 0, 0, 2.0, 2.0, 1.0},
+                           {-30, 2, 0, 0, 2.0, 2.0, 1.0}};
     cfd_config cfg;
     cfd_config_default(&cfg);
     cfg.u_ref_mps = WOD_MPS;
@@ -127,14 +130,17 @@ static int still(void *user, double t_s, sim_ship_frame *fr)
 
 /* The fields of the test: the ship-only airwake S = wind + A, the
  * isolated rotor's i = wind + Rr (its own slipstream), the coupled c =
- * wind + A + Rr + I; the interaction is I. */
+ * wind + A + Rr + I; the interaction is I. A deck-zone pair (zone 1): c
+ * and i over the zone (20 m round the spot), c with the zone's own
+ * version of the airwake, wind + Az + Rr + I, and the zone's ship-only
+ * field Sz = wind + Az. */
 typedef struct triple {
-    lin S, iso, cpl, I;
-    cfd_field *fs, *fi, *fc;
+    lin S, iso, cpl, I, Sz;
+    cfd_field *fs, *fi, *fc, *fsz;
     double hub[3], station[3], thrust_N;
 } triple;
 
-static int triple_make(triple *t, double thrust_N, const double hub[3], const double station[3], double q_w)
+static int triple_make(triple *t, double thrust_N, const double hub[3], const double station[3], double q_w, int zone)
 {
     memset(t, 0, sizeof *t);
     lin wind = {{-WOD_MPS, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
@@ -150,9 +156,18 @@ static int triple_make(triple *t, double thrust_N, const double hub[3], const do
     memcpy(t->station, station, sizeof t->station);
     t->thrust_N = thrust_N;
     t->fs = make_field(&t->S, "off", 0.0, NULL, "ship");
+    if (zone) {
+        lin Az = {{-1.5, 0.9, -0.7}, {-0.02, 0.03, 0.01}, {0.02, -0.01, 0.03}, {0, 0, 0}}; /* the zone's airwake */
+        t->Sz = lin_sum(&wind, &Az, 1.0);
+        lin szr = lin_sum(&t->Sz, &Rr, 1.0);
+        t->cpl = lin_sum(&szr, &t->I, 1.0);
+        box_m = 20.0;
+        t->fsz = make_field(&t->Sz, "off", 0.0, NULL, "zone");
+    }
     t->fi = make_field(&t->iso, "loaded", thrust_N, hub, "isolated");
     t->fc = make_field(&t->cpl, "loaded", thrust_N, hub, "coupled");
-    return t->fs && t->fi && t->fc ? 0 : -1;
+    box_m = 40.0;
+    return t->fs && t->fi && t->fc && (!zone || t->fsz) ? 0 : -1;
 }
 
 static void triple_free(triple *t)
@@ -160,6 +175,7 @@ static void triple_free(triple *t)
     cfd_field_destroy(t->fs);
     cfd_field_destroy(t->fi);
     cfd_field_destroy(t->fc);
+    cfd_field_destroy(t->fsz);
 }
 
 static sim_air *make_air(const triple *t, core_err *err)
@@ -181,6 +197,10 @@ static sim_interaction *make_inter(const triple *t, core_err *err)
     sim_interaction_opts io;
     sim_interaction_opts_default(&io);
     memcpy(io.station_S_m, t->station, sizeof io.station_S_m);
+    if (t->fsz) {
+        io.ship_whole = t->fs;
+        io.ship_zone = t->fsz;
+    }
     return sim_interaction_create(t->fc, t->fi, &io, err);
 }
 
@@ -240,6 +260,12 @@ static void test_place(const triple *t)
            "interaction air - ship-only %.2e\n", ed, eo, minI, e0);
     CHECK(ed < 1e-9 && eo < 1e-9 && e0 < 1e-9 && minI > 1.0);
     CHECK(sim_air_flags(a, 0.0) & SIM_AIR_INTERACTION);
+    if (t->fsz) { /* outside the deck zone: the ship-only air alone */
+        double px[2][3] = {{30.0, 5.0, -8.0}, {-5.0, -33.0, -3.0}};
+        double ex = worst_err(a, t, px, 2, 0.0, &minI);
+        printf("deck-zone pair: outside the zone air - ship-only %.2e m/s\n", ex);
+        CHECK(ex < 1e-12);
+    }
     /* the CG moved from the station across the wind (y): the weight */
     const double ds[] = {0.0, 0.2 * R_M, 0.5 * R_M, 0.9 * R_M, 1.25 * R_M, 1.6 * R_M};
     double worst = 0.0;
@@ -385,8 +411,9 @@ static void test_bad(const triple *t)
 #ifdef DISIM_TEST_COUPLE
 /* The loop's trimmed hover with the interaction against the coupling's
  * trim in the same fields (couple's air: the wind plus coupled - isolated,
- * its modes fitted over the trimmed disk, tilted with the shaft). */
-static void test_couple_trim(const hfm_aircraft *ac, const core_ship *ship)
+ * its modes fitted over the trimmed disk, tilted with the shaft), a
+ * whole-domain pair and a deck-zone one (zone 1). */
+static void test_couple_trim(const hfm_aircraft *ac, const core_ship *ship, int zone)
 {
     core_err err = {{0}};
     double station[3] = {0.0, 0.0, -6.0};
@@ -394,7 +421,7 @@ static void test_couple_trim(const hfm_aircraft *ac, const core_ship *ship)
      * solved for (as the coupling's first iteration) */
     triple t0;
     double hub0[3] = {0, 0, -8};
-    if (triple_make(&t0, 70000.0, hub0, station, 0.0) != 0) {
+    if (triple_make(&t0, 70000.0, hub0, station, 0.0, 0) != 0) {
         CHECK(0);
         triple_free(&t0);
         return;
@@ -415,7 +442,7 @@ static void test_couple_trim(const hfm_aircraft *ac, const core_ship *ship)
     CHECK(ok);
     triple t;
     memset(&t, 0, sizeof t);
-    if (!ok || triple_make(&t, disk->thrust_N, disk->hub_S_m, station, 0.008) != 0) {
+    if (!ok || triple_make(&t, disk->thrust_N, disk->hub_S_m, station, 0.008, zone) != 0) {
         CHECK(0);
         goto out;
     }
@@ -426,6 +453,11 @@ static void test_couple_trim(const hfm_aircraft *ac, const core_ship *ship)
     ai.isolated = t.fi;
     ai.w = 1.0;
     ai.wind[0] = -WOD_MPS;
+    if (zone) { /* couple.c's zone_correction: both at the coupled fields' speed here */
+        ai.ship_whole = t.fs;
+        ai.ship_zone = t.fsz;
+        ai.corr_scale = 1.0;
+    }
     couple_interaction_fit(&ai, disk, R_M);
     hfm_air_uniform uni = {{-WOD_MPS, 0, 0}};
     hfm_air free_air = {hfm_air_uniform_fn, &uni, NULL};
@@ -452,10 +484,17 @@ static void test_couple_trim(const hfm_aircraft *ac, const core_ship *ship)
             double vl[3], vc[3], vp[3];
             sim_air_mean_S(a, p[i], 0.0, vl, NULL, NULL);
             couple_interaction_air(&ai, p[i], 0.0, vc);
-            lin_at(&t.cpl, p[i], vp); /* pointwise: wind + c - i = wind + (cpl - iso) */
+            /* pointwise: wind + c - i (+ S - Sz in a deck zone) */
+            double vi[3], vs[3] = {0, 0, 0}, vz[3] = {0, 0, 0};
+            lin_at(&t.cpl, p[i], vp);
+            lin_at(&t.iso, p[i], vi);
+            if (zone) {
+                lin_at(&t.S, p[i], vs);
+                lin_at(&t.Sz, p[i], vz);
+            }
             double e = 0.0, d = 0.0;
             for (int k = 0; k < 3; k++) {
-                double pk = vp[k] - (t.iso.c0[k] + t.iso.gx[k] * p[i][0] + t.iso.gy[k] * p[i][1]) - WOD_MPS * (k == 0);
+                double pk = vp[k] - vi[k] + vs[k] - vz[k] - WOD_MPS * (k == 0);
                 e = fmax(e, fabs(vl[k] - vc[k]));
                 d = fmax(d, fabs(vc[k] - pk));
             }
@@ -480,9 +519,9 @@ static void test_couple_trim(const hfm_aircraft *ac, const core_ship *ship)
         sim_flight_trim_inputs(fl, &il);
         double dc = (il.collective_pct - rc.u.collective_pct) / rc.u.collective_pct;
         double dw = (rc.u.collective_pct - i0.collective_pct) / i0.collective_pct;
-        printf("trimmed hover, %.0f m/s, the disk's %.0f N: collective the loop %.3f %%, the coupling %.3f %% (%+.3f %%), "
+        printf("%s: trimmed hover, %.0f m/s, the disk's %.0f N: collective the loop %.3f %%, the coupling %.3f %% (%+.3f %%), "
                "ship-only alone %.3f %% (the interaction moves it %+.2f %%); long %.2f / %.2f, lat %.2f / %.2f, pedal "
-               "%.2f / %.2f %%\n", WOD_MPS, disk->thrust_N, il.collective_pct, rc.u.collective_pct, 100.0 * dc,
+               "%.2f / %.2f %%\n", zone ? "deck-zone pair" : "whole-domain pair", WOD_MPS, disk->thrust_N, il.collective_pct, rc.u.collective_pct, 100.0 * dc,
                i0.collective_pct, 100.0 * dw, il.long_pct, rc.u.long_pct, il.lat_pct, rc.u.lat_pct, il.pedal_pct,
                rc.u.pedal_pct);
         /* the airs differ only by the fit's disk plane (level; the
@@ -526,7 +565,7 @@ static int db_build(void *user, const awdb_key *k, const char *warm, const char 
     (void)warm;
     (void)progress;
     (void)pu;
-    triple *t = user;
+    triple *tw = user, *t = k->zone_ref_mps > 0.0 ? tw + 1 : tw; /* whole-domain, deck-zone */
     cfd_meta meta;
     memset(&meta, 0, sizeof meta);
     meta.wod_speed_mps = k->wod_speed_mps;
@@ -538,21 +577,26 @@ static int db_build(void *user, const awdb_key *k, const char *warm, const char 
     meta.rotor_radius_m = k->radius_m;
     memcpy(meta.rotor_centre_S_m, k->station_S_m, sizeof meta.rotor_centre_S_m);
     lin L = k->rotor == CORE_ROTOR_OFF ? t->S : strstr(k->ship, ".isolated") ? t->iso : t->cpl;
-    if (k->rotor == CORE_ROTOR_OFF) {
+    if (k->rotor == CORE_ROTOR_OFF) { /* at the key's speed: the zone's own, or the whole domain's */
         lin zero;
         memset(&zero, 0, sizeof zero);
-        L = lin_sum(&zero, &t->S, k->wod_speed_mps / WOD_MPS);
+        L = lin_sum(&zero, k->zone_ref_mps > 0.0 ? &t->Sz : &t->S, k->wod_speed_mps / WOD_MPS);
     }
-    return write_field(&L, &meta, out, err);
+    box_m = k->zone_ref_mps > 0.0 ? 20.0 : 40.0;
+    int rc = write_field(&L, &meta, out, err);
+    box_m = 40.0;
+    return rc;
 }
 
 static volatile sig_atomic_t db_stop = 0;
 
-/* A coupled key of SFS2 + UH-60A at 10 m/s from the bow (the rotor uniform),
- * its hub at hub, and its isolated rotor's. */
-static void pair_keys(double thrust_N, const double hub[3], awdb_key *kc, awdb_key *ki)
+/* A coupled key of SFS2 + UH-60A at 10 m/s from dir_deg (the rotor
+ * uniform), its hub at hub, and its isolated rotor's; zone_ref > 0: a
+ * deck-zone pair bounded by the ship-only field at that speed. */
+static void pair_keys(double thrust_N, const double hub[3], double dir_deg, double zone_ref, awdb_key *kc, awdb_key *ki)
 {
-    awdb_key_ship_only(kc, "SFS2", "UH-60A", WOD_MPS, 0.0, CORE_GRID_DEFAULT);
+    awdb_key_ship_only(kc, "SFS2", "UH-60A", WOD_MPS, dir_deg * CORE_DEG_TO_RAD, CORE_GRID_DEFAULT);
+    kc->zone_ref_mps = zone_ref;
     kc->rotor = CORE_ROTOR_UNIFORM;
     kc->thrust_N = thrust_N;
     memcpy(kc->station_S_m, hub, sizeof kc->station_S_m);
@@ -574,39 +618,45 @@ static int run_cmd(const char *cmd, char *out, size_t n)
 /* disim fly over a database holding, for 10 m/s from the bow, the
  * ship-only field, a coupled pair at the station (two coupling iterations,
  * 70000 N then 73000 N) and one 20 m forward: it flies the newest pair at
- * the station, says so and raises the flag; from green 30 (no coupled
- * fields) it says it flies without. */
+ * the station, says so and raises the flag; from red 30 a deck-zone pair
+ * with the zone's ship-only field: it flies that; from green 30 (no
+ * coupled fields) it says it flies without. */
 static void test_db_fly(const char *disim)
 {
     char dir[256], scen[300], csv[300], cmd[2048], out[8192], cwd[1024];
     snprintf(dir, sizeof dir, "/tmp/disim_test_interaction_%ld_db", (long)getpid());
     CHECK(getcwd(cwd, sizeof cwd) != NULL);
     core_err err = {{0}};
-    triple t;
+    triple t[2]; /* the whole-domain and the deck-zone lins (the engine writes the fields) */
     double hub[3] = {0.05, 0.0, -7.9}, fwd[3] = {20.0, 0.0, -7.9}, station[3] = {0.0, 0.0, -6.0};
-    /* the lins alone (fields are written by the engine) */
-    memset(&t, 0, sizeof t);
-    if (triple_make(&t, 73000.0, hub, station, 0.0) != 0) {
+    int ok = triple_make(&t[0], 73000.0, hub, station, 0.0, 0) == 0;
+    ok = triple_make(&t[1], 74000.0, hub, station, 0.0, 1) == 0 && ok;
+    if (!ok || core_mkdir_p(dir, &err) != 0) {
         CHECK(0);
-        triple_free(&t);
-        return;
-    }
-    if (core_mkdir_p(dir, &err) != 0) {
-        CHECK(0);
-        triple_free(&t);
+        triple_free(&t[0]);
+        triple_free(&t[1]);
         return;
     }
     awdb *db = awdb_open(dir, NULL, &err);
     CHECK(db != NULL);
-    awdb_key ks, k[6];
-    awdb_key_ship_only(&ks, "SFS2", "UH-60A", AWDB_SHIP_ONLY_REF_MPS, 0.0, CORE_GRID_DEFAULT);
-    pair_keys(70000.0, hub, &k[0], &k[1]);
-    pair_keys(73000.0, hub, &k[2], &k[3]);
-    pair_keys(73000.0, fwd, &k[4], &k[5]);
-    int ok = db && awdb_key_canon(&ks, &err) == 0 && awdb_submit(db, &ks, NULL, &err) == 0;
-    for (int i = 0; i < 6 && ok; i++)
+    const double ref = AWDB_SHIP_ONLY_REF_MPS;
+    awdb_key k[11];
+    awdb_key_ship_only(&k[0], "SFS2", "UH-60A", ref, 0.0, CORE_GRID_DEFAULT);
+    pair_keys(70000.0, hub, 0.0, 0.0, &k[1], &k[2]);
+    pair_keys(73000.0, hub, 0.0, 0.0, &k[3], &k[4]);
+    pair_keys(73000.0, fwd, 0.0, 0.0, &k[5], &k[6]);
+    /* red 30: the whole domain's ship-only field, the zone's own (at the
+     * station, as the coupling keys it) and a deck-zone pair */
+    awdb_key_ship_only(&k[7], "SFS2", "UH-60A", ref, -30.0 * CORE_DEG_TO_RAD, CORE_GRID_DEFAULT);
+    k[8] = k[7];
+    k[8].zone_ref_mps = ref;
+    memcpy(k[8].station_S_m, station, sizeof k[8].station_S_m);
+    k[8].radius_m = R_M;
+    pair_keys(74000.0, hub, -30.0, ref, &k[9], &k[10]);
+    ok = db != NULL;
+    for (int i = 0; i < 11 && ok; i++)
         ok = awdb_key_canon(&k[i], &err) == 0 && awdb_submit(db, &k[i], NULL, &err) == 0;
-    awdb_engine eng = {"test", db_build, &t, NULL};
+    awdb_engine eng = {"test", db_build, t, NULL};
     awdb_builder_opts bo;
     memset(&bo, 0, sizeof bo);
     bo.jobs = 1;
@@ -653,8 +703,15 @@ static void test_db_fly(const char *disim)
     rc = run_cmd(cmd, out, sizeof out);
     printf("%s", out);
     CHECK(rc == 0 && strstr(out, "no coupled fields for this WOD in the database: the ship-only airwake alone"));
+    snprintf(cmd, sizeof cmd, "%s fly %s --fast --duration 0.2 --no-turbulence --no-lcm --db %s --wod-dir-deg -30 2>&1",
+             disim, scen, dir);
+    rc = run_cmd(cmd, out, sizeof out);
+    printf("%s", out);
+    CHECK(rc == 0 && strstr(out, "the coupled rotor interaction near the station (the database's coupled field of "
+                                 "74000 N, hub (0.05, 0.00, -7.90) m in S, deck zone)"));
     awdb_close(db);
-    triple_free(&t);
+    triple_free(&t[0]);
+    triple_free(&t[1]);
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     CHECK(system(cmd) == 0);
 }
@@ -668,13 +725,25 @@ int main(int argc, char **argv)
     }
     triple t;
     double hub[3] = {0.3, -0.2, -8.0}, station[3] = {0.0, 0.0, -6.0};
-    int ok = triple_make(&t, 70000.0, hub, station, 0.0) == 0;
+    int ok = triple_make(&t, 70000.0, hub, station, 0.0, 0) == 0;
     CHECK(ok);
     if (ok) {
         test_place(&t);
         test_continuity(&t);
         test_thrust(&t);
         test_bad(&t);
+    }
+    triple_free(&t);
+    ok = triple_make(&t, 70000.0, hub, station, 0.0, 1) == 0; /* a deck-zone pair */
+    CHECK(ok);
+    if (ok)
+        test_place(&t);
+    if (ok) { /* the zone's ship-only field alone is refused */
+        core_err err = {{0}};
+        sim_interaction_opts io;
+        sim_interaction_opts_default(&io);
+        io.ship_zone = t.fsz;
+        CHECK(sim_interaction_create(t.fc, t.fi, &io, &err) == NULL && strstr(err.msg, "deck-zone") != NULL);
     }
     triple_free(&t);
 #ifdef DISIM_TEST_COUPLE
@@ -684,7 +753,8 @@ int main(int argc, char **argv)
     ok = ac && core_ship_load(SHIP, &ship, &err) == 0;
     CHECK(ok);
     if (ok)
-        test_couple_trim(ac, &ship);
+        for (int zone = 0; zone < 2; zone++)
+            test_couple_trim(ac, &ship, zone);
     else
         fprintf(stderr, "set-up: %s\n", err.msg);
     hfm_aircraft_destroy(ac);
