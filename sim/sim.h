@@ -1050,6 +1050,11 @@ typedef struct sim_interaction_opts {
     double plateau_m;       /* weight 1 within this of the station (0: 0.25 R) */
     double fade_m;          /* the fade's length beyond it (0: R) */
     double rho_kgpm3;       /* air density (1.225) */
+    /* a deck-zone pair (the coupled and isolated fields over the deck zone
+     * only): the whole domain's ship-only field of the direction and the
+     * zone's own (couple.h, settings.zone), kept by the caller; NULL both
+     * for a whole-domain pair */
+    const struct cfd_field *ship_whole, *ship_zone;
     /* set from the coupled field: its WOD (the coupling's wind) */
     double wod_speed_mps, wod_dir_rad;
 } sim_interaction_opts;
