@@ -171,6 +171,11 @@ sim_flight *sim_flight_create(const hfm_aircraft *ac, const core_ship *ship, con
     if (sim_air_set_field(f->air, field, -INFINITY, err) != 0)
         goto fail;
     sim_air_set_interaction(f->air, o->interaction);
+    /* the start's place gives the interaction's weight in the trim */
+    if (o->interaction && sim_interaction_set_rotor(o->interaction, o->station_S_m, NAN, 0.0) != 0) {
+        core_err_set(err, -1, "flight: the station is not finite");
+        goto fail;
+    }
     /* the start: the hover trim at the station in the starting air */
     hfm_trim *tr = hfm_trim_create(ac, log);
     if (!tr) {

@@ -542,6 +542,21 @@ static void test_couple_trim(const hfm_aircraft *ac, const core_ship *ship, int 
                out.air_flags);
         CHECK(out.air_flags & SIM_AIR_INTERACTION);
         CHECK(ii.weight == 1.0 && fabs(ii.factor - 1.0) < 0.05);
+        /* a start 0.6 R across from the station is trimmed with the
+         * interaction's weight there, not the station's */
+        sim_interaction *ib = make_inter(&t, &err);
+        fo.interaction = ib;
+        fo.station_S_m[1] = station[1] + 0.6 * R_M;
+        sim_flight *fb = ib ? sim_flight_create(ac, ship, &fo, NULL, NULL, t.fs, NULL, &err) : NULL;
+        CHECK(fb != NULL);
+        if (fb) {
+            sim_interaction_state(ib, &ii);
+            printf("a start 0.6 R from the station: trimmed with the weight %.4f (the fade's %.4f)\n", ii.weight,
+                   weight_of(0.6 * R_M));
+            CHECK_NEAR(ii.weight, weight_of(0.6 * R_M), 1e-12);
+        }
+        sim_flight_destroy(fb);
+        sim_interaction_destroy(ib);
     } else
         fprintf(stderr, "loop: %s\n", err.msg);
     sim_flight_destroy(fl);
