@@ -2,8 +2,9 @@
 # disim fly --pilot replay LOG: the replay pilot (sim/pilot_replay.c)
 # re-flies a logged run headless. A 5 s run of the loop (the trim held, no
 # wind) logged with --log is re-flown in 10 kt from green 30: it flies the
-# log's 5 s, reports its errors, and ends within 0.5 m of where the logged
-# run ended (the last CSV rows); --feed-controls flies too. Bad logs
+# log's 5 s from where the logged run started (within 0.01 m), reports its
+# errors, and ends within 0.5 m of where the logged run ended (the CSVs'
+# first and last rows); --feed-controls flies too. Bad logs
 # (missing, not a log, truncated, without a heli_state_t) and bad flags
 # are refused, naming what, with a non-zero exit and nothing written.
 # Usage: fly_replay_cli.sh DISIM SOURCE_DIR
@@ -25,8 +26,10 @@ grep -q "fly: replay to 5.00 s: from the reference rms [0-9.]* m, max [0-9.]* m"
     || { bad "no report of the errors"; cat "$tmp/rep.err"; }
 grep -q "fly: replay hover: " "$tmp/rep.err" && ok || bad "no report per phase"
 [ "$(wc -l < "$tmp/rep.csv")" -eq 252 ] && ok || bad "expected a header and 251 rows at 50 Hz over the log's 5 s"
-paste -d, "$tmp/rec.csv" "$tmp/rep.csv" | tail -1 | awk -F, '{d = ($2 - $20) ^ 2 + ($3 - $21) ^ 2 + ($4 - $22) ^ 2; exit !(d < 0.25)}' \
-    && ok || { bad "the replay did not end within 0.5 m of the logged run's end"; tail -1 "$tmp/rec.csv" "$tmp/rep.csv"; }
+paste -d, "$tmp/rec.csv" "$tmp/rep.csv" | sed -n 2p | awk -F, '{d = ($2 - $20) ^ 2 + ($3 - $21) ^ 2 + ($4 - $22) ^ 2; exit !(d < 1e-4)}' \
+    && ok || { bad "the replay did not start within 0.01 m of where the logged run started"; sed -n 2p "$tmp/rec.csv" "$tmp/rep.csv"; }
+paste -d, "$tmp/rec.csv" "$tmp/rep.csv" | tail -n 1 | awk -F, '{d = ($2 - $20) ^ 2 + ($3 - $21) ^ 2 + ($4 - $22) ^ 2; exit !(d < 0.25)}' \
+    && ok || { bad "the replay did not end within 0.5 m of the logged run's end"; tail -n 1 "$tmp/rec.csv" "$tmp/rep.csv"; }
 "$disim" fly $args --pilot replay "$tmp/rec.log" --feed-controls 2> "$tmp/ff.err" && grep -q "fed forward" "$tmp/ff.err" \
     && ok || { bad "--feed-controls failed"; cat "$tmp/ff.err"; }
 # bad logs: each refused, naming the file and what is wrong, nothing written
