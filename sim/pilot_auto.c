@@ -7,8 +7,8 @@
  * that pilot and aircraft together look like
  *     Y_p Y_c = w_c exp(-tau s) / s,
  * an integrator at the crossover frequency w_c behind the pilot's pure
- * delay tau. Around hover each axis of the bare airframe is, to first
- * order, an attitude (or height) behind a first-order rate response,
+ * delay tau. Around hover each axis of the airframe is, to first order,
+ * an attitude (or height) behind a first-order rate response,
  *     Y_c = K / (s (s - a)),
  * (roll: K = L_lat, a = L_p; pitch: M_long, M_q; heading: N_ped, N_r;
  * height, z down: Z_col, Z_w), so the pilot's equalisation is a lead at
@@ -22,52 +22,105 @@
  * "Simulation of pilot control activity during helicopter shipboard
  * operations", J. Aircraft 42(2), the pilot model's outer guidance
  * loops), run at separated bandwidths, each several times slower than the
- * one inside it: position -> commanded velocity (pos_bw, limited to
- * max_speed), velocity -> commanded acceleration (vel_bw), acceleration ->
- * attitude through the linear model's force derivatives
+ * one inside it: position -> commanded velocity (pos_bw, plus the
+ * reference's own velocity fed forward, limited to max_speed), velocity
+ * -> commanded acceleration (vel_bw), acceleration -> attitude through
+ * the linear model's force derivatives
  *     theta_c = theta_trim + (a_x - X_u u) / X_theta,
  *     phi_c   = phi_trim   + (a_y - Y_v v) / Y_phi,
  * in the helicopter's heading axes, limited to max_att from trim. The
- * gains are scheduled from hfm_linearise's A and B at the task's hover in
- * the WOD of the options (uniform air), the inputs' trim from the flight.
- * The whole command vector goes through one pure delay (a ring buffer of
- * round(delay * rate) steps, filled with the trim at the start): the
- * pilot's perception and neuromuscular lag lumped, as tau in the crossover
- * model. No clock or random number inside: the same flight gives the same
- * controls.
+ * gains are scheduled from hfm_linearise's A and B at the task's first
+ * hover in the WOD of the options (uniform air), the inputs' trim from
+ * the flight. The whole command vector goes through one pure delay (a
+ * ring buffer of round(delay * rate) steps, filled with the trim at the
+ * start): the pilot's perception and neuromuscular lag lumped, as tau in
+ * the crossover model. No clock or random number inside: the same flight
+ * gives the same controls.
  *
- * Assumptions: the bare airframe (the gains do not know of a SAS; fly
- * with the flight's SAS off, sim_flight_opts.sas = 0); small attitudes
- * (heading axes from the heading alone); the deck's roll and pitch are
- * not followed (the target is in S, the attitude references in E).
+ * With the SAS (opts.sas = 1, the flight's SAS engaged, sim/sas.c) the
+ * pilot flies the augmented aircraft, as a pilot does: the plant of each
+ * attitude loop is the linear model with the SAS's rate feedback closed,
+ *     a = L_p - L_lat K_rate,roll  (and so on: A - B K_rate on the rate
+ * rows), so the lead a_L sits at the augmented rate pole. The SAS's
+ * attitude hold is left in the loop unmodelled: the pilot's stick moves
+ * by more than its detent (1 % of travel in the aircraft files) in each
+ * correction, so the hold keeps re-taking its reference and acts as a
+ * weak spring about the pilot's recent attitude.
+ *
+ * Assumptions: small attitudes (heading axes from the heading alone); the
+ * deck's roll and pitch are not followed (the target is in S, the
+ * attitude references in E); the pilot sees the ship's frame (the spot's
+ * heave) without error.
+ *
+ * The reference (sim_pilot_ref) is what the outer loops track: a point
+ * and velocity in S, a heading, and hold or descend. The task's phases set
+ * it each step; sim_pilot_auto_set_reference lets a caller set it instead.
+ *
+ * Phases (scenarios/README.md, the task files):
+ *   hold: the reference at the phase's target; the phase ends once it has
+ *     met its desired band (within it no later than the band's time_s and
+ *     then for duration_s), else at the adequate band's time plus
+ *     duration_s (graded adequate if met, else not met).
+ *   move: the reference moves from where it was to the target along a
+ *     straight line at speed_mps (the velocity fed forward); graded on
+ *     the distance from the moving reference throughout and on arriving
+ *     (within the band of the target) by time_s; it ends on arrival
+ *     within the adequate band, or at adequate.time_s.
+ *   descend: wait (quiescent = 1) for a quiescent period of the deck's
+ *     heave, then the height reference moves down at descent_mps to 0.3 m
+ *     below the wheels' contact height; graded at touchdown on the
+ *     distance from the target's x, y, the sink rate, the drift and the
+ *     heading, touchdown by time_s.
+ *   A legacy file (type station_keep or land with target_S_m, [desired],
+ *   [adequate]) is one hold phase, and for land a descend phase after it.
  *
  * Grading (ADS-33E-PRF style): the helicopter is within a band when its
- * horizontal distance from the target, its height error and its heading
- * error are all within the band's tolerances. A band is met when the
- * helicopter enters it no later than the band's time and then stays in it
- * for the task's duration.
+ * horizontal distance from the reference, its height error and its
+ * heading error are all within the band's tolerances. The task's grade is
+ * the lowest of its phases'.
  *
- * Landing (type land): the hover as station keeping (duration_s is the
- * stabilised hover before the descent); once it has met the desired
- * band (or the adequate one by its end) the height loop's reference moves
- * down at descent_mps (the rate fed forward) to 0.3 m below the touchdown
- * height. Touchdown is the first state with the CG at touchdown_height_m
- * above the deck (the wheels' contact, strut extended: the aircraft
- * file's [gear]); its sink rate and drift are relative to the deck (the
- * change of the position in S over the last step) and it is graded by
- * the distance from the target's x, y and the sink rate. Not modelled
- * yet: the deck-motion-aware timing (waiting for a quiescent period of
- * heave) and the collective lowered after contact.
+ * The quiescent period. Ferrier's Landing Period Designator (Ferrier and
+ * Manning, "Simulation and testing of the Landing Period Designator (LPD)
+ * helicopter recovery aid", Naval Engineers Journal, 1998) tells the
+ * pilot when the deck's motion energy is low enough to land. Here the
+ * energy is that of the spot's heave: with h the spot's heave (up, from
+ * its mean) and h' its rate, from the ship's frame in the flight's
+ * outputs,
+ *     E = (h'^2 / var(h') + (h - mean h)^2 / var(h)) / 2,
+ * the variances and mean over the flight so far (after at least 10 s): E
+ * averages 1, and for a narrow-band heave it is the squared envelope,
+ * which changes slowly, so a low E now predicts a small heave over the
+ * next fraction of a period. The deck is quiescent once E has stayed
+ * below quiet_energy for quiet_window_s (a still deck, h' rms under
+ * 1 mm/s, always is); the descent waits for it up to max_wait_s.
+ * The heave phase at touchdown is atan2(-h' / w, h - mean) with w =
+ * sqrt(var(h') / var(h)): 0 at a crest, pi in a trough.
  *
- * Task file (INI):
- *   [task]      type = station_keep | land; target_S_m = x,y,z (z < 0
- *               above the deck); heading_deg (from the bow, 0);
- *               duration_s; land: touchdown_height_m, descent_mps
- *   [desired]   pos_m, height_m, heading_deg, time_s; land: sink_mps
- *   [adequate]  the same keys, each no tighter than desired
+ * Touchdown is the first state with a wheel (the aircraft file's [gear],
+ * strut extended: its tyre's lowest point) at the deck plane z_S = 0
+ * (without [gear]: the CG at touchdown_height_m); its sink rate and drift
+ * are relative to the deck (the change of the CG's position in S over
+ * the last step), the roll and pitch those of the body relative to S.
+ * With the gear (opts.gear = 1, sim/contact.c attached to the flight)
+ * the pilot then centres nothing but lowers the collective at 20 %/s to
+ * 0 %, holds cyclic and pedals where they were, and the run is done once
+ * the CG has moved less than 0.05 m/s relative to the deck for 1 s;
+ * without it the run is done at touchdown.
+ *
+ * Control activity (per control, from the start to touchdown): the rms
+ * about the mean, the rms of the rate, and the cut-off frequency: the
+ * frequency below which cutoff_fraction (0.5) of the rate's variance
+ * lies, the pilot-workload measure of Blanken and Pausder (1994,
+ * "Investigation of the effects of bandwidth and time delay on helicopter
+ * roll-axis handling qualities", J. American Helicopter Society 39(3)) as
+ * Lee and Horn (2005) use it for shipboard landings. The controls are
+ * averaged over 0.05 s (20 Hz), differenced into rates, and their
+ * spectrum taken as a running discrete Fourier transform at 0.05 rad/s
+ * spacing up to 30 rad/s (the variance above 30 rad/s left out).
  */
 #include "sim.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -75,38 +128,91 @@
 #define NX HFM_LIN_NX
 #define NU HFM_LIN_NU
 #define D2R CORE_DEG_TO_RAD
+#define NBIN 600          /* spectrum bins, 0.05 rad/s apart */
+#define BIN_RADPS 0.05
+#define DEC_S 0.05        /* the controls' averaging for the spectrum */
+#define LEARN_S 10.0      /* the heave statistics' shortest history */
+#define DOWN_PCTPS 20.0   /* the collective lowered after touchdown */
+#define SETTLE_MPS 0.05
+#define SETTLE_S 1.0
 
 struct sim_pilot_auto {
     sim_task task;
     sim_pilot_auto_opts o;
     sim_pilot_gains g;
+    hfm_gear gear;
+    int have_gear;
     double a_lead[4];        /* lead corner per axis: roll, pitch, yaw, height */
     int nbuf, head;          /* the delay's ring buffer of commands */
     double *buf;             /* nbuf x 4 */
     sim_task_result r;
-    int met[2];              /* 1: the band (0 adequate, 1 desired) was met */
-    int descending;          /* land: the descent is under way */
-    double z_ref_S_m;        /* land: the height loop's reference (S, z down) */
+    double z_ref_S_m;        /* the height loop's reference (S, z down) */
     double prev_pos_S_m[3], prev_t_s; /* the last state seen (deck-relative rates) */
     int have_prev;
     sim_pilot_ref ref;       /* what the outer loops track */
     int external;            /* 1: a caller sets the reference (the phases do not) */
     double td_height_m;      /* the CG's height above the deck at wheel contact */
+    /* the phase machine */
+    int ph;                  /* the phase flown (nphases: over) */
+    double ph_t0_s;          /* its start */
+    double since[2];         /* hold: within the band since (-1: not) */
+    int met[2];              /* hold: the band (0 adequate, 1 desired) was met; move: kept */
+    double move_from[3], move_len_m; /* move: the line's start and length */
+    int descending;          /* descend: the descent is under way */
+    double quiet_since_s;    /* descend: E below the threshold since (-1: not) */
+    /* after touchdown */
+    double coll_pct, hold_u[4];
+    double still_since_s;
+    /* the heave's running statistics (spot, up) */
+    double h_prev_m, hd_last_mps;
+    long hn;
+    double h_sum, h_sum2, hd_sum2, e_now;
+    /* control activity */
+    double dec_acc[4];
+    int dec_n;
+    long ns;                 /* decimated samples */
+    double u_prev[4], u_sum[4], u_sum2[4], du_sum[4], du_sum2[4];
+    double (*Xre)[NBIN], (*Xim)[NBIN]; /* 4 x NBIN, the rate's running DFT */
 };
+
+static int pos_fin(double v) { return isfinite(v) && v > 0.0; }
+
+static double wrap(double a) { return atan2(sin(a), cos(a)); }
+
+static double clampd(double v, double lo, double hi) { return fmin(fmax(v, lo), hi); }
+
+/* ------------------------------------------------------------ task files */
+
+static double phase_length_s(const sim_task_phase *ph, double from_z)
+{
+    switch (ph->kind) {
+    case SIM_PHASE_HOLD:
+        return ph->adequate.time_s + ph->duration_s;
+    case SIM_PHASE_MOVE:
+        return ph->adequate.time_s;
+    default: /* the wait, the descent, and as long again with 10 s to settle */
+        return (ph->quiescent ? ph->max_wait_s : 0.0) + 2.0 * fmax(-from_z, 0.0) / ph->descent_mps + 10.0;
+    }
+}
 
 double sim_task_length_s(const sim_task *t)
 {
-    double T = t->adequate.time_s + t->duration_s;
-    if (t->kind == SIM_TASK_LAND) /* the descent, and as long again to settle */
-        T += 2.0 * fmax(-t->target_S_m[2] - t->touchdown_height_m, 0.0) / t->descent_mps + 5.0;
+    double T = 0.0, z = t->nphases ? t->phase[0].target_S_m[2] : 0.0;
+    for (int i = 0; i < t->nphases; i++) {
+        T += phase_length_s(&t->phase[i], z);
+        if (t->phase[i].kind != SIM_PHASE_DESCEND)
+            z = t->phase[i].target_S_m[2];
+    }
     return T;
 }
 
+/* The tolerances of a legacy section ([desired], [adequate]). */
 static int tol_section(core_ini *ini, const char *s, int land, sim_task_tol *tol, core_err *err)
 {
     double hd;
     int rc;
-    if ((land && (rc = core_ini_get_double(ini, s, "sink_mps", 1, 0.01, 20.0, &tol->sink_mps, err))) ||(rc = core_ini_get_double(ini, s, "pos_m", 1, 0.01, 100.0, &tol->pos_m, err)) ||
+    if ((land && (rc = core_ini_get_double(ini, s, "sink_mps", 1, 0.01, 20.0, &tol->sink_mps, err))) ||
+        (rc = core_ini_get_double(ini, s, "pos_m", 1, 0.01, 100.0, &tol->pos_m, err)) ||
         (rc = core_ini_get_double(ini, s, "height_m", 1, 0.01, 100.0, &tol->height_m, err)) ||
         (rc = core_ini_get_double(ini, s, "heading_deg", 1, 0.01, 180.0, &hd, err)) ||
         (rc = core_ini_get_double(ini, s, "time_s", 1, 0.0, 3600.0, &tol->time_s, err)))
@@ -115,57 +221,277 @@ static int tol_section(core_ini *ini, const char *s, int land, sim_task_tol *tol
     return 0;
 }
 
-int sim_task_load(const char *path, sim_task *t, core_err *err)
+static int tol_tighter(const sim_task_tol *a, const sim_task_tol *d)
+{
+    return a->pos_m < d->pos_m || a->height_m < d->height_m || a->heading_rad < d->heading_rad ||
+           a->time_s < d->time_s || a->sink_mps < d->sink_mps || a->drift_mps < d->drift_mps;
+}
+
+/* A phase's band: KIND_pos_m, KIND_height_m (not descend), KIND_heading_deg,
+ * KIND_time_s, descend: KIND_sink_mps, KIND_drift_mps. */
+static int phase_tol(core_ini *ini, const char *sec, const char *band, int kind, sim_task_tol *tol, core_err *err)
+{
+    char k[6][48];
+    const char *names[6] = {"pos_m", "height_m", "heading_deg", "time_s", "sink_mps", "drift_mps"};
+    for (int i = 0; i < 6; i++)
+        snprintf(k[i], sizeof k[i], "%s_%s", band, names[i]);
+    double hd;
+    int rc, d = kind == SIM_PHASE_DESCEND;
+    if ((rc = core_ini_get_double(ini, sec, k[0], 1, 0.01, 100.0, &tol->pos_m, err)) ||
+        (!d && (rc = core_ini_get_double(ini, sec, k[1], 1, 0.01, 100.0, &tol->height_m, err))) ||
+        (rc = core_ini_get_double(ini, sec, k[2], 1, 0.01, 180.0, &hd, err)) ||
+        (rc = core_ini_get_double(ini, sec, k[3], 1, 0.0, 3600.0, &tol->time_s, err)) ||
+        (d && (rc = core_ini_get_double(ini, sec, k[4], 1, 0.01, 20.0, &tol->sink_mps, err))) ||
+        (d && (rc = core_ini_get_double(ini, sec, k[5], 1, 0.01, 20.0, &tol->drift_mps, err))))
+        return rc < 0 ? rc : -1;
+    tol->heading_rad = hd * D2R;
+    if (d)
+        tol->height_m = 100.0;
+    return 0;
+}
+
+/* The deck's anchors in S (the ship file's flight deck): x, y. */
+static int anchor(const core_ship *ship, int which, double xy[2])
+{
+    xy[0] = xy[1] = 0.0;
+    if (which == 0)
+        return 0;
+    if (!ship)
+        return -1;
+    if (which == 1)
+        xy[1] = -ship->deck_halfwidth_m;
+    else if (which == 2)
+        xy[1] = ship->deck_halfwidth_m;
+    else
+        xy[0] = ship->deck_x0_m;
+    return 0;
+}
+
+static int load_phase(core_ini *ini, const char *path, const char *name, const core_ship *ship, double hd_task,
+                      sim_task_phase *ph, core_err *err)
+{
+    char sec[64];
+    snprintf(sec, sizeof sec, "phase %s", name);
+    memset(ph, 0, sizeof *ph);
+    snprintf(ph->name, sizeof ph->name, "%s", name);
+    if (!core_ini_has_section(ini, sec))
+        return core_err_set(err, -1, "%s: [task] phases: no section [%s]", path, sec);
+    int rc, at = 0, n = 0;
+    double off[2] = {0.0, 0.0}, h = 0.0, hd = 0.0;
+    if ((rc = core_ini_get_enum(ini, sec, "kind", 1, "hold|move|descend", &ph->kind, err)) ||
+        (rc = core_ini_get_enum(ini, sec, "at", 1, "spot|port_edge|starboard_edge|aft_edge", &at, err)))
+        return rc < 0 ? rc : -1;
+    if ((rc = core_ini_get_doubles(ini, sec, "offset_m", 0, -500.0, 500.0, off, 2, &n, err)) < 0)
+        return rc;
+    if (rc == 0 && n != 2)
+        return core_err_set(err, -1, "%s:%d: [%s] offset_m: expected two numbers x,y (m, S)", path,
+                            core_ini_find(ini, sec, "offset_m")->line, sec);
+    double xy[2];
+    if (anchor(ship, at, xy) != 0)
+        return core_err_set(err, -1, "%s:%d: [%s] at: a deck edge needs the ship (sim_task_load_ship)", path,
+                            core_ini_find(ini, sec, "at")->line, sec);
+    if ((rc = core_ini_get_double(ini, sec, "heading_deg", 0, -180.0, 180.0, &hd, err)) < 0)
+        return rc;
+    ph->heading_rad = rc == 0 ? hd * D2R : hd_task; /* absent: the task's */
+    if (ph->kind != SIM_PHASE_DESCEND && (rc = core_ini_get_double(ini, sec, "height_m", 1, 0.5, 100.0, &h, err)))
+        return rc < 0 ? rc : -1;
+    ph->target_S_m[0] = xy[0] + off[0];
+    ph->target_S_m[1] = xy[1] + off[1];
+    ph->target_S_m[2] = -h;
+    if (ph->kind == SIM_PHASE_HOLD &&
+        (rc = core_ini_get_double(ini, sec, "duration_s", 1, 0.0, 3600.0, &ph->duration_s, err)))
+        return rc < 0 ? rc : -1;
+    if (ph->kind == SIM_PHASE_MOVE &&
+        (rc = core_ini_get_double(ini, sec, "speed_mps", 1, 0.05, 10.0, &ph->speed_mps, err)))
+        return rc < 0 ? rc : -1;
+    if (ph->kind == SIM_PHASE_DESCEND) {
+        ph->quiet_energy = 0.25;
+        ph->quiet_window_s = 1.0;
+        ph->max_wait_s = 60.0;
+        if ((rc = core_ini_get_double(ini, sec, "descent_mps", 1, 0.05, 5.0, &ph->descent_mps, err)) ||
+            (rc = core_ini_get_bool(ini, sec, "quiescent", 1, &ph->quiescent, err)))
+            return rc < 0 ? rc : -1;
+        if ((rc = core_ini_get_double(ini, sec, "quiet_energy", 0, 0.01, 10.0, &ph->quiet_energy, err)) < 0 ||
+            (rc = core_ini_get_double(ini, sec, "quiet_window_s", 0, 0.0, 60.0, &ph->quiet_window_s, err)) < 0 ||
+            (rc = core_ini_get_double(ini, sec, "max_wait_s", 0, 0.0, 3600.0, &ph->max_wait_s, err)) < 0)
+            return rc;
+    }
+    if ((rc = phase_tol(ini, sec, "desired", ph->kind, &ph->desired, err)) ||
+        (rc = phase_tol(ini, sec, "adequate", ph->kind, &ph->adequate, err)))
+        return rc;
+    if (tol_tighter(&ph->adequate, &ph->desired))
+        return core_err_set(err, -1, "%s: [%s]: expected each adequate tolerance and time no tighter than desired's",
+                            path, sec);
+    return 0;
+}
+
+/* A phase file: [task] type, phases = a, b, ...; [phase NAME] each. */
+static int load_phases(core_ini *ini, const char *path, const core_ship *ship, int kind, sim_task *t, core_err *err)
+{
+    char list[512];
+    int rc;
+    double hd = 0.0;
+    if ((rc = core_ini_get_string(ini, "task", "phases", 1, list, sizeof list, err)) ||
+        (rc = core_ini_get_double(ini, "task", "heading_deg", 0, -180.0, 180.0, &hd, err)) < 0)
+        return rc < 0 ? rc : -1;
+    int line = core_ini_find(ini, "task", "phases")->line;
+    char *save = NULL;
+    for (char *tok = strtok_r(list, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        while (*tok == ' ' || *tok == '\t')
+            tok++;
+        size_t L = strlen(tok);
+        while (L && (tok[L - 1] == ' ' || tok[L - 1] == '\t'))
+            tok[--L] = '\0';
+        int bad = !L || L >= sizeof t->phase[0].name || t->nphases == SIM_TASK_MAX_PHASES;
+        for (size_t k = 0; k < L; k++)
+            bad |= !(isalnum((unsigned char)tok[k]) || tok[k] == '_' || tok[k] == '-');
+        if (bad)
+            return core_err_set(err, -1,
+                                "%s:%d: [task] phases: expected 1 to %d names of up to %d letters, digits, _ or -",
+                                path, line, SIM_TASK_MAX_PHASES, (int)sizeof t->phase[0].name - 1);
+        for (int i = 0; i < t->nphases; i++)
+            if (!strcmp(t->phase[i].name, tok))
+                return core_err_set(err, -1, "%s:%d: [task] phases: '%s' twice", path, line, tok);
+        if ((rc = load_phase(ini, path, tok, ship, hd * D2R, &t->phase[t->nphases], err)))
+            return rc;
+        t->nphases++;
+    }
+    if (!t->nphases || t->phase[0].kind != SIM_PHASE_HOLD)
+        return core_err_set(err, -1, "%s:%d: [task] phases: expected a hold phase first (the start)", path, line);
+    int last_hold = -1, ndesc = 0;
+    for (int i = 0; i < t->nphases; i++) {
+        if (t->phase[i].kind == SIM_PHASE_HOLD)
+            last_hold = i;
+        if (t->phase[i].kind == SIM_PHASE_DESCEND && (++ndesc > 1 || i != t->nphases - 1))
+            return core_err_set(err, -1, "%s:%d: [task] phases: a descend phase only last", path, line);
+    }
+    if ((kind == SIM_TASK_LAND) != (ndesc == 1))
+        return core_err_set(err, -1, "%s:%d: [task] phases: type %s %s a descend phase last", path, line,
+                            kind == SIM_TASK_LAND ? "land" : "station_keep", kind == SIM_TASK_LAND ? "needs" : "has no");
+    /* the legacy fields: the last hold phase's (the hover before a descent) */
+    const sim_task_phase *h = &t->phase[last_hold];
+    memcpy(t->target_S_m, h->target_S_m, sizeof t->target_S_m);
+    t->heading_rad = h->heading_rad;
+    t->duration_s = h->duration_s;
+    t->desired = h->desired;
+    t->adequate = h->adequate;
+    if (ndesc) {
+        t->descent_mps = t->phase[t->nphases - 1].descent_mps;
+        t->desired.sink_mps = t->phase[t->nphases - 1].desired.sink_mps;
+        t->adequate.sink_mps = t->phase[t->nphases - 1].adequate.sink_mps;
+    }
+    t->has_start = 1;
+    memcpy(t->start_S_m, t->phase[0].target_S_m, sizeof t->start_S_m);
+    return 0;
+}
+
+static void legacy_phases(sim_task *t);
+
+/* A legacy file: target_S_m, [desired], [adequate]. */
+static int load_legacy(core_ini *ini, const char *path, int kind, sim_task *t, core_err *err)
+{
+    int n = 0, rc;
+    double hd = 0.0;
+    if ((rc = core_ini_get_doubles(ini, "task", "target_S_m", 1, -500.0, 500.0, t->target_S_m, 3, &n, err)))
+        return rc < 0 ? rc : -1;
+    if (n != 3)
+        return core_err_set(err, -1, "%s:%d: [task] target_S_m: expected three numbers x,y,z (m, S)", path,
+                            core_ini_find(ini, "task", "target_S_m")->line);
+    if (!(t->target_S_m[2] < 0.0))
+        return core_err_set(err, -1, "%s:%d: [task] target_S_m: expected z < 0 (above the deck; S is z down)", path,
+                            core_ini_find(ini, "task", "target_S_m")->line);
+    if ((rc = core_ini_get_double(ini, "task", "heading_deg", 0, -180.0, 180.0, &hd, err)) < 0 ||
+        (rc = core_ini_get_double(ini, "task", "duration_s", 1, 0.1, 3600.0, &t->duration_s, err)) ||
+        (rc = tol_section(ini, "desired", kind == SIM_TASK_LAND, &t->desired, err)) ||
+        (rc = tol_section(ini, "adequate", kind == SIM_TASK_LAND, &t->adequate, err)))
+        return rc < 0 ? rc : -1;
+    if (kind == SIM_TASK_LAND) {
+        if ((rc = core_ini_get_double(ini, "task", "touchdown_height_m", 1, 0.1, 20.0, &t->touchdown_height_m, err)) ||
+            (rc = core_ini_get_double(ini, "task", "descent_mps", 1, 0.05, 5.0, &t->descent_mps, err)))
+            return rc < 0 ? rc : -1;
+        if (!(-t->target_S_m[2] > t->touchdown_height_m))
+            return core_err_set(err, -1, "%s:%d: [task] touchdown_height_m: expected below the hover's height (%.2f m)",
+                                path, core_ini_find(ini, "task", "touchdown_height_m")->line, -t->target_S_m[2]);
+    }
+    t->heading_rad = hd * D2R;
+    t->kind = kind;
+    if (tol_tighter(&t->adequate, &t->desired))
+        return core_err_set(err, -1, "%s: [adequate]: expected each tolerance and time no tighter than [desired]'s",
+                            path);
+    legacy_phases(t);
+    return 0;
+}
+
+/* The phases of a task given by its legacy fields alone (target_S_m,
+ * duration_s, the bands; land: descent_mps): a hold, and for land a
+ * descend after it. */
+static void legacy_phases(sim_task *t)
+{
+    sim_task_phase *h = &t->phase[0];
+    snprintf(h->name, sizeof h->name, "hover");
+    h->kind = SIM_PHASE_HOLD;
+    memcpy(h->target_S_m, t->target_S_m, sizeof h->target_S_m);
+    h->heading_rad = t->heading_rad;
+    h->duration_s = t->duration_s;
+    h->desired = t->desired;
+    h->adequate = t->adequate;
+    t->nphases = 1;
+    if (t->kind == SIM_TASK_LAND) {
+        sim_task_phase *d = &t->phase[1];
+        *d = *h;
+        snprintf(d->name, sizeof d->name, "descent");
+        d->kind = SIM_PHASE_DESCEND;
+        d->duration_s = 0.0;
+        d->descent_mps = t->descent_mps;
+        d->desired.time_s = d->adequate.time_s = 3600.0; /* no time asked */
+        d->desired.height_m = d->adequate.height_m = 100.0;
+        t->nphases = 2;
+    }
+}
+
+int sim_task_load_ship(const char *path, const core_ship *ship, sim_task *t, core_err *err)
 {
     memset(t, 0, sizeof *t);
     core_ini *ini = core_ini_load(path, err);
     if (!ini)
         return -1;
-    int kind = 0, n = 0, rc;
-    double hd = 0.0;
-    if ((rc = core_ini_get_enum(ini, "task", "type", 1, "station_keep|land", &kind, err)) ||
-        (rc = core_ini_get_doubles(ini, "task", "target_S_m", 1, -500.0, 500.0, t->target_S_m, 3, &n, err)))
-        goto out;
-    if (n != 3) {
-        rc = core_err_set(err, -1, "%s:%d: [task] target_S_m: expected three numbers x,y,z (m, S)", path,
-                          core_ini_find(ini, "task", "target_S_m")->line);
-        goto out;
+    int kind = 0, rc;
+    if ((rc = core_ini_get_enum(ini, "task", "type", 1, "station_keep|land", &kind, err)) == 0) {
+        rc = core_ini_find(ini, "task", "phases") ? load_phases(ini, path, ship, kind, t, err)
+                                                  : load_legacy(ini, path, kind, t, err);
+        t->kind = kind;
     }
-    if (!(t->target_S_m[2] < 0.0)) {
-        rc = core_err_set(err, -1, "%s:%d: [task] target_S_m: expected z < 0 (above the deck; S is z down)", path,
-                          core_ini_find(ini, "task", "target_S_m")->line);
-        goto out;
-    }
-    if ((rc = core_ini_get_double(ini, "task", "heading_deg", 0, -180.0, 180.0, &hd, err)) < 0 ||
-        (rc = core_ini_get_double(ini, "task", "duration_s", 1, 0.1, 3600.0, &t->duration_s, err)) ||
-        (rc = tol_section(ini, "desired", kind == SIM_TASK_LAND, &t->desired, err)) ||
-        (rc = tol_section(ini, "adequate", kind == SIM_TASK_LAND, &t->adequate, err)))
-        goto out;
-    if (kind == SIM_TASK_LAND) {
-        if ((rc = core_ini_get_double(ini, "task", "touchdown_height_m", 1, 0.1, 20.0, &t->touchdown_height_m, err)) ||
-            (rc = core_ini_get_double(ini, "task", "descent_mps", 1, 0.05, 5.0, &t->descent_mps, err)))
-            goto out;
-        if (!(-t->target_S_m[2] > t->touchdown_height_m)) {
-            rc = core_err_set(err, -1, "%s:%d: [task] touchdown_height_m: expected below the hover's height (%.2f m)",
-                              path, core_ini_find(ini, "task", "touchdown_height_m")->line, -t->target_S_m[2]);
-            goto out;
+    if (rc == 0) {
+        /* a legacy file's sections, or a phase file's, not both */
+        for (size_t i = 0; i < core_ini_count(ini) && rc == 0; i++) {
+            const core_ini_entry *e = core_ini_at(ini, i);
+            if (!e->used && !strncmp(e->section, "phase ", 6))
+                rc = core_err_set(err, -1, "%s:%d: [%s]: not in [task] phases", path, e->line, e->section);
         }
+        if (rc == 0)
+            rc = core_ini_check_unused(ini, err);
     }
-    rc = 0;
-    t->kind = kind;
-    t->heading_rad = hd * D2R;
-    if (t->adequate.pos_m < t->desired.pos_m || t->adequate.height_m < t->desired.height_m ||
-        t->adequate.heading_rad < t->desired.heading_rad || t->adequate.time_s < t->desired.time_s ||
-        t->adequate.sink_mps < t->desired.sink_mps) {
-        rc = core_err_set(err, -1, "%s: [adequate]: expected each tolerance and time no tighter than [desired]'s",
-                          path);
-        goto out;
-    }
-    rc = core_ini_check_unused(ini, err);
-out:
     core_ini_destroy(ini);
+    if (rc)
+        memset(t, 0, sizeof *t);
     return rc < 0 ? rc : (rc ? -1 : 0);
 }
+
+int sim_task_load(const char *path, sim_task *t, core_err *err) { return sim_task_load_ship(path, NULL, t, err); }
+
+int sim_task_start_S(const char *path, const core_ship *ship, double start_S_m[3], core_err *err)
+{
+    sim_task *t = malloc(sizeof *t);
+    if (!t)
+        return core_err_set(err, -1, "pilot_auto: out of memory");
+    int rc = sim_task_load_ship(path, ship, t, err);
+    if (rc == 0 && t->has_start)
+        memcpy(start_S_m, t->start_S_m, 3 * sizeof *start_S_m);
+    free(t);
+    return rc;
+}
+
+/* --------------------------------------------------------------- the pilot */
 
 void sim_pilot_auto_opts_default(sim_pilot_auto_opts *o)
 {
@@ -179,127 +505,19 @@ void sim_pilot_auto_opts_default(sim_pilot_auto_opts *o)
     o->pos_bw_radps = 0.3;
     o->max_speed_mps = 3.0;
     o->max_att_rad = 10.0 * D2R;
+    o->cutoff_fraction = 0.5;
 }
-
-static int pos_fin(double v) { return isfinite(v) && v > 0.0; }
 
 /* The CG's height above a level deck when the lowest wheel, strut
  * extended, touches it (the aircraft file's [gear]; 2 m without one). */
-static double gear_height(const hfm_aircraft *ac)
+static double gear_height(const hfm_gear *g, int have)
 {
-    hfm_gear g;
-    if (hfm_aircraft_gear(ac, &g) != 0 || g.nlegs < 1)
+    if (!have)
         return 2.0;
     double h = 0.0;
-    for (int i = 0; i < g.nlegs; i++)
-        h = fmax(h, g.leg[i].pos_B_m[2] + g.leg[i].tyre_radius_m);
+    for (int i = 0; i < g->nlegs; i++)
+        h = fmax(h, g->leg[i].pos_B_m[2] + g->leg[i].tyre_radius_m);
     return h;
-}
-
-sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t, const sim_pilot_auto_opts *o,
-                                      const sim_flight_inputs *trim, const core_log *log, core_err *err)
-{
-    if (!ac || !t || !o || !trim || !(o->rate_hz >= 10.0 && o->rate_hz <= 10000.0) ||
-        !(o->delay_s >= 0.0 && o->delay_s <= 10.0) || !pos_fin(o->att_crossover_radps) ||
-        !pos_fin(o->yaw_crossover_radps) || !pos_fin(o->hgt_crossover_radps) || !pos_fin(o->vel_bw_radps) ||
-        !pos_fin(o->pos_bw_radps) || !pos_fin(o->max_speed_mps) || !pos_fin(o->max_att_rad) ||
-        !(o->wod_speed_mps >= 0.0)) {
-        core_err_set(err, -1, "pilot_auto: expected an aircraft, a task, the trim, a rate of 10 to 10000 Hz, a delay "
-                              "of 0 to 10 s and positive crossover frequencies, bandwidths and limits");
-        return NULL;
-    }
-    if (t->kind != SIM_TASK_STATION_KEEP && t->kind != SIM_TASK_LAND) {
-        core_err_set(err, -1, "pilot_auto: task type %d: expected station keeping (%d) or land (%d)", t->kind,
-                     SIM_TASK_STATION_KEEP, SIM_TASK_LAND);
-        return NULL;
-    }
-    if (t->kind == SIM_TASK_LAND && !(t->descent_mps > 0.0 && t->touchdown_height_m > 0.0)) {
-        core_err_set(err, -1, "pilot_auto: a landing task needs a descent rate and a touchdown height > 0");
-        return NULL;
-    }
-    sim_pilot_auto *p = calloc(1, sizeof *p);
-    if (!p) {
-        core_err_set(err, -1, "pilot_auto: out of memory");
-        return NULL;
-    }
-    p->task = *t;
-    p->o = *o;
-    /* the gains' schedule: the hover at the target in the options' WOD */
-    hfm_trim *tr = hfm_trim_create(ac, log);
-    if (!tr) {
-        core_err_set(err, -1, "pilot_auto: out of memory");
-        goto fail;
-    }
-    hfm_trim_cond c;
-    memset(&c, 0, sizeof c);
-    c.kind = HFM_TRIM_HOVER_SHIP;
-    c.wod_speed_mps = o->wod_speed_mps;
-    c.wod_dir_rad = o->wod_dir_rad;
-    memcpy(c.pos_S_m, t->target_S_m, sizeof c.pos_S_m);
-    hfm_trim_result res;
-    hfm_linear L;
-    int rc = hfm_trim_solve(tr, &c, NULL, &res);
-    if (rc == 0)
-        rc = hfm_linearise(tr, &c, &res, &L);
-    hfm_trim_destroy(tr);
-    if (rc != 0) {
-        core_err_set(err, -1, "pilot_auto: the hover at the task's target (%.2f, %.2f, %.2f) m in S in %.2f m/s %s",
-                     t->target_S_m[0], t->target_S_m[1], t->target_S_m[2], o->wod_speed_mps,
-                     rc > 0 ? "does not trim" : "could not be linearised");
-        goto fail;
-    }
-    sim_pilot_gains *g = &p->g;
-    g->X_u = L.A[0 * NX + 0];
-    g->X_theta = L.A[0 * NX + 7];
-    g->Y_v = L.A[1 * NX + 1];
-    g->Y_phi = L.A[1 * NX + 6];
-    g->Z_w = L.A[2 * NX + 2];
-    g->L_p = L.A[3 * NX + 3];
-    g->M_q = L.A[4 * NX + 4];
-    g->N_r = L.A[5 * NX + 5];
-    g->Z_col = L.B[2 * NU + 0];
-    g->M_long = L.B[4 * NU + 1];
-    g->L_lat = L.B[3 * NU + 2];
-    g->N_ped = L.B[5 * NU + 3];
-    g->trim_pct[0] = trim->collective_pct;
-    g->trim_pct[1] = trim->long_pct;
-    g->trim_pct[2] = trim->lat_pct;
-    g->trim_pct[3] = trim->pedal_pct;
-    g->trim_att_rad[0] = res.body.euler_rad[0];
-    g->trim_att_rad[1] = res.body.euler_rad[1];
-    const double K[4] = {g->L_lat, g->M_long, g->N_ped, g->Z_col};
-    const double ctl[4] = {g->X_theta, g->Y_phi, 0.0, 0.0};
-    for (int i = 0; i < 4; i++)
-        if (!(fabs(K[i]) > 1e-9) || !isfinite(K[i]) || (i < 2 && !(fabs(ctl[i]) > 1e-6))) {
-            core_err_set(err, -1, "pilot_auto: the linear model has no control on axis %d (derivative %g)", i, K[i]);
-            goto fail;
-        }
-    const double a[4] = {g->L_p, g->M_q, g->N_r, g->Z_w};
-    const double wc[4] = {o->att_crossover_radps, o->att_crossover_radps, o->yaw_crossover_radps,
-                          o->hgt_crossover_radps};
-    for (int i = 0; i < 4; i++)
-        p->a_lead[i] = fmax(-a[i], 0.3 * wc[i]);
-    p->nbuf = (int)lround(o->delay_s * o->rate_hz) + 1;
-    if (!(p->buf = malloc((size_t)p->nbuf * 4 * sizeof *p->buf))) {
-        core_err_set(err, -1, "pilot_auto: out of memory");
-        goto fail;
-    }
-    for (int k = 0; k < p->nbuf; k++)
-        memcpy(p->buf + 4 * k, g->trim_pct, sizeof g->trim_pct);
-    p->r.t_desired_s = p->r.t_adequate_s = p->r.t_descent_s = p->r.t_touchdown_s = -1.0;
-    p->z_ref_S_m = t->target_S_m[2];
-    memcpy(p->ref.pos_S_m, t->target_S_m, sizeof p->ref.pos_S_m);
-    p->ref.heading_rad = t->heading_rad;
-    p->ref.mode = SIM_PILOT_HOLD;
-    p->td_height_m = t->kind == SIM_TASK_LAND ? t->touchdown_height_m : gear_height(ac);
-    for (int i = 0; i < 4; i++) {
-        p->r.min_pct[i] = g->trim_pct[i];
-        p->r.max_pct[i] = g->trim_pct[i];
-    }
-    return p;
-fail:
-    sim_pilot_auto_destroy(p);
-    return NULL;
 }
 
 static int ref_ok(const sim_pilot_ref *r)
@@ -332,85 +550,504 @@ int sim_pilot_auto_set_reference(sim_pilot_auto *p, const sim_pilot_ref *r)
 
 void sim_pilot_auto_reference(const sim_pilot_auto *p, sim_pilot_ref *r) { *r = p->ref; }
 
+static void hold_ref(sim_pilot_auto *p, const double pos[3], const double vel[3], double heading)
+{
+    sim_pilot_ref r;
+    memset(&r, 0, sizeof r);
+    memcpy(r.pos_S_m, pos, sizeof r.pos_S_m);
+    if (vel)
+        memcpy(r.vel_S_mps, vel, sizeof r.vel_S_mps);
+    r.heading_rad = wrap(heading);
+    r.mode = SIM_PILOT_HOLD;
+    set_ref(p, &r);
+}
+
+/* Start phase i at t_s. */
+static void phase_start(sim_pilot_auto *p, int i, double t_s)
+{
+    p->ph = i;
+    p->r.phase_now = i;
+    p->ph_t0_s = t_s;
+    p->since[0] = p->since[1] = -1.0;
+    p->met[0] = p->met[1] = 0;
+    p->descending = 0;
+    p->quiet_since_s = -1.0;
+    if (i >= p->task.nphases)
+        return;
+    sim_phase_result *pr = &p->r.phase[i];
+    pr->grade = 0;
+    pr->t_start_s = t_s;
+    pr->t_end_s = -1.0;
+    const sim_task_phase *ph = &p->task.phase[i];
+    if (ph->kind == SIM_PHASE_MOVE) {
+        memcpy(p->move_from, p->ref.pos_S_m, sizeof p->move_from);
+        p->met[0] = p->met[1] = 1; /* kept while within the band about the moving reference */
+        double d[3] = {ph->target_S_m[0] - p->move_from[0], ph->target_S_m[1] - p->move_from[1],
+                       ph->target_S_m[2] - p->move_from[2]};
+        p->move_len_m = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
+    if (!p->external && ph->kind != SIM_PHASE_MOVE)
+        hold_ref(p, ph->kind == SIM_PHASE_DESCEND
+                        ? (double[3]){ph->target_S_m[0], ph->target_S_m[1], p->ref.pos_S_m[2]}
+                        : ph->target_S_m,
+                 NULL, ph->heading_rad);
+}
+
+sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t, const sim_pilot_auto_opts *o,
+                                      const sim_flight_inputs *trim, const core_log *log, core_err *err)
+{
+    if (!ac || !t || !o || !trim || !(o->rate_hz >= 10.0 && o->rate_hz <= 10000.0) ||
+        !(o->delay_s >= 0.0 && o->delay_s <= 10.0) || !pos_fin(o->att_crossover_radps) ||
+        !pos_fin(o->yaw_crossover_radps) || !pos_fin(o->hgt_crossover_radps) || !pos_fin(o->vel_bw_radps) ||
+        !pos_fin(o->pos_bw_radps) || !pos_fin(o->max_speed_mps) || !pos_fin(o->max_att_rad) ||
+        !(o->wod_speed_mps >= 0.0) || (o->sas != 0 && o->sas != 1) || (o->gear != 0 && o->gear != 1) ||
+        !(o->cutoff_fraction > 0.0 && o->cutoff_fraction < 1.0)) {
+        core_err_set(err, -1, "pilot_auto: expected an aircraft, a task, the trim, a rate of 10 to 10000 Hz, a delay "
+                              "of 0 to 10 s, positive crossover frequencies, bandwidths and limits, sas and gear 0 "
+                              "or 1 and a cut-off fraction in (0, 1)");
+        return NULL;
+    }
+    sim_task tl;
+    if (t && t->nphases == 0) { /* a task built by hand from the legacy fields */
+        tl = *t;
+        legacy_phases(&tl);
+        t = &tl;
+    }
+    if ((t->kind != SIM_TASK_STATION_KEEP && t->kind != SIM_TASK_LAND) || t->nphases < 1 ||
+        t->nphases > SIM_TASK_MAX_PHASES) {
+        core_err_set(err, -1, "pilot_auto: task type %d with %d phases: expected station keeping (%d) or land (%d) "
+                              "with 1 to %d phases (sim_task_load)",
+                     t->kind, t->nphases, SIM_TASK_STATION_KEEP, SIM_TASK_LAND, SIM_TASK_MAX_PHASES);
+        return NULL;
+    }
+    for (int i = 0; i < t->nphases; i++) {
+        const sim_task_phase *ph = &t->phase[i];
+        if ((ph->kind == SIM_PHASE_DESCEND && !(ph->descent_mps > 0.0)) ||
+            (ph->kind == SIM_PHASE_MOVE && !(ph->speed_mps > 0.0))) {
+            core_err_set(err, -1, "pilot_auto: phase %s needs a rate > 0", ph->name);
+            return NULL;
+        }
+    }
+    sim_pilot_auto *p = calloc(1, sizeof *p);
+    if (!p || !(p->Xre = calloc(4, sizeof *p->Xre)) || !(p->Xim = calloc(4, sizeof *p->Xim))) {
+        core_err_set(err, -1, "pilot_auto: out of memory");
+        goto fail;
+    }
+    p->task = *t;
+    p->o = *o;
+    p->have_gear = hfm_aircraft_gear(ac, &p->gear) == 0 && p->gear.nlegs > 0;
+    hfm_sas_gains sg;
+    memset(&sg, 0, sizeof sg);
+    if (o->sas && hfm_aircraft_sas(ac, &sg) != 0) {
+        core_err_set(err, -1, "pilot_auto: flying with the SAS: %s has no [sas]", hfm_aircraft_name(ac));
+        goto fail;
+    }
+    /* the gains' schedule: the hover at the first phase's target in the options' WOD */
+    hfm_trim *tr = hfm_trim_create(ac, log);
+    if (!tr) {
+        core_err_set(err, -1, "pilot_auto: out of memory");
+        goto fail;
+    }
+    hfm_trim_cond c;
+    memset(&c, 0, sizeof c);
+    c.kind = HFM_TRIM_HOVER_SHIP;
+    c.wod_speed_mps = o->wod_speed_mps;
+    c.wod_dir_rad = o->wod_dir_rad;
+    memcpy(c.pos_S_m, t->phase[0].target_S_m, sizeof c.pos_S_m);
+    hfm_trim_result res;
+    hfm_linear L;
+    int rc = hfm_trim_solve(tr, &c, NULL, &res);
+    if (rc == 0)
+        rc = hfm_linearise(tr, &c, &res, &L);
+    hfm_trim_destroy(tr);
+    if (rc != 0) {
+        core_err_set(err, -1, "pilot_auto: the hover at the task's first point (%.2f, %.2f, %.2f) m in S in %.2f m/s %s",
+                     c.pos_S_m[0], c.pos_S_m[1], c.pos_S_m[2], o->wod_speed_mps,
+                     rc > 0 ? "does not trim" : "could not be linearised");
+        goto fail;
+    }
+    sim_pilot_gains *g = &p->g;
+    g->X_u = L.A[0 * NX + 0];
+    g->X_theta = L.A[0 * NX + 7];
+    g->Y_v = L.A[1 * NX + 1];
+    g->Y_phi = L.A[1 * NX + 6];
+    g->Z_w = L.A[2 * NX + 2];
+    g->Z_col = L.B[2 * NU + 0];
+    g->M_long = L.B[4 * NU + 1];
+    g->L_lat = L.B[3 * NU + 2];
+    g->N_ped = L.B[5 * NU + 3];
+    /* the rate rows with the SAS's rate feedback closed (A - B K_rate):
+     * its command -K_rate w on lat (roll), long (pitch), pedal (yaw) */
+    g->L_p = L.A[3 * NX + 3] - L.B[3 * NU + 2] * sg.rate_pct_per_radps[0];
+    g->M_q = L.A[4 * NX + 4] - L.B[4 * NU + 1] * sg.rate_pct_per_radps[1];
+    g->N_r = L.A[5 * NX + 5] - L.B[5 * NU + 3] * sg.rate_pct_per_radps[2];
+    g->trim_pct[0] = trim->collective_pct;
+    g->trim_pct[1] = trim->long_pct;
+    g->trim_pct[2] = trim->lat_pct;
+    g->trim_pct[3] = trim->pedal_pct;
+    g->trim_att_rad[0] = res.body.euler_rad[0];
+    g->trim_att_rad[1] = res.body.euler_rad[1];
+    const double K[4] = {g->L_lat, g->M_long, g->N_ped, g->Z_col};
+    const double ctl[4] = {g->X_theta, g->Y_phi, 0.0, 0.0};
+    for (int i = 0; i < 4; i++)
+        if (!(fabs(K[i]) > 1e-9) || !isfinite(K[i]) || (i < 2 && !(fabs(ctl[i]) > 1e-6))) {
+            core_err_set(err, -1, "pilot_auto: the linear model has no control on axis %d (derivative %g)", i, K[i]);
+            goto fail;
+        }
+    const double a[4] = {g->L_p, g->M_q, g->N_r, g->Z_w};
+    const double wc[4] = {o->att_crossover_radps, o->att_crossover_radps, o->yaw_crossover_radps,
+                          o->hgt_crossover_radps};
+    for (int i = 0; i < 4; i++)
+        p->a_lead[i] = fmax(-a[i], 0.3 * wc[i]);
+    p->nbuf = (int)lround(o->delay_s * o->rate_hz) + 1;
+    if (!(p->buf = malloc((size_t)p->nbuf * 4 * sizeof *p->buf))) {
+        core_err_set(err, -1, "pilot_auto: out of memory");
+        goto fail;
+    }
+    for (int k = 0; k < p->nbuf; k++)
+        memcpy(p->buf + 4 * k, g->trim_pct, sizeof g->trim_pct);
+    p->r.t_desired_s = p->r.t_adequate_s = p->r.t_descent_s = p->r.t_touchdown_s = p->r.t_settled_s = -1.0;
+    p->td_height_m = p->have_gear ? gear_height(&p->gear, 1)
+                     : t->touchdown_height_m > 0.0 ? t->touchdown_height_m
+                                                   : 2.0;
+    p->r.nphases = t->nphases;
+    for (int i = 0; i < SIM_TASK_MAX_PHASES; i++) {
+        p->r.phase[i].grade = -1;
+        p->r.phase[i].t_start_s = p->r.phase[i].t_end_s = -1.0;
+    }
+    for (int i = 0; i < 4; i++) {
+        p->r.min_pct[i] = g->trim_pct[i];
+        p->r.max_pct[i] = g->trim_pct[i];
+    }
+    memcpy(p->ref.pos_S_m, t->phase[0].target_S_m, sizeof p->ref.pos_S_m);
+    p->ref.heading_rad = t->phase[0].heading_rad;
+    p->z_ref_S_m = p->ref.pos_S_m[2];
+    p->still_since_s = -1.0;
+    phase_start(p, 0, 0.0);
+    return p;
+fail:
+    sim_pilot_auto_destroy(p);
+    return NULL;
+}
+
 void sim_pilot_auto_destroy(sim_pilot_auto *p)
 {
     if (!p)
         return;
     free(p->buf);
+    free(p->Xre);
+    free(p->Xim);
     free(p);
 }
 
 void sim_pilot_auto_gains(const sim_pilot_auto *p, sim_pilot_gains *g) { *g = p->g; }
 
-void sim_pilot_auto_result(const sim_pilot_auto *p, sim_task_result *r) { *r = p->r; }
-
-static double wrap(double a) { return atan2(sin(a), cos(a)); }
-
-static double clampd(double v, double lo, double hi) { return fmin(fmax(v, lo), hi); }
-
-/* Landing: the descent starts once the hover has met the desired band
- * (or, failing that, the adequate one by the hover's end); touchdown is
- * the first state with the CG at the touchdown height above the deck,
- * its sink rate and drift relative to the deck from the last two states
- * (the deck heaves with S's origin). */
-static void land(sim_pilot_auto *p, const sim_flight_out *out)
+/* The control activity's cut-off frequencies from the running DFT. */
+static void activity(const sim_pilot_auto *p, sim_task_result *r)
 {
-    sim_task_result *r = &p->r;
-    const sim_task *t = &p->task;
-    if (!p->descending && (p->met[1] || (p->met[0] && out->t_s >= t->adequate.time_s + t->duration_s))) {
-        p->descending = 1;
-        r->t_descent_s = out->t_s;
-        if (!p->external) {
-            sim_pilot_ref d = p->ref;
-            d.mode = SIM_PILOT_DESCEND;
-            d.vel_S_mps[2] = t->descent_mps;
-            set_ref(p, &d);
+    long n = p->ns;
+    /* sum over the rate samples 1..n-1 of exp(-i w j dt) (a geometric
+     * series): the mean's share of each bin */
+    double G[2][NBIN];
+    for (int k = 0; k < NBIN && n >= 2; k++) {
+        double a = (k + 1) * BIN_RADPS * DEC_S, sa = sin(0.5 * a), nd = (double)(n - 1);
+        G[0][k] = G[1][k] = 0.0;
+        if (fabs(sa) > 1e-12) {
+            double mag = sin(0.5 * a * nd) / sa, ph = -0.5 * a * (nd + 1.0);
+            G[0][k] = mag * cos(ph);
+            G[1][k] = mag * sin(ph);
         }
     }
-    if (r->touched || !p->have_prev || !(-out->pos_S_m[2] <= t->touchdown_height_m))
+    for (int i = 0; i < 4; i++) {
+        r->ctl_rms_pct[i] = r->ctl_rate_rms_pctps[i] = r->ctl_cutoff_radps[i] = 0.0;
+        if (n < 2)
+            continue;
+        double m = p->u_sum[i] / (double)n, nd = (double)(n - 1);
+        r->ctl_rms_pct[i] = sqrt(fmax(p->u_sum2[i] / (double)n - m * m, 0.0));
+        double md = p->du_sum[i] / nd;
+        r->ctl_rate_rms_pctps[i] = sqrt(fmax(p->du_sum2[i] / nd - md * md, 0.0));
+        /* the periodogram of the rate about its mean: X - mean * sum(exp) */
+        double P[NBIN], tot = 0.0;
+        for (int k = 0; k < NBIN; k++) {
+            double re = p->Xre[i][k] - md * G[0][k], im = p->Xim[i][k] - md * G[1][k];
+            P[k] = re * re + im * im;
+            tot += P[k];
+        }
+        if (!(tot > 0.0))
+            continue;
+        double cum = 0.0;
+        for (int k = 0; k < NBIN; k++) {
+            cum += P[k];
+            if (cum >= p->o.cutoff_fraction * tot) {
+                r->ctl_cutoff_radps[i] = (k + 1) * BIN_RADPS;
+                break;
+            }
+        }
+    }
+}
+
+void sim_pilot_auto_result(const sim_pilot_auto *p, sim_task_result *r)
+{
+    *r = p->r;
+    activity(p, r);
+}
+
+/* A control sample (the delayed command sent) for the activity. */
+static void sample_controls(sim_pilot_auto *p, const double u[4])
+{
+    for (int i = 0; i < 4; i++)
+        p->dec_acc[i] += u[i];
+    if (++p->dec_n < (int)lround(DEC_S * p->o.rate_hz))
         return;
-    double h = out->t_s - p->prev_t_s;
-    if (!(h > 0.0))
-        return;
+    double v[4];
+    for (int i = 0; i < 4; i++) {
+        v[i] = p->dec_acc[i] / p->dec_n;
+        p->dec_acc[i] = 0.0;
+    }
+    p->dec_n = 0;
+    for (int i = 0; i < 4; i++) {
+        p->u_sum[i] += v[i];
+        p->u_sum2[i] += v[i] * v[i];
+    }
+    if (p->ns > 0) {
+        double ph0 = (double)p->ns * DEC_S;
+        for (int i = 0; i < 4; i++) {
+            double d = (v[i] - p->u_prev[i]) / DEC_S;
+            p->du_sum[i] += d;
+            p->du_sum2[i] += d * d;
+        }
+        for (int k = 0; k < NBIN; k++) {
+            double a = (k + 1) * BIN_RADPS * ph0, c = cos(a), s = sin(a);
+            for (int i = 0; i < 4; i++) {
+                double d = (v[i] - p->u_prev[i]) / DEC_S;
+                p->Xre[i][k] += d * c;
+                p->Xim[i][k] -= d * s;
+            }
+        }
+    }
+    memcpy(p->u_prev, v, sizeof v);
+    p->ns++;
+}
+
+/* The spot's heave statistics and energy index, from the ship's frame. */
+static void heave(sim_pilot_auto *p, const sim_flight_out *out, double h)
+{
+    double hm = p->hn ? p->h_sum / p->hn : h;
+    if (p->hn > 0 && h > 0.0) {
+        double hd = (-out->ship.origin_E_m[2] - p->h_prev_m) / h;
+        double up = -out->ship.origin_E_m[2];
+        p->h_sum += up;
+        p->h_sum2 += up * up;
+        p->hd_sum2 += hd * hd;
+        p->hd_last_mps = hd;
+        p->hn++;
+        hm = p->h_sum / p->hn;
+        double vh = fmax(p->h_sum2 / p->hn - hm * hm, 0.0), vhd = p->hd_sum2 / (p->hn - 1);
+        if (sqrt(vhd) < 1e-3)
+            p->e_now = 0.0; /* a still deck */
+        else if (vh > 0.0 && p->hn * h >= LEARN_S)
+            p->e_now = 0.5 * (hd * hd / vhd + (up - hm) * (up - hm) / vh);
+        else
+            p->e_now = INFINITY; /* too little seen yet */
+    } else if (p->hn == 0) {
+        p->h_sum = -out->ship.origin_E_m[2];
+        p->h_sum2 = p->h_sum * p->h_sum;
+        p->hn = 1;
+        p->e_now = INFINITY;
+    }
+    p->h_prev_m = -out->ship.origin_E_m[2];
+}
+
+/* The lowest wheel's height above the deck plane (m; < 0: through it),
+ * or the CG's height less the touchdown height without a gear. */
+static double wheel_clearance(const sim_pilot_auto *p, const sim_flight_out *out, double *roll_deck,
+                              double *pitch_deck)
+{
+    core_euler e = {out->euler_E_rad[0], out->euler_E_rad[1], out->euler_E_rad[2]};
+    core_mat3 C_EB = core_mat3_from_euler(e);
+    /* C_SB = C_ES^T C_EB */
+    double C_SB[3][3];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double s = 0.0;
+            for (int k = 0; k < 3; k++)
+                s += out->ship.C_ES[3 * k + i] * C_EB.m[k][j];
+            C_SB[i][j] = s;
+        }
+    *pitch_deck = asin(clampd(-C_SB[2][0], -1.0, 1.0));
+    *roll_deck = atan2(C_SB[2][1], C_SB[2][2]);
+    if (!p->have_gear)
+        return -out->pos_S_m[2] - p->td_height_m;
+    double low = INFINITY;
+    for (int l = 0; l < p->gear.nlegs; l++) {
+        const hfm_gear_leg *g = &p->gear.leg[l];
+        double z = out->pos_S_m[2];
+        for (int k = 0; k < 3; k++)
+            z += C_SB[2][k] * g->pos_B_m[k];
+        low = fmin(low, -(z + g->tyre_radius_m));
+    }
+    return low;
+}
+
+static void end_phase(sim_pilot_auto *p, double t_s, int grade)
+{
+    sim_phase_result *pr = &p->r.phase[p->ph];
+    pr->grade = grade;
+    pr->t_end_s = t_s;
+    phase_start(p, p->ph + 1, t_s);
+}
+
+/* The touchdown: graded against the descend phase (or the last phase). */
+static void touchdown(sim_pilot_auto *p, const sim_flight_out *out, double h, double psi_rel, double roll_d,
+                      double pitch_d)
+{
+    sim_task_result *r = &p->r;
+    int i = p->ph < p->task.nphases ? p->ph : p->task.nphases - 1;
+    const sim_task_phase *ph = &p->task.phase[i];
     r->touched = 1;
     r->t_touchdown_s = out->t_s;
     r->sink_mps = (out->pos_S_m[2] - p->prev_pos_S_m[2]) / h;
     r->drift_mps = hypot(out->pos_S_m[0] - p->prev_pos_S_m[0], out->pos_S_m[1] - p->prev_pos_S_m[1]) / h;
-    r->dist_m = hypot(out->pos_S_m[0] - t->target_S_m[0], out->pos_S_m[1] - t->target_S_m[1]);
-    r->touchdown_grade = r->dist_m <= t->desired.pos_m && r->sink_mps <= t->desired.sink_mps     ? 2
-                         : r->dist_m <= t->adequate.pos_m && r->sink_mps <= t->adequate.sink_mps ? 1
-                                                                                                 : 0;
+    r->dist_m = hypot(out->pos_S_m[0] - ph->target_S_m[0], out->pos_S_m[1] - ph->target_S_m[1]);
+    r->td_heading_err_rad = wrap(psi_rel - ph->heading_rad);
+    r->td_roll_deck_rad = roll_d;
+    r->td_pitch_deck_rad = pitch_d;
+    double hm = p->hn ? p->h_sum / p->hn : 0.0;
+    r->td_heave_m = -out->ship.origin_E_m[2] - hm;
+    r->td_heave_rate_mps = p->hn > 1 ? p->hd_last_mps : 0.0;
+    r->td_energy = p->e_now;
+    double vh = p->hn ? fmax(p->h_sum2 / p->hn - hm * hm, 0.0) : 0.0;
+    double vhd = p->hn > 1 ? p->hd_sum2 / (p->hn - 1) : 0.0;
+    double w = vh > 0.0 ? sqrt(vhd / vh) : 0.0;
+    r->td_heave_phase_rad = w > 0.0 ? atan2(-r->td_heave_rate_mps / w, r->td_heave_m) : 0.0;
+    double t_in = out->t_s - p->ph_t0_s;
+    const sim_task_tol *band[2] = {&ph->adequate, &ph->desired};
+    int g = 0;
+    for (int b = 0; b < 2; b++)
+        if (r->dist_m <= band[b]->pos_m && r->sink_mps <= band[b]->sink_mps &&
+            (band[b]->drift_mps <= 0.0 || r->drift_mps <= band[b]->drift_mps) &&
+            fabs(r->td_heading_err_rad) <= band[b]->heading_rad && t_in <= band[b]->time_s)
+            g = b + 1;
+    r->touchdown_grade = g;
+    if (p->ph < p->task.nphases) {
+        p->r.phase[p->ph].max_err_pos_m = r->dist_m;
+        p->r.phase[p->ph].max_err_heading_rad = fabs(r->td_heading_err_rad);
+    }
+    if (p->ph < p->task.nphases && ph->kind == SIM_PHASE_DESCEND)
+        end_phase(p, out->t_s, g);
+    else if (p->ph < p->task.nphases) /* a touchdown before the descent: this phase is not met */
+        end_phase(p, out->t_s, 0);
+    p->ph = p->task.nphases;
+    p->r.phase_now = p->ph;
+    /* the controls last sent (the delayed command at the head) */
+    memcpy(p->hold_u, p->buf + 4 * p->head, sizeof p->hold_u);
+    p->coll_pct = p->hold_u[0];
+    if (!p->o.gear)
+        r->done = 1;
 }
 
-/* The grading of one step (the state the pilot sees, undelayed). */
-static void grade(sim_pilot_auto *p, const sim_flight_out *out, double psi_rel)
+/* The grading and the phase machine for one state (the pilot's view, undelayed). */
+static void phases(sim_pilot_auto *p, const sim_flight_out *out, double psi_rel)
 {
     sim_task_result *r = &p->r;
-    const sim_task *t = &p->task;
-    if (p->descending) /* the hover's grade stands; the touchdown is graded apart */
+    if (p->ph >= p->task.nphases)
         return;
-    double dx = out->pos_S_m[0] - t->target_S_m[0], dy = out->pos_S_m[1] - t->target_S_m[1];
-    r->err_pos_m = sqrt(dx * dx + dy * dy);
-    r->err_height_m = -(out->pos_S_m[2] - t->target_S_m[2]);
-    r->err_heading_rad = wrap(psi_rel - t->heading_rad);
-    r->t_s = out->t_s;
-    const sim_task_tol *band[2] = {&t->adequate, &t->desired};
-    double *since[2] = {&r->t_adequate_s, &r->t_desired_s};
-    for (int b = 0; b < 2; b++) {
-        int in = r->err_pos_m <= band[b]->pos_m && fabs(r->err_height_m) <= band[b]->height_m &&
-                 fabs(r->err_heading_rad) <= band[b]->heading_rad;
-        if (!in)
-            *since[b] = -1.0;
-        else if (*since[b] < 0.0)
-            *since[b] = out->t_s;
-        if (in && *since[b] <= band[b]->time_s && out->t_s - *since[b] >= t->duration_s - 1e-9)
-            p->met[b] = 1;
-    }
-    r->grade = p->met[1] ? 2 : p->met[0] ? 1 : 0;
-    if (out->t_s >= t->desired.time_s) {
-        r->max_err_pos_m = fmax(r->max_err_pos_m, r->err_pos_m);
-        r->max_err_height_m = fmax(r->max_err_height_m, fabs(r->err_height_m));
-        r->max_err_heading_rad = fmax(r->max_err_heading_rad, fabs(r->err_heading_rad));
+    const sim_task_phase *ph = &p->task.phase[p->ph];
+    sim_phase_result *pr = &r->phase[p->ph];
+    double t_in = out->t_s - p->ph_t0_s;
+    const sim_task_tol *band[2] = {&ph->adequate, &ph->desired};
+    /* the errors from the reference (hold, move) */
+    double dx = out->pos_S_m[0] - p->ref.pos_S_m[0], dy = out->pos_S_m[1] - p->ref.pos_S_m[1];
+    double e_pos = sqrt(dx * dx + dy * dy), e_h = -(out->pos_S_m[2] - p->ref.pos_S_m[2]);
+    double e_psi = wrap(psi_rel - p->ref.heading_rad);
+    if (ph->kind == SIM_PHASE_HOLD) {
+        r->err_pos_m = e_pos;
+        r->err_height_m = e_h;
+        r->err_heading_rad = e_psi;
+        r->t_s = out->t_s;
+        double *since[2] = {&r->t_adequate_s, &r->t_desired_s};
+        for (int b = 0; b < 2; b++) {
+            int in = e_pos <= band[b]->pos_m && fabs(e_h) <= band[b]->height_m && fabs(e_psi) <= band[b]->heading_rad;
+            if (!in)
+                p->since[b] = -1.0;
+            else if (p->since[b] < 0.0)
+                p->since[b] = t_in;
+            *since[b] = p->since[b] < 0.0 ? -1.0 : p->since[b] + p->ph_t0_s;
+            if (in && p->since[b] <= band[b]->time_s && t_in - p->since[b] >= ph->duration_s - 1e-9)
+                p->met[b] = 1;
+        }
+        if (t_in >= ph->desired.time_s) {
+            pr->max_err_pos_m = fmax(pr->max_err_pos_m, e_pos);
+            pr->max_err_height_m = fmax(pr->max_err_height_m, fabs(e_h));
+            pr->max_err_heading_rad = fmax(pr->max_err_heading_rad, fabs(e_psi));
+            r->max_err_pos_m = fmax(r->max_err_pos_m, e_pos);
+            r->max_err_height_m = fmax(r->max_err_height_m, fabs(e_h));
+            r->max_err_heading_rad = fmax(r->max_err_heading_rad, fabs(e_psi));
+        }
+        pr->grade = p->met[1] ? 2 : p->met[0] ? 1 : 0;
+        /* the last phase of a station keeping flies its whole length */
+        int last = p->ph == p->task.nphases - 1;
+        if ((!last && p->met[1]) || t_in >= ph->adequate.time_s + ph->duration_s - 1e-9) {
+            end_phase(p, out->t_s, pr->grade);
+            if (last)
+                r->done = 1;
+        }
+    } else if (ph->kind == SIM_PHASE_MOVE) {
+        double s = fmin(t_in * ph->speed_mps, p->move_len_m), f = p->move_len_m > 0.0 ? s / p->move_len_m : 1.0;
+        pr->max_err_pos_m = fmax(pr->max_err_pos_m, e_pos);
+        pr->max_err_height_m = fmax(pr->max_err_height_m, fabs(e_h));
+        pr->max_err_heading_rad = fmax(pr->max_err_heading_rad, fabs(e_psi));
+        for (int b = 0; b < 2; b++)
+            if (!(e_pos <= band[b]->pos_m && fabs(e_h) <= band[b]->height_m && fabs(e_psi) <= band[b]->heading_rad))
+                p->met[b] = 0; /* left the band about the moving reference */
+        if (!p->external) {
+            double pos[3], vel[3] = {0.0, 0.0, 0.0};
+            for (int k = 0; k < 3; k++) {
+                pos[k] = p->move_from[k] + f * (ph->target_S_m[k] - p->move_from[k]);
+                if (f < 1.0)
+                    vel[k] = ph->speed_mps * (ph->target_S_m[k] - p->move_from[k]) / p->move_len_m;
+            }
+            hold_ref(p, pos, vel, ph->heading_rad);
+        }
+        if (f >= 1.0) {
+            double ex = out->pos_S_m[0] - ph->target_S_m[0], ey = out->pos_S_m[1] - ph->target_S_m[1];
+            double ez = out->pos_S_m[2] - ph->target_S_m[2];
+            int arrived[2];
+            for (int b = 0; b < 2; b++)
+                arrived[b] = hypot(ex, ey) <= band[b]->pos_m && fabs(ez) <= band[b]->height_m &&
+                             fabs(e_psi) <= band[b]->heading_rad && t_in <= band[b]->time_s;
+            if (arrived[0] || t_in >= ph->adequate.time_s) {
+                int g = p->met[1] && arrived[1] ? 2 : p->met[0] && arrived[0] ? 1 : 0;
+                end_phase(p, out->t_s, g);
+            }
+        }
+    } else { /* descend: wait for a quiescent deck, then down */
+        if (!p->descending) {
+            int quiet = !ph->quiescent;
+            if (ph->quiescent) {
+                if (p->e_now <= ph->quiet_energy) {
+                    if (p->quiet_since_s < 0.0)
+                        p->quiet_since_s = out->t_s;
+                    quiet = out->t_s - p->quiet_since_s >= ph->quiet_window_s - 1e-9;
+                } else {
+                    p->quiet_since_s = -1.0;
+                }
+                quiet |= t_in >= ph->max_wait_s;
+            }
+            if (quiet) {
+                p->descending = 1;
+                pr->t_wait_s = t_in;
+                pr->energy = p->e_now;
+                r->t_descent_s = out->t_s;
+                if (!p->external) {
+                    sim_pilot_ref d = p->ref;
+                    d.mode = SIM_PILOT_DESCEND;
+                    memset(d.vel_S_mps, 0, sizeof d.vel_S_mps);
+                    d.vel_S_mps[2] = ph->descent_mps;
+                    set_ref(p, &d);
+                }
+            }
+        }
     }
 }
 
@@ -418,14 +1055,61 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
 {
     const sim_pilot_auto_opts *o = &p->o;
     const sim_pilot_gains *g = &p->g;
-    const sim_task *t = &p->task;
     /* the heading relative to the ship: S's x axis in E is C_ES's first column */
     double psi_ship = atan2(out->ship.C_ES[3], out->ship.C_ES[0]);
     double psi_rel = wrap(out->euler_E_rad[2] - psi_ship);
-    grade(p, out, psi_rel);
+    double h = p->have_prev ? out->t_s - p->prev_t_s : 0.0;
+    if (!p->have_prev || h > 0.0)
+        heave(p, out, h);
+    double roll_d, pitch_d, clear = wheel_clearance(p, out, &roll_d, &pitch_d);
+    sim_task_result *r = &p->r;
+    r->t_s = out->t_s;
+    if (!r->touched && p->have_prev && h > 0.0 && clear <= 0.0)
+        touchdown(p, out, h, psi_rel, roll_d, pitch_d);
+    else if (!r->touched)
+        phases(p, out, psi_rel);
+    /* the task's grade: the lowest of the phases flown (and the touchdown) */
+    int gr = 2;
+    for (int i = 0; i < p->task.nphases && i <= p->ph; i++) {
+        if (i == p->ph && p->task.phase[i].kind != SIM_PHASE_HOLD)
+            break; /* a move or descent under way is graded at its end */
+        gr = r->phase[i].grade < gr ? (r->phase[i].grade < 0 ? 0 : r->phase[i].grade) : gr;
+    }
+    r->grade = gr;
+    double dpos[3] = {0.0, 0.0, 0.0};
+    if (h > 0.0)
+        for (int k = 0; k < 3; k++)
+            dpos[k] = (out->pos_S_m[k] - p->prev_pos_S_m[k]) / h;
+    memcpy(p->prev_pos_S_m, out->pos_S_m, sizeof p->prev_pos_S_m);
+    p->prev_t_s = out->t_s;
+    p->have_prev = 1;
+    double cmd[4];
+    if (r->touched && o->gear) {
+        /* on deck: the collective down, the rest held; settled once still */
+        p->coll_pct = fmax(p->coll_pct - DOWN_PCTPS / o->rate_hz, 0.0);
+        memcpy(cmd, p->hold_u, sizeof cmd);
+        cmd[0] = p->coll_pct;
+        double v = sqrt(dpos[0] * dpos[0] + dpos[1] * dpos[1] + dpos[2] * dpos[2]);
+        if (p->coll_pct <= 0.0 && v < SETTLE_MPS) {
+            if (p->still_since_s < 0.0)
+                p->still_since_s = out->t_s;
+            if (!r->settled && out->t_s - p->still_since_s >= SETTLE_S - 1e-9) {
+                r->settled = 1;
+                r->t_settled_s = out->t_s;
+                r->done = 1;
+            }
+        } else {
+            p->still_since_s = -1.0;
+        }
+        /* straight out, no delay: the pilot's hand goes down */
+        memset(in, 0, sizeof *in);
+        in->collective_pct = cmd[0];
+        in->long_pct = cmd[1];
+        in->lat_pct = cmd[2];
+        in->pedal_pct = cmd[3];
+        return 0;
+    }
     double w_ref = 0.0;
-    if (t->kind == SIM_TASK_LAND)
-        land(p, out);
     const sim_pilot_ref *R = &p->ref;
     if (R->mode == SIM_PILOT_DESCEND) {
         /* the height reference moves down at the descent rate to 0.3 m
@@ -437,10 +1121,8 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
         }
     } else {
         w_ref = R->vel_S_mps[2];
+        p->z_ref_S_m = R->pos_S_m[2];
     }
-    memcpy(p->prev_pos_S_m, out->pos_S_m, sizeof p->prev_pos_S_m);
-    p->prev_t_s = out->t_s;
-    p->have_prev = 1;
     /* outer loops in the heading axes H (x forward, y right, level) */
     double c = cos(psi_rel), s = sin(psi_rel);
     double ex = R->pos_S_m[0] - out->pos_S_m[0], ey = R->pos_S_m[1] - out->pos_S_m[1];
@@ -462,7 +1144,6 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     const double wc[4] = {o->att_crossover_radps, o->att_crossover_radps, o->yaw_crossover_radps,
                           o->hgt_crossover_radps};
     static const int ch[4] = {2, 1, 3, 0}; /* axis -> control: lat, long, pedal, collective */
-    double cmd[4];
     for (int i = 0; i < 4; i++)
         cmd[ch[i]] = g->trim_pct[ch[i]] + wc[i] / K[i] * (p->a_lead[i] * e_att[i] - rate[i]);
     int stop = 0;
@@ -480,6 +1161,7 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     in->long_pct = u[1];
     in->lat_pct = u[2];
     in->pedal_pct = u[3];
+    sample_controls(p, u);
     for (int i = 0; i < 4; i++) {
         p->r.min_pct[i] = fmin(p->r.min_pct[i], u[i]);
         p->r.max_pct[i] = fmax(p->r.max_pct[i], u[i]);

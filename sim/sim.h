@@ -157,10 +157,20 @@ typedef struct sim_flight_opts {
     unsigned long long seed; /* the turbulence's seed (the ship motion has its own) */
     int sas;                 /* the stability augmentation (sim/sas.c) at the start: 1 on, 0 off,
                                 -1 (default) as the aircraft file's [sas] engaged */
+    int gear;                /* 1: the aircraft file's [gear] on the ship's deck (sim/contact.c),
+                                owned by the flight; 0 (default): none */
+    int start;               /* SIM_START_HOVER (default): the trimmed hover at the station;
+                                SIM_START_DECK: standing on the deck (needs gear) */
+    double start_heading_rad;/* SIM_START_DECK: the heading from the bow (0) */
     struct sim_interaction *interaction; /* NULL (default); else the coupled rotor interaction
                                 the air adds near the station, the start's trim included, its
                                 rotor set each step (sim/interaction.c); kept by the caller */
 } sim_flight_opts;
+/* The deck start: the CG over (station_S_m x, y), every wheel on the deck
+ * at its static compression, the body moving with the deck, collective
+ * full down, cyclic and pedals centred, the rotor at its speed with no
+ * flapping and no inflow (they settle within the first second). */
+enum { SIM_START_HOVER = 0, SIM_START_DECK = 1 };
 void sim_flight_opts_default(sim_flight_opts *o);
 
 /* The pilot's input to one step: the controls (percent of travel), or
@@ -181,6 +191,14 @@ typedef struct sim_flight_out {
     double airspeed_mps;     /* at the fuselage reference */
     sim_ship_frame ship;
     unsigned air_flags;      /* SIM_AIR_* */
+    double rotor_thrust_N, rotor_power_W; /* the main rotor's (hfm_tsim_rotor) */
+    /* the gear (opts.gear; all 0 without): each leg's deck loads, the
+     * contact's SIM_CONTACT_* flags (kept once set) and what they say */
+    int nlegs, on_deck;
+    double gear_load_N[HFM_GEAR_MAX_LEGS];        /* along the deck normal */
+    double gear_friction_N[HFM_GEAR_MAX_LEGS][2]; /* in the deck plane, S x and y */
+    unsigned contact_flags;
+    char contact_what[160];
 } sim_flight_out;
 
 /* A flight of aircraft ac (kept by the caller) over ship (copied), its
@@ -198,7 +216,10 @@ void sim_flight_trim_inputs(const sim_flight *f, sim_flight_inputs *in);
 void sim_flight_set_external(sim_flight *f, hfm_ext_fn fn, void *user);
 /* Offer a better field from the next step on (blended in). 0 or < 0. */
 int sim_flight_set_field(sim_flight *f, const struct cfd_field *field, core_err *err);
-/* One step of 1 / rate_hz: 0, or < 0 (the integrator failed) with err. */
+/* One step of 1 / rate_hz: 0; 1 when the step ended the flight, a crash on
+ * the ship or a roll-over on the deck (err says what hit what; the flight
+ * steps no further and every later call returns 1); or < 0 (the
+ * integrator failed) with err. */
 int sim_flight_step(sim_flight *f, const sim_flight_inputs *in, sim_flight_out *out, core_err *err);
 /* The state at the current time without stepping. */
 void sim_flight_state(const sim_flight *f, sim_flight_out *out);
@@ -695,11 +716,14 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
                           const core_log *log, core_err *err);
 /* A log not finished is removed. */
 void sim_loop_destroy(sim_loop *l);
-enum { SIM_LOOP_STEPPED = 0, SIM_LOOP_PAUSED = 1, SIM_LOOP_DONE = 2 };
+enum { SIM_LOOP_STEPPED = 0, SIM_LOOP_PAUSED = 1, SIM_LOOP_DONE = 2, SIM_LOOP_CRASHED = 3 };
 /* One pass: SIM_LOOP_STEPPED with out the step's outputs (a reset or a
  * load shows as out->step back to 1), SIM_LOOP_PAUSED (nothing stepped;
- * waited up to 100 ms for a message), SIM_LOOP_DONE (duration flown), or
- * < 0 with err (the integrator, a log write, a publish that failed). */
+ * waited up to 100 ms for a message), SIM_LOOP_DONE (duration flown),
+ * SIM_LOOP_CRASHED (the step ended the flight: out is its last state, its
+ * states published, err says what hit what; finish the loop as at the
+ * end), or < 0 with err (the integrator, a log write, a publish that
+ * failed). */
 int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err);
 /* The end: a last status (STOPPED), the log flushed, synced and renamed.
  * 0, or < 0 with err (the log is then removed). */
@@ -733,23 +757,57 @@ enum { SIM_TASK_STATION_KEEP = 0, SIM_TASK_LAND = 1 };
 typedef struct sim_task_tol {
     double pos_m, height_m, heading_rad, time_s;
     double sink_mps;       /* land: the largest sink rate at touchdown */
+    double drift_mps;      /* land: the largest drift at touchdown (phase files; 0: not graded) */
 } sim_task_tol;
-/* A task (INI, see sim/pilot_auto.c): station keeping holds the CG at
+/* One phase of a task (scenarios/README.md, the task files): hold keeps
+ * the CG at target_S_m for duration_s; move takes the reference there
+ * along a straight line at speed_mps; descend waits (quiescent = 1) for a
+ * quiescent period of the deck's heave, then descends at descent_mps over
+ * target_S_m's x, y to touchdown. Times in the tolerances count from the
+ * phase's start. */
+#define SIM_TASK_MAX_PHASES 8
+enum { SIM_PHASE_HOLD = 0, SIM_PHASE_MOVE = 1, SIM_PHASE_DESCEND = 2 };
+typedef struct sim_task_phase {
+    char name[32];
+    int kind;                  /* SIM_PHASE_* */
+    double target_S_m[3];      /* the CG in S (descend: z unused) */
+    double heading_rad;        /* from the bow */
+    double duration_s;         /* hold: the time to stay within the band */
+    double speed_mps;          /* move */
+    double descent_mps;        /* descend */
+    int quiescent;             /* descend: wait for a quiescent period of heave */
+    double quiet_energy;       /* descend: the heave energy index below which the deck is quiescent */
+    double quiet_window_s;     /* descend: it must stay below over this long */
+    double max_wait_s;         /* descend: the longest wait for one */
+    sim_task_tol desired, adequate;
+} sim_task_phase;
+/* A task (INI, scenarios/README.md): station keeping holds the CG at
  * target_S_m (z < 0: above the deck) at heading_rad from the bow for
  * duration_s; land holds it there as station keeping does, then descends
- * at descent_mps to touchdown. */
+ * at descent_mps to touchdown. A phase file (a [task] phases key) gives
+ * its phases; the fields above are then its last hold phase's. */
 typedef struct sim_task {
     int kind;
     double target_S_m[3];
     double heading_rad;
     double duration_s;
-    double touchdown_height_m; /* land: the CG's height above the deck at wheel contact */
+    double touchdown_height_m; /* land: the CG's height above the deck at wheel contact (no [gear]) */
     double descent_mps;        /* land: the commanded rate of descent */
     sim_task_tol desired, adequate;
+    int nphases;
+    sim_task_phase phase[SIM_TASK_MAX_PHASES];
+    int has_start;             /* phase files: the flight starts at the first phase's target */
+    double start_S_m[3];
 } sim_task;
-/* Read a task file: 0, or < 0 with err naming the file, line and key. */
+/* Read a task file: 0, or < 0 with err naming the file, line and key. A
+ * phase file's points are placed on the ship's deck (spot, deck edges,
+ * line-up line): ship NULL refuses any anchor but the spot. */
 int sim_task_load(const char *path, sim_task *t, core_err *err);
-/* The task's length: the adequate time plus the duration. */
+int sim_task_load_ship(const char *path, const core_ship *ship, sim_task *t, core_err *err);
+/* The task's start (phase files: the first phase's target) into
+ * start_S_m; left as it is for a file without one. 0, or < 0 with err. */
+int sim_task_start_S(const char *path, const core_ship *ship, double start_S_m[3], core_err *err);
+/* The task's length: each phase's longest time, and a landing's settling. */
 double sim_task_length_s(const sim_task *t);
 
 typedef struct sim_pilot_auto sim_pilot_auto;
@@ -764,6 +822,13 @@ typedef struct sim_pilot_auto_opts {
     double max_speed_mps;      /* the largest commanded speed (3) */
     double max_att_rad;        /* the largest attitude command from trim (10 deg) */
     double wod_speed_mps, wod_dir_rad; /* the WOD the gains are scheduled at */
+    int sas;                   /* 1: the flight's SAS is engaged (the aircraft's [sas]; the
+                                  gains scheduled with its rate damping in the loop); 0 (default): off */
+    int gear;                  /* 1: the flight has the landing gear (sim/contact.c): after the
+                                  touchdown the collective goes down and the run is done once
+                                  settled; 0 (default): done at touchdown */
+    double cutoff_fraction;    /* the control-activity cut-off frequency's share of the rate
+                                  variance below it (0.5) */
 } sim_pilot_auto_opts;
 void sim_pilot_auto_opts_default(sim_pilot_auto_opts *o);
 /* The derivatives the gains come from (hfm_linearise at the task's hover;
@@ -807,9 +872,20 @@ typedef struct sim_pilot_ref {
 int sim_pilot_auto_set_reference(sim_pilot_auto *p, const sim_pilot_ref *r);
 /* The reference the pilot flies now. */
 void sim_pilot_auto_reference(const sim_pilot_auto *p, sim_pilot_ref *r);
+/* A phase's result: its grade (2 desired, 1 adequate, 0 not met, -1
+ * not flown), when it started and ended, its largest errors (hold: after
+ * its desired time; move: from the moving reference). */
+typedef struct sim_phase_result {
+    int grade;
+    double t_start_s, t_end_s;
+    double max_err_pos_m, max_err_height_m, max_err_heading_rad;
+    double t_wait_s;           /* descend: the wait for a quiescent period */
+    double energy;             /* descend: the heave energy index as the descent began */
+} sim_phase_result;
 /* The task's result so far (plain data). */
 typedef struct sim_task_result {
-    int grade;                 /* 2 desired, 1 adequate, 0 not (yet) met */
+    int grade;                 /* 2 desired, 1 adequate, 0 not (yet) met: the
+                                  lowest of the phases' (the touchdown's included) */
     double t_desired_s;        /* since when within the desired tolerances (-1: not now) */
     double t_adequate_s;       /* likewise adequate */
     double err_pos_m, err_height_m, err_heading_rad; /* the latest */
@@ -822,7 +898,28 @@ typedef struct sim_task_result {
     double t_descent_s, t_touchdown_s, sink_mps, drift_mps, dist_m;
     int touched, touchdown_grade;
     double t_s;                /* the latest time */
+    /* the touchdown, further: the heading error, roll and pitch of the
+     * body relative to the deck (rad), the deck's heave at the spot (m,
+     * up, from its mean; m/s) and its phase (rad: 0 at a crest, pi in a
+     * trough, pi/2 going down), the heave energy index then (1: the
+     * average) */
+    double td_heading_err_rad, td_roll_deck_rad, td_pitch_deck_rad;
+    double td_heave_m, td_heave_rate_mps, td_heave_phase_rad, td_energy;
+    int settled, done;         /* settled on deck (gear); done: the run may end */
+    double t_settled_s;
+    int nphases, phase_now;    /* the phase flown now (nphases: the task is over) */
+    sim_phase_result phase[SIM_TASK_MAX_PHASES];
+    /* control activity from the start to touchdown (or now), per control
+     * (collective, long, lat, pedal): rms about the mean (%), rms of the
+     * rate (%/s), the cut-off frequency (rad/s, cutoff_fraction of the
+     * rate's variance below it) */
+    double ctl_rms_pct[4], ctl_rate_rms_pctps[4], ctl_cutoff_radps[4];
 } sim_task_result;
+/* Write the result of a run of task t as CSV (one header line, one row)
+ * and JSON, each to PATH.tmpPID and renamed (either path may be NULL).
+ * 0, or < 0 with err and nothing half-written. */
+int sim_task_result_write(const sim_task *t, const sim_task_result *r, const char *csv_path,
+                          const char *json_path, core_err *err);
 void sim_pilot_auto_result(const sim_pilot_auto *p, sim_task_result *r);
 
 /* ---------------------------- the replay pilot (sim/pilot_replay.c, issue 26) */
@@ -959,6 +1056,10 @@ void sim_contact_body(const sim_flight_out *out, hfm_body *b);
 /* The parking brake and the castoring wheels' lock (as the file's at the start). */
 void sim_contact_set_brakes(sim_contact *c, int on);
 void sim_contact_set_lock(sim_contact *c, int on);
+/* The flight's gear (opts.gear): its report, 0; 1 (rep zeroed) without. */
+int sim_flight_contact(const sim_flight *f, sim_contact_report *rep);
+/* The flight's gear itself (brakes, lock), NULL without. */
+sim_contact *sim_flight_gear(sim_flight *f);
 /* The legs' static loads (N) holding weight_N on a level deck (the CG over
  * the support, moments balanced; three legs exactly, more by least squares).
  * 0, or < 0 with err when the CG is outside the support. */

@@ -13,7 +13,12 @@
  * not met, and the delays between are flown and printed to show the
  * margin (at least 0.35 s must still meet the desired band).
  * The same run twice gives bit-identical states and controls. The task
- * file's errors name the file, line and key. Run from the source root. */
+ * file's errors name the file, line and key. A caller's reference
+ * (sim_pilot_auto_set_reference) is flown. The deck landings of issue 26
+ * (scenarios/tasks/land_port.ini, land_stern.ini) are flown with the
+ * ship in a seaway and the landing gear (sim/contact.c) attached, the SAS
+ * on and off, in the free stream; their result files are written and
+ * read back. Run from the source root. */
 #include "check.h"
 #include "hfm.h"
 #include "sim.h"
@@ -30,6 +35,9 @@
 #define SHIP "scenarios/ships/cg47.ini"
 #define TASK "scenarios/tasks/station_keep.ini"
 #define LAND "scenarios/tasks/land_uh60a.ini"
+#define PORT "scenarios/tasks/land_port.ini"
+#define STERN "scenarios/tasks/land_stern.ini"
+#define LPD "scenarios/ships/lpd17.ini"
 #define RATE_HZ 200.0
 #define KT 0.514444
 
@@ -295,6 +303,256 @@ static void test_reference(const hfm_aircraft *ac, const core_ship *ship, const 
     sim_flight_destroy(f);
 }
 
+/* The deck landings (scenarios/tasks/land_port.ini, land_stern.ini): the
+ * flight from the task's start over the ship moving in sea state ss
+ * (waves from the bow, seed 11), the landing gear attached
+ * (sim/contact.c), in the free stream of wod_kt from wod_dir_deg; to the
+ * end of the task or 40 s more than its length. */
+typedef struct deck_run {
+    sim_task_result r;
+    sim_contact_report c;
+    sim_pilot_gains g;
+    sim_task t;
+    int failed, crashed, sas;
+    double t_end_s;
+    double t_contact_s; /* the first state with a leg on the deck (sim/contact.c) */
+} deck_run;
+
+static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *task_path, double wod_kt,
+                     double wod_dir_deg, int ss, int sas, deck_run *out)
+{
+    memset(out, 0, sizeof *out);
+    out->failed = 1;
+    core_err err = {{0}};
+    sim_task t;
+    if (sim_task_load_ship(task_path, ship, &t, &err) != 0) {
+        fprintf(stderr, "deck: %s\n", err.msg);
+        return;
+    }
+    sim_sea sea;
+    sim_sea_default(&sea);
+    sea.state = ss;
+    sim_ship_motion *m = sim_ship_motion_create(ship, &sea, 11, &err);
+    sim_flight_opts fo;
+    sim_flight_opts_default(&fo);
+    fo.rate_hz = RATE_HZ;
+    fo.turbulence = 0;
+    fo.sas = sas;
+    fo.wod_speed_mps = wod_kt * KT;
+    fo.wod_dir_rad = wod_dir_deg * CORE_DEG_TO_RAD;
+    memcpy(fo.station_S_m, t.start_S_m, sizeof fo.station_S_m);
+    sim_flight *f = m ? sim_flight_create(ac, ship, &fo, sim_ship_motion_frame_fn, m, NULL, NULL, &err) : NULL;
+    sim_contact *c = f ? sim_contact_create(ac, ship, sim_ship_motion_frame_fn, m, RATE_HZ, &err) : NULL;
+    sim_pilot_auto *p = NULL;
+    sim_flight_inputs in;
+    if (c) {
+        sim_flight_set_external(f, sim_contact_ext_fn, c);
+        sim_pilot_auto_opts po;
+        sim_pilot_auto_opts_default(&po);
+        po.rate_hz = RATE_HZ;
+        po.wod_speed_mps = fo.wod_speed_mps;
+        po.wod_dir_rad = fo.wod_dir_rad;
+        po.sas = sas;
+        po.gear = 1;
+        sim_flight_trim_inputs(f, &in);
+        p = sim_pilot_auto_create(ac, &t, &po, &in, NULL, &err);
+    }
+    if (!p) {
+        fprintf(stderr, "deck: %s\n", err.msg);
+        goto out;
+    }
+    out->failed = 0;
+    out->t_contact_s = -1.0;
+    out->t = t;
+    sim_pilot_auto_gains(p, &out->g);
+    sim_flight_out o;
+    sim_flight_state(f, &o);
+    long n = (long)((sim_task_length_s(&t) + 40.0) * RATE_HZ);
+    for (long s = 0; s < n; s++) {
+        sim_pilot_auto_step(p, &o, &in);
+        sim_pilot_auto_result(p, &out->r);
+        if (out->r.done)
+            break;
+        if (sim_flight_step(f, &in, &o, &err) != 0) {
+            fprintf(stderr, "deck: step %ld: %s\n", s, err.msg);
+            out->failed = 1;
+            break;
+        }
+        hfm_body b;
+        sim_contact_body(&o, &b);
+        if (sim_contact_step(c, o.t_s, &b, &out->c)) {
+            out->crashed = 1;
+            break;
+        }
+        for (int l = 0; l < out->c.nlegs && out->t_contact_s < 0.0; l++)
+            if (out->c.leg[l].on_deck)
+                out->t_contact_s = o.t_s;
+    }
+    sim_pilot_auto_result(p, &out->r);
+    sim_contact_report_get(c, &out->c);
+    out->t_end_s = o.t_s;
+out:
+    sim_pilot_auto_destroy(p);
+    sim_contact_destroy(c);
+    sim_flight_destroy(f);
+    sim_ship_motion_destroy(m);
+}
+
+static void print_deck(const char *what, const sim_task *t, const deck_run *d)
+{
+    const sim_task_result *r = &d->r;
+    printf("%s: task %s; touchdown %s at %.2f s (descent from %.2f s): sink %.3f m/s, drift %.3f m/s, %.3f m from "
+           "the spot, heading %.2f deg, roll %.2f pitch %.2f deg to the deck, heave %.3f m %.3f m/s phase %.0f deg "
+           "energy %.2f; settled %d at %.2f s; crash %d %s\n",
+           what, grade_name(r->grade), r->touched ? grade_name(r->touchdown_grade) : "none", r->t_touchdown_s,
+           r->t_descent_s, r->sink_mps, r->drift_mps, r->dist_m, r->td_heading_err_rad * CORE_RAD_TO_DEG,
+           r->td_roll_deck_rad * CORE_RAD_TO_DEG, r->td_pitch_deck_rad * CORE_RAD_TO_DEG, r->td_heave_m,
+           r->td_heave_rate_mps, r->td_heave_phase_rad * CORE_RAD_TO_DEG, r->td_energy, r->settled, r->t_settled_s,
+           d->crashed, d->c.what);
+    for (int i = 0; i < t->nphases; i++)
+        printf("  phase %-10s %s, %.2f-%.2f s, largest error %.3f m, height %.3f m, heading %.2f deg, wait %.2f s\n",
+               t->phase[i].name, r->phase[i].grade < 0 ? "not flown" : grade_name(r->phase[i].grade),
+               r->phase[i].t_start_s, r->phase[i].t_end_s, r->phase[i].max_err_pos_m, r->phase[i].max_err_height_m,
+               r->phase[i].max_err_heading_rad * CORE_RAD_TO_DEG, r->phase[i].t_wait_s);
+    printf("  control activity (collective, long, lat, pedal): rms %.2f %.2f %.2f %.2f %%, rate rms %.2f %.2f %.2f "
+           "%.2f %%/s, cut-off %.2f %.2f %.2f %.2f rad/s\n",
+           r->ctl_rms_pct[0], r->ctl_rms_pct[1], r->ctl_rms_pct[2], r->ctl_rms_pct[3], r->ctl_rate_rms_pctps[0],
+           r->ctl_rate_rms_pctps[1], r->ctl_rate_rms_pctps[2], r->ctl_rate_rms_pctps[3], r->ctl_cutoff_radps[0],
+           r->ctl_cutoff_radps[1], r->ctl_cutoff_radps[2], r->ctl_cutoff_radps[3]);
+}
+
+/* 9. The result files (sim_task_result_write): the CSV's header and row
+ * carry the touchdown's figures and each phase's grade; the JSON has the
+ * same; a folder that does not exist is refused with nothing left. */
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return NULL;
+    static char buf[65536];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+    return buf;
+}
+
+static void test_result_files(const deck_run *d)
+{
+    char csv[128], json[128];
+    snprintf(csv, sizeof csv, "/tmp/test_pilot_auto_%d.csv", (int)getpid());
+    snprintf(json, sizeof json, "/tmp/test_pilot_auto_%d.json", (int)getpid());
+    core_err err = {{0}};
+    CHECK(sim_task_result_write(&d->t, &d->r, csv, json, &err) == 0);
+    char *c = slurp(csv);
+    CHECK(c != NULL);
+    if (c) {
+        char *nl = strchr(c, '\n');
+        CHECK(nl && strstr(c, "sink_mps") < nl && strstr(c, "heave_phase_deg") < nl &&
+              strstr(c, "lat_cutoff_radps") < nl && strstr(c, "descent_grade") < nl);
+        /* the row: as many fields as the header, the sink rate in its column */
+        int nh = 0, nr = 0, col = -1, i = 0;
+        for (char *q = c; q < nl; q++)
+            nh += *q == ',';
+        for (char *q = nl + 1; *q && *q != '\n'; q++)
+            nr += *q == ',';
+        CHECK(nh == nr && nh > 40);
+        char head[8192];
+        snprintf(head, sizeof head, "%.*s", (int)(nl - c), c);
+        for (char *tok = strtok(head, ","); tok; tok = strtok(NULL, ","), i++)
+            if (!strcmp(tok, "sink_mps"))
+                col = i;
+        char *q = nl + 1;
+        for (i = 0; i < col && q; i++)
+            q = strchr(q, ',') ? strchr(q, ',') + 1 : NULL;
+        CHECK(q && fabs(atof(q) - d->r.sink_mps) <= 1e-5 * fmax(1.0, d->r.sink_mps));
+        printf("result CSV: %d columns, sink_mps (column %d) %s", nh + 1, col, q ? "" : "missing\n");
+        if (q)
+            printf("%.6g\n", atof(q));
+    }
+    char *j = slurp(json);
+    CHECK(j && strstr(j, "\"sink_mps\": ") && strstr(j, "\"name\": \"descent\"") &&
+          strstr(j, "\"cutoff_radps\": ") && strstr(j, "\"heave_phase_deg\": "));
+    unlink(csv);
+    unlink(json);
+    CHECK(sim_task_result_write(&d->t, &d->r, "/nonexistent_dir/r.csv", "/nonexistent_dir/r.json", &err) < 0 &&
+          strstr(err.msg, "/nonexistent_dir/r.csv"));
+    CHECK(access("/nonexistent_dir", F_OK) != 0);
+    CHECK(sim_task_result_write(&d->t, &d->r, csv, "/nonexistent_dir/r.json", &err) < 0 && access(csv, F_OK) != 0);
+}
+
+/* 8. Issue 26's acceptance, in the free stream: the UH-60A lands on the
+ * CG-47 in a 25 kt head wind in sea state 4 by the port-side approach,
+ * sink below 2 m/s and within 1 m of the spot, settled, no crash; the
+ * SA365N on the LPD-17 in 20 kt from green 30 in sea state 3 likewise;
+ * every phase graded at least adequate, each with the SAS on and off. */
+static void test_deck(const hfm_aircraft *uh60, const hfm_aircraft *sa365)
+{
+    core_ship cg47, lpd17;
+    core_err err = {{0}};
+    if (core_ship_load(SHIP, &cg47, &err) != 0 || core_ship_load(LPD, &lpd17, &err) != 0) {
+        fprintf(stderr, "deck: %s\n", err.msg);
+        CHECK(0);
+        return;
+    }
+    struct {
+        const hfm_aircraft *ac;
+        const core_ship *ship;
+        const char *task;
+        double kt, dir;
+        int ss;
+    } cases[3] = {{uh60, &cg47, PORT, 25.0, 0.0, 4}, {sa365, &lpd17, PORT, 20.0, 30.0, 3},
+                  {uh60, &cg47, STERN, 25.0, 0.0, 4}};
+    sim_pilot_gains gs_on[3];
+    for (int k = 0; k < 3; k++)
+        for (int sas = 1; sas >= 0; sas--) {
+            deck_run d;
+            fly_deck(cases[k].ac, cases[k].ship, cases[k].task, cases[k].kt, cases[k].dir, cases[k].ss, sas, &d);
+            sim_task t;
+            sim_task_load_ship(cases[k].task, cases[k].ship, &t, &err);
+            char what[160];
+            snprintf(what, sizeof what, "%s on the %s, %s, %.0f kt from %.0f deg, sea state %d, SAS %s",
+                     hfm_aircraft_name(cases[k].ac), cases[k].ship->name, cases[k].task, cases[k].kt, cases[k].dir,
+                     cases[k].ss, sas ? "on" : "off");
+            print_deck(what, &t, &d);
+            const sim_phase_result *dp = &d.r.phase[t.nphases - 1];
+            printf("  first gear contact (sim/contact.c) at %.3f s, the pilot's touchdown at %.3f s; the descent "
+                   "began at energy index %.3f after %.2f s; scheduled L_p %.3f M_q %.3f N_r %.3f\n",
+                   d.t_contact_s, d.r.t_touchdown_s, dp->energy, dp->t_wait_s, d.g.L_p, d.g.M_q, d.g.N_r);
+            CHECK(!d.failed && !d.crashed);
+            CHECK(d.r.touched && d.r.sink_mps > 0.0 && d.r.sink_mps < 2.0 && d.r.dist_m <= 1.0);
+            CHECK(d.r.settled && d.r.done);
+            for (int i = 0; i < t.nphases; i++)
+                CHECK(d.r.phase[i].grade >= 1);
+            CHECK(d.r.grade >= 1);
+            /* the touchdown is the first wheel contact: the gear's first leg
+             * on the deck within a step of it */
+            CHECK(d.t_contact_s > 0.0 && fabs(d.t_contact_s - d.r.t_touchdown_s) <= 1.01 / RATE_HZ);
+            /* the descent waited for a quiescent deck: the energy index was
+             * below the task's threshold as it began, and the wait was not
+             * the longest allowed */
+            CHECK(dp->energy <= t.phase[t.nphases - 1].quiet_energy);
+            CHECK(dp->t_wait_s < t.phase[t.nphases - 1].max_wait_s);
+            /* the control activity is had on every axis */
+            for (int i = 0; i < 4; i++)
+                CHECK(d.r.ctl_rms_pct[i] > 0.0 && d.r.ctl_cutoff_radps[i] > 0.0);
+            if (sas) {
+                gs_on[k] = d.g;
+            } else {
+                /* with the SAS on the pilot's roll, pitch and yaw rate poles
+                 * are the augmented ones: each more damped by the SAS's
+                 * rate gain times the control derivative */
+                hfm_sas_gains sg;
+                CHECK(hfm_aircraft_sas(cases[k].ac, &sg) == 0);
+                CHECK_NEAR(gs_on[k].L_p, d.g.L_p - d.g.L_lat * sg.rate_pct_per_radps[0], 1e-9);
+                CHECK_NEAR(gs_on[k].M_q, d.g.M_q - d.g.M_long * sg.rate_pct_per_radps[1], 1e-9);
+                CHECK_NEAR(gs_on[k].N_r, d.g.N_r - d.g.N_ped * sg.rate_pct_per_radps[2], 1e-9);
+                CHECK(gs_on[k].L_p < d.g.L_p && gs_on[k].M_q < d.g.M_q);
+            }
+            if (k == 0 && sas)
+                test_result_files(&d);
+        }
+}
+
 /* 4. The task file: the shipped file's values, and errors that name what. */
 static void write_file(const char *path, const char *text)
 {
@@ -374,5 +632,12 @@ int main(void)
         }
         hfm_aircraft_destroy(ac);
     }
+    /* 8-9. the deck landings and their result files */
+    hfm_aircraft *a = hfm_aircraft_load(UH60, NULL, &err), *b = hfm_aircraft_load(SA365, NULL, &err);
+    CHECK(a && b);
+    if (a && b)
+        test_deck(a, b);
+    hfm_aircraft_destroy(a);
+    hfm_aircraft_destroy(b);
     return check_done("test_pilot_auto");
 }
