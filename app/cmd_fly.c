@@ -40,7 +40,7 @@ static void usage_fly(void)
     fprintf(stderr, "usage: disim fly SCENARIO [--realtime | --fast] [--duration S] [--rate-hz N]\n"
                     "                  [--wod-speed-kt V] [--wod-dir-deg D] [--field F.h5 | --db DIR]\n"
                     "                  [--csv OUT.csv] [--csv-rate-hz N] [--sea-state N] [--wave-dir-deg D]\n"
-                    "                  [--ship-speed-kt U] [--seed N] [--no-turbulence]\n"
+                    "                  [--ship-speed-kt U] [--seed N] [--no-turbulence] [--start hover|deck] [--no-gear]\n"
                     "                  [--lcm URL | --no-lcm] [--log FILE] [--replay-inputs LOG]\n"
                     "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N]\n"
                     "                  [--pilot auto --task FILE]  (headless, as fast as it can)\n"
@@ -54,6 +54,7 @@ typedef struct fly_args {
     double hold_after_s, state_rate_hz;
     const char *pilot, *task; /* --pilot auto --task FILE: the automated pilot flies */
     int duration_set;
+    int gear, start_deck;     /* the aircraft's [gear] on the deck (--no-gear: 0); --start deck */
     const char *replay_log;   /* --pilot replay LOG: the replay pilot re-flies LOG (sim/pilot_replay.c) */
     int feed_controls;        /* --feed-controls: LOG's controls fed forward too */
     int has_start;            /* the flight starts at start_S_m (the replayed run's start) */
@@ -70,6 +71,7 @@ static int fly_parse(int argc, char **argv, fly_args *o)
     o->speed_kt = o->dir_deg = NAN;
     o->db = "out/airwake-db";
     o->turbulence = -1;
+    o->gear = 1;
     o->sea_state = -1;
     o->wave_dir_deg = o->ship_speed_kt = NAN;
     o->seed = 1;
@@ -108,6 +110,16 @@ static int fly_parse(int argc, char **argv, fly_args *o)
                 return 1;
         } else if (!strcmp(a, "--no-turbulence"))
             o->turbulence = 0;
+        else if (!strcmp(a, "--no-gear"))
+            o->gear = 0;
+        else if (!strcmp(a, "--start") && more) {
+            const char *v = argv[++i];
+            if (strcmp(v, "hover") && strcmp(v, "deck")) {
+                fprintf(stderr, "disim fly: --start '%s': expected hover or deck\n", v);
+                return 1;
+            }
+            o->start_deck = !strcmp(v, "deck");
+        }
         else if (!strcmp(a, "--sea-state") && more) {
             if (app_parse_int(P, a, argv[++i], 0, 6, &o->sea_state))
                 return 1;
@@ -297,11 +309,16 @@ static int db_coupled(awdb *db, const sim_scenario *sc, double v, double dir_rad
 
 static int csv_row(FILE *f, const sim_flight_out *o)
 {
-    return fprintf(f, "%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%u\n",
+    double gear_N = 0.0; /* the legs' loads along the deck normal, summed */
+    for (int i = 0; i < o->nlegs; i++)
+        gear_N += o->gear_load_N[i];
+    return fprintf(f, "%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%u,%.1f,%.1f,%d,"
+                      "%.1f,%u\n",
                    o->t_s, o->pos_S_m[0], o->pos_S_m[1], o->pos_S_m[2], o->euler_E_rad[0] * CORE_RAD_TO_DEG,
                    o->euler_E_rad[1] * CORE_RAD_TO_DEG, o->euler_E_rad[2] * CORE_RAD_TO_DEG, o->vel_S_mps[0],
                    o->vel_S_mps[1], o->vel_S_mps[2], o->pos_E_m[0], o->pos_E_m[1], o->pos_E_m[2], o->collective_pct,
-                   o->long_pct, o->lat_pct, o->pedal_pct, o->air_flags) < 0
+                   o->long_pct, o->lat_pct, o->pedal_pct, o->air_flags, o->rotor_thrust_N, o->rotor_power_W,
+                   o->on_deck, gear_N, o->contact_flags) < 0
                ? -1
                : 0;
 }
@@ -327,7 +344,8 @@ static int traj_open(traj_csv *t, const char *path, core_err *err)
         return -1;
     }
     fprintf(t->f, "t_s,x_S_m,y_S_m,z_S_m,roll_deg,pitch_deg,yaw_deg,u_S_mps,v_S_mps,w_S_mps,x_E_m,y_E_m,z_E_m,"
-                  "collective_pct,long_pct,lat_pct,pedal_pct,air_flags\n");
+                  "collective_pct,long_pct,lat_pct,pedal_pct,air_flags,rotor_thrust_N,rotor_power_W,on_deck,gear_load_N,"
+                  "contact_flags\n");
     return 0;
 }
 
@@ -442,6 +460,14 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
     /* the flags, else the scenario's [sea] and [wod] turbulence */
     fo.turbulence = o->turbulence >= 0 ? o->turbulence : sc->turbulence;
     fo.seed = (unsigned long long)o->seed;
+    /* the gear on the deck when the aircraft file has one (--no-gear: none) */
+    hfm_gear gear;
+    fo.gear = o->gear && hfm_aircraft_gear(w->ac, &gear) == 0;
+    if (o->start_deck && !fo.gear) {
+        core_err_set(err, -1, "--start deck: %s", o->gear ? "the aircraft file has no [gear] section" : "not with --no-gear");
+        goto fail;
+    }
+    fo.start = o->start_deck ? SIM_START_DECK : SIM_START_HOVER;
     fo.ship_speed_mps = isnan(o->ship_speed_kt) ? sc->ship_speed_mps : o->ship_speed_kt * CORE_KT_TO_MPS;
     memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
     if (o->has_start) /* --pilot replay: where the replayed run starts */
@@ -522,15 +548,21 @@ static int fly_auto(fly_ctx *c, core_err *err)
     if (traj_row(&csv, &out) != 0)
         goto write_fail;
     sim_task_result r;
+    char ended[256] = ""; /* what ended the flight ("" it flew on) */
     for (long s = 0; s < n && !fly_stop; s++) {
         sim_pilot_auto_step(p, &out, &in);
         sim_pilot_auto_result(p, &r);
         if (r.touched) /* the landing task ends at touchdown */
             break;
-        if (sim_flight_step(w->fl, &in, &out, err) != 0)
+        int st = sim_flight_step(w->fl, &in, &out, err);
+        if (st < 0)
             goto out;
-        if (out.step % csv_every == 0 && traj_row(&csv, &out) != 0)
+        if ((st > 0 || out.step % csv_every == 0) && traj_row(&csv, &out) != 0)
             goto write_fail;
+        if (st > 0) { /* a crash or a roll-over ended the flight: said, the trajectory kept */
+            snprintf(ended, sizeof ended, "%.250s", err->msg);
+            break;
+        }
         if (w->waiting && out.step % poll_every == 0) {
             int got = db_field(c->db, w->sc, w->dir_rad, &w->later, err);
             if (got < 0 || (got > 0 && sim_flight_set_field(w->fl, w->later, err) != 0))
@@ -555,6 +587,11 @@ static int fly_auto(fly_ctx *c, core_err *err)
             r.t_desired_s, r.t_adequate_s, task.desired.time_s, r.max_err_pos_m, r.max_err_height_m,
             r.max_err_heading_rad * CORE_RAD_TO_DEG, r.stop_steps);
     rc = 0;
+    if (ended[0]) {
+        fprintf(stderr, "fly: the flight ended at %.2f s: %s\n", out.t_s, ended);
+        core_err_set(err, 1, "%s", ended);
+        rc = 1;
+    }
     goto out;
 write_fail:
     core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", o->csv);
@@ -675,9 +712,10 @@ int cmd_fly(int argc, char **argv)
         goto done;
     }
     if (o.pilot) {
-        if (fly_auto(&ctx, &err) != 0)
+        int ra = fly_auto(&ctx, &err);
+        if (ra < 0)
             goto fail;
-        rc = 0;
+        rc = ra > 0 ? 3 : 0; /* 3: a crash or a roll-over ended the flight (said above) */
         goto done;
     }
     sim_loop_opts lo;
@@ -732,12 +770,20 @@ int cmd_fly(int argc, char **argv)
     if (traj_row(&csv, &out) != 0)
         goto write_fail;
     long n_stepped = 0;
+    char ended[256] = ""; /* what ended the flight: a crash, a roll-over ("" none) */
     while (!fly_stop) {
         int r = sim_loop_iterate(loop, &out, &err);
         if (r < 0)
             goto fail;
         if (r == SIM_LOOP_DONE)
             break;
+        if (r == SIM_LOOP_CRASHED) { /* its last state into the trajectory; the log finished as at the end */
+            n_stepped++;
+            snprintf(ended, sizeof ended, "%.250s", err.msg);
+            if (traj_row(&csv, &out) != 0)
+                goto write_fail;
+            break;
+        }
         if (r != SIM_LOOP_STEPPED)
             continue;
         n_stepped++;
@@ -795,7 +841,14 @@ int cmd_fly(int argc, char **argv)
             fprintf(stderr, "; %lld refused from no readable station", sim_pilots_refused_unknown(pl));
         fprintf(stderr, "%s%s\n", lr.message[0] ? "; last refusal: " : "", lr.message);
     }
+    if (out.nlegs > 0)
+        fprintf(stderr, "fly: gear: %s at the end%s%s\n", out.on_deck ? "on the deck" : "off the deck",
+                out.contact_flags ? "; " : "", out.contact_what);
     rc = 0;
+    if (ended[0]) { /* stopped cleanly: the log and the trajectory are written */
+        fprintf(stderr, "disim fly: the flight ended: %s\n", ended);
+        rc = 3;
+    }
     goto done;
 write_fail:
     core_err_set(&err, -1, "%s: cannot write the trajectory (nothing written)", o.csv);

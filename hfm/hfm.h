@@ -375,6 +375,10 @@ void hfm_tsim_set_external(hfm_tsim *ts, hfm_ext_fn fn, void *user);
 /* Advance to t_s. Returns 0, or < 0 on a solver failure. */
 int hfm_tsim_advance(hfm_tsim *ts, double t_s);
 void hfm_tsim_body(const hfm_tsim *ts, hfm_body *b);
+/* The main rotor's thrust (N, along the shaft, up) and aerodynamic power
+ * (W) at the last right-hand side evaluated (a fixed step's last stage:
+ * 2/3 of the step into it); 0 before the first. */
+void hfm_tsim_rotor(const hfm_tsim *ts, double *thrust_N, double *power_W);
 long hfm_tsim_rhs_evals(const hfm_tsim *ts);
 /* The state derivative of the time model (n = hfm_tsim_size): position,
  * u v w, p q r, Euler angles, inflow (3), azimuth, nb multiblade flap

@@ -53,6 +53,7 @@ struct hfm_tsim {
     double tr_inflow; /* tail-rotor inflow of the last evaluation: Newton's first guess */
     hfm_ext_fn ext;   /* external loads (NULL: none) */
     void *ext_user;
+    double last_thrust_N, last_power_W; /* the main rotor's at the last right-hand side */
 };
 
 int hfm_tsim_size(const hfm_tsim *ts)
@@ -164,6 +165,8 @@ int hfm_tsim_rhs(hfm_tsim *ts, double t, const double *y, double *yd)
     double OR = mr->omega * mr->R, q = mr->rho * mr->area * OR * OR;
     L.mr_thrust_N = -F[2];
     L.mr_power_W = P;
+    ts->last_thrust_N = L.mr_thrust_N;
+    ts->last_power_W = P;
     double C[3] = {T / q, Lr / q, Mp / q}, Lh[3][3];
     hfm_rotor_inflow(ac, &in, C[0], C[1], C[2], Lh, NULL);
     /* Lhat^-1 lambda by the adjugate (Lhat in hub axes is full: its wind
@@ -419,6 +422,12 @@ int hfm_tsim_state(const hfm_tsim *ts, double *y, int n)
         return -1;
     memcpy(y, N_VGetArrayPointer(ts->y), (size_t)ts->n * sizeof *y);
     return 0;
+}
+
+void hfm_tsim_rotor(const hfm_tsim *ts, double *thrust_N, double *power_W)
+{
+    *thrust_N = ts->last_thrust_N;
+    *power_W = ts->last_power_W;
 }
 
 void hfm_tsim_body(const hfm_tsim *ts, hfm_body *b)

@@ -49,7 +49,8 @@
  *   5. Strikes: the aircraft file's strike points (rotor tips, tail, nose,
  *      belly) as small ODE spheres against the deck box and one ODE box per
  *      ship block (a tapered bow is taken as its box), checked after each
- *      step; a hit stops the run as a crash naming the point and the block.
+ *      step; a hit stops the run as a crash naming the point and the block
+ *      (or the sea: a point below its mean surface, off the deck).
  *      A leg over 20 times the weight, or compressed past its stroke plus
  *      its tyre's radius (a wheel through the deck), is a
  *      crash too, and the normal load is bounded there, so it stays finite.
@@ -493,6 +494,10 @@ int sim_contact_step(sim_contact *c, double t_s, const hfm_body *b, sim_contact_
         for (int k = 0; !hit && k < c->ship.nblocks; k++)
             if (dCollide(c->point, c->blocks[k], 1, &cgm, sizeof cgm) > 0)
                 hit = c->ship.blocks[k].name;
+        /* off the deck and down: the sea's mean surface, deck_height_m
+         * below E's origin (S's mean position) */
+        if (!hit && b->pos_S_m[2] + p[2] > c->ship.deck_height_m)
+            hit = "the sea";
         if (hit) {
             snprintf(msg, sizeof msg, "crash: %s hit %s", c->g.point_name[i], hit);
             flag(c, SIM_CONTACT_CRASH, t_s, &c->rep.t_crash_s, msg);

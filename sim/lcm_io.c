@@ -291,6 +291,8 @@ struct sim_loop {
     sim_flight_out out;
     int fatal;
     core_err ferr;
+    int crashed;           /* the flight ended (a crash, a roll-over): nothing more steps */
+    char crash_msg[256];
     unsigned char buf[LOOP_BUF];
 };
 
@@ -474,8 +476,16 @@ static void publish_states(sim_loop *l, const sim_flight_out *o)
     h.long_cyclic_pct = o->long_pct;
     h.lat_cyclic_pct = o->lat_pct;
     h.pedal_pct = o->pedal_pct;
-    /* rotor thrust and power, deck contact and the gear: not in the
-     * step's outputs yet (0, no gear) */
+    /* the main rotor, the deck contact and each leg's load along the deck
+     * normal (no legs: a flight without the gear) */
+    h.rotor_thrust_N = o->rotor_thrust_N;
+    h.rotor_power_W = o->rotor_power_W;
+    h.on_deck = o->on_deck ? 1 : 0;
+    h.n_gear = (int8_t)o->nlegs;
+    double gear_N[HFM_GEAR_MAX_LEGS];
+    for (int i = 0; i < o->nlegs && i < HFM_GEAR_MAX_LEGS; i++)
+        gear_N[i] = o->gear_load_N[i];
+    h.gear_load_N = gear_N;
     SEND(l, heli_state_t, DISIM_CH_HELI_STATE, &h);
 
     disim_ship_state_t s;
@@ -574,6 +584,14 @@ static unsigned loop_flags(const sim_loop *l)
         f |= DISIM_SIM_STATUS_T_FLAG_FIELD_BLENDING;
     if (l->out.air_flags & SIM_AIR_INTERACTION)
         f |= DISIM_SIM_STATUS_T_FLAG_ROTOR_INTERACTION;
+    if (l->out.on_deck)
+        f |= DISIM_SIM_STATUS_T_FLAG_ON_DECK;
+    if (l->out.contact_flags & SIM_CONTACT_SLIDE)
+        f |= DISIM_SIM_STATUS_T_FLAG_SLIDE;
+    if (l->out.contact_flags & SIM_CONTACT_TIP)
+        f |= DISIM_SIM_STATUS_T_FLAG_TIP_OVER;
+    if (l->out.contact_flags & SIM_CONTACT_CRASH)
+        f |= DISIM_SIM_STATUS_T_FLAG_CRASH;
     if (l->paused)
         f |= DISIM_SIM_STATUS_T_FLAG_PAUSED;
     if (l->replay)
@@ -736,6 +754,8 @@ int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
 {
     if (l->fatal)
         return core_err_set(err, -1, "%s", l->ferr.msg);
+    if (l->crashed)
+        return core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg);
     if (!l->paused && l->run_step >= l->nsteps)
         return SIM_LOOP_DONE;
     take_received(l, l->paused ? 100 : 0);
@@ -745,12 +765,18 @@ int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
     if (!l->paused) {
         sim_flight_inputs in;
         l->held = sim_pilots_inputs(l->pilots, run_t(l), &in);
-        if (sim_flight_step(l->w.flight, &in, &l->out, err) != 0)
+        int frc = sim_flight_step(l->w.flight, &in, &l->out, err);
+        if (frc < 0)
             return -1;
         l->run_step++;
-        if ((l->lc || l->elog) && l->run_step % l->state_every == 0)
+        if (frc > 0) { /* the flight ended: its last state goes out whatever the rate */
+            l->crashed = 1;
+            snprintf(l->crash_msg, sizeof l->crash_msg, "%.250s", err->msg);
+            core_log_msg(l->log, CORE_LOG_WARN, "the flight ended: %s", l->crash_msg);
+        }
+        if ((l->lc || l->elog) && (frc > 0 || l->run_step % l->state_every == 0))
             publish_states(l, &l->out);
-        rc = SIM_LOOP_STEPPED;
+        rc = frc > 0 ? SIM_LOOP_CRASHED : SIM_LOOP_STEPPED;
         if (out)
             *out = l->out;
     }
@@ -764,6 +790,8 @@ int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
         return core_err_set(err, -1, "%s", l->ferr.msg);
     if (rc == SIM_LOOP_STEPPED)
         sim_pacer_wait(l->pacer);
+    if (rc == SIM_LOOP_CRASHED)
+        return core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg);
     return rc;
 }
 

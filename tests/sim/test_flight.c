@@ -1,11 +1,20 @@
 /* test_flight.c -- the flight loop's deterministic step (sim/flight.c,
  * sim/air.c): the trimmed start, the Earth frame with a moving ship, the
  * external loads, determinism, the free stream over the sea and the field
- * blend. Run from the source root. */
+ * blend; the gear the flight owns (sim/contact.c through the flight): the
+ * rotor's thrust and power, the deck start standing 5 minutes in sea state
+ * 4 and 30 kt, a slide on a slippery deck, a roll-over and the tail driven
+ * into the hangar face ending the flight, and the loop (sim/lcm_io.c)
+ * stopping there with its log whole, the gear's loads, the rotor's thrust
+ * and power and the crash in the published messages. Run from the source
+ * root. */
 #include "cfd.h"
 #include "check.h"
+#include "disim_lcm.h"
 #include "hfm.h"
 #include "sim.h"
+
+#include <lcm/eventlog.h>
 
 #include <math.h>
 #include <stdio.h>
@@ -15,6 +24,7 @@
 
 #define UH60 "scenarios/aircraft/uh60a.ini"
 #define SHIP "scenarios/ships/sfs2.ini"
+#define CG47 "scenarios/ships/cg47.ini"
 
 typedef struct run {
     sim_flight_out out[4096];
@@ -324,6 +334,424 @@ static cfd_field *small_field(const core_ship *ship, char *path, size_t n)
     return cfd_field_load(path, &err);
 }
 
+/* ------------------------------------------------------------ the gear */
+typedef struct deck_run {
+    long steps;
+    int rc;                 /* the last step's return */
+    double max_dev_m;       /* the CG's largest distance (S) from where it started */
+    double max_N, min_sum_N, max_sum_N, sum_N_mean;
+    double thrust_mean_N;
+    int finite, always_on_deck;
+    sim_flight_out last;
+    sim_contact_report rep; /* the flight's gear at the end */
+    char msg[256];
+} deck_run;
+
+static int deck_sas = -1; /* the flight's opts.sas in deck_fly */
+
+/* A deck start at (x, 0) in S, heading psi, flown t_s holding the start's
+ * controls (collective full down) with ext (NULL: none) as a test load. */
+static int deck_fly(const hfm_aircraft *ac, const core_ship *ship, sim_ship_frame_fn frame, void *fu, double wod_mps,
+                    double wod_dir_deg, double x_S_m, double psi_rad, hfm_ext_fn ext, void *eu, double t_s, deck_run *r)
+{
+    sim_flight_opts o;
+    sim_flight_opts_default(&o);
+    o.wod_speed_mps = wod_mps;
+    o.wod_dir_rad = wod_dir_deg * CORE_DEG_TO_RAD;
+    o.gear = 1;
+    o.start = SIM_START_DECK;
+    o.start_heading_rad = psi_rad;
+    o.sas = deck_sas;
+    o.station_S_m[0] = x_S_m;
+    core_err err = {{0}};
+    memset(r, 0, sizeof *r);
+    sim_flight *f = sim_flight_create(ac, ship, &o, frame, fu, NULL, NULL, &err);
+    if (!f) {
+        fprintf(stderr, "deck start: %s\n", err.msg);
+        return -1;
+    }
+    if (ext)
+        sim_flight_set_external(f, ext, eu);
+    sim_flight_out s0, out;
+    sim_flight_state(f, &s0);
+    sim_flight_inputs in;
+    sim_flight_trim_inputs(f, &in);
+    r->finite = 1;
+    r->always_on_deck = s0.on_deck;
+    r->min_sum_N = INFINITY;
+    long n = lround(t_s * o.rate_hz);
+    for (long i = 0; i < n; i++) {
+        r->rc = sim_flight_step(f, &in, &out, &err);
+        r->steps++;
+        double sum = 0.0;
+        for (int l = 0; l < out.nlegs; l++) {
+            r->finite &= isfinite(out.gear_load_N[l]) && isfinite(out.gear_friction_N[l][0]) &&
+                         isfinite(out.gear_friction_N[l][1]);
+            sum += out.gear_load_N[l];
+            r->max_N = fmax(r->max_N, out.gear_load_N[l]);
+        }
+        r->finite &= isfinite(out.rotor_thrust_N) && isfinite(out.rotor_power_W);
+        for (int k = 0; k < 3; k++)
+            r->finite &= isfinite(out.pos_S_m[k]) && isfinite(out.vel_S_mps[k]);
+        r->always_on_deck &= out.on_deck;
+        if (out.t_s >= 5.0) { /* after the rotor's and the struts' first seconds */
+            r->min_sum_N = fmin(r->min_sum_N, sum);
+            r->max_sum_N = fmax(r->max_sum_N, sum);
+        }
+        r->sum_N_mean += sum / n;
+        r->thrust_mean_N += out.rotor_thrust_N / n;
+        double d = 0.0;
+        for (int k = 0; k < 3; k++)
+            d += (out.pos_S_m[k] - s0.pos_S_m[k]) * (out.pos_S_m[k] - s0.pos_S_m[k]);
+        r->max_dev_m = fmax(r->max_dev_m, sqrt(d));
+        if (r->rc != 0) {
+            snprintf(r->msg, sizeof r->msg, "%.250s", err.msg);
+            break;
+        }
+    }
+    r->last = out;
+    if (r->rc > 0) { /* ended: it steps no further and says so again */
+        sim_flight_out again;
+        core_err e2 = {{0}};
+        int rc2 = sim_flight_step(f, &in, &again, &e2);
+        CHECK(rc2 == 1 && again.step == out.step && strcmp(e2.msg, err.msg) == 0);
+    }
+    CHECK(sim_flight_contact(f, &r->rep) == 0);
+    sim_flight_destroy(f);
+    return 0;
+}
+
+/* The gear the flight owns, in a hover 6 m up: no wheel touches, nothing
+ * changes (the same trajectory as without the gear); the rotor's thrust
+ * carries the weight, its power is the hover's (1.1 to 2 MW for the
+ * UH-60A at its weight). */
+static void test_gear_hover(const hfm_aircraft *ac, const core_ship *ship)
+{
+    sim_flight_opts o;
+    sim_flight_opts_default(&o);
+    core_err err = {{0}};
+    sim_flight *a = sim_flight_create(ac, ship, &o, NULL, NULL, NULL, NULL, &err);
+    o.gear = 1;
+    sim_flight *b = sim_flight_create(ac, ship, &o, NULL, NULL, NULL, NULL, &err);
+    CHECK(a && b);
+    if (a && b) {
+        CHECK(fly(a, 400, &ra) == 0 && fly(b, 400, &rb) == 0);
+        double e = 0.0, T = 0.0, P = 0.0;
+        int touched = 0;
+        for (int i = 0; i < ra.n && i < rb.n; i++) {
+            for (int k = 0; k < 3; k++)
+                e = fmax(e, fabs(ra.out[i].pos_E_m[k] - rb.out[i].pos_E_m[k]));
+            touched |= rb.out[i].on_deck || rb.out[i].contact_flags;
+            T += rb.out[i].rotor_thrust_N / rb.n;
+            P += rb.out[i].rotor_power_W / rb.n;
+        }
+        double W = hfm_aircraft_weight_N(ac);
+        printf("hover with the gear: %.1e m from the flight without, thrust %.3f W, power %.2f MW, legs %d\n", e, T / W,
+               P / 1e6, rb.out[rb.n - 1].nlegs);
+        CHECK(e < 1e-9);
+        CHECK(!touched);
+        CHECK(rb.out[rb.n - 1].nlegs == 3 && ra.out[ra.n - 1].nlegs == 0);
+        CHECK(T > 0.95 * W && T < 1.1 * W);
+        CHECK(P > 1.1e6 && P < 2.0e6);
+    }
+    sim_flight_destroy(a);
+    sim_flight_destroy(b);
+    /* a deck start needs the gear */
+    o.gear = 0;
+    o.start = SIM_START_DECK;
+    a = sim_flight_create(ac, ship, &o, NULL, NULL, NULL, NULL, &err);
+    CHECK(a == NULL && strstr(err.msg, "start hover (0) or deck (1, with the gear)"));
+    sim_flight_destroy(a);
+}
+
+/* Standing on the CG-47's deck with the collective down in sea state 4
+ * (waves from green 30) and 30 kt over the bow, 5 minutes: within 0.1 m
+ * of where it started, every wheel on the deck throughout, no slide, no
+ * tip-over, the legs carrying the weight less the rotor's thrust at flat
+ * pitch, every load finite. Then the same for 60 s on a deck of mu_static
+ * 0.08 (an oily deck; the aircraft file's mu otherwise): it slides more
+ * than 0.1 m, and says so, and stands (no tip-over, no crash). */
+static void test_deck(const hfm_aircraft *ac, const hfm_aircraft *slippery, const core_ship *ship)
+{
+    sim_sea sea;
+    sim_sea_default(&sea);
+    sea.state = 4;
+    sea.wave_dir_rad = 30 * CORE_DEG_TO_RAD;
+    core_err err = {{0}};
+    sim_ship_motion *m = sim_ship_motion_create(ship, &sea, 7, &err);
+    CHECK(m != NULL);
+    if (!m)
+        return;
+    double W = hfm_aircraft_weight_N(ac);
+    deck_run r;
+    CHECK(deck_fly(ac, ship, sim_ship_motion_frame_fn, m, 30 * CORE_KT_TO_MPS, 0.0, 0.0, 0.0, NULL, NULL, 300.0, &r) == 0);
+    printf("on deck, sea state 4, 30 kt, 300 s: moved at most %.4f m, legs' sum %.3f W (%.3f to %.3f W after 5 s), "
+           "thrust %.3f W, largest leg %.3f W, flags %u (%s)%s\n",
+           r.max_dev_m, r.sum_N_mean / W, r.min_sum_N / W, r.max_sum_N / W, r.thrust_mean_N / W, r.max_N / W,
+           r.last.contact_flags, r.last.contact_what[0] ? r.last.contact_what : "none", r.finite ? "" : ", NOT FINITE");
+    CHECK(r.rc == 0 && r.steps == 60000);
+    CHECK(r.finite);
+    CHECK(r.max_dev_m < 0.1);
+    CHECK(r.always_on_deck);
+    CHECK(r.last.contact_flags == 0);
+    CHECK(r.last.nlegs == 3);
+    /* the weight on the wheels: what the flat-pitch rotor does not carry */
+    CHECK(r.thrust_mean_N < 0.3 * W);
+    CHECK(fabs(r.sum_N_mean - (W - r.thrust_mean_N)) < 0.1 * W);
+    if (slippery) {
+        CHECK(deck_fly(slippery, ship, sim_ship_motion_frame_fn, m, 30 * CORE_KT_TO_MPS, 0.0, 0.0, 0.0, NULL, NULL, 60.0,
+                       &r) == 0);
+        printf("on a deck of mu 0.08, sea state 4, 30 kt: %s (at %.2f s), moved at most %.3f m in %.2f s%s%s\n",
+               r.last.contact_what[0] ? r.last.contact_what : "no slide", r.rep.t_slide_s, r.max_dev_m, r.last.t_s,
+               r.rc ? "; ended: " : "", r.msg);
+        CHECK(r.finite);
+        CHECK(r.rc == 0 && r.steps == 12000);
+        CHECK(r.last.contact_flags == SIM_CONTACT_SLIDE);
+        CHECK(r.rep.t_slide_s > 0.0);
+        CHECK(strstr(r.last.contact_what, "slide") != NULL);
+        CHECK(r.max_dev_m > 0.1);
+    }
+    sim_ship_motion_destroy(m);
+}
+
+/* A deck rolling to starboard from t0_s to roll_rad over ramp_s (smooth). */
+typedef struct roll_deck {
+    double roll_rad, t0_s, ramp_s;
+} roll_deck;
+static int roll_frame(void *user, double t_s, sim_ship_frame *out)
+{
+    const roll_deck *d = user;
+    double u = (t_s - d->t0_s) / d->ramp_s;
+    u = u < 0 ? 0 : u > 1 ? 1 : u;
+    double th = d->roll_rad * u * u * (3 - 2 * u), c = cos(th), s = sin(th);
+    memset(out, 0, sizeof *out);
+    double R[9] = {1, 0, 0, 0, c, -s, 0, s, c};
+    memcpy(out->C_ES, R, sizeof R);
+    return 0;
+}
+
+/* A push at the CG (B), a test load. */
+static int push(void *user, double t_s, const hfm_body *b, double F_B_N[3], double M_B_Nm[3])
+{
+    (void)t_s, (void)b;
+    memcpy(F_B_N, user, 3 * sizeof(double));
+    M_B_Nm[0] = M_B_Nm[1] = M_B_Nm[2] = 0.0;
+    return 0;
+}
+
+/* The flight ends, cleanly, named: on a deck rolling to 37 deg, with the
+ * SAS off, it rolls over (past the gear's tip-over angle, not before the
+ * deck has rolled past the lateral one, 31 deg); with the SAS on (its
+ * cyclic holds the attitude through the hub moment) it slides off the
+ * deck instead, and falls into the sea; facing
+ * aft 0.5 m short of the hangar face and pushed toward the bow at 1 W
+ * (past the friction's hold) it slides and its tail-rotor hits the
+ * hangar, with the CG where that strike point meets the face. */
+static void test_gear_end(const hfm_aircraft *ac, const core_ship *ship)
+{
+    roll_deck rd = {37 * CORE_DEG_TO_RAD, 3.0, 5.0};
+    deck_run r;
+    deck_sas = 0;
+    CHECK(deck_fly(ac, ship, roll_frame, &rd, 0.0, 0.0, 0.0, 0.0, NULL, NULL, 20.0, &r) == 0);
+    deck_sas = -1;
+    printf("deck rolled to 37 deg, the SAS off: %s (step %ld)\n", r.msg, r.last.step);
+    if (getenv("DISIM_FLIGHT_DEBUG"))
+        printf("  pos_S %.3f %.3f %.3f euler %.1f %.1f %.1f deg on_deck %d flags %u %s loads %.0f %.0f %.0f\n",
+               r.last.pos_S_m[0], r.last.pos_S_m[1], r.last.pos_S_m[2], r.last.euler_E_rad[0] * 57.3,
+               r.last.euler_E_rad[1] * 57.3, r.last.euler_E_rad[2] * 57.3, r.last.on_deck, r.last.contact_flags,
+               r.last.contact_what, r.last.gear_load_N[0], r.last.gear_load_N[1], r.last.gear_load_N[2]);
+    CHECK(r.rc == 1);
+    CHECK(strstr(r.msg, "roll-over on the deck") != NULL);
+    CHECK(r.last.contact_flags & SIM_CONTACT_TIP);
+    CHECK(r.last.t_s > 3.0 + 5.0 * 0.5 && r.last.t_s < 12.0);
+    CHECK(r.finite);
+    CHECK(deck_fly(ac, ship, roll_frame, &rd, 0.0, 0.0, 0.0, 0.0, NULL, NULL, 20.0, &r) == 0);
+    printf("deck rolled to 37 deg, the SAS on: %s (after %s)\n", r.msg,
+           r.last.contact_flags & SIM_CONTACT_SLIDE ? "a slide" : "no slide");
+    CHECK(r.rc == 1);
+    CHECK(strstr(r.msg, "hit the sea") != NULL);
+    CHECK(r.last.contact_flags & SIM_CONTACT_SLIDE);
+    CHECK(r.finite);
+
+    hfm_gear g;
+    hfm_aircraft_gear(ac, &g);
+    const core_ship_block *hg = NULL;
+    for (int k = 0; k < ship->nblocks; k++)
+        if (strcmp(ship->blocks[k].name, "hangar") == 0)
+            hg = &ship->blocks[k];
+    int ip = -1;
+    for (int i = 0; i < g.npoints; i++)
+        if (ip < 0 || g.point_B_m[i][0] < g.point_B_m[ip][0])
+            ip = i; /* the point furthest aft */
+    CHECK(hg != NULL && ip >= 0 && strcmp(g.point_name[ip], "tail_rotor_aft") == 0);
+    if (!hg || ip < 0)
+        return;
+    double reach = -g.point_B_m[ip][0], x0 = hg->x0_m - reach - 0.5;
+    double F[3] = {-hfm_aircraft_weight_N(ac), 0.0, 0.0}; /* facing aft: -x_B is toward the bow */
+    CHECK(deck_fly(ac, ship, NULL, NULL, 0.0, 0.0, x0, M_PI, push, F, 10.0, &r) == 0);
+    printf("pushed into the hangar: %s; CG at x_S %.3f m (the face at %.2f m less %.3f m)\n", r.msg, r.last.pos_S_m[0],
+           hg->x0_m, reach);
+    CHECK(r.rc == 1);
+    CHECK(strstr(r.msg, "tail_rotor_aft hit hangar") != NULL);
+    CHECK(r.last.contact_flags & SIM_CONTACT_CRASH);
+    CHECK(r.last.contact_flags & SIM_CONTACT_SLIDE);
+    /* the strike point itself at the face (the ship still: S is E), within
+     * a step's travel and the point's radius */
+    core_euler e = {r.last.euler_E_rad[0], r.last.euler_E_rad[1], r.last.euler_E_rad[2]};
+    core_vec3 pt = core_quat_rotate(core_quat_from_euler(e),
+                                    core_vec3_make(g.point_B_m[ip][0], g.point_B_m[ip][1], g.point_B_m[ip][2]));
+    double x_pt = r.last.pos_S_m[0] + pt.x;
+    printf("  %s at x_S %.3f m at the strike\n", g.point_name[ip], x_pt);
+    CHECK(x_pt > hg->x0_m - 0.04 && x_pt < hg->x0_m + 0.04);
+    CHECK(r.finite);
+}
+
+static int no_build(void *user, const char *path, sim_loop_world *w, core_err *err)
+{
+    (void)user, (void)path, (void)w;
+    return core_err_set(err, -1, "no reset here");
+}
+
+/* The loop around a flight that crashes (pushed into the hangar, as in
+ * test_gear_end): SIM_LOOP_CRASHED at the crash's step with what hit
+ * what, nothing stepped after it, the log finished and renamed; in it the
+ * last heli_state_t is the crash's state with the rotor's thrust and
+ * power, on_deck and the three legs' loads (their sum within 20 % of the
+ * weight less the thrust: the push's moment shifts them), and the last
+ * sim_status_t is STOPPED with the slide, the crash and on-deck flags. */
+static void test_gear_loop(const hfm_aircraft *ac, const core_ship *ship)
+{
+    hfm_gear g;
+    hfm_aircraft_gear(ac, &g);
+    const core_ship_block *hg = NULL;
+    for (int k = 0; k < ship->nblocks; k++)
+        if (strcmp(ship->blocks[k].name, "hangar") == 0)
+            hg = &ship->blocks[k];
+    CHECK(hg != NULL);
+    if (!hg)
+        return;
+    sim_flight_opts o;
+    sim_flight_opts_default(&o);
+    o.gear = 1;
+    o.start = SIM_START_DECK;
+    o.start_heading_rad = M_PI;
+    o.station_S_m[0] = hg->x0_m - 11.115 - 0.5;
+    core_err err = {{0}};
+    sim_flight *f = sim_flight_create(ac, ship, &o, NULL, NULL, NULL, NULL, &err);
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    double W = hfm_aircraft_weight_N(ac), F[3] = {-W, 0.0, 0.0};
+    sim_flight_set_external(f, push, F);
+    char log[] = "/tmp/test_flight_log_XXXXXX";
+    int fd = mkstemp(log);
+    if (fd >= 0)
+        close(fd);
+    sim_loop_opts lo;
+    sim_loop_opts_default(&lo);
+    lo.realtime = 0;
+    lo.duration_s = 10.0;
+    lo.log_path = log;
+    lo.scenario_path = "test";
+    sim_loop_world w = {f, NULL, "test"};
+    sim_loop *l = sim_loop_create(&lo, &w, no_build, NULL, NULL, &err);
+    CHECK(l != NULL);
+    if (!l) {
+        fprintf(stderr, "loop: %s\n", err.msg);
+        sim_flight_destroy(f);
+        return;
+    }
+    sim_flight_out out;
+    int rc = 0;
+    long n = 0;
+    while ((rc = sim_loop_iterate(l, &out, &err)) == SIM_LOOP_STEPPED)
+        n++;
+    printf("the loop: %s after %ld steps (%s)\n", rc == SIM_LOOP_CRASHED ? "crashed" : "no crash", n + 1, err.msg);
+    CHECK(rc == SIM_LOOP_CRASHED && strstr(err.msg, "tail_rotor_aft hit hangar") != NULL);
+    CHECK(out.step == n + 1 && (out.contact_flags & SIM_CONTACT_CRASH));
+    core_err e2 = {{0}};
+    CHECK(sim_loop_iterate(l, NULL, &e2) == SIM_LOOP_CRASHED); /* nothing more steps */
+    sim_flight_state(f, &out);
+    CHECK(out.step == n + 1);
+    CHECK(sim_loop_finish(l, &err) == 0);
+    sim_loop_destroy(l);
+    sim_flight_destroy(f);
+    /* the log as a reader sees it */
+    lcm_eventlog_t *el = lcm_eventlog_create(log, "r");
+    CHECK(el != NULL);
+    disim_heli_state_t h;
+    disim_sim_status_t st;
+    int nh = 0, ns = 0, h_ok = 0;
+    double sumN = 0.0, T = NAN, P = NAN;
+    int32_t flags = 0;
+    int8_t state = -1;
+    for (lcm_eventlog_event_t *ev; el && (ev = lcm_eventlog_read_next_event(el));) {
+        if (!strcmp(ev->channel, DISIM_CH_HELI_STATE) && disim_heli_state_t_decode(ev->data, 0, ev->datalen, &h) > 0) {
+            nh++;
+            h_ok = h.n_gear == 3 && h.on_deck && h.utime == llround(out.t_s * 1e6);
+            sumN = 0.0;
+            for (int i = 0; i < h.n_gear; i++)
+                sumN += h.gear_load_N[i];
+            T = h.rotor_thrust_N;
+            P = h.rotor_power_W;
+            disim_heli_state_t_decode_cleanup(&h);
+        } else if (!strcmp(ev->channel, DISIM_CH_SIM_STATUS) &&
+                   disim_sim_status_t_decode(ev->data, 0, ev->datalen, &st) > 0) {
+            ns++;
+            flags = st.flags;
+            state = st.state;
+            disim_sim_status_t_decode_cleanup(&st);
+        }
+        lcm_eventlog_free_event(ev);
+    }
+    if (el)
+        lcm_eventlog_destroy(el);
+    remove(log);
+    printf("  its log: %d heli_state_t, the last at the crash: legs %.3f W, thrust %.0f N, power %.0f kW; %d sim_status_t, "
+           "the last state %d flags %d\n",
+           nh, sumN / W, T, P / 1e3, ns, state, flags);
+    CHECK(nh > 0 && h_ok);
+    CHECK(fabs(sumN - (W - T)) < 0.2 * W);
+    CHECK(isfinite(T) && T != 0.0 && isfinite(P) && P > 0.0);
+    CHECK(state == DISIM_SIM_STATUS_T_STOPPED);
+    CHECK((flags & DISIM_SIM_STATUS_T_FLAG_CRASH) && (flags & DISIM_SIM_STATUS_T_FLAG_SLIDE) &&
+          (flags & DISIM_SIM_STATUS_T_FLAG_ON_DECK) && !(flags & DISIM_SIM_STATUS_T_FLAG_TIP_OVER));
+}
+
+/* The aircraft file with its tyres' friction down to mu_static 0.08,
+ * mu_dynamic 0.05 (a temporary copy). */
+static hfm_aircraft *slippery_aircraft(void)
+{
+    FILE *in = fopen(UH60, "r");
+    char path[] = "/tmp/test_flight_XXXXXX";
+    int fd = mkstemp(path);
+    FILE *out = fd >= 0 ? fdopen(fd, "w") : NULL;
+    if (!in || !out) {
+        if (in)
+            fclose(in);
+        if (out)
+            fclose(out);
+        return NULL;
+    }
+    char line[1024];
+    while (fgets(line, sizeof line, in)) {
+        if (strncmp(line, "mu_static = ", 12) == 0)
+            fputs("mu_static = 0.08\n", out);
+        else if (strncmp(line, "mu_dynamic = ", 13) == 0)
+            fputs("mu_dynamic = 0.05\n", out);
+        else
+            fputs(line, out);
+    }
+    fclose(in);
+    fclose(out);
+    core_err err = {{0}};
+    hfm_aircraft *ac = hfm_aircraft_load(path, NULL, &err);
+    if (!ac)
+        fprintf(stderr, "slippery: %s\n", err.msg);
+    remove(path);
+    return ac;
+}
+
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -349,6 +777,20 @@ int main(void)
     cfd_field_destroy(fld);
     if (fld)
         unlink(fpath);
+    test_gear_hover(ac, &ship);
+    core_ship cg47;
+    if (core_ship_load(CG47, &cg47, &err) == 0) {
+        hfm_aircraft *slip = slippery_aircraft();
+        CHECK(slip != NULL);
+        test_gear_end(ac, &cg47);
+        test_gear_loop(ac, &cg47);
+        if (!getenv("DISIM_FLIGHT_QUICK"))
+            test_deck(ac, slip, &cg47);
+        hfm_aircraft_destroy(slip);
+    } else {
+        CHECK(0);
+        fprintf(stderr, "set-up: %s\n", err.msg);
+    }
     hfm_aircraft_destroy(ac);
     return check_done("test_flight");
 }
