@@ -17,12 +17,12 @@
  * cause): a start that does not trim ("no trim"); a crash ("crash: WHAT",
  * the gear's report, or "crash: the flight model diverged"); a rejection
  * criterion exceeded at any step, judged on the attitudes in E and the
- * controls the rotor gets ("roll in descent"; shol_flown_track); the
- * task's adequate tolerances not met ("adequate tolerance: position",
- * height, heading, or time when none is exceeded at the end but the
- * helicopter was not within them by the adequate time); a landing with
- * no touchdown ("no touchdown"); a touchdown outside the adequate limits
- * ("touchdown sink" first, then "touchdown position").
+ * controls the rotor gets ("roll in descent"; shol_flown_track); a
+ * touchdown outside the adequate limits ("touchdown sink" first, then
+ * "touchdown position"); the task's adequate tolerances not met
+ * ("adequate tolerance: position", height, heading, or time when none is
+ * exceeded at the end but the helicopter was not within them by the
+ * adequate time); a landing with no touchdown ("no touchdown").
  */
 #include "shol.h"
 #include "sim.h"
@@ -197,7 +197,8 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
             sim_contact_body(&o, &b);
             sim_contact_report cr;
             if (sim_contact_step(gear, o.t_s, &b, &cr) != 0) {
-                snprintf(out->cause, sizeof out->cause, "crash: %.80s", cr.what[0] ? cr.what : "a strike on the ship");
+                snprintf(out->cause, sizeof out->cause, "%s%.80s", strncmp(cr.what, "crash", 5) ? "crash: " : "",
+                         cr.what[0] ? cr.what : "a strike on the ship");
                 crashed = 1;
             }
         }
@@ -221,13 +222,13 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
             snprintf(out->cause, sizeof out->cause, "%s in %s", shol_limit_name(k->first_crit), k->first_phase);
         else
             snprintf(out->cause, sizeof out->cause, "crash: the state is not finite");
-    } else if (t->task.kind == SIM_TASK_LAND && !r.touched)
-        snprintf(out->cause, sizeof out->cause, "%s", r.grade == 0 ? tol_cause(&t->task, &r) : "no touchdown");
-    else if (t->task.kind == SIM_TASK_LAND && r.touchdown_grade == 0)
+    } else if (t->task.kind == SIM_TASK_LAND && r.touched && r.touchdown_grade == 0)
         snprintf(out->cause, sizeof out->cause, "%s",
                  r.sink_mps > t->task.adequate.sink_mps ? "touchdown sink" : "touchdown position");
-    else if (t->task.kind != SIM_TASK_LAND && r.grade == 0)
+    else if (r.grade == 0)
         snprintf(out->cause, sizeof out->cause, "%s", tol_cause(&t->task, &r));
+    else if (t->task.kind == SIM_TASK_LAND && !r.touched)
+        snprintf(out->cause, sizeof out->cause, "no touchdown");
     out->pass = out->cause[0] == '\0';
     rc = 0;
     goto done;

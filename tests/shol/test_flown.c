@@ -1,0 +1,348 @@
+/*
+ * test_flown.c -- the flown SHOL's procedure (shol/flown.c) against a
+ * synthetic fly callback whose pass rate at each WOD point is known in
+ * closed form, the per-step criteria tracker, and the flown outputs
+ * (shol/report_flown.c, shol/plot_flown.c).
+ *
+ * The synthetic flight: at direction d a flight with seed s passes when
+ * v <= L(d) + j(s), L(d) = 12 + 6 cos(d) m/s and j(s) = 0.9 (s mod 5 - 2)
+ * m/s (five seeds spread the boundary over 3.6 m/s); a failing flight
+ * says "roll in hover" within 1.5 m/s of its boundary and "touchdown sink"
+ * beyond. The expected envelope is found by flying every grid speed from
+ * 0 (the trim-based procedure's way), which the search must reproduce
+ * with fewer flights.
+ */
+#include "check.h"
+#include "shol.h"
+
+#include <cairo.h>
+#include <fontconfig/fontconfig.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define DEG CORE_DEG_TO_RAD
+#define KMH CORE_KMH_TO_MPS
+
+typedef struct synth {
+    int calls;
+    int fatal_at;      /* call number that returns -1 (0: never) */
+    double no_trim_v;  /* speeds at or above this do not trim (INFINITY: all trim) */
+} synth;
+
+static double lim(double d) { return 12.0 + 6.0 * cos(d); }
+static double jit(unsigned long long s) { return 0.9 * ((double)(s % 5) - 2.0); }
+
+static int synth_fly(void *user, double v, double d, unsigned long long seed, shol_flight *out)
+{
+    synth *s = user;
+    s->calls++;
+    if (s->fatal_at && s->calls == s->fatal_at)
+        return -1;
+    if (v >= s->no_trim_v)
+        return 1; /* the procedure names it "no trim" */
+    double b = lim(d) + jit(seed);
+    out->flown_s = 30.0;
+    out->pass = v <= b;
+    if (!out->pass)
+        snprintf(out->cause, sizeof out->cause, "%s", v - b <= 1.5 ? "roll in hover" : "touchdown sink");
+    return 0;
+}
+
+/* The trim envelope the search starts from: three directions, radius
+ * above the flown limit at red 90 (the search steps down), below it at
+ * head (it steps up), and no pass at green 90 (it starts at 0). */
+static void make_trim(shol_result *t)
+{
+    memset(t, 0, sizeof *t);
+    shol_settings_default(&t->settings);
+    t->settings.n_dirs = 3;
+    t->settings.dirs_rad[0] = -90 * DEG;
+    t->settings.dirs_rad[1] = 0;
+    t->settings.dirs_rad[2] = 90 * DEG;
+    t->settings.speed_step_mps = 5 * KMH;
+    t->settings.speed_max_mps = 100 * KMH;
+    t->n_dirs = 3;
+    t->dirs = calloc(3, sizeof *t->dirs);
+    const double r[3] = {80 * KMH, 40 * KMH, 0};
+    for (int i = 0; i < 3; i++) {
+        t->dirs[i].dir_rad = t->settings.dirs_rad[i];
+        t->dirs[i].has_pass = i < 2;
+        t->dirs[i].max_speed_mps = r[i];
+        t->dirs[i].limit = SHOL_CRIT_PEDAL;
+    }
+}
+
+/* The expected radius: the first grid speed from 0 whose pass rate over
+ * seeds 1..n is below rmin, less one step; the flights that takes. */
+static double expect_radius(double d, int n, double rmin, double step, double vmax, int *has, int *flights)
+{
+    *has = 0;
+    double last = 0;
+    for (long k = 0; k * step <= vmax + 1e-9; k++) {
+        double v = k * step;
+        int p = 0;
+        for (int s = 1; s <= n; s++)
+            p += v <= lim(d) + jit((unsigned long long)s);
+        *flights += n;
+        if ((double)p / n < rmin - 1e-12)
+            return last;
+        *has = 1;
+        last = v;
+    }
+    return last;
+}
+
+static void test_search(void)
+{
+    shol_result t;
+    make_trim(&t);
+    shol_flown_settings fs;
+    shol_flown_settings_default(&fs);
+    fs.n_seeds = 5;
+    synth sy = {0, 0, INFINITY};
+    shol_flown_result fr;
+    core_err err = {{0}};
+    CHECK(shol_flown_run(&fs, &t, synth_fly, &sy, NULL, NULL, NULL, &fr, &err) == 0);
+    CHECK(fr.n_dirs == 3);
+    int from0 = 0;
+    for (int i = 0; i < fr.n_dirs; i++) {
+        const shol_flown_dir *d = &fr.dirs[i];
+        int has;
+        double want = expect_radius(d->dir_rad, 5, 0.8, 5 * KMH, 100 * KMH, &has, &from0);
+        printf("flown %+.0f deg: %.2f m/s (expected %.2f), first failure %.2f m/s at pass rate %.2f (%s), %d "
+               "points\n",
+               d->dir_rad / DEG, d->max_speed_mps, want, d->fail_speed_mps, d->pass_rate_fail, d->cause, d->n_points);
+        CHECK(d->has_pass == has);
+        CHECK_NEAR(d->max_speed_mps, want, 1e-9);
+        CHECK_NEAR(d->fail_speed_mps, want + 5 * KMH, 1e-9);
+        /* the point at the boundary: the pass rate from the closed form */
+        int p = 0;
+        for (int s = 1; s <= 5; s++)
+            p += d->fail_speed_mps <= lim(d->dir_rad) + jit((unsigned long long)s);
+        CHECK_NEAR(d->pass_rate_fail, p / 5.0, 1e-12);
+        CHECK(d->pass_rate_max >= 0.8);
+        CHECK(d->points[0].speed_mps <= d->max_speed_mps);
+        for (int k = 1; k < d->n_points; k++)
+            CHECK(d->points[k].speed_mps > d->points[k - 1].speed_mps);
+        for (int k = 0; k < d->n_points; k++)
+            CHECK(d->points[k].n_flights == 5 && d->points[k].n_pass <= 5);
+    }
+    /* the causes: red 90's first failure is within 1.5 m/s of the
+     * boundary of most seeds there */
+    CHECK(strcmp(fr.dirs[0].cause, "roll in hover") == 0 || strcmp(fr.dirs[0].cause, "touchdown sink") == 0);
+    /* the search starts near the trim radius: fewer flights than from 0 */
+    printf("flown search: %d flights (every grid speed from 0: %d)\n", fr.n_flights, from0);
+    CHECK(fr.n_flights == sy.calls);
+    CHECK(fr.n_flights < from0);
+    CHECK_NEAR(fr.flown_s, 30.0 * fr.n_flights, 1e-9);
+    /* red 90 started two steps below the trim's 80 km/h and stepped down;
+     * head started at 30 km/h and stepped up */
+    CHECK_NEAR(fr.dirs[0].points[fr.dirs[0].n_points - 1].speed_mps, 70 * KMH, 1e-9);
+    CHECK_NEAR(fr.dirs[1].points[0].speed_mps, 30 * KMH, 1e-9);
+    CHECK_NEAR(fr.dirs[2].points[0].speed_mps, 0.0, 1e-12);
+
+    /* the most frequent cause at a point: at a speed beyond every seed's
+     * boundary by more than 1.5 m/s, all five say touchdown sink */
+    shol_result as;
+    CHECK(shol_flown_as_result(&fr, &t, &as, &err) == 0);
+    for (int i = 0; i < 3; i++) {
+        CHECK_NEAR(as.dirs[i].max_speed_mps, fr.dirs[i].max_speed_mps, 0);
+        CHECK(as.dirs[i].limit ==
+              (!strcmp(fr.dirs[i].cause, "roll in hover") ? SHOL_CRIT_ROLL : SHOL_LIMIT_TRIM));
+    }
+    shol_result_free(&as);
+    shol_flown_result_free(&fr);
+
+    /* bisection: the bracket ends within the tolerance */
+    fs.bisect_tol_mps = 0.2;
+    sy.calls = 0;
+    CHECK(shol_flown_run(&fs, &t, synth_fly, &sy, NULL, NULL, NULL, &fr, &err) == 0);
+    for (int i = 0; i < fr.n_dirs; i++) {
+        const shol_flown_dir *d = &fr.dirs[i];
+        CHECK(d->fail_speed_mps - d->max_speed_mps <= 0.2 + 1e-12);
+        CHECK(d->fail_speed_mps > d->max_speed_mps);
+    }
+    shol_flown_result_free(&fr);
+    fs.bisect_tol_mps = 0;
+
+    /* no trim above 20 km/h: named, a failure */
+    synth nt = {0, 0, 20 * KMH};
+    CHECK(shol_flown_run(&fs, &t, synth_fly, &nt, NULL, NULL, NULL, &fr, &err) == 0);
+    CHECK_NEAR(fr.dirs[1].max_speed_mps, 15 * KMH, 1e-9);
+    CHECK(strcmp(fr.dirs[1].cause, "no trim") == 0);
+    CHECK(fr.dirs[1].pass_rate_fail == 0.0);
+    shol_flown_result_free(&fr);
+
+    /* a fatal callback error stops the run with the point named */
+    synth fa = {0, 4, INFINITY};
+    CHECK(shol_flown_run(&fs, &t, synth_fly, &fa, NULL, NULL, NULL, &fr, &err) < 0);
+    CHECK(fr.dirs == NULL && fr.n_dirs == 0);
+    CHECK(strstr(err.msg, "red 90") != NULL && strstr(err.msg, "seed 4") != NULL);
+
+    /* bad settings */
+    shol_flown_settings bad = fs;
+    bad.n_seeds = 0;
+    CHECK(shol_flown_run(&bad, &t, synth_fly, &sy, NULL, NULL, NULL, &fr, &err) < 0 && strstr(err.msg, "n_seeds"));
+    bad = fs;
+    bad.pass_rate_min = 0;
+    CHECK(shol_flown_settings_check(&bad, &err) < 0 && strstr(err.msg, "pass_rate_min"));
+    bad.pass_rate_min = NAN;
+    CHECK(shol_flown_settings_check(&bad, &err) < 0);
+    shol_result_free(&t);
+}
+
+static void test_track(void)
+{
+    shol_criteria c;
+    shol_criteria_default(&c);
+    shol_flown_track tr;
+    shol_flown_track_init(&tr, &c);
+    shol_trim_point ok = {4.9 * DEG, 2 * DEG, 50, 50, 60, 50};
+    CHECK(shol_flown_track_step(&tr, 0.0, "hover", &ok) == 0);
+    CHECK(tr.first_crit == SHOL_LIMIT_NONE);
+    CHECK_NEAR(tr.min_frac[SHOL_CRIT_ROLL], 0.1 / 5.0, 1e-12);
+    /* roll past 5 deg for one step in the descent: the first exceedance */
+    shol_trim_point roll = {-5.1 * DEG, 2 * DEG, 50, 50, 60, 50};
+    CHECK(shol_flown_track_step(&tr, 2.0, "descent", &roll) == 1);
+    CHECK(tr.first_crit == SHOL_CRIT_ROLL);
+    CHECK_NEAR(tr.first_t_s, 2.0, 0);
+    CHECK(strcmp(tr.first_phase, "descent") == 0);
+    CHECK(tr.min_frac[SHOL_CRIT_ROLL] < 0);
+    CHECK_NEAR(tr.min_t_s[SHOL_CRIT_ROLL], 2.0, 0);
+    /* a later exceedance of another criterion leaves the first one */
+    shol_trim_point ped = {0, 0, 50, 50, 60, 19};
+    CHECK(shol_flown_track_step(&tr, 3.0, "descent", &ped) == 1);
+    CHECK(tr.first_crit == SHOL_CRIT_ROLL);
+    CHECK(tr.min_frac[SHOL_CRIT_PEDAL] < 0);
+    /* the low side of a control alone */
+    shol_flown_track t2;
+    shol_flown_track_init(&t2, &c);
+    CHECK(shol_flown_track_step(&t2, 1.0, "hover", &ped) == 1 && t2.first_crit == SHOL_CRIT_PEDAL);
+    /* not finite: counted, not an exceedance */
+    shol_trim_point nan = {NAN, 0, 50, 50, 50, 50};
+    CHECK(shol_flown_track_step(&t2, 1.5, "hover", &nan) == -1);
+    CHECK(t2.n_bad == 1 && t2.n_steps == 2);
+}
+
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *b = malloc((size_t)n + 1);
+    if (b && fread(b, 1, (size_t)n, f) != (size_t)n) {
+        free(b);
+        b = NULL;
+    }
+    if (b)
+        b[n] = '\0';
+    fclose(f);
+    return b;
+}
+
+static int count_lines(const char *s)
+{
+    int n = 0;
+    for (; s && *s; s++)
+        n += *s == '\n';
+    return n;
+}
+
+static void test_outputs(void)
+{
+    shol_result t;
+    make_trim(&t);
+    shol_flown_settings fs;
+    shol_flown_settings_default(&fs);
+    fs.n_seeds = 5;
+    synth sy = {0, 0, INFINITY};
+    shol_flown_result fr;
+    core_err err = {{0}};
+    CHECK(shol_flown_run(&fs, &t, synth_fly, &sy, NULL, NULL, NULL, &fr, &err) == 0);
+    char dir[] = "/tmp/disim_test_flown_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    shol_report_info info;
+    memset(&info, 0, sizeof info);
+    info.title = "Test ship + test aircraft";
+    info.compare_label = "synthetic trim";
+    CHECK(shol_flown_write_all(dir, &fr, &t, &info, &err) == 0);
+    const char *files[] = {"shol_flown.csv", "shol_flown_points.csv", "shol_flown.json", "shol_polar_flown.png",
+                           "shol_polar_flown.svg", "report.md", "shol.csv", "shol.json"};
+    char path[700];
+    for (int i = 0; i < 8; i++) {
+        struct stat st;
+        snprintf(path, sizeof path, "%s/%s", dir, files[i]);
+        CHECK(stat(path, &st) == 0 && st.st_size > 0);
+    }
+    snprintf(path, sizeof path, "%s/shol_flown.csv", dir);
+    char *csv = slurp(path);
+    CHECK(csv && !strncmp(csv, "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,"
+                               "pass_rate_at_fail,cause,trim_max_speed_kt,trim_limit\n",
+                          strlen("wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,"
+                                 "pass_rate_at_fail,cause,trim_max_speed_kt,trim_limit\n")));
+    CHECK(count_lines(csv) == 1 + fr.n_dirs);
+    /* head's row: its radius in kt and km/h, its cause quoted, the trim's 40 km/h */
+    char row[256];
+    const shol_flown_dir *h = &fr.dirs[1];
+    snprintf(row, sizeof row, "\n0.0,%.2f,%.1f,", h->max_speed_mps / CORE_KT_TO_MPS, h->max_speed_mps / KMH);
+    CHECK(csv && strstr(csv, row) != NULL);
+    snprintf(row, sizeof row, ",\"%s\",%.2f,pedal\n", h->cause, 40 * KMH / CORE_KT_TO_MPS);
+    CHECK(csv && strstr(csv, row) != NULL);
+    free(csv);
+    snprintf(path, sizeof path, "%s/shol_flown_points.csv", dir);
+    char *pts = slurp(path);
+    int npts = 0;
+    for (int i = 0; i < fr.n_dirs; i++)
+        npts += fr.dirs[i].n_points;
+    CHECK(pts && !strncmp(pts, "wod_dir_deg,speed_kt,speed_kmh,flights,passed,pass_rate,pass,cause\n", 66));
+    CHECK(count_lines(pts) == 1 + npts);
+    free(pts);
+    snprintf(path, sizeof path, "%s/report.md", dir);
+    char *md = slurp(path);
+    CHECK(md && strstr(md, "## Direction by direction") && strstr(md, "![flown over trim-based](shol_polar_flown.png)"));
+    snprintf(row, sizeof row, "| head | %.1f | pedal | %.1f |", 40 * KMH / CORE_KT_TO_MPS,
+             h->max_speed_mps / CORE_KT_TO_MPS);
+    CHECK(md && strstr(md, row) != NULL);
+    free(md);
+    snprintf(path, sizeof path, "%s/shol_flown.json", dir);
+    char *js = slurp(path);
+    CHECK(js && strstr(js, "\"method\": \"pilot\"") && strstr(js, "\"seeds\": 5"));
+    free(js);
+    /* the PNG: a valid image of the plot's size */
+    snprintf(path, sizeof path, "%s/shol_polar_flown.png", dir);
+    cairo_surface_t *img = cairo_image_surface_create_from_png(path);
+    CHECK(cairo_surface_status(img) == CAIRO_STATUS_SUCCESS && cairo_image_surface_get_width(img) == 1000);
+    cairo_surface_destroy(img);
+    /* a speed that is not finite is refused and leaves no file */
+    fr.dirs[0].points[0].speed_mps = NAN;
+    char dir2[600];
+    snprintf(dir2, sizeof dir2, "%s/bad", dir);
+    CHECK(shol_flown_plot_polar(dir2, &fr, &t, &info, &err) < 0 && strstr(err.msg, "not finite"));
+    snprintf(path, sizeof path, "%s/shol_polar_flown.png", dir2);
+    CHECK(access(path, F_OK) != 0);
+    for (int i = 0; i < 8; i++) {
+        snprintf(path, sizeof path, "%s/%s", dir, files[i]);
+        unlink(path);
+    }
+    rmdir(dir2);
+    rmdir(dir);
+    shol_flown_result_free(&fr);
+    shol_result_free(&t);
+}
+
+int main(void)
+{
+    test_track();
+    test_search();
+    test_outputs();
+    cairo_debug_reset_static_data();
+    FcFini();
+    return check_done("test_flown");
+}

@@ -1,0 +1,171 @@
+/*
+ * test_fly_task.c -- one task flown for the flown SHOL (sim/fly_task.c):
+ * the UH-60A's landing on the CG-47's spot in the free stream (no field:
+ * small and fast), judged as shol/flown.c judges a point. Each case
+ * changes one thing the verdict depends on and checks the cause named:
+ * a calm landing passes; a criterion no trim can meet fails at the first
+ * step of the hover; a sink limit below the descent rate fails at the
+ * touchdown; a start too far from the spot for the adequate time fails
+ * the adequate position tolerance and never lands; a start with the rotor
+ * in the hangar is a crash with what hit what; a wind no hover trims in
+ * is "no trim"; the seeds of the sea state change the flight and the same
+ * seed gives the same one.
+ */
+#include "check.h"
+#include "sim.h"
+#include "shol.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define AC "scenarios/aircraft/uh60a.ini"
+#define SHIP "scenarios/ships/cg47.ini"
+#define LAND "scenarios/tasks/land_uh60a.ini"
+#define DEG CORE_DEG_TO_RAD
+
+static const hfm_aircraft *ac;
+static core_ship ship;
+static shol_criteria crit;
+
+static int fly(const sim_task *task, const shol_criteria *c, const double station[3], int sea_state, double v_mps,
+               double dir_rad, unsigned long long seed, shol_flight *out, sim_fly_task_last *last)
+{
+    sim_fly_task_opts o;
+    sim_fly_task_opts_default(&o);
+    o.sea.state = sea_state;
+    memcpy(o.station_S_m, station, sizeof o.station_S_m);
+    core_err err = {{0}};
+    sim_fly_task *t = sim_fly_task_create(ac, &ship, task, c, &o, NULL, &err);
+    if (!t) {
+        fprintf(stderr, "fly_task_create: %s\n", err.msg);
+        return -9;
+    }
+    int rc = sim_fly_task_run(t, v_mps, dir_rad, seed, NULL, out);
+    if (rc != 0)
+        printf("  (run %d: %s)\n", rc, sim_fly_task_last_error(t));
+    if (last)
+        sim_fly_task_last_get(t, last);
+    sim_fly_task_destroy(t);
+    return rc;
+}
+
+static void show(const char *what, int rc, const shol_flight *f)
+{
+    printf("%s: rc %d, %s%s%s, %.2f s flown, sink %.3f m/s, %.3f m from the spot, grade %d, %ld steps judged\n", what,
+           rc, f->pass ? "pass" : "fail", f->pass ? "" : ": ", f->cause, f->flown_s, f->sink_mps, f->dist_m, f->grade,
+           f->track.n_steps);
+}
+
+/* A task file written beside the test from the landing task with one
+ * section's keys replaced. */
+static int write_task(const char *path, const char *desired, const char *adequate)
+{
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return -1;
+    fprintf(f, "[task]\ntype = land\ntarget_S_m = 0,0,-6\nheading_deg = 0\nduration_s = 10\ntouchdown_height_m = "
+               "2.22\ndescent_mps = 0.5\n\n[desired]\n%s\n\n[adequate]\n%s\n",
+            desired, adequate);
+    return fclose(f);
+}
+
+int main(void)
+{
+    setvbuf(stdout, NULL, _IOLBF, 0);
+    core_err err = {{0}};
+    hfm_aircraft *a = hfm_aircraft_load(AC, NULL, &err);
+    CHECK(a != NULL);
+    if (!a) {
+        fprintf(stderr, "%s\n", err.msg);
+        return check_done("test_fly_task");
+    }
+    ac = a;
+    CHECK(core_ship_load(SHIP, &ship, &err) == 0);
+    CHECK(shol_criteria_load(AC, &crit, &err) == 0);
+    sim_task land;
+    CHECK(sim_task_load(LAND, &land, &err) == 0);
+    const double spot[3] = {0, 0, -6};
+
+    /* 1. Calm air, calm sea: the landing passes, touchdown on the spot. */
+    shol_flight f;
+    sim_fly_task_last last;
+    int rc = fly(&land, &crit, spot, 0, 0.0, 0.0, 1, &f, &last);
+    show("calm", rc, &f);
+    CHECK(rc == 0 && f.pass && f.cause[0] == '\0');
+    CHECK(last.result.touched && f.sink_mps > 0 && f.sink_mps <= land.adequate.sink_mps);
+    CHECK(f.dist_m <= land.adequate.pos_m);
+    CHECK(f.track.first_crit == SHOL_LIMIT_NONE && f.track.n_bad == 0);
+    /* every step judged: the start and each step flown */
+    CHECK(labs(f.track.n_steps - (lround(f.flown_s * 200.0) + 1)) <= 1);
+    for (int i = 0; i < SHOL_NCRIT; i++)
+        CHECK(f.track.min_frac[i] > 0 && f.track.min_frac[i] <= 1);
+
+    /* 2. A pitch limit below the hover's trimmed pitch: the first step. */
+    shol_criteria tight = crit;
+    tight.pitch_max_rad = fmax(0.0, fabs(last.end.euler_E_rad[1]) - 0.5 * DEG);
+    rc = fly(&land, &tight, spot, 0, 0.0, 0.0, 1, &f, NULL);
+    show("pitch limit below the trim", rc, &f);
+    CHECK(rc == 0 && !f.pass && strcmp(f.cause, "pitch in hover") == 0);
+    CHECK(f.track.first_crit == SHOL_CRIT_PITCH && f.track.first_t_s < 0.1);
+    CHECK(f.flown_s < 0.1); /* the flight stops at its first exceedance */
+
+    /* 3. A sink limit below the descent's 0.5 m/s: the touchdown. */
+    char path[] = "/tmp/disim_test_fly_task_XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0);
+    if (fd >= 0)
+        close(fd);
+    sim_task t3;
+    CHECK(write_task(path, "pos_m = 1\nheight_m = 1\nheading_deg = 5\ntime_s = 15\nsink_mps = 0.1",
+                     "pos_m = 2\nheight_m = 2\nheading_deg = 10\ntime_s = 20\nsink_mps = 0.2") == 0);
+    CHECK(sim_task_load(path, &t3, &err) == 0);
+    rc = fly(&t3, &crit, spot, 0, 0.0, 0.0, 1, &f, NULL);
+    show("sink limit 0.2 m/s", rc, &f);
+    CHECK(rc == 0 && !f.pass && strcmp(f.cause, "touchdown sink") == 0 && f.sink_mps > 0.2);
+
+    /* 4. 12 m to starboard of the spot with 1 s to be within 2 m: the
+     * adequate position tolerance; the descent never starts. */
+    CHECK(write_task(path, "pos_m = 1\nheight_m = 1\nheading_deg = 5\ntime_s = 0.5\nsink_mps = 1",
+                     "pos_m = 2\nheight_m = 2\nheading_deg = 10\ntime_s = 1\nsink_mps = 2") == 0);
+    CHECK(sim_task_load(path, &t3, &err) == 0);
+    const double off[3] = {0, 12, -6};
+    shol_criteria loose = {90 * DEG, 90 * DEG, 100, 100, 100, 100}; /* none can be exceeded */
+    rc = fly(&t3, &loose, off, 0, 0.0, 0.0, 1, &f, &last);
+    show("12 m off, 1 s", rc, &f);
+    CHECK(rc == 0 && !f.pass && strcmp(f.cause, "adequate tolerance: position") == 0);
+    CHECK(last.result.grade == 0);
+    unlink(path);
+
+    /* 5. The rotor in the hangar (its face 10 m ahead of the spot, 7 m
+     * high) at the start: a crash naming what hit what. */
+    const double hangar[3] = {4, 0, -3};
+    rc = fly(&land, &loose, hangar, 0, 0.0, 0.0, 1, &f, NULL);
+    show("rotor in the hangar", rc, &f);
+    CHECK(rc == 0 && !f.pass && strcmp(f.cause, "crash: rotor_fwd hit hangar") == 0);
+
+    /* 6. 100 m/s (194 kt) from green 90: no hover trims in it. */
+    rc = fly(&land, &loose, spot, 0, 100.0, 90 * DEG, 1, &f, NULL);
+    show("100 m/s from green 90", rc, &f);
+    CHECK(rc == 1 && !f.pass && strcmp(f.cause, "no trim") == 0);
+
+    /* 7. Sea state 4: the seed moves the deck, the same seed repeats. */
+    shol_flight s1, s1b, s2;
+    int r1 = fly(&land, &crit, spot, 4, 0.0, 0.0, 1, &s1, NULL), r1b = fly(&land, &crit, spot, 4, 0.0, 0.0, 1, &s1b, NULL),
+        r2 = fly(&land, &crit, spot, 4, 0.0, 0.0, 2, &s2, NULL);
+    show("sea state 4, seed 1", r1, &s1);
+    show("sea state 4, seed 2", r2, &s2);
+    CHECK(r1 == 0 && r1b == 0 && r2 == 0);
+    CHECK(s1.flown_s == s1b.flown_s && s1.sink_mps == s1b.sink_mps && !strcmp(s1.cause, s1b.cause));
+    CHECK(s1.flown_s != s2.flown_s || s1.sink_mps != s2.sink_mps);
+
+    /* bad options */
+    sim_fly_task_opts o;
+    sim_fly_task_opts_default(&o);
+    o.rate_hz = 1;
+    CHECK(sim_fly_task_create(ac, &ship, &land, &crit, &o, NULL, &err) == NULL && strstr(err.msg, "rate"));
+    hfm_aircraft_destroy(a);
+    return check_done("test_fly_task");
+}
