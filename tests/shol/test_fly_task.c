@@ -102,6 +102,8 @@ int main(void)
     CHECK(labs(f.track.n_steps - (lround(f.flown_s * 200.0) + 1)) <= 1);
     for (int i = 0; i < SHOL_NCRIT; i++)
         CHECK(f.track.min_frac[i] > 0 && f.track.min_frac[i] <= 1);
+    shol_flight f1 = f;
+    sim_fly_task_last last1 = last;
 
     /* 2. A pitch limit below the hover's trimmed pitch: the first step. */
     shol_criteria tight = crit;
@@ -111,6 +113,33 @@ int main(void)
     CHECK(rc == 0 && !f.pass && strcmp(f.cause, "pitch in hover") == 0);
     CHECK(f.track.first_crit == SHOL_CRIT_PITCH && f.track.first_t_s < 0.1);
     CHECK(f.flown_s < 0.1); /* the flight stops at its first exceedance */
+
+    /* 2b. Mid-flight: the criterion whose worst margin came latest in the
+     * calm landing, its limit set just inside that worst value, is
+     * exceeded there, not at the start, and named with its phase. */
+    int late = -1;
+    for (int i = 0; i < SHOL_NCRIT; i++)
+        if (f1.track.min_t_s[i] > 1.0 && (late < 0 || f1.track.min_t_s[i] > f1.track.min_t_s[late]))
+            late = i;
+    CHECK(late >= 0);
+    if (late >= 0) {
+        shol_criteria mid = crit;
+        double *lims[SHOL_NCRIT] = {&mid.roll_max_rad, &mid.pitch_max_rad, &mid.long_cyclic_pct,
+                                    &mid.lat_cyclic_pct, &mid.collective_pct, &mid.pedal_pct};
+        /* the limit that puts the worst value 1 % of the half-band outside */
+        double band = late < 2 ? *lims[late] : *lims[late] - 50.0;
+        double worst = band * (1.0 - f1.track.min_frac[late]); /* |angle| or |c - 50| there */
+        *lims[late] = (late < 2 ? 0.0 : 50.0) + worst - 0.01 * band;
+        rc = fly(&land, &mid, spot, 0, 0.0, 0.0, 1, &f, NULL);
+        show("a limit just inside the calm landing's worst", rc, &f);
+        char want[64];
+        snprintf(want, sizeof want, "%s in %s", shol_limit_name(late),
+                 f1.track.min_t_s[late] >= last1.result.t_descent_s ? "descent" : "hover");
+        printf("  worst %s at %.2f s (descent from %.2f s): expected '%s'\n", shol_limit_name(late),
+               f1.track.min_t_s[late], last1.result.t_descent_s, want);
+        CHECK(rc == 0 && !f.pass && strcmp(f.cause, want) == 0);
+        CHECK(f.track.first_t_s > 0.5 && f.track.first_t_s <= f1.track.min_t_s[late] + 1e-9);
+    }
 
     /* 3. A sink limit below the descent's 0.5 m/s: the touchdown. */
     char path[] = "/tmp/disim_test_fly_task_XXXXXX";
