@@ -699,16 +699,27 @@ static void test_db_fly(const char *disim)
     CHECK(rc == 0);
     CHECK(strstr(out, "the coupled rotor interaction near the station (the database's coupled field of 73000 N, hub "
                       "(0.05, 0.00, -7.90)") != NULL);
-    /* the CSV's last column, air_flags: the interaction flown at every row */
+    /* the CSV's air_flags column (found by its header): the interaction
+     * flown at every row */
     f = fopen(csv, "r");
-    int rows = 0, flagged = 0;
-    char line[1024];
+    int rows = 0, flagged = 0, col = -1;
+    char line[2048];
     while (f && fgets(line, sizeof line, f)) {
-        const char *c = strrchr(line, ',');
-        if (!c || rows++ == 0)
-            continue;
-        flagged += (atoi(c + 1) & SIM_AIR_INTERACTION) != 0;
+        line[strcspn(line, "\n")] = '\0';
+        char *tok = line;
+        for (int i = 0; tok; i++) { /* the fields, empty ones included */
+            char *next = strchr(tok, ',');
+            if (next)
+                *next++ = '\0';
+            if (rows == 0 && !strcmp(tok, "air_flags"))
+                col = i;
+            if (rows > 0 && i == col)
+                flagged += (atoi(tok) & SIM_AIR_INTERACTION) != 0;
+            tok = next;
+        }
+        rows++;
     }
+    CHECK(col >= 0);
     if (f)
         fclose(f);
     printf("disim fly: %d of %d rows with the interaction's flag\n", flagged, rows - 1);
