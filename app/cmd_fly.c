@@ -43,7 +43,7 @@ static void usage_fly(void)
                     "                  [--ship-speed-kt U] [--seed N] [--no-turbulence] [--start hover|deck] [--no-gear]\n"
                     "                  [--lcm URL | --no-lcm] [--log FILE] [--replay-inputs LOG]\n"
                     "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N]\n"
-                    "                  [--pilot auto --task FILE]  (headless, as fast as it can)\n"
+                    "                  [--pilot auto --task FILE [--task-result PREFIX]]  (headless, as fast as it can)\n"
                     "                  [--pilot replay LOG [--feed-controls]]  (headless: LOG's run re-flown)\n");
 }
 
@@ -53,6 +53,7 @@ typedef struct fly_args {
     double duration_s, rate_hz, csv_rate_hz, speed_kt, dir_deg, wave_dir_deg, ship_speed_kt, seed;
     double hold_after_s, state_rate_hz;
     const char *pilot, *task; /* --pilot auto --task FILE: the automated pilot flies */
+    const char *task_result;  /* --task-result PREFIX: PREFIX.csv and PREFIX.json (sim_task_result_write) */
     int duration_set;
     int gear, start_deck;     /* the aircraft's [gear] on the deck (--no-gear: 0); --start deck */
     const char *replay_log;   /* --pilot replay LOG: the replay pilot re-flies LOG (sim/pilot_replay.c) */
@@ -161,6 +162,8 @@ static int fly_parse(int argc, char **argv, fly_args *o)
             o->pilot = argv[++i];
         else if (!strcmp(a, "--task") && more)
             o->task = argv[++i];
+        else if (!strcmp(a, "--task-result") && more)
+            o->task_result = argv[++i];
         else if (a[0] != '-' && !o->scen)
             o->scen = a;
         else {
@@ -178,6 +181,10 @@ static int fly_parse(int argc, char **argv, fly_args *o)
     if ((o->pilot || o->task || o->feed_controls) && !auto_ok && !replay_ok) {
         fprintf(stderr, "disim fly: --pilot '%s': expected --pilot auto with --task FILE, or --pilot replay LOG "
                         "[--feed-controls]\n", o->pilot ? o->pilot : "");
+        return 1;
+    }
+    if (o->task_result && !auto_ok) {
+        fprintf(stderr, "disim fly: --task-result: expected --pilot auto with --task FILE\n");
         return 1;
     }
     if (o->pilot && (o->lcm == 1 || o->log || o->replay || o->stations)) {
@@ -472,8 +479,10 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
     memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
     if (o->has_start) /* --pilot replay: where the replayed run starts */
         memcpy(fo.station_S_m, o->start_S_m, sizeof fo.station_S_m);
-    if (o->pilot)
-        fo.sas = 0; /* the automated pilot's gains are the bare airframe's (sim/pilot_auto.c) */
+    if (o->task && sim_task_start_S(o->task, &sc->ship, fo.station_S_m, err) != 0)
+        goto fail; /* --pilot auto: a phase task starts at its first point */
+    if (o->pilot && strcmp(o->pilot, "auto"))
+        fo.sas = 0; /* the replay pilot's gains are the bare airframe's; the automated pilot flies the SAS */
     /* the ship in a seaway (its own seed stream: the turbulence's + 1) */
     sim_sea sea;
     sim_sea_default(&sea);
@@ -521,13 +530,14 @@ static int fly_auto(fly_ctx *c, core_err *err)
     const fly_args *o = c->o;
     fly_world *w = &c->w;
     sim_task task;
-    if (sim_task_load(o->task, &task, err) != 0)
+    if (sim_task_load_ship(o->task, &w->sc->ship, &task, err) != 0)
         return -1;
     sim_pilot_auto_opts po;
     sim_pilot_auto_opts_default(&po);
     po.rate_hz = o->rate_hz;
     po.wod_speed_mps = w->speed_mps;
     po.wod_dir_rad = w->dir_rad;
+    po.sas = sim_sas_engaged(sim_flight_sas(w->fl)); /* its gains know the SAS the flight has */
     sim_flight_inputs in;
     sim_flight_trim_inputs(w->fl, &in);
     sim_pilot_auto *p = sim_pilot_auto_create(w->ac, &task, &po, &in, c->log, err);
@@ -552,7 +562,7 @@ static int fly_auto(fly_ctx *c, core_err *err)
     for (long s = 0; s < n && !fly_stop; s++) {
         sim_pilot_auto_step(p, &out, &in);
         sim_pilot_auto_result(p, &r);
-        if (r.touched) /* the landing task ends at touchdown */
+        if (r.done) /* the task is over: settled on the deck (gear), touched down, its last hold flown */
             break;
         int st = sim_flight_step(w->fl, &in, &out, err);
         if (st < 0)
@@ -574,6 +584,20 @@ static int fly_auto(fly_ctx *c, core_err *err)
     if (traj_commit(&csv, err) != 0)
         goto out;
     sim_pilot_auto_result(p, &r);
+    /* the task's result: --task-result PREFIX, else beside --csv (OUT_task.csv, .json) */
+    char res[2][1100], pre[1024] = "";
+    if (o->task_result)
+        snprintf(pre, sizeof pre, "%s", o->task_result);
+    else if (o->csv)
+        snprintf(pre, sizeof pre, "%.*s_task", (int)(strlen(o->csv) - (strlen(o->csv) > 4 &&
+                 !strcmp(o->csv + strlen(o->csv) - 4, ".csv") ? 4 : 0)), o->csv);
+    if (pre[0]) {
+        snprintf(res[0], sizeof res[0], "%s.csv", pre);
+        snprintf(res[1], sizeof res[1], "%s.json", pre);
+        if (sim_task_result_write(&task, &r, res[0], res[1], err) != 0)
+            goto out;
+        fprintf(stderr, "fly: the task's result in %s and %s\n", res[0], res[1]);
+    }
     if (task.kind == SIM_TASK_LAND && r.touched)
         fprintf(stderr, "fly: touchdown %s at %.2f s (descent from %.2f s): sink %.2f m/s, drift %.2f m/s, %.2f m from "
                         "the spot\n",

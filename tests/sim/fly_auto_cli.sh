@@ -3,8 +3,10 @@
 # headless (sim/pilot_auto.c): the station-keeping task moved 3 m to
 # starboard of the scenario's hover is met (desired) and the CSV ends
 # within 1 m of the target; the landing task in sea state 4 touches down
-# within its desired tolerances; bad flags and a bad task file are refused,
-# naming what, with nothing written.
+# within its desired tolerances; the port-side deck landing starts
+# alongside, lands within 1 m below 2 m/s and writes its result (CSV,
+# JSON) beside the trajectory or at --task-result; bad flags and a bad
+# task file are refused, naming what, with nothing written.
 # Usage: fly_auto_cli.sh DISIM SOURCE_DIR
 set -u
 disim=$1 src=$2
@@ -26,6 +28,25 @@ tail -1 "$tmp/auto.csv" | awk -F, '{d = ($3 - 3) * ($3 - 3) + $2 * $2; exit !(d 
 # the landing task in sea state 4: the run ends at touchdown, within the desired touchdown tolerances
 "$disim" fly $args --sea-state 4 --pilot auto --task "$src/scenarios/tasks/land_uh60a.ini" 2> "$tmp/land.log" \
     && grep -q "touchdown desired at" "$tmp/land.log" && ok || { bad "the landing was not within desired"; cat "$tmp/land.log"; }
+# the port-side deck landing (scenarios/tasks/land_port.ini) in sea state 4 and 25 kt: it starts alongside
+# to port (the first CSV row 10 m outboard of the CG-47's deck edge at y = -7 m), touches down within 1 m
+# of the spot below 2 m/s, and the task's result is written beside the CSV as CSV and JSON
+"$disim" fly "$src/scenarios/cg47_uh60a.ini" --wod-speed-kt 25 --wod-dir-deg 0 --db "$tmp/db" --sea-state 4 \
+    --pilot auto --task "$src/scenarios/tasks/land_port.ini" --csv "$tmp/port.csv" 2> "$tmp/port.log" && ok \
+    || { bad "the port-side landing failed"; cat "$tmp/port.log"; }
+sed -n 2p "$tmp/port.csv" | awk -F, '{exit !($3 > -17.5 && $3 < -16.5)}' && ok \
+    || { bad "the port-side landing did not start alongside"; sed -n 2p "$tmp/port.csv"; }
+[ -f "$tmp/port_task.csv" ] && [ -f "$tmp/port_task.json" ] && ok || bad "no task result beside the CSV"
+awk -F, 'NR == 1 {for (i = 1; i <= NF; i++) c[$i] = i} NR == 2 {s = $c["sink_mps"]; d = $c["dist_spot_m"];
+    exit !(s > 0 && s < 2 && d < 1 && $c["touched"] == 1 && $c["descent_grade"] != "")}' "$tmp/port_task.csv" && ok \
+    || { bad "the result CSV: not down within 1 m below 2 m/s"; cat "$tmp/port_task.csv"; }
+grep -q '"sink_mps": ' "$tmp/port_task.json" && grep -q '"name": "traverse"' "$tmp/port_task.json" && ok \
+    || bad "the result JSON lacks the sink rate or the traverse phase"
+ls "$tmp"/*.tmp* > /dev/null 2>&1 && bad "a temporary file was left" || ok
+"$disim" fly $args --pilot auto --task "$tmp/task.ini" --duration 2 --task-result "$tmp/named" 2> /dev/null \
+    && [ -f "$tmp/named.csv" ] && [ -f "$tmp/named.json" ] && ok || bad "--task-result PREFIX wrote no PREFIX.csv, .json"
+"$disim" fly $args --task-result "$tmp/x" 2> "$tmp/e5.log" && bad "--task-result without --pilot auto accepted" \
+    || { grep -q "task-result: expected --pilot auto" "$tmp/e5.log" && ok || bad "--task-result: no reason"; }
 # refused: another pilot, no task, LCM, a bad task file (its line named)
 "$disim" fly $args --pilot replay --task "$tmp/task.ini" 2> "$tmp/e1.log" && bad "--pilot replay accepted" \
     || { grep -q "expected --pilot auto with --task FILE" "$tmp/e1.log" && ok || bad "--pilot replay: no reason"; }
