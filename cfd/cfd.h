@@ -298,6 +298,10 @@ void cfd_field_destroy(cfd_field *f);
 /* Trilinear interpolation of all variables (cell centres; clamped at the
  * domain edges). Returns 1 if pos is outside the domain (clamped values). */
 int cfd_field_sample(const cfd_field *f, const double pos_S_m[3], double out[CFD_NVARS]);
+/* The same for the nvar variables vars[0..nvar-1] (CFD_VAR_*) only, into
+ * out[0..nvar-1]: the bits cfd_field_sample gives them. Returns as
+ * cfd_field_sample, -1 for a variable out of range. */
+int cfd_field_sample_vars(const cfd_field *f, const double pos_S_m[3], const int *vars, int nvar, double *out);
 /* The flight model's air callback: user is a cfd_field*. 0 inside, 1 outside
  * the domain (clamped velocity). */
 int cfd_field_air(void *user, const double pos_S_m[3], double t_s, double vel_S_mps[3]);

@@ -566,6 +566,23 @@ int cfd_field_sample(const cfd_field *f, const double pos[3], double out[CFD_NVA
     return outside;
 }
 
+int cfd_field_sample_vars(const cfd_field *f, const double pos[3], const int *vars, int nvar, double *out)
+{
+    double *arr[CFD_NVARS];
+    if (nvar < 0 || nvar > CFD_NVARS)
+        return -1;
+    for (int i = 0; i < nvar; i++) {
+        if (vars[i] < 0 || vars[i] >= CFD_NVARS)
+            return -1;
+        arr[i] = f->var[vars[i]];
+    }
+    cfd_sample_arrays(f->g, arr, nvar, pos, out);
+    int outside = 0;
+    for (int d = 0; d < 3; d++)
+        outside |= pos[d] < f->g->xn[d][0] || pos[d] > f->g->xn[d][f->g->n[d]];
+    return outside;
+}
+
 int cfd_field_air(void *user, const double pos[3], double t_s, double vel[3])
 {
     (void)t_s; /* a steady field */

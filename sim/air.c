@@ -136,23 +136,29 @@ static void free_stream_S(const sim_air *a, const double p_S[3], double v_S[3])
         v_S[i] = f * a->wind_S[i];
 }
 
-/* One source's air in S and its k and epsilon; 1 when it is the free
- * stream (no field, or outside it: k = epsilon = 0). */
-static int src_S(const sim_air *a, const air_src *s, const double p_S[3], double v_S[3], double ke[2])
+/* The field's variables the air needs, in this order: nvar = 3 the
+ * velocity, 4 with k, 5 with epsilon too (the rest is not sampled). */
+static const int air_vars[5] = {CFD_VAR_U, CFD_VAR_V, CFD_VAR_W, CFD_VAR_K, CFD_VAR_EPS};
+
+/* One source's air in S and (nvar >= 4) its k and (5) epsilon; 1 when it
+ * is the free stream (no field, or outside it: k = epsilon = 0). */
+static int src_S(const sim_air *a, const air_src *s, const double p_S[3], double v_S[3], double ke[2], int nvar)
 {
+    ke[0] = ke[1] = 0.0;
     if (s->f) {
-        double o[CFD_NVARS];
-        if (cfd_field_sample(s->f, p_S, o) == 0) {
-            v_S[0] = s->scale * o[CFD_VAR_U];
-            v_S[1] = s->scale * o[CFD_VAR_V];
-            v_S[2] = s->scale * o[CFD_VAR_W];
-            ke[0] = s->scale * s->scale * fmax(o[CFD_VAR_K], 0.0);
-            ke[1] = s->scale * s->scale * s->scale * fmax(o[CFD_VAR_EPS], 0.0);
+        double o[5];
+        if (cfd_field_sample_vars(s->f, p_S, air_vars, nvar, o) == 0) {
+            v_S[0] = s->scale * o[0];
+            v_S[1] = s->scale * o[1];
+            v_S[2] = s->scale * o[2];
+            if (nvar > 3)
+                ke[0] = s->scale * s->scale * fmax(o[3], 0.0);
+            if (nvar > 4)
+                ke[1] = s->scale * s->scale * s->scale * fmax(o[4], 0.0);
             return 0;
         }
     }
     free_stream_S(a, p_S, v_S);
-    ke[0] = ke[1] = 0.0;
     return 1;
 }
 
@@ -167,11 +173,12 @@ int sim_air_mean_S(const sim_air *a, const double p_S[3], double t_s, double v_S
                    double *eps_m2ps3)
 {
     double ke[2];
-    int free_cur = src_S(a, &a->cur, p_S, v_S, ke);
+    int nvar = eps_m2ps3 ? 5 : k_m2ps2 ? 4 : 3;
+    int free_cur = src_S(a, &a->cur, p_S, v_S, ke, nvar);
     double w = sim_air_blend(a, t_s);
     if (w < 1.0) {
         double vo[3], keo[2];
-        src_S(a, &a->old, p_S, vo, keo);
+        src_S(a, &a->old, p_S, vo, keo, nvar);
         for (int i = 0; i < 3; i++)
             v_S[i] = w * v_S[i] + (1.0 - w) * vo[i];
         for (int i = 0; i < 2; i++)
@@ -188,8 +195,8 @@ int sim_air_mean_S(const sim_air *a, const double p_S[3], double t_s, double v_S
 
 int sim_air_sample_S(const sim_air *a, const double p_S[3], double t_s, double v_S[3])
 {
-    double k;
-    int rc = sim_air_mean_S(a, p_S, t_s, v_S, &k, NULL);
+    double k = 0.0;
+    int rc = sim_air_mean_S(a, p_S, t_s, v_S, a->turb ? &k : NULL, NULL);
     if (a->turb && k > 0.0) {
         double g[3];
         if (sim_turb_sample(a->turb, p_S, k, g) == 0)

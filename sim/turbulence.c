@@ -110,7 +110,8 @@ struct sim_turb {
     double *state;            /* lanes * 5: the newest row's filter states */
     double *noise;            /* lanes * 5: a row's driving noise */
     double h_s, h_y;          /* steps ds/L, dy/L of the coefficients below */
-    turb_d1 s1, y1;
+    double coef_L;            /* the L of s1, s2, y1, y2 (0: none yet) */
+    turb_d1 s1, y1;           /* drawn when a row is (filter_coefs) */
     turb_d2 s2, y2;
     double rho_s[3], rho_y[3]; /* row-to-row and lane-to-lane correlation per component */
     long relays;
@@ -223,6 +224,10 @@ static double corr_g(double h)
     return (1.0 - 0.5 * h) * exp(-h);
 }
 
+/* The scale L of the steps from now on: the correlations the sampling
+ * needs at once; the filters' coefficients when a row is next drawn (L
+ * follows the reference point's k and epsilon and changes at nearly every
+ * step, rows come every few steps). */
 static void set_scales(sim_turb *t, double L)
 {
     if (L == t->length_m)
@@ -230,16 +235,24 @@ static void set_scales(sim_turb *t, double L)
     t->length_m = L;
     t->h_s = t->o.ds_m / L;
     t->h_y = t->o.dy_m / L;
-    t->s1 = d1_make(t->h_s);
-    t->s2 = d2_make(t->h_s);
-    t->y1 = d1_make(t->h_y);
-    t->y2 = d2_make(t->h_y);
     t->rho_s[0] = corr_f(t->h_s); /* u along the wind: longitudinal */
     t->rho_s[1] = corr_g(t->h_s);
     t->rho_s[2] = corr_g(t->h_s);
     t->rho_y[0] = corr_g(t->h_y); /* v across the wind: longitudinal */
     t->rho_y[1] = corr_f(t->h_y);
     t->rho_y[2] = corr_g(t->h_y);
+}
+
+/* The filters' coefficients for the current L (before drawing a row). */
+static void filter_coefs(sim_turb *t)
+{
+    if (t->coef_L == t->length_m)
+        return;
+    t->coef_L = t->length_m;
+    t->s1 = d1_make(t->h_s);
+    t->s2 = d2_make(t->h_s);
+    t->y1 = d1_make(t->h_y);
+    t->y2 = d2_make(t->h_y);
 }
 
 /* --------------------------------------------------------------- the field */
@@ -274,6 +287,7 @@ static void lanes_g(sim_turb *t, double *out)
 /* A row's driving noise: u's stream, v's two, w's two. */
 static void draw_noise(sim_turb *t)
 {
+    filter_coefs(t);
     lanes_g(t, t->noise + 0);
     lanes_f(t, t->noise + 1);
     lanes_f(t, t->noise + 2);
@@ -461,6 +475,7 @@ void sim_turb_reset(sim_turb *t, uint64_t seed)
     seed_rng(t, seed);
     t->laid = 0;
     t->length_m = 0.0;
+    t->coef_L = 0.0;
     t->conv_mps = 0.0;
     t->X_m = 0.0;
     t->relays = 0;
@@ -561,9 +576,9 @@ int sim_turb_sample(const sim_turb *t, const double pos_S_m[3], double k_m2ps2, 
         j0 = (int)floor(fl);
         fy = fl - j0;
     }
-    size_t stride = (size_t)t->lanes * 3;
-    const double *r0 = t->rows + ring(t, n0) * stride + (size_t)j0 * 3;
-    const double *r1 = t->rows + ring(t, n0 + 1) * stride + (size_t)j0 * 3;
+    size_t stride = (size_t)t->lanes * 3, i0 = ring(t, n0), i1 = i0 + 1 == (size_t)t->cap ? 0 : i0 + 1;
+    const double *r0 = t->rows + i0 * stride + (size_t)j0 * 3;
+    const double *r1 = t->rows + i1 * stride + (size_t)j0 * 3;
     double ws0 = 1.0 - fs, wy0 = 1.0 - fy, c[3];
     for (int i = 0; i < 3; i++) {
         double v = ws0 * (wy0 * r0[i] + fy * r0[3 + i]) + fs * (wy0 * r1[i] + fy * r1[3 + i]);

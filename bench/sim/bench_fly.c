@@ -12,7 +12,8 @@
  *   +sea:     the ship in sea state 5 (the frame a sum of 256 waves).
  * Printed: us per step, x real time at 200 Hz, and the ratio to the
  * baseline. Process CPU time (the machine is shared). Usage: bench_fly
- * [STEPS] from the source root. */
+ * [STEPS [CASE]] from the source root; CASE (1-4, the rows below the
+ * baseline) flies that case alone, for a profile of it (perf record). */
 #include "cfd.h"
 #include "hfm.h"
 #include "sim.h"
@@ -148,8 +149,9 @@ static double baseline(const hfm_aircraft *ac, long steps)
 int main(int argc, char **argv)
 {
     long steps = argc > 1 ? atol(argv[1]) : 20000;
-    if (steps < 100) {
-        fprintf(stderr, "usage: bench_fly [STEPS >= 100]\n");
+    int only = argc > 2 ? atoi(argv[2]) : 0;
+    if (steps < 100 || only < 0 || only > 4 || argc > 3) {
+        fprintf(stderr, "usage: bench_fly [STEPS >= 100 [CASE 1-4]]\n");
         return 2;
     }
     core_err err = {{0}};
@@ -165,7 +167,7 @@ int main(int argc, char **argv)
     unlink(path);
     if (!fld)
         return 1;
-    double b = baseline(ac, steps);
+    double b = only ? 0.0 : baseline(ac, steps);
     struct {
         const char *name;
         const cfd_field *f;
@@ -178,12 +180,15 @@ int main(int argc, char **argv)
     };
     printf("bench_fly: %ld steps at 200 Hz, median of %d, process CPU time\n", steps, REPEATS);
     printf("%-36s %10s %14s %10s\n", "case", "us/step", "x real time", "/ baseline");
-    printf("%-36s %10.2f %14.0f %10.2f\n", "baseline: hfm_tsim, uniform wind", 1e6 * b, 0.005 / b, 1.0);
+    if (!only)
+        printf("%-36s %10.2f %14.0f %10.2f\n", "baseline: hfm_tsim, uniform wind", 1e6 * b, 0.005 / b, 1.0);
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        if (only && (size_t)only != i + 1)
+            continue;
         double t = fly_case(ac, &ship, cases[i].f, cases[i].turb, cases[i].sea, steps);
         if (t < 0)
             return 1;
-        printf("%-36s %10.2f %14.0f %10.2f\n", cases[i].name, 1e6 * t, 0.005 / t, t / b);
+        printf("%-36s %10.2f %14.0f %10.2f\n", cases[i].name, 1e6 * t, 0.005 / t, b > 0.0 ? t / b : NAN);
     }
     cfd_field_destroy(fld);
     hfm_aircraft_destroy(ac);
