@@ -1,0 +1,49 @@
+#!/bin/sh
+# disim shol --method pilot end to end in calm air (--speed-max-kmh 0: no
+# airwake field is needed): three directions in sea state 3, three seeds
+# per point, the landing task flown at each; every output is written, with
+# the columns docs/shol.md gives, one row per direction and per point; the
+# sea state reaches the flights; bad flags and a missing task are refused.
+# Usage: shol_pilot_cli.sh DISIM SOURCE_DIR
+set -u
+disim=$1 src=$2
+tmp=$(mktemp -d /tmp/disim_shol_pilot_XXXXXX)
+fail=0
+scen=$src/tests/shol/data/pilot_cg47.ini
+task=$src/scenarios/tasks/land_uh60a.ini
+"$disim" shol "$scen" --method pilot --task "$task" --seeds 3 --speed-max-kmh 0 -o "$tmp/out" --db "$tmp/db" \
+    > "$tmp/run.csv" 2> "$tmp/run.log" || { echo "the pilot run failed"; cat "$tmp/run.log"; fail=1; }
+for f in shol_flown.csv shol_flown_points.csv shol_flown.json shol_polar_flown.png shol_polar_flown.svg report.md shol.csv shol.json; do
+    [ -s "$tmp/out/$f" ] || { echo "missing output $f"; fail=1; }
+done
+[ -d "$tmp/db/fields" ] && [ -n "$(ls "$tmp/db/fields" 2>/dev/null)" ] && { echo "calm air built a field"; fail=1; }
+head -1 "$tmp/out/shol_flown.csv" | grep -qx "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,pass_rate_at_fail,cause,trim_max_speed_kt,trim_limit" \
+    || { echo "bad shol_flown.csv header"; head -1 "$tmp/out/shol_flown.csv"; fail=1; }
+[ "$(wc -l < "$tmp/out/shol_flown.csv")" -eq 4 ] || { echo "shol_flown.csv: expected 3 directions"; fail=1; }
+# one point per direction (0 km/h), three flights each
+[ "$(grep -c '^[-0-9.]*,0.00,0.0,3,[0-3],' "$tmp/out/shol_flown_points.csv")" -eq 3 ] \
+    || { echo "shol_flown_points.csv: expected three 0 km/h points of 3 flights"; cat "$tmp/out/shol_flown_points.csv"; fail=1; }
+grep -q "sea state 3" "$tmp/out/report.md" && grep -q "3 seeds per point" "$tmp/run.log" \
+    || { echo "the sea state or the seeds did not reach the flights"; fail=1; }
+grep -q '^| red 30 | 0.0 | none |' "$tmp/out/report.md" || { echo "report.md: no red 30 row"; fail=1; }
+[ "$(head -1 "$tmp/run.csv")" = "wod_dir_deg,trim_max_speed_kt,flown_max_speed_kt,pass_rate_at_fail,cause" ] \
+    && [ "$(wc -l < "$tmp/run.csv")" -eq 4 ] || { echo "stdout: expected a header and 3 rows"; cat "$tmp/run.csv"; fail=1; }
+# quiet in a log: no progress lines but the last
+[ "$(grep -c '^flown: ' "$tmp/run.log")" -eq 1 ] || { echo "progress lines in a log"; fail=1; }
+# Bad flags and inputs.
+"$disim" shol "$scen" --method fly > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 2 ] && grep -q "expected trim or pilot" "$tmp/bad.log" || { echo "--method fly accepted"; fail=1; }
+"$disim" shol "$scen" --method pilot --seeds 0 > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 2 ] && grep -q "\-\-seeds" "$tmp/bad.log" || { echo "--seeds 0 accepted"; fail=1; }
+"$disim" shol "$scen" --method pilot --seeds 2.5 > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 2 ] && grep -q "whole number" "$tmp/bad.log" || { echo "--seeds 2.5 accepted"; fail=1; }
+"$disim" shol "$scen" --task "$task" > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 2 ] && grep -q "go with --method pilot" "$tmp/bad.log" || { echo "--task without --method pilot accepted"; fail=1; }
+"$disim" shol "$scen" --method pilot --task "$tmp/none.ini" --speed-max-kmh 0 -o "$tmp/out2" --db "$tmp/db" > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 1 ] && grep -q "none.ini" "$tmp/bad.log" && [ ! -e "$tmp/out2/shol_flown.csv" ] || { echo "a missing task accepted"; cat "$tmp/bad.log"; fail=1; }
+# the trim method still refuses a sea state
+"$disim" shol "$scen" --speed-max-kmh 0 -o "$tmp/out3" --db "$tmp/db" > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 1 ] && grep -q "state = 3: the candidate SHOL trims" "$tmp/bad.log" || { echo "the trim method accepted a sea state"; fail=1; }
+rm -rf "$tmp"
+[ $fail -eq 0 ] && echo "shol_pilot_cli: ok"
+exit $fail
