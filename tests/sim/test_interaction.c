@@ -542,6 +542,22 @@ static void test_couple_trim(const hfm_aircraft *ac, const core_ship *ship, int 
                out.air_flags);
         CHECK(out.air_flags & SIM_AIR_INTERACTION);
         CHECK(ii.weight == 1.0 && fabs(ii.factor - 1.0) < 0.05);
+        /* 2 % more collective for 1 s: the flight model's thrust reaches
+         * the interaction through the lag (tau 0.59 s here) */
+        sim_flight_inputs up = il;
+        up.collective_pct += 2.0;
+        double T_late = 0.0;
+        for (int i = 0; i < 200; i++) {
+            CHECK(sim_flight_step(fl, &up, &out, &err) == 0);
+            if (i >= 100)
+                T_late += out.rotor_thrust_N / 100.0;
+        }
+        sim_interaction_state(ia, &ii);
+        double frac = (ii.thrust_N - ii.thrust_field_N) / (T_late - ii.thrust_field_N);
+        printf("2 %% more collective for 1 s: the rotor's thrust %.0f N over the last 0.5 s, the interaction's lagged "
+               "%.0f N (%.2f of the way from the field's %.0f N), factor %.4f\n", T_late, ii.thrust_N, frac,
+               ii.thrust_field_N, ii.factor);
+        CHECK(T_late - ii.thrust_field_N > 1000.0 && frac > 0.5 && frac < 1.0 && ii.factor > 1.0);
         /* a start 0.6 R across from the station is trimmed with the
          * interaction's weight there, not the station's */
         sim_interaction *ib = make_inter(&t, &err);
