@@ -56,11 +56,48 @@ typedef struct fly_args {
     const char *task_result;  /* --task-result PREFIX: PREFIX.csv and PREFIX.json (sim_task_result_write) */
     int duration_set;
     int gear, start_deck;     /* the aircraft's [gear] on the deck (--no-gear: 0); --start deck */
+    int hold_set;             /* --hold-after-s given */
+    /* the scenario's [pilot] and [task] where no flag says (fly_scenario_pilot) */
+    char sc_task[SIM_PATH_MAX], sc_log[SIM_PATH_MAX], sc_stations[SIM_PATH_MAX];
     const char *replay_log;   /* --pilot replay LOG: the replay pilot re-flies LOG (sim/pilot_replay.c) */
     int feed_controls;        /* --feed-controls: LOG's controls fed forward too */
     int has_start;            /* the flight starts at start_S_m (the replayed run's start) */
     double start_S_m[3];
 } fly_args;
+
+/* The scenario's [pilot] (and the automated pilot's [task] file) where
+ * no flag says otherwise: a --pilot flag overrides the type, --task the
+ * task file, --stations and --hold-after-s the stations' keys. A scenario
+ * that does not load is left to world_build to report. */
+static void fly_scenario_pilot(fly_args *o)
+{
+    sim_scenario *sc = malloc(sizeof *sc);
+    core_err err = {{0}};
+    if (!sc || sim_scenario_load(o->scen, sc, &err) != 0) {
+        free(sc);
+        return;
+    }
+    if (!o->pilot && sc->pilot == SIM_SC_PILOT_AUTO) {
+        o->pilot = "auto";
+        if (!o->task) {
+            snprintf(o->sc_task, sizeof o->sc_task, "%s", sc->task_path);
+            o->task = o->sc_task;
+        }
+    } else if (!o->pilot && sc->pilot == SIM_SC_PILOT_REPLAY) {
+        o->pilot = "replay";
+        snprintf(o->sc_log, sizeof o->sc_log, "%s", sc->pilot_log);
+        o->replay_log = o->sc_log;
+        o->feed_controls |= sc->pilot_feed_controls;
+    } else if (!o->pilot && sc->pilot == SIM_SC_PILOT_STATION) {
+        if (!o->stations && sc->pilot_stations[0]) {
+            snprintf(o->sc_stations, sizeof o->sc_stations, "%s", sc->pilot_stations);
+            o->stations = o->sc_stations;
+        }
+        if (!o->hold_set && sc->pilot_hold_after_s > 0.0)
+            o->hold_after_s = sc->pilot_hold_after_s;
+    }
+    free(sc);
+}
 
 static int fly_parse(int argc, char **argv, fly_args *o)
 {
@@ -103,6 +140,7 @@ static int fly_parse(int argc, char **argv, fly_args *o)
         } else if (!strcmp(a, "--hold-after-s") && more) {
             if (app_parse_double(P, a, argv[++i], 0.01, 60.0, &o->hold_after_s))
                 return 1;
+            o->hold_set = 1;
         } else if (!strcmp(a, "--wod-speed-kt") && more) {
             if (app_parse_double(P, a, argv[++i], 0.0, 100.0, &o->speed_kt))
                 return 1;
@@ -176,6 +214,7 @@ static int fly_parse(int argc, char **argv, fly_args *o)
         usage_fly();
         return 2;
     }
+    fly_scenario_pilot(o);
     int auto_ok = o->pilot && !strcmp(o->pilot, "auto") && o->task && !o->feed_controls;
     int replay_ok = o->replay_log && !o->task;
     if ((o->pilot || o->task || o->feed_controls) && !auto_ok && !replay_ok) {

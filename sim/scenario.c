@@ -3,10 +3,9 @@
  * files, and refuse anything unknown. Every error names file, line and key.
  *
  * Every key that is accepted acts in some command (scenarios/README.md says
- * which). Keys and sections that a later part of disim will read (the sea,
- * the pilots and the piloted tasks of the flight loop, the OpenFOAM engine)
- * are refused with the reason, not read and ignored: a user who writes
- * `[sea] state = 5` must not believe the ship moved. */
+ * which). Keys that a later part of disim will read (the OpenFOAM engine,
+ * ...) are refused with the reason, not read and ignored: a user who writes
+ * `[cfd] engine = openfoam` must not believe it ran. */
 #include "sim.h"
 
 #include <math.h>
@@ -90,19 +89,9 @@ static int wod_section(core_ini *ini, sim_scenario *sc, core_err *err)
 static const struct {
     const char *section, *key, *value, *why;
 } refused[] = {
-    {"pilot", NULL, NULL,
-     "not supported yet: the pilots (automated, replay, station) come with the flight loop "
-     "(disim fly); remove the [pilot] section (disim now finds trimmed hover, which needs no "
-     "pilot)"},
-    {"task", "type", "hover",
-     "not supported yet: the piloted hover and landing tasks come with the flight loop "
-     "(disim fly); the task now is shol (set type = shol or remove the key)"},
-    {"task", "type", "landing",
-     "not supported yet: the piloted hover and landing tasks come with the flight loop "
-     "(disim fly); the task now is shol (set type = shol or remove the key)"},
     {"task", "approach_dir_deg", NULL,
-     "not supported yet: the approach comes with the landing task of the flight loop "
-     "(disim fly); remove the key"},
+     "not supported: the approach is the task file's, in its phases (scenarios/tasks/land_port.ini); "
+     "remove the key and give [task] file"},
     {"cfd", "engine", "openfoam",
      "not supported yet: the OpenFOAM engine is not built (the airwake database has the "
      "embedded solver only); set engine = embedded or remove the key"},
@@ -153,6 +142,11 @@ static int mode_keys(const core_ini *ini, core_err *err)
         {"wod", "speed_max_kmh", "mode = sweep"},
         /* disim shol solves the deck zone only for coupled points */
         {"cfd", "coupled_domain", "coupling = two-way"},
+        {"task", "file", "type = hover or landing"},
+        {"pilot", "stations", "type = station"},
+        {"pilot", "hold_after_s", "type = station"},
+        {"pilot", "log", "type = replay"},
+        {"pilot", "feed_controls", "type = replay"},
     };
     for (size_t i = 0; i < sizeof k / sizeof k[0]; i++) {
         const core_ini_entry *e = core_ini_find(ini, k[i].section, k[i].key);
@@ -190,9 +184,47 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
     if ((rc = wod_section(ini, sc, err)))
         goto out;
 
-    /* task: shol is the only one (the piloted tasks are refused above) */
-    if ((rc = core_ini_get_enum(ini, "task", "type", 0, "shol", &v, err)) < 0)
+    /* task: shol (the trims), or a piloted hover or landing (its task file) */
+    if ((rc = core_ini_get_enum(ini, "task", "type", 0, "shol|hover|landing", &v, err)) < 0)
         goto out;
+    sc->task_type = rc == 0 ? v : SIM_SC_TASK_SHOL;
+    if (sc->task_type != SIM_SC_TASK_SHOL &&
+        (rc = core_ini_get_path(ini, "task", "file", 1, sc->task_path, sizeof sc->task_path, err)))
+        goto out;
+    /* pilot (disim fly): the stations, the automated pilot, the replay pilot */
+    if ((rc = core_ini_get_enum(ini, "pilot", "type", 0, "station|auto|replay", &v, err)) < 0)
+        goto out;
+    sc->pilot = rc == 0 ? v : SIM_SC_PILOT_STATION;
+    if (sc->pilot == SIM_SC_PILOT_STATION) {
+        if ((rc = core_ini_get_string(ini, "pilot", "stations", 0, sc->pilot_stations, sizeof sc->pilot_stations,
+                                      err)) < 0 ||
+            (rc = core_ini_get_double(ini, "pilot", "hold_after_s", 0, 0.01, 60.0, &sc->pilot_hold_after_s, err)) < 0)
+            goto out;
+        sim_pilots_opts po;
+        core_err e2 = {{0}};
+        if (sc->pilot_stations[0] && sim_pilots_opts_parse(&po, sc->pilot_stations, &e2) != 0) {
+            rc = core_err_set(err, -1, "%s:%d: [pilot] stations: %s", core_ini_path(ini),
+                              core_ini_find(ini, "pilot", "stations")->line, e2.msg);
+            goto out;
+        }
+    } else if (sc->pilot == SIM_SC_PILOT_REPLAY) {
+        if ((rc = core_ini_get_path(ini, "pilot", "log", 1, sc->pilot_log, sizeof sc->pilot_log, err)) ||
+            (rc = core_ini_get_bool(ini, "pilot", "feed_controls", 0, &sc->pilot_feed_controls, err)) < 0)
+            goto out;
+    }
+    /* the piloted task is the automated pilot's; the automated pilot needs one */
+    if ((sc->pilot == SIM_SC_PILOT_AUTO) != (sc->task_type != SIM_SC_TASK_SHOL)) {
+        const core_ini_entry *e = sc->pilot == SIM_SC_PILOT_AUTO ? core_ini_find(ini, "pilot", "type")
+                                                                 : core_ini_find(ini, "task", "type");
+        rc = core_err_set(err, -1,
+                          sc->pilot == SIM_SC_PILOT_AUTO
+                              ? "%s:%d: [pilot] type = auto: the automated pilot flies the scenario's task; set "
+                                "[task] type = hover or landing with its file"
+                              : "%s:%d: [task] type = %s: a piloted task is flown by the automated pilot; set "
+                                "[pilot] type = auto (the stations and the replay pilot fly no task file)",
+                          core_ini_path(ini), e ? e->line : 0, sc->task_type == SIM_SC_TASK_HOVER ? "hover" : "landing");
+        goto out;
+    }
     sc->hover_height_m = 5.0;
     if ((rc = core_ini_get_double(ini, "task", "hover_height_m", 0, 0.5, 100.0,
                                   &sc->hover_height_m, err)) < 0)
@@ -276,7 +308,25 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
     /* referenced files */
     if ((rc = peek_aircraft(sc->aircraft_path, sc->aircraft_name, sizeof sc->aircraft_name, err)))
         goto out;
-    rc = core_ship_load(sc->ship_path, &sc->ship, err);
+    if ((rc = core_ship_load(sc->ship_path, &sc->ship, err)))
+        goto out;
+    /* the task file, with the ship's deck for its points: hover a station
+     * keeping task, landing a landing */
+    if (sc->task_type != SIM_SC_TASK_SHOL) {
+        sim_task t;
+        if ((rc = sim_task_load_ship(sc->task_path, &sc->ship, &t, err)))
+            goto out;
+        int want = sc->task_type == SIM_SC_TASK_HOVER ? SIM_TASK_STATION_KEEP : SIM_TASK_LAND;
+        if (t.kind != want) {
+            const core_ini_entry *e = core_ini_find(ini, "task", "file");
+            rc = core_err_set(err, -1, "%s:%d: [task] file = %s: a %s task, expected a %s task for type = %s",
+                              core_ini_path(ini), e ? e->line : 0, sc->task_path,
+                              t.kind == SIM_TASK_LAND ? "landing" : "station-keeping",
+                              want == SIM_TASK_LAND ? "landing" : "station-keeping",
+                              sc->task_type == SIM_SC_TASK_HOVER ? "hover" : "landing");
+            goto out;
+        }
+    }
 out:
     core_ini_destroy(ini);
     return rc < 0 ? rc : 0;
@@ -310,8 +360,18 @@ void sim_scenario_print(const sim_scenario *sc, FILE *f)
     fprintf(f, "turbulence = %s\n", sc->turbulence ? "true" : "false");
     fprintf(f, "\n[sea]\nstate = %d\nship_speed_kt = %.1f\nwave_dir_deg = %.1f\nspectrum = %s\n", sc->sea_state,
             sc->ship_speed_mps / CORE_KT_TO_MPS, sc->wave_dir_rad * CORE_RAD_TO_DEG, sc->spectrum ? "jonswap" : "ittc");
-    fprintf(f, "\n[task]\ntype = shol\nhover_height_m = %.2f\nstation_S_m = %.2f, %.2f, %.2f\n",
-            sc->hover_height_m, sc->station_S_m[0], sc->station_S_m[1], sc->station_S_m[2]);
+    static const char *tt[] = {"shol", "hover", "landing"}, *pt[] = {"station", "auto", "replay"};
+    fprintf(f, "\n[task]\ntype = %s\n", tt[sc->task_type]);
+    if (sc->task_type != SIM_SC_TASK_SHOL)
+        fprintf(f, "file = %s\n", sc->task_path);
+    fprintf(f, "hover_height_m = %.2f\nstation_S_m = %.2f, %.2f, %.2f\n", sc->hover_height_m, sc->station_S_m[0],
+            sc->station_S_m[1], sc->station_S_m[2]);
+    fprintf(f, "\n[pilot]\ntype = %s\n", pt[sc->pilot]);
+    if (sc->pilot == SIM_SC_PILOT_STATION)
+        fprintf(f, "stations = %s\nhold_after_s = %.2f\n", sc->pilot_stations[0] ? sc->pilot_stations : "(the first to connect)",
+                sc->pilot_hold_after_s > 0 ? sc->pilot_hold_after_s : 0.5);
+    if (sc->pilot == SIM_SC_PILOT_REPLAY)
+        fprintf(f, "log = %s\nfeed_controls = %s\n", sc->pilot_log, sc->pilot_feed_controls ? "true" : "false");
     fprintf(f, "\n[cfd]\nengine = embedded\ngrid = %s\nrotor = %s\ncoupling = %s\n",
             core_grid_name(sc->grid), core_rotor_name(sc->rotor),
             core_coupling_name(sc->coupling));

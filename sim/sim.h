@@ -4,9 +4,10 @@
  *
  * A scenario (INI, see scenarios/README.md) names the ship-aircraft
  * combination, the WOD or WOD sweep, the hover-over-spot station of the
- * SHOL task, CFD settings and the output folder. Paths inside are relative
- * to the file. Every key it accepts acts; the sections and keys of later
- * work ([sea], [pilot], the piloted tasks, the OpenFOAM engine) are refused.
+ * SHOL task, CFD settings and the output folder, and for disim fly the sea,
+ * the pilot and the piloted task. Paths inside are relative to the file.
+ * Every key it accepts acts; the keys of later work (the OpenFOAM engine,
+ * ...) are refused.
  */
 #ifndef DISIM_SIM_H
 #define DISIM_SIM_H
@@ -64,15 +65,28 @@ typedef struct sim_scenario {
 
     /* outputs */
     char output_dir[SIM_PATH_MAX]; /* [output] dir; default out/NAME */
+
+    /* [task] type and the piloted task's file (disim fly: the automated
+     * pilot flies it; scenarios/README.md) */
+    int task_type;                 /* SIM_SC_TASK_* */
+    char task_path[SIM_PATH_MAX];  /* hover, landing: a task file (sim_task_load_ship) */
+    /* [pilot] (disim fly; its flags override) */
+    int pilot;                     /* SIM_SC_PILOT_* (station, the default) */
+    char pilot_stations[SIM_PATH_MAX]; /* station: the priority list "A,B" ("" none) */
+    double pilot_hold_after_s;     /* station: 0 (absent) or the hold time */
+    char pilot_log[SIM_PATH_MAX];  /* replay: the recorded run's LCM log */
+    int pilot_feed_controls;       /* replay: its controls fed forward too */
 } sim_scenario;
+enum { SIM_SC_TASK_SHOL = 0, SIM_SC_TASK_HOVER = 1, SIM_SC_TASK_LANDING = 2 };
+enum { SIM_SC_PILOT_STATION = 0, SIM_SC_PILOT_AUTO = 1, SIM_SC_PILOT_REPLAY = 2 };
 
 /* Parse and resolve a scenario file. Returns 0, or < 0 with err naming the
  * file, line, key and what was expected (unknown keys and sections, wrong
  * types, values out of range, missing files, errors in referenced files), or
- * why a key no command acts on yet is refused ([sea], [pilot], [task] type =
- * hover|landing, [task] approach_dir_deg, [cfd] engine = openfoam, [cfd]
- * residual_tol, [output] csv|plots; a key of a mode not chosen; rotor = off
- * with the two-way coupling). */
+ * why a key no command acts on yet is refused ([task] approach_dir_deg,
+ * [cfd] engine = openfoam, [cfd] residual_tol, [output] csv|plots; a key
+ * of a mode not chosen; rotor = off with the two-way coupling; a piloted
+ * task without the automated pilot). */
 int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err);
 
 /* Print the resolved configuration as INI-like text. */

@@ -1,7 +1,7 @@
 /* test_sim.c -- scenario files resolve to the values their keys say, in SI,
- * with the conventions applied (WOD wrap and velocity, station in S), and
- * every key that no command acts on is refused naming file, line, key and
- * why, never read and ignored. */
+ * with the conventions applied (WOD wrap and velocity, station in S), the
+ * pilot and the piloted task, and every key that no command acts on is
+ * refused naming file, line, key and why, never read and ignored. */
 #include "check.h"
 #include "sim.h"
 
@@ -24,20 +24,8 @@ static void dotted_path(char *buf, size_t size, size_t min_len)
 static const struct {
     const char *file, *where, *why;
 } refusals[] = {
-    {"refused_pilot_type.ini", "refused_pilot_type.ini:16: [pilot] type: ",
-     "not supported yet: the pilots (automated, replay, station) come with the flight loop (disim fly)"},
-    {"refused_pilot_replay.ini", "refused_pilot_replay.ini:16: [pilot] replay_file: ",
-     "not supported yet: the pilots (automated, replay, station) come with the flight loop (disim fly)"},
-    {"refused_pilot_station.ini", "refused_pilot_station.ini:16: [pilot] station_id: ",
-     "not supported yet: the pilots (automated, replay, station) come with the flight loop (disim fly)"},
-    {"refused_task_hover.ini", "refused_task_hover.ini:13: [task] type = hover: ",
-     "not supported yet: the piloted hover and landing tasks come with the flight loop (disim fly); "
-     "the task now is shol"},
-    {"refused_task_landing.ini", "refused_task_landing.ini:13: [task] type = landing: ",
-     "not supported yet: the piloted hover and landing tasks come with the flight loop (disim fly); "
-     "the task now is shol"},
     {"refused_task_approach.ini", "refused_task_approach.ini:15: [task] approach_dir_deg: ",
-     "not supported yet: the approach comes with the landing task of the flight loop (disim fly)"},
+     "not supported: the approach is the task file's, in its phases"},
     {"refused_engine_openfoam.ini", "refused_engine_openfoam.ini:16: [cfd] engine = openfoam: ",
      "not supported yet: the OpenFOAM engine is not built"},
     {"refused_residual_tol.ini", "refused_residual_tol.ini:17: [cfd] residual_tol: ",
@@ -46,6 +34,20 @@ static const struct {
      "not supported: disim shol always writes its CSV table, JSON, plots and report"},
     {"refused_output_plots.ini", "refused_output_plots.ini:20: [output] plots: ",
      "not supported: disim shol always writes its CSV table, JSON, plots and report"},
+    /* the pilot and the piloted task: a key of another pilot, a task
+     * without the automated pilot or the automated pilot without one, a
+     * task file of the other kind */
+    {"pilot_bad_type.ini", "pilot_bad_type.ini:16: [pilot] type = 'automated': ", "expected one of station|auto|replay"},
+    {"pilot_replay_no_log.ini", "pilot_replay_no_log.ini: [pilot] log: ", "missing required key"},
+    {"pilot_station_log.ini", "pilot_station_log.ini:18: [pilot] log: ", "only used with type = replay"},
+    {"pilot_stations_twice.ini", "pilot_stations_twice.ini:14: [pilot] stations: ", "'a' appears twice"},
+    {"pilot_auto_no_task.ini", "pilot_auto_no_task.ini:16: [pilot] type = auto: ",
+     "the automated pilot flies the scenario's task; set [task] type = hover or landing"},
+    {"task_hover_no_file.ini", "task_hover_no_file.ini: [task] file: ", "missing required key"},
+    {"task_landing_station.ini", "task_landing_station.ini:13: [task] type = landing: ",
+     "a piloted task is flown by the automated pilot; set [pilot] type = auto"},
+    {"task_kind_mismatch.ini", "task_kind_mismatch.ini:14: [task] file = ",
+     "a landing task, expected a station-keeping task for type = hover"},
     /* keys the file's other settings would leave unread */
     {"rotor_off_two_way.ini", "rotor_off_two_way.ini:17: [cfd] rotor = off: ",
      "the two-way coupling (coupling = two-way, the default) solves with the rotor's disk"},
@@ -114,6 +116,19 @@ int main(void)
     CHECK(sc->sea_state == 0 && sc->ship_speed_mps == 0.0 && sc->spectrum == 0 && sc->turbulence == 1);
     CHECK(sim_scenario_load("tests/sim/bad/bad_sea_state.ini", sc, &err) < 0);
     CHECK(strstr(err.msg, "bad_sea_state.ini:13: [sea] state = 7: out of range, expected 0 to 6") != NULL);
+    /* The pilot and the task as disim fly reads them; absent, the stations
+     * (the first to connect) and the shol task. */
+    CHECK(sim_scenario_load("tests/sim/data/pilot_auto.ini", sc, &err) == 0);
+    CHECK(sc->pilot == SIM_SC_PILOT_AUTO && sc->task_type == SIM_SC_TASK_LANDING);
+    CHECK(strstr(sc->task_path, "scenarios/tasks/land_port.ini") != NULL);
+    CHECK(sim_scenario_load("tests/sim/data/pilot_station.ini", sc, &err) == 0);
+    CHECK(sc->pilot == SIM_SC_PILOT_STATION && strcmp(sc->pilot_stations, "deck,cockpit") == 0);
+    CHECK_NEAR(sc->pilot_hold_after_s, 1.5, 0);
+    CHECK(sim_scenario_load("tests/sim/data/pilot_replay.ini", sc, &err) == 0);
+    CHECK(sc->pilot == SIM_SC_PILOT_REPLAY && sc->pilot_feed_controls == 1 && strstr(sc->pilot_log, "sea.ini"));
+    CHECK(sim_scenario_load("tests/sim/data/sea.ini", sc, &err) == 0);
+    CHECK(sc->pilot == SIM_SC_PILOT_STATION && sc->pilot_stations[0] == '\0' && sc->pilot_hold_after_s == 0.0 &&
+          sc->task_type == SIM_SC_TASK_SHOL);
     /* A speed step larger than the sweep's top is refused naming the line. */
     CHECK(sim_scenario_load("tests/sim/bad/speed_step_over_max.ini", sc, &err) < 0);
     CHECK(strstr(err.msg, "speed_step_over_max.ini:10: [wod] speed_step_kmh = 20: expected at most") != NULL);
