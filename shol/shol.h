@@ -363,10 +363,9 @@ typedef int (*shol_fly_fn)(void *user, double wod_speed_mps, double wod_dir_rad,
 
 #define SHOL_FLOWN_MAX_SEEDS 64
 typedef struct shol_flown_settings {
-    int n_seeds;                 /* flights per point, seeds seed0 .. seed0 + n - 1 (1..64; default 3) */
+    int n_seeds;                 /* flights per point, seeds seed0 .. seed0 + n - 1 (1..64; default 5) */
     unsigned long long seed0;    /* 1 */
-    double pass_rate_min;        /* a point passes when its pass rate is >= this (0.8 with 3 seeds: all
-                                    three) */
+    double pass_rate_min;        /* a point passes when its pass rate is >= this (0.8: 4 of 5) */
     int start_steps_below;       /* the search starts this many speed steps below the trim
                                     envelope's radius (2) */
     double bisect_tol_mps;       /* > 0: bisect [last pass, first failure] to this width; 0 off */
