@@ -2,7 +2,11 @@
 # disim fly: --fast and --realtime fly the same trajectory (the step has no
 # clock; pacing only waits), also with a seaway and turbulence; the CSV is
 # complete and nothing is left half-written; bad flags and a sweep without
-# the flight's WOD are refused.
+# the flight's WOD are refused. The gear: --start deck stands on the deck
+# with its loads in the CSV; a crash (the automated pilot flown into the
+# hangar) ends the run cleanly, named, exit status 3, its CSV written (the
+# loop's log at a crash: test_flight); the scenario's [pilot] and [task] fly
+# where no flag says.
 # Usage: fly_cli.sh DISIM SOURCE_DIR
 set -u
 disim=$1 src=$2
@@ -40,6 +44,30 @@ for f in "$tmp"/db2/fields/*.h5; do printf 'corrupt' | dd of="$f" bs=1 seek=4096
     && grep -q "free stream until the airwake field is built" "$tmp/f2.log" && ok || { bad "a corrupt field was flown"; cat "$tmp/f2.log"; }
 tail -1 "$tmp/f2.csv" | awk -F, '{exit !($18 == 1)}' && ok || bad "air_flags: expected 1 (free stream) with the field corrupt"
 ls "$tmp"/db2/queue/*.req > /dev/null 2>&1 && ok || bad "the corrupt field was not requested again"
+# the gear: standing on the deck in sea state 4, the legs carrying the weight
+"$disim" fly $args --fast --start deck --csv "$tmp/deck.csv" 2> "$tmp/deck.log" \
+    && grep -q "gear: on the deck at the end" "$tmp/deck.log" && ok || { bad "--start deck failed"; cat "$tmp/deck.log"; }
+tail -1 "$tmp/deck.csv" | awk -F, '{exit !($21 == 1 && $22 > 60000 && $22 < 90000 && $23 == 0)}' && ok \
+    || { bad "--start deck: expected on_deck 1, the legs' load near the weight, no contact flags"; tail -1 "$tmp/deck.csv"; }
+tail -1 "$tmp/fast.csv" | awk -F, '{exit !($19 > 60000 && $20 > 5e5 && $21 == 0 && $22 == 0)}' && ok \
+    || { bad "hover: expected the rotor's thrust and power, off the deck"; tail -1 "$tmp/fast.csv"; }
+# a crash ends the run cleanly: named, exit status 3, the CSV and the log written
+hangar="$src/tests/sim/data/into_hangar.ini"
+"$disim" fly "$src/scenarios/cg47_uh60a.ini" --wod-speed-kt 0 --wod-dir-deg 0 --db "$tmp/db" --pilot auto --task "$hangar" \
+    --csv "$tmp/crash.csv" 2> "$tmp/crash.log"
+[ $? -eq 3 ] && grep -q "the flight ended at .*: crash: nose hit hangar" "$tmp/crash.log" && [ -s "$tmp/crash.csv" ] && ok \
+    || { bad "a crash into the hangar: expected exit status 3 naming it and the CSV"; cat "$tmp/crash.log"; }
+tail -1 "$tmp/crash.csv" | awk -F, '{exit !($23 == 4)}' && ok || bad "the crash's last CSV row: expected contact_flags 4"
+# the scenario's [pilot] type = auto flies its [task] (headless, as --pilot auto --task)
+"$disim" fly "$src/tests/sim/data/pilot_auto.ini" --duration 1 --db "$tmp/db" 2> "$tmp/sc.log" \
+    && grep -q "the automated pilot flies .*land_port.ini" "$tmp/sc.log" && ok || { bad "[pilot] type = auto not flown"; cat "$tmp/sc.log"; }
+# ... and [pilot] stations, as --stations
+"$disim" fly "$src/tests/sim/data/pilot_station.ini" --fast --duration 0.5 --lcm memq:// --db "$tmp/db" 2> "$tmp/st.log" \
+    && grep -q "station deck: 0 taken.*station cockpit: 0 taken" "$tmp/st.log" && ok || { bad "[pilot] stations not taken"; cat "$tmp/st.log"; }
+"$disim" fly "$src/tests/sim/data/pilot_station.ini" --fast --duration 0.5 --lcm memq:// --stations solo --db "$tmp/db" \
+    2> "$tmp/st.log" && grep -q "station solo: 0 taken" "$tmp/st.log" && ! grep -q "station deck" "$tmp/st.log" && ok \
+    || { bad "--stations did not override [pilot] stations"; cat "$tmp/st.log"; }
+ls "$tmp"/*.tmp* > /dev/null 2>&1 && bad "a temporary file was left" || ok
 # refusals: exit status and message, nothing written
 "$disim" fly $args --fast --sea-state 9 --csv "$tmp/x.csv" 2> "$tmp/bad.log"
 [ $? -eq 1 ] && grep -q "sea-state: expected a whole number in \[0, 6\], got '9'" "$tmp/bad.log" && [ ! -e "$tmp/x.csv" ] && ok \
@@ -51,5 +79,7 @@ ls "$tmp"/db2/queue/*.req > /dev/null 2>&1 && ok || bad "the corrupt field was n
 [ $? -eq 1 ] && grep -q "rate-hz: expected a number in \[10, 10000\], got '5'" "$tmp/bad.log" && ok || bad "--rate-hz 5 accepted"
 "$disim" fly "$src/scenarios/cg47_uh60a.ini" --wobble 2> "$tmp/bad.log"
 [ $? -eq 2 ] && ok || bad "an unknown flag: expected exit status 2"
+"$disim" fly $args --fast --start deck --no-gear 2> "$tmp/bad.log"
+[ $? -eq 1 ] && grep -q -- "--start deck: not with --no-gear" "$tmp/bad.log" && ok || { bad "--start deck --no-gear accepted"; cat "$tmp/bad.log"; }
 echo "fly_cli: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
