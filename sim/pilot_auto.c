@@ -35,7 +35,19 @@
  * ring buffer of round(delay * rate) steps, filled with the trim at the
  * start): the pilot's perception and neuromuscular lag lumped, as tau in
  * the crossover model. No clock or random number inside: the same flight
- * gives the same controls.
+ * gives the same controls. The height loop's crossover (2 rad/s, w_c tau
+ * = 0.5 rad) is the attitude loops' order: a pilot over a deck holds
+ * height tightly, and at 1 rad/s the airwake's downdraft past the deck
+ * edge (the CG-47's coarse airwake, 25 kt from red 30) sank the UH-60A
+ * onto the deck edge in a manual run (docs/validation.md has the
+ * command).
+ *
+ * The pilot's trim (opts.trim_s, 8 s): a slow integral of the position
+ * and height errors added to them, as a pilot trims out a steady force
+ * (a mean airwake, a wind the gains were not scheduled for), bounded to
+ * 1 m/s of commanded speed and 10 % of collective; its corner 1 / trim_s
+ * lies well below the loops' bandwidths (0.3 and 2 rad/s), so it costs
+ * them little phase. The height's is held during a descent.
  *
  * With the SAS (opts.sas = 1, the flight's SAS engaged, sim/sas.c) the
  * pilot flies the augmented aircraft, as a pilot does: the plant of each
@@ -163,6 +175,7 @@ struct sim_pilot_auto {
     /* after touchdown */
     double coll_pct, hold_u[4];
     double still_since_s;
+    double i_pos_S[2], i_hgt;  /* the trim's integrals of the position and height errors (m s) */
     /* the heave's running statistics (spot, up) */
     double h_prev_m, hd_last_mps;
     long hn;
@@ -500,12 +513,13 @@ void sim_pilot_auto_opts_default(sim_pilot_auto_opts *o)
     o->delay_s = 0.25;
     o->att_crossover_radps = 2.5;
     o->yaw_crossover_radps = 1.5;
-    o->hgt_crossover_radps = 1.0;
+    o->hgt_crossover_radps = 2.0;
     o->vel_bw_radps = 0.8;
     o->pos_bw_radps = 0.3;
     o->max_speed_mps = 3.0;
     o->max_att_rad = 10.0 * D2R;
     o->cutoff_fraction = 0.5;
+    o->trim_s = 8.0;
 }
 
 /* The CG's height above a level deck when the lowest wheel, strut
@@ -601,10 +615,10 @@ sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t,
         !pos_fin(o->yaw_crossover_radps) || !pos_fin(o->hgt_crossover_radps) || !pos_fin(o->vel_bw_radps) ||
         !pos_fin(o->pos_bw_radps) || !pos_fin(o->max_speed_mps) || !pos_fin(o->max_att_rad) ||
         !(o->wod_speed_mps >= 0.0) || (o->sas != 0 && o->sas != 1) || (o->gear != 0 && o->gear != 1) ||
-        !(o->cutoff_fraction > 0.0 && o->cutoff_fraction < 1.0)) {
+        !(o->cutoff_fraction > 0.0 && o->cutoff_fraction < 1.0) || !(o->trim_s >= 0.0 && o->trim_s <= 1000.0)) {
         core_err_set(err, -1, "pilot_auto: expected an aircraft, a task, the trim, a rate of 10 to 10000 Hz, a delay "
                               "of 0 to 10 s, positive crossover frequencies, bandwidths and limits, sas and gear 0 "
-                              "or 1 and a cut-off fraction in (0, 1)");
+                              "or 1, a cut-off fraction in (0, 1) and a trim time of 0 to 1000 s");
         return NULL;
     }
     sim_task tl;
@@ -1129,7 +1143,21 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     double eH[2] = {c * ex + s * ey, -s * ex + c * ey};
     double vH[2] = {c * out->vel_S_mps[0] + s * out->vel_S_mps[1], -s * out->vel_S_mps[0] + c * out->vel_S_mps[1]};
     double vr[2] = {c * R->vel_S_mps[0] + s * R->vel_S_mps[1], -s * R->vel_S_mps[0] + c * R->vel_S_mps[1]};
-    double vc[2] = {vr[0] + o->pos_bw_radps * eH[0], vr[1] + o->pos_bw_radps * eH[1]};
+    /* the pilot's trim: slow integral action on the position and height
+     * errors (bounded: 1 m/s of commanded speed, 10 % of collective;
+     * the height's held during a descent, whose lag it would wind up) */
+    double iH[2] = {0.0, 0.0}, dt = 1.0 / o->rate_hz;
+    if (o->trim_s > 0.0) {
+        double lim = o->trim_s / o->pos_bw_radps;
+        for (int k = 0; k < 2; k++)
+            p->i_pos_S[k] = clampd(p->i_pos_S[k] + (R->pos_S_m[k] - out->pos_S_m[k]) * dt, -lim, lim);
+        iH[0] = (c * p->i_pos_S[0] + s * p->i_pos_S[1]) / o->trim_s;
+        iH[1] = (-s * p->i_pos_S[0] + c * p->i_pos_S[1]) / o->trim_s;
+        double hl = 10.0 * o->trim_s * fabs(g->Z_col) / (o->hgt_crossover_radps * p->a_lead[3]);
+        if (R->mode == SIM_PILOT_HOLD)
+            p->i_hgt = clampd(p->i_hgt + (p->z_ref_S_m - out->pos_S_m[2]) * dt, -hl, hl);
+    }
+    double vc[2] = {vr[0] + o->pos_bw_radps * (eH[0] + iH[0]), vr[1] + o->pos_bw_radps * (eH[1] + iH[1])};
     double vn = hypot(vc[0], vc[1]);
     if (vn > o->max_speed_mps)
         vc[0] *= o->max_speed_mps / vn, vc[1] *= o->max_speed_mps / vn;
@@ -1138,7 +1166,7 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     double ph_c = g->trim_att_rad[0] + clampd((ac[1] - g->Y_v * vH[1]) / g->Y_phi, -o->max_att_rad, o->max_att_rad);
     /* inner loops: the crossover pilot's lead on each attitude (height) error */
     double e_att[4] = {ph_c - out->euler_E_rad[0], th_c - out->euler_E_rad[1], wrap(R->heading_rad - psi_rel),
-                       p->z_ref_S_m - out->pos_S_m[2]};
+                       p->z_ref_S_m - out->pos_S_m[2] + (o->trim_s > 0.0 ? p->i_hgt / o->trim_s : 0.0)};
     double rate[4] = {out->rate_B_radps[0], out->rate_B_radps[1], out->rate_B_radps[2], out->vel_S_mps[2] - w_ref};
     const double K[4] = {g->L_lat, g->M_long, g->N_ped, g->Z_col};
     const double wc[4] = {o->att_crossover_radps, o->att_crossover_radps, o->yaw_crossover_radps,

@@ -830,7 +830,7 @@ typedef struct sim_pilot_auto_opts {
     double delay_s;            /* the pilot's pure delay (0.25 s) */
     double att_crossover_radps;/* roll and pitch attitude loops (2.5) */
     double yaw_crossover_radps;/* heading loop (1.5) */
-    double hgt_crossover_radps;/* height loop (1.0) */
+    double hgt_crossover_radps;/* height loop (2.0) */
     double vel_bw_radps;       /* horizontal velocity loop (0.8) */
     double pos_bw_radps;       /* horizontal position loop (0.3) */
     double max_speed_mps;      /* the largest commanded speed (3) */
@@ -843,6 +843,8 @@ typedef struct sim_pilot_auto_opts {
                                   settled; 0 (default): done at touchdown */
     double cutoff_fraction;    /* the control-activity cut-off frequency's share of the rate
                                   variance below it (0.5) */
+    double trim_s;             /* the pilot's trim: integral action on the position and height
+                                  errors with this time constant (8 s; 0: none) */
 } sim_pilot_auto_opts;
 void sim_pilot_auto_opts_default(sim_pilot_auto_opts *o);
 /* The derivatives the gains come from (hfm_linearise at the task's hover;
