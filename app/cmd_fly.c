@@ -275,6 +275,8 @@ typedef struct coupled_pick {
     const sim_scenario *sc;
     double v, dir_deg;
     awdb *db;
+    int pass;             /* 0: the hub nearest the station; 1: the newest hub within 0.5 m of it */
+    double near_hub_S_m[3];
     awdb_key best;
     double best_d, best_mtime;
     char cpath[1024], ipath[1024], wpath[1024], zpath[1024]; /* wpath, zpath "": a whole-domain pair */
@@ -290,8 +292,10 @@ static int coupled_candidate(void *user, const awdb_key *k)
     double d2 = 0.0;
     for (int i = 0; i < 3; i++)
         d2 += (k->station_S_m[i] - p->sc->station_S_m[i]) * (k->station_S_m[i] - p->sc->station_S_m[i]);
-    double d = sqrt(d2);
-    if (d > p->best_d + 0.5)
+    double d = sqrt(d2), dn2 = 0.0;
+    for (int i = 0; i < 3; i++)
+        dn2 += (k->station_S_m[i] - p->near_hub_S_m[i]) * (k->station_S_m[i] - p->near_hub_S_m[i]);
+    if (p->pass == 1 && dn2 > 0.25)
         return 0;
     awdb_key ki = *k;
     char cp[1024], ip[1024];
@@ -315,9 +319,17 @@ static int coupled_candidate(void *user, const awdb_key *k)
             awdb_query(p->db, &kz, zp, sizeof zp) != AWDB_READY)
             return 0;
     }
-    if (d < p->best_d - 0.5 || mt > p->best_mtime) {
+    if (p->pass == 0) { /* ties by the hub's coordinates: the entries' order does not matter */
+        int tie = d == p->best_d && memcmp(k->station_S_m, p->near_hub_S_m, sizeof p->near_hub_S_m) != 0 &&
+                  (k->station_S_m[0] < p->near_hub_S_m[0] ||
+                   (k->station_S_m[0] == p->near_hub_S_m[0] && (k->station_S_m[1] < p->near_hub_S_m[1] ||
+                    (k->station_S_m[1] == p->near_hub_S_m[1] && k->station_S_m[2] < p->near_hub_S_m[2]))));
+        if (d < p->best_d || tie) {
+            p->best_d = d;
+            memcpy(p->near_hub_S_m, k->station_S_m, sizeof p->near_hub_S_m);
+        }
+    } else if (mt > p->best_mtime) {
         p->best = *k;
-        p->best_d = fmin(d, p->best_d);
         p->best_mtime = mt;
         snprintf(p->cpath, sizeof p->cpath, "%s", cp);
         snprintf(p->ipath, sizeof p->ipath, "%s", ip);
@@ -337,6 +349,11 @@ static int db_coupled(awdb *db, const sim_scenario *sc, double v, double dir_rad
     p.dir_deg = dir_rad * CORE_RAD_TO_DEG;
     p.db = db;
     p.best_d = INFINITY;
+    if (awdb_list(db, coupled_candidate, &p, err) < 0)
+        return -1;
+    if (!isfinite(p.best_d))
+        return 0;
+    p.pass = 1; /* the order the entries come in does not matter */
     if (awdb_list(db, coupled_candidate, &p, err) < 0)
         return -1;
     if (!p.cpath[0])

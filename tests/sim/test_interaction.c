@@ -648,8 +648,8 @@ static int run_cmd(const char *cmd, char *out, size_t n)
 
 /* disim fly over a database holding, for 10 m/s from the bow, the
  * ship-only field, a coupled pair at the station (two coupling iterations,
- * 70000 N then 73000 N) and one 20 m forward: it flies the newest pair at
- * the station, says so and raises the flag; from red 30 a deck-zone pair
+ * 70000 N then 73000 N), one 20 m forward and a newer one 0.8 m across:
+ * it flies the newest pair at the station, says so and raises the flag; from red 30 a deck-zone pair
  * with the zone's ship-only field: it flies that; from green 30 (no
  * coupled fields) it says it flies without. */
 static void test_db_fly(const char *disim)
@@ -671,7 +671,7 @@ static void test_db_fly(const char *disim)
     awdb *db = awdb_open(dir, NULL, &err);
     CHECK(db != NULL);
     const double ref = AWDB_SHIP_ONLY_REF_MPS;
-    awdb_key k[11];
+    awdb_key k[13];
     awdb_key_ship_only(&k[0], "SFS2", "UH-60A", ref, 0.0, CORE_GRID_DEFAULT);
     pair_keys(70000.0, hub, 0.0, 0.0, &k[1], &k[2]);
     pair_keys(73000.0, hub, 0.0, 0.0, &k[3], &k[4]);
@@ -684,8 +684,12 @@ static void test_db_fly(const char *disim)
     memcpy(k[8].station_S_m, station, sizeof k[8].station_S_m);
     k[8].radius_m = R_M;
     pair_keys(74000.0, hub, -30.0, ref, &k[9], &k[10]);
+    /* the newest of all, its hub 0.8 m across from the nearest (0.16 m
+     * farther from the station): another place, not flown */
+    double side[3] = {hub[0], hub[1] + 0.8, hub[2]};
+    pair_keys(75000.0, side, 0.0, 0.0, &k[11], &k[12]);
     ok = db != NULL;
-    for (int i = 0; i < 11 && ok; i++)
+    for (int i = 0; i < 13 && ok; i++)
         ok = awdb_key_canon(&k[i], &err) == 0 && awdb_submit(db, &k[i], NULL, &err) == 0;
     awdb_engine eng = {"test", db_build, t, NULL};
     awdb_builder_opts bo;
