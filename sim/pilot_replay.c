@@ -35,9 +35,13 @@
  * pilot's delay: a pilot flying a known profile leads it by about his
  * delay, the precognitive mode of McRuer and Krendel's successive
  * organisation of perception), through the pilot's own loop laws:
- *     horizontal:  v_ff = v_S(t + tau) + a_S(t + tau) / w_v
+ *     horizontal:  v_ff = v_S(t + tau) + a_S(t + tau + tau_a) / w_v
  * (the velocity loop's a_c = w_v (v_c - v) then carries a_S, the
- * reference's acceleration, whole), and
+ * reference's acceleration, whole; the acceleration is the attitude's,
+ * which follows its command about 1 / w_a behind, w_a the attitude loops'
+ * crossover: the crossover model closed, Y / (1 + Y) ~ 1 / (1 + s / w_a);
+ * tau_a = acc_lead_s, default 1 / w_a),
+ * and
  *     vertical:    w_ff = w(t + tau) + (a_z(t + tau) - Z_w w(t + tau)) / w_h
  * (the height loop's rate term then gives the collective the linear model
  * needs for that rate and acceleration, (a_z - Z_w w) / Z_col; w_v and
@@ -574,6 +578,7 @@ void sim_pilot_replay_opts_default(sim_pilot_replay_opts *o)
     memset(o, 0, sizeof *o);
     sim_pilot_auto_opts_default(&o->pilot);
     o->preview_s = -1.0;
+    o->acc_lead_s = -1.0;
 }
 
 const char *sim_replay_phase_name(int phase)
@@ -592,9 +597,9 @@ sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_repl
         return NULL;
     }
     double pv = o->preview_s < 0.0 ? o->pilot.delay_s : o->preview_s;
-    if (!(pv >= 0.0 && pv <= 10.0)) {
-        core_err_set(err, -1, "pilot_replay: preview %g s: expected 0 to 10 s (or < 0: the pilot's delay)",
-                     o->preview_s);
+    if (!(pv >= 0.0 && pv <= 10.0) || !(o->acc_lead_s <= 10.0) || !(o->pilot.att_crossover_radps > 0.0)) {
+        core_err_set(err, -1, "pilot_replay: preview %g s, acceleration lead %g s: expected up to 10 s each (< 0: the "
+                              "defaults) and a positive attitude crossover", o->preview_s, o->acc_lead_s);
         return NULL;
     }
     sim_pilot_replay *p = calloc(1, sizeof *p);
@@ -605,6 +610,7 @@ sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_repl
     p->ref = ref;
     p->o = *o;
     p->o.preview_s = pv;
+    p->o.acc_lead_s = o->acc_lead_s < 0.0 ? 1.0 / o->pilot.att_crossover_radps : o->acc_lead_s;
     /* the automated pilot's gains at the reference's start, as a station
      * keeping there for the log's length; the reference then moves on */
     sim_replay_sample s0;
@@ -620,7 +626,6 @@ sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_repl
     t.desired.pos_m = t.adequate.pos_m = 1.0;
     t.desired.height_m = t.adequate.height_m = 1.0;
     t.desired.heading_rad = t.adequate.heading_rad = 5.0 * CORE_DEG_TO_RAD;
-#ifdef SIM_TASK_MAX_PHASES
     sim_task_phase *h = &t.phase[0]; /* one hold phase, as sim_task_load makes a station keeping */
     snprintf(h->name, sizeof h->name, "replay");
     h->kind = SIM_PHASE_HOLD;
@@ -630,7 +635,6 @@ sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_repl
     h->desired = t.desired;
     h->adequate = t.adequate;
     t.nphases = 1;
-#endif
     if (!(p->pilot = sim_pilot_auto_create(ac, &t, &o->pilot, trim, log, err)))
         goto fail;
     sim_pilot_gains g;
@@ -698,8 +702,10 @@ int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_fl
     sim_pilot_ref ref;
     memset(&ref, 0, sizeof ref);
     memcpy(ref.pos_S_m, now.pos_S_m, sizeof ref.pos_S_m);
+    sim_replay_sample acc_ahead; /* the attitude (and so the acceleration) follows its command 1 / w_a late */
+    sim_replay_log_sample(L, out->t_s + p->o.preview_s + p->o.acc_lead_s, &acc_ahead);
     for (int i = 0; i < 2; i++)
-        ref.vel_S_mps[i] = ahead.vel_S_mps[i] + ahead.acc_S_mps2[i] / p->o.pilot.vel_bw_radps;
+        ref.vel_S_mps[i] = ahead.vel_S_mps[i] + acc_ahead.acc_S_mps2[i] / p->o.pilot.vel_bw_radps;
     ref.vel_S_mps[2] = ahead.vel_S_mps[2] + (ahead.acc_S_mps2[2] - p->Z_w * ahead.vel_S_mps[2]) / p->o.pilot.hgt_crossover_radps;
     ref.heading_rad = ahead.heading_rad;
     ref.mode = SIM_PILOT_HOLD;

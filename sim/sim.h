@@ -990,6 +990,8 @@ typedef struct sim_pilot_replay sim_pilot_replay;
 typedef struct sim_pilot_replay_opts {
     sim_pilot_auto_opts pilot; /* the automated pilot's loops (rate, delay, the WOD of the gains) */
     double preview_s;          /* the reference is taken this far ahead (< 0, the default: the pilot's delay) */
+    double acc_lead_s;         /* its acceleration this much further (< 0, the default: the attitude
+                                  loops' lag, 1 / att_crossover_radps) */
     int feed_controls;         /* 1: the recorded controls' change from the log's first state fed
                                   forward about this flight's trim, the loops acting on the
                                   deviation from the recorded state; 0 (default): the loops alone */

@@ -16,7 +16,8 @@
  *    within 0.5 m of the recorded one at every recorded step (issue 26's
  *    acceptance) with the loops alone, its descent within 0.3 m (the
  *    height loop's feed-forward), its rms below that of a replay without
- *    the preview; with the recorded controls fed forward within 0.001 m.
+ *    the preview and of one without the acceleration's lead; with the
+ *    recorded controls fed forward within 0.001 m.
  * 4. Replayed in another WOD and sea: 25 kt from green 30 (10 kt more,
  *    30 deg off) in sea state 4 with another seed, the loops alone and
  *    with the recorded controls fed forward: each flies to the
@@ -184,7 +185,7 @@ typedef struct replay_run {
 
 /* 3-4. The log replayed in conditions c; compared step by step with tr (NULL: not). */
 static void replay(const hfm_aircraft *ac, const core_ship *ship, const sim_replay_log *L, const conds *c,
-                   int feed, double preview_s, const traj *tr, replay_run *out)
+                   int feed, double preview_s, double acc_lead_s, const traj *tr, replay_run *out)
 {
     memset(out, 0, sizeof *out);
     out->max_dev_m = -1.0;
@@ -203,6 +204,7 @@ static void replay(const hfm_aircraft *ac, const core_ship *ship, const sim_repl
         o.pilot.wod_dir_rad = c->dir_deg * CORE_DEG_TO_RAD;
         o.feed_controls = feed;
         o.preview_s = preview_s;
+        o.acc_lead_s = acc_lead_s;
         sim_flight_trim_inputs(f, &in);
         p = sim_pilot_replay_create(ac, L, &o, &in, NULL, &err);
     }
@@ -483,26 +485,31 @@ int main(void)
     } else {
         test_read(L, &tr);
         replay_run same, same_np, same_ff, other, other_ff;
-        replay(ac, &ship, L, &rec, 0, -1.0, &tr, &same);
+        replay(ac, &ship, L, &rec, 0, -1.0, -1.0, &tr, &same);
         print_replay("replay, the same conditions, the loops alone", &same);
         CHECK(!same.failed && same.max_dev_m >= 0.0 && same.max_dev_m <= 0.5 && same.r.all.max_m <= 0.5);
         CHECK(same.r.ended);
         /* the descent: the height loop's feed-forward keeps it within 0.3 m */
         CHECK(same.r.phase[SIM_REPLAY_DESCEND].n > 0 && same.r.phase[SIM_REPLAY_DESCEND].max_m <= 0.3);
         /* the preview (the pilot's delay) does better than none */
-        replay(ac, &ship, L, &rec, 0, 0.0, &tr, &same_np);
+        replay(ac, &ship, L, &rec, 0, 0.0, -1.0, &tr, &same_np);
         print_replay("replay, the same conditions, no preview", &same_np);
         CHECK(!same_np.failed && same.r.all.rms_m < same_np.r.all.rms_m);
-        replay(ac, &ship, L, &rec, 1, -1.0, &tr, &same_ff);
+        /* the acceleration led by the attitude loops' lag does better than not */
+        replay_run same_nl;
+        replay(ac, &ship, L, &rec, 0, -1.0, 0.0, &tr, &same_nl);
+        print_replay("replay, the same conditions, the acceleration not led", &same_nl);
+        CHECK(!same_nl.failed && same.r.all.rms_m < same_nl.r.all.rms_m);
+        replay(ac, &ship, L, &rec, 1, -1.0, -1.0, &tr, &same_ff);
         print_replay("replay, the same conditions, the recorded controls fed forward", &same_ff);
         CHECK(!same_ff.failed && same_ff.max_dev_m >= 0.0 && same_ff.max_dev_m <= 0.001);
         const conds oth = {25.0, 30.0, 4, 11};
-        replay(ac, &ship, L, &oth, 0, -1.0, NULL, &other);
+        replay(ac, &ship, L, &oth, 0, -1.0, -1.0, NULL, &other);
         print_replay("replay, 25 kt from green 30, sea state 4", &other);
         CHECK(!other.failed && other.r.ended && isfinite(other.r.all.rms_m) && other.r.all.max_m <= 2.0);
         CHECK(other.r.stop_steps == 0);
         /* the recorded controls there: the loops correct the recorded trim's error */
-        replay(ac, &ship, L, &oth, 1, -1.0, NULL, &other_ff);
+        replay(ac, &ship, L, &oth, 1, -1.0, -1.0, NULL, &other_ff);
         print_replay("replay, 25 kt from green 30, sea state 4, the recorded controls fed forward", &other_ff);
         CHECK(!other_ff.failed && other_ff.r.ended && other_ff.r.all.max_m <= 2.0 && other_ff.r.stop_steps == 0);
         test_bad(log);
