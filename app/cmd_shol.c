@@ -154,7 +154,7 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
         task_path = tbuf;
     }
     sim_task task;
-    if (sim_task_load(task_path, &task, err) != 0)
+    if (sim_task_load_ship(task_path, &sc->ship, &task, err) != 0)
         return -1;
     sim_fly_task_opts fo;
     sim_fly_task_opts_default(&fo);
@@ -207,7 +207,7 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
     shol_report_info info;
     memset(&info, 0, sizeof info);
     info.title = title;
-    info.label = "flown (automated pilot)";
+    info.label = "automated pilot";
     info.scenario_path = scen;
     info.aircraft_path = sc->aircraft_path;
     info.grid = core_grid_name(cs->grid);

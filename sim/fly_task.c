@@ -2,16 +2,20 @@
  * the flown SHOL's fly callback (shol_fly_fn, shol/flown.c).
  *
  * What is flown. The flight of sim/flight.c (trimmed hover at the
- * station, the ship-only airwake of the direction scaled to the WOD
- * speed, the field's turbulence seeded by seed), the ship in the sea
- * state of the options (sim/ship_motion.c, seeded by seed + 1, as
- * `disim fly` does), the landing gear on the deck where the aircraft has
- * one (sim/contact.c: a strike on the ship is a crash), and the automated
- * pilot (sim/pilot_auto.c) flying the task with the flight's SAS off (its
- * gains are the bare airframe's). The flight ends at touchdown, at the
- * task's end, at a crash, or at the first step that exceeds a rejection
- * criterion: a flight is rejected at its first exceedance, so the rest
- * would not change the verdict.
+ * task's first point, or the station for a task without one; the
+ * ship-only airwake of the direction scaled to the WOD speed; the field's
+ * turbulence seeded by seed), the ship in the sea state of the options
+ * (sim/ship_motion.c, seeded by seed + 1, as `disim fly` does), the
+ * landing gear on the deck and the ship where the aircraft has one
+ * (sim/contact.c: a strike or a roll-over is a crash), and the automated
+ * pilot (sim/pilot_auto.c) flying the task as `disim fly --pilot auto`
+ * flies it (the aircraft's SAS as its file engages it). The flight ends
+ * when the pilot's task is done (touched down and settled on the deck,
+ * or its last hold flown), at the task's length, at a crash, or at the
+ * first step that exceeds a rejection criterion: a flight is rejected at
+ * its first exceedance, so the rest would not change the verdict. The
+ * criteria judge the flight up to touchdown; on the deck the collective
+ * goes down, which is not a control margin.
  *
  * How a flight is judged, in this order (the first that applies is the
  * cause): a start that does not trim ("no trim"); a crash ("crash: WHAT",
@@ -118,6 +122,17 @@ static void track(shol_flown_track *tr, const sim_flight_out *o, const char *pha
         *exceeded = 1;
 }
 
+/* The phase the pilot flies now, by its name in the task ("hover",
+ * "descent", "traverse", ...). */
+static const char *phase_name(const sim_fly_task *t, const sim_task_result *r)
+{
+    if (r->touched)
+        return "touchdown";
+    if (r->phase_now >= 0 && r->phase_now < t->task.nphases && t->task.phase[r->phase_now].name[0])
+        return t->task.phase[r->phase_now].name;
+    return t->task.kind == SIM_TASK_LAND ? (r->t_descent_s >= 0.0 ? "descent" : "hover") : "station keeping";
+}
+
 int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
                      const struct cfd_field *field, struct shol_flight *out)
 {
@@ -130,7 +145,6 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
     int rc = -1;
     sim_ship_motion *motion = NULL;
     sim_flight *fl = NULL;
-    sim_contact *gear = NULL;
     sim_pilot_auto *pilot = NULL;
 
     sim_sea sea = t->o.sea;
@@ -144,8 +158,9 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
     fo.ship_speed_mps = sea.ship_speed_mps;
     fo.turbulence = t->o.turbulence;
     fo.seed = seed;
-    fo.sas = 0; /* the automated pilot's gains are the bare airframe's */
-    memcpy(fo.station_S_m, t->o.station_S_m, sizeof fo.station_S_m);
+    fo.gear = t->has_gear; /* the wheels and strike points on the deck and the ship (sim/contact.c) */
+    /* the start: a phase task's first point (alongside, astern), else the station */
+    memcpy(fo.station_S_m, t->task.has_start ? t->task.start_S_m : t->o.station_S_m, sizeof fo.station_S_m);
     if (!(fl = sim_flight_create(t->ac, &t->ship, &fo, sim_ship_motion_frame_fn, motion, field, t->log, &err))) {
         /* sim_flight_create says "does not trim" for a hover that does not
          * converge: a rejection; anything else is fatal */
@@ -153,16 +168,15 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
             goto no_trim;
         goto fatal;
     }
-    if (t->has_gear) {
-        if (!(gear = sim_contact_create(t->ac, &t->ship, sim_ship_motion_frame_fn, motion, fo.rate_hz, &err)))
-            goto fatal;
-        sim_flight_set_external(fl, sim_contact_ext_fn, gear);
-    }
+    /* the pilot as `disim fly --pilot auto` has it: the aircraft's SAS as
+     * its file engages it, the gains scheduled with it; the gear */
     sim_pilot_auto_opts po;
     sim_pilot_auto_opts_default(&po);
     po.rate_hz = fo.rate_hz;
     po.wod_speed_mps = wod_speed_mps;
     po.wod_dir_rad = wod_dir_rad;
+    po.sas = sim_sas_engaged(sim_flight_sas(fl));
+    po.gear = t->has_gear;
     sim_flight_inputs in;
     sim_flight_trim_inputs(fl, &in);
     if (!(pilot = sim_pilot_auto_create(t->ac, &t->task, &po, &in, t->log, &err))) {
@@ -176,32 +190,28 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
     sim_flight_out o;
     sim_flight_state(fl, &o);
     sim_task_result r;
+    sim_pilot_auto_result(pilot, &r);
     int exceeded = 0, crashed = 0;
-    track(&out->track, &o, "hover", &exceeded);
+    track(&out->track, &o, phase_name(t, &r), &exceeded);
     for (long s = 0; s < n && !exceeded && !crashed; s++) {
         sim_pilot_auto_step(pilot, &o, &in);
         sim_pilot_auto_result(pilot, &r);
-        if (r.touched) /* the landing task ends at touchdown */
+        if (r.done) /* touched down (and settled, with the gear), or the last hold flown */
             break;
-        const char *phase = t->task.kind == SIM_TASK_LAND && r.t_descent_s >= 0.0 ? "descent"
-                            : t->task.kind == SIM_TASK_LAND                       ? "hover"
-                                                                                  : "station keeping";
-        if (sim_flight_step(fl, &in, &o, &err) != 0) {
+        const char *phase = phase_name(t, &r);
+        int st = sim_flight_step(fl, &in, &o, &err);
+        if (st < 0) {
             snprintf(out->cause, sizeof out->cause, "crash: the flight model diverged in %s", phase);
             crashed = 1;
-            break;
-        }
-        track(&out->track, &o, phase, &exceeded);
-        if (gear) {
-            hfm_body b;
-            sim_contact_body(&o, &b);
-            sim_contact_report cr;
-            if (sim_contact_step(gear, o.t_s, &b, &cr) != 0) {
-                snprintf(out->cause, sizeof out->cause, "%s%.80s", strncmp(cr.what, "crash", 5) ? "crash: " : "",
-                         cr.what[0] ? cr.what : "a strike on the ship");
-                crashed = 1;
-            }
-        }
+        } else if (st > 0) { /* a strike on the ship, or a roll-over on the deck */
+            if (o.contact_flags & SIM_CONTACT_CRASH)
+                snprintf(out->cause, sizeof out->cause, "%s%.80s", strncmp(o.contact_what, "crash", 5) ? "crash: " : "",
+                         o.contact_what[0] ? o.contact_what : "a strike on the ship");
+            else
+                snprintf(out->cause, sizeof out->cause, "crash: roll-over on the deck");
+            crashed = 1;
+        } else if (!r.touched) /* the criteria judge the flight; on deck the collective goes down */
+            track(&out->track, &o, phase, &exceeded);
     }
     if (!crashed && !exceeded)
         sim_pilot_auto_step(pilot, &o, &in); /* grades the last state */
@@ -242,7 +252,6 @@ fatal:
     rc = -1;
 done:
     sim_pilot_auto_destroy(pilot);
-    sim_contact_destroy(gear);
     sim_flight_destroy(fl);
     sim_ship_motion_destroy(motion);
     return rc;

@@ -6,8 +6,8 @@
  * a calm landing passes; a criterion no trim can meet fails at the first
  * step of the hover; a sink limit below the descent rate fails at the
  * touchdown; a start too far from the spot for the adequate time fails
- * the adequate position tolerance and never lands; a start with the rotor
- * in the hangar is a crash with what hit what; a wind no hover trims in
+ * the adequate position tolerance; station keeping that runs into the
+ * hangar face is a crash naming what hit what; a wind no hover trims in
  * is "no trim"; the seeds of the sea state change the flight and the same
  * seed gives the same one.
  */
@@ -61,14 +61,16 @@ static void show(const char *what, int rc, const shol_flight *f)
 
 /* A task file written beside the test from the landing task with one
  * section's keys replaced. */
-static int write_task(const char *path, const char *desired, const char *adequate)
+static int write_task(const char *path, const char *type, const char *target, const char *desired,
+                      const char *adequate)
 {
     FILE *f = fopen(path, "w");
     if (!f)
         return -1;
-    fprintf(f, "[task]\ntype = land\ntarget_S_m = 0,0,-6\nheading_deg = 0\nduration_s = 10\ntouchdown_height_m = "
-               "2.22\ndescent_mps = 0.5\n\n[desired]\n%s\n\n[adequate]\n%s\n",
-            desired, adequate);
+    fprintf(f, "[task]\ntype = %s\ntarget_S_m = %s\nheading_deg = 0\nduration_s = 10\n", type, target);
+    if (!strcmp(type, "land"))
+        fprintf(f, "touchdown_height_m = 2.22\ndescent_mps = 0.5\n");
+    fprintf(f, "\n[desired]\n%s\n\n[adequate]\n%s\n", desired, adequate);
     return fclose(f);
 }
 
@@ -98,8 +100,10 @@ int main(void)
     CHECK(last.result.touched && f.sink_mps > 0 && f.sink_mps <= land.adequate.sink_mps);
     CHECK(f.dist_m <= land.adequate.pos_m);
     CHECK(f.track.first_crit == SHOL_LIMIT_NONE && f.track.n_bad == 0);
-    /* every step judged: the start and each step flown */
-    CHECK(labs(f.track.n_steps - (lround(f.flown_s * 200.0) + 1)) <= 1);
+    /* every step judged up to the touchdown (then the collective goes down
+     * and the gear settles on the deck) */
+    CHECK(labs(f.track.n_steps - (lround(last.result.t_touchdown_s * 200.0) + 1)) <= 1);
+    CHECK(last.result.t_touchdown_s > 10.0 && f.flown_s >= last.result.t_touchdown_s);
     for (int i = 0; i < SHOL_NCRIT; i++)
         CHECK(f.track.min_frac[i] > 0 && f.track.min_frac[i] <= 1);
     shol_flight f1 = f;
@@ -148,7 +152,7 @@ int main(void)
     if (fd >= 0)
         close(fd);
     sim_task t3;
-    CHECK(write_task(path, "pos_m = 1\nheight_m = 1\nheading_deg = 5\ntime_s = 15\nsink_mps = 0.1",
+    CHECK(write_task(path, "land", "0,0,-6", "pos_m = 1\nheight_m = 1\nheading_deg = 5\ntime_s = 15\nsink_mps = 0.1",
                      "pos_m = 2\nheight_m = 2\nheading_deg = 10\ntime_s = 20\nsink_mps = 0.2") == 0);
     CHECK(sim_task_load(path, &t3, &err) == 0);
     rc = fly(&t3, &crit, spot, 0, 0.0, 0.0, 1, &f, NULL);
@@ -157,7 +161,7 @@ int main(void)
 
     /* 4. 12 m to starboard of the spot with 1 s to be within 2 m: the
      * adequate position tolerance; the descent never starts. */
-    CHECK(write_task(path, "pos_m = 1\nheight_m = 1\nheading_deg = 5\ntime_s = 0.5\nsink_mps = 1",
+    CHECK(write_task(path, "land", "0,0,-6", "pos_m = 1\nheight_m = 1\nheading_deg = 5\ntime_s = 0.5\nsink_mps = 1",
                      "pos_m = 2\nheight_m = 2\nheading_deg = 10\ntime_s = 1\nsink_mps = 2") == 0);
     CHECK(sim_task_load(path, &t3, &err) == 0);
     const double off[3] = {0, 12, -6};
@@ -166,14 +170,19 @@ int main(void)
     show("12 m off, 1 s", rc, &f);
     CHECK(rc == 0 && !f.pass && strcmp(f.cause, "adequate tolerance: position") == 0);
     CHECK(last.result.grade == 0);
-    unlink(path);
 
-    /* 5. The rotor in the hangar (its face 10 m ahead of the spot, 7 m
-     * high) at the start: a crash naming what hit what. */
-    const double hangar[3] = {4, 0, -3};
-    rc = fly(&land, &loose, hangar, 0, 0.0, 0.0, 1, &f, NULL);
-    show("rotor in the hangar", rc, &f);
-    CHECK(rc == 0 && !f.pass && strcmp(f.cause, "crash: rotor_fwd hit hangar") == 0);
+    /* 5. Station keeping 4 m ahead of the spot, 5 m above the deck: the
+     * rotor's tip (8.7 m ahead of the CG) is then past the hangar face
+     * (10 m ahead of the spot, 7 m high), and on the way the aircraft
+     * strikes it: a crash in flight, naming what hit what. */
+    CHECK(write_task(path, "station_keep", "4,0,-5", "pos_m = 1\nheight_m = 1\nheading_deg = 5\ntime_s = 15",
+                     "pos_m = 2\nheight_m = 2\nheading_deg = 10\ntime_s = 20") == 0);
+    CHECK(sim_task_load(path, &t3, &err) == 0);
+    const double low[3] = {0, 0, -5};
+    rc = fly(&t3, &loose, low, 0, 0.0, 0.0, 1, &f, NULL);
+    show("4 m ahead, 5 m up", rc, &f);
+    CHECK(rc == 0 && !f.pass && !strncmp(f.cause, "crash: ", 7) && strstr(f.cause, " hit hangar") && f.flown_s > 1.0);
+    unlink(path);
 
     /* 6. 100 m/s (194 kt) from green 90: no hover trims in it. */
     rc = fly(&land, &loose, spot, 0, 100.0, 90 * DEG, 1, &f, NULL);
