@@ -594,6 +594,8 @@ static int fly_auto(fly_ctx *c, core_err *err)
     po.wod_speed_mps = w->speed_mps;
     po.wod_dir_rad = w->dir_rad;
     po.sas = sim_sas_engaged(sim_flight_sas(w->fl)); /* its gains know the SAS the flight has */
+    hfm_gear gear;
+    po.gear = o->gear && hfm_aircraft_gear(w->ac, &gear) == 0; /* the flight has the gear (world_build) */
     sim_flight_inputs in;
     sim_flight_trim_inputs(w->fl, &in);
     sim_pilot_auto *p = sim_pilot_auto_create(w->ac, &task, &po, &in, c->log, err);
