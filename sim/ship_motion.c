@@ -541,8 +541,8 @@ static void phasors_at(const sim_ship_motion *m, long long k)
         }
         p->k = k0;
     }
-    double *c = p->c, *s = p->s;
-    const double *rc = p->rc, *rs = p->rs;
+    double *restrict c = p->c, *restrict s = p->s;
+    const double *restrict rc = p->rc, *restrict rs = p->rs;
     for (; p->k < k; p->k++)
         for (int i = 0; i < m->n; i++) {
             double ci = c[i], si = s[i];
@@ -551,10 +551,13 @@ static void phasors_at(const sim_ship_motion *m, long long k)
         }
 }
 
-static void eval_motions(const sim_ship_motion *m, double t, double x[3][3], double *elev)
+/* The motions at the centre at t: x[d][0..2] value, rate, acceleration
+ * (rates 0: the values alone, the rest 0; the values' bits are the same);
+ * the elevation there (rates 0: 0). The sums run in locals: the wave
+ * table cannot alias them. */
+static void eval_motions(const sim_ship_motion *m, double t, int rates, double x[3][3], double *elev)
 {
-    memset(x, 0, 9 * sizeof x[0][0]);
-    double e = 0.0;
+    double x0[3] = {0.0, 0.0, 0.0}, x1[3] = {0.0, 0.0, 0.0}, x2[3] = {0.0, 0.0, 0.0}, e = 0.0;
     long long k;
     const double *pc = NULL, *ps = NULL;
     if (m->n > 0 && step_of(m, t, &k)) {
@@ -573,13 +576,23 @@ static void eval_motions(const sim_ship_motion *m, double t, double x[3][3], dou
             ct = cos(th);
             st = sin(th);
         }
+        if (!rates) {
+            for (int d = 0; d < 3; d++)
+                x0[d] += w->c[d] * ct + w->s[d] * st;
+            continue;
+        }
         e += w->amp * ct;
         for (int d = 0; d < 3; d++) {
             double v = w->c[d] * ct + w->s[d] * st;
-            x[d][0] += v;
-            x[d][1] += we * (w->s[d] * ct - w->c[d] * st);
-            x[d][2] -= we * we * v;
+            x0[d] += v;
+            x1[d] += we * (w->s[d] * ct - w->c[d] * st);
+            x2[d] -= we * we * v;
         }
+    }
+    for (int d = 0; d < 3; d++) {
+        x[d][0] = x0[d];
+        x[d][1] = x1[d];
+        x[d][2] = x2[d];
     }
     *elev = e;
 }
@@ -613,7 +626,7 @@ int sim_ship_motion_point(const sim_ship_motion *m, double t_s, core_vec3 p_S_m,
     if (!m || !out || !isfinite(t_s))
         return -1;
     double x[3][3], elev;
-    eval_motions(m, t_s, x, &elev);
+    eval_motions(m, t_s, 1, x, &elev);
     point_from(m, t_s, x, p_S_m, NULL, out);
     return 0;
 }
@@ -623,7 +636,7 @@ int sim_ship_motion_at(const sim_ship_motion *m, double t_s, sim_ship_state *out
     if (!m || !out || !isfinite(t_s))
         return -1;
     double x[3][3], elev;
-    eval_motions(m, t_s, x, &elev);
+    eval_motions(m, t_s, 1, x, &elev);
     sim_ship_point o;
     point_from(m, t_s, x, core_vec3_make(0.0, 0.0, 0.0), NULL, &o);
     memset(out, 0, sizeof *out);
@@ -648,7 +661,7 @@ int sim_ship_motion_frame_fn(void *user, double t_s, sim_ship_frame *out)
     if (!m || !out || !isfinite(t_s))
         return -1;
     double x[3][3], elev;
-    eval_motions(m, t_s, x, &elev);
+    eval_motions(m, t_s, 0, x, &elev); /* the pose alone: no rates */
     sim_ship_point o;
     core_mat3 C;
     point_from(m, t_s, x, core_vec3_make(0.0, 0.0, 0.0), &C, &o);

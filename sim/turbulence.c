@@ -69,11 +69,12 @@
  *    represented: the rotor's blade elements are about a metre apart and
  *    a gust shorter than that averages out over a blade.
  *  - The generator is xoshiro256** (Blackman and Vigna 2018) seeded by
- *    splitmix64, normal deviates by Marsaglia's polar method: private to
- *    each sim_turb, no global state; the same seed and inputs give the same
- *    bits.
+ *    splitmix64, normal deviates by the ziggurat method of Marsaglia and
+ *    Tsang (2000) (sim/turb_rng.h): private to each sim_turb, no global
+ *    state; the same seed and inputs give the same bits.
  */
 #include "sim.h"
+#include "turb_rng.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -96,8 +97,7 @@ typedef struct turb_d2 {
 struct sim_turb {
     sim_turb_opts o;
     uint64_t rng[4];
-    int have_spare;
-    double spare;
+    turb_zig zig; /* the ziggurat's tables */
 
     int laid;                 /* the field exists */
     double e1[3], e2[3], e3[3];
@@ -115,65 +115,14 @@ struct sim_turb {
     turb_d2 s2, y2;
     double rho_s[3], rho_y[3]; /* row-to-row and lane-to-lane correlation per component */
     long relays;
+    size_t ring_lo;           /* ring(n_lo), kept by sim_turb_step */
+    double inv_ds, inv_dy;    /* 1 / ds_m, 1 / dy_m */
 };
 
 /* ------------------------------------------------------------- generator */
-static uint64_t splitmix64(uint64_t *x)
-{
-    uint64_t z = (*x += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
+static double normal(sim_turb *t) { return turb_zig_normal(&t->zig, t->rng); }
 
-static uint64_t rotl(uint64_t x, int k)
-{
-    return (x << k) | (x >> (64 - k));
-}
-
-static uint64_t xoshiro(uint64_t s[4])
-{
-    uint64_t r = rotl(s[1] * 5, 7) * 9, t = s[1] << 17;
-    s[2] ^= s[0];
-    s[3] ^= s[1];
-    s[1] ^= s[2];
-    s[0] ^= s[3];
-    s[2] ^= t;
-    s[3] = rotl(s[3], 45);
-    return r;
-}
-
-/* Uniform in (-1, 1). */
-static double uniform_pm1(uint64_t s[4])
-{
-    return ((double)(xoshiro(s) >> 11) + 0.5) * (2.0 / 9007199254740992.0) - 1.0;
-}
-
-static double normal(sim_turb *t)
-{
-    if (t->have_spare) {
-        t->have_spare = 0;
-        return t->spare;
-    }
-    double x, y, r2;
-    do {
-        x = uniform_pm1(t->rng);
-        y = uniform_pm1(t->rng);
-        r2 = x * x + y * y;
-    } while (r2 >= 1.0 || r2 == 0.0);
-    double m = sqrt(-2.0 * log(r2) / r2);
-    t->spare = y * m;
-    t->have_spare = 1;
-    return x * m;
-}
-
-static void seed_rng(sim_turb *t, uint64_t seed)
-{
-    uint64_t x = seed;
-    for (int i = 0; i < 4; i++)
-        t->rng[i] = splitmix64(&x);
-    t->have_spare = 0;
-}
+static void seed_rng(sim_turb *t, uint64_t seed) { turb_seed(t->rng, seed); }
 
 /* --------------------------------------------------------- discretisation */
 static turb_d1 d1_make(double h)
@@ -444,6 +393,9 @@ sim_turb *sim_turb_create(const sim_turb_opts *o, uint64_t seed, core_err *err)
         return NULL;
     }
     t->o = *o;
+    turb_zig_init(&t->zig);
+    t->inv_ds = 1.0 / o->ds_m;
+    t->inv_dy = 1.0 / o->dy_m;
     t->lanes = (int)lanes;
     t->cap = (int)cap;
     if (o->enabled) {
@@ -535,6 +487,7 @@ int sim_turb_step(sim_turb *t, const double ref_S_m[3], const double mean_vel_S_
     }
     while (t->n_hi < need_hi)
         next_row(t);
+    t->ring_lo = ring(t, t->n_lo);
     return 0;
 }
 
@@ -549,7 +502,7 @@ int sim_turb_sample(const sim_turb *t, const double pos_S_m[3], double k_m2ps2, 
         return 1;
 
     /* along the wind: rows n0, n0 + 1, weights 1 - fs, fs */
-    double fn = (t->X_m - dot3(pos_S_m, t->e1)) / t->o.ds_m;
+    double fn = (t->X_m - dot3(pos_S_m, t->e1)) * t->inv_ds;
     long long n0;
     double fs;
     if (!(fn > (double)t->n_lo)) {
@@ -559,11 +512,13 @@ int sim_turb_sample(const sim_turb *t, const double pos_S_m[3], double k_m2ps2, 
         n0 = t->n_hi - 1;
         fs = 1.0;
     } else {
-        n0 = (long long)floor(fn);
+        n0 = (long long)fn; /* floor: fn > n_lo, so truncation is it but below 0 */
+        if ((double)n0 > fn)
+            n0--;
         fs = fn - (double)n0;
     }
     /* across the wind: lanes j0, j0 + 1 */
-    double fl = (dot3(pos_S_m, t->e2) - t->eta0_m) / t->o.dy_m + 0.5 * (t->lanes - 1);
+    double fl = (dot3(pos_S_m, t->e2) - t->eta0_m) * t->inv_dy + 0.5 * (t->lanes - 1);
     int j0;
     double fy;
     if (!(fl > 0.0)) {
@@ -573,19 +528,27 @@ int sim_turb_sample(const sim_turb *t, const double pos_S_m[3], double k_m2ps2, 
         j0 = t->lanes - 2;
         fy = 1.0;
     } else {
-        j0 = (int)floor(fl);
+        j0 = (int)fl; /* fl > 0 */
         fy = fl - j0;
     }
-    size_t stride = (size_t)t->lanes * 3, i0 = ring(t, n0), i1 = i0 + 1 == (size_t)t->cap ? 0 : i0 + 1;
+    /* row n0's slot from n_lo's (n_lo <= n0 < n_lo + cap): no division */
+    size_t cap = (size_t)t->cap, i0 = t->ring_lo + (size_t)(n0 - t->n_lo);
+    if (i0 >= cap)
+        i0 -= cap;
+    size_t stride = (size_t)t->lanes * 3, i1 = i0 + 1 == cap ? 0 : i0 + 1;
     const double *r0 = t->rows + i0 * stride + (size_t)j0 * 3;
     const double *r1 = t->rows + i1 * stride + (size_t)j0 * 3;
-    double ws0 = 1.0 - fs, wy0 = 1.0 - fy, c[3];
+    double ws0 = 1.0 - fs, wy0 = 1.0 - fy, c[3], sd[3];
     for (int i = 0; i < 3; i++) {
-        double v = ws0 * (wy0 * r0[i] + fy * r0[3 + i]) + fs * (wy0 * r1[i] + fy * r1[3 + i]);
         double vs = ws0 * ws0 + fs * fs + 2.0 * ws0 * fs * t->rho_s[i];
         double vy = wy0 * wy0 + fy * fy + 2.0 * wy0 * fy * t->rho_y[i];
-        c[i] = v / sqrt(vs * vy);
+        sd[i] = sqrt(vs * vy); /* the interpolant's standard deviation */
     }
+    /* 1 / sd[i] from one division (the three sd lie in [1/2, 1]) */
+    double inv = 1.0 / (sd[0] * sd[1] * sd[2]);
+    double isd[3] = {sd[1] * sd[2] * inv, sd[0] * sd[2] * inv, sd[0] * sd[1] * inv};
+    for (int i = 0; i < 3; i++)
+        c[i] = (ws0 * (wy0 * r0[i] + fy * r0[3 + i]) + fs * (wy0 * r1[i] + fy * r1[3 + i])) * isd[i];
     double sigma = sqrt(2.0 * k_m2ps2 / 3.0);
     for (int i = 0; i < 3; i++)
         gust_S_mps[i] = sigma * (c[0] * t->e1[i] + c[1] * t->e2[i] + c[2] * t->e3[i]);
