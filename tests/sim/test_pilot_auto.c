@@ -316,6 +316,8 @@ typedef struct deck_run {
     int failed, crashed, sas;
     double t_end_s;
     double t_contact_s; /* the first state with a leg on the deck (sim/contact.c) */
+    int nu;             /* the controls sent before touchdown, 200 Hz */
+    float (*u)[4];
 } deck_run;
 
 static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *task_path, double wod_kt,
@@ -363,6 +365,7 @@ static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *
     }
     out->failed = 0;
     out->t_contact_s = -1.0;
+    out->u = malloc(sizeof *out->u * (size_t)((sim_task_length_s(&t) + 41.0) * RATE_HZ));
     out->t = t;
     sim_pilot_auto_gains(p, &out->g);
     sim_flight_out o;
@@ -373,6 +376,12 @@ static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *
         sim_pilot_auto_result(p, &out->r);
         if (out->r.done)
             break;
+        if (!out->r.touched && out->u) {
+            const double v[4] = {in.collective_pct, in.long_pct, in.lat_pct, in.pedal_pct};
+            for (int i = 0; i < 4; i++)
+                out->u[out->nu][i] = (float)v[i];
+            out->nu++;
+        }
         if (sim_flight_step(f, &in, &o, &err) != 0) {
             fprintf(stderr, "deck: step %ld: %s\n", s, err.msg);
             out->failed = 1;
@@ -419,6 +428,70 @@ static void print_deck(const char *what, const sim_task *t, const deck_run *d)
            r->ctl_rms_pct[0], r->ctl_rms_pct[1], r->ctl_rms_pct[2], r->ctl_rms_pct[3], r->ctl_rate_rms_pctps[0],
            r->ctl_rate_rms_pctps[1], r->ctl_rate_rms_pctps[2], r->ctl_rate_rms_pctps[3], r->ctl_cutoff_radps[0],
            r->ctl_cutoff_radps[1], r->ctl_cutoff_radps[2], r->ctl_cutoff_radps[3]);
+}
+
+/* 10. The control activity against this test's own reckoning from the
+ * controls the pilot sent: averaged over 0.05 s, differenced into rates,
+ * the periodogram at the record's Fourier frequencies (a direct DFT, not
+ * the pilot's running transform at fixed 0.05 rad/s bins); the rms
+ * within 2 %, the cut-off (half the rate's variance below it, up to
+ * 30 rad/s) within 10 % or 0.25 rad/s. */
+static void test_activity(const deck_run *d)
+{
+    int m = d->nu / 10;
+    double *v = malloc(sizeof *v * (size_t)m), *r = malloc(sizeof *r * (size_t)m);
+    if (!v || !r || m < 100) {
+        CHECK(0);
+        free(v);
+        free(r);
+        return;
+    }
+    for (int i = 0; i < 4; i++) {
+        double mu = 0.0, var = 0.0;
+        for (int k = 0; k < m; k++) {
+            double a = 0.0;
+            for (int j = 0; j < 10; j++)
+                a += d->u[10 * k + j][i];
+            v[k] = a / 10.0;
+            mu += v[k] / m;
+        }
+        for (int k = 0; k < m; k++)
+            var += (v[k] - mu) * (v[k] - mu) / m;
+        int n = m - 1;
+        double rm = 0.0;
+        for (int k = 0; k < n; k++) {
+            r[k] = (v[k + 1] - v[k]) / 0.05;
+            rm += r[k] / n;
+        }
+        double T = n * 0.05, tot = 0.0, P[4096];
+        int nf = 0;
+        for (int f = 1; f <= n / 2 && nf < 4096; f++) {
+            double w = 2.0 * M_PI * f / T;
+            if (w > 30.0)
+                break;
+            double re = 0.0, im = 0.0;
+            for (int k = 0; k < n; k++) {
+                re += (r[k] - rm) * cos(w * k * 0.05);
+                im -= (r[k] - rm) * sin(w * k * 0.05);
+            }
+            P[nf] = re * re + im * im;
+            tot += P[nf++];
+        }
+        double cum = 0.0, wc = 0.0;
+        for (int f = 0; f < nf; f++) {
+            cum += P[f];
+            if (cum >= 0.5 * tot) {
+                wc = 2.0 * M_PI * (f + 1) / T;
+                break;
+            }
+        }
+        printf("control %d: rms %.3f %% (the pilot's %.3f), cut-off %.2f rad/s (the pilot's %.2f)\n", i, sqrt(var),
+               d->r.ctl_rms_pct[i], wc, d->r.ctl_cutoff_radps[i]);
+        CHECK(fabs(sqrt(var) - d->r.ctl_rms_pct[i]) <= 0.02 * sqrt(var) + 1e-6);
+        CHECK(fabs(wc - d->r.ctl_cutoff_radps[i]) <= fmax(0.1 * wc, 0.25));
+    }
+    free(v);
+    free(r);
 }
 
 /* 9. The result files (sim_task_result_write): the CSV's header and row
@@ -548,8 +621,11 @@ static void test_deck(const hfm_aircraft *uh60, const hfm_aircraft *sa365)
                 CHECK_NEAR(gs_on[k].N_r, d.g.N_r - d.g.N_ped * sg.rate_pct_per_radps[2], 1e-9);
                 CHECK(gs_on[k].L_p < d.g.L_p && gs_on[k].M_q < d.g.M_q);
             }
-            if (k == 0 && sas)
+            if (k == 0 && sas) {
                 test_result_files(&d);
+                test_activity(&d);
+            }
+            free(d.u);
         }
 }
 
