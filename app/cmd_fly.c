@@ -751,7 +751,8 @@ static int fly_replay(fly_ctx *c, const sim_replay_log *ref, core_err *err)
         if (r.phase[ph].n)
             fprintf(stderr, "fly: replay %s: %.2f s, rms %.3f m, max %.3f m at %.2f s\n", sim_replay_phase_name(ph),
                     r.phase[ph].duration_s, r.phase[ph].rms_m, r.phase[ph].max_m, r.phase[ph].t_max_s);
-    rc = 0;
+    /* 1: a crash or a roll-over ended the flight (said above) */
+    rc = out.contact_flags & (SIM_CONTACT_CRASH | SIM_CONTACT_TIP) ? 1 : 0;
     goto out;
 write_fail:
     core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", o->csv);
@@ -788,9 +789,10 @@ int cmd_fly(int argc, char **argv)
     if (world_build(&ctx, o.scen, &ctx.w, &err) != 0)
         goto fail;
     if (o.replay_log) {
-        if (fly_replay(&ctx, replay_ref, &err) != 0)
+        int rr = fly_replay(&ctx, replay_ref, &err);
+        if (rr < 0)
             goto fail;
-        rc = 0;
+        rc = rr > 0 ? 3 : 0; /* 3: a crash or a roll-over ended the flight */
         goto done;
     }
     if (o.pilot) {
