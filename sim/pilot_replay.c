@@ -70,7 +70,14 @@
  * the same time (no preview), rms and largest, over the run and per phase
  * of the reference: descend (sinking faster than 0.2 m/s and faster than
  * it moves across), translate (moving faster than 0.3 m/s, or climbing
- * faster than 0.2 m/s), hover (else). The heading's largest error too.
+ * faster than 0.2 m/s), hover (else), on deck (the recorded state has a
+ * wheel on the deck). The heading's largest error too.
+ *
+ * On the deck. Where the reference and the flight both have a wheel on
+ * the deck the pilot lowers the collective at 20 %/s to 0 and holds
+ * cyclic and pedals where they were, at once (the automated pilot's hand
+ * after touchdown); the loops take over again when the reference leaves
+ * the deck.
  *
  * Bad logs: a file missing or not a file; not an event log (no LCM sync
  * word at byte 0); an event whose header or data runs past the end of the
@@ -108,6 +115,7 @@ typedef struct rec_state {
     double rate_B[3];
     double C_ES[9];
     double ctl[4]; /* the flown controls (of the step ending here) */
+    int on_deck;   /* a wheel on the deck */
 } rec_state;
 
 typedef struct rec_input {
@@ -187,6 +195,7 @@ static void make_state(const disim_heli_state_t *h, const ship_rec *sh, rec_stat
     s->euler[0] = h->roll_rad, s->euler[1] = h->pitch_rad, s->euler[2] = h->yaw_rad;
     s->ctl[0] = h->collective_pct, s->ctl[1] = h->long_cyclic_pct;
     s->ctl[2] = h->lat_cyclic_pct, s->ctl[3] = h->pedal_pct;
+    s->on_deck = h->on_deck != 0;
 }
 
 static int heli_ok(const disim_heli_state_t *h, const char **bad)
@@ -555,9 +564,12 @@ int sim_replay_log_sample(const sim_replay_log *r, double t_s, sim_replay_sample
         for (int i = 0; i < 3; i++)
             out->vel_S_mps[i] = out->acc_S_mps2[i] = out->vel_mean_S_mps[i] = out->rate_B_radps[i] = 0.0;
     controls_at(r, t_s, k, out->controls_pct);
+    out->on_deck = a->on_deck;
     double vh = hypot(out->vel_S_mps[0], out->vel_S_mps[1]), vz = out->vel_S_mps[2];
-    out->phase = vz > 0.2 && vz > vh ? SIM_REPLAY_DESCEND : vh > 0.3 || vz < -0.2 ? SIM_REPLAY_TRANSLATE
-                                                                                  : SIM_REPLAY_HOVER;
+    out->phase = out->on_deck           ? SIM_REPLAY_ON_DECK
+                 : vz > 0.2 && vz > vh  ? SIM_REPLAY_DESCEND
+                 : vh > 0.3 || vz < -0.2 ? SIM_REPLAY_TRANSLATE
+                                         : SIM_REPLAY_HOVER;
     return outside;
 }
 
@@ -569,6 +581,9 @@ struct sim_pilot_replay {
     sim_pilot_auto *shadow; /* feed_controls: flies the recorded states */
     double Z_w;             /* the heave damping the pilot's gains come from (1/s) */
     double trim_pct[4];     /* this flight's trim: the recorded controls are fed forward about it */
+    int deck;               /* on the deck with the reference: the collective going down */
+    double deck_u[4];       /* the controls then (cyclic and pedals held) */
+    double last_u[4];       /* the last controls given */
     double sum2[SIM_REPLAY_NPHASE + 1];
     sim_replay_result r;
 };
@@ -583,9 +598,11 @@ void sim_pilot_replay_opts_default(sim_pilot_replay_opts *o)
 
 const char *sim_replay_phase_name(int phase)
 {
-    return phase == SIM_REPLAY_HOVER ? "hover" : phase == SIM_REPLAY_TRANSLATE ? "translate"
-                                               : phase == SIM_REPLAY_DESCEND   ? "descend"
-                                                                               : "all";
+    return phase == SIM_REPLAY_HOVER       ? "hover"
+           : phase == SIM_REPLAY_TRANSLATE ? "translate"
+           : phase == SIM_REPLAY_DESCEND   ? "descend"
+           : phase == SIM_REPLAY_ON_DECK   ? "on deck"
+                                           : "all";
 }
 
 sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_replay_log *ref,
@@ -640,6 +657,7 @@ sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_repl
     sim_pilot_gains g;
     sim_pilot_auto_gains(p->pilot, &g);
     p->Z_w = g.Z_w;
+    memcpy(p->last_u, g.trim_pct, sizeof p->last_u);
     p->trim_pct[0] = trim->collective_pct, p->trim_pct[1] = trim->long_pct;
     p->trim_pct[2] = trim->lat_pct, p->trim_pct[3] = trim->pedal_pct;
     if (o->feed_controls && !(p->shadow = sim_pilot_auto_create(ac, &t, &o->pilot, trim, log, err)))
@@ -694,6 +712,22 @@ int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_fl
         r->t_s = out->t_s;
     }
     r->ended = out->t_s >= L->info.t1_s - 1e-9;
+    /* on the deck, as the reference is: the collective down at 20 %/s,
+     * cyclic and pedals held, no delay (the hand goes down, as the
+     * automated pilot's after touchdown); off again when the reference
+     * leaves the deck */
+    if (now.on_deck && out->on_deck) {
+        if (!p->deck)
+            memcpy(p->deck_u, p->last_u, sizeof p->deck_u);
+        p->deck = 1;
+        p->deck_u[0] = fmax(p->deck_u[0] - 20.0 * h, 0.0);
+        memset(in, 0, sizeof *in);
+        in->collective_pct = p->deck_u[0], in->long_pct = p->deck_u[1];
+        in->lat_pct = p->deck_u[2], in->pedal_pct = p->deck_u[3];
+        memcpy(p->last_u, p->deck_u, sizeof p->last_u);
+        return 0;
+    }
+    p->deck = 0;
     /* the loops act on the error from the reference now; what is fed
      * forward is the reference's motion preview_s ahead (the pilot's
      * delay), through the velocity loop (acceleration) and the height
@@ -742,6 +776,8 @@ int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_fl
     }
     if (stop)
         r->stop_steps++;
+    p->last_u[0] = in->collective_pct, p->last_u[1] = in->long_pct;
+    p->last_u[2] = in->lat_pct, p->last_u[3] = in->pedal_pct;
     return stop;
 }
 

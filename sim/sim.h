@@ -956,7 +956,8 @@ typedef struct sim_replay_info {
     char station[SIM_STATION_ID_MAX]; /* the one station's id ("" otherwise) */
     double t0_s, t1_s;  /* the first and the last state's time */
 } sim_replay_info;
-enum { SIM_REPLAY_HOVER = 0, SIM_REPLAY_TRANSLATE = 1, SIM_REPLAY_DESCEND = 2, SIM_REPLAY_NPHASE = 3 };
+enum { SIM_REPLAY_HOVER = 0, SIM_REPLAY_TRANSLATE = 1, SIM_REPLAY_DESCEND = 2, SIM_REPLAY_ON_DECK = 3,
+       SIM_REPLAY_NPHASE = 4 };
 /* The reference at one time (plain data). */
 typedef struct sim_replay_sample {
     double t_s;
@@ -965,6 +966,7 @@ typedef struct sim_replay_sample {
     double acc_S_mps2[3];     /* d vel_S_mps / dt (central differences over the samples) */
     double heading_rad;       /* from the bow, + to starboard */
     int phase;                /* SIM_REPLAY_*: of the reference's motion (sim/pilot_replay.c) */
+    int on_deck;              /* the recorded state has a wheel on the deck */
     /* the recorded state as sim_flight_out has it */
     double vel_mean_S_mps[3]; /* relative to the ship's mean motion, in S */
     double euler_E_rad[3], rate_B_radps[3];
@@ -983,7 +985,7 @@ void sim_replay_log_info(const sim_replay_log *r, sim_replay_info *i);
 /* The reference at t_s, linear between samples, held at the nearest end
  * outside them. 0 inside [t0_s, t1_s], 1 outside. */
 int sim_replay_log_sample(const sim_replay_log *r, double t_s, sim_replay_sample *s);
-/* "hover", "translate", "descend"; "all" for SIM_REPLAY_NPHASE. */
+/* "hover", "translate", "descend", "on deck"; "all" for SIM_REPLAY_NPHASE. */
 const char *sim_replay_phase_name(int phase);
 
 typedef struct sim_pilot_replay sim_pilot_replay;

@@ -23,6 +23,10 @@
  *    with the recorded controls fed forward: each flies to the
  *    reference's end, with every control inside its travel, and reports
  *    its errors (within the task's adequate 2 m).
+ * 6. With the gear (sim/contact.c): the landing flown to settled on the
+ *    deck and logged, replayed in the same conditions with the gear:
+ *    within 0.5 m of the recorded steps, its on-deck phase counted, and it
+ *    ends on the deck with the collective down.
  * 5. Bad logs are refused naming the file and the event: missing, a
  *    folder, empty, not an event log, truncated, a heli_state_t that is
  *    not one, a NaN in a state, no heli_state_t, a state without its
@@ -59,6 +63,7 @@ typedef struct conds {
     double wod_kt, dir_deg;
     int sea_state;
     uint64_t seed;
+    int gear; /* the aircraft's [gear] on the deck (sim/contact.c) */
 } conds;
 
 /* A flight in conditions c from start_S (its ship motion into *motion). */
@@ -75,6 +80,7 @@ static sim_flight *make_flight(const hfm_aircraft *ac, const core_ship *ship, co
     fo.rate_hz = RATE_HZ;
     fo.turbulence = 0;
     fo.sas = 0;
+    fo.gear = c->gear;
     fo.wod_speed_mps = c->wod_kt * KT;
     fo.wod_dir_rad = c->dir_deg * CORE_DEG_TO_RAD;
     memcpy(fo.station_S_m, start_S, sizeof fo.station_S_m);
@@ -113,6 +119,7 @@ static int record(const hfm_aircraft *ac, const core_ship *ship, const conds *c,
     po.rate_hz = RATE_HZ;
     po.wod_speed_mps = c->wod_kt * KT;
     po.wod_dir_rad = c->dir_deg * CORE_DEG_TO_RAD;
+    po.gear = c->gear;
     sim_flight_inputs in;
     sim_flight_trim_inputs(f, &in);
     sim_pilot_auto *p = sim_pilot_auto_create(ac, &task, &po, &in, NULL, &err);
@@ -140,7 +147,7 @@ static int record(const hfm_aircraft *ac, const core_ship *ship, const conds *c,
         sim_task_result r;
         sim_pilot_auto_step(p, &o, &in);
         sim_pilot_auto_result(p, &r);
-        if (r.touched)
+        if (c->gear ? r.done : r.touched) /* with the gear: settled on the deck */
             break;
         disim_pilot_input_t m;
         memset(&m, 0, sizeof m);
@@ -160,10 +167,10 @@ static int record(const hfm_aircraft *ac, const core_ship *ship, const conds *c,
     }
     sim_task_result r;
     sim_pilot_auto_result(p, &r);
-    printf("recorded: %s, %.0f kt from %.0f deg, sea state %d: touchdown at %.2f s, sink %.2f m/s, %.2f m from the "
-           "spot; %ld steps\n", hfm_aircraft_name(ac), c->wod_kt, c->dir_deg, c->sea_state, r.t_touchdown_s, r.sink_mps,
-           r.dist_m, tr->n);
-    if (!r.touched || sim_loop_finish(l, &err) != 0) {
+    printf("recorded: %s, %.0f kt from %.0f deg, sea state %d%s: touchdown at %.2f s, sink %.2f m/s, %.2f m from the "
+           "spot%s; %ld steps\n", hfm_aircraft_name(ac), c->wod_kt, c->dir_deg, c->sea_state, c->gear ? ", gear" : "",
+           r.t_touchdown_s, r.sink_mps, r.dist_m, c->gear ? (r.settled ? ", settled" : ", not settled") : "", tr->n);
+    if (!r.touched || (c->gear && !r.settled) || sim_loop_finish(l, &err) != 0) {
         fprintf(stderr, "record: no touchdown, or %s\n", err.msg);
         goto out;
     }
@@ -181,6 +188,8 @@ typedef struct replay_run {
     double max_dev_m;  /* from the recorded trajectory at its steps (-1: not compared) */
     double min_pct[4], max_pct[4];
     int failed;
+    int end_on_deck;   /* the last state's */
+    double end_coll_pct;
 } replay_run;
 
 /* 3-4. The log replayed in conditions c; compared step by step with tr (NULL: not). */
@@ -239,6 +248,8 @@ static void replay(const hfm_aircraft *ac, const core_ship *ship, const sim_repl
     }
     sim_pilot_replay_step(p, &o, &in); /* counts the last state */
     sim_pilot_replay_result(p, &out->r);
+    out->end_on_deck = o.on_deck;
+    out->end_coll_pct = o.collective_pct;
 done:
     sim_pilot_replay_destroy(p);
     sim_flight_destroy(f);
@@ -477,7 +488,7 @@ int main(void)
     char log[64];
     snprintf(log, sizeof log, "/tmp/test_pilot_replay_%d.log", (int)getpid());
     static traj tr;
-    const conds rec = {15.0, 0.0, 3, 7};
+    const conds rec = {15.0, 0.0, 3, 7, 0};
     sim_replay_log *L = NULL;
     if (record(ac, &ship, &rec, log, &tr) != 0 || !(L = sim_replay_log_load(log, &err))) {
         fprintf(stderr, "the recorded run: %s\n", err.msg);
@@ -505,7 +516,7 @@ int main(void)
         replay(ac, &ship, L, &rec, 1, -1.0, -1.0, &tr, &same_ff);
         print_replay("replay, the same conditions, the recorded controls fed forward", &same_ff);
         CHECK(!same_ff.failed && same_ff.max_dev_m >= 0.0 && same_ff.max_dev_m <= 0.001);
-        const conds oth = {25.0, 30.0, 4, 11};
+        const conds oth = {25.0, 30.0, 4, 11, 0};
         replay(ac, &ship, L, &oth, 0, -1.0, -1.0, NULL, &other);
         print_replay("replay, 25 kt from green 30, sea state 4", &other);
         CHECK(!other.failed && other.r.ended && isfinite(other.r.all.rms_m) && other.r.all.max_m <= 2.0);
@@ -515,6 +526,25 @@ int main(void)
         print_replay("replay, 25 kt from green 30, sea state 4, the recorded controls fed forward", &other_ff);
         CHECK(!other_ff.failed && other_ff.r.ended && other_ff.r.all.max_m <= 2.0 && other_ff.r.stop_steps == 0);
         test_bad(log);
+        /* 6. with the gear: the landing to settled on the deck, replayed */
+        char glog[80];
+        snprintf(glog, sizeof glog, "/tmp/test_pilot_replay_gear_%d.log", (int)getpid());
+        static traj gtr;
+        const conds grec = {15.0, 0.0, 3, 7, 1};
+        sim_replay_log *G = NULL;
+        if (record(ac, &ship, &grec, glog, &gtr) != 0 || !(G = sim_replay_log_load(glog, &err))) {
+            fprintf(stderr, "the recorded run with the gear: %s\n", err.msg);
+            CHECK(0);
+        } else {
+            replay_run gs;
+            replay(ac, &ship, G, &grec, 0, -1.0, -1.0, &gtr, &gs);
+            print_replay("replay with the gear, the same conditions", &gs);
+            printf("  ends %s the deck, collective %.1f %%\n", gs.end_on_deck ? "on" : "off", gs.end_coll_pct);
+            CHECK(!gs.failed && gs.max_dev_m >= 0.0 && gs.max_dev_m <= 0.5);
+            CHECK(gs.r.phase[SIM_REPLAY_ON_DECK].n > 0 && gs.end_on_deck && gs.end_coll_pct == 0.0);
+        }
+        sim_replay_log_destroy(G);
+        unlink(glog);
     }
     sim_replay_log_destroy(L);
     unlink(log);
