@@ -114,10 +114,11 @@
  * are relative to the deck (the change of the CG's position in S over
  * the last step), the roll and pitch those of the body relative to S.
  * With the gear (opts.gear = 1, sim/contact.c attached to the flight)
- * the pilot then centres nothing but lowers the collective at 20 %/s to
- * 0 %, holds cyclic and pedals where they were, and the run is done once
- * the CG has moved less than 0.05 m/s relative to the deck for 1 s;
- * without it the run is done at touchdown.
+ * the pilot then holds cyclic and pedals where they were and lowers the
+ * collective at 20 %/s to 0 % (no delay: the hand goes down), and the run
+ * is done once the CG has moved less than 0.05 m/s relative to the deck
+ * for 1 s; without the gear the run is done at touchdown and the loops
+ * fly on.
  *
  * Control activity (per control, from the start to touchdown): the rms
  * about the mean, the rms of the rate, and the cut-off frequency: the
@@ -379,8 +380,9 @@ static int load_phases(core_ini *ini, const char *path, const core_ship *ship, i
             return core_err_set(err, -1, "%s:%d: [task] phases: a descend phase only last", path, line);
     }
     if ((kind == SIM_TASK_LAND) != (ndesc == 1))
-        return core_err_set(err, -1, "%s:%d: [task] phases: type %s %s a descend phase last", path, line,
-                            kind == SIM_TASK_LAND ? "land" : "station_keep", kind == SIM_TASK_LAND ? "needs" : "has no");
+        return core_err_set(err, -1, "%s:%d: [task] phases: type %s: expected %s", path, line,
+                            kind == SIM_TASK_LAND ? "land" : "station_keep",
+                            kind == SIM_TASK_LAND ? "a descend phase last" : "no descend phase");
     /* the legacy fields: the last hold phase's (the hover before a descent) */
     const sim_task_phase *h = &t->phase[last_hold];
     memcpy(t->target_S_m, h->target_S_m, sizeof t->target_S_m);

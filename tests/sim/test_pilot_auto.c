@@ -641,6 +641,7 @@ static void write_file(const char *path, const char *text)
 
 static void test_task_file(const sim_task *t)
 {
+    core_err err0 = {{0}};
     CHECK(t->kind == SIM_TASK_STATION_KEEP);
     CHECK_NEAR(t->target_S_m[2], -6.0, 0.0);
     CHECK_NEAR(t->duration_s, 60.0, 0.0);
@@ -668,6 +669,58 @@ static void test_task_file(const sim_task *t)
         printf("bad task file %d: %s\n", k, err.msg);
         CHECK(rc < 0 && strstr(err.msg, path) && strstr(err.msg, bad[k].want));
     }
+    /* the phase form: each error names the file and what */
+    static const char *const phase_hdr = "[task]\ntype = land\nphases = a, d\n";
+    static const char *const hold_a = "[phase a]\nkind = hold\nat = port_edge\noffset_m = 0, -5\nheight_m = 6\n"
+                                      "duration_s = 5\ndesired_pos_m = 1\ndesired_height_m = 1\ndesired_heading_deg = 5\n"
+                                      "desired_time_s = 10\nadequate_pos_m = 2\nadequate_height_m = 2\n"
+                                      "adequate_heading_deg = 10\nadequate_time_s = 15\n";
+    static const char *const desc_d = "[phase d]\nkind = descend\nat = spot\ndescent_mps = 0.75\nquiescent = yes\n"
+                                      "desired_pos_m = 1\ndesired_heading_deg = 5\ndesired_time_s = 60\n"
+                                      "desired_sink_mps = 1\ndesired_drift_mps = 0.5\nadequate_pos_m = 1.5\n"
+                                      "adequate_heading_deg = 10\nadequate_time_s = 75\nadequate_sink_mps = 2\n"
+                                      "adequate_drift_mps = 1\n";
+    core_ship ship;
+    CHECK(core_ship_load(SHIP, &ship, &err0) == 0);
+    struct {
+        const char *head, *a, *d, *extra, *want;
+        int with_ship;
+    } pb[6] = {
+        {phase_hdr, hold_a, desc_d, "", NULL, 1},
+        {phase_hdr, hold_a, desc_d, "", "needs the ship", 0},
+        {"[task]\ntype = land\nphases = a, b\n", hold_a, desc_d, "", "no section [phase b]", 1},
+        {"[task]\ntype = land\nphases = d, a\n", hold_a, desc_d, "", "a hold phase first", 1},
+        {"[task]\ntype = station_keep\nphases = a, d\n", hold_a, desc_d, "", "expected no descend phase", 1},
+        {phase_hdr, hold_a, desc_d, "[phase z]\nkind = hold\n", "[phase z]: not in [task] phases", 1},
+    };
+    for (int k = 0; k < 6; k++) {
+        char text[4096];
+        snprintf(text, sizeof text, "%s%s%s%s", pb[k].head, pb[k].a, pb[k].d, pb[k].extra);
+        write_file(path, text);
+        sim_task tt;
+        core_err err = {{0}};
+        int rc = sim_task_load_ship(path, pb[k].with_ship ? &ship : NULL, &tt, &err);
+        printf("phase file %d: %s\n", k, rc ? err.msg : "read");
+        if (!pb[k].want) {
+            /* the port edge placed from the ship file: y = -(7 + 5) m */
+            CHECK(rc == 0 && tt.nphases == 2 && tt.has_start && tt.phase[0].target_S_m[1] == -12.0 &&
+                  tt.phase[0].target_S_m[2] == -6.0 && tt.phase[1].kind == SIM_PHASE_DESCEND);
+        } else {
+            CHECK(rc < 0 && strstr(err.msg, path) && strstr(err.msg, pb[k].want));
+        }
+    }
+    /* a tighter adequate band, its phase named */
+    char text[4096];
+    snprintf(text, sizeof text, "%s%s%s", phase_hdr, hold_a, desc_d);
+    char *q = strstr(text, "adequate_sink_mps = 2");
+    if (q)
+        memcpy(q, "adequate_sink_mps =.5", 21);
+    write_file(path, text);
+    sim_task tt;
+    core_err err = {{0}};
+    CHECK(sim_task_load_ship(path, &ship, &tt, &err) < 0 && strstr(err.msg, "[phase d]") &&
+          strstr(err.msg, "no tighter"));
+    printf("phase file 6: %s\n", err.msg);
     unlink(path);
 }
 
