@@ -923,7 +923,8 @@ int cmd_fly(int argc, char **argv)
         }
         if (sim_pilots_refused_unknown(pl))
             fprintf(stderr, "; %lld refused from no readable station", sim_pilots_refused_unknown(pl));
-        fprintf(stderr, "%s%s\n", lr.message[0] ? "; last refusal: " : "", lr.message);
+        /* after a crash the status's message is the crash's, said below */
+        fprintf(stderr, "%s%s\n", lr.message[0] && !ended[0] ? "; last refusal: " : "", ended[0] ? "" : lr.message);
     }
     if (out.nlegs > 0)
         fprintf(stderr, "fly: gear: %s at the end%s%s\n", out.on_deck ? "on the deck" : "off the deck",

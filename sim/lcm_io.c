@@ -772,6 +772,8 @@ int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
         if (frc > 0) { /* the flight ended: its last state goes out whatever the rate */
             l->crashed = 1;
             snprintf(l->crash_msg, sizeof l->crash_msg, "%.250s", err->msg);
+            snprintf(l->message, sizeof l->message, "%s", l->crash_msg); /* the status says what hit what */
+            l->dirty = 1;
             core_log_msg(l->log, CORE_LOG_WARN, "the flight ended: %s", l->crash_msg);
         }
         if ((l->lc || l->elog) && (frc > 0 || l->run_step % l->state_every == 0))

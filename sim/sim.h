@@ -1030,7 +1030,8 @@ void sim_pilot_replay_result(const sim_pilot_replay *p, sim_replay_result *r);
  * deck, moving with the ship) with a regularised Coulomb friction that holds
  * a standing aircraft; the body's strike points against the ship's blocks.
  * ODE finds the contacts; the loads go to the flight model as an hfm_ext_fn
- * (sim_flight_set_external(f, sim_contact_ext_fn, c)). See sim/contact.c. */
+ * (the flight owns one with sim_flight_opts.gear; by hand,
+ * sim_flight_set_external(f, sim_contact_ext_fn, c)). See sim/contact.c. */
 typedef struct sim_contact sim_contact;
 enum {
     SIM_CONTACT_SLIDE = 1u, /* a braked or locked wheel slid on the deck */

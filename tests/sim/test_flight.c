@@ -618,7 +618,8 @@ static int no_build(void *user, const char *path, sim_loop_world *w, core_err *e
  * last heli_state_t is the crash's state with the rotor's thrust and
  * power, on_deck and the three legs' loads (their sum within 20 % of the
  * weight less the thrust: the push's moment shifts them), and the last
- * sim_status_t is STOPPED with the slide, the crash and on-deck flags. */
+ * sim_status_t is STOPPED with the slide, the crash and on-deck flags and
+ * the crash's words as its message. */
 static void test_gear_loop(const hfm_aircraft *ac, const core_ship *ship)
 {
     hfm_gear g;
@@ -685,6 +686,7 @@ static void test_gear_loop(const hfm_aircraft *ac, const core_ship *ship)
     double sumN = 0.0, T = NAN, P = NAN;
     int32_t flags = 0;
     int8_t state = -1;
+    char smsg[256] = "";
     for (lcm_eventlog_event_t *ev; el && (ev = lcm_eventlog_read_next_event(el));) {
         if (!strcmp(ev->channel, DISIM_CH_HELI_STATE) && disim_heli_state_t_decode(ev->data, 0, ev->datalen, &h) > 0) {
             nh++;
@@ -700,6 +702,7 @@ static void test_gear_loop(const hfm_aircraft *ac, const core_ship *ship)
             ns++;
             flags = st.flags;
             state = st.state;
+            snprintf(smsg, sizeof smsg, "%s", st.message);
             disim_sim_status_t_decode_cleanup(&st);
         }
         lcm_eventlog_free_event(ev);
@@ -714,6 +717,7 @@ static void test_gear_loop(const hfm_aircraft *ac, const core_ship *ship)
     CHECK(fabs(sumN - (W - T)) < 0.2 * W);
     CHECK(isfinite(T) && T != 0.0 && isfinite(P) && P > 0.0);
     CHECK(state == DISIM_SIM_STATUS_T_STOPPED);
+    CHECK(strstr(smsg, "tail_rotor_aft hit hangar") != NULL); /* what ended it, for the stations */
     CHECK((flags & DISIM_SIM_STATUS_T_FLAG_CRASH) && (flags & DISIM_SIM_STATUS_T_FLAG_SLIDE) &&
           (flags & DISIM_SIM_STATUS_T_FLAG_ON_DECK) && !(flags & DISIM_SIM_STATUS_T_FLAG_TIP_OVER));
 }
