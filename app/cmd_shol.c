@@ -5,7 +5,8 @@
  * [--cfd-max-iter N] [--method trim|pilot] [--task FILE] [--seeds N]`.
  * --method pilot (issue 26) flies the task (--task, default the landing
  * task tasks/land_<aircraft>.ini beside the scenario) with the automated
- * pilot at each WOD point, --seeds N flights per point, in the scenario's
+ * pilot at each WOD point (--task LOG, a file not named *.ini: the replay
+ * pilot re-flies that disim fly --log recording), --seeds N flights per point, in the scenario's
  * [sea] state and turbulence, over the one-way airwake, and writes the
  * flown envelope beside the trim-based one (default folder: the
  * scenario's output folder + /pilot); see run_pilot and docs/shol.md.
@@ -153,20 +154,28 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
         default_task(sc, tbuf, sizeof tbuf);
         task_path = tbuf;
     }
+    /* a task file (*.ini) for the automated pilot, else a recorded run
+     * (an LCM event log of disim fly --log) for the replay pilot */
+    size_t tl = strlen(task_path);
+    int replay = !(tl >= 4 && !strcmp(task_path + tl - 4, ".ini"));
     sim_task task;
-    if (sim_task_load_ship(task_path, &sc->ship, &task, err) != 0)
+    sim_replay_log *ref = NULL;
+    if (replay ? !(ref = sim_replay_log_load(task_path, err)) : sim_task_load_ship(task_path, &sc->ship, &task, err) != 0)
         return -1;
     sim_fly_task_opts fo;
     sim_fly_task_opts_default(&fo);
+    fo.replay = ref;
     fo.turbulence = sc->turbulence;
     fo.sea.state = sc->sea_state;
     fo.sea.ship_speed_mps = sc->ship_speed_mps;
     fo.sea.wave_dir_rad = sc->wave_dir_rad;
     fo.sea.spectrum = sc->spectrum ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
     memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
-    sim_fly_task *ft = sim_fly_task_create(ac, &sc->ship, &task, &set->criteria, &fo, log, err);
-    if (!ft)
+    sim_fly_task *ft = sim_fly_task_create(ac, &sc->ship, replay ? NULL : &task, &set->criteria, &fo, log, err);
+    if (!ft) {
+        sim_replay_log_destroy(ref);
         return -1;
+    }
     awdb_fields_opts fopt;
     awdb_fields_opts_default(&fopt);
     fopt.cache_n = 32; /* every direction's field stays loaded */
@@ -189,7 +198,8 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
     if (seeds > 0)
         fs.n_seeds = seeds;
     progress_ctx pc = {tty, "flown"};
-    fprintf(stderr, "shol: flown: %s, %d seed%s per point, sea state %d, turbulence %s\n", task_path, fs.n_seeds,
+    fprintf(stderr, "shol: flown: %s %s, %d seed%s per point, sea state %d, turbulence %s\n",
+            replay ? "the replay pilot re-flies" : "the automated pilot flies", task_path, fs.n_seeds,
             fs.n_seeds == 1 ? "" : "s", fo.sea.state, fo.turbulence ? "on" : "off");
     if (shol_flown_run(&fs, trim, sim_fly_task_shol, &fu, on_progress_flown, &pc, log, &fr, err) != 0) {
         if (sim_fly_task_last_error(ft)[0])
@@ -202,12 +212,13 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
     }
     char title[160], what[256];
     snprintf(title, sizeof title, "%s + %s", sc->ship.name, hfm_aircraft_name(ac));
-    snprintf(what, sizeof what, "automated pilot, task %.150s, sea state %d, turbulence %s, one-way airwake", task_path,
-             fo.sea.state, fo.turbulence ? "on" : "off");
+    snprintf(what, sizeof what, "%s %.150s, sea state %d, turbulence %s, one-way airwake",
+             replay ? "replay pilot, recorded run" : "automated pilot, task", task_path, fo.sea.state,
+             fo.turbulence ? "on" : "off");
     shol_report_info info;
     memset(&info, 0, sizeof info);
     info.title = title;
-    info.label = "automated pilot";
+    info.label = replay ? "replay pilot" : "automated pilot";
     info.scenario_path = scen;
     info.aircraft_path = sc->aircraft_path;
     info.grid = core_grid_name(cs->grid);
@@ -240,6 +251,7 @@ out:
     shol_flown_result_free(&fr);
     awdb_fields_destroy(fc);
     sim_fly_task_destroy(ft);
+    sim_replay_log_destroy(ref);
     return rc;
 }
 

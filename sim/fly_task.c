@@ -45,6 +45,7 @@ struct sim_fly_task {
     const core_log *log;
     char err[1024];
     sim_fly_task_last last;
+    int replay;            /* the replay pilot flies o.replay (task unused) */
 };
 
 void sim_fly_task_opts_default(sim_fly_task_opts *o)
@@ -54,14 +55,22 @@ void sim_fly_task_opts_default(sim_fly_task_opts *o)
     o->turbulence = 1;
     sim_sea_default(&o->sea);
     o->max_s = 0.0;
+    o->replay = NULL;
+    o->replay_pos_m = 2.0;
+    o->replay_sink_mps = 2.0;
 }
 
 sim_fly_task *sim_fly_task_create(const hfm_aircraft *ac, const core_ship *ship, const sim_task *task,
                                   const struct shol_criteria *crit, const sim_fly_task_opts *o, const core_log *log,
                                   core_err *err)
 {
-    if (!ac || !ship || !task || !crit || !o) {
-        core_err_set(err, -1, "fly_task: expected an aircraft, a ship, a task, criteria and options");
+    if (!ac || !ship || !(task || (o && o->replay)) || !crit || !o) {
+        core_err_set(err, -1, "fly_task: expected an aircraft, a ship, a task (or a replayed log), criteria and options");
+        return NULL;
+    }
+    if (o->replay && !(o->replay_pos_m > 0.0 && o->replay_sink_mps > 0.0)) {
+        core_err_set(err, -1, "fly_task: replay_pos_m %g, replay_sink_mps %g: expected > 0", o->replay_pos_m,
+                     o->replay_sink_mps);
         return NULL;
     }
     if (!(o->rate_hz >= 10.0 && o->rate_hz <= 10000.0) || (o->turbulence != 0 && o->turbulence != 1) ||
@@ -83,7 +92,9 @@ sim_fly_task *sim_fly_task_create(const hfm_aircraft *ac, const core_ship *ship,
     }
     t->ac = ac;
     t->ship = *ship;
-    t->task = *task;
+    if (task)
+        t->task = *task;
+    t->replay = o->replay != NULL;
     t->crit = *crit;
     t->o = *o;
     t->log = log;
@@ -133,6 +144,133 @@ static const char *phase_name(const sim_fly_task *t, const sim_task_result *r)
     return t->task.kind == SIM_TASK_LAND ? (r->t_descent_s >= 0.0 ? "descent" : "hover") : "station keeping";
 }
 
+/* The replay pilot re-flies a recorded run (sim/pilot_replay.c) as
+ * `disim fly --pilot replay` does: from the log's first state, the SAS
+ * off, for the log's length. Judged in the same order as a task, with the
+ * recorded run as the task: a crash; a criterion exceeded before the
+ * wheels touch ("CRITERION in PHASE", the reference's phase: hover,
+ * translate, descend); a touchdown sink above replay_sink_mps; the flown
+ * CG farther than replay_pos_m from the reference at any step ("replay
+ * tolerance: position"); no touchdown where the recorded run ended on the
+ * deck. */
+static int run_replay(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
+                      const struct cfd_field *field, struct shol_flight *out)
+{
+    core_err err = {{0}};
+    int rc = -1;
+    sim_ship_motion *motion = NULL;
+    sim_flight *fl = NULL;
+    sim_pilot_replay *pilot = NULL;
+    const sim_replay_log *ref = t->o.replay;
+    sim_replay_info info;
+    sim_replay_log_info(ref, &info);
+    sim_replay_sample s0, s1;
+    sim_replay_log_sample(ref, info.t0_s, &s0);
+    sim_replay_log_sample(ref, info.t1_s, &s1);
+    sim_sea sea = t->o.sea;
+    if (!(motion = sim_ship_motion_create(&t->ship, &sea, (uint64_t)seed + 1u, &err)))
+        goto fatal;
+    sim_flight_opts fo;
+    sim_flight_opts_default(&fo);
+    fo.rate_hz = t->o.rate_hz;
+    fo.wod_speed_mps = wod_speed_mps;
+    fo.wod_dir_rad = wod_dir_rad;
+    fo.ship_speed_mps = sea.ship_speed_mps;
+    fo.turbulence = t->o.turbulence;
+    fo.seed = seed;
+    fo.gear = t->has_gear;
+    fo.sas = 0; /* the replay pilot's gains are the bare airframe's */
+    memcpy(fo.station_S_m, s0.pos_S_m, sizeof fo.station_S_m);
+    if (!(fl = sim_flight_create(t->ac, &t->ship, &fo, sim_ship_motion_frame_fn, motion, field, t->log, &err))) {
+        if (strstr(err.msg, "does not trim"))
+            goto no_trim;
+        goto fatal;
+    }
+    sim_pilot_replay_opts po;
+    sim_pilot_replay_opts_default(&po);
+    po.pilot.rate_hz = fo.rate_hz;
+    po.pilot.wod_speed_mps = wod_speed_mps;
+    po.pilot.wod_dir_rad = wod_dir_rad;
+    sim_flight_inputs in;
+    sim_flight_trim_inputs(fl, &in);
+    if (!(pilot = sim_pilot_replay_create(t->ac, ref, &po, &in, t->log, &err))) {
+        if (strstr(err.msg, "does not trim"))
+            goto no_trim;
+        goto fatal;
+    }
+    double T = t->o.max_s > 0.0 ? t->o.max_s : info.t1_s;
+    long n = (long)llround(T * fo.rate_hz);
+    sim_flight_out o;
+    sim_flight_state(fl, &o);
+    int exceeded = 0, crashed = 0, touched = 0;
+    double prev_z = o.pos_S_m[2], prev_t = o.t_s;
+    sim_replay_sample sm;
+    sim_replay_log_sample(ref, o.t_s, &sm);
+    track(&out->track, &o, sim_replay_phase_name(sm.phase), &exceeded);
+    for (long k = 0; k < n && !exceeded && !crashed; k++) {
+        sim_pilot_replay_step(pilot, &o, &in);
+        sim_replay_log_sample(ref, o.t_s, &sm);
+        const char *phase = sim_replay_phase_name(sm.phase);
+        int st = sim_flight_step(fl, &in, &o, &err);
+        if (st < 0) {
+            snprintf(out->cause, sizeof out->cause, "crash: the flight model diverged in %s", phase);
+            crashed = 1;
+        } else if (st > 0) {
+            if (o.contact_flags & SIM_CONTACT_CRASH)
+                snprintf(out->cause, sizeof out->cause, "%s%.80s", strncmp(o.contact_what, "crash", 5) ? "crash: " : "",
+                         o.contact_what[0] ? o.contact_what : "a strike on the ship");
+            else
+                snprintf(out->cause, sizeof out->cause, "crash: roll-over on the deck");
+            crashed = 1;
+        } else if (!touched && o.on_deck) { /* the first wheel on the deck: the sink relative to it */
+            touched = 1;
+            out->sink_mps = o.t_s > prev_t ? (o.pos_S_m[2] - prev_z) / (o.t_s - prev_t) : NAN;
+            out->dist_m = hypot(o.pos_S_m[0] - s1.pos_S_m[0], o.pos_S_m[1] - s1.pos_S_m[1]);
+        } else if (!touched)
+            track(&out->track, &o, phase, &exceeded);
+        prev_z = o.pos_S_m[2];
+        prev_t = o.t_s;
+    }
+    if (!crashed && !exceeded)
+        sim_pilot_replay_step(pilot, &o, &in); /* counts the last state */
+    sim_replay_result r;
+    sim_pilot_replay_result(pilot, &r);
+    out->flown_s = o.t_s;
+    t->last.end = o;
+    t->last.replay = r;
+    if (crashed) {
+        /* cause set above */
+    } else if (exceeded) {
+        const shol_flown_track *k = &out->track;
+        if (k->first_crit >= 0)
+            snprintf(out->cause, sizeof out->cause, "%s in %s", shol_limit_name(k->first_crit), k->first_phase);
+        else
+            snprintf(out->cause, sizeof out->cause, "crash: the state is not finite");
+    } else if (touched && out->sink_mps > t->o.replay_sink_mps)
+        snprintf(out->cause, sizeof out->cause, "touchdown sink");
+    else if (r.all.max_m > t->o.replay_pos_m)
+        snprintf(out->cause, sizeof out->cause, "replay tolerance: position");
+    else if (s1.on_deck && !touched)
+        snprintf(out->cause, sizeof out->cause, "no touchdown");
+    out->grade = out->cause[0] ? 0 : 1;
+    out->pass = out->cause[0] == '\0';
+    rc = 0;
+    goto done;
+no_trim:
+    snprintf(out->cause, sizeof out->cause, "no trim");
+    snprintf(t->err, sizeof t->err, "%.1000s", err.msg);
+    rc = 1;
+    goto done;
+fatal:
+    snprintf(t->err, sizeof t->err, "%.1000s", err.msg);
+    rc = -1;
+done:
+    sim_pilot_replay_destroy(pilot);
+    sim_flight_destroy(fl);
+    sim_ship_motion_destroy(motion);
+    return rc;
+}
+
 int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
                      const struct cfd_field *field, struct shol_flight *out)
 {
@@ -141,6 +279,8 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
     t->err[0] = '\0';
     out->sink_mps = out->dist_m = NAN;
     shol_flown_track_init(&out->track, &t->crit);
+    if (t->replay)
+        return run_replay(t, wod_speed_mps, wod_dir_rad, seed, field, out);
     core_err err = {{0}};
     int rc = -1;
     sim_ship_motion *motion = NULL;

@@ -1104,9 +1104,16 @@ typedef struct sim_fly_task_opts {
     sim_sea sea;           /* the ship's sea and speed (calm by default), seeded by seed + 1 */
     double station_S_m[3]; /* the start: the trimmed hover with the CG here */
     double max_s;          /* the longest flight (s); 0: the task's length (sim_task_length_s) */
+    /* The replay pilot instead of the automated one (sim/pilot_replay.c):
+     * it re-flies this log (kept by the caller; NULL: none, the default)
+     * and the task may be NULL; the flight fails farther than
+     * replay_pos_m (2 m) from the recorded run, or at a touchdown sink
+     * above replay_sink_mps (2 m/s). */
+    const sim_replay_log *replay;
+    double replay_pos_m, replay_sink_mps;
 } sim_fly_task_opts;
 void sim_fly_task_opts_default(sim_fly_task_opts *o);
-/* ac is kept by the caller; the rest is copied. NULL with err. */
+/* ac (and o->replay) kept by the caller; the rest is copied. NULL with err. */
 sim_fly_task *sim_fly_task_create(const hfm_aircraft *ac, const core_ship *ship, const sim_task *task,
                                   const struct shol_criteria *crit, const sim_fly_task_opts *o, const core_log *log,
                                   core_err *err);
@@ -1119,7 +1126,8 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
 const char *sim_fly_task_last_error(const sim_fly_task *t);
 /* The last flight's task result and final state. */
 typedef struct sim_fly_task_last {
-    sim_task_result result;
+    sim_task_result result;        /* the automated pilot's */
+    sim_replay_result replay;      /* the replay pilot's */
     sim_flight_out end;
 } sim_fly_task_last;
 void sim_fly_task_last_get(const sim_fly_task *t, sim_fly_task_last *out);

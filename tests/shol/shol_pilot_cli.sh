@@ -3,7 +3,8 @@
 # airwake field is needed): three directions in sea state 3, three seeds
 # per point, the landing task flown at each; every output is written, with
 # the columns docs/shol.md gives, one row per direction and per point; the
-# sea state reaches the flights; bad flags and a missing task are refused.
+# sea state reaches the flights; a recorded run given as --task is re-flown
+# by the replay pilot; bad flags and a missing task are refused.
 # Usage: shol_pilot_cli.sh DISIM SOURCE_DIR
 set -u
 disim=$1 src=$2
@@ -30,6 +31,14 @@ grep -q '^| red 30 | 0.0 | none |' "$tmp/out/report.md" || { echo "report.md: no
     && [ "$(wc -l < "$tmp/run.csv")" -eq 4 ] || { echo "stdout: expected a header and 3 rows"; cat "$tmp/run.csv"; fail=1; }
 # quiet in a log: no progress lines but the last
 [ "$(grep -c '^flown: ' "$tmp/run.log")" -eq 1 ] || { echo "progress lines in a log"; fail=1; }
+# --task LOG: the replay pilot re-flies a recorded 5 s hover (disim fly --log)
+"$disim" fly "$src/scenarios/cg47_uh60a.ini" --fast --duration 5 --wod-speed-kt 0 --wod-dir-deg 0 --db "$tmp/db" \
+    --log "$tmp/rec.log" 2> "$tmp/rec.err" || { echo "the recorded run failed"; cat "$tmp/rec.err"; fail=1; }
+"$disim" shol "$scen" --method pilot --task "$tmp/rec.log" --seeds 2 --speed-max-kmh 0 -o "$tmp/rep" --db "$tmp/db" \
+    > /dev/null 2> "$tmp/rep.log" || { echo "the replay run failed"; cat "$tmp/rep.log"; fail=1; }
+grep -q "the replay pilot re-flies .*rec.log, 2 seeds per point" "$tmp/rep.log" && grep -q "replay pilot, recorded run" "$tmp/rep/report.md" \
+    && grep -q '"flights": 6,' "$tmp/rep/shol_flown.json" && grep -q '"flown_s": 30.0,' "$tmp/rep/shol_flown.json" \
+    || { echo "the replay pilot did not fly the log's 5 s at each point"; cat "$tmp/rep.log"; fail=1; }
 # Bad flags and inputs.
 "$disim" shol "$scen" --method fly > /dev/null 2> "$tmp/bad.log"
 [ $? -eq 2 ] && grep -q "expected trim or pilot" "$tmp/bad.log" || { echo "--method fly accepted"; fail=1; }

@@ -9,7 +9,8 @@
  * the adequate position tolerance; station keeping that runs into the
  * hangar face is a crash naming what hit what; a wind no hover trims in
  * is "no trim"; the seeds of the sea state change the flight and the same
- * seed gives the same one.
+ * seed gives the same one; the replay pilot re-flies a recorded hover and
+ * is judged the same way.
  */
 #include "check.h"
 #include "sim.h"
@@ -72,6 +73,79 @@ static int write_task(const char *path, const char *type, const char *target, co
         fprintf(f, "touchdown_height_m = 2.22\ndescent_mps = 0.5\n");
     fprintf(f, "\n[desired]\n%s\n\n[adequate]\n%s\n", desired, adequate);
     return fclose(f);
+}
+
+/* A 5 s hover at the spot in calm air, the trim held, recorded by the
+ * loop as `disim fly --fast --log` records it: the replay pilot's run. */
+static int no_build(void *user, const char *path, sim_loop_world *w, core_err *err)
+{
+    (void)user, (void)path, (void)w;
+    return core_err_set(err, -1, "not in this test");
+}
+
+static int record_hover(const char *log_path)
+{
+    core_err err = {{0}};
+    sim_flight_opts fo;
+    sim_flight_opts_default(&fo);
+    fo.turbulence = 0;
+    fo.station_S_m[2] = -6.0;
+    sim_sea sea;
+    sim_sea_default(&sea);
+    sim_ship_motion *m = sim_ship_motion_create(&ship, &sea, 2, &err);
+    sim_flight *fl = m ? sim_flight_create(ac, &ship, &fo, sim_ship_motion_frame_fn, m, NULL, NULL, &err) : NULL;
+    if (!fl) {
+        fprintf(stderr, "record: %s\n", err.msg);
+        sim_ship_motion_destroy(m);
+        return -1;
+    }
+    sim_loop_opts lo;
+    sim_loop_opts_default(&lo);
+    lo.realtime = 0;
+    lo.lcm = 0;
+    lo.duration_s = 5.0;
+    lo.log_path = log_path;
+    lo.scenario_path = "scenarios/cg47_uh60a.ini";
+    sim_loop_world lw;
+    memset(&lw, 0, sizeof lw);
+    lw.flight = fl;
+    lw.motion = m;
+    snprintf(lw.scenario, sizeof lw.scenario, "hover");
+    sim_loop *l = sim_loop_create(&lo, &lw, no_build, NULL, NULL, &err);
+    int rc = l ? 0 : -1;
+    sim_flight_out o;
+    while (rc == 0) {
+        int r = sim_loop_iterate(l, &o, &err);
+        if (r == SIM_LOOP_DONE)
+            break;
+        if (r < 0)
+            rc = -1;
+    }
+    if (rc == 0 && sim_loop_finish(l, &err) != 0)
+        rc = -1;
+    if (rc)
+        fprintf(stderr, "record: %s\n", err.msg);
+    sim_loop_destroy(l);
+    sim_flight_destroy(fl);
+    sim_ship_motion_destroy(m);
+    return rc;
+}
+
+static int replay(const sim_replay_log *ref, const shol_criteria *c, double pos_m, double v_mps, shol_flight *out)
+{
+    sim_fly_task_opts o;
+    sim_fly_task_opts_default(&o);
+    o.replay = ref;
+    o.replay_pos_m = pos_m;
+    core_err err = {{0}};
+    sim_fly_task *t = sim_fly_task_create(ac, &ship, NULL, c, &o, NULL, &err);
+    if (!t) {
+        fprintf(stderr, "fly_task_create: %s\n", err.msg);
+        return -9;
+    }
+    int rc = sim_fly_task_run(t, v_mps, 0.0, 1, NULL, out);
+    sim_fly_task_destroy(t);
+    return rc;
 }
 
 int main(void)
@@ -198,6 +272,33 @@ int main(void)
     CHECK(r1 == 0 && r1b == 0 && r2 == 0);
     CHECK(s1.flown_s == s1b.flown_s && s1.sink_mps == s1b.sink_mps && !strcmp(s1.cause, s1b.cause));
     CHECK(s1.flown_s != s2.flown_s || s1.sink_mps != s2.sink_mps);
+
+    /* 8. The replay pilot re-flies a recorded 5 s hover: in calm air it
+     * passes, flying the log's 5 s; with 1 mm allowed from the recorded
+     * run it fails the replay tolerance; with a pitch limit below the
+     * hover's trim it fails at once, in the reference's hover phase. */
+    char logp[] = "/tmp/disim_test_fly_task_log_XXXXXX";
+    int lfd = mkstemp(logp);
+    CHECK(lfd >= 0);
+    if (lfd >= 0)
+        close(lfd);
+    CHECK(record_hover(logp) == 0);
+    sim_replay_log *ref = sim_replay_log_load(logp, &err);
+    CHECK(ref != NULL);
+    if (ref) {
+        shol_flight rp;
+        rc = replay(ref, &crit, 2.0, 0.0, &rp);
+        show("replay, calm", rc, &rp);
+        CHECK(rc == 0 && rp.pass && fabs(rp.flown_s - 5.0) < 0.01 && rp.track.n_steps > 900);
+        rc = replay(ref, &crit, 0.001, 5.0, &rp);
+        show("replay, 5 m/s, 1 mm allowed", rc, &rp);
+        CHECK(rc == 0 && !rp.pass && strcmp(rp.cause, "replay tolerance: position") == 0);
+        rc = replay(ref, &tight, 2.0, 0.0, &rp);
+        show("replay, pitch limit below the trim", rc, &rp);
+        CHECK(rc == 0 && !rp.pass && strcmp(rp.cause, "pitch in hover") == 0 && rp.flown_s < 0.1);
+        sim_replay_log_destroy(ref);
+    }
+    unlink(logp);
 
     /* bad options */
     sim_fly_task_opts o;
