@@ -465,8 +465,48 @@ static void test_bad(const char *good)
     sim_replay_log *L = sim_replay_log_load(p, &err);
     CHECK(L != NULL);
     sim_replay_log_destroy(L);
+    /* inputs: one station's are the controls, a NaN one skipped and
+     * counted; with a second station the flown controls are */
+    for (int two = 0; two < 2; two++) {
+        snprintf(p, sizeof p, "%s/inputs.log", dir);
+        write_states(p, 4, ut, -1, -1);
+        FILE *fa = fopen(p, "ab");
+        lcm_eventlog_t ela = {fa, 0};
+        unsigned char b[256];
+        for (int k = 0; fa && k < 3 + two; k++) {
+            disim_pilot_input_t m;
+            memset(&m, 0, sizeof m);
+            m.station_id = k == 3 ? "other" : "a";
+            m.seq = k;
+            m.collective_pct = k == 1 ? NAN : 30.0 + k;
+            m.long_cyclic_pct = m.lat_cyclic_pct = m.pedal_pct = 50.0;
+            int len = disim_pilot_input_t_encode(b, 0, sizeof b, &m);
+            put_event(&ela, DISIM_CH_PILOT_INPUT, b, len, 20000 * (k + 1));
+        }
+        if (fa)
+            fclose(fa);
+        L = sim_replay_log_load(p, &err);
+        CHECK(L != NULL);
+        if (!L) {
+            fprintf(stderr, "inputs: %s\n", err.msg);
+            continue;
+        }
+        sim_replay_info in;
+        sim_replay_log_info(L, &in);
+        sim_replay_sample smp;
+        sim_replay_log_sample(L, 0.065, &smp); /* after the third input (60000 us) */
+        printf("inputs, %s: %d station(s) '%s', %ld taken, %ld bad; collective at 0.065 s %.1f %%\n",
+               two ? "two stations" : "one station", in.n_stations, in.station, in.n_inputs, in.n_inputs_bad,
+               smp.controls_pct[0]);
+        CHECK(in.n_inputs_bad == 1);
+        if (!two)
+            CHECK(in.n_stations == 1 && !strcmp(in.station, "a") && in.n_inputs == 2 && smp.controls_pct[0] == 32.0);
+        else
+            CHECK(in.n_stations == 2 && in.n_inputs == 0 && smp.controls_pct[0] == 50.0);
+        sim_replay_log_destroy(L);
+    }
     const char *names[] = {"empty", "text", "truncated", "truncated_hdr", "corrupt", "not_heli", "nan",
-                           "no_heli", "no_ship", "reset", "ok", "bad_status"};
+                           "no_heli", "no_ship", "reset", "ok", "bad_status", "inputs"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         snprintf(p, sizeof p, "%s/%s.log", dir, names[i]);
         unlink(p);
