@@ -4,7 +4,8 @@
 # wind) logged with --log is re-flown in 10 kt from green 30: it flies the
 # log's 5 s from where the logged run started (within 0.01 m), reports its
 # errors, and ends within 0.5 m of where the logged run ended (the CSVs'
-# first and last rows); --feed-controls flies too. Bad logs
+# first and last rows); --feed-controls flies too, and a scenario's
+# [pilot] type = replay flies the same CSV as the flag. Bad logs
 # (missing, not a log, truncated, without a heli_state_t) and bad flags
 # are refused, naming what, with a non-zero exit and nothing written.
 # Usage: fly_replay_cli.sh DISIM SOURCE_DIR
@@ -37,6 +38,22 @@ near "$(wc -l < "$tmp/rec.csv")" 0.25 && ok \
     || { bad "the replay did not end within 0.5 m of the logged run's end"; tail -n 1 "$tmp/rec.csv" "$tmp/rep.csv"; }
 "$disim" fly $args --pilot replay "$tmp/rec.log" --feed-controls 2> "$tmp/ff.err" && grep -q "fed forward" "$tmp/ff.err" \
     && ok || { bad "--feed-controls failed"; cat "$tmp/ff.err"; }
+# the scenario's [pilot] type = replay flies the same (no --pilot flag)
+cat > "$tmp/replay.ini" <<EOF
+[scenario]
+name = replay_cli
+aircraft = $src/scenarios/aircraft/uh60a.ini
+ship = $src/scenarios/ships/cg47.ini
+[wod]
+mode = single
+speed_kt = 10
+dir_deg = 30
+[pilot]
+type = replay
+log = $tmp/rec.log
+EOF
+"$disim" fly "$tmp/replay.ini" --db "$tmp/db" --csv "$tmp/sc.csv" 2> "$tmp/sc.err" && cmp -s "$tmp/rep.csv" "$tmp/sc.csv" \
+    && ok || { bad "[pilot] type = replay did not fly as --pilot replay"; cat "$tmp/sc.err"; }
 # bad logs: each refused, naming the file and what is wrong, nothing written
 check_bad() { # NAME LOG PATTERN
     "$disim" fly $args --pilot replay "$2" --csv "$tmp/bad.csv" 2> "$tmp/$1.err" && bad "$1: accepted" \
