@@ -21,7 +21,9 @@
  * cause): a start that does not trim ("no trim"); a crash ("crash: WHAT",
  * the gear's report, or "crash: the flight model diverged"); a rejection
  * criterion exceeded at any step, judged on the attitudes in E and the
- * controls the rotor gets ("roll in descent"; shol_flown_track); a
+ * pilot's controls, the stick positions (a SAS acts in series, within its
+ * own authority, and moves no stick) ("roll in descent";
+ * shol_flown_track); a
  * touchdown outside the adequate limits ("touchdown sink" first, then
  * "touchdown position"); the task's adequate tolerances not met
  * ("adequate tolerance: position", height, heading, or time when none is
