@@ -506,8 +506,6 @@ void sim_ship_motion_get_info(const sim_ship_motion *m, sim_ship_motion_info *in
 }
 
 /* ----------------------------------------------------------- evaluation */
-/* The motions at the centre at t: x[d][0..2] value, rate, acceleration;
- * the elevation there. */
 /* A wave's phase at t: the one expression the direct sum and the anchors use. */
 static double wave_phase(const wave *w, double t) { return w->omega_e * t + w->eps; }
 
