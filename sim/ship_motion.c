@@ -152,6 +152,12 @@ typedef struct phasors {
     long long k;     /* the step the phasors hold (k_none: none) */
     double *c, *s;   /* per wave, at step k */
     double *rc, *rs; /* per wave, cos and sin of w_e h */
+    /* the sums of the last step evaluated (a frame, then the state and the
+     * spot at the same step time): step xk (k_none: none), with rates if
+     * xrates */
+    long long xk;
+    int xrates;
+    double x[3][3], elev;
 } phasors;
 
 static const long long k_none = -(1LL << 62);
@@ -481,6 +487,7 @@ int sim_ship_motion_set_step(sim_ship_motion *m, double step_s, core_err *err)
     }
     p->h_s = step_s;
     p->k = k_none;
+    p->xk = k_none;
     for (int i = 0; i < m->n; i++) {
         p->rc[i] = cos(m->w[i].omega_e * step_s);
         p->rs[i] = sin(m->w[i].omega_e * step_s);
@@ -559,9 +566,18 @@ static void eval_motions(const sim_ship_motion *m, double t, int rates, double x
     long long k;
     const double *pc = NULL, *ps = NULL;
     if (m->n > 0 && step_of(m, t, &k)) {
+        phasors *p = m->ph;
+        if (p->xk == k && p->xrates >= rates) { /* the same sums again */
+            memcpy(x, p->x, sizeof p->x);
+            if (!rates)
+                for (int d = 0; d < 3; d++)
+                    x[d][1] = x[d][2] = 0.0;
+            *elev = rates ? p->elev : 0.0;
+            return;
+        }
         phasors_at(m, k);
-        pc = m->ph->c;
-        ps = m->ph->s;
+        pc = p->c;
+        ps = p->s;
     }
     for (int i = 0; i < m->n; i++) {
         const wave *w = &m->w[i];
@@ -593,6 +609,13 @@ static void eval_motions(const sim_ship_motion *m, double t, int rates, double x
         x[d][2] = x2[d];
     }
     *elev = e;
+    if (pc) {
+        phasors *p = m->ph;
+        memcpy(p->x, x, sizeof p->x);
+        p->elev = e;
+        p->xk = k;
+        p->xrates = rates;
+    }
 }
 
 /* (P1) for the point p at t, from the motions x. */

@@ -368,9 +368,11 @@ static void test_phasors(void)
         double t = (double)k * h;
         sim_ship_state sa;
         sim_ship_frame fa, fb;
+        /* b: the frame first, as the flight asks, then the state (the
+         * sums kept for the step must not lend the frame's missing rates) */
+        sim_ship_motion_frame_fn(b, t, &fb);
         CHECK(sim_ship_motion_at(a, t, &sa) == 0 && sim_ship_motion_at(b, t, &sb[i]) == 0);
         sim_ship_motion_frame_fn(a, t, &fa);
-        sim_ship_motion_frame_fn(b, t, &fb);
         double x[3] = {sa.heave_m, sa.att.theta_rad, sa.att.phi_rad};
         double y[3] = {sb[i].heave_m, sb[i].att.theta_rad, sb[i].att.phi_rad};
         double xv[3] = {sa.heave_rate_mps, sa.omega_S_radps.x, sa.omega_S_radps.y};
