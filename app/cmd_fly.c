@@ -601,6 +601,12 @@ static int fly_auto(fly_ctx *c, core_err *err)
     sim_pilot_auto *p = sim_pilot_auto_create(w->ac, &task, &po, &in, c->log, err);
     if (!p)
         return -1;
+    sim_flight_out s0; /* the attitudes it aims at: the flight's trim in its air */
+    sim_flight_state(w->fl, &s0);
+    if (!o->start_deck && sim_pilot_auto_set_trim_state(p, &s0) != 0) {
+        sim_pilot_auto_destroy(p);
+        return core_err_set(err, -1, "fly: the flight's start is not a hover's trimmed state");
+    }
     traj_csv csv;
     int rc = -1;
     if (traj_open(&csv, o->csv, err) != 0)

@@ -857,11 +857,20 @@ typedef struct sim_pilot_gains {
 } sim_pilot_gains;
 /* A pilot for task t on aircraft ac, from the flight's trimmed inputs
  * (sim_flight_trim_inputs). Trims and linearises ac at the target in the
- * uniform WOD of o. NULL with err (bad options, no trim). */
+ * uniform WOD of o for the gains and, until sim_pilot_auto_set_trim_state
+ * gives the flight's, the attitude references. NULL with err (bad
+ * options, no trim). */
 sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t, const sim_pilot_auto_opts *o,
                                       const sim_flight_inputs *trim, const core_log *log, core_err *err);
 void sim_pilot_auto_destroy(sim_pilot_auto *p);
 void sim_pilot_auto_gains(const sim_pilot_auto *p, sim_pilot_gains *g);
+/* The attitude references (trim_att_rad) from the flight's own trim: s0
+ * is the flight's state at its hover start (sim_flight_state right after
+ * sim_flight_create), trimmed in the flight's air (the airwake), whose
+ * roll and pitch relative to S the pilot then aims at instead of the
+ * uniform WOD's. 0, or -1 (nothing changed) for a state not finite or
+ * not a hover's attitude (|roll|, |pitch| >= 0.5 rad). */
+int sim_pilot_auto_set_trim_state(sim_pilot_auto *p, const sim_flight_out *s0);
 /* One step: from the flight's output (the state after the last step) the
  * controls for the next step (within 0-100 %), the pilot's delay applied;
  * the task's grading advanced. 0, or 1 when a control is at a stop. */

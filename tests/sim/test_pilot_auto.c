@@ -18,7 +18,10 @@
  * (scenarios/tasks/land_port.ini, land_stern.ini) are flown with the
  * ship in a seaway and the landing gear (sim/contact.c) attached, the SAS
  * on and off, in the free stream; their result files are written and
- * read back. Run from the source root. */
+ * read back. The attitude references come from the flight's own trim
+ * (sim_pilot_auto_set_trim_state): in a wind the pilot's uniform trim
+ * does not know, it holds the point with no drift. Run from the source
+ * root. */
 #include "check.h"
 #include "hfm.h"
 #include "sim.h"
@@ -301,6 +304,87 @@ static void test_reference(const hfm_aircraft *ac, const core_ship *ship, const 
     CHECK(fabs(psi - r.heading_rad) <= 2.0 * CORE_DEG_TO_RAD);
     sim_pilot_auto_destroy(p);
     sim_flight_destroy(f);
+}
+
+/* 10. The attitude references from the flight's own trim
+ * (sim_pilot_auto_set_trim_state): the flight trims in a 20 kt head wind
+ * that the pilot's uniform trim does not know (its gains and uniform trim
+ * scheduled in calm air, as the airwake's trim differs from the uniform
+ * WOD's over a deck). From the trimmed hover at the target, its attitude
+ * references must be the flight's trim attitude (1e-9 rad) and it must
+ * hold the point with no drift: within 0.05 m and 0.05 deg of the trim's
+ * pitch for 40 s. The same flight with the uniform trim's references (the
+ * case discriminates) drifts more than 0.2 m. */
+static void fly_trim_ref(const hfm_aircraft *ac, const core_ship *ship, const sim_task *t, int flight_trim,
+                         double *dist_m, double *dpitch_rad, double *att_err_rad)
+{
+    *dist_m = *dpitch_rad = *att_err_rad = INFINITY;
+    sim_flight_opts fo;
+    sim_flight_opts_default(&fo);
+    fo.rate_hz = RATE_HZ;
+    fo.turbulence = 0;
+    fo.sas = 0;
+    fo.wod_speed_mps = 20.0 * KT;
+    memcpy(fo.station_S_m, t->target_S_m, sizeof fo.station_S_m);
+    core_err err = {{0}};
+    sim_flight *f = sim_flight_create(ac, ship, &fo, NULL, NULL, NULL, NULL, &err);
+    sim_pilot_auto_opts po;
+    sim_pilot_auto_opts_default(&po);
+    po.rate_hz = RATE_HZ;
+    po.wod_speed_mps = 0.0; /* the gains and the uniform trim in calm air */
+    sim_flight_inputs in;
+    sim_pilot_auto *p = NULL;
+    if (f) {
+        sim_flight_trim_inputs(f, &in);
+        p = sim_pilot_auto_create(ac, t, &po, &in, NULL, &err);
+    }
+    CHECK(f && p);
+    if (!f || !p) {
+        fprintf(stderr, "trim reference: %s\n", err.msg);
+        sim_pilot_auto_destroy(p);
+        sim_flight_destroy(f);
+        return;
+    }
+    sim_flight_out o, s0;
+    sim_flight_state(f, &s0);
+    if (flight_trim)
+        CHECK(sim_pilot_auto_set_trim_state(p, &s0) == 0);
+    sim_pilot_gains g;
+    sim_pilot_auto_gains(p, &g);
+    *att_err_rad = fmax(fabs(g.trim_att_rad[0] - s0.euler_E_rad[0]), fabs(g.trim_att_rad[1] - s0.euler_E_rad[1]));
+    o = s0;
+    double dmax = 0.0, pmax = 0.0;
+    for (long s = 0; s < (long)(40.0 * RATE_HZ); s++) {
+        sim_pilot_auto_step(p, &o, &in);
+        if (sim_flight_step(f, &in, &o, &err) != 0) {
+            CHECK(0);
+            dmax = pmax = INFINITY;
+            break;
+        }
+        dmax = fmax(dmax, hypot(o.pos_S_m[0] - t->target_S_m[0], o.pos_S_m[1] - t->target_S_m[1]));
+        pmax = fmax(pmax, fabs(o.euler_E_rad[1] - s0.euler_E_rad[1]));
+    }
+    *dist_m = dmax;
+    *dpitch_rad = pmax;
+    sim_pilot_auto_destroy(p);
+    sim_flight_destroy(f);
+}
+
+static void test_trim_reference(const hfm_aircraft *ac, const core_ship *ship, const sim_task *t)
+{
+    double d[2], dp[2], ea[2];
+    for (int k = 0; k < 2; k++) {
+        fly_trim_ref(ac, ship, t, k, &d[k], &dp[k], &ea[k]);
+        printf("%s, 20 kt head wind, the pilot scheduled in calm air, attitude references from %s: %.2e deg from the "
+               "flight's trim attitude; over 40 s largest drift %.3f m, pitch %.3f deg from the trim's\n",
+               hfm_aircraft_name(ac), k ? "the flight's trim" : "the uniform trim", ea[k] * CORE_RAD_TO_DEG, d[k],
+               dp[k] * CORE_RAD_TO_DEG);
+    }
+    CHECK(ea[1] <= 1e-9);
+    CHECK(d[1] <= 0.05);
+    CHECK(dp[1] <= 0.05 * CORE_DEG_TO_RAD);
+    /* the case discriminates: the uniform trim's references are off and drift */
+    CHECK(ea[0] >= 0.2 * CORE_DEG_TO_RAD && d[0] > 0.2);
 }
 
 /* The deck landings (scenarios/tasks/land_port.ini, land_stern.ini): the
@@ -758,6 +842,7 @@ int main(void)
         if (k == 0) {
             test_land(ac, &ship, start);
             test_reference(ac, &ship, &task);
+            test_trim_reference(ac, &ship, &task);
         }
         hfm_aircraft_destroy(ac);
     }
