@@ -317,10 +317,6 @@ static void axis_locate_lut(const cfd_grid *g, int d, double x, int *i0, double 
     *f = (x - xc[lo]) / (xc[lo + 1] - xc[lo]);
 }
 
-/* The eight corners in the order c8 = up_x + 2 up_y + 4 up_z, each weight
- * the product (w_x w_y) w_z as the corner loop forms it, corners of zero
- * weight left out, the arrays summed corner by corner in that order: the
- * bits of the loop over corners and axes, in one pass over each array. */
 /* The common case: a point strictly inside the centres of three tabled
  * axes; the eight corners' weights written out in the loop's order. */
 static int sample_inside(const cfd_grid *g, double *const *arr, int narr, const double pos[3], double *out)
@@ -376,6 +372,10 @@ static int sample_inside(const cfd_grid *g, double *const *arr, int narr, const 
     return 1;
 }
 
+/* The eight corners in the order c8 = up_x + 2 up_y + 4 up_z, each weight
+ * the product (w_x w_y) w_z as the corner loop forms it, corners of zero
+ * weight left out, the arrays summed corner by corner in that order: the
+ * bits of the loop over corners and axes, in one pass over each array. */
 void cfd_sample_arrays(const cfd_grid *g, double *const *arr, int narr, const double pos[3], double *out)
 {
     if (sample_inside(g, arr, narr, pos, out))
