@@ -81,7 +81,14 @@
  *     then for duration_s), else at the adequate band's time plus
  *     duration_s (graded adequate if met, else not met).
  *   move: the reference moves from where it was to the target along a
- *     straight line at speed_mps (the velocity fed forward); graded on
+ *     straight line at speed_mps (the velocity fed forward), speeding up
+ *     from rest and slowing to rest at 0.2 m/s^2 (MOVE_ACC_MPS2), as a
+ *     pilot starts and stops a translation over a deck: a step in the
+ *     commanded speed banked the UH-60A 6 deg from trim to start and stop
+ *     the 1 m/s traverse of land_port.ini, past its 5 deg roll limit, and
+ *     the roll-yaw coupling took the heading loop's pedal 1.24 % below
+ *     the hover's trim, under the 20 % limit (test_pilot_auto, case 11,
+ *     calm air: 1.85 deg and 0.53 % with the profile); graded on
  *     the distance from the moving reference throughout and on arriving
  *     (within the band of the target) by time_s; it ends on arrival
  *     within the adequate band, or at adequate.time_s.
@@ -155,6 +162,7 @@
 #define DOWN_PCTPS 20.0   /* the collective lowered after touchdown */
 #define SETTLE_MPS 0.05
 #define SETTLE_S 1.0
+#define MOVE_ACC_MPS2 0.2 /* a move's reference speeds up and slows down at this */
 
 struct sim_pilot_auto {
     sim_task task;
@@ -996,6 +1004,36 @@ static void touchdown(sim_pilot_auto *p, const sim_flight_out *out, double h, do
         r->done = 1;
 }
 
+/* A move's reference along its line at time t from its start: the
+ * distance (returned) and the speed (*v_mps), speeding up from rest and
+ * slowing to rest at MOVE_ACC_MPS2 with speed_mps between (a triangle for
+ * a line too short to reach it). */
+static double move_profile(double t, double len_m, double speed_mps, double *v_mps)
+{
+    *v_mps = 0.0;
+    if (!(len_m > 0.0) || t <= 0.0)
+        return 0.0;
+    double a = MOVE_ACC_MPS2, v = speed_mps, ta = v / a;
+    if (a * ta * ta > len_m) { /* the triangle: up to the middle, down from it */
+        ta = sqrt(len_m / a);
+        v = a * ta;
+    }
+    double la = 0.5 * a * ta * ta, tc = (len_m - 2.0 * la) / v;
+    if (t < ta) {
+        *v_mps = a * t;
+        return 0.5 * a * t * t;
+    }
+    if (t < ta + tc) {
+        *v_mps = v;
+        return la + v * (t - ta);
+    }
+    double tl = 2.0 * ta + tc - t; /* the time left */
+    if (tl <= 0.0)
+        return len_m;
+    *v_mps = a * tl;
+    return len_m - 0.5 * a * tl * tl;
+}
+
 /* The grading and the phase machine for one state (the pilot's view, undelayed). */
 static void phases(sim_pilot_auto *p, const sim_flight_out *out, double psi_rel)
 {
@@ -1043,7 +1081,8 @@ static void phases(sim_pilot_auto *p, const sim_flight_out *out, double psi_rel)
                 r->done = 1;
         }
     } else if (ph->kind == SIM_PHASE_MOVE) {
-        double s = fmin(t_in * ph->speed_mps, p->move_len_m), f = p->move_len_m > 0.0 ? s / p->move_len_m : 1.0;
+        double vs, s = move_profile(t_in, p->move_len_m, ph->speed_mps, &vs);
+        double f = p->move_len_m > 0.0 ? s / p->move_len_m : 1.0;
         pr->max_err_pos_m = fmax(pr->max_err_pos_m, e_pos);
         pr->max_err_height_m = fmax(pr->max_err_height_m, fabs(e_h));
         pr->max_err_heading_rad = fmax(pr->max_err_heading_rad, fabs(e_psi));
@@ -1055,7 +1094,7 @@ static void phases(sim_pilot_auto *p, const sim_flight_out *out, double psi_rel)
             for (int k = 0; k < 3; k++) {
                 pos[k] = p->move_from[k] + f * (ph->target_S_m[k] - p->move_from[k]);
                 if (f < 1.0)
-                    vel[k] = ph->speed_mps * (ph->target_S_m[k] - p->move_from[k]) / p->move_len_m;
+                    vel[k] = vs * (ph->target_S_m[k] - p->move_from[k]) / p->move_len_m;
             }
             hold_ref(p, pos, vel, ph->heading_rad);
         }

@@ -402,6 +402,9 @@ typedef struct deck_run {
     double t_contact_s; /* the first state with a leg on the deck (sim/contact.c) */
     int nu;             /* the controls sent before touchdown, 200 Hz */
     float (*u)[4];
+    /* during the move phases: the reference's largest acceleration, the
+     * largest roll from the start's and the pedal's range sent */
+    double ref_acc_max_mps2, move_roll_max_rad, move_ped_min_pct, move_ped_max_pct;
 } deck_run;
 
 static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *task_path, double wod_kt,
@@ -452,14 +455,33 @@ static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *
     out->u = malloc(sizeof *out->u * (size_t)((sim_task_length_s(&t) + 41.0) * RATE_HZ));
     out->t = t;
     sim_pilot_auto_gains(p, &out->g);
-    sim_flight_out o;
+    sim_flight_out o, s0;
     sim_flight_state(f, &o);
+    s0 = o;
+    CHECK(sim_pilot_auto_set_trim_state(p, &o) == 0); /* as sim/fly_task.c does */
     long n = (long)((sim_task_length_s(&t) + 40.0) * RATE_HZ);
+    sim_pilot_ref ref_prev;
+    sim_pilot_auto_reference(p, &ref_prev);
+    out->move_ped_min_pct = INFINITY;
+    out->move_ped_max_pct = -INFINITY;
     for (long s = 0; s < n; s++) {
         sim_pilot_auto_step(p, &o, &in);
         sim_pilot_auto_result(p, &out->r);
         if (out->r.done)
             break;
+        sim_pilot_ref ref;
+        sim_pilot_auto_reference(p, &ref);
+        int ph = out->r.phase_now;
+        if (ph < t.nphases && t.phase[ph].kind == SIM_PHASE_MOVE) {
+            double dv = 0.0;
+            for (int k = 0; k < 3; k++)
+                dv += (ref.vel_S_mps[k] - ref_prev.vel_S_mps[k]) * (ref.vel_S_mps[k] - ref_prev.vel_S_mps[k]);
+            out->ref_acc_max_mps2 = fmax(out->ref_acc_max_mps2, sqrt(dv) * RATE_HZ);
+            out->move_roll_max_rad = fmax(out->move_roll_max_rad, fabs(o.euler_E_rad[0] - s0.euler_E_rad[0]));
+            out->move_ped_min_pct = fmin(out->move_ped_min_pct, in.pedal_pct);
+            out->move_ped_max_pct = fmax(out->move_ped_max_pct, in.pedal_pct);
+        }
+        ref_prev = ref;
         if (!out->r.touched && out->u) {
             const double v[4] = {in.collective_pct, in.long_pct, in.lat_pct, in.pedal_pct};
             for (int i = 0; i < 4; i++)
@@ -711,6 +733,40 @@ static void test_deck(const hfm_aircraft *uh60, const hfm_aircraft *sa365)
             }
             free(d.u);
         }
+    /* 11. The traverse of the port-side approach in calm air over a still
+     * deck: the move's reference speeds up from rest and slows to rest at
+     * 0.2 m/s^2 (no step in the commanded speed), so the helicopter banks
+     * less than 2.5 deg from its trim to start and stop the 1 m/s
+     * traverse (a step took 6 deg, past the 5 deg roll limit of the
+     * UH-60A's [rejection]) and the heading loop's pedal stays within
+     * 0.6 % of the hover's trim (20.98 %; the step took it 1.24 % below,
+     * under the 20 % limit of the flown SHOL's criteria). */
+    deck_run d;
+    fly_deck(uh60, &cg47, PORT, 0.0, 0.0, 0, 1, &d);
+    sim_flight_inputs trim_in;
+    {
+        sim_flight_opts fo;
+        sim_flight_opts_default(&fo);
+        fo.turbulence = 0;
+        fo.sas = 1;
+        memcpy(fo.station_S_m, d.t.start_S_m, sizeof fo.station_S_m);
+        sim_flight *f = sim_flight_create(uh60, &cg47, &fo, NULL, NULL, NULL, NULL, &err);
+        CHECK(f != NULL);
+        if (f)
+            sim_flight_trim_inputs(f, &trim_in);
+        else
+            trim_in.pedal_pct = NAN;
+        sim_flight_destroy(f);
+    }
+    printf("UH-60A on the CG-47, %s, calm, still deck: the traverse's reference accelerates at most %.3f m/s^2; the "
+           "helicopter banks %.2f deg from its trim, pedal %.2f-%.2f %% (hover trim %.2f %%); task %s\n",
+           PORT, d.ref_acc_max_mps2, d.move_roll_max_rad * CORE_RAD_TO_DEG, d.move_ped_min_pct, d.move_ped_max_pct,
+           trim_in.pedal_pct, grade_name(d.r.grade));
+    CHECK(!d.failed && !d.crashed && d.r.grade >= 1);
+    CHECK(d.ref_acc_max_mps2 > 0.1 && d.ref_acc_max_mps2 <= 0.2 + 1e-6);
+    CHECK(d.move_roll_max_rad <= 2.5 * CORE_DEG_TO_RAD);
+    CHECK(d.move_ped_min_pct >= trim_in.pedal_pct - 0.6 && d.move_ped_max_pct <= trim_in.pedal_pct + 0.6);
+    free(d.u);
 }
 
 /* 4. The task file: the shipped file's values, and errors that name what. */
