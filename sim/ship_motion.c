@@ -151,6 +151,12 @@ typedef struct phasors {
     double h_s;      /* the step */
     long long k;     /* the step the phasors hold (k_none: none) */
     double *c, *s;   /* per wave, at step k */
+    /* the phasors the walk held before k (step pk, k_none: none): a state
+     * or spot asked at step k - 1 after a frame at k (the gear's deck
+     * velocity looks a little ahead) costs no walk from the anchor. The
+     * walk writes each step into these and swaps: no copy. */
+    long long pk;
+    double *pc, *ps;
     double *rc, *rs; /* per wave, cos and sin of w_e h */
     /* the sums of the last step evaluated (a frame, then the state and the
      * spot at the same step time): step xk (k_none: none), with rates if
@@ -454,6 +460,8 @@ static void phasors_free(phasors *p)
         return;
     free(p->c);
     free(p->s);
+    free(p->pc);
+    free(p->ps);
     free(p->rc);
     free(p->rs);
     free(p);
@@ -481,12 +489,13 @@ int sim_ship_motion_set_step(sim_ship_motion *m, double step_s, core_err *err)
     phasors *p = calloc(1, sizeof *p);
     size_t n = (size_t)m->n;
     if (!p || !(p->c = malloc(n * sizeof(double))) || !(p->s = malloc(n * sizeof(double))) ||
-        !(p->rc = malloc(n * sizeof(double))) || !(p->rs = malloc(n * sizeof(double)))) {
+        !(p->pc = malloc(n * sizeof(double))) || !(p->ps = malloc(n * sizeof(double))) || !(p->rc = malloc(n * sizeof(double))) || !(p->rs = malloc(n * sizeof(double)))) {
         phasors_free(p);
         return core_err_set(err, -1, "ship motion: out of memory for the phasors of %d waves", m->n);
     }
     p->h_s = step_s;
     p->k = k_none;
+    p->pk = k_none;
     p->xk = k_none;
     for (int i = 0; i < m->n; i++) {
         p->rc[i] = cos(m->w[i].omega_e * step_s);
@@ -535,9 +544,29 @@ static void phasors_at(const sim_ship_motion *m, long long k)
     phasors *p = m->ph;
     if (p->k == k)
         return;
+    if (p->pk == k) { /* one step back: the walk's previous phasors */
+        double *t = p->c;
+        p->c = p->pc;
+        p->pc = t;
+        t = p->s;
+        p->s = p->ps;
+        p->ps = t;
+        p->pk = p->k;
+        p->k = k;
+        return;
+    }
     long long r = k % PHASOR_ANCHOR;
     long long k0 = k - (r < 0 ? r + PHASOR_ANCHOR : r);
     if (!(p->k >= k0 && p->k < k)) { /* anchor: the direct phasors at k0 */
+        long long was = p->k;
+        if (was == k0 - 1 && k == k0) { /* the step before stays to hand */
+            double *t = p->pc;
+            p->pc = p->c;
+            p->c = t;
+            t = p->ps;
+            p->ps = p->s;
+            p->s = t;
+        }
         double t0 = (double)k0 * p->h_s;
         for (int i = 0; i < m->n; i++) {
             double th = wave_phase(&m->w[i], t0);
@@ -545,15 +574,22 @@ static void phasors_at(const sim_ship_motion *m, long long k)
             p->s[i] = sin(th);
         }
         p->k = k0;
+        p->pk = (was == k0 - 1 && k == k0) ? was : k_none;
     }
-    double *restrict c = p->c, *restrict s = p->s;
     const double *restrict rc = p->rc, *restrict rs = p->rs;
-    for (; p->k < k; p->k++)
+    for (; p->k < k; p->k++) {
+        const double *restrict c = p->c, *restrict s = p->s;
+        double *restrict nc = p->pc, *restrict ns = p->ps;
         for (int i = 0; i < m->n; i++) {
-            double ci = c[i], si = s[i];
-            c[i] = ci * rc[i] - si * rs[i];
-            s[i] = si * rc[i] + ci * rs[i];
+            nc[i] = c[i] * rc[i] - s[i] * rs[i];
+            ns[i] = s[i] * rc[i] + c[i] * rs[i];
         }
+        p->pc = p->c;
+        p->ps = p->s;
+        p->c = nc;
+        p->s = ns;
+        p->pk = p->k;
+    }
 }
 
 /* The motions at the centre at t: x[d][0..2] value, rate, acceleration
