@@ -29,10 +29,12 @@
  *
  * The start: the hover trim (hfm_trim, HFM_TRIM_HOVER_SHIP) with the CG at
  * the station in S, in the air the flight starts with (the field at the
- * WOD speed, or the free stream), carried into E with the ship's frame at
- * t = 0: position o_E + C_ES p_S, velocity the ship's mean velocity,
- * attitude C_EB = C_ES C_SB. With the ship steady the flight then starts
- * in equilibrium (the air relative to the helicopter is the trim's).
+ * WOD speed, or the free stream), carried into E with the ship's mean
+ * (level) frame at t = 0, C_m = the ship's heading alone: position
+ * o_E + C_m p_S, velocity the ship's mean velocity, attitude C_EB = C_m C_SB
+ * (in a seaway the deck's pitch and roll at t = 0 do not tilt the hover).
+ * With the ship steady the flight then starts in equilibrium (the air
+ * relative to the helicopter is the trim's).
  *
  * The deck start (SIM_START_DECK): the gear's static loads (the CG over
  * the wheels' support, sim_contact_static_loads) give each leg's static
@@ -310,6 +312,13 @@ static int hover_start(sim_flight *f, hfm_body *bE, hfm_rotor_harm *rh, core_err
     sim_ship_frame fr0;
     if (f->frame(f->frame_user, 0.0, &fr0) != 0)
         return core_err_set(err, -1, "flight: no ship frame at t = 0");
+    /* the hover's equilibrium is relative to gravity: its place and
+     * attitude come from the ship's mean (level) frame, its heading alone,
+     * not from the deck's pitch and roll at t = 0 (in a seaway these would
+     * tilt the start off the trim by the deck's angles) */
+    double psi = atan2(fr0.C_ES[3], fr0.C_ES[0]), cp = cos(psi), sp = sin(psi);
+    const double C_mean[9] = {cp, -sp, 0.0, sp, cp, 0.0, 0.0, 0.0, 1.0};
+    memcpy(fr0.C_ES, C_mean, sizeof C_mean);
     body_S_to_E(&fr0, &r.body, bE);
     *rh = r.rotor;
     return 0;
