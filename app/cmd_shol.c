@@ -2,11 +2,14 @@
  * [--coupling two-way|one-way] [-o DIR] [--db DIR] [--full-circle]
  * [--dir-step-deg D] [--speed-step-kmh S] [--speed-max-kmh M]
  * [--bisect-kmh T] [--direct] [--no-seed] [--domain whole|zone] [--max-coupling-iter N]
- * [--cfd-max-iter N] [--method trim|pilot] [--task FILE] [--seeds N]`.
+ * [--cfd-max-iter N] [--method trim|pilot] [--task FILE] [--seeds N]
+ * [--criteria-window-s S]`.
  * --method pilot (issue 26) flies the task (--task, default the landing
  * task tasks/land_<aircraft>.ini beside the scenario) with the automated
  * pilot at each WOD point (--task LOG, a file not named *.ini: the replay
- * pilot re-flies that disim fly --log recording), --seeds N flights per point, in the scenario's
+ * pilot re-flies that disim fly --log recording), --seeds N flights per point
+ * (--criteria-window-s S: the steady criteria's running mean, else the
+ * scenario's [flown] window_s, else 3 s; 0: every step), in the scenario's
  * [sea] state and turbulence, over the one-way airwake, and writes the
  * flown envelope beside the trim-based one (default folder: the
  * scenario's output folder + /pilot); see run_pilot and docs/shol.md.
@@ -147,7 +150,8 @@ static void default_task(const sim_scenario *sc, char *buf, size_t n)
 /* Fly the flown envelope over the trim-based one (trim) and write it. */
 static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, const couple_settings *cs,
                      const shol_settings *set, const shol_result *trim, const char *task_path, int seeds,
-                     const char *outdir, const char *scen, int tty, const core_log *log, core_err *err)
+                     double window_s, const char *outdir, const char *scen, int tty, const core_log *log,
+                     core_err *err)
 {
     char tbuf[1024];
     if (!task_path) {
@@ -171,6 +175,13 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
     fo.sea.wave_dir_rad = sc->wave_dir_rad;
     fo.sea.spectrum = sc->spectrum ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
     memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
+    /* the criteria's judgement: the flag, else the scenario's [flown], else the defaults */
+    if (!isnan(sc->flown_window_s))
+        fo.window_s = sc->flown_window_s;
+    if (!isnan(sc->flown_transient_frac))
+        fo.transient_frac = sc->flown_transient_frac;
+    if (!isnan(window_s))
+        fo.window_s = window_s;
     sim_fly_task *ft = sim_fly_task_create(ac, &sc->ship, replay ? NULL : &task, &set->criteria, &fo, log, err);
     if (!ft) {
         sim_replay_log_destroy(ref);
@@ -197,10 +208,13 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
     shol_flown_settings_default(&fs);
     if (seeds > 0)
         fs.n_seeds = seeds;
+    fs.judge.window_s = fo.window_s;
+    fs.judge.transient_frac = fo.transient_frac;
     progress_ctx pc = {tty, "flown"};
-    fprintf(stderr, "shol: flown: %s %s, %d seed%s per point, sea state %d, turbulence %s\n",
+    fprintf(stderr, "shol: flown: %s %s, %d seed%s per point, sea state %d, turbulence %s, steady criteria on %s\n",
             replay ? "the replay pilot re-flies" : "the automated pilot flies", task_path, fs.n_seeds,
-            fs.n_seeds == 1 ? "" : "s", fo.sea.state, fo.turbulence ? "on" : "off");
+            fs.n_seeds == 1 ? "" : "s", fo.sea.state, fo.turbulence ? "on" : "off",
+            fo.window_s > 0 ? "a running mean" : "every step");
     if (shol_flown_run(&fs, trim, sim_fly_task_shol, &fu, on_progress_flown, &pc, log, &fr, err) != 0) {
         if (sim_fly_task_last_error(ft)[0])
         {
@@ -264,7 +278,7 @@ int cmd_shol(int argc, char **argv)
 {
     const char *scen = NULL, *outdir = NULL, *dbdir = NULL, *task_path = NULL;
     int pilot = 0;
-    double seeds = 0;
+    double seeds = 0, window_s = NAN;
     int grid = -1, coupling = -1, full = 0, direct = 0, no_seed = 0, zone = -1;
     double dstep = 0, sstep = 0, smax = -1, bisect = 0, maxit = 6, cfdit = 0;
     for (int i = 1; i < argc; i++) {
@@ -331,7 +345,10 @@ int cmd_shol(int argc, char **argv)
             }
         } else if (!strcmp(a, "--task"))
             task_path = v;
-        else if (!strcmp(a, "--seeds")) {
+        else if (!strcmp(a, "--criteria-window-s")) {
+            if (parse_num(a, v, 0, 60, &window_s))
+                return 2;
+        } else if (!strcmp(a, "--seeds")) {
             if (parse_num(a, v, 1, SHOL_FLOWN_MAX_SEEDS, &seeds) || seeds != floor(seeds)) {
                 if (seeds != floor(seeds))
                     fprintf(stderr, "disim shol: --seeds: expected a whole number\n");
@@ -356,11 +373,11 @@ int cmd_shol(int argc, char **argv)
         fprintf(stderr, "usage: disim shol SCENARIO [--grid coarse|default|fine] [--coupling two-way|one-way] "
                         "[-o DIR] [--db DIR] [--full-circle] [--dir-step-deg D] [--speed-step-kmh S] "
                         "[--speed-max-kmh M] [--bisect-kmh T] [--direct] [--no-seed] [--domain whole|zone] [--max-coupling-iter N] "
-                        "[--cfd-max-iter N] [--method trim|pilot] [--task FILE] [--seeds N]\n");
+                        "[--cfd-max-iter N] [--method trim|pilot] [--task FILE] [--seeds N] [--criteria-window-s S]\n");
         return 2;
     }
-    if (!pilot && (task_path || seeds > 0)) {
-        fprintf(stderr, "disim shol: --task and --seeds go with --method pilot\n");
+    if (!pilot && (task_path || seeds > 0 || !isnan(window_s))) {
+        fprintf(stderr, "disim shol: --task, --seeds and --criteria-window-s go with --method pilot\n");
         return 2;
     }
     int tty = isatty(2);
@@ -458,7 +475,7 @@ int cmd_shol(int argc, char **argv)
     }
     if (pilot) {
         cs.mode = CORE_COUPLING_ONE_WAY;
-        if (run_pilot(sc, ac, db, &cs, &set, &r1, task_path, (int)seeds, outbuf, scen, tty, &log, &err) != 0)
+        if (run_pilot(sc, ac, db, &cs, &set, &r1, task_path, (int)seeds, window_s, outbuf, scen, tty, &log, &err) != 0)
             goto fail;
         rc = 0;
         goto done;

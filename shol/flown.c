@@ -4,9 +4,9 @@
  *
  * Model. At each WOD point the caller's fly callback flies the task (an
  * automated pilot landing on the moving deck in the field's turbulence)
- * once per seed. A flight is rejected when any rejection criterion of the
+ * once per seed. A flight is rejected when a rejection criterion of the
  * trim-based procedure (seed paper Table 4, CONVENTIONS.md) is exceeded
- * at any step of the flight (shol_flown_track), when the touchdown is
+ * during the flight (shol_flown_track), when the touchdown is
  * outside the task's adequate limits, when the task's adequate tolerances
  * are not met, when the aircraft strikes the ship, or when it cannot be
  * trimmed at the start. Turbulence and waves make a flight random, so a
@@ -22,6 +22,18 @@
  * below the lowest speed flown are taken as passing without being flown:
  * the assumption, as in the trim-based procedure, is that along a
  * direction the envelope is crossed once.
+ *
+ * The tracker (shol_flown_track). Table 4's limits are the trim's, steady
+ * values; a flown history also holds gusts' peaks lasting fractions of a
+ * second, which a steady limit does not judge. So the steady limits judge
+ * the running mean of each quantity over the last window_s seconds of the
+ * task's phase (bins of window_s / SHOL_FLOWN_BINS; from the time the
+ * phase has lasted window_s, a shorter phase on its whole mean as it
+ * ends; a new phase starts a new mean, so a manoeuvre's steady state is
+ * not averaged with the last one's), and transient criteria judge every
+ * step: a control at its stop, an attitude past the steady limit times
+ * 1 + transient_frac. window_s = 0 judges the steady limits at every step,
+ * as the trim-based criteria applied to each instant.
  */
 #include "io.h"
 #include "shol.h"
@@ -34,16 +46,105 @@
 
 static const char *const crit_names[SHOL_NCRIT] = {"roll", "pitch", "long_cyclic", "lat_cyclic", "collective", "pedal"};
 
-void shol_flown_track_init(shol_flown_track *t, const shol_criteria *c)
+void shol_flown_judge_default(shol_flown_judge *j)
+{
+    j->window_s = 3.0;
+    j->transient_frac = 0.5;
+}
+
+int shol_flown_judge_check(const shol_flown_judge *j, core_err *err)
+{
+    if (!(j->window_s >= 0.0 && j->window_s <= 60.0))
+        return core_err_set(err, -1, "shol: flown window_s = %g: expected 0 to 60 s", j->window_s);
+    if (!(j->transient_frac >= 0.0 && j->transient_frac <= 10.0))
+        return core_err_set(err, -1, "shol: flown transient_frac = %g: expected 0 to 10", j->transient_frac);
+    return 0;
+}
+
+void shol_flown_track_init(shol_flown_track *t, const shol_criteria *c, const shol_flown_judge *j)
 {
     memset(t, 0, sizeof *t);
     t->criteria = *c;
+    if (j)
+        t->judge = *j;
+    else
+        shol_flown_judge_default(&t->judge);
     for (int i = 0; i < SHOL_NCRIT; i++) {
         t->min_frac[i] = INFINITY;
         t->min_t_s[i] = NAN;
+        t->min_mean_frac[i] = INFINITY;
     }
     t->first_crit = SHOL_LIMIT_NONE;
+    t->first_kind = SHOL_JUDGE_STEP;
     t->first_t_s = NAN;
+    t->phase_t0_s = t->last_t_s = NAN;
+    t->bin = -1; /* no phase yet */
+}
+
+/* A criterion's allowed half-band: the angle limit, or L - 50 for a control. */
+static double half_band(const shol_criteria *c, int i)
+{
+    const double band[SHOL_NCRIT] = {c->roll_max_rad,         c->pitch_max_rad,        c->long_cyclic_pct - 50,
+                                     c->lat_cyclic_pct - 50, c->collective_pct - 50, c->pedal_pct - 50};
+    return band[i];
+}
+
+static double frac_of(const shol_criteria *c, int i, double margin)
+{
+    double b = half_band(c, i);
+    return b > 0 ? margin / b : (margin < 0 ? -INFINITY : 0.0);
+}
+
+/* The most exceeded of e's criteria (as a fraction of its half-band), -1 if none. */
+static int worst_exceeded(const shol_criteria *c, const shol_eval *e)
+{
+    int worst = -1;
+    double worst_f = INFINITY;
+    for (int i = 0; i < SHOL_NCRIT; i++) {
+        double f = frac_of(c, i, e->margin[i]);
+        if (e->margin[i] < 0 && f < worst_f) {
+            worst_f = f;
+            worst = i;
+        }
+    }
+    return worst;
+}
+
+static int first_at(shol_flown_track *t, int crit, int kind, double t_s, const char *phase)
+{
+    if (t->first_crit == SHOL_LIMIT_NONE) {
+        t->first_crit = crit;
+        t->first_kind = kind;
+        t->first_t_s = t_s;
+        snprintf(t->first_phase, sizeof t->first_phase, "%s", phase ? phase : "");
+    }
+    return 1;
+}
+
+/* The steady criteria on the running mean of the current phase's window
+ * (its samples so far where the phase is shorter). 1 when exceeded. */
+static int judge_mean(shol_flown_track *t, double t_s)
+{
+    double sum[SHOL_NCRIT] = {0};
+    long n = 0;
+    for (int b = 0; b < SHOL_FLOWN_BINS; b++) {
+        n += t->count[b];
+        for (int i = 0; i < SHOL_NCRIT; i++)
+            sum[i] += t->sum[b][i];
+    }
+    if (n == 0)
+        return 0;
+    shol_trim_point m = {sum[0] / n, sum[1] / n, sum[2] / n, sum[3] / n, sum[4] / n, sum[5] / n};
+    shol_eval e;
+    if (shol_criteria_eval(&t->criteria, &m, &e) != 0)
+        return 0; /* the samples were finite: cannot happen */
+    for (int i = 0; i < SHOL_NCRIT; i++) {
+        double f = frac_of(&t->criteria, i, e.margin[i]);
+        if (f < t->min_mean_frac[i])
+            t->min_mean_frac[i] = f;
+    }
+    int w = worst_exceeded(&t->criteria, &e);
+    return w < 0 ? 0 : first_at(t, w, SHOL_JUDGE_MEAN, t_s, t->phase);
 }
 
 int shol_flown_track_step(shol_flown_track *t, double t_s, const char *phase, const shol_trim_point *p)
@@ -55,29 +156,99 @@ int shol_flown_track_step(shol_flown_track *t, double t_s, const char *phase, co
         return -1;
     }
     const shol_criteria *c = &t->criteria;
-    const double band[SHOL_NCRIT] = {c->roll_max_rad,         c->pitch_max_rad,        c->long_cyclic_pct - 50,
-                                     c->lat_cyclic_pct - 50, c->collective_pct - 50, c->pedal_pct - 50};
-    int worst = -1;
-    double worst_f = INFINITY;
     for (int i = 0; i < SHOL_NCRIT; i++) {
-        double f = band[i] > 0 ? e.margin[i] / band[i] : (e.margin[i] < 0 ? -INFINITY : 0.0);
+        double f = frac_of(c, i, e.margin[i]);
         if (f < t->min_frac[i]) {
             t->min_frac[i] = f;
             t->min_t_s[i] = t_s;
         }
-        if (e.margin[i] < 0 && f < worst_f) {
-            worst_f = f;
-            worst = i;
+    }
+    const double W = t->judge.window_s;
+    if (!(W > 0.0)) { /* the steady limits on the step's values */
+        int w = worst_exceeded(c, &e);
+        return w < 0 ? 0 : first_at(t, w, SHOL_JUDGE_STEP, t_s, phase);
+    }
+    /* transient: a control at its stop, then an attitude past its
+     * transient limit (the most exceeded), on the step's values */
+    const double ctl[4] = {p->long_cyclic_pct, p->lat_cyclic_pct, p->collective_pct, p->pedal_pct};
+    for (int i = 0; i < 4; i++)
+        if (ctl[i] <= 0.0 || ctl[i] >= 100.0)
+            return first_at(t, SHOL_CRIT_LONG + i, SHOL_JUDGE_STOP, t_s, phase);
+    const double k = 1.0 + t->judge.transient_frac;
+    double over_r = fabs(p->phi_rad) / (k * c->roll_max_rad), over_p = fabs(p->theta_rad) / (k * c->pitch_max_rad);
+    if (over_r > 1.0 || over_p > 1.0)
+        return first_at(t, over_p > over_r ? SHOL_CRIT_PITCH : SHOL_CRIT_ROLL, SHOL_JUDGE_TRANSIENT, t_s, phase);
+    /* steady: the running mean within the phase; a new phase starts a new
+     * mean, and an earlier phase shorter than the window is judged as it
+     * ends */
+    char ph[sizeof t->phase];
+    snprintf(ph, sizeof ph, "%s", phase ? phase : "");
+    if (t->bin < 0 || strcmp(ph, t->phase) != 0) {
+        if (t->bin >= 0 && !t->judged && judge_mean(t, t->last_t_s))
+            return 1;
+        memcpy(t->phase, ph, sizeof ph);
+        t->phase_t0_s = t_s;
+        t->bin = 0;
+        t->judged = 0;
+        memset(t->sum, 0, sizeof t->sum);
+        memset(t->count, 0, sizeof t->count);
+    }
+    const double bw = W / SHOL_FLOWN_BINS;
+    long b = (long)floor((t_s - t->phase_t0_s) / bw + 1e-9);
+    if (b < t->bin)
+        b = t->bin; /* time went back: the current bin */
+    if (b - t->bin >= SHOL_FLOWN_BINS) {
+        memset(t->sum, 0, sizeof t->sum);
+        memset(t->count, 0, sizeof t->count);
+    } else
+        for (long j = t->bin + 1; j <= b; j++) {
+            memset(t->sum[j % SHOL_FLOWN_BINS], 0, sizeof t->sum[0]);
+            t->count[j % SHOL_FLOWN_BINS] = 0;
         }
+    t->bin = b;
+    const double v[SHOL_NCRIT] = {p->phi_rad, p->theta_rad, p->long_cyclic_pct, p->lat_cyclic_pct, p->collective_pct,
+                                  p->pedal_pct};
+    for (int i = 0; i < SHOL_NCRIT; i++)
+        t->sum[b % SHOL_FLOWN_BINS][i] += v[i];
+    t->count[b % SHOL_FLOWN_BINS]++;
+    t->last_t_s = t_s;
+    if (t_s - t->phase_t0_s >= W - 1e-9) {
+        t->judged = 1;
+        return judge_mean(t, t_s);
     }
-    if (worst < 0)
-        return 0;
-    if (t->first_crit == SHOL_LIMIT_NONE) {
-        t->first_crit = worst;
-        t->first_t_s = t_s;
-        snprintf(t->first_phase, sizeof t->first_phase, "%s", phase ? phase : "");
+    return 0;
+}
+
+int shol_flown_track_end(shol_flown_track *t)
+{
+    if (t->judge.window_s > 0.0 && t->bin >= 0 && !t->judged) {
+        t->judged = 1;
+        return judge_mean(t, t->last_t_s);
     }
-    return 1;
+    return 0;
+}
+
+void shol_flown_track_cause(const shol_flown_track *t, char *buf, size_t n)
+{
+    if (n == 0)
+        return;
+    buf[0] = '\0';
+    const char *name = t->first_crit >= 0 ? shol_limit_name(t->first_crit) : NULL;
+    if (!name)
+        return;
+    switch (t->first_kind) {
+    case SHOL_JUDGE_MEAN:
+        snprintf(buf, n, "%s (%.3g s mean) in %s", name, t->judge.window_s, t->first_phase);
+        break;
+    case SHOL_JUDGE_TRANSIENT:
+        snprintf(buf, n, "%s (transient) in %s", name, t->first_phase);
+        break;
+    case SHOL_JUDGE_STOP:
+        snprintf(buf, n, "%s at stop in %s", name, t->first_phase);
+        break;
+    default:
+        snprintf(buf, n, "%s in %s", name, t->first_phase);
+    }
 }
 
 void shol_flown_settings_default(shol_flown_settings *s)
@@ -88,6 +259,7 @@ void shol_flown_settings_default(shol_flown_settings *s)
     s->pass_rate_min = 0.8;
     s->start_steps_below = 2;
     s->bisect_tol_mps = 0.0;
+    shol_flown_judge_default(&s->judge);
 }
 
 int shol_flown_settings_check(const shol_flown_settings *s, core_err *err)
@@ -100,7 +272,7 @@ int shol_flown_settings_check(const shol_flown_settings *s, core_err *err)
         return core_err_set(err, -1, "shol: flown start_steps_below = %d: expected 0 to 1000", s->start_steps_below);
     if (!(s->bisect_tol_mps >= 0.0) || !isfinite(s->bisect_tol_mps))
         return core_err_set(err, -1, "shol: flown bisect_tol_mps = %g: expected >= 0", s->bisect_tol_mps);
-    return 0;
+    return shol_flown_judge_check(&s->judge, err);
 }
 
 void shol_flown_result_free(shol_flown_result *r)

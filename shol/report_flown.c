@@ -97,10 +97,10 @@ int shol_flown_write_json(const char *dir, const shol_flown_result *fr, const sh
     json_str(f, info && info->title ? info->title : "Candidate SHOL");
     fprintf(f, ",\n  \"method\": \"pilot\",\n  \"settings\": {\"seeds\": %d, \"seed0\": %llu, \"pass_rate_min\": %.3f, "
                "\"start_steps_below\": %d, \"bisect_tol_kmh\": %.2f, \"speed_step_kmh\": %.2f, "
-               "\"speed_max_kmh\": %.2f},\n",
+               "\"speed_max_kmh\": %.2f, \"criteria_window_s\": %.3f, \"transient_frac\": %.3f},\n",
             fr->flown.n_seeds, fr->flown.seed0, fr->flown.pass_rate_min, fr->flown.start_steps_below,
             fr->flown.bisect_tol_mps / CORE_KMH_TO_MPS, fr->speed_step_mps / CORE_KMH_TO_MPS,
-            fr->speed_max_mps / CORE_KMH_TO_MPS);
+            fr->speed_max_mps / CORE_KMH_TO_MPS, fr->flown.judge.window_s, fr->flown.judge.transient_frac);
     fprintf(f, "  \"flights\": %d,\n  \"flown_s\": %.1f,\n  \"wall_s\": %.1f,\n  \"directions\": [", fr->n_flights,
             fr->flown_s, fr->wall_s);
     for (int i = 0; i < fr->n_dirs; i++) {
@@ -150,12 +150,19 @@ int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const 
     fprintf(f, "# %s: SHOL from flown landings\n\n", info && info->title ? info->title : "Candidate SHOL");
     fprintf(f, "Method: `disim shol --method pilot` (docs/shol.md, \"The flown envelope\"): at each WOD point the "
                "task is flown headless by the automated pilot, %d seed%s per point (seeds %llu to %llu); a flight "
-               "fails at the first step that exceeds a rejection criterion, at a crash, at a touchdown outside the "
+               "fails at the first exceedance of a rejection criterion, at a crash, at a touchdown outside the "
                "task's adequate limits or when the adequate tolerances are not met; a point passes when its pass "
                "rate is at least %.2f. The search starts %d speed step%s below the trim-based radius.\n\n",
             fr->flown.n_seeds, fr->flown.n_seeds == 1 ? "" : "s", fr->flown.seed0,
             fr->flown.seed0 + (unsigned long long)fr->flown.n_seeds - 1, fr->flown.pass_rate_min,
             fr->flown.start_steps_below, fr->flown.start_steps_below == 1 ? "" : "s");
+    if (fr->flown.judge.window_s > 0)
+        fprintf(f, "Criteria: the steady limits judge each quantity's running mean over the last %.3g s of the "
+                   "task's phase; at every step a control at its stop and a roll or pitch beyond %.3g times its "
+                   "limit reject at once.\n\n",
+                fr->flown.judge.window_s, 1.0 + fr->flown.judge.transient_frac);
+    else
+        fprintf(f, "Criteria: the steady limits judge every step's values (no running mean).\n\n");
     if (info) {
         if (info->scenario_path)
             fprintf(f, "- scenario: `%s`\n", info->scenario_path);

@@ -323,29 +323,82 @@ int shol_write_all(const char *dir, const shol_result *r, const shol_report_info
  * (shol_flown_track), not only at trim. See docs/shol.md, "The flown
  * envelope". */
 
+/* How a flown history is judged. The criteria are the trim-based SHOL's
+ * STEADY limits: with window_s > 0 they judge the running mean of each
+ * quantity over the last window_s seconds of the task's phase (never
+ * across a phase boundary), from the time the phase has lasted window_s
+ * (a phase that ends sooner is judged on its whole mean as it ends);
+ * TRANSIENT criteria judge every step's instantaneous values: a control
+ * at its stop (0 or 100 %), a roll or pitch beyond its steady limit times
+ * 1 + transient_frac. window_s = 0 judges the steady limits at every step
+ * on the instantaneous values and no transient criterion. docs/shol.md
+ * gives the defaults' reasons. */
+typedef struct shol_flown_judge {
+    double window_s;             /* 3 s; 0 to 60 */
+    double transient_frac;       /* 0.5 (roll 7.5 deg, pitch 12 deg by default); 0 to 10 */
+} shol_flown_judge;
+void shol_flown_judge_default(shol_flown_judge *j);
+/* < 0 with err naming the field. */
+int shol_flown_judge_check(const shol_flown_judge *j, core_err *err);
+
+/* How a flight's first exceedance was judged (shol_flown_track.first_kind). */
+enum {
+    SHOL_JUDGE_STEP = 0,      /* a steady limit on the step's value (window_s = 0): "pitch in hover" */
+    SHOL_JUDGE_MEAN = 1,      /* a steady limit on the running mean: "pitch (3 s mean) in hover" */
+    SHOL_JUDGE_TRANSIENT = 2, /* an attitude past the transient limit: "pitch (transient) in hover" */
+    SHOL_JUDGE_STOP = 3       /* a control at its stop: "long_cyclic at stop in hover" */
+};
+
+/* The running mean's bins: a phase's time is cut into bins of
+ * window_s / SHOL_FLOWN_BINS; the mean is over the samples of the last
+ * SHOL_FLOWN_BINS bins (the current one partly filled), a window between
+ * window_s (1 - 1 / SHOL_FLOWN_BINS) and window_s long. */
+#define SHOL_FLOWN_BINS 100
+
 /* The worst of the criteria over a flown history. */
 typedef struct shol_flown_track {
     shol_criteria criteria;
-    double min_frac[SHOL_NCRIT]; /* smallest margin over the history as a fraction of
-                                    its half-band (1 at the centre, < 0 exceeded) */
+    shol_flown_judge judge;
+    double min_frac[SHOL_NCRIT]; /* smallest margin of the step's values over the history as a
+                                    fraction of its half-band (1 at the centre, < 0 exceeded) */
     double min_t_s[SHOL_NCRIT];  /* when */
+    double min_mean_frac[SHOL_NCRIT]; /* the same for the running means judged (INFINITY: none) */
     int first_crit;              /* the first criterion exceeded (SHOL_LIMIT_NONE: none) */
+    int first_kind;              /* how (SHOL_JUDGE_*) */
     double first_t_s;
     char first_phase[24];        /* the task's phase then ("hover", "descent", ...) */
     long n_steps, n_bad;         /* steps judged; steps not finite */
+    /* the running mean (private) */
+    char phase[24];              /* the phase being averaged */
+    double phase_t0_s, last_t_s;
+    int judged;                  /* its mean has been judged (the phase has lasted window_s) */
+    long bin;                    /* the current bin's index from the phase's start */
+    double sum[SHOL_FLOWN_BINS][SHOL_NCRIT];
+    long count[SHOL_FLOWN_BINS];
 } shol_flown_track;
-void shol_flown_track_init(shol_flown_track *t, const shol_criteria *c);
-/* Judge one step's attitudes and controls (p) in phase at t_s. Returns 1
- * when a criterion is exceeded at this step, 0 when none, -1 when p is not
- * finite (counted in n_bad). */
+/* j NULL: shol_flown_judge_default. */
+void shol_flown_track_init(shol_flown_track *t, const shol_criteria *c, const shol_flown_judge *j);
+/* Judge one step's attitudes and controls (p) in phase at t_s (steps in
+ * time order). Returns 1 when a criterion is exceeded at this step (or the
+ * previous phase, shorter than the window, is exceeded on its mean as it
+ * ends here), 0 when none, -1 when p is not finite (counted in n_bad). */
 int shol_flown_track_step(shol_flown_track *t, double t_s, const char *phase, const shol_trim_point *p);
+/* The history ends (touchdown, the task's end): a phase shorter than the
+ * window is judged on its mean. 1 when exceeded, else 0. */
+int shol_flown_track_end(shol_flown_track *t);
+/* The cause of the first exceedance ("pitch (3 s mean) in hover",
+ * "pitch (transient) in descent", "long_cyclic at stop in hover", "roll in
+ * hover"), "" when none. */
+void shol_flown_track_cause(const shol_flown_track *t, char *buf, size_t n);
 
 /* One flight: what the fly callback fills. */
 #define SHOL_CAUSE_MAX 96
 typedef struct shol_flight {
     int pass;                    /* 1: nothing exceeded, touchdown and tolerances met */
-    /* Why it failed ("" when it passed): "<criterion> in <phase>" (e.g.
-     * "roll in descent"), "touchdown sink", "touchdown position",
+    /* Why it failed ("" when it passed): a criterion as
+     * shol_flown_track_cause names it (e.g. "roll (3 s mean) in descent",
+     * "pitch (transient) in hover", "pedal at stop in hover"; "roll in
+     * descent" with window_s 0), "touchdown sink", "touchdown position",
      * "adequate tolerance: position|height|heading|time", "no touchdown",
      * "crash: <what hit what>", "no trim". */
     char cause[SHOL_CAUSE_MAX];
@@ -369,6 +422,8 @@ typedef struct shol_flown_settings {
     int start_steps_below;       /* the search starts this many speed steps below the trim
                                     envelope's radius (2) */
     double bisect_tol_mps;       /* > 0: bisect [last pass, first failure] to this width; 0 off */
+    shol_flown_judge judge;      /* how the fly callback judges a flight (it applies it; the
+                                    outputs record it) */
 } shol_flown_settings;
 void shol_flown_settings_default(shol_flown_settings *s);
 /* < 0 with err naming the field. */

@@ -12,17 +12,19 @@
  * flies it (the aircraft's SAS as its file engages it). The flight ends
  * when the pilot's task is done (touched down and settled on the deck,
  * or its last hold flown), at the task's length, at a crash, or at the
- * first step that exceeds a rejection criterion: a flight is rejected at
- * its first exceedance, so the rest would not change the verdict. The
+ * first exceedance of a rejection criterion: a flight is rejected at its
+ * first exceedance, so the rest would not change the verdict. The
  * criteria judge the flight up to touchdown; on the deck the collective
  * goes down, which is not a control margin.
  *
  * How a flight is judged, in this order (the first that applies is the
  * cause): a start that does not trim ("no trim"); a crash ("crash: WHAT",
  * the gear's report, or "crash: the flight model diverged"); a rejection
- * criterion exceeded at any step, judged on the attitudes in E and the
- * pilot's controls, the stick positions (a SAS acts in series, within its
- * own authority, and moves no stick) ("roll in descent";
+ * criterion exceeded, judged on the attitudes in E and the pilot's
+ * controls, the stick positions (a SAS acts in series, within its own
+ * authority, and moves no stick): the steady limits on the phase's running
+ * mean over o.window_s, the transient ones at each step ("roll (3 s mean)
+ * in descent", "pitch (transient) in hover", "pedal at stop in hover";
  * shol_flown_track); a
  * touchdown outside the adequate limits ("touchdown sink" first, then
  * "touchdown position"); the task's adequate tolerances not met
@@ -60,6 +62,10 @@ void sim_fly_task_opts_default(sim_fly_task_opts *o)
     o->replay = NULL;
     o->replay_pos_m = 2.0;
     o->replay_sink_mps = 2.0;
+    shol_flown_judge j;
+    shol_flown_judge_default(&j);
+    o->window_s = j.window_s;
+    o->transient_frac = j.transient_frac;
 }
 
 sim_fly_task *sim_fly_task_create(const hfm_aircraft *ac, const core_ship *ship, const sim_task *task,
@@ -80,6 +86,12 @@ sim_fly_task *sim_fly_task_create(const hfm_aircraft *ac, const core_ship *ship,
         core_err_set(err, -1, "fly_task: rate %g Hz, turbulence %d, max_s %g s, sea state %d: expected 10 to 10000 "
                               "Hz, 0 or 1, >= 0 and 0 to %d",
                      o->rate_hz, o->turbulence, o->max_s, o->sea.state, SIM_SEA_MAX_STATE);
+        return NULL;
+    }
+    shol_flown_judge j = {o->window_s, o->transient_frac};
+    if (shol_flown_judge_check(&j, err) != 0) {
+        core_err_set(err, -1, "fly_task: window_s %g s, transient_frac %g: expected 0 to 60 s and 0 to 10",
+                     o->window_s, o->transient_frac);
         return NULL;
     }
     for (int i = 0; i < 3; i++)
@@ -233,6 +245,8 @@ static int run_replay(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad,
         prev_z = o.pos_S_m[2];
         prev_t = o.t_s;
     }
+    if (!crashed && !exceeded && shol_flown_track_end(&out->track)) /* a phase shorter than the window */
+        exceeded = 1;
     if (!crashed && !exceeded)
         sim_pilot_replay_step(pilot, &o, &in); /* counts the last state */
     sim_replay_result r;
@@ -245,7 +259,7 @@ static int run_replay(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad,
     } else if (exceeded) {
         const shol_flown_track *k = &out->track;
         if (k->first_crit >= 0)
-            snprintf(out->cause, sizeof out->cause, "%s in %s", shol_limit_name(k->first_crit), k->first_phase);
+            shol_flown_track_cause(k, out->cause, sizeof out->cause);
         else
             snprintf(out->cause, sizeof out->cause, "crash: the state is not finite");
     } else if (touched && out->sink_mps > t->o.replay_sink_mps)
@@ -280,7 +294,8 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
     memset(&t->last, 0, sizeof t->last);
     t->err[0] = '\0';
     out->sink_mps = out->dist_m = NAN;
-    shol_flown_track_init(&out->track, &t->crit);
+    shol_flown_judge j = {t->o.window_s, t->o.transient_frac};
+    shol_flown_track_init(&out->track, &t->crit, &j);
     if (t->replay)
         return run_replay(t, wod_speed_mps, wod_dir_rad, seed, field, out);
     core_err err = {{0}};
@@ -361,6 +376,8 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
         } else if (!r.touched) /* the criteria judge the flight; on deck the collective goes down */
             track(&out->track, &o, phase, &exceeded);
     }
+    if (!crashed && !exceeded && shol_flown_track_end(&out->track)) /* a phase shorter than the window */
+        exceeded = 1;
     if (!crashed && !exceeded)
         sim_pilot_auto_step(pilot, &o, &in); /* grades the last state */
     sim_pilot_auto_result(pilot, &r);
@@ -377,7 +394,7 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
     } else if (exceeded) {
         const shol_flown_track *k = &out->track;
         if (k->first_crit >= 0)
-            snprintf(out->cause, sizeof out->cause, "%s in %s", shol_limit_name(k->first_crit), k->first_phase);
+            shol_flown_track_cause(k, out->cause, sizeof out->cause);
         else
             snprintf(out->cause, sizeof out->cause, "crash: the state is not finite");
     } else if (t->task.kind == SIM_TASK_LAND && r.touched && r.touchdown_grade == 0)

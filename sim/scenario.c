@@ -296,6 +296,12 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
         goto out;
     sc->max_iterations = (int)it;
 
+    /* [flown]: how disim shol --method pilot judges a flight (shol_flown_judge) */
+    sc->flown_window_s = sc->flown_transient_frac = NAN;
+    if ((rc = core_ini_get_double(ini, "flown", "window_s", 0, 0.0, 60.0, &sc->flown_window_s, err)) < 0 ||
+        (rc = core_ini_get_double(ini, "flown", "transient_frac", 0, 0.0, 10.0, &sc->flown_transient_frac, err)) < 0)
+        goto out;
+
     /* output */
     snprintf(sc->output_dir, sizeof sc->output_dir, "out/%s", sc->name);
     if ((rc = core_ini_get_string(ini, "output", "dir", 0, sc->output_dir, sizeof sc->output_dir,

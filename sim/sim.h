@@ -76,6 +76,9 @@ typedef struct sim_scenario {
     double pilot_hold_after_s;     /* station: 0 (absent) or the hold time */
     char pilot_log[SIM_PATH_MAX];  /* replay: the recorded run's LCM log */
     int pilot_feed_controls;       /* replay: its controls fed forward too */
+    /* [flown] (disim shol --method pilot; shol_flown_judge): NAN when absent */
+    double flown_window_s;         /* window_s: the steady criteria's running mean (s) */
+    double flown_transient_frac;   /* transient_frac: the transient attitude limits' margin */
 } sim_scenario;
 enum { SIM_SC_TASK_SHOL = 0, SIM_SC_TASK_HOVER = 1, SIM_SC_TASK_LANDING = 2 };
 enum { SIM_SC_PILOT_STATION = 0, SIM_SC_PILOT_AUTO = 1, SIM_SC_PILOT_REPLAY = 2 };
@@ -1120,6 +1123,11 @@ typedef struct sim_fly_task_opts {
      * above replay_sink_mps (2 m/s). */
     const sim_replay_log *replay;
     double replay_pos_m, replay_sink_mps;
+    /* How the criteria judge the flight (shol_flown_judge): the steady
+     * limits on the phase's running mean over window_s (3 s; 0: every
+     * step's values), the transient ones (a control at its stop, an
+     * attitude past the limit times 1 + transient_frac, 0.5) at each step. */
+    double window_s, transient_frac;
 } sim_fly_task_opts;
 void sim_fly_task_opts_default(sim_fly_task_opts *o);
 /* ac (and o->replay) kept by the caller; the rest is copied. NULL with err. */

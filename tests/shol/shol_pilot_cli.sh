@@ -4,7 +4,9 @@
 # per point, the landing task flown at each; every output is written, with
 # the columns docs/shol.md gives, one row per direction and per point; the
 # sea state reaches the flights; a recorded run given as --task is re-flown
-# by the replay pilot; bad flags and a missing task are refused.
+# by the replay pilot; the steady criteria's window comes from the
+# scenario's [flown] window_s or --criteria-window-s (the flag over it) and
+# reaches the outputs; bad flags and a missing task are refused.
 # Usage: shol_pilot_cli.sh DISIM SOURCE_DIR
 set -u
 disim=$1 src=$2
@@ -39,6 +41,25 @@ grep -q '^| red 30 | 0.0 | none |' "$tmp/out/report.md" || { echo "report.md: no
 grep -q "the replay pilot re-flies .*rec.log, 2 seeds per point" "$tmp/rep.log" && grep -q "replay pilot, recorded run" "$tmp/rep/report.md" \
     && grep -q '"flights": 6,' "$tmp/rep/shol_flown.json" && grep -q '"flown_s": 30.0,' "$tmp/rep/shol_flown.json" \
     || { echo "the replay pilot did not fly the log's 5 s at each point"; cat "$tmp/rep.log"; fail=1; }
+# the steady criteria's window: the scenario's [flown] window_s, the flag over it
+sed "s#\.\./\.\./\.\./#$src/#" "$scen" > "$tmp/win.ini" && printf '\n[flown]\nwindow_s = 0.5\n' >> "$tmp/win.ini"
+"$disim" shol "$tmp/win.ini" --method pilot --task "$task" --seeds 1 --speed-max-kmh 0 -o "$tmp/win" --db "$tmp/db" \
+    > /dev/null 2> "$tmp/win.log" || { echo "the [flown] window_s run failed"; cat "$tmp/win.log"; fail=1; }
+grep -q '"criteria_window_s": 0.500, "transient_frac": 0.500' "$tmp/win/shol_flown.json" \
+    && grep -q "running mean over the last 0.5 s" "$tmp/win/report.md" \
+    || { echo "[flown] window_s = 0.5 did not reach the flights' judgement"; fail=1; }
+grep -q '"criteria_window_s": 3.000' "$tmp/out/shol_flown.json" || { echo "the default window is not 3 s"; fail=1; }
+"$disim" shol "$tmp/win.ini" --method pilot --task "$task" --seeds 1 --speed-max-kmh 0 --criteria-window-s 0 \
+    -o "$tmp/win0" --db "$tmp/db" > /dev/null 2> "$tmp/win0.log" || { echo "the --criteria-window-s 0 run failed"; fail=1; }
+grep -q '"criteria_window_s": 0.000' "$tmp/win0/shol_flown.json" && grep -q "every step's values" "$tmp/win0/report.md" \
+    || { echo "--criteria-window-s 0 did not override [flown] window_s"; fail=1; }
+sed -i 's/^window_s = 0.5$/window_s = 99/' "$tmp/win.ini"
+"$disim" shol "$tmp/win.ini" --method pilot --speed-max-kmh 0 -o "$tmp/win1" --db "$tmp/db" > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 1 ] && grep -q "win.ini:[0-9]*: \[flown\] window_s.*60" "$tmp/bad.log" || { echo "[flown] window_s = 99 accepted"; cat "$tmp/bad.log"; fail=1; }
+"$disim" shol "$scen" --method pilot --criteria-window-s 61 > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 2 ] && grep -q "\-\-criteria-window-s" "$tmp/bad.log" || { echo "--criteria-window-s 61 accepted"; fail=1; }
+"$disim" shol "$scen" --criteria-window-s 3 > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 2 ] && grep -q "go with --method pilot" "$tmp/bad.log" || { echo "--criteria-window-s without --method pilot accepted"; fail=1; }
 # Bad flags and inputs.
 "$disim" shol "$scen" --method fly > /dev/null 2> "$tmp/bad.log"
 [ $? -eq 2 ] && grep -q "expected trim or pilot" "$tmp/bad.log" || { echo "--method fly accepted"; fail=1; }

@@ -244,12 +244,15 @@ static void test_point_tally(void)
     shol_result_free(&t);
 }
 
+/* The per-step tracker with window_s = 0: the steady limits on every
+ * step's values, as the trim's criteria at each instant. */
 static void test_track(void)
 {
     shol_criteria c;
     shol_criteria_default(&c);
+    const shol_flown_judge j0 = {0.0, 0.5};
     shol_flown_track tr;
-    shol_flown_track_init(&tr, &c);
+    shol_flown_track_init(&tr, &c, &j0);
     shol_trim_point ok = {4.9 * DEG, 2 * DEG, 50, 50, 60, 50};
     CHECK(shol_flown_track_step(&tr, 0.0, "hover", &ok) == 0);
     CHECK(tr.first_crit == SHOL_LIMIT_NONE);
@@ -269,12 +272,150 @@ static void test_track(void)
     CHECK(tr.min_frac[SHOL_CRIT_PEDAL] < 0);
     /* the low side of a control alone */
     shol_flown_track t2;
-    shol_flown_track_init(&t2, &c);
+    shol_flown_track_init(&t2, &c, &j0);
     CHECK(shol_flown_track_step(&t2, 1.0, "hover", &ped) == 1 && t2.first_crit == SHOL_CRIT_PEDAL);
     /* not finite: counted, not an exceedance */
     shol_trim_point nan = {NAN, 0, 50, 50, 50, 50};
     CHECK(shol_flown_track_step(&t2, 1.5, "hover", &nan) == -1);
     CHECK(t2.n_bad == 1 && t2.n_steps == 2);
+    char cause[SHOL_CAUSE_MAX];
+    shol_flown_track_cause(&tr, cause, sizeof cause);
+    CHECK(strcmp(cause, "roll in descent") == 0);
+    /* the defaults: a 3 s window, transient limits 1.5 times the steady */
+    shol_flown_judge jd;
+    shol_flown_judge_default(&jd);
+    CHECK(jd.window_s == 3.0 && jd.transient_frac == 0.5);
+    core_err err = {{0}};
+    shol_flown_judge bad = {-1.0, 0.5};
+    CHECK(shol_flown_judge_check(&bad, &err) < 0 && strstr(err.msg, "window_s"));
+    bad.window_s = 3.0, bad.transient_frac = NAN;
+    CHECK(shol_flown_judge_check(&bad, &err) < 0 && strstr(err.msg, "transient_frac"));
+}
+
+/* A synthetic 200 Hz history, judged by a tracker with window W (s): the
+ * phase "hover" for [0, t_phase), then "descent" to t_end; pitch (deg)
+ * and the long cyclic (%) from f. Returns the step's time at the first
+ * exceedance (NAN: none) and fills the tracker. */
+typedef void (*hist_fn)(double t, double *pitch_deg, double *long_pct, double *roll_deg);
+static double fly_hist(hist_fn f, double W, double t_phase, double t_end, shol_flown_track *tr)
+{
+    shol_criteria c;
+    shol_criteria_default(&c);
+    const shol_flown_judge j = {W, 0.5};
+    shol_flown_track_init(tr, &c, &j);
+    long n = lround(t_end * 200.0);
+    for (long k = 0; k < n; k++) {
+        double t = k / 200.0, th, lon, ph = 0.5;
+        f(t, &th, &lon, &ph);
+        shol_trim_point p = {ph * DEG, th * DEG, lon, 50, 55, 50};
+        if (shol_flown_track_step(tr, t, t < t_phase ? "hover" : "descent", &p) != 0)
+            return t;
+    }
+    return shol_flown_track_end(tr) ? tr->first_t_s : NAN;
+}
+
+/* 7.5 deg with a 0.4 s gust to 8.5 deg at 5 s: the 3 s mean reaches 7.63 deg */
+static void gust(double t, double *th, double *lon, double *ph)
+{
+    (void)ph;
+    *th = t >= 5.0 && t < 5.4 ? 8.5 : 7.5;
+    *lon = 60.0;
+}
+/* 7.5 deg, then 8.3 deg from 4 s: the 3 s mean passes 8 deg at 4 + 3 x 0.625 s */
+static void rise(double t, double *th, double *lon, double *ph)
+{
+    (void)ph;
+    *th = t >= 4.0 ? 8.3 : 7.5;
+    *lon = 60.0;
+}
+/* the gust's history, the long cyclic at its stop (100 %) for one step at 6 s */
+static void stop(double t, double *th, double *lon, double *ph)
+{
+    gust(t, th, lon, ph);
+    *lon = fabs(t - 6.0) < 1e-9 ? 100.0 : 60.0;
+}
+/* roll 7.6 deg (past 1.5 x 5 deg) for one step at 6 s, 0.5 deg otherwise */
+static void roll_spike(double t, double *th, double *lon, double *ph)
+{
+    *th = 2.0;
+    *lon = 60.0;
+    *ph = fabs(t - 6.0) < 1e-9 ? 7.6 : 0.5;
+}
+/* the same spike at 7.4 deg: inside the transient limit */
+static void roll_spike_in(double t, double *th, double *lon, double *ph)
+{
+    roll_spike(t, th, lon, ph);
+    if (*ph > 1.0)
+        *ph = 7.4;
+}
+/* 7.0 deg, then 8.4 deg in the phase after the boundary */
+static void step_at_10(double t, double *th, double *lon, double *ph)
+{
+    (void)ph;
+    *th = t >= 10.0 ? 8.4 : 7.0;
+    *lon = 60.0;
+}
+/* 8.4 deg for the first 2 s (the hover, shorter than the window), then 7.0 */
+static void high_first(double t, double *th, double *lon, double *ph)
+{
+    (void)ph;
+    *th = t < 2.0 ? 8.4 : 7.0;
+    *lon = 60.0;
+}
+
+/* The steady criteria on the running mean, the transient ones at once, the
+ * mean within the phase. */
+static void test_track_window(void)
+{
+    shol_flown_track tr;
+    char cause[SHOL_CAUSE_MAX];
+    /* a gust past the limit for 0.4 s: passes on the 3 s mean, fails at
+     * its first step without the window */
+    double t = fly_hist(gust, 3.0, 100.0, 10.0, &tr);
+    CHECK(isnan(t) && tr.first_crit == SHOL_LIMIT_NONE);
+    CHECK(tr.min_frac[SHOL_CRIT_PITCH] < 0); /* the step's value was past it */
+    CHECK_NEAR(tr.min_mean_frac[SHOL_CRIT_PITCH], (8.0 - (7.5 + 0.4 / 3.0)) / 8.0, 0.01 / 8.0);
+    t = fly_hist(gust, 0.0, 100.0, 10.0, &tr);
+    shol_flown_track_cause(&tr, cause, sizeof cause);
+    CHECK_NEAR(t, 5.0, 1e-9);
+    CHECK(strcmp(cause, "pitch in hover") == 0);
+    /* a rise whose mean passes the limit: fails with both, the mean later */
+    t = fly_hist(rise, 3.0, 100.0, 10.0, &tr);
+    shol_flown_track_cause(&tr, cause, sizeof cause);
+    printf("rise: the 3 s mean passes 8 deg at %.3f s (%s)\n", t, cause);
+    CHECK_NEAR(t, 4.0 + 3.0 * 0.625, 3.0 / SHOL_FLOWN_BINS + 0.01);
+    CHECK(strcmp(cause, "pitch (3 s mean) in hover") == 0 && tr.first_kind == SHOL_JUDGE_MEAN);
+    t = fly_hist(rise, 0.0, 100.0, 10.0, &tr);
+    CHECK_NEAR(t, 4.0, 1e-9);
+    /* a control at its stop for one step: fails at once, window or not */
+    t = fly_hist(stop, 3.0, 100.0, 10.0, &tr);
+    shol_flown_track_cause(&tr, cause, sizeof cause);
+    CHECK_NEAR(t, 6.0, 1e-9);
+    CHECK(strcmp(cause, "long_cyclic at stop in hover") == 0 && tr.first_kind == SHOL_JUDGE_STOP);
+    /* an attitude past the transient limit for one step: at once */
+    t = fly_hist(roll_spike, 3.0, 100.0, 10.0, &tr);
+    shol_flown_track_cause(&tr, cause, sizeof cause);
+    CHECK_NEAR(t, 6.0, 1e-9);
+    CHECK(strcmp(cause, "roll (transient) in hover") == 0);
+    t = fly_hist(roll_spike_in, 3.0, 100.0, 10.0, &tr);
+    CHECK(isnan(t) && tr.first_crit == SHOL_LIMIT_NONE);
+    /* the phase boundary: a 2 s descent at 8.4 deg after a 7.0 deg hover
+     * fails on its own mean as it ends (across the boundary the last 3 s
+     * would average 7.93 deg) */
+    t = fly_hist(step_at_10, 3.0, 10.0, 12.0, &tr);
+    shol_flown_track_cause(&tr, cause, sizeof cause);
+    CHECK_NEAR(t, 11.995, 1e-9);
+    CHECK(strcmp(cause, "pitch (3 s mean) in descent") == 0);
+    /* a longer descent is judged once it has lasted the window, not on
+     * its first steps */
+    t = fly_hist(step_at_10, 3.0, 10.0, 20.0, &tr);
+    CHECK_NEAR(t, 13.0, 1e-9);
+    /* a 2 s hover at 8.4 deg: judged on its mean as the descent starts */
+    t = fly_hist(high_first, 3.0, 2.0, 10.0, &tr);
+    shol_flown_track_cause(&tr, cause, sizeof cause);
+    CHECK_NEAR(t, 2.0, 1e-9);
+    CHECK_NEAR(tr.first_t_s, 1.995, 1e-9);
+    CHECK(strcmp(cause, "pitch (3 s mean) in hover") == 0);
 }
 
 static char *slurp(const char *path)
@@ -363,6 +504,7 @@ static void test_outputs(void)
     snprintf(path, sizeof path, "%s/shol_flown.json", dir);
     char *js = slurp(path);
     CHECK(js && strstr(js, "\"method\": \"pilot\"") && strstr(js, "\"seeds\": 5"));
+    CHECK(js && strstr(js, "\"criteria_window_s\": 3.000, \"transient_frac\": 0.500"));
     free(js);
     /* the PNG: a valid image of the plot's size */
     snprintf(path, sizeof path, "%s/shol_polar_flown.png", dir);
@@ -389,6 +531,7 @@ static void test_outputs(void)
 int main(void)
 {
     test_track();
+    test_track_window();
     test_point_tally();
     test_search();
     test_outputs();

@@ -4,7 +4,8 @@
  * small and fast), judged as shol/flown.c judges a point. Each case
  * changes one thing the verdict depends on and checks the cause named:
  * a calm landing passes; a criterion no trim can meet fails at the first
- * step of the hover; a sink limit below the descent rate fails at the
+ * step of the hover with window 0, once the hover has lasted the window
+ * on its running mean, and at once as a transient limit; a sink limit below the descent rate fails at the
  * touchdown; a start too far from the spot for the adequate time fails
  * the adequate position tolerance; station keeping that runs into the
  * hangar face is a crash naming what hit what; a wind no hover trims in
@@ -31,12 +32,15 @@ static const hfm_aircraft *ac;
 static core_ship ship;
 static shol_criteria crit;
 
-static int fly(const sim_task *task, const shol_criteria *c, const double station[3], int sea_state, double v_mps,
-               double dir_rad, unsigned long long seed, shol_flight *out, sim_fly_task_last *last)
+/* window_s < 0: the default judgement (a 3 s mean) */
+static int fly_w(const sim_task *task, const shol_criteria *c, const double station[3], int sea_state, double v_mps,
+                 double dir_rad, unsigned long long seed, double window_s, shol_flight *out, sim_fly_task_last *last)
 {
     sim_fly_task_opts o;
     sim_fly_task_opts_default(&o);
     o.sea.state = sea_state;
+    if (window_s >= 0)
+        o.window_s = window_s;
     memcpy(o.station_S_m, station, sizeof o.station_S_m);
     core_err err = {{0}};
     sim_fly_task *t = sim_fly_task_create(ac, &ship, task, c, &o, NULL, &err);
@@ -51,6 +55,12 @@ static int fly(const sim_task *task, const shol_criteria *c, const double statio
         sim_fly_task_last_get(t, last);
     sim_fly_task_destroy(t);
     return rc;
+}
+
+static int fly(const sim_task *task, const shol_criteria *c, const double station[3], int sea_state, double v_mps,
+               double dir_rad, unsigned long long seed, shol_flight *out, sim_fly_task_last *last)
+{
+    return fly_w(task, c, station, sea_state, v_mps, dir_rad, seed, -1.0, out, last);
 }
 
 static void show(const char *what, int rc, const shol_flight *f)
@@ -131,10 +141,34 @@ static int record_hover(const char *log_path)
     return rc;
 }
 
+/* The trimmed hover's pitch in calm air with the CG at station (NAN if it does not trim). */
+static double hover_pitch(const double station[3])
+{
+    core_err err = {{0}};
+    sim_flight_opts fo;
+    sim_flight_opts_default(&fo);
+    fo.turbulence = 0;
+    memcpy(fo.station_S_m, station, sizeof fo.station_S_m);
+    sim_sea sea;
+    sim_sea_default(&sea);
+    sim_ship_motion *m = sim_ship_motion_create(&ship, &sea, 2, &err);
+    sim_flight *fl = m ? sim_flight_create(ac, &ship, &fo, sim_ship_motion_frame_fn, m, NULL, NULL, &err) : NULL;
+    double th = NAN;
+    if (fl) {
+        sim_flight_out o;
+        sim_flight_state(fl, &o);
+        th = o.euler_E_rad[1];
+    } else
+        fprintf(stderr, "hover_pitch: %s\n", err.msg);
+    sim_flight_destroy(fl);
+    sim_ship_motion_destroy(m);
+    return th;
+}
+
 static int replay(const sim_replay_log *ref, const shol_criteria *c, double pos_m, double v_mps, shol_flight *out)
 {
     sim_fly_task_opts o;
-    sim_fly_task_opts_default(&o);
+    sim_fly_task_opts_default(&o); /* the default judgement: a 3 s mean */
     o.replay = ref;
     o.replay_pos_m = pos_m;
     core_err err = {{0}};
@@ -183,14 +217,38 @@ int main(void)
     shol_flight f1 = f;
     sim_fly_task_last last1 = last;
 
-    /* 2. A pitch limit below the hover's trimmed pitch: the first step. */
+    /* 2. A pitch limit below the hover's trimmed pitch: with window 0 the
+     * first step; with the default 3 s mean once the hover has lasted
+     * 3 s, named so. */
     shol_criteria tight = crit;
-    tight.pitch_max_rad = fmax(0.0, fabs(last.end.euler_E_rad[1]) - 0.5 * DEG);
-    rc = fly(&land, &tight, spot, 0, 0.0, 0.0, 1, &f, NULL);
-    show("pitch limit below the trim", rc, &f);
+    double th0 = hover_pitch(spot);
+    tight.pitch_max_rad = 0.8 * fabs(th0); /* the transient limit, 1.2 times the trim, holds it */
+    printf("  the hover's trim pitch %.3f deg, the limit %.3f deg\n", th0 / DEG, tight.pitch_max_rad / DEG);
+    CHECK(fabs(th0) > 1.0 * DEG);
+    rc = fly_w(&land, &tight, spot, 0, 0.0, 0.0, 1, 0.0, &f, NULL);
+    show("pitch limit below the trim, window 0", rc, &f);
     CHECK(rc == 0 && !f.pass && strcmp(f.cause, "pitch in hover") == 0);
     CHECK(f.track.first_crit == SHOL_CRIT_PITCH && f.track.first_t_s < 0.1);
     CHECK(f.flown_s < 0.1); /* the flight stops at its first exceedance */
+    rc = fly(&land, &tight, spot, 0, 0.0, 0.0, 1, &f, NULL);
+    show("pitch limit below the trim, 3 s mean", rc, &f);
+    CHECK(rc == 0 && !f.pass && strcmp(f.cause, "pitch (3 s mean) in hover") == 0);
+    CHECK(f.track.first_kind == SHOL_JUDGE_MEAN && fabs(f.track.first_t_s - 3.0) < 0.01 && f.flown_s < 3.01);
+    /* the same limit as a transient one (1 + 0 times it): at once */
+    {
+        sim_fly_task_opts o;
+        sim_fly_task_opts_default(&o);
+        o.transient_frac = 0.0;
+        memcpy(o.station_S_m, spot, sizeof o.station_S_m);
+        sim_fly_task *t = sim_fly_task_create(ac, &ship, &land, &tight, &o, NULL, &err);
+        CHECK(t != NULL);
+        rc = t ? sim_fly_task_run(t, 0.0, 0.0, 1, NULL, &f) : -9;
+        if (t && rc != 0)
+            printf("  (run %d: %s)\n", rc, sim_fly_task_last_error(t));
+        show("pitch limit below the trim, transient at the limit", rc, &f);
+        CHECK(rc == 0 && !f.pass && strcmp(f.cause, "pitch (transient) in hover") == 0 && f.flown_s < 0.1);
+        sim_fly_task_destroy(t);
+    }
 
     /* 2b. Mid-flight: the criterion whose worst margin came latest in the
      * calm landing, its limit set just inside that worst value, is
@@ -208,8 +266,8 @@ int main(void)
         double band = late < 2 ? *lims[late] : *lims[late] - 50.0;
         double worst = band * (1.0 - f1.track.min_frac[late]); /* |angle| or |c - 50| there */
         *lims[late] = (late < 2 ? 0.0 : 50.0) + worst - 0.01 * band;
-        rc = fly(&land, &mid, spot, 0, 0.0, 0.0, 1, &f, NULL);
-        show("a limit just inside the calm landing's worst", rc, &f);
+        rc = fly_w(&land, &mid, spot, 0, 0.0, 0.0, 1, 0.0, &f, NULL); /* the step's values */
+        show("a limit just inside the calm landing's worst, window 0", rc, &f);
         char want[64];
         snprintf(want, sizeof want, "%s in %s", shol_limit_name(late),
                  f1.track.min_t_s[late] >= last1.result.t_descent_s ? "descent" : "hover");
@@ -295,7 +353,8 @@ int main(void)
         CHECK(rc == 0 && !rp.pass && strcmp(rp.cause, "replay tolerance: position") == 0);
         rc = replay(ref, &tight, 2.0, 0.0, &rp);
         show("replay, pitch limit below the trim", rc, &rp);
-        CHECK(rc == 0 && !rp.pass && strcmp(rp.cause, "pitch in hover") == 0 && rp.flown_s < 0.1);
+        CHECK(rc == 0 && !rp.pass && strcmp(rp.cause, "pitch (3 s mean) in hover") == 0 &&
+              fabs(rp.flown_s - 3.0) < 0.01);
         sim_replay_log_destroy(ref);
     }
     unlink(logp);
@@ -305,6 +364,9 @@ int main(void)
     sim_fly_task_opts_default(&o);
     o.rate_hz = 1;
     CHECK(sim_fly_task_create(ac, &ship, &land, &crit, &o, NULL, &err) == NULL && strstr(err.msg, "rate"));
+    sim_fly_task_opts_default(&o);
+    o.window_s = -1;
+    CHECK(sim_fly_task_create(ac, &ship, &land, &crit, &o, NULL, &err) == NULL && strstr(err.msg, "window_s"));
     hfm_aircraft_destroy(a);
     return check_done("test_fly_task");
 }
