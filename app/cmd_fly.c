@@ -710,6 +710,10 @@ static int fly_replay(fly_ctx *c, const sim_replay_log *ref, core_err *err)
     sim_pilot_replay *p = sim_pilot_replay_create(w->ac, ref, &po, &in, c->log, err);
     if (!p)
         return -1;
+    sim_flight_out s0; /* the attitude references of the flight's own trim */
+    sim_flight_state(w->fl, &s0);
+    if (!s0.on_deck && sim_pilot_replay_set_trim_state(p, &s0) != 0)
+        fprintf(stderr, "fly: warning: the replay pilot keeps the uniform-WOD trim's attitudes\n");
     traj_csv csv;
     int rc = -1;
     if (traj_open(&csv, o->csv, err) != 0)

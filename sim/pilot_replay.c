@@ -669,6 +669,16 @@ fail:
     return NULL;
 }
 
+int sim_pilot_replay_set_trim_state(sim_pilot_replay *p, const sim_flight_out *s0)
+{
+    if (!p || !s0)
+        return -1;
+    int rc = sim_pilot_auto_set_trim_state(p->pilot, s0);
+    if (rc == 0 && p->shadow)
+        rc = sim_pilot_auto_set_trim_state(p->shadow, s0);
+    return rc;
+}
+
 void sim_pilot_replay_destroy(sim_pilot_replay *p)
 {
     if (!p)

@@ -1030,6 +1030,10 @@ typedef struct sim_replay_result {
 sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_replay_log *ref,
                                           const sim_pilot_replay_opts *o, const sim_flight_inputs *trim,
                                           const core_log *log, core_err *err);
+/* The attitude references from the flight's own trim (its state s0 right
+ * after sim_flight_create), as sim_pilot_auto_set_trim_state: 0, or
+ * non-zero (then the uniform-WOD references stay). */
+int sim_pilot_replay_set_trim_state(sim_pilot_replay *p, const sim_flight_out *s0);
 void sim_pilot_replay_destroy(sim_pilot_replay *p);
 /* One step: the errors of out counted, the controls for the next step.
  * 0, or 1 when a control is at a stop. */
