@@ -476,6 +476,21 @@ typedef struct fly_ctx {
     fly_world w;
 } fly_ctx;
 
+/* Every poll_every steps while the scenario's field is not ready: ask the
+ * database again and hand a field that is now there to the flight (it
+ * blends it in). 1 when it was handed over at this step, 0 if not, < 0
+ * with err. */
+static int world_poll(awdb *db, fly_world *w, long step, long poll_every, core_err *err)
+{
+    if (!w->waiting || step % poll_every != 0)
+        return 0;
+    int got = db_field(db, w->sc, w->dir_rad, &w->later, err);
+    if (got < 0 || (got > 0 && sim_flight_set_field(w->fl, w->later, err) != 0))
+        return -1;
+    w->waiting = got == 0;
+    return got > 0;
+}
+
 static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err)
 {
     const fly_args *o = c->o;
@@ -637,12 +652,8 @@ static int fly_auto(fly_ctx *c, core_err *err)
             snprintf(ended, sizeof ended, "%.250s", err->msg);
             break;
         }
-        if (w->waiting && out.step % poll_every == 0) {
-            int got = db_field(c->db, w->sc, w->dir_rad, &w->later, err);
-            if (got < 0 || (got > 0 && sim_flight_set_field(w->fl, w->later, err) != 0))
-                goto out;
-            w->waiting = got == 0;
-        }
+        if (world_poll(c->db, w, out.step, poll_every, err) < 0)
+            goto out;
     }
     sim_pilot_auto_step(p, &out, &in); /* grades the last state */
     if (traj_commit(&csv, err) != 0)
@@ -741,12 +752,8 @@ static int fly_replay(fly_ctx *c, const sim_replay_log *ref, core_err *err)
             fprintf(stderr, "fly: the flight ended at %.2f s: %s\n", out.t_s, err->msg);
             break;
         }
-        if (w->waiting && out.step % poll_every == 0) {
-            int got = db_field(c->db, w->sc, w->dir_rad, &w->later, err);
-            if (got < 0 || (got > 0 && sim_flight_set_field(w->fl, w->later, err) != 0))
-                goto out;
-            w->waiting = got == 0;
-        }
+        if (world_poll(c->db, w, out.step, poll_every, err) < 0)
+            goto out;
     }
     sim_pilot_replay_step(p, &out, &in); /* counts the last state */
     if (traj_commit(&csv, err) != 0)
@@ -884,18 +891,12 @@ int cmd_fly(int argc, char **argv)
         if (out.step % csv_every == 0 && traj_row(&csv, &out) != 0)
             goto write_fail;
         fly_world *w = &ctx.w; /* the running world (a load may have replaced it) */
-        if (w->waiting && out.step % poll_every == 0) {
-            int got = db_field(ctx.db, w->sc, w->dir_rad, &w->later, &err);
-            if (got < 0)
-                goto fail;
-            if (got > 0) {
-                if (sim_flight_set_field(w->fl, w->later, &err) != 0)
-                    goto fail;
-                w->waiting = 0;
-                fprintf(stderr, "%sfly: the airwake field is ready at t = %.1f s: blended in\n", tty ? "\r\033[K" : "",
-                        out.t_s);
-            }
-        }
+        int polled = world_poll(ctx.db, w, out.step, poll_every, &err);
+        if (polled < 0)
+            goto fail;
+        if (polled > 0)
+            fprintf(stderr, "%sfly: the airwake field is ready at t = %.1f s: blended in\n", tty ? "\r\033[K" : "",
+                    out.t_s);
         if (tty && n_stepped % poll_every == 0) {
             sim_loop_report lr;
             sim_loop_report_get(loop, &lr);
