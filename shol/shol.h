@@ -366,10 +366,10 @@ typedef struct shol_flown_track {
     int first_crit;              /* the first criterion exceeded (SHOL_LIMIT_NONE: none) */
     int first_kind;              /* how (SHOL_JUDGE_*) */
     double first_t_s;
-    char first_phase[24];        /* the task's phase then ("hover", "descent", ...) */
+    char first_phase[32];        /* the task's phase then ("hover", "descent", ...) */
     long n_steps, n_bad;         /* steps judged; steps not finite */
     /* the running mean (private) */
-    char phase[24];              /* the phase being averaged */
+    char phase[32];              /* the phase being averaged (a task's names are at most 31) */
     double phase_t0_s, last_t_s;
     int judged;                  /* its mean has been judged (the phase has lasted window_s) */
     long bin;                    /* the current bin's index from the phase's start */
