@@ -216,6 +216,10 @@ static int run_replay(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad,
     long n = (long)llround(T * fo.rate_hz);
     sim_flight_out o;
     sim_flight_state(fl, &o);
+    /* the attitudes of the flight's own trim, as disim fly --pilot replay
+     * (a start the trim state refuses keeps the uniform references) */
+    if (!o.on_deck)
+        (void)sim_pilot_replay_set_trim_state(pilot, &o);
     int exceeded = 0, crashed = 0, touched = 0;
     double prev_z = o.pos_S_m[2], prev_t = o.t_s;
     sim_replay_sample sm;

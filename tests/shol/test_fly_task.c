@@ -165,10 +165,12 @@ static double hover_pitch(const double station[3])
     return th;
 }
 
-static int replay(const sim_replay_log *ref, const shol_criteria *c, double pos_m, double v_mps, shol_flight *out)
+static int replay(const sim_replay_log *ref, const shol_criteria *c, double pos_m, double v_mps, int sea_state,
+                  shol_flight *out)
 {
     sim_fly_task_opts o;
     sim_fly_task_opts_default(&o); /* the default judgement: a 3 s mean */
+    o.sea.state = sea_state;
     o.replay = ref;
     o.replay_pos_m = pos_m;
     core_err err = {{0}};
@@ -333,7 +335,9 @@ int main(void)
 
     /* 8. The replay pilot re-flies a recorded 5 s hover: in calm air it
      * passes, flying the log's 5 s; with 1 mm allowed from the recorded
-     * run it fails the replay tolerance; with a pitch limit below the
+     * run, in 5 m/s over a ship in sea state 3 (the reference moves with
+     * the deck; the pilot's references are the flight's trim, so the wind
+     * alone would leave it on the reference), it fails the replay tolerance; with a pitch limit below the
      * hover's trim it fails at once, in the reference's hover phase. */
     char logp[] = "/tmp/disim_test_fly_task_log_XXXXXX";
     int lfd = mkstemp(logp);
@@ -345,13 +349,13 @@ int main(void)
     CHECK(ref != NULL);
     if (ref) {
         shol_flight rp;
-        rc = replay(ref, &crit, 2.0, 0.0, &rp);
+        rc = replay(ref, &crit, 2.0, 0.0, 0, &rp);
         show("replay, calm", rc, &rp);
         CHECK(rc == 0 && rp.pass && fabs(rp.flown_s - 5.0) < 0.01 && rp.track.n_steps > 900);
-        rc = replay(ref, &crit, 0.001, 5.0, &rp);
-        show("replay, 5 m/s, 1 mm allowed", rc, &rp);
+        rc = replay(ref, &crit, 0.001, 5.0, 3, &rp);
+        show("replay, 5 m/s, sea state 3, 1 mm allowed", rc, &rp);
         CHECK(rc == 0 && !rp.pass && strcmp(rp.cause, "replay tolerance: position") == 0);
-        rc = replay(ref, &tight, 2.0, 0.0, &rp);
+        rc = replay(ref, &tight, 2.0, 0.0, 0, &rp);
         show("replay, pitch limit below the trim", rc, &rp);
         CHECK(rc == 0 && !rp.pass && strcmp(rp.cause, "pitch (3 s mean) in hover") == 0 &&
               fabs(rp.flown_s - 3.0) < 0.01);
