@@ -80,6 +80,9 @@ char *core_str_take(core_str *b);
 int core_err_set(core_err *err, int code, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
+/* Seconds of CLOCK_MONOTONIC: for measuring how long work takes. */
+double core_monotonic_s(void);
+
 /* ------------------------------------------------------- vectors, matrices */
 typedef struct core_vec3 {
     double x, y, z;

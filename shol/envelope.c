@@ -117,13 +117,6 @@ void shol_result_free(shol_result *r)
     r->n_dirs = 0;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 void shol_progress_format(const shol_progress *p, char *buf, size_t n)
 {
     char name[32], left[48];
@@ -177,7 +170,7 @@ static void report(sweep *w, int idir, double speed_mps, double dir_fraction, in
     if (dir_fraction > 1)
         dir_fraction = 1;
     p.fraction = done ? 1.0 : (idir + dir_fraction) / w->s->n_dirs;
-    p.elapsed_s = now_s() - w->t0;
+    p.elapsed_s = core_monotonic_s() - w->t0;
     p.rate_per_s = p.elapsed_s > 0 ? w->n_trims / p.elapsed_s : 0;
     p.eta_s = done ? 0 : (p.fraction > 0 ? p.elapsed_s * (1 - p.fraction) / p.fraction : NAN);
     p.done = done;
@@ -321,7 +314,7 @@ int shol_envelope_run(const shol_settings *s, shol_trim_fn trim, void *trim_user
         return core_err_set(err, -1, "shol: no trim callback");
     if (shol_settings_check(s, err) < 0)
         return -1;
-    sweep w = {s, trim, trim_user, progress, progress_user, log, now_s(), 0};
+    sweep w = {s, trim, trim_user, progress, progress_user, log, core_monotonic_s(), 0};
     out->settings = *s;
     out->dirs = calloc(s->n_dirs, sizeof *out->dirs);
     if (!out->dirs)
@@ -335,7 +328,7 @@ int shol_envelope_run(const shol_settings *s, shol_trim_fn trim, void *trim_user
         report(&w, i, out->dirs[i].max_speed_mps, 1.0, i == s->n_dirs - 1);
     }
     out->n_trims = w.n_trims;
-    out->wall_s = now_s() - w.t0;
+    out->wall_s = core_monotonic_s() - w.t0;
     return 0;
 }
 

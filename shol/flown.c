@@ -287,13 +287,6 @@ void shol_flown_result_free(shol_flown_result *r)
     r->n_dirs = 0;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 typedef struct search {
     const shol_flown_settings *s;
     const shol_result *trim;
@@ -320,7 +313,7 @@ static void report(search *w, int idir, double v, double dir_frac, int done)
     p.speed_mps = v;
     p.n_trims = w->n_flights;
     p.fraction = done ? 1.0 : (idir + fmin(fmax(dir_frac, 0.0), 1.0)) / w->trim->n_dirs;
-    p.elapsed_s = now_s() - w->t0;
+    p.elapsed_s = core_monotonic_s() - w->t0;
     p.rate_per_s = p.elapsed_s > 0 ? w->n_flights / p.elapsed_s : 0;
     p.eta_s = done ? 0 : (p.fraction > 0 ? p.elapsed_s * (1 - p.fraction) / p.fraction : NAN);
     p.done = done;
@@ -493,7 +486,8 @@ int shol_flown_run(const shol_flown_settings *s, const shol_result *trim, shol_f
         return core_err_set(err, -1, "shol: flown run: the trim envelope's speed step %g m/s and maximum %g m/s: "
                                      "expected > 0 and >= 0",
                             trim->settings.speed_step_mps, trim->settings.speed_max_mps);
-    search w = {s, trim, fly, fly_user, progress, progress_user, log, now_s(), 0, 0.0, trim->settings.speed_max_mps};
+    search w = {s, trim, fly, fly_user, progress, progress_user, log, core_monotonic_s(), 0, 0.0,
+                trim->settings.speed_max_mps};
     out->dirs = calloc((size_t)trim->n_dirs, sizeof *out->dirs);
     if (!out->dirs)
         return core_err_set(err, -1, "shol: out of memory");
@@ -508,7 +502,7 @@ int shol_flown_run(const shol_flown_settings *s, const shol_result *trim, shol_f
         }
     out->n_flights = w.n_flights;
     out->flown_s = w.flown_s;
-    out->wall_s = now_s() - w.t0;
+    out->wall_s = core_monotonic_s() - w.t0;
     report(&w, trim->n_dirs - 1, 0.0, 1.0, 1);
     return 0;
 }

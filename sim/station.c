@@ -894,13 +894,6 @@ void sim_station_format(const sim_station_view *v, const char *source, int tty, 
 }
 
 /* --------------------------------------------------------------- the loop */
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *err)
 {
     if (!(o->rate_hz >= 1.0 && o->rate_hz <= 1000.0))
@@ -912,7 +905,7 @@ int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *er
     if (o->keys)
         sim_station_controls_centre(&c);
     const double period = 1.0 / o->rate_hz;
-    const double t0 = now_s();
+    const double t0 = core_monotonic_s();
     const double end = o->duration_s > 0.0 ? t0 + o->duration_s : INFINITY;
     const double show_period = o->show_hz > 0.0 ? 1.0 / o->show_hz : INFINITY;
     double next_show = t0 + show_period;
@@ -922,7 +915,7 @@ int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *er
     for (;;) {
         if (o->stop && *o->stop)
             return 0;
-        double now = now_s();
+        double now = core_monotonic_s();
         if (now >= end)
             return 0;
         if (now >= t0 + (double)k * period) {
@@ -962,7 +955,7 @@ int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *er
             pf[1].fd = sim_station_evdev_fd(o->dev);
         else if (o->key_fd >= 0)
             pf[1].fd = o->key_fd;
-        double dt = wake - now_s();
+        double dt = wake - core_monotonic_s();
         if (dt < 0.0)
             dt = 0.0;
         struct timespec ts = {(time_t)dt, (long)((dt - floor(dt)) * 1e9)};
