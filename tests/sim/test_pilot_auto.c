@@ -405,6 +405,8 @@ typedef struct deck_run {
     /* during the move phases: the reference's largest acceleration, the
      * largest roll from the start's and the pedal's range sent */
     double ref_acc_max_mps2, move_roll_max_rad, move_ped_min_pct, move_ped_max_pct;
+    /* as the descent began: the distance from the spot and the speed in S (-1: no descent) */
+    double desc_dist_m, desc_speed_mps;
 } deck_run;
 
 static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *task_path, double wod_kt,
@@ -464,9 +466,15 @@ static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *
     sim_pilot_auto_reference(p, &ref_prev);
     out->move_ped_min_pct = INFINITY;
     out->move_ped_max_pct = -INFINITY;
+    out->desc_dist_m = out->desc_speed_mps = -1.0;
     for (long s = 0; s < n; s++) {
         sim_pilot_auto_step(p, &o, &in);
         sim_pilot_auto_result(p, &out->r);
+        if (out->r.t_descent_s >= 0.0 && out->desc_dist_m < 0.0) {
+            const double *spot = t.phase[t.nphases - 1].target_S_m;
+            out->desc_dist_m = hypot(o.pos_S_m[0] - spot[0], o.pos_S_m[1] - spot[1]);
+            out->desc_speed_mps = hypot(o.vel_S_mps[0], o.vel_S_mps[1]);
+        }
         if (out->r.done)
             break;
         sim_pilot_ref ref;
@@ -864,6 +872,49 @@ static void test_task_file(const sim_task *t)
     unlink(path);
 }
 
+/* 12. The descent begins over the spot and nearly still: a landing with
+ * no hold over the spot and no wait for the deck (the descent phase right
+ * after the traverse, which ends on arriving within its adequate band,
+ * 3 m) still begins its descent within half the desired band (0.5 m) of
+ * the spot and below the desired drift (0.5 m/s); it lands within the
+ * desired band. Without the gate the descent began as the traverse ended. */
+static void test_descent_gate(const hfm_aircraft *uh60)
+{
+    core_ship cg47;
+    core_err err = {{0}};
+    if (core_ship_load(SHIP, &cg47, &err) != 0) {
+        fprintf(stderr, "gate: %s\n", err.msg);
+        CHECK(0);
+        return;
+    }
+    char path[64];
+    snprintf(path, sizeof path, "/tmp/test_pilot_auto_gate_%d.ini", (int)getpid());
+    write_file(path, "[task]\ntype = land\nheading_deg = 0\nphases = alongside, traverse, descent\n"
+                     "[phase alongside]\nkind = hold\nat = port_edge\noffset_m = 0, -10\nheight_m = 6\n"
+                     "duration_s = 5\ndesired_pos_m = 1\ndesired_height_m = 1\ndesired_heading_deg = 5\n"
+                     "desired_time_s = 10\nadequate_pos_m = 2\nadequate_height_m = 2\nadequate_heading_deg = 10\n"
+                     "adequate_time_s = 15\n"
+                     "[phase traverse]\nkind = move\nat = spot\nheight_m = 6\nspeed_mps = 1\ndesired_pos_m = 1.5\n"
+                     "desired_height_m = 1\ndesired_heading_deg = 5\ndesired_time_s = 40\nadequate_pos_m = 3\n"
+                     "adequate_height_m = 2\nadequate_heading_deg = 10\nadequate_time_s = 60\n"
+                     "[phase descent]\nkind = descend\nat = spot\ndescent_mps = 0.75\nquiescent = no\n"
+                     "desired_pos_m = 1\ndesired_heading_deg = 5\ndesired_time_s = 60\ndesired_sink_mps = 1\n"
+                     "desired_drift_mps = 0.5\nadequate_pos_m = 1.5\nadequate_heading_deg = 10\n"
+                     "adequate_time_s = 75\nadequate_sink_mps = 2\nadequate_drift_mps = 1\n");
+    deck_run d;
+    fly_deck(uh60, &cg47, path, 25.0, 0.0, 0, 1, &d);
+    unlink(path);
+    const sim_phase_result *tr = &d.r.phase[1];
+    printf("UH-60A on the CG-47, the traverse straight into the descent, 25 kt, still deck: the traverse ended at "
+           "%.2f s, the descent began at %.2f s %.3f m from the spot at %.3f m/s; touchdown %.3f m from it, sink "
+           "%.3f m/s, drift %.3f m/s\n",
+           tr->t_end_s, d.r.t_descent_s, d.desc_dist_m, d.desc_speed_mps, d.r.dist_m, d.r.sink_mps, d.r.drift_mps);
+    CHECK(!d.failed && !d.crashed && d.r.touched);
+    CHECK(d.desc_dist_m >= 0.0 && d.desc_dist_m <= 0.5 && d.desc_speed_mps <= 0.5);
+    CHECK(d.r.dist_m <= 1.0 && d.r.sink_mps > 0.0 && d.r.sink_mps <= 1.0);
+    free(d.u);
+}
+
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -907,6 +958,8 @@ int main(void)
     CHECK(a && b);
     if (a && b)
         test_deck(a, b);
+    if (a)
+        test_descent_gate(a);
     hfm_aircraft_destroy(a);
     hfm_aircraft_destroy(b);
     return check_done("test_pilot_auto");
