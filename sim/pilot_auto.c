@@ -101,7 +101,10 @@
  *     position and velocity loops flying on; while the helicopter is
  *     outside half the desired band and its wheels more than 0.5 m
  *     (COMMIT_M) above the deck the height reference pauses, as a pilot
- *     stops the descent to re-centre over the spot. In the coarse LPD-17
+ *     stops the descent to re-centre over the spot, unless the rest of
+ *     the way down (twice clearance / descent_mps, as the phase length
+ *     allows for the height loop's lag) would end past the adequate
+ *     band's time_s. In the coarse LPD-17
  *     airwake (SA365N, 20 kt from green 30, sea state 3, turbulence) the
  *     hover over the spot wanders about 1.5 m and drifts up to 0.5 m/s:
  *     a descent begun off the spot or drifting, or flown through a drift
@@ -1134,7 +1137,8 @@ static void phases(sim_pilot_auto *p, const sim_flight_out *out, double psi_rel)
         double v_gate = ph->desired.drift_mps > 0.0 ? ph->desired.drift_mps : 0.5;
         int over = e_pos <= GATE_FRAC * ph->desired.pos_m;
         if (p->descending)
-            p->desc_hold = !p->external && !over && p->clear_m > COMMIT_M;
+            p->desc_hold = !p->external && !over && p->clear_m > COMMIT_M &&
+                           t_in + 2.0 * p->clear_m / ph->descent_mps < ph->adequate.time_s;
         if (!p->descending) {
             int quiet = !ph->quiescent;
             if (ph->quiescent) {
