@@ -409,6 +409,28 @@ typedef struct deck_run {
     double desc_dist_m, desc_speed_mps;
 } deck_run;
 
+/* A side push on the airframe while the CG is in a band of heights over a
+ * still deck (E z = S z there), on top of the gear's loads: a gust that
+ * takes the helicopter off the spot in the descent (test_descent_pause). */
+typedef struct side_push {
+    sim_contact *gear;
+    double F_N, z_m, dur_s; /* the push along body y for dur_s from when the CG first goes below z_m */
+    double t0_s;            /* when it began (-1: not yet) */
+} side_push;
+
+static int side_push_ext(void *user, double t_s, const hfm_body *b, double F_B_N[3], double M_B_Nm[3])
+{
+    side_push *sp = user;
+    int rc = sim_contact_ext_fn(sp->gear, t_s, b, F_B_N, M_B_Nm);
+    if (sp->t0_s < 0.0 && -b->pos_S_m[2] < sp->z_m)
+        sp->t0_s = t_s;
+    if (sp->t0_s >= 0.0 && t_s >= sp->t0_s && t_s < sp->t0_s + sp->dur_s)
+        F_B_N[1] += sp->F_N;
+    return rc;
+}
+
+static side_push *push_cfg; /* the next fly_deck's push (NULL: none); set and cleared by one test */
+
 static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *task_path, double wod_kt,
                      double wod_dir_deg, int ss, int sas, deck_run *out)
 {
@@ -437,7 +459,11 @@ static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *
     sim_pilot_auto *p = NULL;
     sim_flight_inputs in;
     if (c) {
-        sim_flight_set_external(f, sim_contact_ext_fn, c);
+        if (push_cfg) {
+            push_cfg->gear = c;
+            sim_flight_set_external(f, side_push_ext, push_cfg);
+        } else
+            sim_flight_set_external(f, sim_contact_ext_fn, c);
         sim_pilot_auto_opts po;
         sim_pilot_auto_opts_default(&po);
         po.rate_hz = RATE_HZ;
@@ -915,6 +941,36 @@ static void test_descent_gate(const hfm_aircraft *uh60)
     free(d.u);
 }
 
+/* 13. The descent pauses off the spot: a side push of 8 % of the weight
+ * for 1.5 s once the CG is below 5.9 m over a still deck (the wheels
+ * about 2.5 m up, early in the descent from the port-side hover) takes
+ * the helicopter more than half the desired band off the spot; the
+ * height reference stops until the pilot has it back over the spot, so
+ * it lands within the desired band (1 m). Without the pause it flies on
+ * down and lands 1.43 m off. */
+static void test_descent_pause(const hfm_aircraft *uh60)
+{
+    core_ship cg47;
+    core_err err = {{0}};
+    if (core_ship_load(SHIP, &cg47, &err) != 0) {
+        fprintf(stderr, "pause: %s\n", err.msg);
+        CHECK(0);
+        return;
+    }
+    side_push sp = {NULL, 0.08 * hfm_aircraft_weight_N(uh60), 5.9, 1.5, -1.0};
+    deck_run d;
+    push_cfg = &sp;
+    fly_deck(uh60, &cg47, PORT, 25.0, 0.0, 0, 1, &d);
+    push_cfg = NULL;
+    printf("UH-60A on the CG-47, port-side, 25 kt, still deck, a side push of 0.08 W for 1.5 s below 5.9 m: descent from "
+           "%.2f s, touchdown at %.2f s %.3f m from the spot, sink %.3f m/s, drift %.3f m/s%s\n",
+           d.r.t_descent_s, d.r.t_touchdown_s, d.r.dist_m, d.r.sink_mps, d.r.drift_mps, d.crashed ? ", CRASHED" : "");
+    CHECK(!d.failed && !d.crashed && d.r.touched);
+    CHECK(d.r.dist_m <= 1.0 && d.r.sink_mps > 0.0 && d.r.sink_mps <= 1.0);
+    CHECK(d.r.t_touchdown_s - d.r.t_descent_s > 2.9 / 0.75 + 1.0); /* it paused on the way down */
+    free(d.u);
+}
+
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -960,6 +1016,8 @@ int main(void)
         test_deck(a, b);
     if (a)
         test_descent_gate(a);
+    if (a)
+        test_descent_pause(a);
     hfm_aircraft_destroy(a);
     hfm_aircraft_destroy(b);
     return check_done("test_pilot_auto");
