@@ -158,6 +158,58 @@ static const char *phase_name(const sim_fly_task *t, const sim_task_result *r)
     return t->task.kind == SIM_TASK_LAND ? (r->t_descent_s >= 0.0 ? "descent" : "hover") : "station keeping";
 }
 
+/* The flight of one run: the ship's motion in the task's sea (seeded by
+ * seed + 1) and the trimmed hover at station_S_m in field at the WOD,
+ * with the task's turbulence and gear; bare: the SAS off. 0; 1 when the
+ * hover does not trim (sim_flight_create says "does not trim": a
+ * rejection); < 0 with err. */
+static int flight_start(const sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
+                        const struct cfd_field *field, const double station_S_m[3], int bare,
+                        sim_ship_motion **motion, sim_flight **fl, core_err *err)
+{
+    sim_sea sea = t->o.sea;
+    if (!(*motion = sim_ship_motion_create(&t->ship, &sea, (uint64_t)seed + 1u, err)))
+        return -1;
+    sim_flight_opts fo;
+    sim_flight_opts_default(&fo);
+    fo.rate_hz = t->o.rate_hz;
+    fo.wod_speed_mps = wod_speed_mps;
+    fo.wod_dir_rad = wod_dir_rad;
+    fo.ship_speed_mps = sea.ship_speed_mps;
+    fo.turbulence = t->o.turbulence;
+    fo.seed = seed;
+    fo.gear = t->has_gear; /* the wheels and strike points on the deck and the ship (sim/contact.c) */
+    if (bare)
+        fo.sas = 0;
+    memcpy(fo.station_S_m, station_S_m, sizeof fo.station_S_m);
+    if (!(*fl = sim_flight_create(t->ac, &t->ship, &fo, sim_ship_motion_frame_fn, *motion, field, t->log, err)))
+        return strstr(err->msg, "does not trim") ? 1 : -1;
+    return 0;
+}
+
+/* A step that ended the flight (sim_flight_step's st != 0) as the run's
+ * cause, in phase: 1 (crashed), or 0 when st is 0. */
+static int step_crash(int st, const sim_flight_out *o, const char *phase, char *cause, size_t n)
+{
+    if (st < 0)
+        snprintf(cause, n, "crash: the flight model diverged in %s", phase);
+    else if (st > 0 && (o->contact_flags & SIM_CONTACT_CRASH)) /* a strike on the ship */
+        snprintf(cause, n, "%s%.80s", strncmp(o->contact_what, "crash", 5) ? "crash: " : "",
+                 o->contact_what[0] ? o->contact_what : "a strike on the ship");
+    else if (st > 0)
+        snprintf(cause, n, "crash: roll-over on the deck");
+    return st != 0;
+}
+
+/* The cause of a run the criteria stopped. */
+static void exceeded_cause(const shol_flown_track *k, char *cause, size_t n)
+{
+    if (k->first_crit >= 0)
+        shol_flown_track_cause(k, cause, n);
+    else
+        snprintf(cause, n, "crash: the state is not finite");
+}
+
 /* The replay pilot re-flies a recorded run (sim/pilot_replay.c) as
  * `disim fly --pilot replay` does: from the log's first state, the SAS
  * off, for the log's length. Judged in the same order as a task, with the
@@ -181,28 +233,14 @@ static int run_replay(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad,
     sim_replay_sample s0, s1;
     sim_replay_log_sample(ref, info.t0_s, &s0);
     sim_replay_log_sample(ref, info.t1_s, &s1);
-    sim_sea sea = t->o.sea;
-    if (!(motion = sim_ship_motion_create(&t->ship, &sea, (uint64_t)seed + 1u, &err)))
+    int st0 = flight_start(t, wod_speed_mps, wod_dir_rad, seed, field, s0.pos_S_m, 1, &motion, &fl, &err);
+    if (st0 > 0) /* the replay pilot's gains are the bare airframe's: the SAS off */
+        goto no_trim;
+    if (st0 < 0)
         goto fatal;
-    sim_flight_opts fo;
-    sim_flight_opts_default(&fo);
-    fo.rate_hz = t->o.rate_hz;
-    fo.wod_speed_mps = wod_speed_mps;
-    fo.wod_dir_rad = wod_dir_rad;
-    fo.ship_speed_mps = sea.ship_speed_mps;
-    fo.turbulence = t->o.turbulence;
-    fo.seed = seed;
-    fo.gear = t->has_gear;
-    fo.sas = 0; /* the replay pilot's gains are the bare airframe's */
-    memcpy(fo.station_S_m, s0.pos_S_m, sizeof fo.station_S_m);
-    if (!(fl = sim_flight_create(t->ac, &t->ship, &fo, sim_ship_motion_frame_fn, motion, field, t->log, &err))) {
-        if (strstr(err.msg, "does not trim"))
-            goto no_trim;
-        goto fatal;
-    }
     sim_pilot_replay_opts po;
     sim_pilot_replay_opts_default(&po);
-    po.pilot.rate_hz = fo.rate_hz;
+    po.pilot.rate_hz = t->o.rate_hz;
     po.pilot.wod_speed_mps = wod_speed_mps;
     po.pilot.wod_dir_rad = wod_dir_rad;
     sim_flight_inputs in;
@@ -213,7 +251,7 @@ static int run_replay(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad,
         goto fatal;
     }
     double T = t->o.max_s > 0.0 ? t->o.max_s : info.t1_s;
-    long n = (long)llround(T * fo.rate_hz);
+    long n = (long)llround(T * t->o.rate_hz);
     sim_flight_out o;
     sim_flight_state(fl, &o);
     /* the attitudes of the flight's own trim, as disim fly --pilot replay
@@ -230,17 +268,9 @@ static int run_replay(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad,
         sim_replay_log_sample(ref, o.t_s, &sm);
         const char *phase = sim_replay_phase_name(sm.phase);
         int st = sim_flight_step(fl, &in, &o, &err);
-        if (st < 0) {
-            snprintf(out->cause, sizeof out->cause, "crash: the flight model diverged in %s", phase);
+        if (step_crash(st, &o, phase, out->cause, sizeof out->cause))
             crashed = 1;
-        } else if (st > 0) {
-            if (o.contact_flags & SIM_CONTACT_CRASH)
-                snprintf(out->cause, sizeof out->cause, "%s%.80s", strncmp(o.contact_what, "crash", 5) ? "crash: " : "",
-                         o.contact_what[0] ? o.contact_what : "a strike on the ship");
-            else
-                snprintf(out->cause, sizeof out->cause, "crash: roll-over on the deck");
-            crashed = 1;
-        } else if (!touched && o.on_deck) { /* the first wheel on the deck: the sink relative to it */
+        else if (!touched && o.on_deck) { /* the first wheel on the deck: the sink relative to it */
             touched = 1;
             out->sink_mps = o.t_s > prev_t ? (o.pos_S_m[2] - prev_z) / (o.t_s - prev_t) : NAN;
             out->dist_m = hypot(o.pos_S_m[0] - s1.pos_S_m[0], o.pos_S_m[1] - s1.pos_S_m[1]);
@@ -260,13 +290,9 @@ static int run_replay(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad,
     t->last.replay = r;
     if (crashed) {
         /* cause set above */
-    } else if (exceeded) {
-        const shol_flown_track *k = &out->track;
-        if (k->first_crit >= 0)
-            shol_flown_track_cause(k, out->cause, sizeof out->cause);
-        else
-            snprintf(out->cause, sizeof out->cause, "crash: the state is not finite");
-    } else if (touched && out->sink_mps > t->o.replay_sink_mps)
+    } else if (exceeded)
+        exceeded_cause(&out->track, out->cause, sizeof out->cause);
+    else if (touched && out->sink_mps > t->o.replay_sink_mps)
         snprintf(out->cause, sizeof out->cause, "touchdown sink");
     else if (r.all.max_m > t->o.replay_pos_m)
         snprintf(out->cause, sizeof out->cause, "replay tolerance: position");
@@ -308,32 +334,18 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
     sim_flight *fl = NULL;
     sim_pilot_auto *pilot = NULL;
 
-    sim_sea sea = t->o.sea;
-    if (!(motion = sim_ship_motion_create(&t->ship, &sea, (uint64_t)seed + 1u, &err)))
-        goto fatal;
-    sim_flight_opts fo;
-    sim_flight_opts_default(&fo);
-    fo.rate_hz = t->o.rate_hz;
-    fo.wod_speed_mps = wod_speed_mps;
-    fo.wod_dir_rad = wod_dir_rad;
-    fo.ship_speed_mps = sea.ship_speed_mps;
-    fo.turbulence = t->o.turbulence;
-    fo.seed = seed;
-    fo.gear = t->has_gear; /* the wheels and strike points on the deck and the ship (sim/contact.c) */
     /* the start: a phase task's first point (alongside, astern), else the station */
-    memcpy(fo.station_S_m, t->task.has_start ? t->task.start_S_m : t->o.station_S_m, sizeof fo.station_S_m);
-    if (!(fl = sim_flight_create(t->ac, &t->ship, &fo, sim_ship_motion_frame_fn, motion, field, t->log, &err))) {
-        /* sim_flight_create says "does not trim" for a hover that does not
-         * converge: a rejection; anything else is fatal */
-        if (strstr(err.msg, "does not trim"))
-            goto no_trim;
+    int st0 = flight_start(t, wod_speed_mps, wod_dir_rad, seed, field,
+                           t->task.has_start ? t->task.start_S_m : t->o.station_S_m, 0, &motion, &fl, &err);
+    if (st0 > 0)
+        goto no_trim;
+    if (st0 < 0)
         goto fatal;
-    }
     /* the pilot as `disim fly --pilot auto` has it: the aircraft's SAS as
      * its file engages it, the gains scheduled with it; the gear */
     sim_pilot_auto_opts po;
     sim_pilot_auto_opts_default(&po);
-    po.rate_hz = fo.rate_hz;
+    po.rate_hz = t->o.rate_hz;
     po.wod_speed_mps = wod_speed_mps;
     po.wod_dir_rad = wod_dir_rad;
     po.sas = sim_sas_engaged(sim_flight_sas(fl));
@@ -353,7 +365,7 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
     (void)sim_pilot_auto_set_trim_state(pilot, &s0);
 
     double T = t->o.max_s > 0.0 ? t->o.max_s : sim_task_length_s(&t->task);
-    long n = (long)llround(T * fo.rate_hz);
+    long n = (long)llround(T * t->o.rate_hz);
     sim_flight_out o;
     sim_flight_state(fl, &o);
     sim_task_result r;
@@ -367,17 +379,9 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
             break;
         const char *phase = phase_name(t, &r);
         int st = sim_flight_step(fl, &in, &o, &err);
-        if (st < 0) {
-            snprintf(out->cause, sizeof out->cause, "crash: the flight model diverged in %s", phase);
+        if (step_crash(st, &o, phase, out->cause, sizeof out->cause)) /* a strike, or a roll-over on the deck */
             crashed = 1;
-        } else if (st > 0) { /* a strike on the ship, or a roll-over on the deck */
-            if (o.contact_flags & SIM_CONTACT_CRASH)
-                snprintf(out->cause, sizeof out->cause, "%s%.80s", strncmp(o.contact_what, "crash", 5) ? "crash: " : "",
-                         o.contact_what[0] ? o.contact_what : "a strike on the ship");
-            else
-                snprintf(out->cause, sizeof out->cause, "crash: roll-over on the deck");
-            crashed = 1;
-        } else if (!r.touched) /* the criteria judge the flight; on deck the collective goes down */
+        else if (!r.touched) /* the criteria judge the flight; on deck the collective goes down */
             track(&out->track, &o, phase, &exceeded);
     }
     if (!crashed && !exceeded && shol_flown_track_end(&out->track)) /* a phase shorter than the window */
@@ -395,13 +399,9 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
     t->last.end = o;
     if (crashed) {
         /* cause set above */
-    } else if (exceeded) {
-        const shol_flown_track *k = &out->track;
-        if (k->first_crit >= 0)
-            shol_flown_track_cause(k, out->cause, sizeof out->cause);
-        else
-            snprintf(out->cause, sizeof out->cause, "crash: the state is not finite");
-    } else if (t->task.kind == SIM_TASK_LAND && r.touched && r.touchdown_grade == 0)
+    } else if (exceeded)
+        exceeded_cause(&out->track, out->cause, sizeof out->cause);
+    else if (t->task.kind == SIM_TASK_LAND && r.touched && r.touchdown_grade == 0)
         snprintf(out->cause, sizeof out->cause, "%s",
                  r.sink_mps > t->task.adequate.sink_mps ? "touchdown sink" : "touchdown position");
     else if (r.grade == 0)
