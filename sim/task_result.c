@@ -56,6 +56,32 @@ static int scalars(const sim_task_result *r, col *c)
     return n;
 }
 
+/* Control i's activity (its suffixes after the control's name). */
+static void ctl_cols(const sim_task_result *r, int i, col c[3])
+{
+    c[0] = (col){"rms_pct", r->ctl_rms_pct[i]};
+    c[1] = (col){"rate_rms_pctps", r->ctl_rate_rms_pctps[i]};
+    c[2] = (col){"cutoff_radps", r->ctl_cutoff_radps[i]};
+}
+
+/* Phase i's figures after its grade (suffixes after the phase's name). */
+static void phase_cols(const sim_task *t, const sim_task_result *r, int i, col c[6])
+{
+    const sim_phase_result *p = &r->phase[i];
+    int flown = p->grade >= 0, desc = t->phase[i].kind == SIM_PHASE_DESCEND;
+    c[0] = (col){"t_start_s", p->t_start_s >= 0.0 ? p->t_start_s : NAN};
+    c[1] = (col){"t_end_s", p->t_end_s >= 0.0 ? p->t_end_s : NAN};
+    c[2] = (col){"max_err_pos_m", flown ? p->max_err_pos_m : NAN};
+    c[3] = (col){"max_err_height_m", flown && !desc ? p->max_err_height_m : NAN};
+    c[4] = (col){"max_err_heading_deg", flown ? p->max_err_heading_rad * R2D : NAN};
+    c[5] = (col){"wait_s", flown && desc ? p->t_wait_s : NAN};
+}
+
+static const char *phase_grade(const sim_task_result *r, int i)
+{
+    return r->phase[i].grade >= 0 ? grade_name(r->phase[i].grade) : "not_flown";
+}
+
 static int write_csv(FILE *f, const sim_task *t, const sim_task_result *r)
 {
     col c[32];
@@ -63,13 +89,17 @@ static int write_csv(FILE *f, const sim_task *t, const sim_task_result *r)
     fputs("task_grade,touched,touchdown_grade,settled", f);
     for (int i = 0; i < n; i++)
         fprintf(f, ",%s", c[i].name);
-    for (int i = 0; i < 4; i++)
-        fprintf(f, ",%s_rms_pct,%s_rate_rms_pctps,%s_cutoff_radps", ctl[i], ctl[i], ctl[i]);
+    col a[6];
+    for (int i = 0; i < 4; i++) {
+        ctl_cols(r, i, a);
+        for (int k = 0; k < 3; k++)
+            fprintf(f, ",%s_%s", ctl[i], a[k].name);
+    }
     for (int i = 0; i < t->nphases; i++) {
-        const char *p = t->phase[i].name;
-        fprintf(f, ",%s_grade,%s_t_start_s,%s_t_end_s,%s_max_err_pos_m,%s_max_err_height_m,%s_max_err_heading_deg,"
-                   "%s_wait_s",
-                p, p, p, p, p, p, p);
+        phase_cols(t, r, i, a);
+        fprintf(f, ",%s_grade", t->phase[i].name);
+        for (int k = 0; k < 6; k++)
+            fprintf(f, ",%s_%s", t->phase[i].name, a[k].name);
     }
     fprintf(f, "\n%s,%d,%s,%d", grade_name(r->grade), r->touched, r->touched ? grade_name(r->touchdown_grade) : "",
             r->settled);
@@ -78,28 +108,19 @@ static int write_csv(FILE *f, const sim_task *t, const sim_task_result *r)
         num(f, c[i].v, 0);
     }
     for (int i = 0; i < 4; i++) {
-        fputc(',', f);
-        num(f, r->ctl_rms_pct[i], 0);
-        fputc(',', f);
-        num(f, r->ctl_rate_rms_pctps[i], 0);
-        fputc(',', f);
-        num(f, r->ctl_cutoff_radps[i], 0);
+        ctl_cols(r, i, a);
+        for (int k = 0; k < 3; k++) {
+            fputc(',', f);
+            num(f, a[k].v, 0);
+        }
     }
     for (int i = 0; i < t->nphases; i++) {
-        const sim_phase_result *p = &r->phase[i];
-        int flown = p->grade >= 0;
-        fprintf(f, ",%s,", flown ? grade_name(p->grade) : "not_flown");
-        num(f, p->t_start_s >= 0.0 ? p->t_start_s : NAN, 0);
-        fputc(',', f);
-        num(f, p->t_end_s >= 0.0 ? p->t_end_s : NAN, 0);
-        fputc(',', f);
-        num(f, flown ? p->max_err_pos_m : NAN, 0);
-        fputc(',', f);
-        num(f, flown && t->phase[i].kind != SIM_PHASE_DESCEND ? p->max_err_height_m : NAN, 0);
-        fputc(',', f);
-        num(f, flown ? p->max_err_heading_rad * R2D : NAN, 0);
-        fputc(',', f);
-        num(f, flown && t->phase[i].kind == SIM_PHASE_DESCEND ? p->t_wait_s : NAN, 0);
+        phase_cols(t, r, i, a);
+        fprintf(f, ",%s", phase_grade(r, i));
+        for (int k = 0; k < 6; k++) {
+            fputc(',', f);
+            num(f, a[k].v, 0);
+        }
     }
     fputc('\n', f);
     return 0;
@@ -121,32 +142,25 @@ static int write_json(FILE *f, const sim_task *t, const sim_task_result *r)
         num(f, c[i].v, 1);
     }
     fputs(",\n  \"control_activity\": {", f);
+    col a[6];
     for (int i = 0; i < 4; i++) {
-        fprintf(f, "%s\n    \"%s\": {\"rms_pct\": ", i ? "," : "", ctl[i]);
-        num(f, r->ctl_rms_pct[i], 1);
-        fputs(", \"rate_rms_pctps\": ", f);
-        num(f, r->ctl_rate_rms_pctps[i], 1);
-        fputs(", \"cutoff_radps\": ", f);
-        num(f, r->ctl_cutoff_radps[i], 1);
+        ctl_cols(r, i, a);
+        fprintf(f, "%s\n    \"%s\": {", i ? "," : "", ctl[i]);
+        for (int k = 0; k < 3; k++) {
+            fprintf(f, "%s\"%s\": ", k ? ", " : "", a[k].name);
+            num(f, a[k].v, 1);
+        }
         fputc('}', f);
     }
     fputs("\n  },\n  \"phases\": [", f);
     for (int i = 0; i < t->nphases; i++) {
-        const sim_phase_result *p = &r->phase[i];
-        int flown = p->grade >= 0;
-        fprintf(f, "%s\n    {\"name\": \"%s\", \"kind\": \"%s\", \"grade\": \"%s\", \"t_start_s\": ", i ? "," : "",
-                t->phase[i].name, kind_name(t->phase[i].kind), flown ? grade_name(p->grade) : "not_flown");
-        num(f, p->t_start_s >= 0.0 ? p->t_start_s : NAN, 1);
-        fputs(", \"t_end_s\": ", f);
-        num(f, p->t_end_s >= 0.0 ? p->t_end_s : NAN, 1);
-        fputs(", \"max_err_pos_m\": ", f);
-        num(f, flown ? p->max_err_pos_m : NAN, 1);
-        fputs(", \"max_err_height_m\": ", f);
-        num(f, flown && t->phase[i].kind != SIM_PHASE_DESCEND ? p->max_err_height_m : NAN, 1);
-        fputs(", \"max_err_heading_deg\": ", f);
-        num(f, flown ? p->max_err_heading_rad * R2D : NAN, 1);
-        fputs(", \"wait_s\": ", f);
-        num(f, flown && t->phase[i].kind == SIM_PHASE_DESCEND ? p->t_wait_s : NAN, 1);
+        phase_cols(t, r, i, a);
+        fprintf(f, "%s\n    {\"name\": \"%s\", \"kind\": \"%s\", \"grade\": \"%s\"", i ? "," : "",
+                t->phase[i].name, kind_name(t->phase[i].kind), phase_grade(r, i));
+        for (int k = 0; k < 6; k++) {
+            fprintf(f, ", \"%s\": ", a[k].name);
+            num(f, a[k].v, 1);
+        }
         fputc('}', f);
     }
     fputs("\n  ]\n}\n", f);
