@@ -4,30 +4,12 @@
  * multiple of real time. Each figure is the median of several repeats, in
  * process CPU time (the development machine is shared). */
 #include "hfm.h"
+#include "../bench.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-static int cmpd(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmpd);
-    return v[n / 2];
-}
 
 int main(int argc, char **argv)
 {
@@ -54,15 +36,15 @@ int main(int argc, char **argv)
     double rep[9], f[HFM_TRIM_N], sink = 0.0;
     int nf = 20000;
     for (int k = 0; k < 9; k++) {
-        double t0 = now();
+        double t0 = bench_cpu_s();
         for (int i = 0; i < nf; i++) {
             r.x[0] += 1e-9;
             hfm_trim_residual(tr, &c, r.x, f);
             sink += f[0];
         }
-        rep[k] = (now() - t0) / nf;
+        rep[k] = (bench_cpu_s() - t0) / nf;
     }
-    printf("f(X, U) trim residual evaluation: %.2f us (limit 20 us)\n", median(rep, 9) * 1e6);
+    printf("f(X, U) trim residual evaluation: %.2f us (limit 20 us)\n", bench_median(rep, 9) * 1e6);
 
     /* 2. trim from a cold start (hover, 80 kt, 140 kt) */
     const double spd[3] = {0.0, 80.0, 140.0};
@@ -70,15 +52,15 @@ int main(int argc, char **argv)
         c.airspeed_mps = spd[s] * CORE_KT_TO_MPS;
         int it = 0;
         for (int k = 0; k < 9; k++) {
-            double t0 = now();
+            double t0 = bench_cpu_s();
             for (int i = 0; i < 20; i++)
                 hfm_trim_solve(tr, &c, NULL, &r);
-            rep[k] = (now() - t0) / 20;
+            rep[k] = (bench_cpu_s() - t0) / 20;
             it = r.iterations;
         }
         printf("cold-start trim at %3.0f kt: %.2f ms, %d Newton iterations, converged %d "
                "(limit 10 ms)\n",
-               spd[s], median(rep, 9) * 1e3, it, r.converged);
+               spd[s], bench_median(rep, 9) * 1e3, it, r.converged);
     }
 
     /* 3. 16-point sweep 0-150 kt */
@@ -88,12 +70,12 @@ int main(int argc, char **argv)
         v[i] = 10.0 * i * CORE_KT_TO_MPS;
     int bad = 0;
     for (int k = 0; k < 5; k++) {
-        double t0 = now();
+        double t0 = bench_cpu_s();
         bad = hfm_trim_sweep(tr, &c, HFM_PARAM_AIRSPEED, v, 16, res);
-        rep[k] = now() - t0;
+        rep[k] = bench_cpu_s() - t0;
     }
     printf("16-point continuation sweep 0-150 kt: %.3f s, all converged %s (limit 0.2 s)\n",
-           median(rep, 5), bad ? "no" : "yes");
+           bench_median(rep, 5), bad ? "no" : "yes");
 
     /* 4. time simulation, ARKODE fixed step 200 Hz */
     c.airspeed_mps = 80.0 * CORE_KT_TO_MPS;
@@ -106,14 +88,14 @@ int main(int argc, char **argv)
     for (int k = 0; k < 5; k++) {
         hfm_tsim_init(ts, 0.0, &r.body, &r.u, &r.rotor);
         ev0 = hfm_tsim_rhs_evals(ts);
-        double t0 = now();
+        double t0 = bench_cpu_s();
         for (int i = 1; i <= 600; i++)
             hfm_tsim_advance(ts, T * i / 600.0);
-        rep[k] = now() - t0;
+        rep[k] = bench_cpu_s() - t0;
         best = rep[k] < best ? rep[k] : best;
         ev = hfm_tsim_rhs_evals(ts) - ev0;
     }
-    double wall = median(rep, 5);
+    double wall = bench_median(rep, 5);
     printf("time simulation (ARKODE ERKStep, Ralston 2-stage ERK2, multiblade coordinates, 200 Hz, "
            "80 kt): median %.0f x real time (best %.0f x), %.2f us per step, %.2f right-hand "
            "sides per step (limit >= 2000 x)\n",
@@ -127,17 +109,17 @@ int main(int argc, char **argv)
         hfm_tsim_state(ts, y, n);
         int nr = 200000;
         for (int k = 0; k < 5; k++) {
-            double t0 = now();
+            double t0 = bench_cpu_s();
             for (int i = 0; i < nr; i++) {
                 y[0] += 1e-12;
                 hfm_tsim_rhs(ts, 0.0, y, yd);
                 sink += yd[3];
             }
-            rep[k] = (now() - t0) / nr;
+            rep[k] = (bench_cpu_s() - t0) / nr;
         }
         printf("  one right-hand side (4 blades x 10 elements, tail rotor, fuselage, tail, "
                "6-DOF, inflow): %.2f us\n",
-               median(rep, 5) * 1e6);
+               bench_median(rep, 5) * 1e6);
     }
     hfm_tsim_destroy(ts);
     if (sink == 12345.678)

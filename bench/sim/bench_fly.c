@@ -17,6 +17,7 @@
  * baseline) flies that case alone, for a profile of it (perf record);
  * BENCH_FLY_WHERE=1 prints how far the flights drift from the station. */
 #include "cfd.h"
+#include "../bench.h"
 #include "hfm.h"
 #include "sim.h"
 
@@ -28,19 +29,6 @@
 #include <unistd.h>
 
 #define REPEATS 5
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int cmpd(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
 
 static cfd_field *small_field(const core_ship *ship, const char *path)
 {
@@ -112,13 +100,13 @@ static double fly_case(const hfm_aircraft *ac, const core_ship *ship, const cfd_
                 sim_ship_motion_destroy(m);
                 return -1.0;
             }
-            double t0 = now();
+            double t0 = bench_cpu_s();
             for (long i = 0; i < seg; i++)
                 if (sim_flight_step(f, &in, NULL, &err) != 0) {
                     fprintf(stderr, "bench_fly: step %ld: %s\n", i, err.msg);
                     break;
                 }
-            spent += now() - t0;
+            spent += bench_cpu_s() - t0;
             sim_flight_out out;
             sim_flight_state(f, &out);
             double d = hypot(hypot(out.pos_S_m[0] - o.station_S_m[0], out.pos_S_m[1] - o.station_S_m[1]),
@@ -132,8 +120,7 @@ static double fly_case(const hfm_aircraft *ac, const core_ship *ship, const cfd_
     }
     if (getenv("BENCH_FLY_WHERE"))
         fprintf(stderr, "bench_fly: each flight ends within %.1f m of the station\n", drift);
-    qsort(t, REPEATS, sizeof t[0], cmpd);
-    return t[REPEATS / 2];
+    return bench_median(t, REPEATS);
 }
 
 static double baseline(const hfm_aircraft *ac, long steps)
@@ -161,14 +148,13 @@ static double baseline(const hfm_aircraft *ac, long steps)
             hfm_tsim_destroy(ts);
             return -1.0;
         }
-        double t0 = now();
+        double t0 = bench_cpu_s();
         for (long i = 1; i <= steps; i++)
             hfm_tsim_advance(ts, 0.005 * (double)i);
-        t[k] = (now() - t0) / (double)steps;
+        t[k] = (bench_cpu_s() - t0) / (double)steps;
         hfm_tsim_destroy(ts);
     }
-    qsort(t, REPEATS, sizeof t[0], cmpd);
-    return t[REPEATS / 2];
+    return bench_median(t, REPEATS);
 }
 
 int main(int argc, char **argv)

@@ -12,6 +12,7 @@
  * point. Process CPU time (the machine is shared). Usage: bench_interaction
  * [STEPS] from the source root. */
 #include "cfd.h"
+#include "../bench.h"
 #include "hfm.h"
 #include "sim.h"
 
@@ -23,19 +24,6 @@
 #include <unistd.h>
 
 #define REPEATS 5
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int cmpd(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
 
 /* v = c0 + g x (each component) */
 typedef struct lin {
@@ -107,15 +95,14 @@ static double fly_us(const hfm_aircraft *ac, const core_ship *ship, const cfd_fi
         }
         sim_flight_inputs in;
         sim_flight_trim_inputs(f, &in);
-        double t0 = now();
+        double t0 = bench_cpu_s();
         for (long i = 0; i < steps; i++)
             if (sim_flight_step(f, &in, NULL, &err) != 0)
                 break;
-        t[r] = (now() - t0) / steps;
+        t[r] = (bench_cpu_s() - t0) / steps;
         sim_flight_destroy(f);
     }
-    qsort(t, REPEATS, sizeof t[0], cmpd);
-    return 1e6 * t[REPEATS / 2];
+    return 1e6 * bench_median(t, REPEATS);
 }
 
 static int still(void *user, double t_s, sim_ship_frame *fr)
@@ -154,17 +141,17 @@ static double air_ns(const cfd_field *fs, const sim_interaction *ia)
     sim_air_set_interaction(a, ia);
     double t[REPEATS], v[3], sum = 0.0;
     for (int r = 0; r < REPEATS; r++) {
-        double t0 = now();
+        double t0 = bench_cpu_s();
         for (int k = 0; k < 100; k++)
             for (int i = 0; i < N; i++) {
                 sim_air_mean_S(a, p[i], 0.0, v, NULL, NULL);
                 sum += v[2];
             }
-        t[r] = (now() - t0) / (100.0 * N);
+        t[r] = (bench_cpu_s() - t0) / (100.0 * N);
     }
     sim_air_destroy(a);
-    qsort(t, REPEATS, sizeof t[0], cmpd);
-    return sum == 1234.5 ? 0.0 : 1e9 * t[REPEATS / 2]; /* sum keeps the loop */
+    double m = bench_median(t, REPEATS);
+    return sum == 1234.5 ? 0.0 : 1e9 * m; /* sum keeps the loop */
 }
 
 int main(int argc, char **argv)

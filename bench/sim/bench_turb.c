@@ -8,6 +8,7 @@
  * (splitmix64 to a double); the ratio is printed. Each figure is the median
  * of 7 repeats, in process CPU time (the development machine is shared). */
 #include "sim.h"
+#include "../bench.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -18,25 +19,6 @@
 #define NPTS 66
 #define STEPS 20000
 #define REPEATS 7
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-static int cmpd(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmpd);
-    return v[n / 2];
-}
 
 static uint64_t splitmix64(uint64_t *x)
 {
@@ -67,13 +49,13 @@ int main(void)
     double tb[REPEATS];
     uint64_t s = 1;
     for (int r = 0; r < REPEATS; r++) {
-        double t0 = now(), acc = 0;
+        double t0 = bench_cpu_s(), acc = 0;
         for (long i = 0; i < (long)STEPS * NPTS; i++)
             acc += (double)(splitmix64(&s) >> 11) * 0x1.0p-53;
-        tb[r] = (now() - t0) / ((double)STEPS * NPTS) * 1e9;
+        tb[r] = (bench_cpu_s() - t0) / ((double)STEPS * NPTS) * 1e9;
         sink = acc;
     }
-    double base = median(tb, REPEATS);
+    double base = bench_median(tb, REPEATS);
     printf("baseline: one uniform draw %.2f ns\n", base);
 
     sim_turb_opts o;
@@ -88,13 +70,13 @@ int main(void)
         }
         for (int r = 0; r < REPEATS; r++) {
             /* the steps alone, then the samples over the field as it stands */
-            double t0 = now(), acc = 0;
+            double t0 = bench_cpu_s(), acc = 0;
             for (int i = 0; i < STEPS; i++)
                 if (sim_turb_step(t, ref, vel, k, eps, dt, &err)) {
                     fprintf(stderr, "bench_turb: %s\n", err.msg);
                     return 1;
                 }
-            double t1 = now();
+            double t1 = bench_cpu_s();
             for (int i = 0; i < STEPS; i++) {
                 double ca = cos(0.14 * i), sa = sin(0.14 * i); /* the blades turn 27 rad/s */
                 for (int p = 0; p < NPTS; p++) {
@@ -107,14 +89,14 @@ int main(void)
                     acc += g[0] + g[1] + g[2];
                 }
             }
-            double t2 = now();
+            double t2 = bench_cpu_s();
             sink = acc;
             tstep[r] = (t1 - t0) / STEPS * 1e9;
             tsamp[r] = (t2 - t1) / ((double)STEPS * NPTS) * 1e9;
         }
         sim_turb_state st;
         sim_turb_info(t, &st);
-        double ms = median(tsamp, REPEATS), mt = median(tstep, REPEATS);
+        double ms = bench_median(tsamp, REPEATS), mt = bench_median(tstep, REPEATS);
         printf("wind %4.1f m/s (%d lanes, %d rows): sample %.1f ns (%.1f x a uniform draw), "
                "step %.0f ns (%.1f x), per 200 Hz step with %d points %.2f us\n",
                speeds[c], st.lanes, st.rows, ms, ms / base, mt, mt / base, NPTS, (mt + NPTS * ms) * 1e-3);
