@@ -124,7 +124,7 @@ static int rd_table(rd *r, const char *sec, const char *kx, const char *ky, doub
 static const char *const known_sections[] = {"aircraft", "main_rotor", "main_rotor_airfoil",
                                              "tail_rotor", "fuselage",   "stabilator",
                                              "fin",      "controls",   "sas",
-                                             "rejection", "gear"};
+                                             "rejection", "gear",      "cockpit"};
 
 static int check_sections(const rd *r)
 {
@@ -137,7 +137,7 @@ static int check_sections(const rd *r)
             return core_err_set(r->err, -1,
                                 "%s:%d: unknown section [%s] (an aircraft file has [aircraft], [main_rotor], "
                                 "[main_rotor_airfoil], [tail_rotor], [fuselage], [stabilator], [fin], "
-                                "[controls], [sas], [gear] and [rejection])",
+                                "[controls], [sas], [gear], [cockpit] and [rejection])",
                                 r->path, e->line, e->section);
     }
     return 0;
@@ -515,6 +515,49 @@ static int load_gear(rd *r, hfm_aircraft *ac)
     return 0;
 }
 
+/* [cockpit] (optional): pilot_eye_B_m, the pilot's design eye point. The
+ * eye must lie within 20 m of the CG and not inside the main-rotor hub's
+ * height band above it (a swapped sign of z is the usual slip). */
+static int load_cockpit(rd *r, hfm_aircraft *ac)
+{
+    const char *C = "cockpit";
+    ac->has_eye = core_ini_has_section(r->ini, C);
+    if (!ac->has_eye)
+        return 0;
+    if (rd_vec3(r, C, "pilot_eye_B_m", -20.0, 20.0, ac->eye_B))
+        return -1;
+    if (!(ac->eye_B[2] > ac->mr.hub_B[2] + 0.3))
+        return core_err_set(r->err, -1,
+                            "%s: [cockpit] pilot_eye_B_m z = %g m: expected below the main-rotor hub (hub_B_m z = "
+                            "%g m; z is down)",
+                            r->path, ac->eye_B[2], ac->mr.hub_B[2]);
+    return 0;
+}
+
+void hfm_aircraft_geometry(const hfm_aircraft *ac, hfm_geometry *g)
+{
+    memset(g, 0, sizeof *g);
+    snprintf(g->name, sizeof g->name, "%s", ac->name);
+    g->blades = ac->mr.nb;
+    g->rotor_ccw = ac->mr.sense > 0;
+    g->rotor_radius_m = ac->mr.R;
+    g->rotor_omega_radps = ac->mr.omega;
+    memcpy(g->hub_B_m, ac->mr.hub_B, sizeof g->hub_B_m);
+    g->shaft_tilt_rad = ac->mr.shaft_tilt;
+    g->tail_fenestron = ac->tr.kind == HFM_TR_FENESTRON;
+    g->tail_blades = ac->tr.nb;
+    g->tail_radius_m = ac->tr.R;
+    g->tail_omega_radps = ac->tr.omega;
+    memcpy(g->tail_hub_B_m, ac->tr.hub_B, sizeof g->tail_hub_B_m);
+    memcpy(g->tail_dir_B, ac->tr.dir_B, sizeof g->tail_dir_B);
+    memcpy(g->stab_B_m, ac->stab.pos_B, sizeof g->stab_B_m);
+    memcpy(g->fin_B_m, ac->fin.pos_B, sizeof g->fin_B_m);
+    g->has_eye = ac->has_eye;
+    memcpy(g->eye_B_m, ac->eye_B, sizeof g->eye_B_m);
+    if (ac->has_gear)
+        g->gear = ac->gear;
+}
+
 int hfm_aircraft_gear(const hfm_aircraft *ac, hfm_gear *g)
 {
     if (!ac->has_gear) {
@@ -543,7 +586,8 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
     derive_main_rotor(&ac->mr);
     if (load_tail_rotor(&r, &ac->tr) || load_fuselage(&r, &ac->fus) ||
         load_surface(&r, "stabilator", &ac->stab, 0) || load_surface(&r, "fin", &ac->fin, 1) ||
-        load_controls(&r, &ac->rig) || load_sas(&r, ac) || load_gear(&r, ac))
+        load_controls(&r, &ac->rig) || load_sas(&r, ac) || load_gear(&r, ac) ||
+        load_cockpit(&r, ac))
         goto fail;
     core_ini_skip_section(ini, "rejection");
     if (core_ini_check_unused(ini, err) || hfm_aircraft_check(ac, ini, log, err))

@@ -120,6 +120,29 @@ typedef struct hfm_gear {
 /* The gear of the aircraft file: 0, or 1 (g zeroed) when it has none. */
 int hfm_aircraft_gear(const hfm_aircraft *ac, hfm_gear *g);
 
+/* What an aircraft looks like, for drawing it (render/) and placing the
+ * pilot's eye: the rotors, the gear and the strike points as the file
+ * gives them, and the optional [cockpit] section (docs/aircraft-format.md).
+ * Body axes from the CG. Plain data. */
+typedef struct hfm_geometry {
+    char name[64];
+    int blades, rotor_ccw;         /* main rotor: blades; 1 counter-clockwise seen from above */
+    double rotor_radius_m, rotor_omega_radps;
+    double hub_B_m[3];
+    double shaft_tilt_rad;         /* forward */
+    int tail_fenestron;            /* 1 fenestron (ducted fan in the fin), 0 open tail rotor */
+    int tail_blades;
+    double tail_radius_m, tail_omega_radps;
+    double tail_hub_B_m[3];
+    double tail_dir_B[3];          /* the tail rotor's thrust direction (its disk's normal) */
+    double stab_B_m[3];            /* the horizontal stabiliser's and the fin's reference points */
+    double fin_B_m[3];
+    int has_eye;                   /* 1: [cockpit] pilot_eye_B_m given */
+    double eye_B_m[3];             /* the pilot's eye (design eye point) */
+    hfm_gear gear;                 /* legs and strike points (nlegs 0: no [gear]) */
+} hfm_geometry;
+void hfm_aircraft_geometry(const hfm_aircraft *ac, hfm_geometry *g);
+
 /* Figures derived from an aircraft file, for comparing it with published
  * data; hfm_aircraft_load checks them against the bands of real helicopters
  * (docs/aircraft-format.md, "Consistency checks"). */

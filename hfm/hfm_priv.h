@@ -84,6 +84,8 @@ struct hfm_aircraft {
     hfm_sas_gains sas;
     int has_gear;      /* the optional [gear] section (aircraft.c) */
     hfm_gear gear;
+    int has_eye;       /* the optional [cockpit] section (aircraft.c) */
+    double eye_B[3];
 };
 
 /* Kinematics shared by the components of one evaluation. */

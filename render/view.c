@@ -5,10 +5,7 @@
  * look-at view built here (no GLU). The ship frame S (z down) maps to GL's
  * y-up world by W = (x_S, -z_S, y_S), a proper rotation (determinant +1), so
  * starboard stays on the right when looking toward the bow. */
-#include "render.h"
-
-#include <GL/gl.h>
-#include <GL/osmesa.h>
+#include "render_priv.h"
 
 #include <cairo.h>
 #include <errno.h>
@@ -17,12 +14,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-
-struct render_ctx {
-    OSMesaContext gl;
-    int w, h;
-    uint8_t *buf; /* GL's image, bottom row first */
-};
 
 render_ctx *render_create(int w, int h, core_err *err)
 {

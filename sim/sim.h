@@ -361,6 +361,17 @@ double sim_ship_motion_spectrum(const sim_ship_motion *m, double omega_radps);
  * roll (rad per m). 0, or -1 for omega not > 0. */
 int sim_ship_motion_rao(const sim_ship_motion *m, double omega_radps, double *heave_mpm,
                         double *pitch_radpm, double *roll_radpm);
+/* The sea surface elevation (m, up positive) at n points (x_E_m[i],
+ * y_E_m[i]) of E at t_s: the same sum of sinusoids as the motion (W1, W2
+ * of sim/ship_motion.c), seen from the Earth (wave frequency, not the
+ * encounter's). Long-crested: the sum is evaluated on samples along the
+ * waves' direction, at most 1/16 of the shortest wave apart, and
+ * interpolated (cubic) between them: within 1e-3 of H_s of the direct sum
+ * (test_ship_motion). Never touches the motion's step cache: safe to call
+ * from another thread. 0 (all 0 at sea state 0), or -1 for t not finite
+ * or out of memory. The signature is render_sea_fn's (user: the motion). */
+int sim_ship_motion_elevation(void *motion, double t_s, int n, const double *x_E_m, const double *y_E_m,
+                              double *eta_m);
 
 /* ------------------------------------ turbulence (sim/turbulence.c, issue 25) */
 /* Seeded Dryden turbulence (MIL-F-8785C / MIL-HDBK-1797 Dryden form) from
@@ -703,10 +714,25 @@ long long sim_pilots_refused_unknown(const sim_pilots *p);
  * received (or the replayed log's, at their logged steps), carries out
  * the controls, steps the flight unless paused, publishes and paces. */
 typedef struct sim_loop sim_loop;
+/* What a run was flown from, as disim fly publishes it once at the start
+ * and after every reset or load on DISIM_RUN_INFO (run_info_t) and so logs
+ * it: enough to draw the run again (its ship, aircraft and seaway). Plain
+ * data. */
+typedef struct sim_run_info {
+    char scenario_path[SIM_PATH_MAX];
+    char scenario[64];       /* its name */
+    char aircraft_path[SIM_PATH_MAX];
+    char ship_path[SIM_PATH_MAX];
+    unsigned long long seed; /* the run's seed (the seaway's is seed + 1) */
+    sim_sea sea;             /* the seaway flown */
+    double wod_speed_mps, wod_dir_rad;
+    double rate_hz, state_rate_hz;
+} sim_run_info;
 typedef struct sim_loop_world {
     sim_flight *flight;            /* the flight stepped */
     const sim_ship_motion *motion; /* its ship's motion (NULL: the frame alone) */
     char scenario[64];             /* the scenario's name, for the status */
+    sim_run_info info;             /* published (and logged) as run_info_t when the world starts */
 } sim_loop_world;
 /* Build the world of the scenario at path (the running one's, for a
  * reset): 0 after the caller has replaced its world with the new one (and
@@ -999,6 +1025,32 @@ void sim_replay_log_info(const sim_replay_log *r, sim_replay_info *i);
 int sim_replay_log_sample(const sim_replay_log *r, double t_s, sim_replay_sample *s);
 /* "hover", "translate", "descend", "on deck"; "all" for SIM_REPLAY_NPHASE. */
 const char *sim_replay_phase_name(int phase);
+
+/* A logged instant for drawing it (render/, disim render LOG): the states'
+ * poses in E as published, linear between samples (the attitude by
+ * normalised linear interpolation of the quaternions, the sign of the
+ * second taken nearer the first: the samples are 1 / state_rate_hz apart),
+ * the discrete fields (on deck, gear) of the nearer sample. Plain data. */
+typedef struct sim_log_state {
+    double t_s;
+    core_pose ship;          /* S's origin in E and q_ES (ship_state_t) */
+    core_pose heli;          /* the CG in E and q_EB (heli_state_t) */
+    double pos_S_m[3], vel_S_mps[3];
+    double euler_E_rad[3];   /* roll, pitch, yaw of B in E */
+    double ship_euler_E_rad[3];
+    double controls_pct[4];
+    double rotor_thrust_N, rotor_power_W;
+    int on_deck;
+    int n_gear;
+    double gear_load_N[HFM_GEAR_MAX_LEGS];
+} sim_log_state;
+/* The log's state at t_s: 0 inside [t0_s, t1_s], 1 outside (held at the
+ * nearer end). */
+int sim_replay_log_state(const sim_replay_log *r, double t_s, sim_log_state *s);
+
+/* The run information of the log's first run_info_t: 0, or 1 when the log
+ * has none (a log of an older disim: draw it with --scenario). */
+int sim_replay_log_run_info(const sim_replay_log *r, sim_run_info *ri);
 
 typedef struct sim_pilot_replay sim_pilot_replay;
 typedef struct sim_pilot_replay_opts {

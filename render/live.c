@@ -1,0 +1,2 @@
+/* live.c -- (being written) */
+#include "render_priv.h"

@@ -1,0 +1,2 @@
+/* overlay.c -- (being written) */
+#include "render_priv.h"

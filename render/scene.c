@@ -1,0 +1,2 @@
+/* scene.c -- (being written) */
+#include "render_priv.h"

@@ -1,0 +1,2 @@
+/* video.c -- (being written) */
+#include "render_priv.h"
