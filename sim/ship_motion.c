@@ -80,6 +80,18 @@
  *   (R3) roll = k sin chi r_eff H4 sin(th - s delta4), starboard down
  *        positive: in long beam waves the ship lies in the surface.
  *
+ *  Surface (for drawing the sea, sim_ship_motion_elevation). With u the
+ *  horizontal unit vector toward where the waves come from (chi from the
+ *  course, + starboard) and c0 the centre's mean position at t = 0 in E,
+ *  (W2) seen from the Earth is
+ *   (W3) eta(p, t) = sum_i a_i cos(w_i t + eps_i + k_i u . (p - c0)),
+ *        since w_e = w + k U cos chi and the centre moves at U along its
+ *        course: at the centre (p = c0 + U t e0) it is (W1). Long-crested:
+ *        eta depends on s = u . (p - c0) alone, so the sum is taken on
+ *        samples of s at most 1/8 of the shortest wave apart, by exact
+ *        phasor rotation re-anchored every 256 samples, and interpolated
+ *        by Catmull-Rom cubics.
+ *
  *  Pose. The centre of the motion is midships (half-way between the ends
  *  of the ship file's blocks) on the centre line at the waterline (z =
  *  deck_height_m in S). With C_ES from the Euler angles (roll, pitch,
@@ -130,7 +142,7 @@ static const double bales_tp_s[SIM_SEA_MAX_STATE + 1] = {0.0, 7.5, 7.5, 7.5, 8.8
 /* One sinusoid of the sum: the wave at the centre, a cos(th), th = w_e t
  * + eps, and each motion as c cos th + s sin th (a included). */
 typedef struct wave {
-    double omega_e, eps, amp;
+    double omega, omega_e, eps, amp; /* wave and encounter frequencies */
     double c[3], s[3]; /* heave (m), pitch, roll (rad) */
 } wave;
 
@@ -407,6 +419,7 @@ static int sample_waves(sim_ship_motion *m, uint64_t seed, core_err *err)
         wave *wv = &m->w[i];
         wv->eps = 2.0 * CORE_PI * rng_uniform(&rs);
         wv->amp = amp;
+        wv->omega = w;
         double c[3], s[3];
         rao_terms(m, w, c, s, &wv->omega_e);
         for (int d = 0; d < 3; d++) {
@@ -731,5 +744,88 @@ int sim_ship_motion_frame_fn(void *user, double t_s, sim_ship_frame *out)
     out->mean_vel_E_mps[0] = m->U_mps * m->e0.x;
     out->mean_vel_E_mps[1] = m->U_mps * m->e0.y;
     out->mean_vel_E_mps[2] = 0.0;
+    return 0;
+}
+
+/* ----------------------------------------------------- the sea surface */
+#define ELEV_ANCHOR 256 /* samples between direct cos/sin */
+
+int sim_ship_motion_elevation(void *motion, double t_s, int n, const double *x_E_m, const double *y_E_m,
+                              double *eta_m)
+{
+    const sim_ship_motion *m = motion;
+    if (!m || n < 0 || (n > 0 && (!x_E_m || !y_E_m || !eta_m)) || !isfinite(t_s))
+        return -1;
+    if (m->n == 0) {
+        for (int j = 0; j < n; j++)
+            eta_m[j] = 0.0;
+        return 0;
+    }
+    /* (W3): u toward the waves' source, s along it from c0 */
+    double a = m->sea.course_rad + m->sea.wave_dir_rad;
+    double ux = cos(a), uy = sin(a);
+    double smin = INFINITY, smax = -INFINITY;
+    for (int j = 0; j < n; j++) {
+        double sj = ux * (x_E_m[j] - m->c0_E.x) + uy * (y_E_m[j] - m->c0_E.y);
+        if (!isfinite(sj))
+            return -1;
+        smin = fmin(smin, sj);
+        smax = fmax(smax, sj);
+    }
+    if (n == 0)
+        return 0;
+    double kmax = 0.0;
+    for (int i = 0; i < m->n; i++)
+        kmax = fmax(kmax, m->w[i].omega * m->w[i].omega / G_MPS2);
+    double ds = 2.0 * CORE_PI / kmax / 8.0;
+    /* samples from smin - ds to smax + 2 ds (the cubic's neighbours) */
+    double s0 = smin - ds;
+    long ns = (long)ceil((smax - smin) / ds) + 4;
+    if (ns > 50000000L)
+        return -1;
+    double *f = calloc((size_t)ns, sizeof *f);
+    double *zr = malloc((size_t)m->n * 4 * sizeof *zr);
+    if (!f || !zr) {
+        free(f);
+        free(zr);
+        return -1;
+    }
+    double *zi = zr + m->n, *rr = zi + m->n, *ri = rr + m->n;
+    for (int i = 0; i < m->n; i++) {
+        double k = m->w[i].omega * m->w[i].omega / G_MPS2;
+        rr[i] = cos(k * ds);
+        ri[i] = sin(k * ds);
+    }
+    double amp = m->w[0].amp; /* equal for every wave (W1) */
+    for (long j = 0; j < ns; j++) {
+        if (j % ELEV_ANCHOR == 0)
+            for (int i = 0; i < m->n; i++) {
+                const wave *w = &m->w[i];
+                double th = w->omega * t_s + w->eps + w->omega * w->omega / G_MPS2 * (s0 + j * ds);
+                zr[i] = cos(th);
+                zi[i] = sin(th);
+            }
+        double sum = 0.0;
+        for (int i = 0; i < m->n; i++) {
+            sum += zr[i];
+            double r = zr[i] * rr[i] - zi[i] * ri[i];
+            zi[i] = zr[i] * ri[i] + zi[i] * rr[i];
+            zr[i] = r;
+        }
+        f[j] = amp * sum;
+    }
+    for (int j = 0; j < n; j++) {
+        double sj = ux * (x_E_m[j] - m->c0_E.x) + uy * (y_E_m[j] - m->c0_E.y);
+        double q = (sj - s0) / ds;
+        long i1 = (long)floor(q);
+        if (i1 < 1)
+            i1 = 1;
+        if (i1 > ns - 3)
+            i1 = ns - 3;
+        double u = q - i1, p0 = f[i1 - 1], p1 = f[i1], p2 = f[i1 + 1], p3 = f[i1 + 2];
+        eta_m[j] = p1 + 0.5 * u * (p2 - p0 + u * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3 + u * (3.0 * (p1 - p2) + p3 - p0)));
+    }
+    free(f);
+    free(zr);
     return 0;
 }

@@ -3,7 +3,9 @@
  * long-wave limits, the long-record statistics of the sum of sinusoids
  * against the table and the spectral integrals, calm seas, determinism by
  * seed, the landing spot's derivatives, the roll resonance at the ship
- * file's period, and refusals of bad input naming the field or key.
+ * file's period, the sea surface drawn (sim_ship_motion_elevation) against
+ * the motion's own elevation at the moving centre, and refusals of bad
+ * input naming the field or key.
  *
  * Significant amplitudes here are single amplitudes, 2 sigma (for a narrow
  * band process the mean of the highest third of the amplitudes); the
@@ -753,6 +755,65 @@ static void test_frame_fn(void)
     sim_ship_motion_destroy(m);
 }
 
+/* The sea surface of sim_ship_motion_elevation: at the motion centre's
+ * moving position it is the state's wave_elev_m (the direct sum, (W1))
+ * within 1e-3 H_s, over 60 s at 12 m/s (the centre crosses 700 m of the
+ * surface, so the spatial phase k u . (p - c0) is checked, not only the
+ * time); the same along each crest (long-crested); calm is flat; a
+ * non-finite point or time is refused. */
+static void test_elevation(void)
+{
+    double dirs[3] = {0.0, 60.0, 150.0};
+    for (int d = 0; d < 3; d++) {
+        sim_sea sea = make_sea(5, 23.3, dirs[d], SIM_SPECTRUM_ITTC);
+        sea.course_rad = 0.7;
+        core_err err = {{0}};
+        sim_ship_motion *m = sim_ship_motion_create(&cg47, &sea, 42, &err);
+        CHECK(m != NULL);
+        if (!m)
+            continue;
+        sim_ship_motion_info info;
+        sim_ship_motion_get_info(m, &info);
+        core_euler course = {0.0, 0.0, sea.course_rad};
+        core_vec3 c0 = core_mat3_mul_vec(core_mat3_from_euler(course),
+                                         core_vec3_make(info.centre_S_m[0], info.centre_S_m[1], info.centre_S_m[2]));
+        double worst = 0.0, worst_crest = 0.0;
+        for (int k = 0; k <= 120; k++) {
+            double t = 0.5 * k;
+            sim_ship_state st;
+            CHECK(sim_ship_motion_at(m, t, &st) == 0);
+            /* the centre now, and two points 40 m and 300 m along the crest */
+            double a = sea.course_rad + sea.wave_dir_rad, px = -sin(a), py = cos(a);
+            double x0 = c0.x + sea.ship_speed_mps * t * cos(sea.course_rad);
+            double y0 = c0.y + sea.ship_speed_mps * t * sin(sea.course_rad);
+            /* and one 123.4 m (plus a fraction of t) down-wave, the lowest s: the samples start
+             * there, so the others fall between samples and the interpolation is checked */
+            double off = 123.4 + 0.0137 * k;
+            double x[4] = {x0, x0 + 40.0 * px, x0 - 300.0 * px, x0 - off * cos(a)};
+            double y[4] = {y0, y0 + 40.0 * py, y0 - 300.0 * py, y0 - off * sin(a)};
+            double eta[4];
+            CHECK(sim_ship_motion_elevation(m, t, 4, x, y, eta) == 0);
+            worst = fmax(worst, fabs(eta[0] - st.wave_elev_m));
+            worst_crest = fmax(worst_crest, fmax(fabs(eta[1] - eta[0]), fabs(eta[2] - eta[0])));
+        }
+        printf("elevation, wave dir %3.0f deg: the surface at the centre off its elevation by %.2e m, along a "
+               "crest by %.2e m (H_s %.2f m; tolerance 1e-3 H_s)\n",
+               dirs[d], worst, worst_crest, info.hs_m);
+        CHECK(worst < 1e-3 * info.hs_m);
+        CHECK(worst_crest < 1e-3 * info.hs_m);
+        double xb[1] = {NAN}, yb[1] = {0.0}, eb[1];
+        CHECK(sim_ship_motion_elevation(m, 0.0, 1, xb, yb, eb) == -1);
+        CHECK(sim_ship_motion_elevation(m, NAN, 1, yb, yb, eb) == -1);
+        sim_ship_motion_destroy(m);
+    }
+    sim_sea calm = make_sea(0, 10.0, 0.0, SIM_SPECTRUM_ITTC);
+    core_err err = {{0}};
+    sim_ship_motion *m = sim_ship_motion_create(&cg47, &calm, 1, &err);
+    double x[2] = {0.0, 100.0}, y[2] = {5.0, -50.0}, eta[2] = {1.0, 1.0};
+    CHECK(m && sim_ship_motion_elevation(m, 3.0, 2, x, y, eta) == 0 && eta[0] == 0.0 && eta[1] == 0.0);
+    sim_ship_motion_destroy(m);
+}
+
 int main(void)
 {
     core_err err = {{0}};
@@ -769,6 +830,7 @@ int main(void)
     test_phasors();
     test_derivatives();
     test_frame_fn();
+    test_elevation();
     test_refusals();
     test_long_records();
     test_phases();
