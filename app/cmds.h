@@ -53,4 +53,7 @@ typedef struct app_launcher {
 int app_launcher_init(app_launcher *l, const char *ship_path, int max_iter);
 int app_launch_builder(void *user, const char *db_dir);
 
+/* A run's scene for the renderer (scene.c): app_scene_open,
+ * app_render_state_from_flight, ... are declared in scene.h. */
+
 #endif

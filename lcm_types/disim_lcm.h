@@ -17,6 +17,7 @@
 #include "disim_airwake_request_t.h"
 #include "disim_airwake_status_t.h"
 #include "disim_shol_point_t.h"
+#include "disim_run_info_t.h"
 
 #include <stddef.h>
 
@@ -28,6 +29,7 @@
 #define DISIM_CH_AIRWAKE_REQUEST "DISIM_AIRWAKE_REQUEST"
 #define DISIM_CH_AIRWAKE_STATUS "DISIM_AIRWAKE_STATUS"
 #define DISIM_CH_SHOL_POINT "DISIM_SHOL_POINT"
+#define DISIM_CH_RUN_INFO "DISIM_RUN_INFO"
 
 int disim_lcm_check_pilot_input(const disim_pilot_input_t *m, char *err, size_t n);
 int disim_lcm_check_sim_control(const disim_sim_control_t *m, char *err, size_t n);

@@ -133,6 +133,9 @@ static const struct {
                           "q:shaft_pitch_rad q:shaft_roll_rad s:grid"},
     {"airwake_status_t", __disim_airwake_status_t_get_hash, "q:utime q:seq s:request_id s:ship s:aircraft q:wod_speed_mps q:wod_dir_rad b:state "
                          "q:progress q:residual i:iterations s:path s:message"},
+    {"run_info_t", __disim_run_info_t_get_hash, "q:utime q:seq s:scenario_path s:scenario s:aircraft_path s:ship_path q:seed "
+                   "b:sea_state q:ship_speed_mps q:wave_dir_rad q:course_rad b:spectrum i:n_waves q:wod_speed_mps "
+                   "q:wod_dir_rad q:rate_hz q:state_rate_hz"},
     {"shol_point_t", __disim_shol_point_t_get_hash, "q:utime q:seq s:ship s:aircraft q:wod_speed_mps q:wod_dir_rad b:converged b:passed "
                      "s:limit q:roll_rad q:pitch_rad q:collective_pct q:long_cyclic_pct q:lat_cyclic_pct "
                      "q:pedal_pct q:margin_roll_rad q:margin_pitch_rad q:margin_long_pct q:margin_lat_pct "

@@ -284,7 +284,8 @@ struct sim_loop {
     int last_active, last_paused, dirty;
     ctl q[LOOP_CTL_MAX];
     int nq;
-    long long seq_heli, seq_ship, seq_status;
+    long long seq_heli, seq_ship, seq_status, seq_info;
+    int info_due;          /* run_info_t goes out before the next step (a new world) */
     long long sent, received, logged, control_refused;
     char message[256];
     double status_wall_s;
@@ -525,6 +526,32 @@ static void publish_states(sim_loop *l, const sim_flight_out *o)
     SEND(l, ship_state_t, DISIM_CH_SHIP_STATE, &s);
 }
 
+/* What the world was built from (sim_run_info), the loop's rates added. */
+static void publish_run_info(sim_loop *l)
+{
+    const sim_run_info *ri = &l->w.info;
+    disim_run_info_t m;
+    memset(&m, 0, sizeof m);
+    m.utime = (int64_t)llround(l->out.t_s * 1e6);
+    m.seq = l->seq_info++;
+    m.scenario_path = (char *)ri->scenario_path;
+    m.scenario = (char *)ri->scenario;
+    m.aircraft_path = (char *)ri->aircraft_path;
+    m.ship_path = (char *)ri->ship_path;
+    m.seed = (int64_t)ri->seed;
+    m.sea_state = (int8_t)ri->sea.state;
+    m.ship_speed_mps = ri->sea.ship_speed_mps;
+    m.wave_dir_rad = ri->sea.wave_dir_rad;
+    m.course_rad = ri->sea.course_rad;
+    m.spectrum = (int8_t)ri->sea.spectrum;
+    m.n_waves = ri->sea.n_waves;
+    m.wod_speed_mps = ri->wod_speed_mps;
+    m.wod_dir_rad = ri->wod_dir_rad;
+    m.rate_hz = l->o.rate_hz;
+    m.state_rate_hz = l->o.rate_hz / (double)l->state_every;
+    SEND(l, run_info_t, DISIM_CH_RUN_INFO, &m);
+}
+
 static void publish_status(sim_loop *l, int state)
 {
     sim_loop_report r;
@@ -685,6 +712,7 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
     if (new_pacer(l, err) != 0)
         goto fail;
     l->dirty = 1; /* the first status at once */
+    l->info_due = 1;
     return l;
 fail:
     sim_loop_destroy(l);
@@ -738,6 +766,7 @@ static int do_controls(sim_loop *l, core_err *err)
                 continue;
             }
             l->w = w;
+            l->info_due = 1;
             if (c->command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO)
                 snprintf(l->scenario_path, sizeof l->scenario_path, "%s", c->path);
             sim_flight_state(l->w.flight, &l->out);
@@ -761,6 +790,10 @@ int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
     take_received(l, l->paused ? 100 : 0);
     if (do_controls(l, err) != 0)
         return -1;
+    if (l->info_due && (l->lc || l->elog)) {
+        publish_run_info(l);
+        l->info_due = 0;
+    }
     int rc = SIM_LOOP_PAUSED;
     if (!l->paused) {
         sim_flight_inputs in;

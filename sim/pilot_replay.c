@@ -116,6 +116,11 @@ typedef struct rec_state {
     double C_ES[9];
     double ctl[4]; /* the flown controls (of the step ending here) */
     int on_deck;   /* a wheel on the deck */
+    /* as published, for drawing the run (sim_replay_log_state) */
+    double heli_pos_E[3], q_EB[4], ship_pos_E[3], q_ES[4], ship_euler[3];
+    double thrust_N, power_W;
+    int n_gear;
+    double gear_N[HFM_GEAR_MAX_LEGS];
 } rec_state;
 
 typedef struct rec_input {
@@ -125,8 +130,14 @@ typedef struct rec_input {
 
 typedef struct ship_rec {
     int64_t utime;
-    double pos_E[3], vel_E[3], q[4], rates_S[3];
+    double pos_E[3], vel_E[3], q[4], rates_S[3], euler[3];
 } ship_rec;
+
+/* a heli state's gear loads, kept beside it (the decoded array is freed) */
+typedef struct gear_rec {
+    int n;
+    double N[HFM_GEAR_MAX_LEGS];
+} gear_rec;
 
 struct sim_replay_log {
     rec_state *s;
@@ -134,6 +145,8 @@ struct sim_replay_log {
     rec_input *in;
     long nin;
     sim_replay_info info;
+    int have_run_info;
+    sim_run_info run_info; /* the first run_info_t */
 };
 
 /* ------------------------------------------------------------ growable arrays */
@@ -196,6 +209,13 @@ static void make_state(const disim_heli_state_t *h, const ship_rec *sh, rec_stat
     s->ctl[0] = h->collective_pct, s->ctl[1] = h->long_cyclic_pct;
     s->ctl[2] = h->lat_cyclic_pct, s->ctl[3] = h->pedal_pct;
     s->on_deck = h->on_deck != 0;
+    memcpy(s->heli_pos_E, h->pos_E_m, sizeof s->heli_pos_E);
+    memcpy(s->q_EB, h->quat_EB, sizeof s->q_EB);
+    memcpy(s->ship_pos_E, sh->pos_E, sizeof s->ship_pos_E);
+    memcpy(s->q_ES, sh->q, sizeof s->q_ES);
+    memcpy(s->ship_euler, sh->euler, sizeof s->ship_euler);
+    s->thrust_N = h->rotor_thrust_N;
+    s->power_W = h->rotor_power_W;
 }
 
 static int heli_ok(const disim_heli_state_t *h, const char **bad)
@@ -233,6 +253,49 @@ static int ship_ok(const disim_ship_state_t *m, const char **bad)
     return *bad == NULL;
 }
 
+/* A run_info_t's fields in range (the paths fit, the sea is one sim_ship_motion takes). */
+static int run_info_ok(const disim_run_info_t *m, const char **bad)
+{
+    *bad = NULL;
+    if (strlen(m->scenario_path) >= SIM_PATH_MAX || strlen(m->aircraft_path) >= SIM_PATH_MAX ||
+        strlen(m->ship_path) >= SIM_PATH_MAX || strlen(m->scenario) >= 64)
+        *bad = "scenario_path / aircraft_path / ship_path / scenario (expected shorter paths and name)";
+    else if (m->seed < 0)
+        *bad = "seed (expected >= 0)";
+    else if (m->sea_state < 0 || m->sea_state > SIM_SEA_MAX_STATE)
+        *bad = "sea_state (expected 0 to 6)";
+    else if (m->spectrum < 0 || m->spectrum > 1 || m->n_waves < 0 || m->n_waves > SIM_SEA_MAX_WAVES)
+        *bad = "spectrum / n_waves (expected 0 or 1, and 0 to 4096 waves)";
+    else if (!(isfinite(m->ship_speed_mps) && m->ship_speed_mps >= 0.0 && fabs(m->wave_dir_rad) <= 10.0 &&
+               fabs(m->course_rad) <= 10.0 && isfinite(m->wod_speed_mps) && m->wod_speed_mps >= 0.0 &&
+               fabs(m->wod_dir_rad) <= 10.0))
+        *bad = "ship_speed_mps / wave_dir_rad / course_rad / wod_speed_mps / wod_dir_rad (expected finite values)";
+    else if (!(m->rate_hz > 0.0 && m->rate_hz <= 1e5 && m->state_rate_hz > 0.0 && m->state_rate_hz <= m->rate_hz))
+        *bad = "rate_hz / state_rate_hz (expected positive rates, the states' no faster than the loop's)";
+    return *bad == NULL;
+}
+
+static void run_info_take(const disim_run_info_t *m, sim_run_info *ri)
+{
+    memset(ri, 0, sizeof *ri);
+    snprintf(ri->scenario_path, sizeof ri->scenario_path, "%s", m->scenario_path);
+    snprintf(ri->scenario, sizeof ri->scenario, "%s", m->scenario);
+    snprintf(ri->aircraft_path, sizeof ri->aircraft_path, "%s", m->aircraft_path);
+    snprintf(ri->ship_path, sizeof ri->ship_path, "%s", m->ship_path);
+    ri->seed = (unsigned long long)m->seed;
+    sim_sea_default(&ri->sea);
+    ri->sea.state = m->sea_state;
+    ri->sea.ship_speed_mps = m->ship_speed_mps;
+    ri->sea.wave_dir_rad = m->wave_dir_rad;
+    ri->sea.course_rad = m->course_rad;
+    ri->sea.spectrum = m->spectrum ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
+    ri->sea.n_waves = m->n_waves;
+    ri->wod_speed_mps = m->wod_speed_mps;
+    ri->wod_dir_rad = m->wod_dir_rad;
+    ri->rate_hz = m->rate_hz;
+    ri->state_rate_hz = m->state_rate_hz;
+}
+
 typedef struct reader {
     const char *path;
     long ev;        /* the event's number, from 1 */
@@ -266,7 +329,8 @@ sim_replay_log *sim_replay_log_load(const char *path, core_err *err)
     lcm_eventlog_t *el = lcm_eventlog_create(path, "r");
     disim_heli_state_t *heli = NULL;
     ship_rec *ships = NULL;
-    long nheli = 0, capheli = 0, nship = 0, capship = 0, capin = 0;
+    gear_rec *gears = NULL;
+    long nheli = 0, capheli = 0, nship = 0, capship = 0, capin = 0, capgear = 0;
     long long *heli_ev = NULL; /* each heli state's event number, for the errors after the read */
     long cap_ev = 0;
     char st_id[SIM_STATION_ID_MAX] = "";
@@ -356,9 +420,14 @@ sim_replay_log *sim_replay_log_load(const char *path, core_err *err)
                              (long long)h.utime, (long long)heli[nheli - 1].utime);
                     bad = ev_err(&R, e);
                 } else if (grow((void **)&heli, &capheli, nheli + 1, sizeof *heli) ||
-                           grow((void **)&heli_ev, &cap_ev, nheli + 1, sizeof *heli_ev))
+                           grow((void **)&heli_ev, &cap_ev, nheli + 1, sizeof *heli_ev) ||
+                           grow((void **)&gears, &capgear, nheli + 1, sizeof *gears))
                     bad = ev_err(&R, "out of memory");
                 else {
+                    gear_rec *g = &gears[nheli];
+                    g->n = h.n_gear < 0 ? 0 : h.n_gear > HFM_GEAR_MAX_LEGS ? HFM_GEAR_MAX_LEGS : h.n_gear;
+                    for (int i = 0; i < g->n; i++)
+                        g->N[i] = isfinite(h.gear_load_N[i]) ? h.gear_load_N[i] : 0.0;
                     heli_ev[nheli] = R.ev;
                     heli[nheli] = h;
                     heli[nheli].n_gear = 0; /* the fixed fields are kept, the gear's loads freed below */
@@ -385,6 +454,25 @@ sim_replay_log *sim_replay_log_load(const char *path, core_err *err)
                 memcpy(s->vel_E, m.vel_E_mps, sizeof s->vel_E);
                 memcpy(s->q, m.quat_ES, sizeof s->q);
                 memcpy(s->rates_S, m.rates_S_radps, sizeof s->rates_S);
+                s->euler[0] = m.roll_rad, s->euler[1] = m.pitch_rad, s->euler[2] = m.yaw_rad;
+            }
+        } else if (!strcmp(ev->channel, DISIM_CH_RUN_INFO)) {
+            /* what the run was flown from: the first is kept */
+            disim_run_info_t m;
+            const char *why;
+            if (disim_lcm_check_raw("run_info_t", ev->data, ev->datalen, e, sizeof e) != 0)
+                bad = ev_err(&R, e);
+            else if (disim_run_info_t_decode(ev->data, 0, ev->datalen, &m) != ev->datalen)
+                bad = ev_err(&R, "run_info_t: not decoded");
+            else {
+                if (!run_info_ok(&m, &why)) {
+                    snprintf(e, sizeof e, "run_info_t.%s", why);
+                    bad = ev_err(&R, e);
+                } else if (!L->have_run_info) {
+                    run_info_take(&m, &L->run_info);
+                    L->have_run_info = 1;
+                }
+                disim_run_info_t_decode_cleanup(&m);
             }
         } else if (!strcmp(ev->channel, DISIM_CH_SIM_STATUS)) {
             /* written by the loop, as the states: not used, but a bad one is a corrupt log */
@@ -442,6 +530,8 @@ sim_replay_log *sim_replay_log_load(const char *path, core_err *err)
             goto fail;
         }
         make_state(&heli[i], &ships[j], &L->s[i]);
+        L->s[i].n_gear = gears[i].n;
+        memcpy(L->s[i].gear_N, gears[i].N, sizeof L->s[i].gear_N);
         if (i > 0) { /* unwrap the heading and the yaw along the log */
             rec_state *a = &L->s[i - 1], *b = &L->s[i];
             b->heading = a->heading + wrap_pi(b->heading - a->heading);
@@ -469,12 +559,14 @@ sim_replay_log *sim_replay_log_load(const char *path, core_err *err)
     free(heli);
     free(heli_ev);
     free(ships);
+    free(gears);
     lcm_eventlog_destroy(el);
     return L;
 fail:
     free(heli);
     free(heli_ev);
     free(ships);
+    free(gears);
     if (el)
         lcm_eventlog_destroy(el);
     sim_replay_log_destroy(L);
@@ -571,6 +663,62 @@ int sim_replay_log_sample(const sim_replay_log *r, double t_s, sim_replay_sample
                  : vh > 0.3 || vz < -0.2 ? SIM_REPLAY_TRANSLATE
                                          : SIM_REPLAY_HOVER;
     return outside;
+}
+
+/* q0 + w (q1 - q0), q1's sign taken nearer q0, normalised (nlerp). */
+static core_quat nlerp(const double a[4], const double b[4], double w)
+{
+    double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3], sg = d < 0.0 ? -1.0 : 1.0;
+    core_quat q = {a[0] + w * (sg * b[0] - a[0]), a[1] + w * (sg * b[1] - a[1]), a[2] + w * (sg * b[2] - a[2]),
+                   a[3] + w * (sg * b[3] - a[3])};
+    return core_quat_normalize(q);
+}
+
+int sim_replay_log_state(const sim_replay_log *r, double t_s, sim_log_state *out)
+{
+    memset(out, 0, sizeof *out);
+    out->t_s = t_s;
+    long k = find(r, t_s);
+    const rec_state *a = &r->s[k], *b = k + 1 < r->n ? &r->s[k + 1] : a;
+    int outside = !(t_s >= r->s[0].t_s && t_s <= r->s[r->n - 1].t_s);
+    double w = 0.0;
+    if (b != a && t_s > a->t_s)
+        w = fmin(1.0, (t_s - a->t_s) / (b->t_s - a->t_s));
+    double hp[3], sp[3];
+    for (int i = 0; i < 3; i++) {
+        hp[i] = a->heli_pos_E[i] + w * (b->heli_pos_E[i] - a->heli_pos_E[i]);
+        sp[i] = a->ship_pos_E[i] + w * (b->ship_pos_E[i] - a->ship_pos_E[i]);
+        out->pos_S_m[i] = a->pos_S[i] + w * (b->pos_S[i] - a->pos_S[i]);
+        out->vel_S_mps[i] = a->vel_S[i] + w * (b->vel_S[i] - a->vel_S[i]);
+        out->euler_E_rad[i] = a->euler[i] + w * (b->euler[i] - a->euler[i]);
+        out->ship_euler_E_rad[i] = a->ship_euler[i] + w * (b->ship_euler[i] - a->ship_euler[i]);
+    }
+    out->euler_E_rad[2] = wrap_pi(out->euler_E_rad[2]);
+    out->ship_euler_E_rad[2] = a->ship_euler[2] + w * wrap_pi(b->ship_euler[2] - a->ship_euler[2]);
+    out->ship_euler_E_rad[2] = wrap_pi(out->ship_euler_E_rad[2]);
+    out->heli.pos_E_m = core_vec3_make(hp[0], hp[1], hp[2]);
+    out->heli.q_EF = nlerp(a->q_EB, b->q_EB, w);
+    out->ship.pos_E_m = core_vec3_make(sp[0], sp[1], sp[2]);
+    out->ship.q_EF = nlerp(a->q_ES, b->q_ES, w);
+    for (int i = 0; i < 4; i++)
+        out->controls_pct[i] = a->ctl[i] + w * (b->ctl[i] - a->ctl[i]);
+    out->rotor_thrust_N = a->thrust_N + w * (b->thrust_N - a->thrust_N);
+    out->rotor_power_W = a->power_W + w * (b->power_W - a->power_W);
+    const rec_state *near = w < 0.5 ? a : b;
+    out->on_deck = near->on_deck;
+    out->n_gear = near->n_gear;
+    memcpy(out->gear_load_N, near->gear_N, sizeof out->gear_load_N);
+    return outside;
+}
+
+int sim_replay_log_run_info(const sim_replay_log *r, sim_run_info *ri)
+{
+    if (!r->have_run_info) {
+        memset(ri, 0, sizeof *ri);
+        return 1;
+    }
+    *ri = r->run_info;
+    return 0;
 }
 
 /* ------------------------------------------------------------------ the pilot */

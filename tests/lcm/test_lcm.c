@@ -71,6 +71,7 @@ RT_DEFINE(sim_status_t)
 RT_DEFINE(airwake_request_t)
 RT_DEFINE(airwake_status_t)
 RT_DEFINE(shol_point_t)
+RT_DEFINE(run_info_t)
 
 /* Distinct values everywhere, so a swapped or dropped field shows. */
 static void fill(double *a, int n, double base)
@@ -263,6 +264,26 @@ int main(void)
     sp.margin_coll_pct = 30;
     sp.margin_pedal_pct = 10;
     round_trip_shol_point_t(lc, DISIM_CH_SHOL_POINT, &sp);
+
+    disim_run_info_t ri = {0};
+    ri.utime = 0;
+    ri.seq = 2;
+    ri.scenario_path = "scenarios/cg47_uh60a.ini";
+    ri.scenario = "CG-47 + UH-60A";
+    ri.aircraft_path = "scenarios/aircraft/uh60a.ini";
+    ri.ship_path = "scenarios/ships/cg47.ini";
+    ri.seed = 7;
+    ri.sea_state = 4;
+    ri.ship_speed_mps = 7.5;
+    ri.wave_dir_rad = 0.25;
+    ri.course_rad = 1.5;
+    ri.spectrum = 1;
+    ri.n_waves = 256;
+    ri.wod_speed_mps = 12.0;
+    ri.wod_dir_rad = -0.5;
+    ri.rate_hz = 200.0;
+    ri.state_rate_hz = 50.0;
+    round_trip_run_info_t(lc, DISIM_CH_RUN_INFO, &ri);
 
     /* Checks of received messages. */
     char err[160];

@@ -697,7 +697,7 @@ static void test_gear_loop(const hfm_aircraft *ac, const core_ship *ship)
     lo.duration_s = 10.0;
     lo.log_path = log;
     lo.scenario_path = "test";
-    sim_loop_world w = {f, NULL, "test"};
+    sim_loop_world w = {.flight = f, .motion = NULL, .scenario = "test"};
     sim_loop *l = sim_loop_create(&lo, &w, no_build, NULL, NULL, &err);
     CHECK(l != NULL);
     if (!l) {

@@ -132,7 +132,17 @@ static int record(const hfm_aircraft *ac, const core_ship *ship, const conds *c,
     lo.lcm_url = "memq://";
     lo.log_path = log;
     lo.scenario_path = SCEN;
-    sim_loop_world w = {f, motion, "replay-test"};
+    sim_loop_world w = {.flight = f, .motion = motion, .scenario = "replay-test"};
+    /* what the run was flown from: logged as run_info_t, read back in test_read */
+    snprintf(w.info.scenario_path, sizeof w.info.scenario_path, "%s", SCEN);
+    snprintf(w.info.scenario, sizeof w.info.scenario, "replay-test");
+    snprintf(w.info.aircraft_path, sizeof w.info.aircraft_path, "scenarios/aircraft/uh60a.ini");
+    snprintf(w.info.ship_path, sizeof w.info.ship_path, "scenarios/ships/cg47.ini");
+    w.info.seed = c->seed;
+    sim_sea_default(&w.info.sea);
+    w.info.sea.state = c->sea_state;
+    w.info.wod_speed_mps = c->wod_kt * KT;
+    w.info.wod_dir_rad = c->dir_deg * CORE_DEG_TO_RAD;
     sim_loop *l = p ? sim_loop_create(&lo, &w, no_build, NULL, NULL, &err) : NULL;
     int rc = -1;
     if (!l) {
@@ -309,6 +319,33 @@ static void test_read(const sim_replay_log *L, const traj *tr)
     CHECK(sim_replay_log_sample(L, info.t1_s + 5.0, &s) == 1);
     CHECK(s.vel_S_mps[0] == 0.0 && s.vel_S_mps[1] == 0.0 && s.vel_S_mps[2] == 0.0);
     CHECK_NEAR(s.pos_S_m[2], tr->pos_S[4 * info.n_states - 1][2], 1e-9);
+
+    /* the run information, as the loop logged it before the first step */
+    sim_run_info ri;
+    CHECK(sim_replay_log_run_info(L, &ri) == 0);
+    CHECK(!strcmp(ri.scenario_path, SCEN) && !strcmp(ri.scenario, "replay-test"));
+    CHECK(!strcmp(ri.ship_path, "scenarios/ships/cg47.ini") && ri.seed == 7 && ri.sea.state == 3);
+    CHECK(ri.rate_hz == RATE_HZ && ri.state_rate_hz == RATE_HZ / 4);
+    /* the states for drawing: the CG where pos_S says from the ship's pose
+     * (samples and between them), the attitude a unit quaternion, the
+     * positions of the samples exact */
+    double dS = 0.0, dE = 0.0, dq = 0.0;
+    for (long k = 3; k < 4 * info.n_states; k += 2) {
+        sim_log_state ls;
+        CHECK(sim_replay_log_state(L, tr->t_s[k], &ls) == 0);
+        if (k % 4 == 3)
+            for (int i = 0; i < 3; i++)
+                dS = fmax(dS, fabs(ls.pos_S_m[i] - tr->pos_S[k][i]));
+        core_vec3 p = core_pose_point_to_E(&ls.ship, core_vec3_make(ls.pos_S_m[0], ls.pos_S_m[1], ls.pos_S_m[2]));
+        dE = fmax(dE, core_vec3_norm(core_vec3_sub(p, ls.heli.pos_E_m)));
+        core_quat q = ls.heli.q_EF;
+        dq = fmax(dq, fabs(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z - 1.0));
+    }
+    printf("log states: pos_S from the flown %.1e m; the CG from the ship's pose and pos_S %.1e m; |q| - 1 %.1e\n", dS,
+           dE, dq);
+    CHECK(dS <= 1e-9);
+    CHECK(dE < 1e-3); /* linear between samples 20 ms apart */
+    CHECK(dq < 1e-12);
 }
 
 /* ---- 5. bad logs */
