@@ -39,10 +39,24 @@ static inline void render_gl_normal_E(const double n[3]) { glNormal3d(n[0], -n[2
  * depth-tested); 0 or < 0 with err. */
 int render_overlay_airwake(render_ctx *rc, const render_scene *sc, const render_state *s, core_err *err);
 /* overlay.c: the head-up strip, drawn with cairo onto the finished image
- * (top row first); 0 or < 0 with err. */
+ * (top row first); 0 or < 0 with err. It draws the strip when sc->overlays
+ * has RENDER_OVERLAY_HUD and the airwake's colour legend when it has
+ * RENDER_OVERLAY_AIRWAKE (nothing when neither): call it for every frame. */
 int render_overlay_hud(const render_scene *sc, const render_state *s, const render_view *v, int w, int h,
                        uint8_t *rgba, core_err *err);
 /* overlay.c: frees the slice cache (render_destroy calls it). */
 void render_overlay_free(render_ctx *rc);
+/* overlay.c, for the tests: the slice's colour map (speed over air_ref_mps:
+ * blue at 1 - RENDER_AIR_SPAN, grey at 1, red at 1 + RENDER_AIR_SPAN); the
+ * sampling of the slice into rc->slice_* (no GL; cached per scene, as
+ * render_overlay_airwake does it); the heights of the HUD's top and
+ * bottom bands, the only rows render_overlay_hud changes. */
+#define RENDER_AIR_SPAN 0.5
+void render_overlay_air_colour(double speed_ratio, uint8_t rgb[3]);
+int render_overlay_air_sample(render_ctx *rc, const render_scene *sc, const render_state *s, core_err *err);
+void render_overlay_hud_bands(int w, int h, int *top_px, int *bottom_px);
+/* overlay.c: the HUD's height over the deck (m): the lowest wheel's bottom
+ * above the deck plane (z_S = 0) when sc->heli has gear, else the CG's. */
+double render_overlay_deck_height(const render_scene *sc, const render_state *s);
 
 #endif
