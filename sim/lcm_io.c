@@ -285,7 +285,6 @@ struct sim_loop {
     ctl q[LOOP_CTL_MAX];
     int nq;
     long long seq_heli, seq_ship, seq_status, seq_info;
-    int info_due;          /* run_info_t goes out before the next step (a new world) */
     long long sent, received, logged, control_refused;
     char message[256];
     double status_wall_s;
@@ -712,7 +711,8 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
     if (new_pacer(l, err) != 0)
         goto fail;
     l->dirty = 1; /* the first status at once */
-    l->info_due = 1;
+    if (l->lc || l->elog) /* the log's first event: what the run is flown from */
+        publish_run_info(l);
     return l;
 fail:
     sim_loop_destroy(l);
@@ -766,10 +766,10 @@ static int do_controls(sim_loop *l, core_err *err)
                 continue;
             }
             l->w = w;
-            l->info_due = 1;
             if (c->command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO)
                 snprintf(l->scenario_path, sizeof l->scenario_path, "%s", c->path);
             sim_flight_state(l->w.flight, &l->out);
+            publish_run_info(l); /* the new run's, before its first state */
             core_log_msg(l->log, CORE_LOG_INFO, "%s: %s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "loaded",
                          l->scenario_path);
         }
@@ -790,10 +790,6 @@ int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
     take_received(l, l->paused ? 100 : 0);
     if (do_controls(l, err) != 0)
         return -1;
-    if (l->info_due && (l->lc || l->elog)) {
-        publish_run_info(l);
-        l->info_due = 0;
-    }
     int rc = SIM_LOOP_PAUSED;
     if (!l->paused) {
         sim_flight_inputs in;
