@@ -13,7 +13,10 @@
  *
  * The render thread owns everything GL and everything written: it makes
  * the folder, creates its own render_ctx (an OSMesa context is current in
- * one thread), opens one video per camera, and for each state taken draws
+ * one thread), opens one video per camera, draws a frame of each camera
+ * that it throws away (llvmpipe compiles its shaders at the first draw,
+ * hundreds of milliseconds: render_live_create returns once that is done,
+ * so the loop's first states find it ready), and for each state taken draws
  * every camera asked for and writes DIR/CAMERA_NNNNNN.png (NNNNNN: the
  * camera's frames in order from 000000, so ffmpeg's image2 pattern reads
  * them) and/or a frame of DIR/CAMERA.mp4. A video shows simulation time
@@ -61,7 +64,7 @@ struct render_live {
     /* under mu */
     render_state slot;
     long slot_k;
-    int full, stop;
+    int full, stop, ready;
     /* the loop's side only */
     int clock_set;
     long k_next;
@@ -163,6 +166,26 @@ static void live_draw(render_live *l, render_ctx *rc, live_out *out, const rende
     }
 }
 
+/* One frame per camera of a still state, not kept: llvmpipe compiles its
+ * shaders at the first draw (hundreds of milliseconds), before the loop's
+ * first state is due. Its failures are left to the frames that count. */
+static void live_warm(render_live *l, render_ctx *rc, uint8_t **rgba)
+{
+    render_state s;
+    memset(&s, 0, sizeof s);
+    s.ship.q_EF = core_quat_identity();
+    s.have_heli = 1;
+    s.heli.q_EF = core_quat_identity();
+    s.pos_S_m[2] = -10.0;
+    s.heli.pos_E_m = core_vec3_make(0.0, 0.0, -10.0);
+    for (int c = 0; c < RENDER_CAM_COUNT; c++) {
+        render_view v;
+        core_err e = {{0}};
+        if ((l->o.cameras & (1u << c)) && render_camera_place((render_camera_kind)c, &l->sc, &s, &v, &e) == 0)
+            render_frame(rc, &l->sc, &s, &v, rgba[c], &e);
+    }
+}
+
 static void *live_main(void *arg)
 {
     render_live *l = arg;
@@ -192,7 +215,11 @@ static void *live_main(void *arg)
         if (!(out.video[c] = render_video_open(path, l->o.width, l->o.height, l->o.rate_hz, &e)))
             live_fail(l, &e, NULL);
     }
+    if (l->rc == 0)
+        live_warm(l, rc, out.rgba);
     pthread_mutex_lock(&l->mu);
+    l->ready = 1;
+    pthread_cond_broadcast(&l->cv);
     for (;;) {
         while (!l->full && !l->stop)
             pthread_cond_wait(&l->cv, &l->mu);
@@ -305,6 +332,12 @@ render_live *render_live_create(const render_scene *sc, const render_live_opts *
         return NULL;
     }
     l->started = 1;
+    /* back once the thread is ready to draw (or has failed): the loop's
+     * first states are then not lost to the set-up */
+    pthread_mutex_lock(&l->mu);
+    while (!l->ready)
+        pthread_cond_wait(&l->cv, &l->mu);
+    pthread_mutex_unlock(&l->mu);
     return l;
 }
 

@@ -201,7 +201,10 @@ typedef struct render_live_opts {
 void render_live_opts_default(render_live_opts *o);
 typedef struct render_live render_live;
 /* Start the thread; sc (and what it points to) must outlive the live
- * renderer. sc->sea must be safe to call from another thread. */
+ * renderer. sc->sea must be safe to call from another thread. Returns
+ * once the thread is ready to draw (its context made, a first frame drawn
+ * and thrown away); a failure there (the folder, the context, a video) is
+ * kept for render_live_destroy. */
 render_live *render_live_create(const render_scene *sc, const render_live_opts *o, core_err *err);
 /* From the loop: the newest state (copied). Never blocks on the renderer
  * (a try-lock: a state offered while the renderer copies is dropped). */
