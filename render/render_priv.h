@@ -59,4 +59,18 @@ void render_overlay_hud_bands(int w, int h, int *top_px, int *bottom_px);
  * above the deck plane (z_S = 0) when sc->heli has gear, else the CG's. */
 double render_overlay_deck_height(const render_scene *sc, const render_state *s);
 
+/* camera.c: 0, or < 0 with err naming what is wrong with view v. */
+int render_view_check(const render_view *v, core_err *err);
+/* camera.c: the GL projection and model-view matrices (column-major) of
+ * view v in a w x h image, for the GL world with its origin at origin_E_m;
+ * render_frame and render_project both use them (one projection). */
+void render_gl_matrices(const render_view *v, int w, int h, const double origin_E_m[3], double proj[16],
+                        double mv[16]);
+/* scene.c: render_frame's drawing without the read-back and the HUD (the GL
+ * image stays in rc->buf, bottom row first); view.c adds its marker. */
+int render_frame_gl(render_ctx *rc, const render_scene *sc, const render_state *s, const render_view *v,
+                    core_err *err);
+/* scene.c: rc->buf (bottom row first) into rgba (top row first). */
+void render_read_back(const render_ctx *rc, uint8_t *rgba);
+
 #endif
