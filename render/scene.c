@@ -473,8 +473,9 @@ static void draw_ship(const scn *d)
     }
     if (hg) {
         /* The horizon bar: level in E whatever the ship's roll and pitch,
-         * along the horizontal normal to the ship's heading, just aft of
-         * the hangar face's top edge. */
+         * along the horizontal normal to the ship's heading, centred 0.35 m
+         * above the hangar face's top edge and 0.08 m aft of it, half the
+         * hangar's width long (at most 6 m), 0.3 m tall. */
         double c_S[3] = {hg->x0_m - 0.08, 0.5 * (hg->y0_m + hg->y1_m), hg->z0_m - 0.35}, c[3];
         double xs[3] = {1, 0, 0}, xe[3], down[3] = {0, 0, 1}, bar[3], aft[3];
         to_E(d, FR_S, c_S, c);
@@ -482,7 +483,7 @@ static void draw_ship(const scn *d)
         cross3(down, xe, bar);
         if (unit3(bar) == 0) {
             cross3(bar, down, aft); /* horizontal, along the bow */
-            double hl[3] = {fmin(0.25 * (hg->y1_m - hg->y0_m), 3.0), 0.12, 0.05};
+            double hl[3] = {fmin(0.25 * (hg->y1_m - hg->y0_m), 3.0), 0.15, 0.05};
             colour(RENDER_COLOUR_HORIZON_BAR, 1.0, 1.0);
             obox(d, FR_E, c, bar, down, aft, hl);
         }

@@ -15,11 +15,14 @@
  *  - golden images, 160 x 120, one per camera (tests/render/golden/;
  *    regenerate with `test_render --update-golden`, run from the
  *    repository root, and look at them). Tolerance: at most 0.5 % of the
- *    pixels may differ by more than 24 levels in any channel. llvmpipe is
- *    deterministic for one Mesa/LLVM build, but another build may round
- *    fog, lighting or an edge pixel differently: 24 levels passes such
- *    rounding, 0.5 % (96 pixels) passes a few moved edges, while a moved
- *    camera, a missing part or a changed colour changes far more.
+ *    pixels may differ by more than 24 levels in any channel, and at most
+ *    2 % by more than 6. llvmpipe is deterministic for one Mesa/LLVM
+ *    build, but another build may round fog, lighting or an edge pixel
+ *    differently: a few levels everywhere and a few moved edges (0.5 % is
+ *    96 pixels) pass, while a moved camera or a missing part (many pixels
+ *    by far more than 24) and a surface's colour changed by more than 6
+ *    levels (the deck is 5 to 10 % of the pilot's and overhead views) do
+ *    not.
  *  - the same state renders to identical bytes twice, and in a second
  *    context; the sea function is called once a frame.
  *  - bad views, bad cameras and a missing eye give clear errors.
@@ -67,7 +70,7 @@ static void make_state(render_state *s)
 {
     memset(s, 0, sizeof *s);
     s->t_s = 3.0;
-    core_euler es = {4.0 * CORE_DEG_TO_RAD, 1.5 * CORE_DEG_TO_RAD, 25.0 * CORE_DEG_TO_RAD};
+    core_euler es = {6.0 * CORE_DEG_TO_RAD, 1.5 * CORE_DEG_TO_RAD, 25.0 * CORE_DEG_TO_RAD};
     s->ship.pos_E_m = core_vec3_make(30.0, -12.0, 0.4);
     s->ship.q_EF = core_quat_from_euler(es);
     s->ship_yaw_rad = es.psi_rad;
@@ -183,6 +186,38 @@ static void expect_deck(const render_view *v, int w, int h, const uint8_t *img, 
     }
 }
 
+/* The horizon bar (scene.c: 0.35 m above the hangar face's top edge, half
+ * the hangar's width long, 0.3 m tall, level in E): its centre and points
+ * 0.45 of its length either side along E's horizontal. With the ship rolled
+ * 6 deg, a bar that rolled with it would put its ends 0.3 m off them. */
+static void expect_horizon_bar(const render_view *v, int w, int h, const uint8_t *img, const render_state *s,
+                               const core_ship *sh, const char *cam)
+{
+    const core_ship_block *hg = NULL;
+    for (int i = 0; i < sh->nblocks; i++)
+        if (strcmp(sh->blocks[i].name, "hangar") == 0)
+            hg = &sh->blocks[i];
+    CHECK(hg != NULL);
+    if (!hg)
+        return;
+    double c_S[3] = {hg->x0_m - 0.08, 0.5 * (hg->y0_m + hg->y1_m), hg->z0_m - 0.35}, c[3], o[3], x1[3];
+    double o_S[3] = {0, 0, 0}, x_S[3] = {1, 0, 0}, bar[3];
+    render_S_to_E(s, c_S, c);
+    render_S_to_E(s, o_S, o);
+    render_S_to_E(s, x_S, x1);
+    /* horizontal, normal to the bow: (0, 0, 1) x x_S */
+    bar[0] = -(x1[1] - o[1]), bar[1] = x1[0] - o[0], bar[2] = 0;
+    double n = hypot(bar[0], bar[1]), half = fmin(0.25 * (hg->y1_m - hg->y0_m), 3.0);
+    for (int k = -1; k <= 1; k++) {
+        double p[3];
+        for (int i = 0; i < 3; i++)
+            p[i] = c[i] + k * 0.9 * half * bar[i] / n;
+        char what[32];
+        snprintf(what, sizeof what, "horizon bar %s", k < 0 ? "port end" : k > 0 ? "stbd end" : "centre");
+        expect(pixel_of(v, w, h, img, p, what, cam), RENDER_COLOUR_HORIZON_BAR, 0.85, 1.05, what);
+    }
+}
+
 static void sea_point(const render_state *s, const double xy_E[2], double p[3], double deck_h)
 {
     p[0] = xy_E[0];
@@ -214,7 +249,7 @@ static int golden_compare(const char *path, const uint8_t *img, int w, int h, in
         fprintf(stderr, "  %s\n", err.msg);
         return 0;
     }
-    long bad = 0;
+    long bad = 0, off = 0;
     int maxd = 0;
     if (gw == w && gh == h)
         for (long i = 0; i < (long)w * h; i++) {
@@ -222,13 +257,14 @@ static int golden_compare(const char *path, const uint8_t *img, int w, int h, in
             for (int c = 0; c < 3; c++)
                 d = abs(img[4 * i + c] - g[4 * i + c]) > d ? abs(img[4 * i + c] - g[4 * i + c]) : d;
             bad += d > 24;
+            off += d > 6;
             maxd = d > maxd ? d : maxd;
         }
     free(g);
-    double frac = (double)bad / ((double)w * h);
-    printf("  golden %s: %ld pixels (%.3f %%) differ by more than 24 levels (limit 0.5 %%), largest %d\n", path,
-           bad, 100.0 * frac, maxd);
-    return gw == w && gh == h && frac <= 0.005;
+    double frac = (double)bad / ((double)w * h), frac6 = (double)off / ((double)w * h);
+    printf("  golden %s: %.3f %% of the pixels differ by more than 24 levels (limit 0.5 %%), %.3f %% by more "
+           "than 6 (limit 2 %%), largest %d\n", path, 100.0 * frac, 100.0 * frac6, maxd);
+    return gw == w && gh == h && frac <= 0.005 && frac6 <= 0.02;
 }
 
 /* ------------------------------------------------------------ checks */
@@ -271,6 +307,7 @@ static void test_cameras(const render_scene *sc, sea_user *su, const char *dump_
             double p[3];
             sky_point(v.eye_E_m, 30.0 + 25.0, 8.0, p);
             expect_sky(pixel_of(&v, w, h, img, p, "sky 25 deg right", name), "pilot sky");
+            expect_horizon_bar(&v, w, h, img, &s, sh, name);
             break;
         }
         case RENDER_CAM_DECK: {
@@ -338,11 +375,10 @@ static void test_cameras(const render_scene *sc, sea_user *su, const char *dump_
     }
     render_destroy(r2);
 
-    /* The ship's pose moves the deck: the overhead camera of a state whose
-     * ship has turned 90 deg more sees the same deck (ship-fixed), and the
-     * chase camera (not ship-fixed) sees the spot move. */
+    /* The ship turned 90 deg more: the ship-fixed overhead camera sees the
+     * same deck, the deck camera without a helicopter looks at the spot. */
     render_state s2 = s;
-    core_euler e2 = {4.0 * CORE_DEG_TO_RAD, 1.5 * CORE_DEG_TO_RAD, 115.0 * CORE_DEG_TO_RAD};
+    core_euler e2 = {6.0 * CORE_DEG_TO_RAD, 1.5 * CORE_DEG_TO_RAD, 115.0 * CORE_DEG_TO_RAD};
     s2.ship.q_EF = core_quat_from_euler(e2);
     s2.have_heli = 0;
     CHECK(render_camera_place(RENDER_CAM_OVERHEAD, sc, &s2, &v, &err) == 0);
