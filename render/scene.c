@@ -360,20 +360,32 @@ static int draw_sea(const scn *d, core_err *err)
             }
         glEnd();
     }
-    /* The flat far sea: a square frame from the grid's edge outward. */
-    double up[3] = {0, 0, -1}, g0[2] = {cx - half, cy - half}, g1[2] = {cx + half, cy + half};
-    double f0[2] = {cx - SEA_FAR_M, cy - SEA_FAR_M}, f1[2] = {cx + SEA_FAR_M, cy + SEA_FAR_M};
-    double rects[4][4] = {{f0[0], f0[1], f1[0], g0[1]}, {f0[0], g1[1], f1[0], f1[1]},
-                          {f0[0], g0[1], g0[0], g1[1]}, {g1[0], g0[1], f1[0], g1[1]}};
+    /* The flat far sea: square rings from the grid's edge outward, each
+     * 1.42 times the last, 16 segments a side: the haze is evaluated at
+     * the vertices, so one large quad with every corner kilometres away
+     * would come out haze from edge to edge. */
+    static const double ring_m[] = {0.5 * SEA_SIDE_M, 560, 800, 1150, 1650, 2400, 3400, 4900, SEA_FAR_M};
+    enum { NR = sizeof ring_m / sizeof ring_m[0], NSEG = 64 };
+    double up[3] = {0, 0, -1};
     render_gl_normal_E(up);
-    glBegin(GL_QUADS);
-    for (int r = 0; r < 4; r++) {
-        double c[4][3] = {{rects[r][0], rects[r][1], z0}, {rects[r][2], rects[r][1], z0},
-                          {rects[r][2], rects[r][3], z0}, {rects[r][0], rects[r][3], z0}};
-        for (int k = 0; k < 4; k++)
-            render_gl_vertex_E(d->rc, c[k]);
+    for (int r = 0; r + 1 < NR; r++) {
+        glBegin(GL_QUAD_STRIP);
+        for (int k = 0; k <= NSEG; k++) {
+            /* perimeter parameter: 4 sides of NSEG / 4 segments */
+            int side = (k / (NSEG / 4)) % 4;
+            double u = (double)(k % (NSEG / 4)) / (NSEG / 4) * 2.0 - 1.0;
+            if (k == NSEG)
+                side = 0, u = -1.0;
+            for (int j = 1; j >= 0; j--) {
+                double hr = ring_m[r + j], p[3];
+                double px_ = side == 0 ? u * hr : side == 1 ? hr : side == 2 ? -u * hr : -hr;
+                double py_ = side == 0 ? -hr : side == 1 ? u * hr : side == 2 ? hr : -u * hr;
+                p[0] = cx + px_, p[1] = cy + py_, p[2] = z0;
+                render_gl_vertex_E(d->rc, p);
+            }
+        }
+        glEnd();
     }
-    glEnd();
     free(buf);
     return 0;
 }
