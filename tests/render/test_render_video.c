@@ -189,6 +189,12 @@ static void test_hud_size(int W, int H)
     CHECK(render_overlay_hud(&sc, &s2, &v, W, H, img2, &err) == 0);
     CHECK(n_diff(img, img2, W, W / 2, W, 0, top) > 20);
     CHECK(n_diff(img, img2, W, 0, W, H - bot, H) == 0);
+    uint8_t *img3 = malloc((size_t)4 * W * H); /* ON DECK alone: CRASH was drawn */
+    fill(img3, W, H, 128);
+    s2.flags = 64u;
+    CHECK(render_overlay_hud(&sc, &s2, &v, W, H, img3, &err) == 0);
+    CHECK(n_diff(img3, img2, W, W / 2, W, 0, top) > 20);
+    free(img3);
 
     /* No overlay: nothing drawn. The airwake alone: its legend, top band
      * only. */
@@ -261,16 +267,50 @@ static int air_fail(void *user, const double p[3], double v[3])
     return -1;
 }
 
+static int rgb_is(const uint8_t *p, int r, int g, int b, int tol)
+{
+    return abs(p[0] - r) <= tol && abs(p[1] - g) <= tol && abs(p[2] - b) <= tol;
+}
+
+/* The legend of the airwake's colours: in the top band on the right, with
+ * the map's blue and red ends; without the HUD, nothing else drawn. */
+static void test_legend(void)
+{
+    enum { W = 640, H = 480 };
+    core_ship ship = test_ship();
+    air_case a = {0, 0};
+    render_scene sc = {.ship = &ship, .air = air_fn, .air_user = &a, .air_ref_mps = 10,
+                       .overlays = RENDER_OVERLAY_AIRWAKE};
+    double ship_E[3] = {0, 0, 6}, cg_E[3] = {1, 2, -2};
+    render_state s = test_state(ship_E, cg_E, 0.0);
+    render_view v = {{0, 0, -10}, {1, 0, 0}, {0, 0, -1}, 60, 0.5, 2000};
+    core_err err = {{0}};
+    uint8_t *img = malloc(4 * W * H), *ref = malloc(4 * W * H);
+    fill(img, W, H, 128);
+    memcpy(ref, img, 4 * W * H);
+    int top = 0, bot = 0;
+    render_overlay_hud_bands(W, H, &top, &bot);
+    CHECK(render_overlay_hud(&sc, &s, &v, W, H, img, &err) == 0);
+    CHECK(n_diff(img, ref, W, 0, W, top, H) == 0);
+    CHECK(n_diff(img, ref, W, 0, W / 4, 0, top) == 0); /* boxed on the right only */
+    long blue = 0, red = 0;
+    for (int y = 0; y < top; y++)
+        for (int x = W / 2; x < W; x++) {
+            const uint8_t *p = img + 4 * ((size_t)y * W + x);
+            blue += rgb_is(p, 59, 76, 192, 12);
+            red += rgb_is(p, 180, 4, 38, 12);
+        }
+    CHECK(blue > 4 && red > 4);
+    CHECK(a.calls == 0); /* the legend samples nothing */
+    free(img);
+    free(ref);
+}
+
 static const uint8_t *texel(const render_ctx *rc, double x, double y)
 {
     int i = (int)floor((x - rc->slice_x0_m) / (rc->slice_x1_m - rc->slice_x0_m) * rc->slice_nx);
     int j = (int)floor((y - rc->slice_y0_m) / (rc->slice_y1_m - rc->slice_y0_m) * rc->slice_ny);
     return rc->slice_rgba + 4 * ((size_t)j * rc->slice_nx + i);
-}
-
-static int rgb_is(const uint8_t *p, int r, int g, int b, int tol)
-{
-    return abs(p[0] - r) <= tol && abs(p[1] - g) <= tol && abs(p[2] - b) <= tol;
 }
 
 static void test_colour_map(void)
@@ -533,6 +573,9 @@ static void test_video(void)
     snprintf(tmpdir, sizeof tmpdir, "%s/disim-video-XXXXXX", t && t[0] ? t : "/tmp");
     CHECK(mkdtemp(tmpdir) != NULL);
     core_err err = {{0}};
+    /* A close that waits for ever (an ffmpeg that never sees the end of its
+     * input) ends the test here rather than at CTest's timeout. */
+    alarm(120);
 
     encode("a.mp4", 64, 48, 30, 64, 48);
     encode("odd.mp4", 63, 47, 30, 64, 48); /* padded to even sides */
@@ -554,10 +597,8 @@ static void test_video(void)
             CHECK(render_video_frame(v1, img, &err) == 0);
             CHECK(render_video_frame(v2, img, &err) == 0);
         }
-        alarm(60);
         CHECK(render_video_close(v1, &err) == 0);
         CHECK(render_video_close(v2, &err) == 0);
-        alarm(0);
         CHECK(exists(p1) && exists(p2));
     }
     remove(p1);
@@ -632,6 +673,7 @@ static void test_video(void)
     remove(fake);
     rmdir(bindir);
     rmdir(tmpdir);
+    alarm(0);
 }
 
 int main(void)
@@ -641,6 +683,7 @@ int main(void)
     test_hud_size(1280, 720);
     test_height();
     test_colour_map();
+    test_legend();
     test_slice();
     test_video();
     return check_done("test_render_video");
