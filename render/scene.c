@@ -656,6 +656,9 @@ static void draw_heli_solid(const scn *d, const render_view *v)
                   0.5 * h.cab_hw, fz, h.roof_z + 0.05, fz + 0.03 * R, h.roof_z + 0.05);
     }
     colour(RENDER_COLOUR_FUSELAGE, 1.0, 1.0);
+    /* The cabin's aft fairing, tapering 0.15 R into the boom. */
+    taper_box(d, FR_B, h.cab_x0 - 0.15 * R, h.cab_x0, 0.0, h.boom_hw0, h.cab_hw, h.boom_z0 - 0.5 * h.boom_h0,
+              h.boom_z0 + 0.5 * h.boom_h0, h.roof_z, h.belly_z - 0.3 * ch);
     /* Tail boom. */
     taper_box(d, FR_B, h.boom_x1, h.boom_x0, 0.0, h.boom_hw1, h.boom_hw0, h.boom_z1 - 0.5 * h.boom_h1,
               h.boom_z1 + 0.5 * h.boom_h1, h.boom_z0 - 0.5 * h.boom_h0, h.boom_z0 + 0.5 * h.boom_h0);

@@ -393,6 +393,87 @@ static void test_cameras(const render_scene *sc, sea_user *su, const char *dump_
     render_destroy(rg);
 }
 
+/* The main rotor's blades at the state's azimuth, turning as rotor_ccw
+ * says: seen from overhead, blade 1 at azimuth 20 deg lies aft and to
+ * starboard for a counter-clockwise rotor (from aft toward starboard), to
+ * port for a clockwise one; with 4 blades (20, 110, 200, 290 deg) nothing
+ * lies at the mirror point. And the SA365N's fenestron: seen along its
+ * axis, the dark fan inside a lighter duct ring. */
+static void test_rotors(const render_scene *sc0)
+{
+    core_err err = {{0}};
+    const int w = 320, h = 240;
+    render_ctx *rc = render_create(w, h, &err);
+    uint8_t *img = malloc((size_t)4 * w * h);
+    CHECK(rc != NULL);
+    if (!rc) {
+        free(img);
+        return;
+    }
+    render_state s;
+    make_state(&s);
+    double cg_S[3] = {0, 0, -12}, cg[3];
+    render_S_to_E(&s, cg_S, cg);
+    s.heli.pos_E_m = core_vec3_make(cg[0], cg[1], cg[2]);
+    s.heli.q_EF = s.ship.q_EF; /* level with the deck, along the bow */
+    s.rotor_azimuth_rad = 20.0 * CORE_DEG_TO_RAD;
+    for (int ccw = 1; ccw >= 0; ccw--) {
+        hfm_geometry g = *sc0->heli;
+        g.rotor_ccw = ccw;
+        render_scene sc = *sc0;
+        sc.heli = &g;
+        render_view v;
+        CHECK(render_camera_place(RENDER_CAM_OVERHEAD, &sc, &s, &v, &err) == 0);
+        CHECK(render_frame(rc, &sc, &s, &v, img, &err) == 0);
+        double a = s.rotor_azimuth_rad, r = 0.7 * g.rotor_radius_m, p1_B[3], pm_B[3], p1[3], pm[3];
+        double dir = ccw ? 1.0 : -1.0;
+        for (int i = 0; i < 3; i++)
+            p1_B[i] = pm_B[i] = g.hub_B_m[i];
+        p1_B[0] += -r * cos(a), p1_B[1] += dir * r * sin(a);
+        pm_B[0] += -r * cos(a), pm_B[1] -= dir * r * sin(a);
+        render_B_to_E(&s, p1_B, p1);
+        render_B_to_E(&s, pm_B, pm);
+        const char *cam = ccw ? "overhead (ccw)" : "overhead (cw)";
+        const uint8_t *b1 = pixel_of(&v, w, h, img, p1, "blade 1 at 20 deg", cam);
+        const uint8_t *bm = pixel_of(&v, w, h, img, pm, "its mirror", cam);
+        CHECK(b1 && matches(b1, RENDER_COLOUR_ROTOR, LIT_MIN, LIT_MAX, TOL, NULL));
+        CHECK(bm && !matches(bm, RENDER_COLOUR_ROTOR, LIT_MIN, LIT_MAX, TOL, NULL));
+    }
+    hfm_aircraft *ac = hfm_aircraft_load("scenarios/aircraft/sa365n.ini", NULL, &err);
+    CHECK(ac != NULL);
+    if (ac) {
+        hfm_geometry g;
+        hfm_aircraft_geometry(ac, &g);
+        CHECK(g.tail_fenestron == 1);
+        render_scene sc = *sc0;
+        sc.heli = &g;
+        double th[3], ax_B[3], ax[3], o_B[3] = {0, 0, 0}, o[3], eye[3], ring_B[3], ring[3];
+        render_B_to_E(&s, g.tail_hub_B_m, th);
+        double n = sqrt(g.tail_dir_B[0] * g.tail_dir_B[0] + g.tail_dir_B[1] * g.tail_dir_B[1] +
+                        g.tail_dir_B[2] * g.tail_dir_B[2]);
+        for (int i = 0; i < 3; i++)
+            ax_B[i] = g.tail_dir_B[i] / n;
+        render_B_to_E(&s, ax_B, ax);
+        render_B_to_E(&s, o_B, o);
+        for (int i = 0; i < 3; i++)
+            eye[i] = th[i] + 6.0 * (ax[i] - o[i]);
+        /* A point of the duct ring: 1.12 radii up the fin from the hub. */
+        memcpy(ring_B, g.tail_hub_B_m, sizeof ring_B);
+        ring_B[2] -= 1.12 * g.tail_radius_m;
+        render_B_to_E(&s, ring_B, ring);
+        render_view v;
+        CHECK(render_view_look_at(&v, eye, th, 30.0, &err) == 0);
+        CHECK(render_frame(rc, &sc, &s, &v, img, &err) == 0);
+        expect(pixel_of(&v, w, h, img, th, "fenestron's fan", "side"), RENDER_COLOUR_ROTOR, LIT_MIN, LIT_MAX,
+               "fenestron fan");
+        expect(pixel_of(&v, w, h, img, ring, "fenestron's duct", "side"), RENDER_COLOUR_HULL, 0.3, 0.82,
+               "fenestron duct");
+        hfm_aircraft_destroy(ac);
+    }
+    free(img);
+    render_destroy(rc);
+}
+
 static void test_bad_views(const render_scene *sc)
 {
     core_err err = {{0}};
@@ -607,6 +688,7 @@ int main(int argc, char **argv)
     sea_user su = {0, 0};
     render_scene sc = {.ship = &ship, .heli = &geo, .sea = sea_fn, .sea_user = &su};
     test_cameras(&sc, &su, dump, update);
+    test_rotors(&sc);
     test_bad_views(&sc);
     test_deck_view();
     hfm_aircraft_destroy(ac);
