@@ -35,7 +35,10 @@
  *    tail boom to the tail rotor, a fin, the stabiliser; the main rotor as
  *    a translucent disk of radius R at the hub, tilted forward by the shaft
  *    tilt, with its blades at the state's azimuth turning as rotor_ccw
- *    says; an open tail rotor (a disk normal to tail_dir_B with blades) or
+ *    says (blade 1 at azimuth psi along -cos(psi) forward + sin(psi)
+ *    right in the disk, counter-clockwise from above: over the tail at 0,
+ *    to starboard at 90 deg; starboard and port swapped for a clockwise
+ *    rotor); an open tail rotor (a disk normal to tail_dir_B with blades) or
  *    a fenestron (a ducted ring in the fin); the gear's struts and wheels.
  *    Proportions not in the aircraft file are fractions of R (stated where
  *    used): a recognisable silhouette, not a survey.
