@@ -17,9 +17,13 @@
 #include "awdb.h"
 #include "cfd.h"
 #include "cmds.h"
+#include "disim_lcm.h"
 #include "hfm.h"
+#include "render.h"
+#include "scene.h"
 #include "sim.h"
 
+#include <errno.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -44,7 +48,9 @@ static void usage_fly(void)
                     "                  [--lcm URL | --no-lcm] [--log FILE] [--replay-inputs LOG]\n"
                     "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N]\n"
                     "                  [--pilot auto --task FILE [--task-result PREFIX]]  (headless, as fast as it can)\n"
-                    "                  [--pilot replay LOG [--feed-controls]]  (headless: LOG's run re-flown)\n");
+                    "                  [--pilot replay LOG [--feed-controls]]  (headless: LOG's run re-flown)\n"
+                    "                  [--render DIR [--render-rate HZ] [--render-size WxH]\n"
+                    "                   [--render-cameras deck,pilot,chase,overhead] [--render-video on|off]]\n");
 }
 
 typedef struct fly_args {
@@ -63,6 +69,13 @@ typedef struct fly_args {
     int feed_controls;        /* --feed-controls: LOG's controls fed forward too */
     int has_start;            /* the flight starts at start_S_m (the replayed run's start) */
     double start_S_m[3];
+    /* --render DIR: live frames beside the loop (render_live): their rate
+     * (s of simulation time), size, cameras (1 << render_camera_kind) and
+     * MP4s instead of PNG frames (--render-video on) */
+    const char *render_dir;
+    double render_rate_hz;
+    int render_w, render_h, render_video, render_flag; /* render_flag: a --render-* flag given */
+    unsigned render_cameras;
 } fly_args;
 
 /* The scenario's [pilot] (and the automated pilot's [task] file) where
@@ -99,6 +112,71 @@ static void fly_scenario_pilot(fly_args *o)
     free(sc);
 }
 
+/* One side of --render-size: digits only, within what render_create takes. */
+static int render_side(const char *s, const char **end, int *out)
+{
+    if (*s < '0' || *s > '9')
+        return -1;
+    char *e;
+    errno = 0;
+    long v = strtol(s, &e, 10);
+    *end = e;
+    if (errno == ERANGE || v < RENDER_SIZE_MIN || v > RENDER_SIZE_MAX)
+        return -1;
+    *out = (int)v;
+    return 0;
+}
+
+/* A --render flag and its value: 0, or -1 after saying what was expected. */
+static int fly_parse_render(fly_args *o, const char *a, const char *v)
+{
+    const char *P = "disim fly";
+    core_err err = {{0}};
+    if (!strcmp(a, "--render")) {
+        o->render_dir = v;
+        return 0;
+    }
+    o->render_flag = 1;
+    if (!strcmp(a, "--render-rate"))
+        return app_parse_double(P, a, v, 0.1, 1000.0, &o->render_rate_hz);
+    if (!strcmp(a, "--render-size")) {
+        const char *e;
+        if (render_side(v, &e, &o->render_w) || *e != 'x' || render_side(e + 1, &e, &o->render_h) || *e) {
+            fprintf(stderr, "disim fly: --render-size '%s': expected WIDTHxHEIGHT, e.g. 640x480, each %d to %d pixels\n",
+                    v, RENDER_SIZE_MIN, RENDER_SIZE_MAX);
+            return -1;
+        }
+        return 0;
+    }
+    if (!strcmp(a, "--render-cameras")) {
+        o->render_cameras = 0;
+        char name[32];
+        for (const char *p = v;;) {
+            size_t n = strcspn(p, ",");
+            render_camera_kind k;
+            snprintf(name, sizeof name, "%.*s", (int)(n < sizeof name ? n : sizeof name - 1), p);
+            if (n >= sizeof name || render_camera_parse(name, &k, &err) != 0) {
+                fprintf(stderr, "disim fly: --render-cameras '%s': %s\n", v, err.msg[0] ? err.msg : "a name too long");
+                return -1;
+            }
+            o->render_cameras |= 1u << k;
+            if (!p[n])
+                return 0;
+            p += n + 1;
+        }
+    }
+    if (!strcmp(a, "--render-video")) {
+        if (strcmp(v, "on") && strcmp(v, "off")) {
+            fprintf(stderr, "disim fly: --render-video '%s': expected on or off\n", v);
+            return -1;
+        }
+        o->render_video = !strcmp(v, "on");
+        return 0;
+    }
+    fprintf(stderr, "disim fly: unknown flag '%s'\n", a);
+    return -1;
+}
+
 static int fly_parse(int argc, char **argv, fly_args *o)
 {
     memset(o, 0, sizeof *o);
@@ -116,6 +194,10 @@ static int fly_parse(int argc, char **argv, fly_args *o)
     o->lcm = -1;
     o->hold_after_s = 0.5;
     o->state_rate_hz = 50.0;
+    o->render_rate_hz = 10.0;
+    o->render_w = 640;
+    o->render_h = 480;
+    o->render_cameras = 1u << RENDER_CAM_DECK;
     const char *P = "disim fly";
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -202,7 +284,10 @@ static int fly_parse(int argc, char **argv, fly_args *o)
             o->task = argv[++i];
         else if (!strcmp(a, "--task-result") && more)
             o->task_result = argv[++i];
-        else if (a[0] != '-' && !o->scen)
+        else if (!strncmp(a, "--render", 8) && more) {
+            if (fly_parse_render(o, a, argv[++i]) != 0)
+                return 2;
+        } else if (a[0] != '-' && !o->scen)
             o->scen = a;
         else {
             fprintf(stderr, "disim fly: unknown or incomplete argument '%s'\n", a);
@@ -226,13 +311,26 @@ static int fly_parse(int argc, char **argv, fly_args *o)
         fprintf(stderr, "disim fly: --task-result: expected --pilot auto with --task FILE\n");
         return 1;
     }
-    if (o->pilot && (o->lcm == 1 || o->log || o->replay || o->stations)) {
-        fprintf(stderr, "disim fly: --pilot %s flies headless: --lcm, --log, --replay-inputs and --stations do not "
-                        "apply\n", o->pilot);
+    if (o->pilot && (o->lcm == 1 || o->replay || o->stations || (o->log && strcmp(o->pilot, "auto")))) {
+        fprintf(stderr, "disim fly: --pilot %s flies headless: --lcm, --replay-inputs and --stations%s do not "
+                        "apply\n", o->pilot, strcmp(o->pilot, "auto") ? " and --log" : "");
         return 1;
     }
     if (o->pilot)
         o->realtime = 0;
+    if (o->render_flag && !o->render_dir) {
+        fprintf(stderr, "disim fly: --render-rate, --render-size, --render-cameras and --render-video need --render DIR\n");
+        return 2;
+    }
+    if (o->render_dir && o->pilot) {
+        fprintf(stderr, "disim fly: --render: not with --pilot %s (draw its --log with disim render)\n", o->pilot);
+        return 1;
+    }
+    if (o->render_dir && o->render_rate_hz > o->rate_hz) {
+        fprintf(stderr, "disim fly: --render-rate %g: expected at most the loop's rate (%g Hz)\n", o->render_rate_hz,
+                o->rate_hz);
+        return 2;
+    }
     if (o->state_rate_hz > o->rate_hz) {
         fprintf(stderr, "disim fly: --state-rate-hz %g: expected at most the loop's rate (%g Hz)\n", o->state_rate_hz,
                 o->rate_hz);
@@ -453,6 +551,7 @@ typedef struct fly_world {
     sim_interaction *inter; /* their interaction near the station (sim/interaction.c) */
     double speed_mps, dir_rad;
     int sea_state;
+    sim_run_info info; /* what it was built from (run_info_t in the log) */
 } fly_world;
 
 static void world_free(fly_world *w)
@@ -564,6 +663,16 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
     w->sea_state = sea.state;
     if (!(w->motion = sim_ship_motion_create(&sc->ship, &sea, (uint64_t)o->seed + 1u, err)))
         goto fail;
+    sim_run_info *ri = &w->info;
+    snprintf(ri->scenario_path, sizeof ri->scenario_path, "%s", path);
+    snprintf(ri->scenario, sizeof ri->scenario, "%s", sc->name);
+    snprintf(ri->aircraft_path, sizeof ri->aircraft_path, "%s", sc->aircraft_path);
+    snprintf(ri->ship_path, sizeof ri->ship_path, "%s", sc->ship_path);
+    ri->seed = (unsigned long long)o->seed;
+    ri->sea = sea;
+    ri->wod_speed_mps = speed;
+    ri->wod_dir_rad = dir;
+    ri->rate_hz = o->rate_hz;
     if (!(w->fl = sim_flight_create(w->ac, &sc->ship, &fo, sim_ship_motion_frame_fn, w->motion, w->fld, c->log, err)))
         goto fail;
     return 0;
@@ -578,6 +687,7 @@ static void loop_world(const fly_world *w, sim_loop_world *lw)
     lw->flight = w->fl;
     lw->motion = w->motion;
     snprintf(lw->scenario, sizeof lw->scenario, "%s", w->sc->name);
+    lw->info = w->info;
 }
 
 /* sim_loop's build: a new world, the old one freed only once it stands. */
@@ -593,9 +703,62 @@ static int loop_build(void *user, const char *path, sim_loop_world *lw, core_err
     return 0;
 }
 
+/* --pilot auto --log: the loop in lockstep, in-process (memq://), the
+ * automated pilot a station ("auto") whose every input is taken at the
+ * step it was given: the log holds the run as a station's flight would
+ * (the run information, the states, the pilot's inputs, the status), and
+ * the trajectory is the one flown without the log, step for step. */
+#define AUTO_STATION "auto"
+static sim_loop *auto_loop(fly_ctx *c, double T, core_err *err)
+{
+    const fly_args *o = c->o;
+    sim_loop_opts lo;
+    sim_loop_opts_default(&lo);
+    lo.rate_hz = o->rate_hz;
+    lo.realtime = 0;
+    lo.duration_s = T + 2.0 / o->rate_hz;
+    lo.state_rate_hz = o->state_rate_hz;
+    lo.lcm = 1;
+    lo.lcm_url = "memq://";
+    lo.log_path = o->log;
+    lo.scenario_path = o->scen;
+    if (sim_pilots_opts_parse(&lo.pilots, AUTO_STATION, err) != 0)
+        return NULL;
+    sim_loop_world lw;
+    loop_world(&c->w, &lw);
+    return sim_loop_create(&lo, &lw, loop_build, c, c->log, err);
+}
+
+/* One step of the automated pilot's flight: straight (l NULL) or through
+ * the loop. 0 stepped, > 0 the flight ended (err says why), < 0 with err. */
+static int auto_step(fly_world *w, sim_loop *l, long k, const sim_flight_inputs *in, sim_flight_out *out,
+                     core_err *err)
+{
+    if (!l)
+        return sim_flight_step(w->fl, in, out, err);
+    disim_pilot_input_t m;
+    memset(&m, 0, sizeof m);
+    m.utime = (int64_t)llround(out->t_s * 1e6);
+    m.station_id = AUTO_STATION;
+    m.seq = k;
+    m.collective_pct = in->collective_pct;
+    m.long_cyclic_pct = in->long_pct;
+    m.lat_cyclic_pct = in->lat_pct;
+    m.pedal_pct = in->pedal_pct;
+    if (disim_pilot_input_t_publish(sim_loop_lcm(l), DISIM_CH_PILOT_INPUT, &m) != 0)
+        return core_err_set(err, -1, "fly: cannot hand the automated pilot's input to the loop");
+    int r = sim_loop_iterate(l, out, err);
+    if (r == SIM_LOOP_STEPPED)
+        return 0;
+    if (r == SIM_LOOP_CRASHED)
+        return 1;
+    return r < 0 ? -1 : core_err_set(err, -1, "fly: the loop did not step (%d)", r);
+}
+
 /* --pilot auto: the automated pilot flies the task headless, as fast as
- * it can (the task's length unless --duration), the trajectory to --csv;
- * the task's grade and errors said at the end. 0, or < 0 with err. */
+ * it can (the task's length unless --duration), the trajectory to --csv
+ * and, with --log, the run to an LCM log; the task's grade and errors said
+ * at the end. 0, or < 0 with err. */
 static int fly_auto(fly_ctx *c, core_err *err)
 {
     const fly_args *o = c->o;
@@ -624,9 +787,12 @@ static int fly_auto(fly_ctx *c, core_err *err)
     }
     traj_csv csv;
     int rc = -1;
+    sim_loop *loop = NULL;
     if (traj_open(&csv, o->csv, err) != 0)
         goto out;
     double T = o->duration_set ? o->duration_s : sim_task_length_s(&task);
+    if (o->log && !(loop = auto_loop(c, T, err)))
+        goto out;
     long n = (long)llround(T * o->rate_hz), csv_every = (long)fmax(1.0, llround(o->rate_hz / o->csv_rate_hz));
     long poll_every = (long)llround(o->rate_hz);
     fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, the automated pilot flies %s for %.0f s\n",
@@ -643,7 +809,7 @@ static int fly_auto(fly_ctx *c, core_err *err)
         sim_pilot_auto_result(p, &r);
         if (r.done) /* the task is over: settled on the deck (gear), touched down, its last hold flown */
             break;
-        int st = sim_flight_step(w->fl, &in, &out, err);
+        int st = auto_step(w, loop, s, &in, &out, err);
         if (st < 0)
             goto out;
         if ((st > 0 || out.step % csv_every == 0) && traj_row(&csv, &out) != 0)
@@ -656,8 +822,10 @@ static int fly_auto(fly_ctx *c, core_err *err)
             goto out;
     }
     sim_pilot_auto_step(p, &out, &in); /* grades the last state */
-    if (traj_commit(&csv, err) != 0)
+    if (traj_commit(&csv, err) != 0 || (loop && sim_loop_finish(loop, err) != 0))
         goto out;
+    if (loop)
+        fprintf(stderr, "fly: the run logged to %s\n", o->log);
     sim_pilot_auto_result(p, &r);
     /* the task's result: --task-result PREFIX, else beside --csv (OUT_task.csv, .json) */
     char res[2][1100], pre[1024] = "";
@@ -696,6 +864,7 @@ write_fail:
     core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", o->csv);
 out:
     traj_close(&csv);
+    sim_loop_destroy(loop);
     sim_pilot_auto_destroy(p);
     return rc;
 }
@@ -779,12 +948,95 @@ out:
     return rc;
 }
 
+/* --render DIR: the live renderer and its scene (app/scene.c: the run's
+ * ship and aircraft loaded again, so that a reset or a load, which frees
+ * the world's, leaves it standing, and a seaway of its own built as the
+ * flight's is, so that the render thread never touches the flight's
+ * motion). A load of another scenario keeps the first one's scene. */
+typedef struct fly_render {
+    render_live *live;
+    app_scene scene;
+    int open;
+    const char *dir;
+} fly_render;
+
+/* llvmpipe's rasteriser threads: one fewer than the cores, so that the
+ * loop keeps one (LP_NUM_THREADS, read when the process's first GL context
+ * is made; a value the user set is kept). Called before any thread starts. */
+static void fly_render_threads(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    char v[24];
+    snprintf(v, sizeof v, "%ld", n > 2 ? n - 1 : 1);
+    setenv("LP_NUM_THREADS", v, 0);
+}
+
+static int fly_render_open(fly_render *r, const fly_args *o, const fly_world *w, const core_log *log, core_err *err)
+{
+    memset(r, 0, sizeof *r);
+    if (!o->render_dir)
+        return 0;
+    r->dir = o->render_dir;
+    if (app_scene_open(&r->scene, &w->info, RENDER_OVERLAY_HUD, log, err) != 0)
+        return -1;
+    r->open = 1;
+    render_live_opts lo;
+    render_live_opts_default(&lo);
+    lo.dir = o->render_dir;
+    lo.width = o->render_w;
+    lo.height = o->render_h;
+    lo.rate_hz = o->render_rate_hz;
+    lo.cameras = o->render_cameras;
+    lo.png = !o->render_video;
+    lo.video = o->render_video;
+    if (!(r->live = render_live_create(&r->scene.scene, &lo, err)))
+        return -1;
+    return 0;
+}
+
+/* A step's outputs, copied to the renderer (the flight is the same without). */
+static void fly_render_offer(fly_render *r, const sim_flight_out *o)
+{
+    if (!r->live)
+        return;
+    render_state s;
+    app_render_state_from_flight(&r->scene, o, &s);
+    render_live_offer(r->live, &s);
+}
+
+/* The end: the thread stopped, its videos finished, one line said (the
+ * loop's step p99 beside the frames' times; lr NULL: nothing said). 0, or
+ * < 0 with err. */
+static int fly_render_close(fly_render *r, const sim_loop_report *lr, core_err *err)
+{
+    int rc = 0;
+    if (r->live) {
+        render_live_report rr;
+        rc = render_live_destroy(r->live, &rr, err);
+        r->live = NULL;
+        if (lr)
+            fprintf(stderr, "fly: rendered %ld frames into %s (%ld of %ld states not drawn): frame p50 %.1f ms p99 "
+                            "%.1f ms; the loop's step p99 %.0f us\n",
+                    rr.frames, r->dir, rr.dropped, rr.offered, 1e3 * rr.render_p50_s,
+                    1e3 * rr.render_p99_s, 1e6 * lr->pace.step_p99_s);
+        if (lr && rc == 0 && lr->pace.realtime_factor > 1.5)
+            fprintf(stderr, "fly: the loop ran %.0fx real time and the renderer drew the states it could: disim render "
+                            "draws every frame of a --log\n", lr->pace.realtime_factor);
+    }
+    if (r->open)
+        app_scene_close(&r->scene);
+    r->open = 0;
+    return rc;
+}
+
 int cmd_fly(int argc, char **argv)
 {
     fly_args o;
     int rc = fly_parse(argc, argv, &o);
     if (rc)
         return rc;
+    if (o.render_dir)
+        fly_render_threads(); /* before any thread or GL context */
     core_err err = {{0}};
     int tty = isatty(2);
     app_log al = {"fly", tty};
@@ -793,6 +1045,8 @@ int cmd_fly(int argc, char **argv)
     sim_loop *loop = NULL;
     traj_csv csv;
     memset(&csv, 0, sizeof csv);
+    fly_render fr; /* --render: the live renderer */
+    memset(&fr, 0, sizeof fr);
     rc = 1;
     sim_replay_log *replay_ref = NULL; /* --pilot replay: read first, the flight starts where it does */
     if (o.replay_log) {
@@ -838,6 +1092,8 @@ int cmd_fly(int argc, char **argv)
     sim_loop_world lw;
     loop_world(&ctx.w, &lw);
     /* before the loop's clock starts: locking the memory takes a while */
+    if (fly_render_open(&fr, &o, &ctx.w, &log, &err) != 0)
+        goto fail;
     if (o.realtime) { /* what the system grants a real-time loop, said either way */
         char rt[256];
         sim_pacer_os_realtime(50, rt, sizeof rt);
@@ -870,6 +1126,7 @@ int cmd_fly(int argc, char **argv)
     sim_flight_state(ctx.w.fl, &out);
     if (traj_row(&csv, &out) != 0)
         goto write_fail;
+    fly_render_offer(&fr, &out); /* frame 0 at t = 0 */
     long n_stepped = 0;
     char ended[256] = ""; /* what ended the flight: a crash, a roll-over ("" none) */
     while (!fly_stop) {
@@ -880,6 +1137,7 @@ int cmd_fly(int argc, char **argv)
             break;
         if (r == SIM_LOOP_CRASHED) { /* its last state into the trajectory; the log finished as at the end */
             n_stepped++;
+            fly_render_offer(&fr, &out);
             snprintf(ended, sizeof ended, "%.250s", err.msg);
             if (traj_row(&csv, &out) != 0)
                 goto write_fail;
@@ -888,6 +1146,7 @@ int cmd_fly(int argc, char **argv)
         if (r != SIM_LOOP_STEPPED)
             continue;
         n_stepped++;
+        fly_render_offer(&fr, &out); /* a copy: the flight is the same without it */
         if (out.step % csv_every == 0 && traj_row(&csv, &out) != 0)
             goto write_fail;
         fly_world *w = &ctx.w; /* the running world (a load may have replaced it) */
@@ -945,12 +1204,17 @@ int cmd_fly(int argc, char **argv)
         fprintf(stderr, "disim fly: the flight ended: %s\n", ended);
         rc = 3;
     }
+    if (fly_render_close(&fr, &lr, &err) != 0) { /* after the flight's own outputs */
+        fprintf(stderr, "disim fly: %s\n", err.msg);
+        rc = rc ? rc : 1;
+    }
     goto done;
 write_fail:
     core_err_set(&err, -1, "%s: cannot write the trajectory (nothing written)", o.csv);
 fail:
     fprintf(stderr, "%sdisim fly: %s\n", tty ? "\r\033[K" : "", err.msg);
 done:
+    fly_render_close(&fr, NULL, &err);
     traj_close(&csv);
     sim_loop_destroy(loop);
     world_free(&ctx.w);

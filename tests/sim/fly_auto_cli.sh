@@ -5,8 +5,9 @@
 # within 1 m of the target; the landing task in sea state 4 touches down
 # within its desired tolerances; the port-side deck landing starts
 # alongside, lands within 1 m below 2 m/s and writes its result (CSV,
-# JSON) beside the trajectory or at --task-result; bad flags and a bad
-# task file are refused, naming what, with nothing written.
+# JSON) beside the trajectory or at --task-result, and with --log logs
+# the run without changing it; bad flags and a bad task file are
+# refused, naming what, with nothing written.
 # Usage: fly_auto_cli.sh DISIM SOURCE_DIR
 set -u
 disim=$1 src=$2
@@ -42,17 +43,28 @@ awk -F, 'NR == 1 {for (i = 1; i <= NF; i++) c[$i] = i} NR == 2 {s = $c["sink_mps
     || { bad "the result CSV: not down within 1 m below 2 m/s"; cat "$tmp/port_task.csv"; }
 grep -q '"sink_mps": ' "$tmp/port_task.json" && grep -q '"name": "traverse"' "$tmp/port_task.json" && ok \
     || bad "the result JSON lacks the sink rate or the traverse phase"
+# --log: the same landing logged through the loop (the pilot a station "auto"): the trajectory is the
+# one flown without the log, byte for byte, and the log holds its run_info_t and its states
+"$disim" fly "$src/scenarios/cg47_uh60a.ini" --wod-speed-kt 25 --wod-dir-deg 0 --db "$tmp/db" --sea-state 4 \
+    --pilot auto --task "$src/scenarios/tasks/land_port.ini" --csv "$tmp/portlog.csv" --log "$tmp/port.lcm" \
+    2> "$tmp/portlog.log" && grep -q "the run logged to $tmp/port.lcm" "$tmp/portlog.log" && ok \
+    || { bad "the logged landing failed"; cat "$tmp/portlog.log"; }
+cmp -s "$tmp/port.csv" "$tmp/portlog.csv" && ok || bad "--log changed the automated pilot's trajectory"
+grep -q DISIM_RUN_INFO "$tmp/port.lcm" && grep -q DISIM_HELI_STATE "$tmp/port.lcm" && ok \
+    || bad "the log lacks run_info_t or heli_state_t"
 ls "$tmp"/*.tmp* > /dev/null 2>&1 && bad "a temporary file was left" || ok
 "$disim" fly $args --pilot auto --task "$tmp/task.ini" --duration 2 --task-result "$tmp/named" 2> /dev/null \
     && [ -f "$tmp/named.csv" ] && [ -f "$tmp/named.json" ] && ok || bad "--task-result PREFIX wrote no PREFIX.csv, .json"
 "$disim" fly $args --task-result "$tmp/x" 2> "$tmp/e5.log" && bad "--task-result without --pilot auto accepted" \
     || { grep -q "task-result: expected --pilot auto" "$tmp/e5.log" && ok || bad "--task-result: no reason"; }
-# refused: another pilot, no task, LCM, a bad task file (its line named)
+# refused: another pilot, no task, LCM, a bad task file (its line named), --log with the replay pilot
 "$disim" fly $args --pilot replay --task "$tmp/task.ini" 2> "$tmp/e1.log" && bad "--pilot replay accepted" \
     || { grep -q "expected --pilot auto with --task FILE" "$tmp/e1.log" && ok || bad "--pilot replay: no reason"; }
 "$disim" fly $args --pilot auto 2> /dev/null && bad "--pilot auto without --task accepted" || ok
 "$disim" fly $args --pilot auto --task "$tmp/task.ini" --lcm memq:// 2> "$tmp/e3.log" && bad "--lcm accepted" \
     || { grep -q "flies headless" "$tmp/e3.log" && ok || bad "--lcm: no reason"; }
+"$disim" fly $args --pilot replay "$tmp/port.lcm" --log "$tmp/r.lcm" 2> "$tmp/e6.log" && bad "replay --log accepted" \
+    || { grep -q "and --log do not apply" "$tmp/e6.log" && ok || bad "replay --log: no reason"; }
 sed 's/^duration_s = .*/duration_s = -5/' "$tmp/task.ini" > "$tmp/bad.ini"
 "$disim" fly $args --pilot auto --task "$tmp/bad.ini" --csv "$tmp/bad.csv" 2> "$tmp/e4.log" && bad "a bad task accepted" \
     || { grep -q "bad.ini:[0-9]*: \[task\] duration_s" "$tmp/e4.log" && ok || { bad "bad task: no file:line"; cat "$tmp/e4.log"; }; }
