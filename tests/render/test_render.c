@@ -47,6 +47,8 @@ static int is_orange(const uint8_t *p) { return p[0] > 200 && p[1] > 100 && p[1]
 /* ------------------------------------------------------------ sea */
 typedef struct sea_user {
     int calls, n;
+    int mode;                     /* 0 the sinusoid, 1 refuse (< 0: a flat sea), 2 a NaN */
+    double x0, x1, y0, y1;        /* the points' extent in the last call */
 } sea_user;
 
 #define SEA_AMP_M 0.8
@@ -60,9 +62,14 @@ static int sea_fn(void *user, double t_s, int n, const double *x, const double *
     sea_user *u = user;
     u->calls++;
     u->n = n;
-    for (int i = 0; i < n; i++)
-        eta[i] = sea_eta(t_s, x[i], y[i]);
-    return 0;
+    u->x0 = u->y0 = INFINITY;
+    u->x1 = u->y1 = -INFINITY;
+    for (int i = 0; i < n; i++) {
+        eta[i] = u->mode == 2 && i == n / 2 ? NAN : sea_eta(t_s, x[i], y[i]);
+        u->x0 = fmin(u->x0, x[i]), u->x1 = fmax(u->x1, x[i]);
+        u->y0 = fmin(u->y0, y[i]), u->y1 = fmax(u->y1, y[i]);
+    }
+    return u->mode == 1 ? -1 : 0;
 }
 
 /* ------------------------------------------------------------ state */
@@ -393,6 +400,52 @@ static void test_cameras(const render_scene *sc, sea_user *su, const char *dump_
     render_destroy(rg);
 }
 
+/* The sea grid about the ship in E (the points span at least 300 m either
+ * side of it); its waves shade the sea (a flat sea, the function refusing,
+ * changes many pixels of the chase view, all of them sea); a NaN
+ * elevation is an error. */
+static void test_sea(const render_scene *sc, sea_user *su)
+{
+    core_err err = {{0}};
+    const int w = 160, h = 120;
+    render_ctx *rc = render_create(w, h, &err);
+    uint8_t *a = malloc((size_t)4 * w * h), *b = malloc((size_t)4 * w * h);
+    render_state s;
+    make_state(&s);
+    /* 2.5 km from E's origin: the grid must follow the ship. */
+    s.ship.pos_E_m.x += 2000.0, s.ship.pos_E_m.y += 1500.0;
+    s.heli.pos_E_m.x += 2000.0, s.heli.pos_E_m.y += 1500.0;
+    render_view v;
+    CHECK(rc && render_camera_place(RENDER_CAM_CHASE, sc, &s, &v, &err) == 0);
+    if (!rc) {
+        free(a), free(b);
+        return;
+    }
+    su->mode = 0;
+    CHECK(render_frame(rc, sc, &s, &v, a, &err) == 0);
+    printf("  sea grid x %.0f to %.0f m, y %.0f to %.0f m (E); the ship at (%.0f, %.0f)\n", su->x0, su->x1, su->y0,
+           su->y1, s.ship.pos_E_m.x, s.ship.pos_E_m.y);
+    CHECK(su->x0 < s.ship.pos_E_m.x - 300 && su->x1 > s.ship.pos_E_m.x + 300);
+    CHECK(su->y0 < s.ship.pos_E_m.y - 300 && su->y1 > s.ship.pos_E_m.y + 300);
+    su->mode = 1;
+    CHECK(render_frame(rc, sc, &s, &v, b, &err) == 0);
+    long diff = 0, diff_not_sea = 0;
+    for (long i = 0; i < (long)w * h; i++)
+        if (memcmp(a + 4 * i, b + 4 * i, 3) != 0) {
+            diff++;
+            diff_not_sea += !matches(b + 4 * i, RENDER_COLOUR_SEA, 0.3, 1.2, TOL, NULL);
+        }
+    printf("  waves vs a flat sea: %ld pixels differ (%.1f %%), %ld of them not sea in the flat one\n", diff,
+           100.0 * diff / (w * h), diff_not_sea);
+    CHECK(diff > w * h / 10);
+    CHECK(diff_not_sea < diff / 50);
+    su->mode = 2;
+    CHECK(render_frame(rc, sc, &s, &v, b, &err) < 0 && strstr(err.msg, "sea elevation") != NULL);
+    su->mode = 0;
+    free(a), free(b);
+    render_destroy(rc);
+}
+
 /* The main rotor's blades at the state's azimuth, turning as rotor_ccw
  * says: seen from overhead, blade 1 at azimuth 20 deg lies aft and to
  * starboard for a counter-clockwise rotor (from aft toward starboard), to
@@ -543,6 +596,15 @@ static void test_bad_views(const render_scene *sc)
     for (int i = 0; i < 3; i++)
         p[i] = v.eye_E_m[i] + 10.0 * v.fwd_E[i] + 30.0 * r_E[i];
     CHECK(render_project(&v, 64, 48, p, q, &d) == 1);
+    /* The horizon: the chase camera stays level (its right axis
+     * horizontal), the ship-fixed deck camera rolls with the ship (6 deg). */
+    render_view dv;
+    CHECK(render_camera_place(RENDER_CAM_DECK, sc, &s, &dv, &err) == 0);
+    double rc_z = v.fwd_E[0] * v.up_E[1] - v.fwd_E[1] * v.up_E[0];
+    double rd_z = dv.fwd_E[0] * dv.up_E[1] - dv.fwd_E[1] * dv.up_E[0];
+    printf("  right axis z_E: chase %.2g, deck %.3f (ship roll 6 deg)\n", rc_z, rd_z);
+    CHECK(fabs(rc_z) < 1e-12);
+    CHECK(fabs(rd_z) > sin(3.0 * CORE_DEG_TO_RAD));
     int w = 0, h = 0;
     render_size(rc, &w, &h);
     CHECK(w == 64 && h == 48);
@@ -685,9 +747,10 @@ int main(int argc, char **argv)
     }
     hfm_geometry geo;
     hfm_aircraft_geometry(ac, &geo);
-    sea_user su = {0, 0};
+    sea_user su = {0};
     render_scene sc = {.ship = &ship, .heli = &geo, .sea = sea_fn, .sea_user = &su};
     test_cameras(&sc, &su, dump, update);
+    test_sea(&sc, &su);
     test_rotors(&sc);
     test_bad_views(&sc);
     test_deck_view();
