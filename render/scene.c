@@ -321,8 +321,8 @@ static int draw_sea(const scn *d, core_err *err)
     double *x = buf, *y = buf + n, *eta = buf + 2 * n;
     for (int j = 0; j < SEA_N; j++)
         for (int i = 0; i < SEA_N; i++) {
-            x[j * SEA_N + i] = cx - half + dx * i;
-            y[j * SEA_N + i] = cy - half + dx * j;
+            x[j * SEA_N + i] = cx + (-half + dx * i);
+            y[j * SEA_N + i] = cy + (-half + dx * j);
         }
     int flat = 1;
     if (sc->sea) {
@@ -364,11 +364,13 @@ static int draw_sea(const scn *d, core_err *err)
         glEnd();
     }
     /* The flat far sea: square rings from the grid's edge outward, each
-     * 1.42 times the last, 16 segments a side: the haze is evaluated at
-     * the vertices, so one large quad with every corner kilometres away
-     * would come out haze from edge to edge. */
+     * 1.42 times the last: the haze is evaluated at the vertices, so one
+     * large quad with every corner kilometres away would come out haze
+     * from edge to edge. Each side has the grid's SEA_N - 1 segments, so
+     * the first ring meets the grid vertex to vertex (a T-junction there
+     * leaves pixel cracks that show the sky). */
     static const double ring_m[] = {0.5 * SEA_SIDE_M, 560, 800, 1150, 1650, 2400, 3400, 4900, SEA_FAR_M};
-    enum { NR = sizeof ring_m / sizeof ring_m[0], NSEG = 64 };
+    enum { NR = sizeof ring_m / sizeof ring_m[0], NSEG = 4 * (SEA_N - 1) };
     double up[3] = {0, 0, -1};
     render_gl_normal_E(up);
     for (int r = 0; r + 1 < NR; r++) {
@@ -376,13 +378,16 @@ static int draw_sea(const scn *d, core_err *err)
         for (int k = 0; k <= NSEG; k++) {
             /* perimeter parameter: 4 sides of NSEG / 4 segments */
             int side = (k / (NSEG / 4)) % 4;
-            double u = (double)(k % (NSEG / 4)) / (NSEG / 4) * 2.0 - 1.0;
+            int i = k % (NSEG / 4);
             if (k == NSEG)
-                side = 0, u = -1.0;
+                side = 0, i = 0;
             for (int j = 1; j >= 0; j--) {
-                double hr = ring_m[r + j], p[3];
-                double px_ = side == 0 ? u * hr : side == 1 ? hr : side == 2 ? -u * hr : -hr;
-                double py_ = side == 0 ? -hr : side == 1 ? u * hr : side == 2 ? hr : -u * hr;
+                /* As the grid's vertices: -hr + step i (exactly, on the
+                 * grid's edge). */
+                double hr = ring_m[r + j], st = 2.0 * hr / (SEA_N - 1), p[3];
+                double a = -hr + st * i, b = -hr + st * (SEA_N - 1 - i);
+                double px_ = side == 0 ? a : side == 1 ? hr : side == 2 ? b : -hr;
+                double py_ = side == 0 ? -hr : side == 1 ? a : side == 2 ? hr : b;
                 p[0] = cx + px_, p[1] = cy + py_, p[2] = z0;
                 render_gl_vertex_E(d->rc, p);
             }
