@@ -1,13 +1,13 @@
 /* view.c -- the off-screen context (OSMesa), PNG in and out, and the still
  * deck view of `disim render SCENARIO`.
  *
- * Determinism: llvmpipe splits the image into tiles rasterised by a pool of
- * threads; render_create fixes the pool's size (LP_NUM_THREADS, unless the
- * environment already sets it) before the first context exists, dithering
- * is off (render_frame), and every frame sets the whole GL state it uses,
- * so the same scene, state, view and size give the same bytes. (With this
- * Mesa the bytes do not depend on the thread count either: test_render's
- * goldens match to the byte with LP_NUM_THREADS 0, 1, 4 and 8.) */
+ * Determinism: dithering is off (render_frame) and every frame sets the
+ * whole GL state it uses, so the same scene, state, view and size give the
+ * same bytes. llvmpipe splits the image into tiles rasterised by a pool of
+ * threads (LP_NUM_THREADS, the application's to set: the library changes
+ * no environment); with this Mesa the bytes do not depend on the thread
+ * count: test_render's goldens match to the byte with LP_NUM_THREADS 0, 1,
+ * 4 and 8. */
 #include "render_priv.h"
 
 #include <cairo.h>
@@ -17,10 +17,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-
-/* llvmpipe's rasteriser threads: fixed, so a frame's bytes do not depend on
- * the machine (read when Mesa creates its screen, at the first context). */
-#define RENDER_LP_THREADS "2"
 
 render_ctx *render_create(int w, int h, core_err *err)
 {
@@ -37,8 +33,6 @@ render_ctx *render_create(int w, int h, core_err *err)
     rc->w = w;
     rc->h = h;
     rc->buf = malloc((size_t)4 * w * h);
-    if (!getenv("LP_NUM_THREADS"))
-        setenv("LP_NUM_THREADS", RENDER_LP_THREADS, 0);
     /* 24-bit depth, no stencil or accumulation buffers. */
     rc->gl = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);
     if (!rc->buf || !rc->gl) {
