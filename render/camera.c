@@ -17,7 +17,7 @@
  *   deck     the landing officer on the deck at its aft starboard corner,
  *            S (deck_x0_m + 2, deck_halfwidth_m - 1, -1.7), ship-fixed (up
  *            is S's -z: the horizon moves as the ship rolls), looking at
- *            the helicopter's CG (the spot without one); fov 50 deg;
+ *            the helicopter's CG (the spot without one); fov 70 deg (at 50 a rotor 8 m off filled it);
  *   chase    25 m behind and 8 m above the CG along the helicopter's
  *            heading (yaw only), looking at the CG, up = E's -z; fov 55 deg
  *            (without a helicopter: the spot and the ship's heading);
@@ -252,7 +252,7 @@ int render_camera_place(render_camera_kind kind, const render_scene *sc, const r
             fwd[i] = tgt[i] - eye[i];
         vec_to_E(&s->ship, u_S, up);
         vec_to_E(&s->ship, a_S, alt);
-        return view_from(v, eye, fwd, up, alt, 50.0, err);
+        return view_from(v, eye, fwd, up, alt, 70.0, err);
     }
     case RENDER_CAM_CHASE: {
         double psi;
