@@ -410,7 +410,8 @@ int render_live_destroy(render_live *l, render_live_report *r, core_err *err)
         r->frames = l->frames;
         r->offered = l->offered;
         r->dropped = l->dropped + l->dropped_rt;
-        qsort(l->times, (size_t)l->n_times, sizeof *l->times, cmpd);
+        if (l->n_times > 0)
+            qsort(l->times, (size_t)l->n_times, sizeof *l->times, cmpd);
         r->render_p50_s = quantile(l->times, l->n_times, 0.50);
         r->render_p99_s = quantile(l->times, l->n_times, 0.99);
     }
