@@ -4,8 +4,10 @@
  * over the spot, the HUD overlay; each camera at 640 x 480 and 1280 x 720,
  * then the same with H.264 encoding through render_video (when an ffmpeg
  * that encodes H.264 is on PATH; the encoder is its own process and runs
- * beside the renderer). Each case draws FRAMES frames of a moving run (1/30
- * s apart), after 3 not timed, median of REPEATS. Printed: frames/s of
+ * beside the renderer), and with each frame written as PNG (render_write_png,
+ * what disim fly --render does by default). Each case draws FRAMES frames
+ * of a moving run (1/30 s apart), after 3 not timed, median of REPEATS.
+ * Printed: frames/s of
  * wall time (what a viewer sees; llvmpipe draws with LP_NUM_THREADS
  * rasteriser threads, all cores by default), CPU ms per frame of this
  * process (all its threads: the rasteriser's work), and the ratio to the
@@ -61,10 +63,12 @@ static void state_at(const bench_run *b, double t_s, render_state *s)
 }
 
 /* Frames per second (wall) and CPU s per frame of one case, the medians of
- * REPEATS; -1 on failure. video: encode each frame through render_video
- * (the close, which waits for ffmpeg to finish, timed too). */
+ * REPEATS; -1 on failure. out: 0 the frame alone, OUT_VIDEO encode each
+ * frame through render_video (the close, which waits for ffmpeg to finish,
+ * timed too), OUT_PNG write each as PNG. */
+enum { OUT_NONE = 0, OUT_VIDEO = 1, OUT_PNG = 2 };
 static int bench_case(const bench_run *b, const render_scene *sc, render_ctx *rc, render_camera_kind cam, int w,
-                      int h, int frames, int video, const char *tmpdir, double *fps, double *cpu_s)
+                      int h, int frames, int out, const char *tmpdir, double *fps, double *cpu_s)
 {
     double f[REPEATS], c[REPEATS];
     uint8_t *rgba = malloc((size_t)4 * w * h);
@@ -75,20 +79,22 @@ static int bench_case(const bench_run *b, const render_scene *sc, render_ctx *rc
     for (int r = 0; r < REPEATS && !bad; r++) {
         render_video *v = NULL;
         char path[512];
-        snprintf(path, sizeof path, "%s/bench_%s_%dx%d.mp4", tmpdir, render_camera_name(cam), w, h);
+        snprintf(path, sizeof path, "%s/bench_%s_%dx%d.%s", tmpdir, render_camera_name(cam), w, h,
+                 out == OUT_VIDEO ? "mp4" : "png");
         double w0 = 0.0, c0 = 0.0;
         for (int i = -3; i < frames && !bad; i++) {
             if (i == 0) {
                 w0 = core_monotonic_s();
                 c0 = bench_cpu_s();
-                if (video && !(v = render_video_open(path, w, h, 30.0, &err)))
+                if (out == OUT_VIDEO && !(v = render_video_open(path, w, h, 30.0, &err)))
                     bad = 1;
             }
             render_state s;
             state_at(b, 20.0 + (r * (frames + 3) + i + 3) / 30.0, &s);
             render_view view;
             if (bad || render_camera_place(cam, sc, &s, &view, &err) != 0 ||
-                render_frame(rc, sc, &s, &view, rgba, &err) != 0 || (v && render_video_frame(v, rgba, &err) != 0))
+                render_frame(rc, sc, &s, &view, rgba, &err) != 0 || (v && render_video_frame(v, rgba, &err) != 0) ||
+                (out == OUT_PNG && i >= 0 && render_write_png(path, w, h, rgba, &err) != 0))
                 bad = 1;
         }
         if (v && render_video_close(v, &err) != 0)
@@ -169,8 +175,8 @@ int main(int argc, char **argv)
     const char *lp = getenv("LP_NUM_THREADS");
     printf("bench_render: %d frames, median of %d; %ld cores, LP_NUM_THREADS %s; ffmpeg H.264 %s\n", frames, REPEATS,
            sysconf(_SC_NPROCESSORS_ONLN), lp ? lp : "unset (llvmpipe: one per core)", video ? "yes" : "no (encoding not timed)");
-    printf("%-9s %-9s %9s %9s %9s %12s %9s %9s\n", "size", "camera", "frames/s", "cpu ms", "x target", "+H.264 f/s",
-           "cpu ms", "x target");
+    printf("%-9s %-9s %9s %9s %9s %12s %9s %9s %10s %9s\n", "size", "camera", "frames/s", "cpu ms", "x target",
+           "+H.264 f/s", "cpu ms", "x target", "+PNG f/s", "cpu ms");
     static const int sizes[2][2] = {{640, 480}, {1280, 720}};
     static const double target[2] = {60.0, 30.0};
     int rc = 0, split = getenv("BENCH_RENDER_SPLIT") != NULL;
@@ -187,20 +193,21 @@ int main(int argc, char **argv)
         for (int c = 0; c < RENDER_CAM_COUNT; c++) {
             if (only_cam >= 0 && c != only_cam)
                 continue;
-            double fps, cpu, vfps = 0.0, vcpu = 0.0;
-            if (bench_case(&b, &sc, ctx, (render_camera_kind)c, w, h, frames, 0, tmpdir, &fps, &cpu) != 0 ||
-                (video && bench_case(&b, &sc, ctx, (render_camera_kind)c, w, h, frames, 1, tmpdir, &vfps, &vcpu) != 0)) {
+            double fps, cpu, vfps = 0.0, vcpu = 0.0, pfps, pcpu;
+            render_camera_kind k = (render_camera_kind)c;
+            if (bench_case(&b, &sc, ctx, k, w, h, frames, OUT_NONE, tmpdir, &fps, &cpu) != 0 ||
+                (video && bench_case(&b, &sc, ctx, k, w, h, frames, OUT_VIDEO, tmpdir, &vfps, &vcpu) != 0) ||
+                bench_case(&b, &sc, ctx, k, w, h, frames, OUT_PNG, tmpdir, &pfps, &pcpu) != 0) {
                 rc = 1;
                 continue;
             }
-            char size[16];
+            char size[16], vf[3][16];
             snprintf(size, sizeof size, "%dx%d", w, h);
-            if (video)
-                printf("%-9s %-9s %9.1f %9.1f %9.2f %12.1f %9.1f %9.2f\n", size, render_camera_name((render_camera_kind)c),
-                       fps, 1e3 * cpu, fps / target[z], vfps, 1e3 * vcpu, vfps / target[z]);
-            else
-                printf("%-9s %-9s %9.1f %9.1f %9.2f %12s %9s %9s\n", size, render_camera_name((render_camera_kind)c), fps,
-                       1e3 * cpu, fps / target[z], "-", "-", "-");
+            snprintf(vf[0], sizeof vf[0], video ? "%.1f" : "-", vfps);
+            snprintf(vf[1], sizeof vf[1], video ? "%.1f" : "-", 1e3 * vcpu);
+            snprintf(vf[2], sizeof vf[2], video ? "%.2f" : "-", vfps / target[z]);
+            printf("%-9s %-9s %9.1f %9.1f %9.2f %12s %9s %9s %10.1f %9.1f\n", size, render_camera_name(k), fps,
+                   1e3 * cpu, fps / target[z], vf[0], vf[1], vf[2], pfps, 1e3 * pcpu);
             if (split) { /* where a frame's time goes: without the HUD, then without the sea too */
                 render_scene s2 = sc;
                 s2.overlays = 0;
