@@ -997,8 +997,8 @@ static int fly_render_open(fly_render *r, const fly_args *o, const fly_world *w,
 /* A step's outputs, copied to the renderer (the flight is the same without). */
 static void fly_render_offer(fly_render *r, const sim_flight_out *o)
 {
-    if (!r->live)
-        return;
+    if (!r->live || !render_live_due(r->live, o->t_s))
+        return; /* not due: not built (the seaway's sum, a few us) */
     render_state s;
     app_render_state_from_flight(&r->scene, o, &s);
     render_live_offer(r->live, &s);

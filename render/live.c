@@ -341,26 +341,41 @@ render_live *render_live_create(const render_scene *sc, const render_live_opts *
     return l;
 }
 
+/* The frame clock at t_s (finite): 1 when a state at t_s is due. Asking
+ * twice for the same t_s gives the same answer. */
+static int live_is_due(render_live *l, double t_s)
+{
+    double rate = l->o.rate_hz;
+    if (!l->clock_set || t_s < l->last_t_s - LIVE_EPS / rate) {
+        /* the first state, or the time went back (a reset): frames from here */
+        l->k_next = (long)ceil(t_s * rate - LIVE_EPS);
+        l->clock_set = 1;
+    }
+    l->last_t_s = t_s;
+    return t_s * rate >= (double)l->k_next - LIVE_EPS;
+}
+
+int render_live_due(render_live *l, double t_s)
+{
+    if (!l)
+        return 0;
+    if (isfinite(t_s) && live_is_due(l, t_s))
+        return 1;
+    l->offered++; /* counted as render_live_offer would count it */
+    l->dropped++;
+    return 0;
+}
+
 void render_live_offer(render_live *l, const render_state *s)
 {
     if (!l || !s)
         return;
     l->offered++;
-    if (!isfinite(s->t_s)) {
-        l->dropped++;
-        return;
-    }
-    double rate = l->o.rate_hz;
-    if (!l->clock_set || s->t_s < l->last_t_s - LIVE_EPS / rate) {
-        /* the first state, or the time went back (a reset): frames from here */
-        l->k_next = (long)ceil(s->t_s * rate - LIVE_EPS);
-        l->clock_set = 1;
-    }
-    l->last_t_s = s->t_s;
-    if (s->t_s * rate < (double)l->k_next - LIVE_EPS) {
+    if (!isfinite(s->t_s) || !live_is_due(l, s->t_s)) {
         l->dropped++; /* not due */
         return;
     }
+    double rate = l->o.rate_hz;
     if (pthread_mutex_trylock(&l->mu) != 0) {
         l->dropped++; /* the renderer is taking the slot: the next state takes this frame */
         return;

@@ -209,6 +209,11 @@ render_live *render_live_create(const render_scene *sc, const render_live_opts *
 /* From the loop: the newest state (copied). Never blocks on the renderer
  * (a try-lock: a state offered while the renderer copies is dropped). */
 void render_live_offer(render_live *l, const render_state *s);
+/* Whether a state at simulation time t_s is due (a frame's time reached):
+ * 1, build it and offer it; 0, it is not (counted as offered and dropped,
+ * as render_live_offer would count it), so the loop need not build it.
+ * Optional: offering every state gives the same frames. */
+int render_live_due(render_live *l, double t_s);
 typedef struct render_live_report {
     long frames;               /* frames rendered (all cameras) */
     long offered, dropped;     /* states offered, and those skipped (not due or busy) */
