@@ -45,9 +45,16 @@ int app_scene_open(app_scene *s, const sim_run_info *ri, unsigned overlays, cons
         app_scene_close(s);
         return -1;
     }
-    snprintf(s->title, sizeof s->title, "%s: %s + %s, WOD %.0f kt from %.0f deg, sea state %d", ri->scenario,
-             s->ship.name, hfm_aircraft_name(s->ac), ri->wod_speed_mps / CORE_KT_TO_MPS,
-             ri->wod_dir_rad * CORE_RAD_TO_DEG, ri->sea.state);
+    /* the WOD as a flight deck says it: red (port) or green (starboard) */
+    double dir_deg = ri->wod_dir_rad * CORE_RAD_TO_DEG;
+    char wod[48];
+    if (fabs(dir_deg) < 0.5)
+        snprintf(wod, sizeof wod, "%.0f kt ahead", ri->wod_speed_mps / CORE_KT_TO_MPS);
+    else
+        snprintf(wod, sizeof wod, "%.0f kt %s %.0f", ri->wod_speed_mps / CORE_KT_TO_MPS, dir_deg < 0 ? "red" : "green",
+                 fabs(dir_deg));
+    snprintf(s->title, sizeof s->title, "%s + %s, %s, sea state %d", s->ship.name, hfm_aircraft_name(s->ac), wod,
+             ri->sea.state);
     render_scene *sc = &s->scene;
     sc->ship = &s->ship;
     sc->heli = &s->geom;
