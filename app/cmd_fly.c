@@ -61,6 +61,7 @@ typedef struct fly_args {
     const char *pilot, *task; /* --pilot auto --task FILE: the automated pilot flies */
     const char *task_result;  /* --task-result PREFIX: PREFIX.csv and PREFIX.json (sim_task_result_write) */
     int duration_set;
+    int realtime_set; /* --realtime given (the automated pilot flies as fast as it can without) */
     int gear, start_deck;     /* the aircraft's [gear] on the deck (--no-gear: 0); --start deck */
     int hold_set;             /* --hold-after-s given */
     /* the scenario's [pilot] and [task] where no flag says (fly_scenario_pilot) */
@@ -205,7 +206,7 @@ static int fly_parse(int argc, char **argv, fly_args *o)
         if (!strcmp(a, "--fast"))
             o->realtime = 0;
         else if (!strcmp(a, "--realtime"))
-            o->realtime = 1;
+            o->realtime = 1, o->realtime_set = 1;
         else if (!strcmp(a, "--duration") && more) {
             if (app_parse_double(P, a, argv[++i], 0.0, 1e6, &o->duration_s))
                 return 1;
@@ -311,12 +312,17 @@ static int fly_parse(int argc, char **argv, fly_args *o)
         fprintf(stderr, "disim fly: --task-result: expected --pilot auto with --task FILE\n");
         return 1;
     }
-    if (o->pilot && (o->lcm == 1 || o->replay || o->stations || (o->log && strcmp(o->pilot, "auto")))) {
-        fprintf(stderr, "disim fly: --pilot %s flies headless: --lcm, --replay-inputs and --stations%s do not "
-                        "apply\n", o->pilot, strcmp(o->pilot, "auto") ? " and --log" : "");
+    int is_auto = o->pilot && !strcmp(o->pilot, "auto");
+    if (o->pilot && (o->replay || o->stations || (!is_auto && (o->lcm == 1 || o->log || o->realtime_set)))) {
+        if (is_auto)
+            fprintf(stderr, "disim fly: --pilot auto: --replay-inputs and --stations do not apply (the automated "
+                            "pilot flies)\n");
+        else
+            fprintf(stderr, "disim fly: --pilot %s flies headless: --lcm, --log, --realtime, --replay-inputs and "
+                            "--stations do not apply\n", o->pilot);
         return 1;
     }
-    if (o->pilot)
+    if (o->pilot && !o->realtime_set) /* as fast as it can, unless --realtime */
         o->realtime = 0;
     if (o->render_flag && !o->render_dir) {
         fprintf(stderr, "disim fly: --render-rate, --render-size, --render-cameras and --render-video need --render DIR\n");
@@ -703,11 +709,11 @@ static int loop_build(void *user, const char *path, sim_loop_world *lw, core_err
     return 0;
 }
 
-/* --pilot auto --log: the loop in lockstep, in-process (memq://), the
- * automated pilot a station ("auto") whose every input is taken at the
- * step it was given: the log holds the run as a station's flight would
- * (the run information, the states, the pilot's inputs, the status), and
- * the trajectory is the one flown without the log, step for step. */
+/* --pilot auto with --log, --lcm or --realtime: the loop flies, the
+ * automated pilot its pilot source (sim_loop_set_inputs, station "auto"):
+ * the log and LCM carry the run as a station's flight (the run
+ * information, the states, the pilot's inputs, the status), and the
+ * trajectory is the one flown straight, step for step. */
 #define AUTO_STATION "auto"
 static sim_loop *auto_loop(fly_ctx *c, double T, core_err *err)
 {
@@ -715,15 +721,14 @@ static sim_loop *auto_loop(fly_ctx *c, double T, core_err *err)
     sim_loop_opts lo;
     sim_loop_opts_default(&lo);
     lo.rate_hz = o->rate_hz;
-    lo.realtime = 0;
+    lo.realtime = o->realtime;
     lo.duration_s = T + 2.0 / o->rate_hz;
     lo.state_rate_hz = o->state_rate_hz;
-    lo.lcm = 1;
-    lo.lcm_url = "memq://";
+    lo.lcm = o->lcm == 1;
+    lo.lcm_url = o->lcm_url;
     lo.log_path = o->log;
     lo.scenario_path = o->scen;
-    if (sim_pilots_opts_parse(&lo.pilots, AUTO_STATION, err) != 0)
-        return NULL;
+    lo.pilot_source_id = AUTO_STATION;
     sim_loop_world lw;
     loop_world(&c->w, &lw);
     return sim_loop_create(&lo, &lw, loop_build, c, c->log, err);
@@ -734,19 +739,10 @@ static sim_loop *auto_loop(fly_ctx *c, double T, core_err *err)
 static int auto_step(fly_world *w, sim_loop *l, long k, const sim_flight_inputs *in, sim_flight_out *out,
                      core_err *err)
 {
+    (void)k;
     if (!l)
         return sim_flight_step(w->fl, in, out, err);
-    disim_pilot_input_t m;
-    memset(&m, 0, sizeof m);
-    m.utime = (int64_t)llround(out->t_s * 1e6);
-    m.station_id = AUTO_STATION;
-    m.seq = k;
-    m.collective_pct = in->collective_pct;
-    m.long_cyclic_pct = in->long_pct;
-    m.lat_cyclic_pct = in->lat_pct;
-    m.pedal_pct = in->pedal_pct;
-    if (disim_pilot_input_t_publish(sim_loop_lcm(l), DISIM_CH_PILOT_INPUT, &m) != 0)
-        return core_err_set(err, -1, "fly: cannot hand the automated pilot's input to the loop");
+    sim_loop_set_inputs(l, in);
     int r = sim_loop_iterate(l, out, err);
     if (r == SIM_LOOP_STEPPED)
         return 0;
@@ -791,7 +787,7 @@ static int fly_auto(fly_ctx *c, core_err *err)
     if (traj_open(&csv, o->csv, err) != 0)
         goto out;
     double T = o->duration_set ? o->duration_s : sim_task_length_s(&task);
-    if (o->log && !(loop = auto_loop(c, T, err)))
+    if ((o->log || o->lcm == 1 || o->realtime) && !(loop = auto_loop(c, T, err)))
         goto out;
     long n = (long)llround(T * o->rate_hz), csv_every = (long)fmax(1.0, llround(o->rate_hz / o->csv_rate_hz));
     long poll_every = (long)llround(o->rate_hz);

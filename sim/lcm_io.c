@@ -284,7 +284,9 @@ struct sim_loop {
     int last_active, last_paused, dirty;
     ctl q[LOOP_CTL_MAX];
     int nq;
-    long long seq_heli, seq_ship, seq_status, seq_info;
+    long long seq_heli, seq_ship, seq_status, seq_info, seq_source;
+    char source_id[SIM_STATION_ID_MAX]; /* opts.pilot_source_id ("" the stations fly) */
+    sim_flight_inputs source_in;        /* its inputs of the next step */
     long long sent, received, logged, control_refused;
     char message[256];
     double status_wall_s;
@@ -551,6 +553,23 @@ static void publish_run_info(sim_loop *l)
     SEND(l, run_info_t, DISIM_CH_RUN_INFO, &m);
 }
 
+/* The caller's pilot's inputs of this step, as a station's message. */
+static void publish_source(sim_loop *l)
+{
+    disim_pilot_input_t m;
+    memset(&m, 0, sizeof m);
+    m.utime = (int64_t)llround(l->out.t_s * 1e6);
+    m.station_id = l->source_id;
+    m.seq = l->seq_source++;
+    m.collective_pct = l->source_in.collective_pct;
+    m.long_cyclic_pct = l->source_in.long_pct;
+    m.lat_cyclic_pct = l->source_in.lat_pct;
+    m.pedal_pct = l->source_in.pedal_pct;
+    SEND(l, pilot_input_t, DISIM_CH_PILOT_INPUT, &m);
+}
+
+void sim_loop_set_inputs(sim_loop *l, const sim_flight_inputs *in) { l->source_in = *in; }
+
 static void publish_status(sim_loop *l, int state)
 {
     sim_loop_report r;
@@ -667,6 +686,17 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
     l->last_active = -1;
     snprintf(l->scenario_path, sizeof l->scenario_path, "%s", o->scenario_path);
     l->o.scenario_path = l->scenario_path;
+    if (o->pilot_source_id) {
+        core_err e = {{0}};
+        if (sim_station_id_check(o->pilot_source_id, &e) != 0) {
+            core_err_set(err, -1, "flight loop: pilot_source_id: %s", e.msg);
+            free(l);
+            return NULL;
+        }
+        snprintf(l->source_id, sizeof l->source_id, "%s", o->pilot_source_id);
+        l->o.pilot_source_id = l->source_id;
+        sim_flight_trim_inputs(w->flight, &l->source_in); /* until the pilot says */
+    }
     l->nsteps = llround(o->duration_s * o->rate_hz);
     l->state_every = llround(o->rate_hz / o->state_rate_hz);
     if (l->state_every < 1)
@@ -700,9 +730,11 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
         /* replaying, the log's inputs fly: live stations and controls are
          * not listened to */
         if (!l->replay) {
-            l->sub_pilot = lcm_subscribe(l->lc, DISIM_CH_PILOT_INPUT, on_raw, l);
+            /* a pilot of the caller's flies: stations are not listened to */
+            if (!o->pilot_source_id)
+                l->sub_pilot = lcm_subscribe(l->lc, DISIM_CH_PILOT_INPUT, on_raw, l);
             l->sub_ctl = lcm_subscribe(l->lc, DISIM_CH_SIM_CONTROL, on_raw, l);
-            if (!l->sub_pilot || !l->sub_ctl) {
+            if ((!o->pilot_source_id && !l->sub_pilot) || !l->sub_ctl) {
                 core_err_set(err, -1, "LCM: cannot subscribe");
                 goto fail;
             }
@@ -793,7 +825,13 @@ int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
     int rc = SIM_LOOP_PAUSED;
     if (!l->paused) {
         sim_flight_inputs in;
-        l->held = sim_pilots_inputs(l->pilots, run_t(l), &in);
+        if (l->source_id[0]) { /* the caller's pilot, said as a station's message */
+            in = l->source_in;
+            l->held = 0;
+            if (l->lc || l->elog)
+                publish_source(l);
+        } else
+            l->held = sim_pilots_inputs(l->pilots, run_t(l), &in);
         int frc = sim_flight_step(l->w.flight, &in, &l->out, err);
         if (frc < 0)
             return -1;

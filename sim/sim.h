@@ -751,6 +751,12 @@ typedef struct sim_loop_opts {
     const char *replay_path; /* NULL; else the pilot inputs and controls of this log, not LCM's */
     const char *scenario_path;
     sim_pilots_opts pilots;
+    /* NULL: the stations fly. Else a pilot in the caller's thread flies
+     * (the automated pilot of disim fly --pilot auto): its inputs, given
+     * by sim_loop_set_inputs before each step, go out on LCM and into the
+     * log as pilot_input_t of this station id at the step they fly, as a
+     * station's would, and live pilot inputs are not listened to. */
+    const char *pilot_source_id;
 } sim_loop_opts;
 void sim_loop_opts_default(sim_loop_opts *o);
 /* A loop flying w (built by the caller from o->scenario_path). NULL with
@@ -768,6 +774,9 @@ enum { SIM_LOOP_STEPPED = 0, SIM_LOOP_PAUSED = 1, SIM_LOOP_DONE = 2, SIM_LOOP_CR
  * end), or < 0 with err (the integrator, a log write, a publish that
  * failed). */
 int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err);
+/* With opts.pilot_source_id: the inputs of the next step (kept for the
+ * steps after until set again). */
+void sim_loop_set_inputs(sim_loop *l, const sim_flight_inputs *in);
 /* The end: a last status (STOPPED), the log flushed, synced and renamed.
  * 0, or < 0 with err (the log is then removed). */
 int sim_loop_finish(sim_loop *l, core_err *err);

@@ -52,19 +52,27 @@ grep -q '"sink_mps": ' "$tmp/port_task.json" && grep -q '"name": "traverse"' "$t
 cmp -s "$tmp/port.csv" "$tmp/portlog.csv" && ok || bad "--log changed the automated pilot's trajectory"
 grep -q DISIM_RUN_INFO "$tmp/port.lcm" && grep -q DISIM_HELI_STATE "$tmp/port.lcm" && ok \
     || bad "the log lacks run_info_t or heli_state_t"
+# --realtime with LCM (in-process memq://): paced, the pilot's inputs published and logged once a step
+# (200 in 1 s at 200 Hz: not listened back to), the same trajectory as --fast
+"$disim" fly $args --pilot auto --task "$tmp/task.ini" --duration 1 --realtime --lcm memq:// --log "$tmp/rt.lcm" \
+    --csv "$tmp/rt.csv" 2> "$tmp/rt.log" && ok || { bad "--realtime --lcm failed"; cat "$tmp/rt.log"; }
+[ "$(grep -a -o DISIM_PILOT_INPUT "$tmp/rt.lcm" | wc -l)" -eq 200 ] && ok \
+    || bad "expected 200 pilot inputs in the real-time log, got $(grep -a -o DISIM_PILOT_INPUT "$tmp/rt.lcm" | wc -l)"
+"$disim" fly $args --pilot auto --task "$tmp/task.ini" --duration 1 --csv "$tmp/fast.csv" 2> /dev/null
+cmp -s "$tmp/rt.csv" "$tmp/fast.csv" && ok || bad "--realtime flew another trajectory than --fast"
 ls "$tmp"/*.tmp* > /dev/null 2>&1 && bad "a temporary file was left" || ok
 "$disim" fly $args --pilot auto --task "$tmp/task.ini" --duration 2 --task-result "$tmp/named" 2> /dev/null \
     && [ -f "$tmp/named.csv" ] && [ -f "$tmp/named.json" ] && ok || bad "--task-result PREFIX wrote no PREFIX.csv, .json"
 "$disim" fly $args --task-result "$tmp/x" 2> "$tmp/e5.log" && bad "--task-result without --pilot auto accepted" \
     || { grep -q "task-result: expected --pilot auto" "$tmp/e5.log" && ok || bad "--task-result: no reason"; }
-# refused: another pilot, no task, LCM, a bad task file (its line named), --log with the replay pilot
+# refused: another pilot, no task, stations, a bad task file (its line named), --log with the replay pilot
 "$disim" fly $args --pilot replay --task "$tmp/task.ini" 2> "$tmp/e1.log" && bad "--pilot replay accepted" \
     || { grep -q "expected --pilot auto with --task FILE" "$tmp/e1.log" && ok || bad "--pilot replay: no reason"; }
 "$disim" fly $args --pilot auto 2> /dev/null && bad "--pilot auto without --task accepted" || ok
-"$disim" fly $args --pilot auto --task "$tmp/task.ini" --lcm memq:// 2> "$tmp/e3.log" && bad "--lcm accepted" \
-    || { grep -q "flies headless" "$tmp/e3.log" && ok || bad "--lcm: no reason"; }
+"$disim" fly $args --pilot auto --task "$tmp/task.ini" --stations a,b 2> "$tmp/e3.log" && bad "--stations accepted" \
+    || { grep -q "stations do not apply (the automated pilot flies)" "$tmp/e3.log" && ok || bad "--stations: no reason"; }
 "$disim" fly $args --pilot replay "$tmp/port.lcm" --log "$tmp/r.lcm" 2> "$tmp/e6.log" && bad "replay --log accepted" \
-    || { grep -q "and --log do not apply" "$tmp/e6.log" && ok || bad "replay --log: no reason"; }
+    || { grep -q "replay flies headless" "$tmp/e6.log" && ok || bad "replay --log: no reason"; }
 sed 's/^duration_s = .*/duration_s = -5/' "$tmp/task.ini" > "$tmp/bad.ini"
 "$disim" fly $args --pilot auto --task "$tmp/bad.ini" --csv "$tmp/bad.csv" 2> "$tmp/e4.log" && bad "a bad task accepted" \
     || { grep -q "bad.ini:[0-9]*: \[task\] duration_s" "$tmp/e4.log" && ok || { bad "bad task: no file:line"; cat "$tmp/e4.log"; }; }
