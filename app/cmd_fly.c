@@ -44,7 +44,7 @@ static void usage_fly(void)
     fprintf(stderr, "usage: disim fly SCENARIO [--realtime | --fast] [--duration S] [--rate-hz N]\n"
                     "                  [--wod-speed-kt V] [--wod-dir-deg D] [--field F.h5 | --db DIR]\n"
                     "                  [--csv OUT.csv] [--csv-rate-hz N] [--sea-state N] [--wave-dir-deg D]\n"
-                    "                  [--ship-speed-kt U] [--seed N] [--no-turbulence] [--start hover|deck] [--no-gear]\n"
+                    "                  [--ship-speed-kt U] [--seed N] [--no-turbulence] [--sas on|off] [--start hover|deck] [--no-gear]\n"
                     "                  [--lcm URL | --no-lcm] [--log FILE] [--replay-inputs LOG]\n"
                     "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N]\n"
                     "                  [--pilot auto --task FILE [--task-result PREFIX]]  (headless, as fast as it can)\n"
@@ -62,6 +62,7 @@ typedef struct fly_args {
     const char *task_result;  /* --task-result PREFIX: PREFIX.csv and PREFIX.json (sim_task_result_write) */
     int duration_set;
     int realtime_set; /* --realtime given (the automated pilot flies as fast as it can without) */
+    int sas;          /* --sas on|off: 1, 0; -1 the aircraft file's [sas] engaged key */
     int gear, start_deck;     /* the aircraft's [gear] on the deck (--no-gear: 0); --start deck */
     int hold_set;             /* --hold-after-s given */
     /* the scenario's [pilot] and [task] where no flag says (fly_scenario_pilot) */
@@ -192,6 +193,7 @@ static int fly_parse(int argc, char **argv, fly_args *o)
     o->sea_state = -1;
     o->wave_dir_deg = o->ship_speed_kt = NAN;
     o->seed = 1;
+    o->sas = -1;
     o->lcm = -1;
     o->hold_after_s = 0.5;
     o->state_rate_hz = 50.0;
@@ -203,7 +205,14 @@ static int fly_parse(int argc, char **argv, fly_args *o)
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         int more = i + 1 < argc;
-        if (!strcmp(a, "--fast"))
+        if (!strcmp(a, "--sas") && more) {
+            const char *v = argv[++i];
+            if (strcmp(v, "on") && strcmp(v, "off")) {
+                fprintf(stderr, "disim fly: --sas '%s': expected on or off\n", v);
+                return 2;
+            }
+            o->sas = !strcmp(v, "on");
+        } else if (!strcmp(a, "--fast"))
             o->realtime = 0;
         else if (!strcmp(a, "--realtime"))
             o->realtime = 1, o->realtime_set = 1;
@@ -659,6 +668,8 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
         goto fail; /* --pilot auto: a phase task starts at its first point */
     if (o->pilot && strcmp(o->pilot, "auto"))
         fo.sas = 0; /* the replay pilot's gains are the bare airframe's; the automated pilot flies the SAS */
+    else if (o->sas >= 0)
+        fo.sas = o->sas; /* --sas on|off */
     /* the ship in a seaway (its own seed stream: the turbulence's + 1) */
     sim_sea sea;
     sim_sea_default(&sea);

@@ -73,6 +73,12 @@ ls "$tmp"/*.tmp* > /dev/null 2>&1 && bad "a temporary file was left" || ok
     || { grep -q "stations do not apply (the automated pilot flies)" "$tmp/e3.log" && ok || bad "--stations: no reason"; }
 "$disim" fly $args --pilot replay "$tmp/port.lcm" --log "$tmp/r.lcm" 2> "$tmp/e6.log" && bad "replay --log accepted" \
     || { grep -q "replay flies headless" "$tmp/e6.log" && ok || bad "replay --log: no reason"; }
+"$disim" fly $args --pilot auto --task "$tmp/task.ini" --duration 2 --sas off --csv "$tmp/off.csv" 2> /dev/null && ok \
+    || bad "--sas off refused"
+"$disim" fly $args --pilot auto --task "$tmp/task.ini" --duration 2 --csv "$tmp/on.csv" 2> /dev/null
+cmp -s "$tmp/off.csv" "$tmp/on.csv" && bad "--sas off flew as the SAS on" || ok
+"$disim" fly $args --sas maybe 2> "$tmp/e7.log"; [ $? -eq 2 ] && grep -q "sas 'maybe': expected on or off" "$tmp/e7.log" \
+    && ok || bad "--sas maybe: not refused"
 sed 's/^duration_s = .*/duration_s = -5/' "$tmp/task.ini" > "$tmp/bad.ini"
 "$disim" fly $args --pilot auto --task "$tmp/bad.ini" --csv "$tmp/bad.csv" 2> "$tmp/e4.log" && bad "a bad task accepted" \
     || { grep -q "bad.ini:[0-9]*: \[task\] duration_s" "$tmp/e4.log" && ok || { bad "bad task: no file:line"; cat "$tmp/e4.log"; }; }
