@@ -150,8 +150,8 @@ static void default_task(const sim_scenario *sc, char *buf, size_t n)
 /* Fly the flown envelope over the trim-based one (trim) and write it. */
 static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, const couple_settings *cs,
                      const shol_settings *set, const shol_result *trim, const char *task_path, int seeds,
-                     double window_s, const char *outdir, const char *scen, int tty, const core_log *log,
-                     core_err *err)
+                     double window_s, int feed_controls, const char *outdir, const char *scen, int tty,
+                     const core_log *log, core_err *err)
 {
     char tbuf[1024];
     if (!task_path) {
@@ -169,6 +169,7 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
     sim_fly_task_opts fo;
     sim_fly_task_opts_default(&fo);
     fo.replay = ref;
+    fo.replay_feed_controls = feed_controls;
     fo.turbulence = sc->turbulence;
     fo.sea.state = sc->sea_state;
     fo.sea.ship_speed_mps = sc->ship_speed_mps;
@@ -226,9 +227,9 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
     }
     char title[160], what[256];
     snprintf(title, sizeof title, "%s + %s", sc->ship.name, hfm_aircraft_name(ac));
-    snprintf(what, sizeof what, "%s %.150s, sea state %d, turbulence %s, one-way airwake",
-             replay ? "replay pilot, recorded run" : "automated pilot, task", task_path, fo.sea.state,
-             fo.turbulence ? "on" : "off");
+    snprintf(what, sizeof what, "%s %.150s%s, sea state %d, turbulence %s, one-way airwake",
+             replay ? "replay pilot, recorded run" : "automated pilot, task", task_path,
+             feed_controls ? " (its controls fed forward)" : "", fo.sea.state, fo.turbulence ? "on" : "off");
     shol_report_info info;
     memset(&info, 0, sizeof info);
     info.title = title;
@@ -279,11 +280,13 @@ int cmd_shol(int argc, char **argv)
     const char *scen = NULL, *outdir = NULL, *dbdir = NULL, *task_path = NULL;
     int pilot = 0;
     double seeds = 0, window_s = NAN;
+    int feed_controls = 0;
     int grid = -1, coupling = -1, full = 0, direct = 0, no_seed = 0, zone = -1;
     double dstep = 0, sstep = 0, smax = -1, bisect = 0, maxit = 6, cfdit = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        int takes = strcmp(a, "--full-circle") && strcmp(a, "--direct") && strcmp(a, "--no-seed") && a[0] == '-';
+        int takes = strcmp(a, "--full-circle") && strcmp(a, "--direct") && strcmp(a, "--no-seed") &&
+                    strcmp(a, "--feed-controls") && a[0] == '-';
         if (takes && !v) {
             fprintf(stderr, "disim shol: %s: expected a value\n", a);
             return 2;
@@ -345,6 +348,10 @@ int cmd_shol(int argc, char **argv)
             }
         } else if (!strcmp(a, "--task"))
             task_path = v;
+        else if (!strcmp(a, "--feed-controls")) {
+            feed_controls = 1;
+            continue;
+        }
         else if (!strcmp(a, "--criteria-window-s")) {
             if (parse_num(a, v, 0, 60, &window_s))
                 return 2;
@@ -373,12 +380,19 @@ int cmd_shol(int argc, char **argv)
         fprintf(stderr, "usage: disim shol SCENARIO [--grid coarse|default|fine] [--coupling two-way|one-way] "
                         "[-o DIR] [--db DIR] [--full-circle] [--dir-step-deg D] [--speed-step-kmh S] "
                         "[--speed-max-kmh M] [--bisect-kmh T] [--direct] [--no-seed] [--domain whole|zone] [--max-coupling-iter N] "
-                        "[--cfd-max-iter N] [--method trim|pilot] [--task FILE] [--seeds N] [--criteria-window-s S]\n");
+                        "[--cfd-max-iter N] [--method trim|pilot] [--task FILE|LOG [--feed-controls]] [--seeds N] [--criteria-window-s S]\n");
         return 2;
     }
-    if (!pilot && (task_path || seeds > 0 || !isnan(window_s))) {
-        fprintf(stderr, "disim shol: --task, --seeds and --criteria-window-s go with --method pilot\n");
+    if (!pilot && (task_path || seeds > 0 || !isnan(window_s) || feed_controls)) {
+        fprintf(stderr, "disim shol: --task, --seeds, --criteria-window-s and --feed-controls go with --method pilot\n");
         return 2;
+    }
+    if (feed_controls) { /* the replay pilot's: a recorded run, not a task file */
+        size_t tl = task_path ? strlen(task_path) : 0;
+        if (!task_path || (tl >= 4 && !strcmp(task_path + tl - 4, ".ini"))) {
+            fprintf(stderr, "disim shol: --feed-controls: the replay pilot's (--task LOG, a log of disim fly --log)\n");
+            return 2;
+        }
     }
     int tty = isatty(2);
     app_log al = {"shol", tty};
@@ -475,7 +489,8 @@ int cmd_shol(int argc, char **argv)
     }
     if (pilot) {
         cs.mode = CORE_COUPLING_ONE_WAY;
-        if (run_pilot(sc, ac, db, &cs, &set, &r1, task_path, (int)seeds, window_s, outbuf, scen, tty, &log, &err) != 0)
+        if (run_pilot(sc, ac, db, &cs, &set, &r1, task_path, (int)seeds, window_s, feed_controls, outbuf, scen, tty, &log,
+                      &err) != 0)
             goto fail;
         rc = 0;
         goto done;

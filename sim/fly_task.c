@@ -243,6 +243,7 @@ static int run_replay(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad,
     po.pilot.rate_hz = t->o.rate_hz;
     po.pilot.wod_speed_mps = wod_speed_mps;
     po.pilot.wod_dir_rad = wod_dir_rad;
+    po.feed_controls = t->o.replay_feed_controls;
     sim_flight_inputs in;
     sim_flight_trim_inputs(fl, &in);
     if (!(pilot = sim_pilot_replay_create(t->ac, ref, &po, &in, t->log, &err))) {

@@ -1188,6 +1188,7 @@ typedef struct sim_fly_task_opts {
      * above replay_sink_mps (2 m/s). */
     const sim_replay_log *replay;
     double replay_pos_m, replay_sink_mps;
+    int replay_feed_controls; /* 1: the recorded controls fed forward too (sim_pilot_replay_opts) */
     /* How the criteria judge the flight (shol_flown_judge): the steady
      * limits on the phase's running mean over window_s (3 s; 0: every
      * step's values), the transient ones (a control at its stop, an

@@ -41,6 +41,12 @@ grep -q '^| red 30 | 0.0 | none |' "$tmp/out/report.md" || { echo "report.md: no
 grep -q "the replay pilot re-flies .*rec.log, 2 seeds per point" "$tmp/rep.log" && grep -q "replay pilot, recorded run" "$tmp/rep/report.md" \
     && grep -q '"flights": 6,' "$tmp/rep/shol_flown.json" && grep -q '"flown_s": 30.0,' "$tmp/rep/shol_flown.json" \
     || { echo "the replay pilot did not fly the log's 5 s at each point"; cat "$tmp/rep.log"; fail=1; }
+# --feed-controls: the recorded controls fed forward too, said in the report; refused with a task file
+"$disim" shol "$scen" --method pilot --task "$tmp/rec.log" --feed-controls --seeds 1 --speed-max-kmh 0 -o "$tmp/repf" \
+    --db "$tmp/db" > /dev/null 2> "$tmp/repf.log" && grep -q "rec.log (its controls fed forward)" "$tmp/repf/report.md" \
+    || { echo "--feed-controls did not reach the replay pilot's run"; cat "$tmp/repf.log"; fail=1; }
+"$disim" shol "$scen" --method pilot --task "$task" --feed-controls > /dev/null 2> "$tmp/bad.log"
+[ $? -eq 2 ] && grep -q "feed-controls: the replay pilot's" "$tmp/bad.log" || { echo "--feed-controls with a task accepted"; fail=1; }
 # the steady criteria's window: the scenario's [flown] window_s, the flag over it
 sed "s#\.\./\.\./\.\./#$src/#" "$scen" > "$tmp/win.ini" && printf '\n[flown]\nwindow_s = 0.5\n' >> "$tmp/win.ini"
 "$disim" shol "$tmp/win.ini" --method pilot --task "$task" --seeds 1 --speed-max-kmh 0 -o "$tmp/win" --db "$tmp/db" \
