@@ -12,9 +12,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define CSV_HEADER                                                                                 \
+#define CSV_HEADER_V1                                                                              \
     "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,margin_pitch_deg,"               \
     "margin_long_pct,margin_lat_pct,margin_coll_pct,margin_pedal_pct"
+/* The band's columns follow the first ten (issue 28), so that a reader of
+ * the first ten reads on unchanged; shol_read_csv takes both headers. */
+#define CSV_BAND_COLS                                                                              \
+    ",band_lo_kmh,band_hi_kmh,band_grid_kmh,band_window_kmh,band_sens_kmh,band_open_above,"        \
+    "low_confidence"
+#define CSV_HEADER CSV_HEADER_V1 CSV_BAND_COLS
+#define CSV_NCOL_V1 10
+#define CSV_NCOL 17
 
 static double margin_out(const shol_eval *e, int k)
 {
@@ -43,7 +51,14 @@ int shol_write_csv(const char *dir, const shol_result *r, core_err *err)
             fputc(',', f);
             shol_io_num(f, "%.6f", margin_out(&d->margins, k));
         }
-        fputc('\n', f);
+        shol_band b;
+        shol_band_get(r, i, &b);
+        const double bv[5] = {b.lo_mps, b.hi_mps, b.grid_mps, b.window_mps, b.sens_mps};
+        for (int k = 0; k < 5; k++) {
+            fputc(',', f);
+            shol_io_num(f, "%.6f", bv[k] / CORE_KMH_TO_MPS);
+        }
+        fprintf(f, ",%d,%d\n", b.open_above, b.low_confidence);
     }
     return shol_io_commit(f, tmp, final, err);
 }
@@ -78,6 +93,53 @@ static int parse_num(const char *s, double *v)
     return end == s || *end ? -1 : 0;
 }
 
+/* The band's seven columns of a row (fld) into d->band: lo and hi finite,
+ * lo <= the radius <= hi, the sources nan or finite (window and
+ * sensitivity >= 0), the flags 0 or 1. */
+static int read_band(const char *path, int lineno, char **fld, shol_dir_result *d, core_err *err)
+{
+    static const char *const names[7] = {"band_lo_kmh",   "band_hi_kmh",     "band_grid_kmh", "band_window_kmh",
+                                         "band_sens_kmh", "band_open_above", "low_confidence"};
+    double v[7];
+    for (int k = 0; k < 7; k++)
+        if (parse_num(fld[k], &v[k]) < 0)
+            return core_err_set(err, -1, "%s:%d: %s '%s': expected a number", path, lineno, names[k], fld[k]);
+    const double rad_kmh = d->has_pass ? d->max_speed_mps / CORE_KMH_TO_MPS : 0.0;
+    if (!(isfinite(v[0]) && isfinite(v[1]) && v[0] >= 0 && v[0] <= rad_kmh + 1e-4 && v[1] >= rad_kmh - 1e-4))
+        return core_err_set(err, -1,
+                            "%s:%d: band_lo_kmh %g, band_hi_kmh %g: expected finite, 0 <= lo <= the radius (%g) <= hi",
+                            path, lineno, v[0], v[1], rad_kmh);
+    for (int k = 2; k < 5; k++)
+        if (isinf(v[k]) || (k > 2 && v[k] < 0))
+            return core_err_set(err, -1, "%s:%d: %s %g: expected nan or a finite value%s", path, lineno, names[k],
+                                v[k], k > 2 ? " >= 0" : "");
+    for (int k = 5; k < 7; k++)
+        if (v[k] != 0 && v[k] != 1)
+            return core_err_set(err, -1, "%s:%d: %s %g: expected 0 or 1", path, lineno, names[k], v[k]);
+    shol_band *b = &d->band;
+    memset(b, 0, sizeof *b);
+    b->valid = 1;
+    b->lo_mps = v[0] * CORE_KMH_TO_MPS;
+    b->hi_mps = v[1] * CORE_KMH_TO_MPS;
+    b->grid_mps = v[2] * CORE_KMH_TO_MPS;
+    b->window_mps = v[3] * CORE_KMH_TO_MPS;
+    b->sens_mps = v[4] * CORE_KMH_TO_MPS;
+    b->open_above = (int)v[5];
+    b->low_confidence = (int)v[6];
+    /* the source that reaches furthest (before the clipping at 0 and at
+     * an open top, which the file does not say) */
+    double reach[SHOL_NBAND] = {isfinite(b->grid_mps) ? fabs(b->grid_mps) : 0,
+                                isfinite(b->window_mps) ? b->window_mps : 0, isfinite(b->sens_mps) ? b->sens_mps : 0};
+    double best = 0;
+    b->widest = -1;
+    for (int s = 0; s < SHOL_NBAND; s++)
+        if (reach[s] > best + 1e-12) {
+            best = reach[s];
+            b->widest = s;
+        }
+    return 0;
+}
+
 int shol_read_csv(const char *path, shol_result *r, core_err *err)
 {
     memset(r, 0, sizeof *r);
@@ -91,7 +153,7 @@ int shol_read_csv(const char *path, shol_result *r, core_err *err)
         return core_err_set(err, -1, "%s: out of memory", path);
     }
     char line[1024];
-    int lineno = 0, rc = 0;
+    int lineno = 0, rc = 0, ncol = CSV_NCOL;
     while (fgets(line, sizeof line, f)) {
         lineno++;
         size_t len = strlen(line);
@@ -105,7 +167,12 @@ int shol_read_csv(const char *path, shol_result *r, core_err *err)
         while (len && (line[len - 1] == '\n' || line[len - 1] == '\r'))
             line[--len] = '\0';
         if (lineno == 1) {
-            if (strcmp(line, CSV_HEADER) != 0) {
+            /* the header with the band's columns, or the one before them */
+            if (strcmp(line, CSV_HEADER) == 0)
+                ncol = CSV_NCOL;
+            else if (strcmp(line, CSV_HEADER_V1) == 0)
+                ncol = CSV_NCOL_V1;
+            else {
                 rc = core_err_set(err, -1, "%s:1: expected the header '%s'", path, CSV_HEADER);
                 break;
             }
@@ -113,11 +180,11 @@ int shol_read_csv(const char *path, shol_result *r, core_err *err)
         }
         if (len == 0)
             continue;
-        char *fld[11];
-        int nf = split(line, fld, 10);
-        if (nf != 10) {
-            rc = core_err_set(err, -1, "%s:%d: expected 10 comma-separated fields, got %d", path,
-                              lineno, nf);
+        char *fld[CSV_NCOL + 1];
+        int nf = split(line, fld, ncol);
+        if (nf != ncol) {
+            rc = core_err_set(err, -1, "%s:%d: expected %d comma-separated fields, got %d", path,
+                              lineno, ncol, nf);
             break;
         }
         if (r->n_dirs == SHOL_MAX_DIRS) {
@@ -170,6 +237,8 @@ int shol_read_csv(const char *path, shol_result *r, core_err *err)
         d->margins.limit = d->limit;
         for (int k = 0; k < SHOL_NCRIT; k++)
             d->margins.n_exceeded += d->margins.margin[k] < 0;
+        if (ncol == CSV_NCOL && (rc = read_band(path, lineno, fld + CSV_NCOL_V1, d, err)) != 0)
+            break;
         r->settings.dirs_rad[r->n_dirs] = d->dir_rad;
         r->n_dirs++;
     }
@@ -301,6 +370,15 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
         json_num(f, cval[k]);
     }
     fputs("},\n", f);
+    /* how the bands were made (issue 28) */
+    const shol_band_rule br = shol_band_rule_of(r);
+    fputs("  \"band_rule\": {\"low_confidence_width_kmh\": ", f);
+    json_num(f, br.width_mps / CORE_KMH_TO_MPS);
+    fputs(", \"low_confidence_frac\": ", f);
+    json_num(f, br.frac);
+    fputs(", \"grid\": ", f);
+    json_str(f, r->band_grid_label);
+    fputs("},\n", f);
     fprintf(f, "  \"n_trims\": %d,\n  \"wall_s\": ", r->n_trims);
     json_num(f, r->wall_s);
     fputs(",\n  \"directions\": [", f);
@@ -338,6 +416,21 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
         } else {
             fputs(",\n     \"sensitivity\": null", f);
         }
+        /* the band (shol_band; km/h, null where a source is absent) */
+        shol_band b;
+        shol_band_get(r, i, &b);
+        fputs(",\n     \"band\": {\"lo_kmh\": ", f);
+        json_num(f, b.lo_mps / CORE_KMH_TO_MPS);
+        fputs(", \"hi_kmh\": ", f);
+        json_num(f, b.hi_mps / CORE_KMH_TO_MPS);
+        fputs(", \"grid_kmh\": ", f);
+        json_num(f, b.grid_mps / CORE_KMH_TO_MPS);
+        fputs(", \"window_kmh\": ", f);
+        json_num(f, b.window_mps / CORE_KMH_TO_MPS);
+        fputs(", \"sens_kmh\": ", f);
+        json_num(f, b.sens_mps / CORE_KMH_TO_MPS);
+        fprintf(f, ", \"open_above\": %s, \"widest\": \"%s\", \"low_confidence\": %s}",
+                b.open_above ? "true" : "false", shol_band_source_name(b.widest), b.low_confidence ? "true" : "false");
         fputs(",\n     \"history\": [", f);
         for (int j = 0; j < d->n_samples; j++) {
             const shol_sample *sm = &d->samples[j];

@@ -49,6 +49,8 @@ static const rgb env_col = {0.05, 0.45, 0.20};
 static const rgb cmp_col = {0.15, 0.35, 0.85};
 static const rgb grid_col = {0.80, 0.80, 0.80};
 static const rgb reject_fill = {0.98, 0.88, 0.88};
+static const rgb band_col = {0.93, 0.62, 0.10};  /* the bands' amber */
+static const rgb low_col = {0.80, 0.05, 0.10};   /* a low-confidence band */
 
 static void set_col(cairo_t *cr, rgb c)
 {
@@ -306,14 +308,94 @@ static void polar_envelope(cairo_t *cr, const polar *p, const shol_result *r, rg
     free(v);
 }
 
+/* The bands (shol_band_get): the region between every direction's lower
+ * and upper ends, shaded under the envelope's line (whiskers 0), or a
+ * whisker from lo to hi at each direction over it (whiskers 1), red where
+ * the band is of low confidence. The
+ * region follows the envelope's own closing: round the circle, or, with a
+ * sector not swept, from the first direction to the last. */
+static void polar_bands(cairo_t *cr, const polar *p, const shol_result *r, int whiskers)
+{
+    int open_after;
+    double gm;
+    const shol_dir_result **v = sorted_dirs(r, &open_after, &gm);
+    shol_band *b = calloc(r->n_dirs ? r->n_dirs : 1, sizeof *b);
+    if (!v || !b || r->n_dirs == 0) {
+        free(v);
+        free(b);
+        return;
+    }
+    const int n = r->n_dirs, start = open_after < 0 ? 0 : (open_after + 1) % n;
+    for (int k = 0; k < n; k++)
+        shol_band_get(r, (int)(v[(start + k) % n] - r->dirs), &b[k]);
+    double x, y;
+    cairo_new_path(cr);
+    for (int k = 0; k < n && !whiskers; k++) {
+        polar_xy(p, v[(start + k) % n]->dir_rad, b[k].hi_mps / CORE_KT_TO_MPS, &x, &y);
+        if (k == 0)
+            cairo_move_to(cr, x, y);
+        else
+            cairo_line_to(cr, x, y);
+    }
+    if (whiskers)
+        ;
+    else if (open_after < 0) { /* an annulus: the inner line as its own loop */
+        cairo_close_path(cr);
+        for (int k = n - 1; k >= 0; k--) {
+            polar_xy(p, v[(start + k) % n]->dir_rad, b[k].lo_mps / CORE_KT_TO_MPS, &x, &y);
+            if (k == n - 1)
+                cairo_move_to(cr, x, y);
+            else
+                cairo_line_to(cr, x, y);
+        }
+    } else {
+        for (int k = n - 1; k >= 0; k--) {
+            polar_xy(p, v[(start + k) % n]->dir_rad, b[k].lo_mps / CORE_KT_TO_MPS, &x, &y);
+            cairo_line_to(cr, x, y);
+        }
+    }
+    if (!whiskers) {
+        cairo_close_path(cr);
+        cairo_set_fill_rule(cr, CAIRO_FILL_RULE_EVEN_ODD);
+        cairo_set_source_rgba(cr, band_col.r, band_col.g, band_col.b, 0.38);
+        cairo_fill(cr);
+        cairo_set_fill_rule(cr, CAIRO_FILL_RULE_WINDING);
+    }
+    /* whiskers with caps across the direction, over the envelope's line */
+    for (int k = 0; k < n && whiskers; k++) {
+        const double a = v[(start + k) % n]->dir_rad, cap = 6.0;
+        double x0, y0, x1, y1;
+        polar_xy(p, a, b[k].lo_mps / CORE_KT_TO_MPS, &x0, &y0);
+        polar_xy(p, a, b[k].hi_mps / CORE_KT_TO_MPS, &x1, &y1);
+        const double tx = cos(a) * cap, ty = sin(a) * cap; /* across the spoke */
+        set_col(cr, b[k].low_confidence ? low_col : (rgb){0.55, 0.35, 0.02});
+        cairo_set_line_width(cr, b[k].low_confidence ? 3.0 : 2.0);
+        cairo_new_path(cr);
+        cairo_move_to(cr, x0, y0);
+        cairo_line_to(cr, x1, y1);
+        cairo_move_to(cr, x0 - tx, y0 - ty);
+        cairo_line_to(cr, x0 + tx, y0 + ty);
+        if (!b[k].open_above) {
+            cairo_move_to(cr, x1 - tx, y1 - ty);
+            cairo_line_to(cr, x1 + tx, y1 + ty);
+        }
+        cairo_stroke(cr);
+    }
+    free(v);
+    free(b);
+}
+
 /* The scale: rings every *step kt (at least 5), the outer ring above the
  * highest envelope speed of r and of the comparison c with room for the
  * labels; the centre and radius on a W-wide page. */
 static polar polar_scale(const shol_result *r, const shol_result *c, double W, double *step_kt)
 {
     double top_kt = 0;
-    for (int i = 0; i < r->n_dirs; i++)
-        top_kt = fmax(top_kt, dir_kt(&r->dirs[i]));
+    for (int i = 0; i < r->n_dirs; i++) {
+        shol_band b;
+        shol_band_get(r, i, &b);
+        top_kt = fmax(top_kt, fmax(dir_kt(&r->dirs[i]), b.hi_mps / CORE_KT_TO_MPS));
+    }
     for (int i = 0; c && i < c->n_dirs; i++)
         top_kt = fmax(top_kt, dir_kt(&c->dirs[i]));
     double step = top_kt > 0 ? nice_step(top_kt, 6) : 10;
@@ -421,7 +503,10 @@ static void polar_limits(cairo_t *cr, const polar *p, const shol_result *r)
             continue; /* listed under the title: labels at the centre would pile up */
         double kt = dir_kt(d), off = 0.09 * p->rmax_kt, sx = sin(d->dir_rad), cx_ = cos(d->dir_rad);
         int ha0 = sx > 0.25 ? -1 : sx < -0.25 ? 1 : 0;
-        snprintf(buf, sizeof buf, "%.1f kt %s", kt, short_label[limit_index(d->limit)]);
+        shol_band bd;
+        shol_band_get(r, i, &bd);
+        snprintf(buf, sizeof buf, "%.1f kt %s (%.0f-%.0f)%s", kt, short_label[limit_index(d->limit)],
+                 bd.lo_mps / CORE_KT_TO_MPS, bd.hi_mps / CORE_KT_TO_MPS, bd.low_confidence ? " LOW" : "");
         cairo_text_extents_t te;
         cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
         cairo_set_font_size(cr, 13);
@@ -505,7 +590,7 @@ static void polar_legend(cairo_t *cr, double W, double H, const shol_result *r, 
 {
     const shol_result *c = info ? info->compare : NULL;
     char buf[256];
-    double ly = H - 118, lx = 40;
+    double ly = H - 158, lx = 40;
     set_col(cr, ink);
     text(cr, lx, ly, 14, 1, -1, 0, "Limiting criterion at each direction:");
     int shown = 0;
@@ -546,6 +631,28 @@ static void polar_legend(cairo_t *cr, double W, double H, const shol_result *r, 
         text(cr, lx + 500, y2, 13, 0, -1, 0,
              info->compare_label ? info->compare_label : "comparison");
     }
+    /* the bands' key (polar_bands) */
+    const double y3 = y2 + 26;
+    const shol_band_rule br = shol_band_rule_of(r);
+    cairo_set_source_rgba(cr, band_col.r, band_col.g, band_col.b, 0.38);
+    cairo_rectangle(cr, lx, y3 - 7, 40, 14);
+    cairo_fill(cr);
+    set_col(cr, (rgb){0.55, 0.35, 0.02});
+    cairo_set_line_width(cr, 2.0);
+    cairo_move_to(cr, lx + 20, y3 - 7);
+    cairo_line_to(cr, lx + 20, y3 + 7);
+    cairo_stroke(cr);
+    set_col(cr, ink);
+    snprintf(buf, sizeof buf, "band (kt in brackets): grid%s, averaging window, 0.25 deg / 1 %% of travel",
+             r->band_grid_label[0] ? "" : " (no second grid)");
+    text(cr, lx + 50, y3, 13, 0, -1, 0, buf);
+    set_col(cr, low_col);
+    cairo_set_line_width(cr, 3.0);
+    cairo_move_to(cr, lx + 600, y3 - 7);
+    cairo_line_to(cr, lx + 600, y3 + 7);
+    cairo_stroke(cr);
+    snprintf(buf, sizeof buf, "LOW: wider than %g km/h and %g %% of the limit", br.width_mps / CORE_KMH_TO_MPS, 100 * br.frac);
+    text(cr, lx + 612, y3, 13, 1, -1, 0, buf);
     if (open) {
         set_col(cr, ink);
         text(cr, W - 20, H - 16, 12, 0, 1, 1,
@@ -569,7 +676,9 @@ static void draw_polar(cairo_t *cr, double W, double H, const shol_result *r,
     /* Envelopes: the comparison under the main one. */
     if (c)
         polar_envelope(cr, &p, c, cmp_col, 1, 0);
+    polar_bands(cr, &p, r, 0);
     polar_envelope(cr, &p, r, env_col, 0, 1);
+    polar_bands(cr, &p, r, 1);
     polar_ring_labels(cr, &p, step, label_dir);
     polar_limits(cr, &p, r);
     polar_not_cleared(cr, W, r);
@@ -593,6 +702,12 @@ static int check_plot_data(const shol_result *r, const char *what, core_err *err
             return core_err_set(err, -1,
                                 "shol: plot: %s %s: max_speed_mps = %g: expected a finite speed >= 0", what,
                                 name, d->max_speed_mps);
+        /* a band set by hand (or read) that cairo could not place */
+        if (d->band.valid && !(isfinite(d->band.lo_mps) && isfinite(d->band.hi_mps) && d->band.lo_mps >= 0 &&
+                               d->band.hi_mps >= d->band.lo_mps))
+            return core_err_set(err, -1,
+                                "shol: plot: %s %s: band %g to %g m/s: expected finite ends, 0 <= lo <= hi", what,
+                                name, d->band.lo_mps, d->band.hi_mps);
         for (int j = 0; j < d->n_samples; j++) {
             const shol_sample *sm = &d->samples[j];
             if (!(isfinite(sm->speed_mps) && sm->speed_mps >= 0))
@@ -647,7 +762,7 @@ static int png_finish(cairo_surface_t *sf, cairo_t *cr, const char *tmp, const c
 int shol_plot_polar(const char *dir, const shol_result *r, const shol_report_info *info,
                     core_err *err)
 {
-    const double W = 1000, H = 1060;
+    const double W = 1000, H = 1100;
     char final[SHOL_IO_PATH_MAX], tmp[SHOL_IO_PATH_MAX];
     if (check_plot_inputs(r, info, err) < 0 || shol_io_mkdir(dir, err) < 0)
         return -1;

@@ -47,6 +47,64 @@ static void md_cell(FILE *f, const char *s)
     }
 }
 
+/* The bands section (issue 28): each direction's value, band and what
+ * makes it, and the directions of low confidence named. */
+static void write_bands(FILE *f, const shol_result *r)
+{
+    const shol_band_rule k = shol_band_rule_of(r);
+    const double K = CORE_KMH_TO_MPS;
+    fprintf(f, "## Uncertainty bands\n\n");
+    fprintf(f, "| WOD | limit (km/h) | band (km/h) | what makes it (km/h) | widest | confidence |\n"
+               "|---|---|---|---|---|---|\n");
+    int n_low = 0, n_grid = 0;
+    for (int i = 0; i < r->n_dirs; i++) {
+        const shol_dir_result *d = &r->dirs[i];
+        shol_band b;
+        shol_band_get(r, i, &b);
+        char n[32], what[256];
+        core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, n, sizeof n);
+        shol_band_format(&b, r->band_grid_label, d->limit, what, sizeof what);
+        fprintf(f, "| %s | %.1f | %.1f-%.1f%s | ", n, d->has_pass ? d->max_speed_mps / K : 0.0, b.lo_mps / K,
+                b.hi_mps / K, b.open_above ? " (nothing failed: open above)" : "");
+        md_cell(f, what);
+        fprintf(f, " | %s | %s |\n", shol_band_source_name(b.widest), b.low_confidence ? "**low**" : "ok");
+        n_low += b.low_confidence;
+        n_grid += isfinite(b.grid_mps);
+    }
+    fprintf(f,
+            "\nEach source is a speed interval round the limit and the band is their hull (shol/band.c, "
+            "docs/shol.md \"Uncertainty bands\"): **grid**, the same limit on another grid level, from the limit "
+            "to that one (signed: the other grid's limit minus this one); **window**, the field's averaging-window "
+            "spread s (the monitors' mean drift or mean change, / WOD speed) as +- s V at the limit V; "
+            "**0.25 deg / 1 %%**, +- how far the limit moves for 0.25 deg of attitude or 1 %% of control travel in "
+            "the limiting quantity (\"limit moves by\" above). A band is **low** confidence when it is wider than "
+            "%g km/h or %g %% of the limit, whichever is larger.%s\n\n",
+            k.width_mps / K, 100 * k.frac,
+            n_grid ? ""
+                   : " No second grid level was available for this envelope: its bands hold the window and "
+                     "sensitivity sources only, and a grid's spread can be larger than both "
+                     "(docs/validation.md, \"Grid sensitivity\").");
+    if (n_low) {
+        fprintf(f, "**Low confidence, where an at-sea test is most needed:** ");
+        int j = 0;
+        for (int i = 0; i < r->n_dirs; i++) {
+            shol_band b;
+            shol_band_get(r, i, &b);
+            if (!b.low_confidence)
+                continue;
+            char n[32];
+            core_wod_name(r->dirs[i].dir_rad * CORE_RAD_TO_DEG, n, sizeof n);
+            fprintf(f, "%s%s (%.1f-%.1f km/h, widest: %s)", j++ ? ", " : "", n, b.lo_mps / K, b.hi_mps / K,
+                    shol_band_source_name(b.widest));
+        }
+        fprintf(f, ". The seed paper (section 2.8) uses a candidate SHOL so that \"only the regions with low "
+                   "confidence in the candidate SHOL and/or small safety margins need to be tested\" at sea: "
+                   "these directions are those regions.\n\n");
+    } else {
+        fprintf(f, "No band is wider than the rule: no direction is marked low confidence.\n\n");
+    }
+}
+
 int shol_write_report(const char *dir, const shol_result *r, const shol_report_info *info,
                       core_err *err)
 {
@@ -142,6 +200,8 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
                "fall between the last pass and the first failure; a limit that moves by more "
                "than a speed step for an error that small is no sharper than the trim and the "
                "airwake behind it.\n\n");
+
+    write_bands(f, r);
 
     fprintf(f, "## Physics checks\n\n");
     if (info->checks && info->checks->n) {

@@ -142,6 +142,41 @@ typedef struct shol_sample {
     int pass;             /* 1: converged and nothing exceeded */
 } shol_sample;
 
+/* A direction's limit as a value and a band (issue 28; shol/band.c,
+ * docs/shol.md "Uncertainty bands"), from what the project measures. Each
+ * source is a speed interval round the limit V:
+ *  - grid: the same limit computed on another grid level, V_g: the
+ *    interval from V to V_g (grid_mps = V_g - V, signed);
+ *  - window: the field's mean is uncertain by s (its averaging windows'
+ *    spread, cfd_result.mean_drift or mean_change, / WOD speed); the air
+ *    at the rotor, V times the field, is then uncertain by s V, and through
+ *    the limiting quantity's own slope with speed the limit by
+ *    window_mps = s V (the slope cancels): V +- s V;
+ *  - sensitivity: V +- shol_envelope_sensitivity's shift for 0.25 deg of
+ *    attitude or 1 % of travel.
+ * The band is their hull, clipped at 0 (and at the radius where nothing
+ * failed up to the highest speed searched: the search says nothing above
+ * it). */
+enum { SHOL_BAND_GRID = 0, SHOL_BAND_WINDOW = 1, SHOL_BAND_SENS = 2, SHOL_NBAND = 3 };
+typedef struct shol_band {
+    int valid;             /* 1: filled (shol_band_compute, shol_band_get, shol_read_csv) */
+    double lo_mps, hi_mps; /* lo <= the radius <= hi */
+    int open_above;        /* nothing failed up to speed_max: the band does not reach above it */
+    double grid_mps;       /* V_g - V; NAN: no second grid at this direction */
+    double window_mps;     /* s V >= 0; NAN: the window spread not known */
+    double sens_mps;       /* >= 0; NAN: the sensitivity is not defined here */
+    int low_confidence;    /* 1: wider than the rule (shol_band_rule) */
+    int widest;            /* SHOL_BAND_* that reaches furthest from V; -1: a band of width 0 */
+} shol_band;
+
+/* Low confidence: a band wider than the larger of width_mps and frac times
+ * the limit. Defaults 10 km/h and 0.25. */
+typedef struct shol_band_rule {
+    double width_mps;
+    double frac;
+} shol_band_rule;
+void shol_band_rule_default(shol_band_rule *r);
+
 /* The envelope at one direction. */
 typedef struct shol_dir_result {
     double dir_rad;
@@ -152,6 +187,7 @@ typedef struct shol_dir_result {
     shol_eval margins;     /* at max_speed_mps; at 0 m/s when !has_pass */
     int n_samples;         /* the trim-versus-speed history, by speed */
     shol_sample *samples;
+    shol_band band;        /* valid once shol_band_compute has run (zero before) */
 } shol_dir_result;
 
 /* A whole envelope: plain data; free the arrays with shol_result_free. */
@@ -161,6 +197,8 @@ typedef struct shol_result {
     shol_dir_result *dirs; /* in the settings' order */
     int n_trims;           /* trim calls made */
     double wall_s;         /* wall-clock time of the sweep */
+    shol_band_rule band_rule;  /* the bands' rule (zero: none computed yet) */
+    char band_grid_label[96];  /* the second grid's name in the bands ("" none) */
 } shol_result;
 
 void shol_result_free(shol_result *r);
@@ -233,6 +271,42 @@ typedef struct shol_sensitivity {
  * that did not fall between the two speeds), out->crit then
  * SHOL_LIMIT_NONE and the figures NAN. */
 int shol_envelope_sensitivity(const shol_dir_result *d, shol_sensitivity *out);
+
+/* ------------------------------------------- uncertainty bands (issue 28) */
+/* What the bands are made of. grid: the same envelope on another grid
+ * level (its directions matched to r's within 1e-6 rad; a direction it
+ * lacks has no second grid; one with no passing speed has V_g = 0), NULL
+ * for none; grid_label names it ("default grid"). window: per direction
+ * (window_dir_rad, matched within 1e-6 rad) the field's averaging-window
+ * spread s as a fraction of the WOD speed (0 for a converged field, NAN
+ * not known, a direction not listed not known). */
+typedef struct shol_band_inputs {
+    const shol_result *grid;
+    const char *grid_label;
+    int n_window;
+    double window_dir_rad[SHOL_MAX_DIRS];
+    double window_frac[SHOL_MAX_DIRS];
+    shol_band_rule rule;
+} shol_band_inputs;
+/* No grid, no window, the default rule. */
+void shol_band_inputs_default(shol_band_inputs *in);
+/* Fill every direction's band (r->dirs[i].band), r->band_rule and
+ * r->band_grid_label. Returns 0, or < 0 with err naming the direction and
+ * the bad value (a window spread that is negative or infinite, a second
+ * grid's radius that is not finite or negative, a rule that is not > 0,
+ * n_window out of range); r is then unchanged. */
+int shol_band_compute(shol_result *r, const shol_band_inputs *in, core_err *err);
+/* The band of r->dirs[i]: its own when valid, else the sensitivity-only
+ * band under r's rule (the default if none). */
+void shol_band_get(const shol_result *r, int i, shol_band *out);
+/* r's rule, the default where none was set. */
+shol_band_rule shol_band_rule_of(const shol_result *r);
+/* What makes a band, e.g. "grid +15.0 (default grid), window +-2.1,
+ * 0.25 deg +-9.0" (km/h); limit (the direction's) names the
+ * sensitivity's unit (0.25 deg for an attitude, 1 % for a control). */
+void shol_band_format(const shol_band *b, const char *grid_label, int limit, char *buf, size_t n);
+/* The name of a band source: "grid", "window", "sensitivity"; "-" for -1. */
+const char *shol_band_source_name(int src);
 
 /* -------------------------------------------------------------- outputs */
 /* Optional text and a second envelope for the report and plots. */

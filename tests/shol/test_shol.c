@@ -670,7 +670,8 @@ static void test_outputs(void)
     CHECK(read_head(path, head, sizeof head) > 0);
     const char *hdr = "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,"
                       "margin_pitch_deg,margin_long_pct,margin_lat_pct,margin_coll_pct,"
-                      "margin_pedal_pct\n";
+                      "margin_pedal_pct,band_lo_kmh,band_hi_kmh,band_grid_kmh,band_window_kmh,"
+                      "band_sens_kmh,band_open_above,low_confidence\n";
     CHECK(strncmp(head, hdr, strlen(hdr)) == 0);
     shol_result back;
     CHECK(shol_read_csv(path, &back, &err) == 0);
@@ -1017,6 +1018,297 @@ static void test_physics_checks(void)
     CHECK(check_by_name(&c, "largest near the bow") == 1);
 }
 
+/* ------------------------------------------------------------- bands */
+/* Count pixels within tol of colour (r, g, b) (0..255). */
+static long png_count(const char *path, int r0, int g0, int b0, int tol)
+{
+    cairo_surface_t *s = cairo_image_surface_create_from_png(path);
+    long n = 0;
+    if (cairo_surface_status(s) == CAIRO_STATUS_SUCCESS) {
+        int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
+        int stride = cairo_image_surface_get_stride(s);
+        const unsigned char *d = cairo_image_surface_get_data(s);
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                unsigned px;
+                memcpy(&px, d + y * stride + 4 * x, 4);
+                int r = (px >> 16) & 255, g = (px >> 8) & 255, b = px & 255;
+                n += abs(r - r0) <= tol && abs(g - g0) <= tol && abs(b - b0) <= tol;
+            }
+    }
+    cairo_surface_destroy(s);
+    return n;
+}
+
+/* The radius the sweep finds for model m at dir, by the closed form. */
+static double model_radius(const model *m, double dir, double step)
+{
+    int lim;
+    return floor(model_crit(m, dir, &lim) / step) * step;
+}
+
+/* A band from a synthetic case whose grid and window spreads are known:
+ * the analytic model with pedal gain 1.5 is "this grid", with gain 2.0
+ * "the other grid" (the pedal limits move, the roll and long-cyclic ones
+ * do not), and the window spread is set per direction. Every band is
+ * checked against the hull worked from the closed forms, and a few by
+ * hand. Then the outputs: CSV round trip, JSON keys, the report's marks,
+ * the plot's band and low-confidence whiskers; and bad input. */
+static void test_bands(void)
+{
+    shol_settings s;
+    shol_settings_default(&s);
+    core_err err = {{0}};
+    model m = {1.5, 0, 0, 0, 0}, m2 = {2.0, 0, 0, 0, 0};
+    shol_result r, g;
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) == 0);
+    CHECK(shol_envelope_run(&s, model_trim, &m2, NULL, NULL, NULL, &g, &err) == 0);
+    /* window spreads: 4 % everywhere, 0 (converged) at green 90, not known ahead */
+    shol_band_inputs in;
+    shol_band_inputs_default(&in);
+    CHECK_NEAR(in.rule.width_mps, 10 * KMH, 1e-12);
+    CHECK_NEAR(in.rule.frac, 0.25, 1e-15);
+    in.grid = &g;
+    in.grid_label = "gain-2 grid";
+    in.n_window = s.n_dirs;
+    for (int i = 0; i < s.n_dirs; i++) {
+        in.window_dir_rad[i] = s.dirs_rad[i];
+        double deg = s.dirs_rad[i] / DEG;
+        in.window_frac[i] = fabs(deg) < 1e-9 ? NAN : fabs(deg - 90) < 1e-9 ? 0.0 : 0.04;
+    }
+    CHECK(shol_band_compute(&r, &in, &err) == 0);
+    CHECK(strcmp(r.band_grid_label, "gain-2 grid") == 0);
+    const double step = s.speed_step_mps;
+    for (int i = 0; i < r.n_dirs; i++) {
+        const shol_dir_result *d = &r.dirs[i];
+        const shol_band *b = &d->band;
+        const double dir = d->dir_rad, deg = dir / DEG;
+        const double v = model_radius(&m, dir, step), vg = model_radius(&m2, dir, step);
+        CHECK(b->valid);
+        CHECK_NEAR(d->max_speed_mps, v, 1e-9);
+        CHECK_NEAR(b->grid_mps, vg - v, 1e-9);
+        if (fabs(deg) < 1e-9)
+            CHECK(isnan(b->window_mps));
+        else
+            CHECK_NEAR(b->window_mps, (fabs(deg - 90) < 1e-9 ? 0.0 : 0.04) * v, 1e-9);
+        /* the sensitivity's shift from the closed forms (test_envelope_steps) */
+        const double v2 = d->fail_speed_mps, sn = sin(dir), cs = cos(dir);
+        double sens = NAN;
+        if (d->limit == SHOL_CRIT_ROLL)
+            sens = 0.25 / (5.0 / 225 * sn * sn * (v + v2));
+        else if (d->limit == SHOL_CRIT_PEDAL)
+            sens = 1.0 / (1.5 * fabs(sn));
+        else if (d->limit == SHOL_CRIT_LONG)
+            sens = 1.0 / (1.25 * fabs(cs));
+        if (isnan(sens))
+            CHECK(isnan(b->sens_mps));
+        else
+            CHECK_NEAR(b->sens_mps, sens, 1e-9);
+        /* the hull, clipped at 0 */
+        const double w = isfinite(b->window_mps) ? b->window_mps : 0, se = isfinite(sens) ? sens : 0;
+        const double lo = fmax(0, fmin(fmin(v, vg), v - fmax(w, se)));
+        const double hi = fmax(fmax(v, vg), v + fmax(w, se));
+        CHECK_NEAR(b->lo_mps, lo, 1e-9);
+        CHECK_NEAR(b->hi_mps, hi, 1e-9);
+        CHECK(b->open_above == 0);
+        CHECK(b->low_confidence == (hi - lo > fmax(10 * KMH, 0.25 * v) + 1e-9));
+    }
+    /* By hand. Green 90: pedal at 13.3 m/s (48 km/h -> 45) here, 10 m/s
+     * (36 -> 35) on the other grid: grid -10 km/h; converged (window 0);
+     * 1 % of pedal is 1/1.5 m/s = 2.4 km/h: band 35-47.4 km/h, 12.4 wide,
+     * wider than 10 km/h and 25 % of 45: low confidence, widest the grid.
+     * Red 90: roll at 15 m/s on both (50 km/h), window 4 % of 50 = 2 km/h,
+     * roll 0.25 deg 1.39 km/h: band 48-52, confident, widest the window.
+     * Head: long cyclic at 28 m/s on both (100 km/h), window not known,
+     * 1 % = 0.8 m/s = 2.88 km/h: band 97.12-102.88. */
+    for (int i = 0; i < r.n_dirs; i++) {
+        const shol_band *b = &r.dirs[i].band;
+        double deg = r.dirs[i].dir_rad / DEG;
+        if (fabs(deg - 90) < 1e-9) {
+            CHECK_NEAR(b->grid_mps / KMH, -10, 1e-9);
+            CHECK_NEAR(b->lo_mps / KMH, 35, 1e-9);
+            CHECK_NEAR(b->hi_mps / KMH, 45 + 2.4, 1e-9);
+            CHECK(b->low_confidence && b->widest == SHOL_BAND_GRID);
+        }
+        if (fabs(deg + 90) < 1e-9) {
+            CHECK_NEAR(b->lo_mps / KMH, 48, 1e-9);
+            CHECK_NEAR(b->hi_mps / KMH, 52, 1e-9);
+            CHECK(!b->low_confidence && b->widest == SHOL_BAND_WINDOW);
+        }
+        if (fabs(deg) < 1e-9) {
+            CHECK_NEAR(b->lo_mps / KMH, 100 - 2.88, 1e-9);
+            CHECK_NEAR(b->hi_mps / KMH, 100 + 2.88, 1e-9);
+            CHECK(!b->low_confidence && b->widest == SHOL_BAND_SENS);
+        }
+    }
+    int n_low = 0;
+    for (int i = 0; i < r.n_dirs; i++)
+        n_low += r.dirs[i].band.low_confidence;
+    CHECK(n_low >= 1 && n_low < r.n_dirs); /* the rule tells them apart */
+    char what[256];
+    shol_band_format(&r.dirs[6].band, r.band_grid_label, r.dirs[6].limit, what, sizeof what);
+    CHECK(strcmp(what, "grid -10.0 (gain-2 grid), window +-0.0, 1 % +-2.4") == 0);
+    if (strcmp(what, "grid -10.0 (gain-2 grid), window +-0.0, 1 % +-2.4") != 0)
+        fprintf(stderr, "  band format: %s\n", what);
+
+    /* The outputs carry it. */
+    char dir[] = "/tmp/disim_test_band_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[800];
+    shol_report_info info = {0};
+    info.title = "band test";
+    CHECK(shol_write_all(dir, &r, &info, &err) == 0);
+    snprintf(path, sizeof path, "%s/shol.csv", dir);
+    shol_result back;
+    CHECK(shol_read_csv(path, &back, &err) == 0);
+    CHECK(back.n_dirs == r.n_dirs);
+    for (int i = 0; i < r.n_dirs && i < back.n_dirs; i++) {
+        const shol_band *a = &r.dirs[i].band, *b = &back.dirs[i].band;
+        CHECK(b->valid);
+        CHECK_NEAR(b->lo_mps, a->lo_mps, 1e-5);
+        CHECK_NEAR(b->hi_mps, a->hi_mps, 1e-5);
+        CHECK_NEAR(b->grid_mps, a->grid_mps, 1e-5);
+        CHECK(isnan(a->window_mps) ? isnan(b->window_mps) : fabs(b->window_mps - a->window_mps) < 1e-5);
+        CHECK(isnan(a->sens_mps) ? isnan(b->sens_mps) : fabs(b->sens_mps - a->sens_mps) < 1e-5);
+        CHECK(b->low_confidence == a->low_confidence && b->open_above == a->open_above);
+    }
+    shol_result_free(&back);
+    snprintf(path, sizeof path, "%s/shol.json", dir);
+    char *js = read_all(path);
+    CHECK(js && strstr(js, "\"band_rule\": {\"low_confidence_width_kmh\": 10, \"low_confidence_frac\": 0.25, "
+                           "\"grid\": \"gain-2 grid\"}"));
+    CHECK(js && strstr(js, "\"band\": {\"lo_kmh\": 35, \"hi_kmh\": 47.4, \"grid_kmh\": -10, \"window_kmh\": 0, "
+                           "\"sens_kmh\": 2.4, \"open_above\": false, \"widest\": \"grid\", "
+                           "\"low_confidence\": true}"));
+    CHECK(js && strstr(js, "\"window_kmh\": null") && !strstr(js, "nan"));
+    free(js);
+    snprintf(path, sizeof path, "%s/report.md", dir);
+    char *md = read_all(path);
+    CHECK(md && strstr(md, "## Uncertainty bands"));
+    CHECK(md && strstr(md, "| green 90 | 45.0 | 35.0-47.4 | grid -10.0 (gain-2 grid), window +-0.0, 1 % +-2.4 | "
+                           "grid | **low** |"));
+    CHECK(md && strstr(md, "| red 90 | 50.0 | 48.0-52.0 |") && strstr(md, "| window | ok |"));
+    CHECK(md && strstr(md, "**Low confidence, where an at-sea test is most needed:** ") &&
+          strstr(md, "green 90 (35.0-47.4 km/h, widest: grid)"));
+    CHECK(md && !strstr(md, "No second grid level"));
+    free(md);
+    /* The plot: the band's amber and the low-confidence whiskers. With a
+     * rule that marks nothing, fewer red whisker pixels (the key keeps its
+     * own); with no band at all (a band of zero width), no amber fill. */
+    snprintf(path, sizeof path, "%s/shol_polar.png", dir);
+    long amber = png_count(path, 244, 216, 170, 6), red_low = png_count(path, 204, 13, 26, 10);
+    shol_result wide = r;
+    shol_band_inputs in2 = in;
+    in2.rule.width_mps = 1000 * KMH;
+    wide.dirs = calloc(r.n_dirs, sizeof *wide.dirs);
+    for (int i = 0; wide.dirs && i < r.n_dirs; i++)
+        wide.dirs[i] = r.dirs[i];
+    CHECK(wide.dirs && shol_band_compute(&wide, &in2, &err) == 0);
+    char dir2[700];
+    snprintf(dir2, sizeof dir2, "%.600s/wide", dir);
+    CHECK(shol_plot_polar(dir2, &wide, &info, &err) == 0);
+    snprintf(path, sizeof path, "%s/shol_polar.png", dir2);
+    long red_none = png_count(path, 204, 13, 26, 10);
+    /* no band: every source absent (a sweep without failures has no sensitivity) */
+    for (int i = 0; wide.dirs && i < r.n_dirs; i++) {
+        shol_band *b = &wide.dirs[i].band;
+        b->lo_mps = b->hi_mps = wide.dirs[i].max_speed_mps;
+        b->low_confidence = 0;
+    }
+    CHECK(shol_plot_polar(dir2, &wide, &info, &err) == 0);
+    long amber_none = png_count(path, 244, 216, 170, 6);
+    CHECK(amber > 2000);
+    CHECK(amber > 4 * amber_none + 1000);
+    CHECK(red_low > red_none + 30);
+    if (!(amber > 4 * amber_none + 1000) || !(red_low > red_none + 30))
+        fprintf(stderr, "  band plot: amber %ld (none %ld), red %ld (none %ld)\n", amber, amber_none, red_low,
+                red_none);
+    free(wide.dirs);
+
+    /* No second grid: the bands hold the other two, the report says so;
+     * a second grid without a direction has no grid source there. */
+    shol_band_inputs in3 = in;
+    in3.grid = NULL;
+    CHECK(shol_band_compute(&r, &in3, &err) == 0);
+    CHECK(r.band_grid_label[0] == '\0');
+    for (int i = 0; i < r.n_dirs; i++)
+        CHECK(isnan(r.dirs[i].band.grid_mps));
+    CHECK(shol_write_report(dir, &r, &info, &err) == 0);
+    snprintf(path, sizeof path, "%s/report.md", dir);
+    md = read_all(path);
+    CHECK(md && strstr(md, "No second grid level was available") && strstr(md, "grid: no second grid"));
+    free(md);
+    shol_result part = g;
+    part.n_dirs = 3; /* red 90, 60, 30 */
+    in3.grid = &part;
+    CHECK(shol_band_compute(&r, &in3, &err) == 0);
+    CHECK(isfinite(r.dirs[2].band.grid_mps) && isnan(r.dirs[3].band.grid_mps));
+
+    /* Nothing failed up to the top: the band is open above. */
+    shol_settings low = s;
+    low.speed_max_mps = 40 * KMH;
+    shol_result t;
+    CHECK(shol_envelope_run(&low, model_trim, &m, NULL, NULL, NULL, &t, &err) == 0);
+    CHECK(shol_band_compute(&t, &in, &err) == 0);
+    CHECK(t.dirs[3].limit == SHOL_LIMIT_NONE && t.dirs[3].band.open_above);
+    CHECK_NEAR(t.dirs[3].band.hi_mps, t.dirs[3].max_speed_mps, 1e-12);
+    CHECK(isnan(t.dirs[3].band.sens_mps));
+    /* without shol_band_compute the writers still give a band: the
+     * sensitivity's alone */
+    shol_band b0;
+    shol_result_free(&t);
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &t, &err) == 0);
+    shol_band_get(&t, 0, &b0);
+    CHECK(b0.valid && isnan(b0.grid_mps) && isnan(b0.window_mps) && isfinite(b0.sens_mps));
+    CHECK_NEAR(b0.hi_mps - t.dirs[0].max_speed_mps, b0.sens_mps, 1e-9);
+
+    /* Bad input: an error naming the direction, and r unchanged. */
+    shol_band_inputs bad = in;
+    bad.window_frac[1] = -0.1;
+    err.msg[0] = '\0';
+    CHECK(shol_band_compute(&t, &bad, &err) < 0);
+    CHECK(strstr(err.msg, "red 60") && strstr(err.msg, "window"));
+    CHECK(!t.dirs[0].band.valid);
+    bad.window_frac[1] = INFINITY;
+    CHECK(shol_band_compute(&t, &bad, &err) < 0);
+    bad = in;
+    bad.rule.frac = NAN;
+    CHECK(shol_band_compute(&t, &bad, &err) < 0 && strstr(err.msg, "rule"));
+    bad = in;
+    double keep = g.dirs[2].max_speed_mps;
+    g.dirs[2].max_speed_mps = NAN; /* a second grid's radius of NaN */
+    CHECK(shol_band_compute(&t, &bad, &err) < 0);
+    CHECK(strstr(err.msg, "red 30") && strstr(err.msg, "gain-2 grid"));
+    g.dirs[2].max_speed_mps = keep;
+    CHECK(!t.dirs[0].band.valid);
+    /* a band of NaN handed to the plot: refused, naming the direction */
+    CHECK(shol_band_compute(&t, &in, &err) == 0);
+    t.dirs[4].band.hi_mps = NAN;
+    CHECK(shol_plot_polar(dir, &t, NULL, &err) < 0);
+    CHECK(strstr(err.msg, "green 30") && strstr(err.msg, "band"));
+    /* and a CSV whose band is inconsistent */
+    snprintf(path, sizeof path, "%s/bad.csv", dir);
+    FILE *f = fopen(path, "w");
+    fprintf(f, "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,margin_pitch_deg,"
+               "margin_long_pct,margin_lat_pct,margin_coll_pct,margin_pedal_pct,band_lo_kmh,band_hi_kmh,"
+               "band_grid_kmh,band_window_kmh,band_sens_kmh,band_open_above,low_confidence\n"
+               "0,10,18.52,roll,1,1,1,1,1,1,20,25,nan,nan,nan,0,0\n");
+    fclose(f);
+    CHECK(shol_read_csv(path, &back, &err) < 0);
+    CHECK(strstr(err.msg, "bad.csv:2:") && strstr(err.msg, "band_lo_kmh"));
+
+    shol_result_free(&t);
+    shol_result_free(&r);
+    shol_result_free(&g);
+    if (getenv("SHOL_TEST_KEEP"))
+        printf("band outputs kept in %s\n", dir);
+    else {
+        char cmd[760];
+        snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+        CHECK(system(cmd) == 0);
+    }
+}
+
 int main(void)
 {
     test_criteria_eval();
@@ -1027,6 +1319,7 @@ int main(void)
     test_envelope_near();
     test_envelope_edges();
     test_outputs();
+    test_bands();
     test_physics_checks();
     /* Release cairo's and fontconfig's caches so LeakSanitizer sees only
      * what this code could leak. */

@@ -1,0 +1,217 @@
+/*
+ * band.c -- each direction's limit as a value and a band (issue 28).
+ *
+ * Model: a candidate SHOL supports at-sea flight test, which need test
+ * only "the regions with low confidence in the candidate SHOL and/or small
+ * safety margins" (the seed paper, section 2.8). The confidence is stated
+ * from what the project measures, three sources per direction, each a
+ * speed interval round the limit V (shol.h, shol_band):
+ *  1. the grid: the same limit on another grid level, V_g. The interval
+ *     runs from V to V_g: which of the two is nearer the truth is not
+ *     known, and the grid family need not converge (docs/validation.md,
+ *     "Grid sensitivity").
+ *  2. the averaging window: an unconverged field is the mean of its last
+ *     iterations, and that mean is uncertain by s (the largest difference
+ *     of the monitors' means between the window's halves, mean_drift, or
+ *     between the last window and the one before, mean_change; both / the
+ *     WOD speed). A ship-only field serves every speed scaled by V, so at
+ *     the limit the air at the rotor is uncertain by s V, and the limiting
+ *     quantity q by |dq/dV| s V (its slope with speed, the secant of
+ *     shol_envelope_sensitivity); the speed at which q reaches its limit
+ *     then moves by s V: the slope cancels. The bound takes the spread as
+ *     an error along the air the speed scales; a spread that turns the
+ *     flow where the rotor sits in a slow region moves the limit more, and
+ *     the grid spread is what measures that.
+ *  3. the sensitivity: +- the limit's move for 0.25 deg of attitude or
+ *     1 % of control travel (shol_envelope_sensitivity), the floors of the
+ *     coupling loop's 5 % test and the smallest error the trim is held to.
+ * The band is the hull of the three intervals, not a sum: they are not
+ * independent (2 and 3 are both errors in the air at the rotor, and 1 is
+ * one too), and the hull is what any one of them alone already allows.
+ * It is clipped at 0 km/h, and at the radius where nothing failed up to
+ * the highest speed searched (the search says nothing above it).
+ * Low confidence: a band wider than the larger of 10 km/h (two speed
+ * steps) and a quarter of the limit (shol_band_rule).
+ */
+#include "shol.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+void shol_band_rule_default(shol_band_rule *r)
+{
+    r->width_mps = 10.0 * CORE_KMH_TO_MPS;
+    r->frac = 0.25;
+}
+
+void shol_band_inputs_default(shol_band_inputs *in)
+{
+    memset(in, 0, sizeof *in);
+    shol_band_rule_default(&in->rule);
+}
+
+shol_band_rule shol_band_rule_of(const shol_result *r)
+{
+    shol_band_rule k = r->band_rule;
+    if (!(k.width_mps > 0) || !(k.frac > 0))
+        shol_band_rule_default(&k);
+    return k;
+}
+
+const char *shol_band_source_name(int src)
+{
+    switch (src) {
+    case SHOL_BAND_GRID:
+        return "grid";
+    case SHOL_BAND_WINDOW:
+        return "window";
+    case SHOL_BAND_SENS:
+        return "sensitivity";
+    default:
+        return "-";
+    }
+}
+
+static const shol_dir_result *find_dir(const shol_result *c, double dir_rad)
+{
+    for (int i = 0; c && i < c->n_dirs; i++)
+        if (fabs(c->dirs[i].dir_rad - dir_rad) < 1e-6)
+            return &c->dirs[i];
+    return NULL;
+}
+
+/* The band of d from its three sources (NAN: absent), under rule k. */
+static void band_make(const shol_dir_result *d, double grid_mps, double window_mps, double sens_mps,
+                      const shol_band_rule *k, shol_band *b)
+{
+    memset(b, 0, sizeof *b);
+    b->valid = 1;
+    b->grid_mps = grid_mps;
+    b->window_mps = window_mps;
+    b->sens_mps = sens_mps;
+    const double v = d->has_pass ? d->max_speed_mps : 0.0;
+    /* each source's reach below and above v */
+    double below[SHOL_NBAND] = {0}, above[SHOL_NBAND] = {0};
+    if (isfinite(grid_mps)) {
+        below[SHOL_BAND_GRID] = fmax(0.0, -grid_mps);
+        above[SHOL_BAND_GRID] = fmax(0.0, grid_mps);
+    }
+    if (isfinite(window_mps))
+        below[SHOL_BAND_WINDOW] = above[SHOL_BAND_WINDOW] = window_mps;
+    if (isfinite(sens_mps))
+        below[SHOL_BAND_SENS] = above[SHOL_BAND_SENS] = sens_mps;
+    b->open_above = d->limit == SHOL_LIMIT_NONE;
+    double lo = v, hi = v, reach = 0.0;
+    b->widest = -1;
+    for (int s = 0; s < SHOL_NBAND; s++) {
+        double lo_s = fmax(0.0, v - below[s]), hi_s = b->open_above ? v : v + above[s];
+        lo = fmin(lo, lo_s);
+        hi = fmax(hi, hi_s);
+        double r = fmax(v - lo_s, hi_s - v);
+        if (r > reach + 1e-12) {
+            reach = r;
+            b->widest = s;
+        }
+    }
+    b->lo_mps = lo;
+    b->hi_mps = hi;
+    b->low_confidence = hi - lo > fmax(k->width_mps, k->frac * v) + 1e-9;
+}
+
+static double sens_of(const shol_dir_result *d)
+{
+    shol_sensitivity se;
+    return shol_envelope_sensitivity(d, &se) == 0 ? se.shift_mps : NAN;
+}
+
+int shol_band_compute(shol_result *r, const shol_band_inputs *in, core_err *err)
+{
+    shol_band_inputs none;
+    if (!in) {
+        shol_band_inputs_default(&none);
+        in = &none;
+    }
+    const shol_band_rule *k = &in->rule;
+    if (!(k->width_mps > 0 && isfinite(k->width_mps)) || !(k->frac > 0 && isfinite(k->frac)))
+        return core_err_set(err, -1, "shol: band rule: width %g km/h, fraction %g: expected both finite and > 0",
+                            k->width_mps / CORE_KMH_TO_MPS, k->frac);
+    if (in->n_window < 0 || in->n_window > SHOL_MAX_DIRS)
+        return core_err_set(err, -1, "shol: band: %d window spreads: expected 0 to %d", in->n_window, SHOL_MAX_DIRS);
+    for (int j = 0; j < in->n_window; j++) {
+        char name[32];
+        core_wod_name(in->window_dir_rad[j] * CORE_RAD_TO_DEG, name, sizeof name);
+        double s = in->window_frac[j];
+        if (!isfinite(in->window_dir_rad[j]))
+            return core_err_set(err, -1, "shol: band: window spread %d: direction %g: expected a finite angle", j,
+                                in->window_dir_rad[j]);
+        if (!isnan(s) && !(s >= 0 && isfinite(s)))
+            return core_err_set(err, -1,
+                                "shol: band: %s: window spread %g: expected >= 0 and finite (NAN: not known)", name,
+                                s);
+    }
+    for (int i = 0; in->grid && i < in->grid->n_dirs; i++) {
+        const shol_dir_result *g = &in->grid->dirs[i];
+        char name[32];
+        core_wod_name(g->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+        if (g->has_pass && !(isfinite(g->max_speed_mps) && g->max_speed_mps >= 0))
+            return core_err_set(err, -1, "shol: band: %s %s: radius %g m/s: expected finite and >= 0", name,
+                                in->grid_label ? in->grid_label : "second grid", g->max_speed_mps);
+    }
+    for (int i = 0; i < r->n_dirs; i++) {
+        shol_dir_result *d = &r->dirs[i];
+        const double v = d->has_pass ? d->max_speed_mps : 0.0;
+        double grid = NAN, win = NAN;
+        const shol_dir_result *g = find_dir(in->grid, d->dir_rad);
+        if (g)
+            grid = (g->has_pass ? g->max_speed_mps : 0.0) - v;
+        for (int j = 0; j < in->n_window; j++)
+            if (fabs(in->window_dir_rad[j] - d->dir_rad) < 1e-6 && !isnan(in->window_frac[j]))
+                win = in->window_frac[j] * v;
+        band_make(d, grid, win, sens_of(d), k, &d->band);
+    }
+    r->band_rule = *k;
+    snprintf(r->band_grid_label, sizeof r->band_grid_label, "%s", in->grid && in->grid_label ? in->grid_label : in->grid ? "second grid" : "");
+    return 0;
+}
+
+void shol_band_get(const shol_result *r, int i, shol_band *out)
+{
+    const shol_dir_result *d = &r->dirs[i];
+    if (d->band.valid) {
+        *out = d->band;
+        return;
+    }
+    shol_band_rule k = shol_band_rule_of(r);
+    band_make(d, NAN, NAN, sens_of(d), &k, out);
+}
+
+void shol_band_format(const shol_band *b, const char *grid_label, int limit, char *buf, size_t n)
+{
+    const char *sens_unit = limit == SHOL_CRIT_ROLL || limit == SHOL_CRIT_PITCH ? "0.25 deg"
+                            : limit >= SHOL_CRIT_LONG && limit < SHOL_NCRIT    ? "1 %"
+                                                                                : "sensitivity";
+    const double K = CORE_KMH_TO_MPS;
+    size_t u = 0;
+    buf[0] = '\0';
+#define ADD(...)                                                                                                       \
+    do {                                                                                                               \
+        if (u < n) {                                                                                                   \
+            int w_ = snprintf(buf + u, n - u, __VA_ARGS__);                                                            \
+            u += w_ > 0 ? (size_t)w_ : 0;                                                                              \
+        }                                                                                                              \
+    } while (0)
+    if (isfinite(b->grid_mps))
+        ADD("grid %+.1f (%s)", b->grid_mps / K, grid_label && *grid_label ? grid_label : "second grid");
+    else
+        ADD("grid: no second grid");
+    if (isfinite(b->window_mps))
+        ADD(", window +-%.1f", b->window_mps / K);
+    else
+        ADD(", window: not known");
+    if (isfinite(b->sens_mps))
+        ADD(", %s +-%.1f", sens_unit, b->sens_mps / K);
+    else
+        ADD(", sensitivity: not defined");
+#undef ADD
+}
