@@ -5,9 +5,13 @@
 #                  envelope (8-12 minutes on 2 cores from an empty
 #                  airwake database) into out/quick/cg47_uh60a
 #   ./go.sh run    install what is missing, build, run the main job: every
-#                  scenario checked, the default-grid two-way envelopes of
-#                  both combinations (many hours on 2 cores) into
-#                  out/<scenario>
+#                  scenario checked; the builder in the background; a deck
+#                  landing of each combination flown in real time in its
+#                  airwake on LCM and logged, with a deck-camera video; the
+#                  candidate SHOL of both, trim-based and flown by the
+#                  replay pilot (coarse grid, one-way) into out/run
+#   ./go.sh run-default  the default-grid two-way envelopes of both
+#                  combinations (many hours on 2 cores) into out/<scenario>
 #   ./go.sh test   install what is missing, build (sanitizers on), run all tests
 # quick and run share the airwake database out/airwake-db: a field built by
 # one is not built again by the other.
@@ -49,6 +53,61 @@ check_scenarios() {
     done
 }
 
+# The main job (issue 28): the builder in the background on the database;
+# a port-side deck landing of each combination flown in real time by the
+# automated pilot in the airwake as the builder finishes it (the best field
+# there is, a better one blended in), published on LCM and logged; the
+# landing's deck-camera video; the candidate SHOL of CG-47 + UH-60A, then
+# LPD-17 + SA365N, trim-based and flown by the replay pilot re-flying the
+# logged landing at every WOD point; coarse grid, one-way. Progress on a
+# terminal; everything under out/run/.
+main_job() {
+    disim=./build/app/disim db=out/airwake-db out=out/run
+    t0=$(date +%s)
+    stage() { printf '== [%s] stage %s\n' "$(elapsed)" "$*"; }
+    elapsed() { e=$(($(date +%s) - t0)); printf '%d:%02d' $((e / 60)) $((e % 60)); }
+    mkdir -p "$out" "$db"
+    # Red and head winds are solved; green ones are their mirror images
+    # (the ships are symmetric), made as soon as a red one is there.
+    stage "1/7: the coarse ship-only fields queued, the builder started (its log: $db/builder.log)"
+    for spec in "cg47_uh60a_flown 0" "cg47_uh60a_flown -30" "cg47_uh60a_flown -60" "cg47_uh60a_flown -90" \
+        "lpd17_sa365n_flown -30" "lpd17_sa365n_flown 0" "lpd17_sa365n_flown -60" "lpd17_sa365n_flown -90"; do
+        set -- $spec
+        $disim airwake "scenarios/$1.ini" --wod-speed-kt 29.16 --wod-dir-deg "$2" --rotor off --grid coarse \
+            --queue "$db" | sed 's/^/   /'
+    done
+    $disim airwaked "$db" --jobs 2 --no-lcm --exit-when-idle --max-iter 600 >> "$db/builder.log" 2>&1 &
+    builder=$!
+    trap 'kill $builder 2> /dev/null' EXIT INT TERM
+    fly_landing() { # SCENARIO WOD_KT DIR_DEG NAME
+        $disim fly "scenarios/$1.ini" --wod-speed-kt "$2" --wod-dir-deg "$3" --db "$db" --realtime \
+            --pilot auto --task scenarios/tasks/land_port.ini --log "$out/$4.lcm" --csv "$out/$4.csv"
+    }
+    stage "2/7: CG-47 + UH-60A: the port-side landing in 25 kt ahead, sea state 4, flown in real time (about 1 min)"
+    fly_landing cg47_uh60a_flown 25 0 landing_cg47_uh60a
+    stage "3/7: its deck-camera video"
+    $disim render "$out/landing_cg47_uh60a.lcm" -o "$out/landing_cg47_uh60a" --camera deck --size 1280x720 \
+        --overlay hud --frames off
+    stage "4/7: CG-47 + UH-60A: the candidate SHOL, trim-based and flown by the replay pilot"
+    $disim shol scenarios/cg47_uh60a_flown.ini --db "$db" --cfd-max-iter 600 -o "$out/cg47_uh60a" \
+        --method pilot --task "$out/landing_cg47_uh60a.lcm" --feed-controls > "$out/cg47_uh60a.csv"
+    stage "5/7: LPD-17 + SA365N: the port-side landing in 20 kt from green 30, sea state 3, in real time"
+    fly_landing lpd17_sa365n_flown 20 30 landing_lpd17_sa365n
+    stage "6/7: LPD-17 + SA365N: the candidate SHOL, trim-based and flown by the replay pilot"
+    $disim shol scenarios/lpd17_sa365n_flown.ini --db "$db" --cfd-max-iter 600 -o "$out/lpd17_sa365n" \
+        --method pilot --task "$out/landing_lpd17_sa365n.lcm" --feed-controls > "$out/lpd17_sa365n.csv"
+    stage "7/7: done in $(elapsed)"
+    cat << EOF2
+go.sh run: what went where (out/run/):
+  landing_cg47_uh60a.lcm, landing_lpd17_sa365n.lcm  the landings' LCM logs (lcm-logplayer, disim render)
+  landing_cg47_uh60a.csv, landing_*_task.json       their trajectories and task results
+  landing_cg47_uh60a/deck.mp4                       the CG-47 landing seen from the deck
+  cg47_uh60a/, lpd17_sa365n/                        report.md, shol_polar_flown.png (both envelopes),
+                                                    shol.csv, shol.json, shol_flown.csv, shol_flown.json
+  the airwake database: $db (builder.log)
+EOF2
+}
+
 case "${1:-}" in
 quick)
     install_deps
@@ -65,14 +124,15 @@ quick)
         -o out/quick/cg47_uh60a --db out/airwake-db
     ;;
 run)
-    echo "go.sh run: the main job, the default-grid two-way envelopes of CG-47 + UH-60A and" \
-        "LPD-17 + SA365N, takes many hours on 2 cores; ./go.sh quick is the variant that" \
-        "finishes in 8-12 minutes (coarse grid, one-way, CG-47 + UH-60A)."
     install_deps
     build build -DCMAKE_BUILD_TYPE=Release
-    # Main job: check every scenario, then the candidate SHOL envelopes of
-    # both combinations (CG-47 + UH-60A first, then LPD-17 + SA365N) on the
-    # default grid, sharing one airwake database (out/airwake-db).
+    check_scenarios
+    main_job
+    ;;
+run-default)
+    # The earlier main job: the default-grid two-way envelopes (many hours on 2 cores).
+    install_deps
+    build build -DCMAKE_BUILD_TYPE=Release
     check_scenarios
     for s in scenarios/cg47_uh60a.ini scenarios/lpd17_sa365n.ini; do
         echo "== disim shol $s"
@@ -90,9 +150,10 @@ test)
     ctest --output-on-failure -j "$(nproc)" -LE validation
     ;;
 *)
-    echo "usage: ./go.sh quick | ./go.sh run | ./go.sh test" >&2
+    echo "usage: ./go.sh quick | ./go.sh run | ./go.sh run-default | ./go.sh test" >&2
     echo "  quick  build, check the scenarios, the coarse one-way CG-47 + UH-60A envelope (minutes)" >&2
-    echo "  run    build, check the scenarios, the default-grid two-way envelopes of both (hours)" >&2
+    echo "  run    build, check the scenarios, the main job: flown landings, video, both SHOLs (coarse, one-way)" >&2
+    echo "  run-default  build, check the scenarios, the default-grid two-way envelopes of both (hours)" >&2
     echo "  test   build with sanitizers, run every test" >&2
     exit 2
     ;;

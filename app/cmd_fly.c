@@ -735,7 +735,7 @@ static sim_loop *auto_loop(fly_ctx *c, double T, core_err *err)
     lo.realtime = o->realtime;
     lo.duration_s = T + 2.0 / o->rate_hz;
     lo.state_rate_hz = o->state_rate_hz;
-    lo.lcm = o->lcm == 1;
+    lo.lcm = o->lcm >= 0 ? o->lcm : o->realtime; /* as a station's flight: LCM in real time unless --no-lcm */
     lo.lcm_url = o->lcm_url;
     lo.log_path = o->log;
     lo.scenario_path = o->scen;
