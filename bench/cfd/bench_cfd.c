@@ -13,8 +13,20 @@
  *       one radius over the spot: wall time to convergence (normalised
  *       residuals < 1e-4 and deck-line monitors changing < 2 %), or to the
  *       limit; solver bytes per cell and the process's peak RSS per cell.
+ *   bench_cfd compare [--ship NAME] [--grid coarse|default|fine]
+ *       [--rotor on|off] [--dir-deg D] [--speed MPS] [--iters N]
+ *       [--threads N] [--rounds N] [--h-fine-m H --h-max-m H]
+ *       The present solver against the frozen baseline (baseline/, the
+ *       solver before the kernel rewrite) on the same case in this one
+ *       process, alternating (baseline, present) --rounds times: per run
+ *       the iterations, wall time, cell-updates/s and final residuals; the
+ *       ratio of the best rates; and the largest difference between the
+ *       two final fields (velocities / u_ref, p / (rho u_ref^2), k /
+ *       u_ref^2, eps relative).
  */
 #include "cfd.h"
+
+#include "bench_case.h"
 
 #include <math.h>
 #include <omp.h>
@@ -134,17 +146,83 @@ static int parse_int(const char *s, int lo, int hi, int *out)
     return 0;
 }
 
+static void print_run(const char *who, int round, const bench_out *o)
+{
+    printf("  %-8s round %d: %d iterations, %.2f s, %.3e cell-updates/s; residuals %.2e %.2e %.2e %.2e %.2e\n", who,
+           round, o->iterations, o->wall_s, o->cell_updates / o->wall_s, o->residual[0], o->residual[1],
+           o->residual[2], o->residual[3], o->residual[4]);
+}
+
+/* The baseline and the present solver side by side (see the file's top). */
+static int compare(const bench_case *bc, int threads, int rounds)
+{
+    omp_set_num_threads(threads);
+    double best[2] = {0.0, 0.0}, wall[2] = {1e300, 1e300};
+    bench_out last[2];
+    memset(last, 0, sizeof last);
+    for (int r = 0; r < rounds; r++)
+        for (int w = 0; w < 2; w++) {
+            bench_out o;
+            bench_case c = *bc;
+            c.keep_fields = r == rounds - 1;
+            int rc = w == 0 ? bench_case_base(&c, &o) : bench_case_new(&c, &o);
+            if (rc < 0) {
+                fprintf(stderr, "bench_cfd compare: %s: %s\n", w ? "present" : "baseline", o.err);
+                bench_out_free(&o);
+                bench_out_free(&last[0]);
+                return 1;
+            }
+            if (r == 0 && w == 0)
+                printf("compare: %s %.1f m/s %.0f deg, rotor %s, grid level %d, %zu cells (%zu fluid), %d "
+                       "iterations at most, %d threads\n",
+                       bc->ship, bc->speed_mps, bc->dir_deg, bc->rotor ? "UH-60A" : "off", bc->level, o.cells,
+                       o.fluid_cells, bc->iters, threads);
+            print_run(w ? "present" : "baseline", r + 1, &o);
+            double rate = o.cell_updates / o.wall_s;
+            if (rate > best[w])
+                best[w] = rate;
+            if (o.wall_s < wall[w])
+                wall[w] = o.wall_s;
+            if (c.keep_fields)
+                last[w] = o;
+            else
+                bench_out_free(&o);
+        }
+    printf("  best rate: baseline %.3e, present %.3e cell-updates/s: speed-up %.2f\n", best[0], best[1],
+           best[1] / best[0]);
+    printf("  best wall time: baseline %.2f s (%d iterations), present %.2f s (%d iterations): %.2f x\n", wall[0],
+           last[0].iterations, wall[1], last[1].iterations, wall[0] / wall[1]);
+    static const char *names[BENCH_NFIELD] = {"u", "v", "w", "p", "k", "eps"};
+    double U = last[1].u_ref_mps, rho = CORE_RHO_SL_KGPM3;
+    double scale[BENCH_NFIELD] = {U, U, U, rho * U * U, U * U, 0.0};
+    printf("  largest field difference, present - baseline:");
+    for (int v = 0; v < BENCH_NFIELD; v++) {
+        double m = 0.0;
+        for (size_t c = 0; c < last[1].cells; c++) {
+            double a = last[0].field[v][c], b = last[1].field[v][c];
+            double d = scale[v] > 0.0 ? fabs(b - a) / scale[v] : fabs(b - a) / fmax(fabs(a), 1e-30);
+            if (!(d <= m))
+                m = d;
+        }
+        printf(" %s %.1e", names[v], m);
+    }
+    printf(" (velocities / u_ref, p / (rho u_ref^2), k / u_ref^2, eps relative)\n");
+    bench_out_free(&last[0]);
+    bench_out_free(&last[1]);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
-        fprintf(stderr, "usage: bench_cfd throughput|airwake [options]\n");
+        fprintf(stderr, "usage: bench_cfd throughput|airwake|compare [options]\n");
         return 2;
     }
-    int threads = 2, iters = 50, max_iter = 3000, lv = 1, rotor = 1, every = 100, seq = 0;
-    double tl = 0.0, dir = 0.0, speed = 15.0;
+    int threads = 2, iters = 50, max_iter = 3000, lv = 1, rotor = 1, every = 100, seq = 0, rounds = 1;
+    double tl = 0.0, dir = 0.0, speed = 15.0, h_fine = 0.0, h_max = 0.0;
     const char *ship_name = "sfs2";
-    if (strcmp(argv[1], "throughput") && strcmp(argv[1], "airwake")) {
-        fprintf(stderr, "bench_cfd: unknown mode '%s' (expected throughput or airwake)\n", argv[1]);
+    if (strcmp(argv[1], "throughput") && strcmp(argv[1], "airwake") && strcmp(argv[1], "compare")) {
+        fprintf(stderr, "bench_cfd: unknown mode '%s' (expected throughput, airwake or compare)\n", argv[1]);
         return 2;
     }
     for (int i = 2; i < argc; i += 2) {
@@ -168,6 +246,12 @@ int main(int argc, char **argv)
             bad = parse_num(v, 0.1, 100.0, &speed);
         else if (!strcmp(o, "--rotor"))
             bad = !strcmp(v, "on") ? (rotor = 1, 0) : !strcmp(v, "off") ? (rotor = 0, 0) : 1;
+        else if (!strcmp(o, "--rounds"))
+            bad = parse_int(v, 1, 100, &rounds);
+        else if (!strcmp(o, "--h-fine-m"))
+            bad = parse_num(v, 0.01, 100.0, &h_fine);
+        else if (!strcmp(o, "--h-max-m"))
+            bad = parse_num(v, 0.01, 1000.0, &h_max);
         else if (!strcmp(o, "--seq"))
             bad = parse_int(v, 0, 1000000, &seq);
         else if (!strcmp(o, "--every"))
@@ -187,6 +271,10 @@ int main(int argc, char **argv)
                     v ? v : "nothing");
             return 2;
         }
+    }
+    if (!strcmp(argv[1], "compare")) {
+        bench_case bc = {CFD_SHIPS_DIR, ship_name, speed, dir, lv, rotor, iters, h_fine, h_max, 0};
+        return compare(&bc, threads, rounds);
     }
     if (!strcmp(argv[1], "throughput")) {
         double cells = 0.0;

@@ -1,0 +1,379 @@
+/*
+ * mg.c -- pressure-correction equation: conjugate gradients preconditioned
+ * by a geometric multigrid V-cycle.
+ *
+ * Model: the 7-point symmetric operator A x = diag x - sum c x_nb of the
+ * SIMPLEC pressure correction. Coarse levels merge 2 x 2 x 2 cells (1 along
+ * an axis with a single cell) and take the Galerkin product with piecewise
+ * constant transfer, i.e. the additive-correction multigrid of Hutchinson &
+ * Raithby (1986, Numer. Heat Transfer 9:511): a coarse face coupling is the
+ * sum of the fine couplings across it, so blocked cells (zero couplings) and
+ * stretched cells need no special rule. The V-cycle is symmetric (red-black
+ * Gauss-Seidel, red then black going down, black then red going up), hence a
+ * valid CG preconditioner, which also removes the additive-correction
+ * method's under-scaled coarse corrections. A singular (all-Neumann) system
+ * is solved in the space of zero-mean vectors.
+ */
+#include "cfd_private.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MG_MAX_LEVELS 16
+
+typedef struct mg_level {
+    int n[3];
+    size_t nc;
+    double *cx, *cy, *cz, *diag, *x, *b, *r;
+    unsigned char *active;
+} mg_level;
+
+struct cfd_mg {
+    int nlev;
+    mg_level lev[MG_MAX_LEVELS];
+    double *r, *z, *p, *q; /* CG vectors, fine level */
+    int singular;
+    size_t bytes;
+};
+
+static void level_free(mg_level *L)
+{
+    free(L->cx);
+    free(L->cy);
+    free(L->cz);
+    free(L->diag);
+    free(L->x);
+    free(L->b);
+    free(L->r);
+    free(L->active);
+}
+
+static int level_alloc(mg_level *L, const int n[3], size_t *bytes)
+{
+    memcpy(L->n, n, sizeof L->n);
+    L->nc = (size_t)n[0] * n[1] * n[2];
+    L->cx = calloc(L->nc, sizeof(double));
+    L->cy = calloc(L->nc, sizeof(double));
+    L->cz = calloc(L->nc, sizeof(double));
+    L->diag = calloc(L->nc, sizeof(double));
+    L->x = calloc(L->nc, sizeof(double));
+    L->b = calloc(L->nc, sizeof(double));
+    L->r = calloc(L->nc, sizeof(double));
+    L->active = calloc(L->nc, 1);
+    *bytes += L->nc * (7 * sizeof(double) + 1);
+    return (L->cx && L->cy && L->cz && L->diag && L->x && L->b && L->r && L->active) ? 0 : -1;
+}
+
+cfd_mg *cfd_mg_create(const int n[3])
+{
+    cfd_mg *m = calloc(1, sizeof *m);
+    if (!m)
+        return NULL;
+    int cur[3] = {n[0], n[1], n[2]};
+    for (;;) {
+        if (level_alloc(&m->lev[m->nlev], cur, &m->bytes))
+            goto fail;
+        m->nlev++;
+        size_t nc = (size_t)cur[0] * cur[1] * cur[2];
+        if (nc <= 64 || m->nlev == MG_MAX_LEVELS || (cur[0] == 1 && cur[1] == 1 && cur[2] == 1))
+            break;
+        for (int d = 0; d < 3; d++)
+            cur[d] = cur[d] > 1 ? (cur[d] + 1) / 2 : 1;
+    }
+    size_t nc = m->lev[0].nc;
+    m->r = malloc(nc * sizeof(double));
+    m->z = malloc(nc * sizeof(double));
+    m->p = malloc(nc * sizeof(double));
+    m->q = malloc(nc * sizeof(double));
+    m->bytes += 4 * nc * sizeof(double);
+    if (!m->r || !m->z || !m->p || !m->q)
+        goto fail;
+    return m;
+fail:
+    cfd_mg_destroy(m);
+    return NULL;
+}
+
+void cfd_mg_destroy(cfd_mg *m)
+{
+    if (!m)
+        return;
+    for (int l = 0; l < m->nlev; l++)
+        level_free(&m->lev[l]);
+    free(m->r);
+    free(m->z);
+    free(m->p);
+    free(m->q);
+    free(m);
+}
+
+size_t cfd_mg_bytes(const cfd_mg *m) { return m ? m->bytes + sizeof *m : 0; }
+double *cfd_mg_cx(cfd_mg *m) { return m->lev[0].cx; }
+double *cfd_mg_cy(cfd_mg *m) { return m->lev[0].cy; }
+double *cfd_mg_cz(cfd_mg *m) { return m->lev[0].cz; }
+double *cfd_mg_diag(cfd_mg *m) { return m->lev[0].diag; }
+
+#define LIDX(L, i, j, k) ((size_t)(i) + (size_t)(L)->n[0] * ((size_t)(j) + (size_t)(L)->n[1] * (size_t)(k)))
+
+static inline int child0(const mg_level *F, int d, int I) { return F->n[d] > 1 ? 2 * I : I; }
+static inline int nchild(const mg_level *F, int d, int I)
+{
+    if (F->n[d] == 1)
+        return 1;
+    return (2 * I + 1 < F->n[d]) ? 2 : 1;
+}
+
+void cfd_mg_setup(cfd_mg *m, int singular)
+{
+    m->singular = singular;
+    mg_level *F0 = &m->lev[0];
+    #pragma omp parallel for schedule(static)
+    for (size_t c = 0; c < F0->nc; c++) {
+        F0->active[c] = F0->diag[c] > 0.0;
+        if (!F0->active[c])
+            F0->diag[c] = 1.0, F0->cx[c] = F0->cy[c] = F0->cz[c] = 0.0;
+    }
+    for (int l = 1; l < m->nlev; l++) {
+        const mg_level *F = &m->lev[l - 1];
+        mg_level *C = &m->lev[l];
+        #pragma omp parallel for schedule(static)
+        for (int K = 0; K < C->n[2]; K++)
+            for (int J = 0; J < C->n[1]; J++)
+                for (int I = 0; I < C->n[0]; I++) {
+                    size_t cc = LIDX(C, I, J, K);
+                    double dg = 0.0, sx = 0.0, sy = 0.0, sz = 0.0;
+                    int act = 0;
+                    int i0 = child0(F, 0, I), j0 = child0(F, 1, J), k0 = child0(F, 2, K);
+                    int ni = nchild(F, 0, I), nj = nchild(F, 1, J), nk = nchild(F, 2, K);
+                    for (int k = k0; k < k0 + nk; k++)
+                        for (int j = j0; j < j0 + nj; j++)
+                            for (int i = i0; i < i0 + ni; i++) {
+                                size_t f = LIDX(F, i, j, k);
+                                if (!F->active[f])
+                                    continue;
+                                act = 1;
+                                dg += F->diag[f];
+                                /* a coupling to a sibling is internal to the aggregate */
+                                if (i + 1 < i0 + ni)
+                                    dg -= 2.0 * F->cx[f];
+                                else if (I + 1 < C->n[0])
+                                    sx += F->cx[f];
+                                if (j + 1 < j0 + nj)
+                                    dg -= 2.0 * F->cy[f];
+                                else if (J + 1 < C->n[1])
+                                    sy += F->cy[f];
+                                if (k + 1 < k0 + nk)
+                                    dg -= 2.0 * F->cz[f];
+                                else if (K + 1 < C->n[2])
+                                    sz += F->cz[f];
+                            }
+                    C->active[cc] = (unsigned char)act;
+                    C->diag[cc] = act ? dg : 1.0;
+                    C->cx[cc] = sx;
+                    C->cy[cc] = sy;
+                    C->cz[cc] = sz;
+                    if (act && !(C->diag[cc] > 0.0))
+                        C->diag[cc] = sx + sy + sz + 1e-300;
+                }
+    }
+}
+
+/* One Gauss-Seidel half-sweep over the cells of one colour. */
+static void gs_colour(mg_level *L, int colour)
+{
+    const int nx = L->n[0], ny = L->n[1], nz = L->n[2];
+    const size_t sy = (size_t)nx, sz = (size_t)nx * ny;
+    double *x = L->x;
+    #pragma omp parallel for schedule(static)
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++) {
+            int i0 = (j + k + colour) & 1;
+            for (int i = i0; i < nx; i += 2) {
+                size_t c = (size_t)i + sy * j + sz * k;
+                if (!L->active[c])
+                    continue;
+                double s = L->b[c];
+                if (i > 0)
+                    s += L->cx[c - 1] * x[c - 1];
+                if (i + 1 < nx)
+                    s += L->cx[c] * x[c + 1];
+                if (j > 0)
+                    s += L->cy[c - sy] * x[c - sy];
+                if (j + 1 < ny)
+                    s += L->cy[c] * x[c + sy];
+                if (k > 0)
+                    s += L->cz[c - sz] * x[c - sz];
+                if (k + 1 < nz)
+                    s += L->cz[c] * x[c + sz];
+                x[c] = s / L->diag[c];
+            }
+        }
+}
+
+/* y = A x on a level. */
+static void apply(const mg_level *L, const double *x, double *y)
+{
+    const int nx = L->n[0], ny = L->n[1], nz = L->n[2];
+    const size_t sy = (size_t)nx, sz = (size_t)nx * ny;
+    #pragma omp parallel for schedule(static)
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++) {
+                size_t c = (size_t)i + sy * j + sz * k;
+                if (!L->active[c]) {
+                    y[c] = 0.0;
+                    continue;
+                }
+                double s = L->diag[c] * x[c];
+                if (i > 0)
+                    s -= L->cx[c - 1] * x[c - 1];
+                if (i + 1 < nx)
+                    s -= L->cx[c] * x[c + 1];
+                if (j > 0)
+                    s -= L->cy[c - sy] * x[c - sy];
+                if (j + 1 < ny)
+                    s -= L->cy[c] * x[c + sy];
+                if (k > 0)
+                    s -= L->cz[c - sz] * x[c - sz];
+                if (k + 1 < nz)
+                    s -= L->cz[c] * x[c + sz];
+                y[c] = s;
+            }
+}
+
+static void vcycle(cfd_mg *m, int l)
+{
+    mg_level *L = &m->lev[l];
+    if (l == m->nlev - 1) {
+        for (int it = 0; it < 40; it++) {
+            gs_colour(L, 0);
+            gs_colour(L, 1);
+        }
+        for (int it = 0; it < 40; it++) {
+            gs_colour(L, 1);
+            gs_colour(L, 0);
+        }
+        return;
+    }
+    gs_colour(L, 0);
+    gs_colour(L, 1);
+    apply(L, L->x, L->r);
+    mg_level *C = &m->lev[l + 1];
+    #pragma omp parallel for schedule(static)
+    for (size_t c = 0; c < L->nc; c++)
+        L->r[c] = L->active[c] ? L->b[c] - L->r[c] : 0.0;
+    #pragma omp parallel for schedule(static)
+    for (int K = 0; K < C->n[2]; K++)
+        for (int J = 0; J < C->n[1]; J++)
+            for (int I = 0; I < C->n[0]; I++) {
+                double s = 0.0;
+                int i0 = child0(L, 0, I), j0 = child0(L, 1, J), k0 = child0(L, 2, K);
+                int ni = nchild(L, 0, I), nj = nchild(L, 1, J), nk = nchild(L, 2, K);
+                for (int k = k0; k < k0 + nk; k++)
+                    for (int j = j0; j < j0 + nj; j++)
+                        for (int i = i0; i < i0 + ni; i++)
+                            s += L->r[LIDX(L, i, j, k)];
+                size_t cc = LIDX(C, I, J, K);
+                C->b[cc] = s;
+                C->x[cc] = 0.0;
+            }
+    vcycle(m, l + 1);
+    #pragma omp parallel for schedule(static)
+    for (int k = 0; k < L->n[2]; k++)
+        for (int j = 0; j < L->n[1]; j++)
+            for (int i = 0; i < L->n[0]; i++) {
+                size_t c = LIDX(L, i, j, k);
+                if (!L->active[c])
+                    continue;
+                int I = L->n[0] > 1 ? i / 2 : i, J = L->n[1] > 1 ? j / 2 : j, K = L->n[2] > 1 ? k / 2 : k;
+                L->x[c] += C->x[LIDX(C, I, J, K)];
+            }
+    gs_colour(L, 1);
+    gs_colour(L, 0);
+}
+
+static double dot(const double *a, const double *b, size_t n)
+{
+    double s = 0.0;
+    #pragma omp parallel for reduction(+ : s) schedule(static)
+    for (size_t c = 0; c < n; c++)
+        s += a[c] * b[c];
+    return s;
+}
+
+static void remove_mean(const mg_level *L, double *v)
+{
+    double s = 0.0, cnt = 0.0;
+    #pragma omp parallel for reduction(+ : s, cnt) schedule(static)
+    for (size_t c = 0; c < L->nc; c++)
+        if (L->active[c])
+            s += v[c], cnt += 1.0;
+    if (cnt == 0.0)
+        return;
+    double mean = s / cnt;
+    #pragma omp parallel for schedule(static)
+    for (size_t c = 0; c < L->nc; c++)
+        if (L->active[c])
+            v[c] -= mean;
+}
+
+/* z = M^-1 r: one V-cycle from zero. */
+static void precond(cfd_mg *m, const double *r, double *z)
+{
+    mg_level *L = &m->lev[0];
+    memcpy(L->b, r, L->nc * sizeof(double));
+    memset(L->x, 0, L->nc * sizeof(double));
+    vcycle(m, 0);
+    memcpy(z, L->x, L->nc * sizeof(double));
+    if (m->singular)
+        remove_mean(L, z);
+}
+
+int cfd_mg_solve(cfd_mg *m, double *x, const double *b, double rtol, int maxit, double *rel_res)
+{
+    mg_level *L = &m->lev[0];
+    size_t n = L->nc;
+    double *r = m->r, *z = m->z, *p = m->p, *q = m->q;
+    apply(L, x, q);
+    #pragma omp parallel for schedule(static)
+    for (size_t c = 0; c < n; c++)
+        r[c] = L->active[c] ? b[c] - q[c] : 0.0;
+    if (m->singular)
+        remove_mean(L, r);
+    double bn = sqrt(dot(b, b, n));
+    double rn = sqrt(dot(r, r, n));
+    if (bn == 0.0)
+        bn = 1.0;
+    int it = 0;
+    if (rn > rtol * bn) {
+        precond(m, r, z);
+        memcpy(p, z, n * sizeof(double));
+        double rz = dot(r, z, n);
+        for (it = 1; it <= maxit; it++) {
+            apply(L, p, q);
+            double pq = dot(p, q, n);
+            if (!(pq > 0.0))
+                break;
+            double alpha = rz / pq;
+            #pragma omp parallel for schedule(static)
+            for (size_t c = 0; c < n; c++) {
+                x[c] += alpha * p[c];
+                r[c] -= alpha * q[c];
+            }
+            rn = sqrt(dot(r, r, n));
+            if (rn <= rtol * bn)
+                break;
+            precond(m, r, z);
+            double rz1 = dot(r, z, n);
+            double beta = rz1 / rz;
+            rz = rz1;
+            #pragma omp parallel for schedule(static)
+            for (size_t c = 0; c < n; c++)
+                p[c] = z[c] + beta * p[c];
+        }
+    }
+    if (rel_res)
+        *rel_res = rn / bn;
+    return it;
+}
