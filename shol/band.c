@@ -82,15 +82,17 @@ static const shol_dir_result *find_dir(const shol_result *c, double dir_rad)
 }
 
 /* The band of d from its three sources (NAN: absent), under rule k. */
-static void band_make(const shol_dir_result *d, double grid_mps, double window_mps, double sens_mps,
+static void band_make(const shol_dir_result *d, double grid_mps, double window_frac, double sens_mps,
                       const shol_band_rule *k, shol_band *b)
 {
     memset(b, 0, sizeof *b);
+    const double v = d->has_pass ? d->max_speed_mps : 0.0;
+    const double window_mps = window_frac * v; /* NAN stays NAN */
     b->valid = 1;
     b->grid_mps = grid_mps;
     b->window_mps = window_mps;
+    b->window_frac = window_frac;
     b->sens_mps = sens_mps;
-    const double v = d->has_pass ? d->max_speed_mps : 0.0;
     /* each source's reach below and above v */
     double below[SHOL_NBAND] = {0}, above[SHOL_NBAND] = {0};
     if (isfinite(grid_mps)) {
@@ -161,13 +163,13 @@ int shol_band_compute(shol_result *r, const shol_band_inputs *in, core_err *err)
     for (int i = 0; i < r->n_dirs; i++) {
         shol_dir_result *d = &r->dirs[i];
         const double v = d->has_pass ? d->max_speed_mps : 0.0;
-        double grid = NAN, win = NAN;
+        double grid = NAN, win = NAN; /* win: s */
         const shol_dir_result *g = find_dir(in->grid, d->dir_rad);
         if (g)
             grid = (g->has_pass ? g->max_speed_mps : 0.0) - v;
         for (int j = 0; j < in->n_window; j++)
             if (fabs(in->window_dir_rad[j] - d->dir_rad) < 1e-6 && !isnan(in->window_frac[j]))
-                win = in->window_frac[j] * v;
+                win = in->window_frac[j];
         band_make(d, grid, win, sens_of(d), k, &d->band);
     }
     r->band_rule = *k;
@@ -214,4 +216,40 @@ void shol_band_format(const shol_band *b, const char *grid_label, int limit, cha
     else
         ADD(", sensitivity: not defined");
 #undef ADD
+}
+
+void shol_flown_band(const shol_flown_result *f, const shol_result *trim, int i, shol_band *out)
+{
+    const shol_flown_dir *fd = &f->dirs[i];
+    /* the flown direction as a dir_result: its radius, and "none" where
+     * nothing failed (the band is then open above) */
+    shol_dir_result d;
+    memset(&d, 0, sizeof d);
+    d.dir_rad = fd->dir_rad;
+    d.has_pass = fd->has_pass;
+    d.max_speed_mps = fd->max_speed_mps;
+    d.limit = isnan(fd->fail_speed_mps) ? SHOL_LIMIT_NONE : SHOL_LIMIT_TRIM;
+    double grid = NAN, win = NAN, sens = NAN;
+    for (int j = 0; trim && j < trim->n_dirs; j++) {
+        if (fabs(trim->dirs[j].dir_rad - fd->dir_rad) >= 1e-6)
+            continue;
+        shol_band tb;
+        shol_band_get(trim, j, &tb);
+        grid = tb.grid_mps;
+        win = tb.window_frac;
+        sens = tb.sens_mps;
+        break;
+    }
+    shol_band_rule k;
+    if (trim)
+        k = shol_band_rule_of(trim);
+    else
+        shol_band_rule_default(&k);
+    band_make(&d, grid, win, sens, &k, out);
+}
+
+void shol_flown_bands_update(shol_flown_result *f, const shol_result *trim)
+{
+    for (int i = 0; i < f->n_dirs; i++)
+        shol_flown_band(f, trim, i, &f->dirs[i].band);
 }

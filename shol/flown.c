@@ -503,6 +503,7 @@ int shol_flown_run(const shol_flown_settings *s, const shol_result *trim, shol_f
     out->n_flights = w.n_flights;
     out->flown_s = w.flown_s;
     out->wall_s = core_monotonic_s() - w.t0;
+    shol_flown_bands_update(out, trim); /* the trim's bands carried to the flown radii */
     report(&w, trim->n_dirs - 1, 0.0, 1.0, 1);
     return 0;
 }

@@ -123,6 +123,7 @@ static int read_band(const char *path, int lineno, char **fld, shol_dir_result *
     b->hi_mps = v[1] * CORE_KMH_TO_MPS;
     b->grid_mps = v[2] * CORE_KMH_TO_MPS;
     b->window_mps = v[3] * CORE_KMH_TO_MPS;
+    b->window_frac = rad_kmh > 0 ? v[3] / rad_kmh : NAN; /* s is lost at a radius of 0 */
     b->sens_mps = v[4] * CORE_KMH_TO_MPS;
     b->open_above = (int)v[5];
     b->low_confidence = (int)v[6];

@@ -90,6 +90,35 @@ static void envelope(cairo_t *cr, const fpolar *p, double (*v)[2], int n, double
     cairo_set_dash(cr, NULL, 0, 0);
 }
 
+/* A band's whisker from lo to hi kt at dir, side_px beside the spoke (so
+ * that the points on it stay visible), capped (no cap above when open),
+ * red and thicker when low is set. */
+static void whisker(cairo_t *cr, const fpolar *p, double dir, double side_px, double lo_kt, double hi_kt, int open,
+                    int low, double r, double g, double b, double width)
+{
+    double x0, y0, x1, y1;
+    const double ax = cos(dir), ay = sin(dir); /* across the spoke, on the page */
+    xy(p, dir, lo_kt, &x0, &y0);
+    xy(p, dir, hi_kt, &x1, &y1);
+    x0 += side_px * ax, y0 += side_px * ay, x1 += side_px * ax, y1 += side_px * ay;
+    const double tx = ax * 6, ty = ay * 6;
+    if (low)
+        cairo_set_source_rgb(cr, 0.80, 0.05, 0.10);
+    else
+        cairo_set_source_rgb(cr, r, g, b);
+    cairo_set_line_width(cr, low ? width + 1 : width);
+    cairo_new_path(cr);
+    cairo_move_to(cr, x0, y0);
+    cairo_line_to(cr, x1, y1);
+    cairo_move_to(cr, x0 - tx, y0 - ty);
+    cairo_line_to(cr, x0 + tx, y0 + ty);
+    if (!open) {
+        cairo_move_to(cr, x1 - tx, y1 - ty);
+        cairo_line_to(cr, x1 + tx, y1 + ty);
+    }
+    cairo_stroke(cr);
+}
+
 static void draw(cairo_t *cr, double W, double H, const shol_flown_result *f, const shol_result *t,
                  const shol_report_info *info, double (*buf)[2])
 {
@@ -99,9 +128,19 @@ static void draw(cairo_t *cr, double W, double H, const shol_flown_result *f, co
     for (int i = 0; i < f->n_dirs; i++)
         for (int k = 0; k < f->dirs[i].n_points; k++)
             top = fmax(top, f->dirs[i].points[k].speed_mps / CORE_KT_TO_MPS);
-    for (int i = 0; t && i < t->n_dirs; i++)
+    for (int i = 0; t && i < t->n_dirs; i++) {
+        shol_band b;
+        shol_band_get(t, i, &b);
+        top = fmax(top, b.hi_mps / CORE_KT_TO_MPS);
         if (t->dirs[i].has_pass)
             top = fmax(top, t->dirs[i].max_speed_mps / CORE_KT_TO_MPS);
+    }
+    for (int i = 0; i < f->n_dirs; i++) {
+        shol_band b = f->dirs[i].band;
+        if (!b.valid)
+            shol_flown_band(f, t, i, &b);
+        top = fmax(top, b.hi_mps / CORE_KT_TO_MPS);
+    }
     double step = top > 60 ? 20 : top > 25 ? 10 : 5;
     fpolar p = {W / 2, 110 + 0.40 * W, 0.36 * W, 0};
     p.rmax_kt = fmax(step, ceil(top / step - 1e-9) * step);
@@ -182,8 +221,24 @@ static void draw(cairo_t *cr, double W, double H, const shol_flown_result *f, co
             text(cr, x, y, 11, 0, 0, s);
         }
     }
+    /* the bands (shol_band_get, shol_flown_band), beside the points: the
+     * trim's thin and blue on one side, the flown one's amber on the
+     * other; red where of low confidence */
+    for (int i = 0; t && i < t->n_dirs; i++) {
+        shol_band b;
+        shol_band_get(t, i, &b);
+        whisker(cr, &p, t->dirs[i].dir_rad, 11, b.lo_mps / CORE_KT_TO_MPS, b.hi_mps / CORE_KT_TO_MPS, b.open_above,
+                b.low_confidence, 0.15, 0.35, 0.85, 1.5);
+    }
+    for (int i = 0; i < f->n_dirs; i++) {
+        shol_band b = f->dirs[i].band;
+        if (!b.valid)
+            shol_flown_band(f, t, i, &b);
+        whisker(cr, &p, f->dirs[i].dir_rad, -11, b.lo_mps / CORE_KT_TO_MPS, b.hi_mps / CORE_KT_TO_MPS, b.open_above,
+                b.low_confidence, 0.75, 0.48, 0.05, 3.0);
+    }
     /* legend */
-    double ly = H - 60;
+    double ly = H - 88;
     cairo_set_line_width(cr, 2.5);
     double dash[] = {10, 6};
     cairo_set_dash(cr, dash, 2, 0);
@@ -205,6 +260,23 @@ static void draw(cairo_t *cr, double W, double H, const shol_flown_result *f, co
     snprintf(s, sizeof s, "flown%s%s; dots: each point's pass rate, red 0 to green 1 (black edge: passed)",
              info && info->label ? ": " : "", info && info->label ? info->label : "");
     text(cr, 100, ly + 28, 14, 0, -1, s);
+    /* the bands' key */
+    const shol_band_rule br = t ? shol_band_rule_of(t) : (shol_band_rule){10 * CORE_KMH_TO_MPS, 0.25};
+    cairo_set_source_rgb(cr, 0.75, 0.48, 0.05);
+    cairo_set_line_width(cr, 3.0);
+    cairo_move_to(cr, 65, ly + 49);
+    cairo_line_to(cr, 65, ly + 63);
+    cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0.80, 0.05, 0.10);
+    cairo_set_line_width(cr, 4.0);
+    cairo_move_to(cr, 80, ly + 49);
+    cairo_line_to(cr, 80, ly + 63);
+    cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    snprintf(s, sizeof s, "bands: flown amber, trim thin blue (grid, window, 0.25 deg / 1 %%); red: low, wider than %g "
+                          "km/h and %g %% of the limit",
+             br.width_mps / CORE_KMH_TO_MPS, 100 * br.frac);
+    text(cr, 100, ly + 56, 13, 0, -1, s);
 }
 
 static int check(const shol_flown_result *f, const shol_result *t, core_err *err)
@@ -221,13 +293,31 @@ static int check(const shol_flown_result *f, const shol_result *t, core_err *err
     for (int i = 0; t && i < t->n_dirs; i++)
         if (!isfinite(t->dirs[i].dir_rad) || (t->dirs[i].has_pass && !isfinite(t->dirs[i].max_speed_mps)))
             return core_err_set(err, -1, "shol: flown plot: trim direction %d: not finite", i);
+    /* the bands drawn (a band of NaN would draw to nowhere) */
+    for (int i = 0; i < f->n_dirs + (t ? t->n_dirs : 0); i++) {
+        const int fl = i < f->n_dirs;
+        shol_band b;
+        if (fl) {
+            b = f->dirs[i].band;
+            if (!b.valid)
+                shol_flown_band(f, t, i, &b);
+        } else
+            shol_band_get(t, i - f->n_dirs, &b);
+        if (!(isfinite(b.lo_mps) && isfinite(b.hi_mps) && b.lo_mps >= 0 && b.hi_mps >= b.lo_mps)) {
+            char name[32];
+            core_wod_name((fl ? f->dirs[i].dir_rad : t->dirs[i - f->n_dirs].dir_rad) * CORE_RAD_TO_DEG, name,
+                          sizeof name);
+            return core_err_set(err, -1, "shol: flown plot: %s %s: band %g to %g m/s: expected finite, 0 <= lo <= hi",
+                                fl ? "flown" : "trim", name, b.lo_mps, b.hi_mps);
+        }
+    }
     return 0;
 }
 
 int shol_flown_plot_polar(const char *dir, const shol_flown_result *f, const shol_result *trim,
                           const shol_report_info *info, core_err *err)
 {
-    const double W = 1000, H = 1060;
+    const double W = 1000, H = 1090;
     if (check(f, trim, err) < 0 || shol_io_mkdir(dir, err) < 0)
         return -1;
     int nmax = f->n_dirs + (trim ? trim->n_dirs : 0) + 1;

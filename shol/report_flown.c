@@ -41,6 +41,23 @@ static void json_str(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* A direction's band: the one shol_flown_run (or shol_flown_bands_update)
+ * filled, else one without sources. */
+static void band_of(const shol_flown_result *fr, int i, shol_band *b)
+{
+    *b = fr->dirs[i].band;
+    if (!b->valid)
+        shol_flown_band(fr, NULL, i, b);
+}
+
+static void json_num(FILE *f, double v)
+{
+    if (isfinite(v))
+        fprintf(f, "%.6g", v);
+    else
+        fputs("null", f);
+}
+
 int shol_flown_write_csv(const char *dir, const shol_flown_result *fr, core_err *err)
 {
     char final[SHOL_IO_PATH_MAX], tmp[SHOL_IO_PATH_MAX];
@@ -49,8 +66,10 @@ int shol_flown_write_csv(const char *dir, const shol_flown_result *fr, core_err 
     FILE *f = shol_io_open(tmp, err);
     if (!f)
         return -1;
+    /* the band's columns after the first nine (issue 28), as in shol.csv */
     fprintf(f, "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,pass_rate_at_fail,cause,"
-               "trim_max_speed_kt,trim_limit\n");
+               "trim_max_speed_kt,trim_limit,band_lo_kmh,band_hi_kmh,band_grid_kmh,band_window_kmh,band_sens_kmh,"
+               "band_open_above,low_confidence\n");
     for (int i = 0; i < fr->n_dirs; i++) {
         const shol_flown_dir *d = &fr->dirs[i];
         fprintf(f, "%.1f,", d->dir_rad * CORE_RAD_TO_DEG);
@@ -67,7 +86,15 @@ int shol_flown_write_csv(const char *dir, const shol_flown_result *fr, core_err 
         csv_str(f, d->cause);
         fputc(',', f);
         shol_io_num(f, "%.2f", d->trim_has_pass ? kt(d->trim_max_speed_mps) : NAN);
-        fprintf(f, ",%s\n", shol_limit_name(d->trim_limit) ? shol_limit_name(d->trim_limit) : "none");
+        fprintf(f, ",%s", shol_limit_name(d->trim_limit) ? shol_limit_name(d->trim_limit) : "none");
+        shol_band b;
+        band_of(fr, i, &b);
+        const double bv[5] = {b.lo_mps, b.hi_mps, b.grid_mps, b.window_mps, b.sens_mps};
+        for (int k = 0; k < 5; k++) {
+            fputc(',', f);
+            shol_io_num(f, "%.3f", bv[k] / CORE_KMH_TO_MPS);
+        }
+        fprintf(f, ",%d,%d\n", b.open_above, b.low_confidence);
     }
     if (shol_io_commit(f, tmp, final, err) < 0)
         return -1;
@@ -113,6 +140,20 @@ int shol_flown_write_json(const char *dir, const shol_flown_result *fr, const sh
             fprintf(f, "%.3f", kt(d->fail_speed_mps));
         fprintf(f, ", \"cause\": ");
         json_str(f, d->cause);
+        shol_band b;
+        band_of(fr, i, &b);
+        fputs(", \"band\": {\"lo_kmh\": ", f);
+        json_num(f, b.lo_mps / CORE_KMH_TO_MPS);
+        fputs(", \"hi_kmh\": ", f);
+        json_num(f, b.hi_mps / CORE_KMH_TO_MPS);
+        fputs(", \"grid_kmh\": ", f);
+        json_num(f, b.grid_mps / CORE_KMH_TO_MPS);
+        fputs(", \"window_kmh\": ", f);
+        json_num(f, b.window_mps / CORE_KMH_TO_MPS);
+        fputs(", \"sens_kmh\": ", f);
+        json_num(f, b.sens_mps / CORE_KMH_TO_MPS);
+        fprintf(f, ", \"open_above\": %s, \"widest\": \"%s\", \"low_confidence\": %s}", b.open_above ? "true" : "false",
+                shol_band_source_name(b.widest), b.low_confidence ? "true" : "false");
         fprintf(f, ", \"trim_max_speed_kt\": %.3f, \"trim_has_pass\": %d, \"trim_limit\": \"%s\", \"points\": [",
                 kt(d->trim_max_speed_mps), d->trim_has_pass,
                 shol_limit_name(d->trim_limit) ? shol_limit_name(d->trim_limit) : "none");
@@ -136,6 +177,74 @@ static void fmt_kt(char *b, size_t n, int has, double mps)
         snprintf(b, n, "%.1f", kt(mps));
     else
         snprintf(b, n, "none");
+}
+
+/* The bands of both envelopes, direction by direction, and the directions
+ * of low confidence named (issue 28). */
+static void write_flown_bands(FILE *f, const shol_flown_result *fr, const shol_result *trim)
+{
+    const double K = CORE_KMH_TO_MPS;
+    fprintf(f, "\n## Uncertainty bands\n\n| WOD | flown (km/h) | its band | trim-based (km/h) | its band | what makes "
+               "the trim's band (km/h) | confidence (flown, trim) |\n|---|---|---|---|---|---|---|\n");
+    int n_low = 0;
+    for (int i = 0; i < fr->n_dirs; i++) {
+        const shol_flown_dir *d = &fr->dirs[i];
+        shol_band b, tb;
+        band_of(fr, i, &b);
+        const shol_dir_result *td = NULL;
+        int ti = -1;
+        for (int j = 0; trim && j < trim->n_dirs; j++)
+            if (fabs(trim->dirs[j].dir_rad - d->dir_rad) < 1e-6) {
+                td = &trim->dirs[j];
+                ti = j;
+            }
+        char name[32], what[256] = "-", tband[64] = "-", tv[32] = "-";
+        core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+        int tlow = 0;
+        if (td) {
+            shol_band_get(trim, ti, &tb);
+            shol_band_format(&tb, trim->band_grid_label, td->limit, what, sizeof what);
+            snprintf(tband, sizeof tband, "%.1f-%.1f%s", tb.lo_mps / K, tb.hi_mps / K, tb.open_above ? " (open above)" : "");
+            snprintf(tv, sizeof tv, "%.1f", td->has_pass ? td->max_speed_mps / K : 0.0);
+            tlow = tb.low_confidence;
+        }
+        fprintf(f, "| %s | %.1f | %.1f-%.1f%s | %s | %s | %s | %s, %s |\n", name,
+                d->has_pass ? d->max_speed_mps / K : 0.0, b.lo_mps / K, b.hi_mps / K,
+                b.open_above ? " (open above)" : "", tv, tband, what, b.low_confidence ? "**low**" : "ok",
+                tlow ? "**low**" : "ok");
+        n_low += b.low_confidence || tlow;
+    }
+    fprintf(f, "\nThe trim-based band is the hull of its grid, averaging-window and 0.25 deg / 1 %% sources "
+               "(docs/shol.md, \"Uncertainty bands\"). The flown band carries the same measured sources to the "
+               "flown radius V_f: the trim's grid shift, its window spread s as +- s V_f, its 0.25 deg / 1 %% "
+               "shift; it does not hold the pass rate's sampling over the seeds (the table below has every point's "
+               "rate). Low confidence: a band wider than the larger of %g km/h and %g %% of the limit.\n\n",
+            trim ? shol_band_rule_of(trim).width_mps / K : 10.0, trim ? 100 * shol_band_rule_of(trim).frac : 25.0);
+    if (n_low) {
+        fprintf(f, "**Low confidence, where an at-sea test is most needed:** ");
+        int j = 0;
+        for (int i = 0; i < fr->n_dirs; i++) {
+            shol_band b;
+            band_of(fr, i, &b);
+            int tlow = 0;
+            for (int k = 0; trim && k < trim->n_dirs; k++)
+                if (fabs(trim->dirs[k].dir_rad - fr->dirs[i].dir_rad) < 1e-6) {
+                    shol_band tb;
+                    shol_band_get(trim, k, &tb);
+                    tlow = tb.low_confidence;
+                }
+            if (!b.low_confidence && !tlow)
+                continue;
+            char name[32];
+            core_wod_name(fr->dirs[i].dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+            fprintf(f, "%s%s (%s)", j++ ? ", " : "", name,
+                    b.low_confidence && tlow ? "both envelopes" : b.low_confidence ? "flown" : "trim-based");
+        }
+        fprintf(f, ". The seed paper (section 2.8) uses a candidate SHOL so that \"only the regions with low "
+                   "confidence in the candidate SHOL and/or small safety margins need to be tested\" at sea.\n");
+    } else {
+        fprintf(f, "No band is wider than the rule: no direction is marked low confidence.\n");
+    }
 }
 
 int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const shol_result *trim,
@@ -212,6 +321,7 @@ int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const 
                 kt(fr->dirs[ibest].max_speed_mps), tbest >= 0 ? n2 : "none",
                 tbest >= 0 ? kt(fr->dirs[tbest].trim_max_speed_mps) : 0.0);
     }
+    write_flown_bands(f, fr, trim);
     if (info && info->checks) {
         fprintf(f, "\n## Physics checks of the flown envelope\n\n| check | result | detail |\n|---|---|---|\n");
         for (int i = 0; i < info->checks->n; i++) {
@@ -230,7 +340,6 @@ int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const 
             fprintf(f, "| %s | %.1f | %d | %d | %.2f | %s | %s |\n", name, kt(q->speed_mps), q->n_flights, q->n_pass,
                     q->pass_rate, q->pass ? "pass" : "fail", q->cause[0] ? q->cause : "-");
         }
-    (void)trim;
     fprintf(f, "\nFiles: `shol_flown.csv` (per direction), `shol_flown_points.csv` (per point), `shol_flown.json`, "
                "`shol_polar_flown.png`/`.svg`; the trim-based envelope beside them as `shol.csv` and `shol.json`.\n");
     return shol_io_commit(f, tmp, final, err);

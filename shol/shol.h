@@ -164,6 +164,7 @@ typedef struct shol_band {
     int open_above;        /* nothing failed up to speed_max: the band does not reach above it */
     double grid_mps;       /* V_g - V; NAN: no second grid at this direction */
     double window_mps;     /* s V >= 0; NAN: the window spread not known */
+    double window_frac;    /* s; NAN: not known */
     double sens_mps;       /* >= 0; NAN: the sensitivity is not defined here */
     int low_confidence;    /* 1: wider than the rule (shol_band_rule) */
     int widest;            /* SHOL_BAND_* that reaches furthest from V; -1: a band of width 0 */
@@ -525,6 +526,7 @@ typedef struct shol_flown_dir {
     char cause[SHOL_CAUSE_MAX];  /* at fail_speed_mps ("none" when nothing failed) */
     int n_points;                /* flown points, by speed */
     shol_flown_point *points;
+    shol_band band;              /* shol_flown_band, filled by shol_flown_run and shol_flown_bands_update */
 } shol_flown_dir;
 
 typedef struct shol_flown_result {
@@ -573,6 +575,18 @@ int shol_flown_plot_polar(const char *dir, const shol_flown_result *f, const sho
  * trim-based one direction by direction, every point's pass rate and cause. */
 int shol_flown_write_report(const char *dir, const shol_flown_result *f, const shol_result *trim,
                             const shol_report_info *info, core_err *err);
+/* The band of the flown envelope's direction i (shol_band; issue 28): the
+ * trim envelope's sources carried to the flown radius V_f, as what the
+ * project measures of the air the flights fly: the trim's grid spread
+ * (grid_mps, the same signed shift), its window spread s (window_frac)
+ * as +- s V_f, and its 0.25 deg / 1 % shift. Open
+ * above where no flown point failed; the rule is the trim result's.
+ * Without a trim direction (or trim NULL) every source is absent. */
+void shol_flown_band(const shol_flown_result *f, const shol_result *trim, int i, shol_band *out);
+/* Every direction's band (f->dirs[i].band) from trim's, again: after the
+ * trim envelope's bands were computed or changed (shol_band_compute). */
+void shol_flown_bands_update(shol_flown_result *f, const shol_result *trim);
+
 /* All four. */
 int shol_flown_write_all(const char *dir, const shol_flown_result *f, const shol_result *trim,
                          const shol_report_info *info, core_err *err);

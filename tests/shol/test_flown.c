@@ -473,17 +473,17 @@ static void test_outputs(void)
     }
     snprintf(path, sizeof path, "%s/shol_flown.csv", dir);
     char *csv = slurp(path);
-    CHECK(csv && !strncmp(csv, "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,"
-                               "pass_rate_at_fail,cause,trim_max_speed_kt,trim_limit\n",
-                          strlen("wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,"
-                                 "pass_rate_at_fail,cause,trim_max_speed_kt,trim_limit\n")));
+    const char *hdr = "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,"
+                      "pass_rate_at_fail,cause,trim_max_speed_kt,trim_limit,band_lo_kmh,band_hi_kmh,band_grid_kmh,"
+                      "band_window_kmh,band_sens_kmh,band_open_above,low_confidence\n";
+    CHECK(csv && !strncmp(csv, hdr, strlen(hdr)));
     CHECK(count_lines(csv) == 1 + fr.n_dirs);
     /* head's row: its radius in kt and km/h, its cause quoted, the trim's 40 km/h */
     char row[256];
     const shol_flown_dir *h = &fr.dirs[1];
     snprintf(row, sizeof row, "\n0.0,%.2f,%.1f,", h->max_speed_mps / CORE_KT_TO_MPS, h->max_speed_mps / KMH);
     CHECK(csv && strstr(csv, row) != NULL);
-    snprintf(row, sizeof row, ",\"%s\",%.2f,pedal\n", h->cause, 40 * KMH / CORE_KT_TO_MPS);
+    snprintf(row, sizeof row, ",\"%s\",%.2f,pedal,", h->cause, 40 * KMH / CORE_KT_TO_MPS);
     CHECK(csv && strstr(csv, row) != NULL);
     free(csv);
     snprintf(path, sizeof path, "%s/shol_flown_points.csv", dir);
@@ -528,6 +528,100 @@ static void test_outputs(void)
     shol_result_free(&t);
 }
 
+/* The flown envelope's bands (issue 28): the trim's sources carried to the
+ * flown radius. The synthetic trim (80, 40, 0 km/h) gets a second grid of
+ * 60, 40, 10 km/h and window spreads 5 %, not known, 2 %: the flown band
+ * at red 90 runs from V_f - 20 km/h to V_f + 0.05 V_f, ahead +- nothing
+ * (width 0), at green 90 up to V_f + 10 km/h (V_f = 0 there: the grid's
+ * +10 km/h), low; the outputs carry them. */
+static void test_bands(void)
+{
+    shol_result t, g;
+    make_trim(&t);
+    make_trim(&g);
+    const double gr[3] = {60 * KMH, 40 * KMH, 10 * KMH};
+    for (int i = 0; i < 3; i++) {
+        g.dirs[i].has_pass = 1;
+        g.dirs[i].max_speed_mps = gr[i];
+    }
+    shol_band_inputs in;
+    shol_band_inputs_default(&in);
+    in.grid = &g;
+    in.grid_label = "fine";
+    in.n_window = 3;
+    const double wf[3] = {0.05, NAN, 0.02};
+    for (int i = 0; i < 3; i++) {
+        in.window_dir_rad[i] = t.dirs[i].dir_rad;
+        in.window_frac[i] = wf[i];
+    }
+    core_err err = {{0}};
+    CHECK(shol_band_compute(&t, &in, &err) == 0);
+    shol_flown_settings fs;
+    shol_flown_settings_default(&fs);
+    synth sy = {0, 0, INFINITY};
+    shol_flown_result fr;
+    CHECK(shol_flown_run(&fs, &t, synth_fly, &sy, NULL, NULL, NULL, &fr, &err) == 0);
+    for (int i = 0; i < 3; i++) {
+        const shol_flown_dir *d = &fr.dirs[i];
+        const shol_band *b = &d->band;
+        const double v = d->has_pass ? d->max_speed_mps : 0;
+        const double grid = gr[i] - t.dirs[i].max_speed_mps, w = isnan(wf[i]) ? 0 : wf[i] * v;
+        CHECK(b->valid);
+        CHECK_NEAR(b->grid_mps, grid, 1e-9);
+        CHECK(isnan(wf[i]) ? isnan(b->window_mps) : fabs(b->window_mps - wf[i] * v) < 1e-9);
+        CHECK(isnan(b->sens_mps)); /* the synthetic trim has no history: no sensitivity */
+        CHECK_NEAR(b->lo_mps, fmax(0, fmin(v + grid, v - w)), 1e-9);
+        if (!b->open_above)
+            CHECK_NEAR(b->hi_mps, fmax(v + grid, v + w), 1e-9);
+        CHECK(b->low_confidence == (b->hi_mps - b->lo_mps > fmax(10 * KMH, 0.25 * v) + 1e-9));
+    }
+    CHECK(fr.dirs[0].band.low_confidence); /* 20 km/h below */
+    /* without the trim's bands computed, no source: a band of width 0 */
+    shol_result t0;
+    make_trim(&t0);
+    shol_flown_bands_update(&fr, &t0);
+    CHECK(isnan(fr.dirs[0].band.grid_mps) && fr.dirs[0].band.lo_mps == fr.dirs[0].band.hi_mps);
+    shol_flown_bands_update(&fr, &t);
+    char dir[] = "/tmp/disim_test_flownband_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    shol_report_info info;
+    memset(&info, 0, sizeof info);
+    CHECK(shol_flown_write_all(dir, &fr, &t, &info, &err) == 0);
+    char path[700], row[256];
+    snprintf(path, sizeof path, "%s/shol_flown.csv", dir);
+    char *csv = slurp(path);
+    const shol_band *b0 = &fr.dirs[0].band;
+    snprintf(row, sizeof row, ",%.3f,%.3f,-20.000,%.3f,nan,%d,1\n", b0->lo_mps / KMH, b0->hi_mps / KMH,
+             b0->window_mps / KMH, b0->open_above);
+    CHECK(csv && strstr(csv, row));
+    free(csv);
+    snprintf(path, sizeof path, "%s/report.md", dir);
+    char *md = slurp(path);
+    CHECK(md && strstr(md, "## Uncertainty bands") && strstr(md, "**Low confidence, where an at-sea test is most "
+                                                                 "needed:** red 90 ("));
+    CHECK(md && strstr(md, "grid -20.0 (fine), window +-4.0"));
+    free(md);
+    snprintf(path, sizeof path, "%s/shol_flown.json", dir);
+    char *js = slurp(path);
+    CHECK(js && strstr(js, "\"grid_kmh\": -20,") && strstr(js, "\"low_confidence\": true}") && !strstr(js, "nan"));
+    free(js);
+    /* a trim band of NaN is refused by the plot, naming it */
+    t.dirs[1].band.lo_mps = NAN;
+    CHECK(shol_flown_plot_polar(dir, &fr, &t, &info, &err) < 0 && strstr(err.msg, "trim head") &&
+          strstr(err.msg, "band"));
+    if (getenv("SHOL_TEST_KEEP"))
+        printf("flown band outputs kept in %s\n", dir);
+    else {
+        char cmd[760];
+        snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+        CHECK(system(cmd) == 0);
+    }
+    shol_flown_result_free(&fr);
+    shol_result_free(&t0);
+    shol_result_free(&g);
+    shol_result_free(&t);
+}
+
 int main(void)
 {
     test_track();
@@ -535,6 +629,7 @@ int main(void)
     test_point_tally();
     test_search();
     test_outputs();
+    test_bands();
     cairo_debug_reset_static_data();
     FcFini();
     return check_done("test_flown");
