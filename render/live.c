@@ -9,7 +9,9 @@
  * while the renderer holds the lock (the next step's state takes the frame
  * then), and a due state still in the slot when a newer one replaces it
  * (the renderer fell behind) are counted as dropped. The loop's side
- * never blocks, allocates or does I/O.
+ * never blocks, allocates or does I/O. render_live_due asks the same
+ * frame clock before a state is built, so a loop need not build the
+ * states that are not due.
  *
  * The render thread owns everything GL and everything written: it makes
  * the folder, creates its own render_ctx (an OSMesa context is current in
@@ -21,8 +23,10 @@
  * camera's frames in order from 000000, so ffmpeg's image2 pattern reads
  * them) and/or a frame of DIR/CAMERA.mp4. A video shows simulation time
  * at rate_hz: frames the renderer skipped are filled with the last one
- * drawn. The first failure is kept (the thread then draws nothing more and
- * counts what it takes as dropped) and render_live_destroy returns it.
+ * drawn. A frame's time in the report is the wall time of a camera's
+ * frame from its placing to its PNG or video frame written. The first
+ * failure is kept (the thread then draws nothing more and counts what it
+ * takes as dropped) and render_live_destroy returns it.
  *
  * The thread runs under SCHED_OTHER at nice +10 whatever its creator runs
  * at (a real-time loop asks for SCHED_FIFO before it starts), and llvmpipe's
