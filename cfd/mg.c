@@ -179,67 +179,160 @@ void cfd_mg_setup(cfd_mg *m, int singular)
     }
 }
 
-/* One Gauss-Seidel half-sweep over the cells of one colour. */
-static void gs_colour(mg_level *L, int colour)
+/* Levels below this many cells run on one thread: a parallel loop there
+ * costs more in fork and barrier than its work, and on a shared machine a
+ * barrier waits a whole time slice for a descheduled thread. The results
+ * do not depend on it (red-black sweeps and the transfers are the same per
+ * cell in any order). */
+#define MG_PAR_MIN 16384
+
+/* The sum b + sum_nb c x_nb of cell c (i, j, k), the terms in the order of
+ * the generic rule (-x, +x, -y, +y, -z, +z), each present only where the
+ * neighbour exists; jm .. kp say which of the four y, z neighbours do. */
+static inline double gs_sum(const mg_level *L, const double *restrict x, size_t c, int i, int nx, int jm, int jp,
+                            int km, int kp, size_t sy, size_t sz)
+{
+    double s = L->b[c];
+    if (i > 0)
+        s += L->cx[c - 1] * x[c - 1];
+    if (i + 1 < nx)
+        s += L->cx[c] * x[c + 1];
+    if (jm)
+        s += L->cy[c - sy] * x[c - sy];
+    if (jp)
+        s += L->cy[c] * x[c + sy];
+    if (km)
+        s += L->cz[c - sz] * x[c - sz];
+    if (kp)
+        s += L->cz[c] * x[c + sz];
+    return s;
+}
+
+/* One row of a half-sweep: the two ends by the generic rule, the interior
+ * with the row's y and z neighbours known (the compiler unswitches on
+ * them). The same arithmetic per cell as the generic rule. */
+static inline void gs_row(mg_level *L, int j, int k, int colour)
 {
     const int nx = L->n[0], ny = L->n[1], nz = L->n[2];
     const size_t sy = (size_t)nx, sz = (size_t)nx * ny;
-    double *x = L->x;
-    #pragma omp parallel for schedule(static)
+    const int jm = j > 0, jp = j + 1 < ny, km = k > 0, kp = k + 1 < nz;
+    double *restrict x = L->x;
+    const double *restrict b = L->b, *restrict cx = L->cx, *restrict cy = L->cy, *restrict cz = L->cz,
+                           *restrict dg = L->diag;
+    const unsigned char *restrict act = L->active;
+    const size_t row = sy * j + sz * k;
+    int i0 = (j + k + colour) & 1;
+    int i = i0;
+    if (i == 0) {
+        if (act[row])
+            x[row] = gs_sum(L, x, row, 0, nx, jm, jp, km, kp, sy, sz) / dg[row];
+        i += 2;
+    }
+    for (; i + 1 < nx; i += 2) {
+        const size_t c = row + (size_t)i;
+        if (!act[c])
+            continue;
+        double s = b[c];
+        s += cx[c - 1] * x[c - 1];
+        s += cx[c] * x[c + 1];
+        if (jm)
+            s += cy[c - sy] * x[c - sy];
+        if (jp)
+            s += cy[c] * x[c + sy];
+        if (km)
+            s += cz[c - sz] * x[c - sz];
+        if (kp)
+            s += cz[c] * x[c + sz];
+        x[c] = s / dg[c];
+    }
+    if (i < nx) { /* i = nx - 1 */
+        const size_t c = row + (size_t)i;
+        if (act[c])
+            x[c] = gs_sum(L, x, c, i, nx, jm, jp, km, kp, sy, sz) / dg[c];
+    }
+}
+
+/* One Gauss-Seidel half-sweep over the cells of one colour. */
+static void gs_colour(mg_level *L, int colour)
+{
+    const int ny = L->n[1], nz = L->n[2];
+    #pragma omp parallel for schedule(static) if (L->nc >= MG_PAR_MIN)
     for (int k = 0; k < nz; k++)
-        for (int j = 0; j < ny; j++) {
-            int i0 = (j + k + colour) & 1;
-            for (int i = i0; i < nx; i += 2) {
-                size_t c = (size_t)i + sy * j + sz * k;
-                if (!L->active[c])
-                    continue;
-                double s = L->b[c];
-                if (i > 0)
-                    s += L->cx[c - 1] * x[c - 1];
-                if (i + 1 < nx)
-                    s += L->cx[c] * x[c + 1];
-                if (j > 0)
-                    s += L->cy[c - sy] * x[c - sy];
-                if (j + 1 < ny)
-                    s += L->cy[c] * x[c + sy];
-                if (k > 0)
-                    s += L->cz[c - sz] * x[c - sz];
-                if (k + 1 < nz)
-                    s += L->cz[c] * x[c + sz];
-                x[c] = s / L->diag[c];
-            }
+        for (int j = 0; j < ny; j++)
+            gs_row(L, j, k, colour);
+}
+
+/* (A x)_c of cell c by the generic rule (the ends of a row). */
+static inline double apply_cell(const mg_level *L, const double *restrict x, size_t c, int i, int nx, int jm,
+                                int jp, int km, int kp, size_t sy, size_t sz)
+{
+    double s = L->diag[c] * x[c];
+    if (i > 0)
+        s -= L->cx[c - 1] * x[c - 1];
+    if (i + 1 < nx)
+        s -= L->cx[c] * x[c + 1];
+    if (jm)
+        s -= L->cy[c - sy] * x[c - sy];
+    if (jp)
+        s -= L->cy[c] * x[c + sy];
+    if (km)
+        s -= L->cz[c - sz] * x[c - sz];
+    if (kp)
+        s -= L->cz[c] * x[c + sz];
+    return s;
+}
+
+/* One row of y = A x, or with b of r = b - A x (0 at inactive cells). */
+static inline void apply_row(const mg_level *L, const double *restrict x, const double *restrict b,
+                             double *restrict y, int j, int k)
+{
+    const int nx = L->n[0], ny = L->n[1], nz = L->n[2];
+    const size_t sy = (size_t)nx, sz = (size_t)nx * ny;
+    const int jm = j > 0, jp = j + 1 < ny, km = k > 0, kp = k + 1 < nz;
+    const double *restrict cx = L->cx, *restrict cy = L->cy, *restrict cz = L->cz, *restrict dg = L->diag;
+    const unsigned char *restrict act = L->active;
+    const size_t row = sy * j + sz * k;
+    for (int i = 0; i < nx; i++) {
+        const size_t c = row + (size_t)i;
+        double s;
+        if (i == 0 || i + 1 == nx) {
+            s = apply_cell(L, x, c, i, nx, jm, jp, km, kp, sy, sz);
+        } else {
+            s = dg[c] * x[c];
+            s -= cx[c - 1] * x[c - 1];
+            s -= cx[c] * x[c + 1];
+            if (jm)
+                s -= cy[c - sy] * x[c - sy];
+            if (jp)
+                s -= cy[c] * x[c + sy];
+            if (km)
+                s -= cz[c - sz] * x[c - sz];
+            if (kp)
+                s -= cz[c] * x[c + sz];
         }
+        if (b)
+            y[c] = act[c] ? b[c] - s : 0.0;
+        else
+            y[c] = act[c] ? s : 0.0;
+    }
 }
 
 /* y = A x on a level. */
 static void apply(const mg_level *L, const double *x, double *y)
 {
-    const int nx = L->n[0], ny = L->n[1], nz = L->n[2];
-    const size_t sy = (size_t)nx, sz = (size_t)nx * ny;
-    #pragma omp parallel for schedule(static)
-    for (int k = 0; k < nz; k++)
-        for (int j = 0; j < ny; j++)
-            for (int i = 0; i < nx; i++) {
-                size_t c = (size_t)i + sy * j + sz * k;
-                if (!L->active[c]) {
-                    y[c] = 0.0;
-                    continue;
-                }
-                double s = L->diag[c] * x[c];
-                if (i > 0)
-                    s -= L->cx[c - 1] * x[c - 1];
-                if (i + 1 < nx)
-                    s -= L->cx[c] * x[c + 1];
-                if (j > 0)
-                    s -= L->cy[c - sy] * x[c - sy];
-                if (j + 1 < ny)
-                    s -= L->cy[c] * x[c + sy];
-                if (k > 0)
-                    s -= L->cz[c - sz] * x[c - sz];
-                if (k + 1 < nz)
-                    s -= L->cz[c] * x[c + sz];
-                y[c] = s;
-            }
+    #pragma omp parallel for schedule(static) if (L->nc >= MG_PAR_MIN)
+    for (int k = 0; k < L->n[2]; k++)
+        for (int j = 0; j < L->n[1]; j++)
+            apply_row(L, x, NULL, y, j, k);
+}
+
+/* r = b - A x on a level (0 at inactive cells), in one pass. */
+static void residual_lv(mg_level *L)
+{
+    #pragma omp parallel for schedule(static) if (L->nc >= MG_PAR_MIN)
+    for (int k = 0; k < L->n[2]; k++)
+        for (int j = 0; j < L->n[1]; j++)
+            apply_row(L, L->x, L->b, L->r, j, k);
 }
 
 static void vcycle(cfd_mg *m, int l)
@@ -258,12 +351,9 @@ static void vcycle(cfd_mg *m, int l)
     }
     gs_colour(L, 0);
     gs_colour(L, 1);
-    apply(L, L->x, L->r);
+    residual_lv(L);
     mg_level *C = &m->lev[l + 1];
-    #pragma omp parallel for schedule(static)
-    for (size_t c = 0; c < L->nc; c++)
-        L->r[c] = L->active[c] ? L->b[c] - L->r[c] : 0.0;
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(static) if (L->nc >= MG_PAR_MIN)
     for (int K = 0; K < C->n[2]; K++)
         for (int J = 0; J < C->n[1]; J++)
             for (int I = 0; I < C->n[0]; I++) {
@@ -279,7 +369,7 @@ static void vcycle(cfd_mg *m, int l)
                 C->x[cc] = 0.0;
             }
     vcycle(m, l + 1);
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(static) if (L->nc >= MG_PAR_MIN)
     for (int k = 0; k < L->n[2]; k++)
         for (int j = 0; j < L->n[1]; j++)
             for (int i = 0; i < L->n[0]; i++) {
@@ -318,16 +408,35 @@ static void remove_mean(const mg_level *L, double *v)
             v[c] -= mean;
 }
 
-/* z = M^-1 r: one V-cycle from zero. */
+/* z = M^-1 r: one V-cycle from zero, run in place on r and z (the fine
+ * level's b and x point at them for the cycle). */
 static void precond(cfd_mg *m, const double *r, double *z)
 {
     mg_level *L = &m->lev[0];
-    memcpy(L->b, r, L->nc * sizeof(double));
-    memset(L->x, 0, L->nc * sizeof(double));
+    double *b0 = L->b, *x0 = L->x;
+    L->b = (double *)r;
+    L->x = z;
+    memset(z, 0, L->nc * sizeof(double));
     vcycle(m, 0);
-    memcpy(z, L->x, L->nc * sizeof(double));
+    L->b = b0;
+    L->x = x0;
     if (m->singular)
         remove_mean(L, z);
+}
+
+/* q = A p and the return p . q in one pass. */
+static double apply_dot(const mg_level *L, const double *p, double *q)
+{
+    double s = 0.0;
+    #pragma omp parallel for reduction(+ : s) schedule(static)
+    for (int k = 0; k < L->n[2]; k++)
+        for (int j = 0; j < L->n[1]; j++) {
+            apply_row(L, p, NULL, q, j, k);
+            const size_t row = (size_t)L->n[0] * ((size_t)j + (size_t)L->n[1] * k);
+            for (int i = 0; i < L->n[0]; i++)
+                s += p[row + i] * q[row + i];
+        }
+    return s;
 }
 
 int cfd_mg_solve(cfd_mg *m, double *x, const double *b, double rtol, int maxit, double *rel_res)
@@ -351,17 +460,19 @@ int cfd_mg_solve(cfd_mg *m, double *x, const double *b, double rtol, int maxit, 
         memcpy(p, z, n * sizeof(double));
         double rz = dot(r, z, n);
         for (it = 1; it <= maxit; it++) {
-            apply(L, p, q);
-            double pq = dot(p, q, n);
+            double pq = apply_dot(L, p, q);
             if (!(pq > 0.0))
                 break;
             double alpha = rz / pq;
-            #pragma omp parallel for schedule(static)
+            double rr = 0.0;
+            #pragma omp parallel for reduction(+ : rr) schedule(static)
             for (size_t c = 0; c < n; c++) {
                 x[c] += alpha * p[c];
-                r[c] -= alpha * q[c];
+                double rc = r[c] - alpha * q[c];
+                r[c] = rc;
+                rr += rc * rc;
             }
-            rn = sqrt(dot(r, r, n));
+            rn = sqrt(rr);
             if (rn <= rtol * bn)
                 break;
             precond(m, r, z);

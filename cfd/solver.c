@@ -75,6 +75,16 @@ struct cfd_solver {
     double *apsum, *anbsum;
     double *pp;
     unsigned char *wallcell; /* 1: a fluid cell with a wall face (wall-function cell) */
+    /* the kind of each cell's six neighbours (NB_*, 3 bits per face f at
+     * bit 3 f; fixed at create: the grid and the boundary types do not
+     * change), read instead of testing the domain's ends and the solid
+     * flags at every face */
+    unsigned int *nbk;
+    /* per axis d and cell index i along it: the weight of the neighbour in
+     * the linear interpolation to the face (wlo: face i, neighbour i - 1;
+     * whi: face i + 1, neighbour i + 1) and the centre distances (dlo,
+     * dhi), the same expressions as computed at each face before, once */
+    double *wlo[3], *whi[3], *dlo[3], *dhi[3];
     double *disk_f[3];
     /* CFD_INFLOW_FIELD: the sampled values (u, v, w, k, eps) on the open
      * faces, one array per value, indexed by the face's two cell indices
@@ -149,8 +159,9 @@ static const size_t *strides(const cfd_grid *g, size_t st[3])
     return st;
 }
 
-/* Kind of the neighbour across face f (0 -x, 1 +x, 2 -y, 3 +y, 4 -z, 5 +z). */
-static inline int nb_kind(const cfd_solver *s, const int ijk[3], int f, size_t c, size_t *cn)
+/* Kind of the neighbour across face f (0 -x, 1 +x, 2 -y, 3 +y, 4 -z, 5 +z),
+ * from the grid and the boundary types (fills s->nbk at create). */
+static int nb_kind_slow(const cfd_solver *s, const int ijk[3], int f, size_t c, size_t *cn)
 {
     const cfd_grid *g = s->g;
     int d = f >> 1, plus = f & 1;
@@ -171,6 +182,23 @@ static inline int nb_kind(const cfd_solver *s, const int ijk[3], int f, size_t c
     *cn = plus ? c + st : c - st;
     return g->solid[*cn] ? NB_WALL : NB_FLUID;
 }
+
+/* ... from the table; cn is set for a neighbour inside the domain. */
+static inline int nb_kind(const cfd_solver *s, const int ijk[3], int f, size_t c, size_t *cn)
+{
+    (void)ijk;
+    const int kind = (int)((s->nbk[c] >> (3 * f)) & 7u);
+    if (kind == NB_FLUID) {
+        const int d = f >> 1;
+        const size_t st = d == 0 ? 1 : d == 1 ? (size_t)s->g->n[0] : (size_t)s->g->n[0] * s->g->n[1];
+        *cn = (f & 1) ? c + st : c - st;
+    }
+    return kind;
+}
+
+/* fmax's result for any two doubles (NaN loses to a number), inline: the
+ * library call cost a call per face. */
+static inline double fmaxd(double a, double b) { return a >= b ? a : b != b ? a : b; }
 
 static inline double face_area(const cfd_grid *g, int d, const int ijk[3])
 {
@@ -216,8 +244,8 @@ static void profile_at(const cfd_solver *s, const double pos[3], double vel[3], 
         in->fn(in->fn_user, pos, out);
         for (int d = 0; d < 3; d++)
             vel[d] = out[d];
-        *k = fmax(out[3], 1e-10);
-        *eps = fmax(out[4], 1e-12);
+        *k = fmaxd(out[3], 1e-10);
+        *eps = fmaxd(out[4], 1e-12);
         return;
     }
     double umag = sqrt(in->vel_mps[0] * in->vel_mps[0] + in->vel_mps[1] * in->vel_mps[1] +
@@ -240,9 +268,9 @@ static void profile_at(const cfd_solver *s, const double pos[3], double vel[3], 
     } else {
         if (in->type == CFD_INFLOW_POWER && in->delta_m > 0.0)
             scale = h >= in->delta_m ? 1.0 : pow(h / in->delta_m, 1.0 / 7.0);
-        double iu = fmax(in->intensity, 1e-4) * fmax(umag, s->cfg.u_ref_mps);
+        double iu = fmaxd(in->intensity, 1e-4) * fmaxd(umag, s->cfg.u_ref_mps);
         kk = 1.5 * iu * iu;
-        ee = pow(CFD_CMU, 0.75) * pow(kk, 1.5) / fmax(in->length_m, 1e-9);
+        ee = pow(CFD_CMU, 0.75) * pow(kk, 1.5) / fmaxd(in->length_m, 1e-9);
     }
     for (int d = 0; d < 3; d++)
         vel[d] = in->vel_mps[d] * scale;
@@ -365,6 +393,14 @@ static int alloc_arrays(cfd_solver *s)
         ok &= (s->snap[v] = alloc_snap(s, n)) != NULL;
     ok &= (s->wallcell = calloc(n ? n : 1, 1)) != NULL;
     s->bytes += n;
+    ok &= (s->nbk = calloc(n ? n : 1, sizeof *s->nbk)) != NULL;
+    s->bytes += n * sizeof *s->nbk;
+    for (int d = 0; d < 3; d++) {
+        ok &= (s->wlo[d] = alloc_arr(s, grid->n[d])) != NULL;
+        ok &= (s->whi[d] = alloc_arr(s, grid->n[d])) != NULL;
+        ok &= (s->dlo[d] = alloc_arr(s, grid->n[d])) != NULL;
+        ok &= (s->dhi[d] = alloc_arr(s, grid->n[d])) != NULL;
+    }
     s->mg = ok ? cfd_mg_create(grid->n) : NULL;
     if (!ok || !s->mg)
         return -1;
@@ -393,6 +429,37 @@ static int accel_create(cfd_solver *s)
         return -1;
     s->bytes += cfd_aa_bytes(s->aa);
     return 0;
+}
+
+/* The neighbour kinds (s->nbk) and the axis tables (s->wlo .. s->dhi). */
+static void build_tables(cfd_solver *s)
+{
+    const cfd_grid *grid = s->g;
+    #pragma omp parallel for schedule(static)
+    for (int k = 0; k < grid->n[2]; k++)
+        for (int j = 0; j < grid->n[1]; j++)
+            for (int i = 0; i < grid->n[0]; i++) {
+                int ijk[3] = {i, j, k};
+                size_t c = CFD_IDX(grid, i, j, k), cn;
+                unsigned int m = 0;
+                for (int f = 0; f < 6; f++)
+                    m |= (unsigned int)nb_kind_slow(s, ijk, f, c, &cn) << (3 * f);
+                s->nbk[c] = m;
+            }
+    for (int d = 0; d < 3; d++) {
+        const double *xc = grid->xc[d], *xn = grid->xn[d];
+        for (int i = 0; i < grid->n[d]; i++) {
+            s->wlo[d][i] = s->dlo[d][i] = s->whi[d][i] = s->dhi[d][i] = 0.0;
+            if (i > 0) {
+                s->wlo[d][i] = (xn[i] - xc[i]) / (xc[i - 1] - xc[i]);
+                s->dlo[d][i] = fabs(xc[i - 1] - xc[i]);
+            }
+            if (i + 1 < grid->n[d]) {
+                s->whi[d][i] = (xn[i + 1] - xc[i]) / (xc[i + 1] - xc[i]);
+                s->dhi[d][i] = fabs(xc[i + 1] - xc[i]);
+            }
+        }
+    }
 }
 
 /* The wall-function cells: fluid cells with a wall face. */
@@ -450,6 +517,7 @@ cfd_solver *cfd_solver_create(cfd_grid *grid, const cfd_config *cfg, core_err *e
     for (int f = 0; f < CFD_NFACES; f++)
         if (cfg->bc[f].type == CFD_BC_OUTLET)
             s->singular = 0;
+    build_tables(s);
     mark_wall_cells(s);
     if (cfg->inflow.type == CFD_INFLOW_FIELD && sample_open_faces(s, err) != 0) {
         cfd_solver_destroy(s);
@@ -484,6 +552,13 @@ void cfd_solver_destroy(cfd_solver *s)
     free(s->anbsum);
     free(s->pp);
     free(s->wallcell);
+    free(s->nbk);
+    for (int d = 0; d < 3; d++) {
+        free(s->wlo[d]);
+        free(s->whi[d]);
+        free(s->dlo[d]);
+        free(s->dhi[d]);
+    }
     for (int f = 0; f < CFD_NFACES; f++)
         for (int v = 0; v < 5; v++)
             free(s->bcval[f][v]);
@@ -679,9 +754,7 @@ static inline double face_value(const cfd_solver *s, const double *phi, int var,
     int d = f >> 1;
     switch (kind) {
     case NB_FLUID: {
-        int q = ijk[d] + ((f & 1) ? 1 : -1);
-        double xf = g->xn[d][ijk[d] + (f & 1)];
-        double w = (xf - g->xc[d][ijk[d]]) / (g->xc[d][q] - g->xc[d][ijk[d]]);
+        double w = (f & 1) ? s->whi[d][ijk[d]] : s->wlo[d][ijk[d]];
         return (1.0 - w) * phi[c] + w * phi[cn];
     }
     case NB_WALL:
@@ -757,7 +830,7 @@ static inline double tvd_correction(const cfd_solver *s, const double *phi, cons
     if (qu < 0 || qu >= g->n[d] || g->solid[cu] || fabs(delta) < 1e-30)
         return 0.0;
     double r = (pc - phi[cu]) / delta;
-    double psi = s->cfg.limiter == CFD_LIMITER_MINMOD ? fmax(0.0, fmin(r, 1.0)) : vanleer(r);
+    double psi = s->cfg.limiter == CFD_LIMITER_MINMOD ? fmaxd(0.0, fmin(r, 1.0)) : vanleer(r);
     return F * 0.5 * psi * delta;
 }
 
@@ -828,7 +901,7 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
                     if (kind == NB_FLUID) {
                         double dist = fabs(g->xc[d][q] - g->xc[d][ijk[d]]);
                         double gam = nu + (turb ? 0.5 * (nut[c] + nut[cn]) / sigma : 0.0);
-                        a_f = gam * A / dist + fmax(-F, 0.0);
+                        a_f = gam * A / dist + fmaxd(-F, 0.0);
                         if (ho && !(turb && s->wallcell[cn]))
                             for (int m = 0; m < nv; m++)
                                 bb[m] -= tvd_correction(s, phiv[m], ijk, f, c, cn, F);
@@ -857,7 +930,7 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
                                 }
                             double up = sqrt(ut2);
                             double nuw = cfd_wall_nu(nu, kk[c], y);
-                            double us = pow(CFD_CMU, 0.25) * sqrt(fmax(kk[c], 0.0));
+                            double us = pow(CFD_CMU, 0.25) * sqrt(fmaxd(kk[c], 0.0));
                             double tau = nuw * up / y;
                             pkw += tau * us / (CFD_KAPPA * y);
                         }
@@ -869,7 +942,7 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
                         pos[d] = g->xn[d][ijk[d] + plus];
                         inflow_at(s, f, ijk, pos, vel, &ki, &ei);
                         double gam = nu + (turb ? nut[c] / sigma : 0.0);
-                        double cb = gam * A / (0.5 * g->h[d][ijk[d]]) + fmax(-F, 0.0);
+                        double cb = gam * A / (0.5 * g->h[d][ijk[d]]) + fmaxd(-F, 0.0);
                         for (int m = 0; m < nv; m++) {
                             double val = mom ? vel[comps[m]] : var == CFD_VAR_K ? ki : ei;
                             ap[m] += cb;
@@ -920,7 +993,7 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
                     continue;
                 }
                 double a = ap[0] + anb, b = bb[0];
-                double kc = fmax(kk[c], 1e-30), ec = fmax(ee[c], 1e-30);
+                double kc = fmaxd(kk[c], 1e-30), ec = fmaxd(ee[c], 1e-30);
                 double P = pk[c];
                 if (nwall)
                     P = pkw / nwall;
@@ -938,10 +1011,10 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
                         for (int f = 0; f < 6; f++)
                             s->a[f][c] = 0.0;
                         s->ap[c] = 1.0;
-                        s->b[c] = pow(CFD_CMU, 0.75) * pow(fmax(kk[c], 0.0), 1.5) / (CFD_KAPPA * ymin);
+                        s->b[c] = pow(CFD_CMU, 0.75) * pow(fmaxd(kk[c], 0.0), 1.5) / (CFD_KAPPA * ymin);
                         continue;
                     }
-                    double S = sqrt(fmax(pk[c], 0.0) / fmax(nut[c], 1e-30));
+                    double S = sqrt(fmaxd(pk[c], 0.0) / fmaxd(nut[c], 1e-30));
                     double eta = S * kc / ec;
                     double c2s = cfd_rng_c2star(eta);
                     b += CFD_C1 * ec / kc * P * V;
@@ -1066,7 +1139,7 @@ static void update_nut(cfd_solver *s)
             continue;
         }
         double kc = s->var[CFD_VAR_K][c], ec = s->var[CFD_VAR_EPS][c];
-        double nt = CFD_CMU * kc * kc / fmax(ec, 1e-30);
+        double nt = CFD_CMU * kc * kc / fmaxd(ec, 1e-30);
         s->var[CFD_VAR_NUT][c] = nt < numax ? nt : numax;
     }
 }
@@ -1358,7 +1431,7 @@ static void iterate(cfd_solver *s, double r[HIST_COLS])
         double V = g->h[0][c % g->n[0]] * g->h[1][(c / g->n[0]) % g->n[1]] * g->h[2][c / ((size_t)g->n[0] * g->n[1])];
         double apm = s->apsum[c] / ncomp, anb = s->anbsum[c] / ncomp;
         s->drc[c] = V / apm;
-        s->dc[c] = V / fmax(apm - anb, 1e-3 * apm);
+        s->dc[c] = V / fmaxd(apm - anb, 1e-3 * apm);
     }
     rhie_chow(s);
     r[0] = pressure_correction(s);
