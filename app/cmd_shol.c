@@ -3,7 +3,13 @@
  * [--dir-step-deg D] [--speed-step-kmh S] [--speed-max-kmh M]
  * [--bisect-kmh T] [--direct] [--no-seed] [--domain whole|zone] [--max-coupling-iter N]
  * [--cfd-max-iter N] [--method trim|pilot] [--task FILE] [--seeds N]
- * [--criteria-window-s S]`.
+ * [--criteria-window-s S] [--band-grid auto|none|coarse|default|fine]
+ * [--band-grid-csv FILE]`.
+ * Every direction's limit comes with a band (issue 28; app/shol_bands.c):
+ * the window spreads of its fields, the limit on a second grid (auto: the
+ * one-way envelope on another level over the fields the database already
+ * has; LEVEL: on that level, its fields built; --band-grid-csv: an earlier
+ * run's shol.csv), and the 0.25 deg / 1 % sensitivity.
  * --method pilot (issue 26) flies the task (--task, default the landing
  * task tasks/land_<aircraft>.ini beside the scenario) with the automated
  * pilot at each WOD point (--task LOG, a file not named *.ini: the replay
@@ -33,6 +39,7 @@
 #include "hfm.h"
 #include "progress.h"
 #include "shol.h"
+#include "shol_bands.h"
 #include "sim.h"
 
 #include <math.h>
@@ -281,6 +288,7 @@ int cmd_shol(int argc, char **argv)
     int pilot = 0;
     double seeds = 0, window_s = NAN;
     int feed_controls = 0;
+    app_band_opts bands = {APP_BAND_GRID_AUTO, NULL}; /* --band-grid, --band-grid-csv (shol_bands.h) */
     int grid = -1, coupling = -1, full = 0, direct = 0, no_seed = 0, zone = -1;
     double dstep = 0, sstep = 0, smax = -1, bisect = 0, maxit = 6, cfdit = 0;
     for (int i = 1; i < argc; i++) {
@@ -313,7 +321,15 @@ int cmd_shol(int argc, char **argv)
                 fprintf(stderr, "disim shol: --grid '%s': expected coarse, default or fine\n", v);
                 return 2;
             }
-        } else if (!strcmp(a, "--coupling")) {
+        } else if (!strcmp(a, "--band-grid")) {
+            bands.grid = app_band_grid_parse(v);
+            if (bands.grid < -2) {
+                fprintf(stderr, "disim shol: --band-grid '%s': expected auto, none, coarse, default or fine\n", v);
+                return 2;
+            }
+        } else if (!strcmp(a, "--band-grid-csv"))
+            bands.grid_csv = v;
+        else if (!strcmp(a, "--coupling")) {
             coupling = core_coupling_parse(v);
             if (coupling < 0) {
                 fprintf(stderr, "disim shol: --coupling '%s': expected two-way or one-way\n", v);
@@ -380,7 +396,8 @@ int cmd_shol(int argc, char **argv)
         fprintf(stderr, "usage: disim shol SCENARIO [--grid coarse|default|fine] [--coupling two-way|one-way] "
                         "[-o DIR] [--db DIR] [--full-circle] [--dir-step-deg D] [--speed-step-kmh S] "
                         "[--speed-max-kmh M] [--bisect-kmh T] [--direct] [--no-seed] [--domain whole|zone] [--max-coupling-iter N] "
-                        "[--cfd-max-iter N] [--method trim|pilot] [--task FILE|LOG [--feed-controls]] [--seeds N] [--criteria-window-s S]\n");
+                        "[--cfd-max-iter N] [--method trim|pilot] [--task FILE|LOG [--feed-controls]] [--seeds N] [--criteria-window-s S] "
+                        "[--band-grid auto|none|coarse|default|fine] [--band-grid-csv FILE]\n");
         return 2;
     }
     if (!pilot && (task_path || seeds > 0 || !isnan(window_s) || feed_controls)) {
@@ -487,6 +504,10 @@ int cmd_shol(int argc, char **argv)
             snprintf(err.msg, sizeof err.msg, "%s", couple_last_error(one));
         goto fail;
     }
+    /* each direction's band (issue 28; app/shol_bands.c); two-way below */
+    if (mode != CORE_COUPLING_TWO_WAY &&
+        app_shol_bands(&bands, ac, &sc->ship, db, &cs, one, &set, &r1, NULL, &log, &err) != 0)
+        goto fail;
     if (pilot) {
         cs.mode = CORE_COUPLING_ONE_WAY;
         if (run_pilot(sc, ac, db, &cs, &set, &r1, task_path, (int)seeds, window_s, feed_controls, outbuf, scen, tty, &log,
@@ -519,6 +540,10 @@ int cmd_shol(int argc, char **argv)
                 snprintf(err.msg, sizeof err.msg, "%s", tc.err);
             goto fail;
         }
+        cs.mode = CORE_COUPLING_ONE_WAY;
+        if (app_shol_bands(&bands, ac, &sc->ship, db, &cs, one, &set, &r1, &r2, &log, &err) != 0)
+            goto fail;
+        cs.mode = CORE_COUPLING_TWO_WAY;
         main_r = &r2;
         md = couple_points_md(two);
         info.label = "two-way coupled";

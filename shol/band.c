@@ -87,6 +87,10 @@ static void band_make(const shol_dir_result *d, double grid_mps, double window_f
 {
     memset(b, 0, sizeof *b);
     const double v = d->has_pass ? d->max_speed_mps : 0.0;
+    /* a second grid's radius read from a CSV (kt to 6 decimals) can miss
+     * this one's by 1e-7 m/s: that is the same limit, not a spread */
+    if (fabs(grid_mps) < 1e-4)
+        grid_mps = 0.0;
     const double window_mps = window_frac * v; /* NAN stays NAN */
     b->valid = 1;
     b->grid_mps = grid_mps;
@@ -152,21 +156,27 @@ int shol_band_compute(shol_result *r, const shol_band_inputs *in, core_err *err)
                                 "shol: band: %s: window spread %g: expected >= 0 and finite (NAN: not known)", name,
                                 s);
     }
-    for (int i = 0; in->grid && i < in->grid->n_dirs; i++) {
-        const shol_dir_result *g = &in->grid->dirs[i];
-        char name[32];
-        core_wod_name(g->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
-        if (g->has_pass && !(isfinite(g->max_speed_mps) && g->max_speed_mps >= 0))
-            return core_err_set(err, -1, "shol: band: %s %s: radius %g m/s: expected finite and >= 0", name,
-                                in->grid_label ? in->grid_label : "second grid", g->max_speed_mps);
+    if (in->grid_base && !in->grid)
+        return core_err_set(err, -1, "shol: band: a grid base without a second grid");
+    for (int w = 0; w < 2; w++) {
+        const shol_result *gr = w ? in->grid_base : in->grid;
+        for (int i = 0; gr && i < gr->n_dirs; i++) {
+            const shol_dir_result *g = &gr->dirs[i];
+            char name[32];
+            core_wod_name(g->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+            if (g->has_pass && !(isfinite(g->max_speed_mps) && g->max_speed_mps >= 0))
+                return core_err_set(err, -1, "shol: band: %s %s%s: radius %g m/s: expected finite and >= 0", name,
+                                    in->grid_label ? in->grid_label : "second grid", w ? " (its base)" : "",
+                                    g->max_speed_mps);
+        }
     }
     for (int i = 0; i < r->n_dirs; i++) {
         shol_dir_result *d = &r->dirs[i];
-        const double v = d->has_pass ? d->max_speed_mps : 0.0;
         double grid = NAN, win = NAN; /* win: s */
         const shol_dir_result *g = find_dir(in->grid, d->dir_rad);
-        if (g)
-            grid = (g->has_pass ? g->max_speed_mps : 0.0) - v;
+        const shol_dir_result *gb = in->grid_base ? find_dir(in->grid_base, d->dir_rad) : d;
+        if (g && gb)
+            grid = (g->has_pass ? g->max_speed_mps : 0.0) - (gb->has_pass ? gb->max_speed_mps : 0.0);
         for (int j = 0; j < in->n_window; j++)
             if (fabs(in->window_dir_rad[j] - d->dir_rad) < 1e-6 && !isnan(in->window_frac[j]))
                 win = in->window_frac[j];

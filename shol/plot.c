@@ -505,26 +505,47 @@ static void polar_limits(cairo_t *cr, const polar *p, const shol_result *r)
         int ha0 = sx > 0.25 ? -1 : sx < -0.25 ? 1 : 0;
         shol_band bd;
         shol_band_get(r, i, &bd);
-        snprintf(buf, sizeof buf, "%.1f kt %s (%.0f-%.0f)%s", kt, short_label[limit_index(d->limit)],
-                 bd.lo_mps / CORE_KT_TO_MPS, bd.hi_mps / CORE_KT_TO_MPS, bd.low_confidence ? " LOW" : "");
+        if (bd.open_above)
+            snprintf(buf, sizeof buf, "%.1f kt %s (from %.0f)%s", kt, short_label[limit_index(d->limit)],
+                     bd.lo_mps / CORE_KT_TO_MPS, bd.low_confidence ? " LOW" : "");
+        else
+            snprintf(buf, sizeof buf, "%.1f kt %s (%.0f-%.0f)%s", kt, short_label[limit_index(d->limit)],
+                     bd.lo_mps / CORE_KT_TO_MPS, bd.hi_mps / CORE_KT_TO_MPS, bd.low_confidence ? " LOW" : "");
+        /* outside the band's whisker, not on it: from its ends */
+        const double hi_kt = bd.hi_mps / CORE_KT_TO_MPS, lo_kt = bd.lo_mps / CORE_KT_TO_MPS;
         cairo_text_extents_t te;
         cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
         cairo_set_font_size(cr, 13);
         cairo_text_extents(cr, buf, &te);
-        static const double steps[] = {1, 2, 3, -1, -2, -3};
+        /* candidates: out past the band (1-3 offsets), then out from the
+         * point but beside the spoke (clear of the whisker; above it, then
+         * below), then in below
+         * the band */
+        static const struct {
+            double step;
+            int shift;
+        } cand[] = {{1, 0}, {2, 0}, {3, 0}, {1, 1},  {2, 1},  {3, 1},
+                    {1, -1}, {2, -1}, {3, -1}, {-1, 0}, {-2, 0}, {-3, 0}};
+        /* across the spoke on the page, pointing up (or right) */
+        double nx = cos(d->dir_rad), ny = sin(d->dir_rad);
+        if (ny > 1e-9 || (fabs(ny) <= 1e-9 && nx < 0))
+            nx = -nx, ny = -ny;
+        const double sh = 0.5 * te.height + 9;
         double best[4] = {0}, lx = 0, ly = 0;
         int ha = ha0, found = 0, have = 0; /* have: a candidate inside the rim */
-        for (int k = 0; k < 6 && !found; k++) {
-            double o = steps[k] * off, rkt = kt + o;
+        for (int k = 0; k < (int)(sizeof cand / sizeof cand[0]) && !found; k++) {
+            double o = cand[k].step * off, rkt = (cand[k].shift ? kt : o > 0 ? hi_kt : lo_kt) + o;
             int h = o > 0 ? ha0 : -ha0;
             double reach = p->R * rkt / p->rmax_kt + (h ? te.width : 0.5 * te.width) * fabs(sx) +
-                           0.5 * te.height * fabs(cx_);
+                           0.5 * te.height * fabs(cx_) + (cand[k].shift ? sh : 0);
             if (o > 0 && reach > 0.97 * p->R)
                 continue; /* would reach the direction names */
             if (rkt < 0.0)
                 break;
             double tx, ty;
             polar_xy(p, d->dir_rad, rkt, &tx, &ty);
+            if (cand[k].shift)
+                tx += cand[k].shift * sh * nx, ty += cand[k].shift * sh * ny;
             double b0[4] = {h < 0 ? tx : h == 0 ? tx - te.width / 2 : tx - te.width, ty - te.height / 2, 0, 0};
             b0[2] = b0[0] + te.width;
             b0[3] = b0[1] + te.height;
@@ -540,7 +561,7 @@ static void polar_limits(cairo_t *cr, const polar *p, const shol_result *r)
             found = clear;
         }
         if (!have) { /* nowhere inside the rim: just inside the line */
-            polar_xy(p, d->dir_rad, kt - off, &lx, &ly);
+            polar_xy(p, d->dir_rad, fmax(0.0, kt - off), &lx, &ly);
             ha = -ha0;
         }
         memcpy(box[nbox++], best, sizeof best);
@@ -648,11 +669,11 @@ static void polar_legend(cairo_t *cr, double W, double H, const shol_result *r, 
     text(cr, lx + 50, y3, 13, 0, -1, 0, buf);
     set_col(cr, low_col);
     cairo_set_line_width(cr, 3.0);
-    cairo_move_to(cr, lx + 600, y3 - 7);
-    cairo_line_to(cr, lx + 600, y3 + 7);
+    cairo_move_to(cr, lx + 590, y3 - 7);
+    cairo_line_to(cr, lx + 590, y3 + 7);
     cairo_stroke(cr);
-    snprintf(buf, sizeof buf, "LOW: wider than %g km/h and %g %% of the limit", br.width_mps / CORE_KMH_TO_MPS, 100 * br.frac);
-    text(cr, lx + 612, y3, 13, 1, -1, 0, buf);
+    snprintf(buf, sizeof buf, "LOW: wider than %g km/h and %g %% of V", br.width_mps / CORE_KMH_TO_MPS, 100 * br.frac);
+    text(cr, lx + 602, y3, 13, 1, -1, 0, buf);
     if (open) {
         set_col(cr, ink);
         text(cr, W - 20, H - 16, 12, 0, 1, 1,

@@ -283,6 +283,11 @@ int shol_envelope_sensitivity(const shol_dir_result *d, shol_sensitivity *out);
  * not known, a direction not listed not known). */
 typedef struct shol_band_inputs {
     const shol_result *grid;
+    /* NULL: the grid spread is grid's radius minus r's. Set: grid and
+     * grid_base are one method on two grids (e.g. the one-way envelopes
+     * under a two-way r), and the spread is grid's radius minus
+     * grid_base's, applied to r's radius. */
+    const shol_result *grid_base;
     const char *grid_label;
     int n_window;
     double window_dir_rad[SHOL_MAX_DIRS];
@@ -294,7 +299,8 @@ void shol_band_inputs_default(shol_band_inputs *in);
 /* Fill every direction's band (r->dirs[i].band), r->band_rule and
  * r->band_grid_label. Returns 0, or < 0 with err naming the direction and
  * the bad value (a window spread that is negative or infinite, a second
- * grid's radius that is not finite or negative, a rule that is not > 0,
+ * grid's (or grid_base's) radius that is not finite or negative, a rule
+ * that is not > 0, a grid_base without grid,
  * n_window out of range); r is then unchanged. */
 int shol_band_compute(shol_result *r, const shol_band_inputs *in, core_err *err);
 /* The band of r->dirs[i]: its own when valid, else the sensitivity-only

@@ -1244,6 +1244,20 @@ static void test_bands(void)
     CHECK(shol_band_compute(&r, &in3, &err) == 0);
     CHECK(isfinite(r.dirs[2].band.grid_mps) && isnan(r.dirs[3].band.grid_mps));
 
+    /* A grid base: the spread is grid minus base, applied to r (a two-way
+     * r over one-way envelopes on two grids). Base = r itself gives the
+     * same bands as none; base = the other grid gives spread 0. */
+    shol_band_inputs in4 = in;
+    in4.grid_base = &r;
+    CHECK(shol_band_compute(&r, &in4, &err) == 0);
+    CHECK_NEAR(r.dirs[6].band.grid_mps / KMH, -10, 1e-9);
+    in4.grid_base = &g;
+    CHECK(shol_band_compute(&r, &in4, &err) == 0);
+    for (int i = 0; i < r.n_dirs; i++)
+        CHECK_NEAR(r.dirs[i].band.grid_mps, 0, 1e-12);
+    in4.grid = NULL;
+    CHECK(shol_band_compute(&r, &in4, &err) < 0);
+
     /* Nothing failed up to the top: the band is open above. */
     shol_settings low = s;
     low.speed_max_mps = 40 * KMH;
