@@ -192,6 +192,8 @@ static void draw(cairo_t *cr, double W, double H, const shol_flown_result *f, co
     }
     envelope(cr, &p, buf, n, 0.05, 0.45, 0.20, 0);
     /* the points, and the cause at each direction's first failure */
+    double(*box)[4] = calloc((size_t)(f->n_dirs > 0 ? f->n_dirs : 1), sizeof *box);
+    int nbox = 0;
     for (int i = 0; i < f->n_dirs; i++) {
         const shol_flown_dir *d = &f->dirs[i];
         for (int k = 0; k < d->n_points; k++) {
@@ -206,21 +208,45 @@ static void draw(cairo_t *cr, double W, double H, const shol_flown_result *f, co
             cairo_set_source_rgb(cr, q->pass ? 0 : 0.4, q->pass ? 0 : 0.4, q->pass ? 0 : 0.4);
             cairo_stroke(cr);
         }
-        if (!isnan(d->fail_speed_mps)) {
-            double x, y;
-            xy(&p, d->dir_rad, d->fail_speed_mps / CORE_KT_TO_MPS + 0.06 * p.rmax_kt, &x, &y);
+        if (!isnan(d->fail_speed_mps) && box) {
+            double x = 0, y = 0;
             snprintf(s, sizeof s, "%s (%.0f%%)", d->cause, 100 * d->pass_rate_fail);
-            cairo_set_source_rgba(cr, 1, 1, 1, 0.8);
             cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
             cairo_set_font_size(cr, 11);
             cairo_text_extents_t te;
             cairo_text_extents(cr, s, &te);
+            /* the first place, out from the first failure and then beside
+             * the spoke, where the label covers no earlier one (else the
+             * first tried) */
+            const double ax = cos(d->dir_rad), ay = sin(d->dir_rad);
+            static const double cand[][2] = {{0.06, 0}, {0.12, 0}, {0.06, 1}, {0.06, -1}, {0.18, 0},
+                                             {0.12, 1}, {0.12, -1}, {0.24, 0}, {0.18, 1}, {0.18, -1}};
+            for (int k = 0; k < (int)(sizeof cand / sizeof cand[0]); k++) {
+                double tx, ty;
+                xy(&p, d->dir_rad, d->fail_speed_mps / CORE_KT_TO_MPS + cand[k][0] * p.rmax_kt, &tx, &ty);
+                tx += cand[k][1] * (te.height + 8) * ax, ty += cand[k][1] * (te.height + 8) * ay;
+                const double b0[4] = {tx - te.width / 2 - 2, ty - te.height / 2 - 2, tx + te.width / 2 + 2,
+                                      ty + te.height / 2 + 2};
+                int clear = 1;
+                for (int j = 0; j < nbox && clear; j++)
+                    clear = b0[2] + 2 < box[j][0] || box[j][2] + 2 < b0[0] || b0[3] + 1 < box[j][1] ||
+                            box[j][3] + 1 < b0[1];
+                if (k == 0 || clear) {
+                    x = tx, y = ty;
+                    memcpy(box[nbox], b0, sizeof b0);
+                }
+                if (clear)
+                    break;
+            }
+            nbox++;
+            cairo_set_source_rgba(cr, 1, 1, 1, 0.8);
             cairo_rectangle(cr, x - te.width / 2 - 2, y - te.height / 2 - 2, te.width + 4, te.height + 4);
             cairo_fill(cr);
             cairo_set_source_rgb(cr, 0.3, 0.05, 0.05);
             text(cr, x, y, 11, 0, 0, s);
         }
     }
+    free(box);
     /* the bands (shol_band_get, shol_flown_band), beside the points: the
      * trim's thin and blue on one side, the flown one's amber on the
      * other; red where of low confidence */
