@@ -1244,6 +1244,43 @@ static void test_bands(void)
     CHECK(shol_band_compute(&r, &in3, &err) == 0);
     CHECK(isfinite(r.dirs[2].band.grid_mps) && isnan(r.dirs[3].band.grid_mps));
 
+    /* The rule is the larger of 10 km/h and a quarter of the limit: at
+     * 20 km/h a band 8 km/h wide (grid +8) is confident, 12 wide low; at
+     * 100 km/h 20 wide is confident, 30 wide low. */
+    {
+        shol_result h, hg;
+        shol_dir_result hd[2], hgd[2];
+        memset(&h, 0, sizeof h);
+        memset(hd, 0, sizeof hd);
+        shol_settings_default(&h.settings);
+        h.n_dirs = 2;
+        h.dirs = hd;
+        hg = h;
+        hg.dirs = hgd;
+        const double rad[2] = {20, 100};
+        for (int k = 0; k < 2; k++) {
+            hd[k].dir_rad = (k ? 30 : -30) * DEG;
+            hd[k].has_pass = 1;
+            hd[k].max_speed_mps = rad[k] * KMH;
+            hd[k].limit = SHOL_CRIT_PITCH;
+            hd[k].fail_speed_mps = NAN; /* no history: no sensitivity */
+        }
+        memcpy(hgd, hd, sizeof hd);
+        shol_band_inputs hi;
+        shol_band_inputs_default(&hi);
+        hi.grid = &hg;
+        const double ok_w[2] = {8, 20}, low_w[2] = {12, 30};
+        for (int pass = 0; pass < 2; pass++) {
+            for (int k = 0; k < 2; k++)
+                hgd[k].max_speed_mps = (rad[k] + (pass ? low_w[k] : ok_w[k])) * KMH;
+            CHECK(shol_band_compute(&h, &hi, &err) == 0);
+            for (int k = 0; k < 2; k++) {
+                CHECK_NEAR(hd[k].band.hi_mps - hd[k].band.lo_mps, (pass ? low_w[k] : ok_w[k]) * KMH, 1e-9);
+                CHECK(hd[k].band.low_confidence == pass);
+            }
+        }
+    }
+
     /* A grid base: the spread is grid minus base, applied to r (a two-way
      * r over one-way envelopes on two grids). Base = r itself gives the
      * same bands as none; base = the other grid gives spread 0. */
