@@ -36,11 +36,7 @@ static void window_spreads(couple_ctx *one, const shol_settings *set, shol_band_
             if (strcmp(f->rotor, "off") != 0 ||
                 fabs(core_wod_wrap_deg(f->wod_dir_deg - set->dirs_rad[d] * CORE_RAD_TO_DEG)) > 1e-3)
                 continue;
-            if (f->converged)
-                s = 0.0;
-            else if (f->averaged > 0)
-                s = fmax(f->mean_drift, f->mean_change >= 0 ? f->mean_change : 0.0);
-            /* else the last iterate of an unconverged run: its spread is not known */
+            s = shol_band_window_frac(f->converged, f->averaged, f->mean_drift, f->mean_change);
         }
         in->window_dir_rad[in->n_window] = set->dirs_rad[d];
         in->window_frac[in->n_window++] = s;

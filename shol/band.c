@@ -51,6 +51,15 @@ void shol_band_inputs_default(shol_band_inputs *in)
     shol_band_rule_default(&in->rule);
 }
 
+double shol_band_window_frac(int converged, int averaged, double mean_drift, double mean_change)
+{
+    if (converged)
+        return 0.0;
+    if (averaged > 0 && isfinite(mean_drift) && mean_drift >= 0)
+        return fmax(mean_drift, isfinite(mean_change) && mean_change >= 0 ? mean_change : 0.0);
+    return NAN;
+}
+
 shol_band_rule shol_band_rule_of(const shol_result *r)
 {
     shol_band_rule k = r->band_rule;

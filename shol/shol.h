@@ -296,6 +296,12 @@ typedef struct shol_band_inputs {
 } shol_band_inputs;
 /* No grid, no window, the default rule. */
 void shol_band_inputs_default(shol_band_inputs *in);
+/* A field's window spread s from its solver state (cfd_result): 0 when it
+ * converged; when it is the mean of its last iterations (averaged > 0),
+ * the larger of mean_drift and mean_change (mean_change < 0: none came
+ * before the window, mean_drift alone); NAN otherwise (the last iterate
+ * of an unconverged run: its spread was not measured). */
+double shol_band_window_frac(int converged, int averaged, double mean_drift, double mean_change);
 /* Fill every direction's band (r->dirs[i].band), r->band_rule and
  * r->band_grid_label. Returns 0, or < 0 with err naming the direction and
  * the bad value (a window spread that is negative or infinite, a second
