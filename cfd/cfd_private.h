@@ -35,6 +35,9 @@ double *cfd_mg_cx(cfd_mg *m);
 double *cfd_mg_cy(cfd_mg *m);
 double *cfd_mg_cz(cfd_mg *m);
 double *cfd_mg_diag(cfd_mg *m);
+/* Four fine-level work arrays of the solve, free between solves (the
+ * solver keeps cell pressure gradients there), i 0..3. */
+double *cfd_mg_work(cfd_mg *m, int i);
 /* Build the coarse levels from the fine coefficients (after each refill). */
 void cfd_mg_setup(cfd_mg *m, int singular);
 /* Solve to |r| <= rtol |b| or maxit; x holds the start and the result.

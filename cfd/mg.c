@@ -113,6 +113,11 @@ double *cfd_mg_cx(cfd_mg *m) { return m->lev[0].cx; }
 double *cfd_mg_cy(cfd_mg *m) { return m->lev[0].cy; }
 double *cfd_mg_cz(cfd_mg *m) { return m->lev[0].cz; }
 double *cfd_mg_diag(cfd_mg *m) { return m->lev[0].diag; }
+double *cfd_mg_work(cfd_mg *m, int i)
+{
+    double *w[4] = {m->r, m->z, m->p, m->q};
+    return i >= 0 && i < 4 ? w[i] : NULL;
+}
 
 #define LIDX(L, i, j, k) ((size_t)(i) + (size_t)(L)->n[0] * ((size_t)(j) + (size_t)(L)->n[1] * (size_t)(k)))
 
@@ -256,7 +261,7 @@ static inline void gs_row(mg_level *L, int j, int k, int colour)
 static void gs_colour(mg_level *L, int colour)
 {
     const int ny = L->n[1], nz = L->n[2];
-    #pragma omp parallel for schedule(static) if (L->nc >= MG_PAR_MIN)
+    #pragma omp parallel for schedule(dynamic, 1) if (L->nc >= MG_PAR_MIN)
     for (int k = 0; k < nz; k++)
         for (int j = 0; j < ny; j++)
             gs_row(L, j, k, colour);
@@ -320,7 +325,7 @@ static inline void apply_row(const mg_level *L, const double *restrict x, const 
 /* y = A x on a level. */
 static void apply(const mg_level *L, const double *x, double *y)
 {
-    #pragma omp parallel for schedule(static) if (L->nc >= MG_PAR_MIN)
+    #pragma omp parallel for schedule(dynamic, 1) if (L->nc >= MG_PAR_MIN)
     for (int k = 0; k < L->n[2]; k++)
         for (int j = 0; j < L->n[1]; j++)
             apply_row(L, x, NULL, y, j, k);
@@ -329,7 +334,7 @@ static void apply(const mg_level *L, const double *x, double *y)
 /* r = b - A x on a level (0 at inactive cells), in one pass. */
 static void residual_lv(mg_level *L)
 {
-    #pragma omp parallel for schedule(static) if (L->nc >= MG_PAR_MIN)
+    #pragma omp parallel for schedule(dynamic, 1) if (L->nc >= MG_PAR_MIN)
     for (int k = 0; k < L->n[2]; k++)
         for (int j = 0; j < L->n[1]; j++)
             apply_row(L, L->x, L->b, L->r, j, k);
@@ -353,7 +358,7 @@ static void vcycle(cfd_mg *m, int l)
     gs_colour(L, 1);
     residual_lv(L);
     mg_level *C = &m->lev[l + 1];
-    #pragma omp parallel for schedule(static) if (L->nc >= MG_PAR_MIN)
+    #pragma omp parallel for schedule(dynamic, 1) if (L->nc >= MG_PAR_MIN)
     for (int K = 0; K < C->n[2]; K++)
         for (int J = 0; J < C->n[1]; J++)
             for (int I = 0; I < C->n[0]; I++) {
@@ -369,7 +374,7 @@ static void vcycle(cfd_mg *m, int l)
                 C->x[cc] = 0.0;
             }
     vcycle(m, l + 1);
-    #pragma omp parallel for schedule(static) if (L->nc >= MG_PAR_MIN)
+    #pragma omp parallel for schedule(dynamic, 1) if (L->nc >= MG_PAR_MIN)
     for (int k = 0; k < L->n[2]; k++)
         for (int j = 0; j < L->n[1]; j++)
             for (int i = 0; i < L->n[0]; i++) {
@@ -428,7 +433,7 @@ static void precond(cfd_mg *m, const double *r, double *z)
 static double apply_dot(const mg_level *L, const double *p, double *q)
 {
     double s = 0.0;
-    #pragma omp parallel for reduction(+ : s) schedule(static)
+    #pragma omp parallel for reduction(+ : s) schedule(static, 1)
     for (int k = 0; k < L->n[2]; k++)
         for (int j = 0; j < L->n[1]; j++) {
             apply_row(L, p, NULL, q, j, k);

@@ -85,6 +85,11 @@ struct cfd_solver {
      * whi: face i + 1, neighbour i + 1) and the centre distances (dlo,
      * dhi), the same expressions as computed at each face before, once */
     double *wlo[3], *whi[3], *dlo[3], *dhi[3];
+    /* the cell pressure gradients of the iteration (grad_dir of p), from
+     * the momentum assembly to the Rhie-Chow interpolation, where p does
+     * not change: computed once per cell instead of once per use; kept in
+     * the pressure solver's work arrays, free then */
+    double *gradp[3];
     double *disk_f[3];
     /* CFD_INFLOW_FIELD: the sampled values (u, v, w, k, eps) on the open
      * faces, one array per value, indexed by the face's two cell indices
@@ -405,6 +410,8 @@ static int alloc_arrays(cfd_solver *s)
     if (!ok || !s->mg)
         return -1;
     s->bytes += cfd_mg_bytes(s->mg);
+    for (int d = 0; d < 3; d++)
+        s->gradp[d] = cfd_mg_work(s->mg, d);
     return 0;
 }
 
@@ -803,34 +810,62 @@ static inline double grad_dir(const cfd_solver *s, const double *phi, int var, c
     return (hi - lo) / s->g->h[d][ijk[d]];
 }
 
-/* ------------------------------------------------------------ assembly */
-static inline double vanleer(double r) { return (r + fabs(r)) / (1.0 + fabs(r)); }
+/* s->gradp: the pressure gradient of every fluid cell (0 in blocked cells). */
+static void pressure_gradients(cfd_solver *s)
+{
+    const cfd_grid *g = s->g;
+    const double *p = s->var[CFD_VAR_P];
+    #pragma omp parallel for schedule(dynamic, 1)
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++) {
+                int ijk[3] = {i, j, k};
+                size_t c = CFD_IDX(g, i, j, k);
+                for (int d = 0; d < 3; d++)
+                    s->gradp[d][c] = g->solid[c] ? 0.0 : grad_dir(s, p, CFD_VAR_P, ijk, d, c);
+            }
+}
 
-/* Deferred-correction flux F (phi_HO - phi_C) of the face between c and its
- * neighbour cn across f, with F the outward flux from c. */
-static inline double tvd_correction(const cfd_solver *s, const double *phi, const int ijk[3], int f, size_t c,
-                                    size_t cn, double F)
+/* ------------------------------------------------------------ assembly */
+/* van Leer's limiter, (r + |r|) / (1 + |r|): 0 for r <= 0 without the
+ * division, the same value. */
+static inline double vanleer(double r) { return r > 0.0 ? (r + r) / (1.0 + r) : 0.0; }
+
+/* fmin's result for any two doubles, inline (as fmaxd). */
+static inline double fmind(double a, double b) { return a <= b ? a : b != b ? a : b; }
+
+/* The cells of the deferred correction of the face between c and its
+ * neighbour cn across f, for the outward flux F from c: cc upwind, cd
+ * downwind, cu the next upwind; 0 where there is no fluid cell cu (no
+ * correction). Shared by the components assembled together. */
+static inline int tvd_cells(const cfd_solver *s, const int ijk[3], int f, size_t c, size_t cn, double F,
+                            size_t *cc, size_t *cd, size_t *cu)
 {
     const cfd_grid *g = s->g;
     int d = f >> 1, plus = f & 1;
     size_t st = d == 0 ? 1 : d == 1 ? (size_t)g->n[0] : (size_t)g->n[0] * g->n[1];
-    size_t cc, cd, cu;
     int qu;
     if (F >= 0.0) {
-        cc = c, cd = cn;
+        *cc = c, *cd = cn;
         qu = ijk[d] + (plus ? -1 : 1);
-        cu = plus ? c - st : c + st;
+        *cu = plus ? c - st : c + st;
     } else {
-        cc = cn, cd = c;
+        *cc = cn, *cd = c;
         qu = ijk[d] + (plus ? 2 : -2);
-        cu = plus ? cn + st : cn - st;
+        *cu = plus ? cn + st : cn - st;
     }
+    return !(qu < 0 || qu >= g->n[d] || g->solid[*cu]);
+}
+
+/* Deferred-correction flux F (phi_HO - phi_C) on the cells tvd_cells gave. */
+static inline double tvd_flux(const double *phi, size_t cc, size_t cd, size_t cu, double F, int minmod)
+{
     double pc = phi[cc], pd = phi[cd];
     double delta = pd - pc;
-    if (qu < 0 || qu >= g->n[d] || g->solid[cu] || fabs(delta) < 1e-30)
+    if (fabs(delta) < 1e-30)
         return 0.0;
     double r = (pc - phi[cu]) / delta;
-    double psi = s->cfg.limiter == CFD_LIMITER_MINMOD ? fmaxd(0.0, fmin(r, 1.0)) : vanleer(r);
+    double psi = minmod ? fmaxd(0.0, fmind(r, 1.0)) : vanleer(r);
     return F * 0.5 * psi * delta;
 }
 
@@ -850,6 +885,7 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
     const int mom = var <= CFD_VAR_W;
     const double sigma = var == CFD_VAR_K ? CFD_SIGMA_K : var == CFD_VAR_EPS ? CFD_SIGMA_E : 1.0;
     const int turb = cfg->turbulence;
+    const int minmod = cfg->limiter == CFD_LIMITER_MINMOD;
     /* the variables assembled: u, v, w (those solved) or one of k, eps */
     int nv = 0, comps[3];
     if (mom) {
@@ -866,7 +902,7 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
         bv[m] = mom ? s->bm[comps[m]] : s->b;
         phiv[m] = mom ? s->var[CFD_VAR_U + comps[m]] : s->var[var];
     }
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(dynamic, 1)
     for (int k = 0; k < g->n[2]; k++)
         for (int j = 0; j < g->n[1]; j++)
             for (int i = 0; i < g->n[0]; i++) {
@@ -891,7 +927,6 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
                 for (int f = 0; f < 6; f++) {
                     int d = f >> 1, plus = f & 1;
                     double A = face_area(g, d, ijk);
-                    int q = ijk[d] + (plus ? 1 : -1);
                     size_t fi = plus ? (d == 0 ? fidx(g, 0, i + 1, j, k) : d == 1 ? fidx(g, 1, i, j + 1, k) : fidx(g, 2, i, j, k + 1))
                                      : fidx(g, d, i, j, k);
                     double F = (plus ? 1.0 : -1.0) * s->uf[d][fi] * A;
@@ -899,12 +934,15 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
                     int kind = nb_kind(s, ijk, f, c, &cn);
                     double a_f = 0.0;
                     if (kind == NB_FLUID) {
-                        double dist = fabs(g->xc[d][q] - g->xc[d][ijk[d]]);
-                        double gam = nu + (turb ? 0.5 * (nut[c] + nut[cn]) / sigma : 0.0);
+                        double dist = plus ? s->dhi[d][ijk[d]] : s->dlo[d][ijk[d]];
+                        /* x / 1 is x: the momentum's sigma costs no division */
+                        double gam = nu + (turb ? (mom ? 0.5 * (nut[c] + nut[cn]) : 0.5 * (nut[c] + nut[cn]) / sigma)
+                                                : 0.0);
                         a_f = gam * A / dist + fmaxd(-F, 0.0);
-                        if (ho && !(turb && s->wallcell[cn]))
+                        size_t tc, td, tu;
+                        if (ho && !(turb && s->wallcell[cn]) && tvd_cells(s, ijk, f, c, cn, F, &tc, &td, &tu))
                             for (int m = 0; m < nv; m++)
-                                bb[m] -= tvd_correction(s, phiv[m], ijk, f, c, cn, F);
+                                bb[m] -= tvd_flux(phiv[m], tc, td, tu, F, minmod);
                         anb += a_f;
                     } else if (kind == NB_WALL) {
                         double y = 0.5 * g->h[d][ijk[d]];
@@ -979,7 +1017,7 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
                     for (int m = 0; m < nv; m++) {
                         int comp = comps[m];
                         double a = ap[m] + anb;
-                        double b = bb[m] - V / rho * grad_dir(s, s->var[CFD_VAR_P], CFD_VAR_P, ijk, comp, c);
+                        double b = bb[m] - V / rho * s->gradp[comp][c];
                         if (s->disk_f[comp])
                             b += s->disk_f[comp][c] / rho;
                         double apr = a / alpha;
@@ -1054,49 +1092,109 @@ static inline double neighbours(const cfd_solver *s, const double *phi, size_t c
     return r;
 }
 
+/* The off-diagonal sum of cell c at (i, j, k) with its coefficients a[6]
+ * loaded once, the terms in neighbours()'s order; jm .. kp: whether the
+ * four y, z neighbours exist. */
+static inline double nb_sum(const double a[6], const double *phi, size_t c, int i, int nx, int jm, int jp, int km,
+                            int kp, const size_t st[3])
+{
+    double r = 0.0;
+    if (i > 0)
+        r += a[0] * phi[c - 1];
+    if (i + 1 < nx)
+        r += a[1] * phi[c + 1];
+    if (jm)
+        r += a[2] * phi[c - st[1]];
+    if (jp)
+        r += a[3] * phi[c + st[1]];
+    if (km)
+        r += a[4] * phi[c - st[2]];
+    if (kp)
+        r += a[5] * phi[c + st[2]];
+    return r;
+}
+
 /* Scaled residual (Fluent's; ANSYS Fluent User's Guide, residuals):
  * sum |a_P phi_P - sum a_nb phi_nb - b| / sum |a_P phi_P| over fluid cells,
  * with a_P the unrelaxed diagonal (alpha: the relaxation the matrix was
- * assembled with); the relaxation terms cancel in the numerator. */
-static double residual(const cfd_solver *s, const double *phi, const double *ap, const double *b, double alpha)
+ * assembled with); the relaxation terms cancel in the numerator. nv
+ * variables sharing the a_nb (u, v, w) in one pass: out[m] for phi[m],
+ * each summed as alone. */
+static void residual_n(const cfd_solver *s, int nv, double *const *phi, double *const *ap, double *const *b,
+                       double alpha, double *out)
 {
     const cfd_grid *g = s->g;
     size_t st[3];
     strides(g, st);
-    double sum = 0.0, scale = 0.0;
-    #pragma omp parallel for reduction(+ : sum, scale) schedule(static)
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, q0 = 0.0, q1 = 0.0, q2 = 0.0;
+    const int nx = g->n[0];
+    #pragma omp parallel for reduction(+ : s0, s1, s2, q0, q1, q2) schedule(static, 1)
     for (int k = 0; k < g->n[2]; k++)
-        for (int j = 0; j < g->n[1]; j++)
-            for (int i = 0; i < g->n[0]; i++) {
+        for (int j = 0; j < g->n[1]; j++) {
+            const int jm = j > 0, jp = j + 1 < g->n[1], km = k > 0, kp = k + 1 < g->n[2];
+            for (int i = 0; i < nx; i++) {
                 size_t c = CFD_IDX(g, i, j, k);
                 if (g->solid[c])
                     continue;
-                double r = b[c] - ap[c] * phi[c] + neighbours(s, phi, c, i, j, k, st);
-                sum += fabs(r);
-                scale += fabs(alpha * ap[c] * phi[c]);
+                const double a[6] = {s->a[0][c], s->a[1][c], s->a[2][c], s->a[3][c], s->a[4][c], s->a[5][c]};
+                for (int m = 0; m < nv; m++) {
+                    double r = b[m][c] - ap[m][c] * phi[m][c] + nb_sum(a, phi[m], c, i, nx, jm, jp, km, kp, st);
+                    double sc = fabs(alpha * ap[m][c] * phi[m][c]);
+                    if (m == 0)
+                        s0 += fabs(r), q0 += sc;
+                    else if (m == 1)
+                        s1 += fabs(r), q1 += sc;
+                    else
+                        s2 += fabs(r), q2 += sc;
+                }
             }
-    return scale > 0.0 ? sum / scale : sum > 0.0 ? 1.0 : 0.0;
+        }
+    const double sum[3] = {s0, s1, s2}, scale[3] = {q0, q1, q2};
+    for (int m = 0; m < nv; m++)
+        out[m] = scale[m] > 0.0 ? sum[m] / scale[m] : sum[m] > 0.0 ? 1.0 : 0.0;
 }
 
-static void gs_sweeps(cfd_solver *s, double *phi, const double *ap, const double *b, int sweeps, double floor)
+static double residual(const cfd_solver *s, double *phi, double *ap, double *b, double alpha)
+{
+    double out;
+    residual_n(s, 1, &phi, &ap, &b, alpha, &out);
+    return out;
+}
+
+/* sweeps red-black Gauss-Seidel sweeps of nv variables sharing the a_nb,
+ * every half-sweep over all of them in one pass (each variable's sweeps
+ * are independent of the others': the same values as one by one). */
+static void gs_sweeps_n(cfd_solver *s, int nv, double *const *phi, double *const *ap, double *const *b, int sweeps,
+                        double floor)
 {
     const cfd_grid *g = s->g;
     size_t st[3];
     strides(g, st);
+    const int nx = g->n[0];
     for (int it = 0; it < 2 * sweeps; it++) {
         int colour = it & 1;
-        #pragma omp parallel for schedule(static)
+        #pragma omp parallel for schedule(dynamic, 1)
         for (int k = 0; k < g->n[2]; k++)
-            for (int j = 0; j < g->n[1]; j++)
-                for (int i = (j + k + colour) & 1; i < g->n[0]; i += 2) {
+            for (int j = 0; j < g->n[1]; j++) {
+                const int jm = j > 0, jp = j + 1 < g->n[1], km = k > 0, kp = k + 1 < g->n[2];
+                for (int i = (j + k + colour) & 1; i < nx; i += 2) {
                     size_t c = CFD_IDX(g, i, j, k);
                     if (g->solid[c])
                         continue;
-                    double r = b[c] + neighbours(s, phi, c, i, j, k, st);
-                    double v = r / ap[c];
-                    phi[c] = v > floor ? v : floor;
+                    const double a[6] = {s->a[0][c], s->a[1][c], s->a[2][c], s->a[3][c], s->a[4][c], s->a[5][c]};
+                    for (int m = 0; m < nv; m++) {
+                        double r = b[m][c] + nb_sum(a, phi[m], c, i, nx, jm, jp, km, kp, st);
+                        double v = r / ap[m][c];
+                        phi[m][c] = v > floor ? v : floor;
+                    }
                 }
+            }
     }
+}
+
+static void gs_sweeps(cfd_solver *s, double *phi, double *ap, double *b, int sweeps, double floor)
+{
+    gs_sweeps_n(s, 1, &phi, &ap, &b, sweeps, floor);
 }
 
 /* Production P_k = nu_t S^2 into pk (the pressure-correction array, free
@@ -1104,7 +1202,7 @@ static void gs_sweeps(cfd_solver *s, double *phi, const double *ap, const double
 static void turbulence_prepare(cfd_solver *s, double *pk)
 {
     const cfd_grid *g = s->g;
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(dynamic, 1)
     for (int k = 0; k < g->n[2]; k++)
         for (int j = 0; j < g->n[1]; j++)
             for (int i = 0; i < g->n[0]; i++) {
@@ -1155,7 +1253,7 @@ static void rhie_chow(cfd_solver *s)
     for (int pass = 0; pass < 2; pass++)
     for (int d = 0; d < 3; d++) {
         const double *u = s->var[CFD_VAR_U + d];
-        #pragma omp parallel for schedule(static)
+        #pragma omp parallel for schedule(dynamic, 1)
         for (int k = 0; k < g->n[2] + (d == 2); k++)
             for (int j = 0; j < g->n[1] + (d == 1); j++)
                 for (int i = 0; i < g->n[0] + (d == 0); i++) {
@@ -1176,8 +1274,8 @@ static void rhie_chow(cfd_solver *s)
                         }
                         double dist = g->xc[d][q] - g->xc[d][q - 1];
                         double w = (g->xn[d][q] - g->xc[d][q - 1]) / dist;
-                        double gm = grad_dir(s, p, CFD_VAR_P, jm, d, cm);
-                        double gp = grad_dir(s, p, CFD_VAR_P, jp, d, cp);
+                        double gm = s->gradp[d][cm];
+                        double gp = s->gradp[d][cp];
                         double df = (1.0 - w) * s->drc[cm] + w * s->drc[cp];
                         s->uf[d][fi] = (1.0 - w) * u[cm] + w * u[cp] +
                                        df / rho * (((1.0 - w) * gm + w * gp) - (p[cp] - p[cm]) / dist);
@@ -1212,7 +1310,7 @@ static double pp_assemble(cfd_solver *s)
            *dg = cfd_mg_diag(s->mg);
     double *rhs = s->b;
     double cont = 0.0;
-    #pragma omp parallel for reduction(+ : cont) schedule(static)
+    #pragma omp parallel for reduction(+ : cont) schedule(static, 1)
     for (int k = 0; k < g->n[2]; k++)
         for (int j = 0; j < g->n[1]; j++)
             for (int i = 0; i < g->n[0]; i++) {
@@ -1291,7 +1389,7 @@ static void pp_correct_faces(cfd_solver *s)
     const double rho = s->cfg.rho_kgpm3;
     const double *pp = s->pp;
     for (int d = 0; d < 3; d++) {
-        #pragma omp parallel for schedule(static)
+        #pragma omp parallel for schedule(dynamic, 1)
         for (int k = 0; k < g->n[2] + (d == 2); k++)
             for (int j = 0; j < g->n[1] + (d == 1); j++)
                 for (int i = 0; i < g->n[0] + (d == 0); i++) {
@@ -1332,7 +1430,7 @@ static void pp_correct_cells(cfd_solver *s)
     const double rho = s->cfg.rho_kgpm3;
     const double *pp = s->pp;
     const double ap_ = s->relax[1];
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(dynamic, 1)
     for (int k = 0; k < g->n[2]; k++)
         for (int j = 0; j < g->n[1]; j++)
             for (int i = 0; i < g->n[0]; i++) {
@@ -1411,15 +1509,23 @@ static void snapshot(cfd_solver *s, int save)
 static void iterate(cfd_solver *s, double r[HIST_COLS])
 {
     const double au = s->relax[0], at = s->relax[2];
+    pressure_gradients(s);
     assemble(s, CFD_VAR_U, au, NULL);
+    /* u, v, w together (a 2-D case: no velocity across the single layer) */
+    double *phiv[3], *apv[3], *bv[3], rv[3];
+    int comp[3], nv = 0;
     for (int d = 0; d < 3; d++) {
-        if (s->g->n[d] == 1) { /* a 2-D case: no velocity across the single layer */
-            r[1 + d] = 0.0;
-            continue;
+        r[1 + d] = 0.0;
+        if (s->g->n[d] > 1) {
+            comp[nv] = d;
+            phiv[nv] = s->var[CFD_VAR_U + d], apv[nv] = s->apm[d], bv[nv] = s->bm[d];
+            nv++;
         }
-        r[1 + d] = residual(s, s->var[CFD_VAR_U + d], s->apm[d], s->bm[d], au);
-        gs_sweeps(s, s->var[CFD_VAR_U + d], s->apm[d], s->bm[d], 2, -1e300);
     }
+    residual_n(s, nv, phiv, apv, bv, au, rv);
+    for (int m = 0; m < nv; m++)
+        r[1 + comp[m]] = rv[m];
+    gs_sweeps_n(s, nv, phiv, apv, bv, 2, -1e300);
     const cfd_grid *g = s->g;
     int ncomp = (g->n[0] > 1) + (g->n[1] > 1) + (g->n[2] > 1);
     #pragma omp parallel for schedule(static)
