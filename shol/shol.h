@@ -371,11 +371,14 @@ typedef struct shol_report_info {
 /* DIR/shol.csv, one row per direction, columns exactly:
  * wod_dir_deg, max_speed_kt, max_speed_kmh, limit, margin_roll_deg,
  * margin_pitch_deg, margin_long_pct, margin_lat_pct, margin_coll_pct,
- * margin_pedal_pct. A direction with no passing speed has "nan" speeds
- * and the margins at 0 m/s. */
+ * margin_pedal_pct, then the band (shol_band_get): band_lo_kmh,
+ * band_hi_kmh, band_grid_kmh, band_window_kmh, band_sens_kmh (nan: not
+ * measured), band_open_above, low_confidence (0 or 1). A direction with
+ * no passing speed has "nan" speeds and the margins at 0 m/s. */
 int shol_write_csv(const char *dir, const shol_result *r, core_err *err);
-/* Read a shol.csv back (directions, speeds, limits, margins; no history,
- * settings default apart from the directions). */
+/* Read a shol.csv back (directions, speeds, limits, margins, and the band
+ * where the file has its columns: the first ten columns alone are read
+ * too; no history, settings default apart from the directions). */
 int shol_read_csv(const char *path, shol_result *r, core_err *err);
 /* DIR/shol.json: settings, criteria and per direction the result and the
  * whole trim-versus-speed history. */
@@ -572,7 +575,8 @@ int shol_flown_as_result(const shol_flown_result *f, const shol_result *trim, sh
 /* Outputs of the flown envelope into DIR (atomic, as the trim ones):
  * shol_flown.csv, one row per direction, columns exactly: wod_dir_deg,
  * max_speed_kt, max_speed_kmh, pass_rate_at_max, fail_speed_kt,
- * pass_rate_at_fail, cause, trim_max_speed_kt, trim_limit;
+ * pass_rate_at_fail, cause, trim_max_speed_kt, trim_limit, then the
+ * flown band's seven columns as in shol.csv;
  * shol_flown_points.csv, one row per flown point: wod_dir_deg, speed_kt,
  * speed_kmh, flights, passed, pass_rate, pass, cause; shol_flown.json (the
  * settings and every point). */
