@@ -35,6 +35,10 @@ int BENCH_CASE_FN(const bench_case *bc, bench_out *out)
     sp.max_iter = bc->iters;
     sp.h_fine_m = bc->h_fine_m;
     sp.h_max_m = bc->h_max_m;
+    if (bc->minmod) {
+        sp.limiter_fixed = 1;
+        sp.limiter = CFD_LIMITER_MINMOD;
+    }
     if (bc->rotor) {
         double c[3] = {0.0, 0.0, -8.18};
         core_euler att = {0.0, 0.0, 0.0};

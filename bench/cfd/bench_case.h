@@ -17,6 +17,7 @@ typedef struct bench_case {
     int iters;             /* SIMPLEC iterations (the run's max_iter) */
     double h_fine_m, h_max_m; /* > 0: override the level's spacing (small test grids) */
     int keep_fields;       /* 1: copy u, v, w, p, k, eps out (bench_out.field) */
+    int minmod;            /* 1: the minmod limiter on every level (else the level's) */
 } bench_case;
 
 #define BENCH_NFIELD 6

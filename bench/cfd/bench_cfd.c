@@ -273,7 +273,7 @@ int main(int argc, char **argv)
         }
     }
     if (!strcmp(argv[1], "compare")) {
-        bench_case bc = {CFD_SHIPS_DIR, ship_name, speed, dir, lv, rotor, iters, h_fine, h_max, 0};
+        bench_case bc = {CFD_SHIPS_DIR, ship_name, speed, dir, lv, rotor, iters, h_fine, h_max, 0, 0};
         return compare(&bc, threads, rounds);
     }
     if (!strcmp(argv[1], "throughput")) {
