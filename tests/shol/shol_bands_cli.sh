@@ -5,7 +5,9 @@
 # section; --band-grid-csv (an earlier run's shol.csv as the second grid,
 # here one without the band's columns)
 # reaches the band's grid column at the direction it differs, and the
-# report names it; bad --band-grid values and a missing CSV are refused.
+# report names it; the second grid found in the database (--band-grid
+# auto), built (--band-grid default) or left out (none); bad --band-grid
+# values and a missing CSV are refused.
 # Usage: shol_bands_cli.sh DISIM SOURCE_DIR
 set -u
 disim=$1 src=$2
@@ -38,6 +40,24 @@ grep -q '^| red 60 | 0.0 | 0.0-0.0 (nothing failed: open above) | grid +10.0 (' 
     || { echo "report.md: red 60 does not name the second grid's +10 km/h"; grep 'red 60' "$tmp/out2/report.md"; fail=1; }
 grep -q 'band red 60: 0 km/h, 0.0-0.0 km/h open above (grid +10.0' "$tmp/run2.log" \
     || { echo "stderr: no band line for red 60"; cat "$tmp/run2.log"; fail=1; }
+# the second grid from the database (the small SFS2 case of shol_e2e, 10
+# CFD iterations a field: the path, not the physics): --band-grid default
+# builds the default field beside the coarse one; then auto finds it and
+# builds nothing, and none leaves the grid out
+sfs=$src/tests/couple/sfs2_uh60a.ini
+"$disim" shol "$sfs" --coupling one-way --cfd-max-iter 10 --band-grid default -o "$tmp/s1" --db "$tmp/sdb" \
+    > /dev/null 2> "$tmp/s1.log" || { echo "--band-grid default failed"; cat "$tmp/s1.log"; fail=1; }
+[ "$(ls "$tmp/sdb/fields/"*_coarse_*.h5 "$tmp/sdb/fields/"*_default_*.h5 2>/dev/null | wc -l)" -eq 2 ] \
+    || { echo "expected a coarse and a default field"; ls "$tmp/sdb/fields"; fail=1; }
+"$disim" shol "$sfs" --coupling one-way --cfd-max-iter 10 -o "$tmp/s2" --db "$tmp/sdb" > /dev/null 2> "$tmp/s2.log" \
+    || { echo "--band-grid auto failed"; cat "$tmp/s2.log"; fail=1; }
+grep -q 'band head: .*(grid [-+][0-9.]* (default grid, one-way)' "$tmp/s2.log" \
+    || { echo "auto: no grid spread from the database's default field"; cat "$tmp/s2.log"; fail=1; }
+[ "$(ls "$tmp/sdb/fields/"*.h5 | wc -l)" -eq 2 ] || { echo "auto built a field"; fail=1; }
+cmp -s "$tmp/s1/shol.csv" "$tmp/s2/shol.csv" || { echo "auto and default gave different bands"; fail=1; }
+"$disim" shol "$sfs" --coupling one-way --cfd-max-iter 10 --band-grid none -o "$tmp/s3" --db "$tmp/sdb" > /dev/null \
+    2> "$tmp/s3.log" && grep -q 'band head: .*(grid: no second grid' "$tmp/s3.log" \
+    || { echo "--band-grid none kept a grid"; cat "$tmp/s3.log"; fail=1; }
 # refused
 "$disim" shol "$scen" --band-grid medium > /dev/null 2> "$tmp/bad.log"
 [ $? -eq 2 ] && grep -q "band-grid 'medium'" "$tmp/bad.log" || { echo "--band-grid medium not refused"; fail=1; }
