@@ -297,6 +297,47 @@ static inline void apply_row(const mg_level *L, const double *restrict x, const 
     const double *restrict cx = L->cx, *restrict cy = L->cy, *restrict cz = L->cz, *restrict dg = L->diag;
     const unsigned char *restrict act = L->active;
     const size_t row = sy * j + sz * k;
+    if (jm && jp && km && kp && nx > 2) {
+        /* an interior row: the ends by the generic rule, the rest in one
+         * branch-free loop the compiler vectorises (the same operations
+         * per cell in the same order) */
+        for (int e = 0; e < 2; e++) {
+            const int i = e ? nx - 1 : 0;
+            const size_t c = row + (size_t)i;
+            const double s = apply_cell(L, x, c, i, nx, 1, 1, 1, 1, sy, sz);
+            y[c] = act[c] ? (b ? b[c] - s : s) : 0.0;
+        }
+        const double *restrict xr = x + row, *restrict cxr = cx + row, *restrict dgr = dg + row;
+        const double *restrict cyr = cy + row, *restrict cym = cy + row - sy, *restrict czr = cz + row,
+                               *restrict czm = cz + row - sz;
+        const unsigned char *restrict ar = act + row;
+        double *restrict yr = y + row;
+        if (b) {
+            const double *restrict br = b + row;
+            for (int i = 1; i + 1 < nx; i++) {
+                double s = dgr[i] * xr[i];
+                s -= cxr[i - 1] * xr[i - 1];
+                s -= cxr[i] * xr[i + 1];
+                s -= cym[i] * xr[(ptrdiff_t)i - (ptrdiff_t)sy];
+                s -= cyr[i] * xr[i + sy];
+                s -= czm[i] * xr[(ptrdiff_t)i - (ptrdiff_t)sz];
+                s -= czr[i] * xr[i + sz];
+                yr[i] = ar[i] ? br[i] - s : 0.0;
+            }
+        } else {
+            for (int i = 1; i + 1 < nx; i++) {
+                double s = dgr[i] * xr[i];
+                s -= cxr[i - 1] * xr[i - 1];
+                s -= cxr[i] * xr[i + 1];
+                s -= cym[i] * xr[(ptrdiff_t)i - (ptrdiff_t)sy];
+                s -= cyr[i] * xr[i + sy];
+                s -= czm[i] * xr[(ptrdiff_t)i - (ptrdiff_t)sz];
+                s -= czr[i] * xr[i + sz];
+                yr[i] = ar[i] ? s : 0.0;
+            }
+        }
+        return;
+    }
     for (int i = 0; i < nx; i++) {
         const size_t c = row + (size_t)i;
         double s;

@@ -827,13 +827,6 @@ static void pressure_gradients(cfd_solver *s)
 }
 
 /* ------------------------------------------------------------ assembly */
-/* van Leer's limiter, (r + |r|) / (1 + |r|): 0 for r <= 0 without the
- * division, the same value. */
-static inline double vanleer(double r) { return r > 0.0 ? (r + r) / (1.0 + r) : 0.0; }
-
-/* fmin's result for any two doubles, inline (as fmaxd). */
-static inline double fmind(double a, double b) { return a <= b ? a : b != b ? a : b; }
-
 /* The cells of the deferred correction of the face between c and its
  * neighbour cn across f, for the outward flux F from c: cc upwind, cd
  * downwind, cu the next upwind; 0 where there is no fluid cell cu (no
@@ -857,16 +850,29 @@ static inline int tvd_cells(const cfd_solver *s, const int ijk[3], int f, size_t
     return !(qu < 0 || qu >= g->n[d] || g->solid[*cu]);
 }
 
-/* Deferred-correction flux F (phi_HO - phi_C) on the cells tvd_cells gave. */
+/* Deferred-correction flux F (phi_HO - phi_C) = F psi(r) delta / 2 on the
+ * cells tvd_cells gave, with delta = phi_D - phi_C, n = phi_C - phi_U and
+ * r = n / delta, written without r: van Leer's psi delta = 2 n delta /
+ * (delta + n) for r > 0 (one division where r and psi took two, each
+ * waiting on the other), minmod's psi delta = n for 0 < r < 1 and delta
+ * for r >= 1 (none). The same values to round-off (tests/cfd/test_cfd_same). */
 static inline double tvd_flux(const double *phi, size_t cc, size_t cd, size_t cu, double F, int minmod)
 {
     double pc = phi[cc], pd = phi[cd];
     double delta = pd - pc;
     if (fabs(delta) < 1e-30)
         return 0.0;
-    double r = (pc - phi[cu]) / delta;
-    double psi = minmod ? fmaxd(0.0, fmind(r, 1.0)) : vanleer(r);
-    return F * 0.5 * psi * delta;
+    double n = pc - phi[cu];
+    if (n * delta != n * delta)
+        return n * delta; /* not finite: the NaN goes on, as it did through r */
+    if (!(n * delta > 0.0)) /* r <= 0: psi = 0 */
+        return 0.0;
+    double pd_lim;
+    if (minmod)
+        pd_lim = fabs(n) < fabs(delta) ? n : delta;
+    else
+        pd_lim = 2.0 * n * delta / (delta + n);
+    return F * 0.5 * pd_lim;
 }
 
 /* Assemble a_nb, a_P, b with relaxation alpha for K or EPS, or, with var =
