@@ -61,7 +61,9 @@ if ls "$dir/db/fields/" | grep -q shiponly; then
 fi
 # the coupling history rows of the calm-air point:
 # | head | 0.0 | iter | thrust kN | coll | long | lat | pedal | roll | pitch | change |
-rows=$(grep '^| head | 0.0 |' "$dir/out/report.md") || fail "no coupling history in report.md"
+# the coupling history's rows: direction, speed, then the iteration number
+# (the bands table's head row has a speed range there)
+rows=$(grep -E '^\| head \| 0\.0 \| [0-9]+ \|' "$dir/out/report.md") || fail "no coupling history in report.md"
 echo "$rows"
 [ "$(echo "$rows" | wc -l)" -ge 2 ] || fail "no coupled iteration"
 last=$(echo "$rows" | tail -1)
