@@ -23,7 +23,6 @@
 #include "scene.h"
 #include "sim.h"
 
-#include <errno.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -114,21 +113,6 @@ static void fly_scenario_pilot(fly_args *o)
     free(sc);
 }
 
-/* One side of --render-size: digits only, within what render_create takes. */
-static int render_side(const char *s, const char **end, int *out)
-{
-    if (*s < '0' || *s > '9')
-        return -1;
-    char *e;
-    errno = 0;
-    long v = strtol(s, &e, 10);
-    *end = e;
-    if (errno == ERANGE || v < RENDER_SIZE_MIN || v > RENDER_SIZE_MAX)
-        return -1;
-    *out = (int)v;
-    return 0;
-}
-
 /* A --render flag and its value: 0, or -1 after saying what was expected. */
 static int fly_parse_render(fly_args *o, const char *a, const char *v)
 {
@@ -142,10 +126,8 @@ static int fly_parse_render(fly_args *o, const char *a, const char *v)
     if (!strcmp(a, "--render-rate"))
         return app_parse_double(P, a, v, 0.1, 1000.0, &o->render_rate_hz);
     if (!strcmp(a, "--render-size")) {
-        const char *e;
-        if (render_side(v, &e, &o->render_w) || *e != 'x' || render_side(e + 1, &e, &o->render_h) || *e) {
-            fprintf(stderr, "disim fly: --render-size '%s': expected WIDTHxHEIGHT, e.g. 640x480, each %d to %d pixels\n",
-                    v, RENDER_SIZE_MIN, RENDER_SIZE_MAX);
+        if (render_size_parse(v, &o->render_w, &o->render_h, &err) != 0) {
+            fprintf(stderr, "disim fly: --render-size %s\n", err.msg);
             return -1;
         }
         return 0;

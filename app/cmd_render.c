@@ -20,37 +20,17 @@
 #include "awdb.h"
 #endif
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-/* One side of --size: digits only (no sign, no blanks), within what
- * render_create accepts; sscanf's %d was undefined on overflow and let
- * 99999999999 through as -1. */
-static int parse_side(const char *s, const char **end, int *out)
-{
-    if (*s < '0' || *s > '9')
-        return -1;
-    char *e;
-    errno = 0;
-    long v = strtol(s, &e, 10);
-    *end = e;
-    if (errno == ERANGE || v < RENDER_SIZE_MIN || v > RENDER_SIZE_MAX)
-        return -1;
-    *out = (int)v;
-    return 0;
-}
-
 static int parse_size(const char *v, int *w, int *h)
 {
-    const char *e;
-    if (parse_side(v, &e, w) || *e != 'x' || parse_side(e + 1, &e, h) || *e) {
-        fprintf(stderr,
-                "disim render: --size '%s': expected WIDTHxHEIGHT, e.g. 1280x720, each %d to %d pixels\n", v,
-                RENDER_SIZE_MIN, RENDER_SIZE_MAX);
+    core_err err = {{0}};
+    if (render_size_parse(v, w, h, &err) != 0) {
+        fprintf(stderr, "disim render: --size %s\n", err.msg);
         return -1;
     }
     return 0;

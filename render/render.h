@@ -36,6 +36,9 @@ typedef struct render_ctx render_ctx;
 #define RENDER_SIZE_MIN 16
 #define RENDER_SIZE_MAX 8192
 
+/* "WIDTHxHEIGHT" (digits only, each RENDER_SIZE_MIN to RENDER_SIZE_MAX)
+ * into width and height; < 0 with err saying what was expected. */
+int render_size_parse(const char *s, int *width, int *height, core_err *err);
 /* An off-screen context of w x h pixels; NULL with err on failure. */
 render_ctx *render_create(int width, int height, core_err *err);
 void render_destroy(render_ctx *rc);

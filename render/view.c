@@ -18,6 +18,35 @@
 #include <string.h>
 #include <unistd.h>
 
+/* One side: digits only (no sign, no blanks), within what render_create
+ * takes; strtol's overflow is refused (sscanf's %d let 99999999999
+ * through as -1). */
+static int size_side(const char *s, const char **end, int *out)
+{
+    if (*s < '0' || *s > '9')
+        return -1;
+    char *e;
+    errno = 0;
+    long v = strtol(s, &e, 10);
+    *end = e;
+    if (errno == ERANGE || v < RENDER_SIZE_MIN || v > RENDER_SIZE_MAX)
+        return -1;
+    *out = (int)v;
+    return 0;
+}
+
+int render_size_parse(const char *s, int *w, int *h, core_err *err)
+{
+    const char *e;
+    int ww, hh;
+    if (!s || size_side(s, &e, &ww) || *e != 'x' || size_side(e + 1, &e, &hh) || *e)
+        return core_err_set(err, -1, "'%s': expected WIDTHxHEIGHT, e.g. 1280x720, each %d to %d pixels",
+                            s ? s : "", RENDER_SIZE_MIN, RENDER_SIZE_MAX);
+    *w = ww;
+    *h = hh;
+    return 0;
+}
+
 render_ctx *render_create(int w, int h, core_err *err)
 {
     if (w < RENDER_SIZE_MIN || h < RENDER_SIZE_MIN || w > RENDER_SIZE_MAX || h > RENDER_SIZE_MAX) {
