@@ -68,7 +68,11 @@ main_job() {
     elapsed() { e=$(($(date +%s) - t0)); printf '%d:%02d' $((e / 60)) $((e % 60)); }
     mkdir -p "$out" "$db"
     # Red and head winds are solved; green ones are their mirror images
-    # (the ships are symmetric), made as soon as a red one is there.
+    # (the ships are symmetric), made at once when the SHOL asks for them
+    # and their red one is there (queued here, a green taken while its red
+    # was still building would be solved). The CG-47's envelope then waits
+    # for its greens behind the LPD-17's solves: the job's time is the
+    # same, the fields being the work.
     stage "1/7: the coarse ship-only fields queued, the builder started (its log: $db/builder.log)"
     for spec in "cg47_uh60a_flown 0" "cg47_uh60a_flown -30" "cg47_uh60a_flown -60" "cg47_uh60a_flown -90" \
         "lpd17_sa365n_flown -30" "lpd17_sa365n_flown 0" "lpd17_sa365n_flown -60" "lpd17_sa365n_flown -90"; do
@@ -78,7 +82,7 @@ main_job() {
     done
     $disim airwaked "$db" --jobs 2 --no-lcm --exit-when-idle --max-iter 600 >> "$db/builder.log" 2>&1 &
     builder=$!
-    trap 'kill $builder 2> /dev/null' EXIT INT TERM
+    trap 'kill $builder 2> /dev/null || true' EXIT INT TERM
     fly_landing() { # SCENARIO WOD_KT DIR_DEG NAME
         $disim fly "scenarios/$1.ini" --wod-speed-kt "$2" --wod-dir-deg "$3" --db "$db" --realtime \
             --pilot auto --task scenarios/tasks/land_port.ini --log "$out/$4.lcm" --csv "$out/$4.csv"

@@ -784,9 +784,10 @@ static int fly_auto(fly_ctx *c, core_err *err)
         goto out;
     long n = (long)llround(T * o->rate_hz), csv_every = (long)fmax(1.0, llround(o->rate_hz / o->csv_rate_hz));
     long poll_every = (long)llround(o->rate_hz);
-    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, the automated pilot flies %s for %.0f s\n",
+    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, %s, the automated pilot flies %s for %.0f s%s\n",
             w->sc->ship.name, hfm_aircraft_name(w->ac), w->speed_mps / CORE_KT_TO_MPS, w->dir_rad * CORE_RAD_TO_DEG,
-            w->sea_state, o->task, T);
+            w->sea_state, w->fld ? "airwake field" : w->waiting ? "free stream until the airwake field is built" : "free stream",
+            o->task, T, loop ? (o->realtime ? ", in real time" : ", through the loop") : "");
     sim_flight_out out;
     sim_flight_state(w->fl, &out);
     if (traj_row(&csv, &out) != 0)
@@ -807,8 +808,11 @@ static int fly_auto(fly_ctx *c, core_err *err)
             snprintf(ended, sizeof ended, "%.250s", err->msg);
             break;
         }
-        if (world_poll(c->db, w, out.step, poll_every, err) < 0)
+        int polled = world_poll(c->db, w, out.step, poll_every, err);
+        if (polled < 0)
             goto out;
+        if (polled > 0)
+            fprintf(stderr, "fly: the airwake field is ready at t = %.1f s: blended in\n", out.t_s);
     }
     sim_pilot_auto_step(p, &out, &in); /* grades the last state */
     if (traj_commit(&csv, err) != 0 || (loop && sim_loop_finish(loop, err) != 0))
