@@ -108,16 +108,12 @@ void app_render_state_from_flight(const app_scene *s, const sim_flight_out *o, r
 {
     memset(rs, 0, sizeof *rs);
     rs->t_s = o->t_s;
-    sim_ship_state ss;
-    if (s->sea && sim_ship_motion_at(s->sea, o->t_s, &ss) == 0) {
-        rs->ship = ss.pose;
-        rs->ship_yaw_rad = ss.att.psi_rad;
-    } else { /* the frame the flight flew */
-        const double *C = o->ship.C_ES;
-        core_euler a = {atan2(C[7], C[8]), asin(fmax(-1.0, fmin(1.0, -C[6]))), atan2(C[3], C[0])};
-        pose_from(&rs->ship, o->ship.origin_E_m, core_quat_from_euler(a));
-        rs->ship_yaw_rad = a.psi_rad;
-    }
+    /* the ship frame the flight flew (no second sum of the seaway) */
+    core_mat3 C;
+    memcpy(C.m, o->ship.C_ES, sizeof C.m);
+    core_euler a = core_mat3_to_euler(C);
+    pose_from(&rs->ship, o->ship.origin_E_m, core_quat_from_euler(a));
+    rs->ship_yaw_rad = a.psi_rad;
     rs->have_heli = 1;
     core_euler e = {o->euler_E_rad[0], o->euler_E_rad[1], o->euler_E_rad[2]};
     pose_from(&rs->heli, o->pos_E_m, core_quat_from_euler(e));

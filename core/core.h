@@ -131,6 +131,9 @@ core_quat core_quat_deriv(core_quat q, core_vec3 w_B_radps);
 
 /* Direction cosine matrix C_AB (v_A = C_AB v_B) from Euler angles. */
 core_mat3 core_mat3_from_euler(core_euler e);
+/* Inverse of core_mat3_from_euler (C_AB to the 3-2-1 angles of B in A);
+ * theta in [-pi/2, pi/2], phi, psi in (-pi, pi]. */
+core_euler core_mat3_to_euler(core_mat3 m);
 core_vec3 core_mat3_mul_vec(core_mat3 m, core_vec3 v);
 core_vec3 core_mat3_tmul_vec(core_mat3 m, core_vec3 v); /* m^T v */
 

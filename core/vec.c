@@ -118,6 +118,15 @@ core_mat3 core_mat3_from_euler(core_euler e)
     return m;
 }
 
+core_euler core_mat3_to_euler(core_mat3 m)
+{
+    core_euler e;
+    e.theta_rad = asin(fmax(-1.0, fmin(1.0, -m.m[2][0])));
+    e.phi_rad = atan2(m.m[2][1], m.m[2][2]);
+    e.psi_rad = atan2(m.m[1][0], m.m[0][0]);
+    return e;
+}
+
 core_vec3 core_mat3_mul_vec(core_mat3 m, core_vec3 v)
 {
     return core_vec3_make(m.m[0][0] * v.x + m.m[0][1] * v.y + m.m[0][2] * v.z,

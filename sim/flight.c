@@ -119,14 +119,6 @@ static void mat_from_euler(const double e[3], double *C)
             C[3 * i + j] = m.m[i][j];
 }
 
-/* 3-2-1 Euler angles of a direction cosine matrix C_AB (v_A = C_AB v_B). */
-static void euler_from_mat(const double *C, double e[3])
-{
-    e[1] = asin(fmax(-1.0, fmin(1.0, -C[6])));
-    e[0] = atan2(C[7], C[8]);
-    e[2] = atan2(C[3], C[0]);
-}
-
 /* The trim's body state in S carried into E with the ship frame fr. */
 static void body_S_to_E(const sim_ship_frame *fr, const hfm_body *bS, hfm_body *bE)
 {
@@ -147,7 +139,10 @@ static void body_S_to_E(const sim_ship_frame *fr, const hfm_body *bS, hfm_body *
     for (int i = 0; i < 3; i++)
         bE->vel_B_mps[i] = C_EB[i] * vE[0] + C_EB[3 + i] * vE[1] + C_EB[6 + i] * vE[2];
     memcpy(bE->rate_B_radps, bS->rate_B_radps, sizeof bE->rate_B_radps);
-    euler_from_mat(C_EB, bE->euler_rad);
+    core_mat3 m;
+    memcpy(m.m, C_EB, sizeof m.m);
+    core_euler a = core_mat3_to_euler(m);
+    bE->euler_rad[0] = a.phi_rad, bE->euler_rad[1] = a.theta_rad, bE->euler_rad[2] = a.psi_rad;
 }
 
 /* The gear sees the ship's frame the air has (its cache of the steps'

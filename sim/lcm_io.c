@@ -514,8 +514,9 @@ static void publish_states(sim_loop *l, const sim_flight_out *o)
         s.spot_acc_E_mps2[2] = sp.acc_E_mps2.z;
     } else {
         /* the frame alone: its origin moving steadily, no rates */
-        const double *C = fr->C_ES;
-        core_euler a = {atan2(C[7], C[8]), asin(fmax(-1.0, fmin(1.0, -C[6]))), atan2(C[3], C[0])};
+        core_mat3 C;
+        memcpy(C.m, fr->C_ES, sizeof C.m);
+        core_euler a = core_mat3_to_euler(C);
         core_quat qs = core_quat_from_euler(a);
         s.quat_ES[0] = qs.w, s.quat_ES[1] = qs.x, s.quat_ES[2] = qs.y, s.quat_ES[3] = qs.z;
         s.roll_rad = a.phi_rad, s.pitch_rad = a.theta_rad, s.yaw_rad = a.psi_rad;

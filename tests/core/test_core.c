@@ -88,6 +88,10 @@ static void test_rotations(void)
     CHECK_NEAR(b.phi_rad, a.phi_rad, 1e-12);
     CHECK_NEAR(b.theta_rad, a.theta_rad, 1e-12);
     CHECK_NEAR(b.psi_rad, a.psi_rad, 1e-12);
+    core_euler c = core_mat3_to_euler(m); /* the matrix's inverse too */
+    CHECK_NEAR(c.phi_rad, a.phi_rad, 1e-12);
+    CHECK_NEAR(c.theta_rad, a.theta_rad, 1e-12);
+    CHECK_NEAR(c.psi_rad, a.psi_rad, 1e-12);
     /* Composition: yaw then pitch equals the 3-2-1 product. */
     core_quat qy = core_quat_from_euler((core_euler){0, 0, 2.5});
     core_quat qp = core_quat_from_euler((core_euler){0, 0.4, 0});
