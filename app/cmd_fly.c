@@ -17,7 +17,6 @@
 #include "awdb.h"
 #include "cfd.h"
 #include "cmds.h"
-#include "disim_lcm.h"
 #include "hfm.h"
 #include "render.h"
 #include "scene.h"
@@ -729,10 +728,8 @@ static sim_loop *auto_loop(fly_ctx *c, double T, core_err *err)
 
 /* One step of the automated pilot's flight: straight (l NULL) or through
  * the loop. 0 stepped, > 0 the flight ended (err says why), < 0 with err. */
-static int auto_step(fly_world *w, sim_loop *l, long k, const sim_flight_inputs *in, sim_flight_out *out,
-                     core_err *err)
+static int auto_step(fly_world *w, sim_loop *l, const sim_flight_inputs *in, sim_flight_out *out, core_err *err)
 {
-    (void)k;
     if (!l)
         return sim_flight_step(w->fl, in, out, err);
     sim_loop_set_inputs(l, in);
@@ -799,7 +796,7 @@ static int fly_auto(fly_ctx *c, core_err *err)
         sim_pilot_auto_result(p, &r);
         if (r.done) /* the task is over: settled on the deck (gear), touched down, its last hold flown */
             break;
-        int st = auto_step(w, loop, s, &in, &out, err);
+        int st = auto_step(w, loop, &in, &out, err);
         if (st < 0)
             goto out;
         if ((st > 0 || out.step % csv_every == 0) && traj_row(&csv, &out) != 0)
@@ -991,7 +988,7 @@ static int fly_render_open(fly_render *r, const fly_args *o, const fly_world *w,
 static void fly_render_offer(fly_render *r, const sim_flight_out *o)
 {
     if (!r->live || !render_live_due(r->live, o->t_s))
-        return; /* not due: not built (the seaway's sum, a few us) */
+        return; /* not due: not built (the conversion, in the loop's thread) */
     render_state s;
     app_render_state_from_flight(&r->scene, o, &s);
     render_live_offer(r->live, &s);

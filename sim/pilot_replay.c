@@ -117,7 +117,7 @@ typedef struct rec_state {
     double ctl[4]; /* the flown controls (of the step ending here) */
     int on_deck;   /* a wheel on the deck */
     /* as published, for drawing the run (sim_replay_log_state) */
-    double heli_pos_E[3], q_EB[4], ship_pos_E[3], q_ES[4], ship_euler[3];
+    double heli_pos_E[3], q_EB[4], ship_pos_E[3], q_ES[4];
     double thrust_N, power_W;
     int n_gear;
     double gear_N[HFM_GEAR_MAX_LEGS];
@@ -130,7 +130,7 @@ typedef struct rec_input {
 
 typedef struct ship_rec {
     int64_t utime;
-    double pos_E[3], vel_E[3], q[4], rates_S[3], euler[3];
+    double pos_E[3], vel_E[3], q[4], rates_S[3];
 } ship_rec;
 
 /* a heli state's gear loads, kept beside it (the decoded array is freed) */
@@ -213,7 +213,6 @@ static void make_state(const disim_heli_state_t *h, const ship_rec *sh, rec_stat
     memcpy(s->q_EB, h->quat_EB, sizeof s->q_EB);
     memcpy(s->ship_pos_E, sh->pos_E, sizeof s->ship_pos_E);
     memcpy(s->q_ES, sh->q, sizeof s->q_ES);
-    memcpy(s->ship_euler, sh->euler, sizeof s->ship_euler);
     s->thrust_N = h->rotor_thrust_N;
     s->power_W = h->rotor_power_W;
 }
@@ -454,7 +453,6 @@ sim_replay_log *sim_replay_log_load(const char *path, core_err *err)
                 memcpy(s->vel_E, m.vel_E_mps, sizeof s->vel_E);
                 memcpy(s->q, m.quat_ES, sizeof s->q);
                 memcpy(s->rates_S, m.rates_S_radps, sizeof s->rates_S);
-                s->euler[0] = m.roll_rad, s->euler[1] = m.pitch_rad, s->euler[2] = m.yaw_rad;
             }
         } else if (!strcmp(ev->channel, DISIM_CH_RUN_INFO)) {
             /* what the run was flown from: the first is kept */
@@ -691,15 +689,14 @@ int sim_replay_log_state(const sim_replay_log *r, double t_s, sim_log_state *out
         out->pos_S_m[i] = a->pos_S[i] + w * (b->pos_S[i] - a->pos_S[i]);
         out->vel_S_mps[i] = a->vel_S[i] + w * (b->vel_S[i] - a->vel_S[i]);
         out->euler_E_rad[i] = a->euler[i] + w * (b->euler[i] - a->euler[i]);
-        out->ship_euler_E_rad[i] = a->ship_euler[i] + w * (b->ship_euler[i] - a->ship_euler[i]);
     }
     out->euler_E_rad[2] = wrap_pi(out->euler_E_rad[2]);
-    out->ship_euler_E_rad[2] = a->ship_euler[2] + w * wrap_pi(b->ship_euler[2] - a->ship_euler[2]);
-    out->ship_euler_E_rad[2] = wrap_pi(out->ship_euler_E_rad[2]);
     out->heli.pos_E_m = core_vec3_make(hp[0], hp[1], hp[2]);
     out->heli.q_EF = nlerp(a->q_EB, b->q_EB, w);
     out->ship.pos_E_m = core_vec3_make(sp[0], sp[1], sp[2]);
     out->ship.q_EF = nlerp(a->q_ES, b->q_ES, w);
+    core_euler se = core_quat_to_euler(out->ship.q_EF); /* of the attitude drawn */
+    out->ship_euler_E_rad[0] = se.phi_rad, out->ship_euler_E_rad[1] = se.theta_rad, out->ship_euler_E_rad[2] = se.psi_rad;
     for (int i = 0; i < 4; i++)
         out->controls_pct[i] = a->ctl[i] + w * (b->ctl[i] - a->ctl[i]);
     out->rotor_thrust_N = a->thrust_N + w * (b->thrust_N - a->thrust_N);
