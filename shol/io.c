@@ -86,3 +86,28 @@ void shol_io_num(FILE *f, const char *fmt, double v)
     else
         fputs("nan", f);
 }
+
+void shol_io_band_csv(FILE *f, const shol_band *b, const char *fmt)
+{
+    const double bv[5] = {b->lo_mps, b->hi_mps, b->grid_mps, b->window_mps, b->sens_mps};
+    for (int k = 0; k < 5; k++) {
+        fputc(',', f);
+        shol_io_num(f, fmt, bv[k] / CORE_KMH_TO_MPS);
+    }
+    fprintf(f, ",%d,%d", b->open_above, b->low_confidence);
+}
+
+void shol_io_band_json(FILE *f, const shol_band *b, const char *fmt)
+{
+    static const char *const key[5] = {"lo_kmh", "hi_kmh", "grid_kmh", "window_kmh", "sens_kmh"};
+    const double bv[5] = {b->lo_mps, b->hi_mps, b->grid_mps, b->window_mps, b->sens_mps};
+    for (int k = 0; k < 5; k++) {
+        fprintf(f, "%s\"%s\": ", k ? ", " : "{", key[k]);
+        if (isfinite(bv[k]))
+            fprintf(f, fmt, bv[k] / CORE_KMH_TO_MPS);
+        else
+            fputs("null", f);
+    }
+    fprintf(f, ", \"open_above\": %s, \"widest\": \"%s\", \"low_confidence\": %s}", b->open_above ? "true" : "false",
+            shol_band_source_name(b->widest), b->low_confidence ? "true" : "false");
+}

@@ -24,5 +24,12 @@ int shol_io_commit(FILE *f, const char *tmp, const char *final, core_err *err);
 void shol_io_abort(FILE *f, const char *tmp);
 /* Write "nan" for a non-finite value, else printf(fmt, v). */
 void shol_io_num(FILE *f, const char *fmt, double v);
+/* A direction's band as CSV columns (each preceded by its comma):
+ * lo, hi, grid, window, sens in km/h (fmt, "nan" where absent), then
+ * open_above and low_confidence. */
+void shol_io_band_csv(FILE *f, const shol_band *b, const char *fmt);
+/* The same as a JSON object {"lo_kmh": ..., "low_confidence": ...}, the
+ * numbers by fmt, null where absent. */
+void shol_io_band_json(FILE *f, const shol_band *b, const char *fmt);
 
 #endif

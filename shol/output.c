@@ -53,12 +53,8 @@ int shol_write_csv(const char *dir, const shol_result *r, core_err *err)
         }
         shol_band b;
         shol_band_get(r, i, &b);
-        const double bv[5] = {b.lo_mps, b.hi_mps, b.grid_mps, b.window_mps, b.sens_mps};
-        for (int k = 0; k < 5; k++) {
-            fputc(',', f);
-            shol_io_num(f, "%.6f", bv[k] / CORE_KMH_TO_MPS);
-        }
-        fprintf(f, ",%d,%d\n", b.open_above, b.low_confidence);
+        shol_io_band_csv(f, &b, "%.6f");
+        fputc('\n', f);
     }
     return shol_io_commit(f, tmp, final, err);
 }
@@ -420,18 +416,8 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
         /* the band (shol_band; km/h, null where a source is absent) */
         shol_band b;
         shol_band_get(r, i, &b);
-        fputs(",\n     \"band\": {\"lo_kmh\": ", f);
-        json_num(f, b.lo_mps / CORE_KMH_TO_MPS);
-        fputs(", \"hi_kmh\": ", f);
-        json_num(f, b.hi_mps / CORE_KMH_TO_MPS);
-        fputs(", \"grid_kmh\": ", f);
-        json_num(f, b.grid_mps / CORE_KMH_TO_MPS);
-        fputs(", \"window_kmh\": ", f);
-        json_num(f, b.window_mps / CORE_KMH_TO_MPS);
-        fputs(", \"sens_kmh\": ", f);
-        json_num(f, b.sens_mps / CORE_KMH_TO_MPS);
-        fprintf(f, ", \"open_above\": %s, \"widest\": \"%s\", \"low_confidence\": %s}",
-                b.open_above ? "true" : "false", shol_band_source_name(b.widest), b.low_confidence ? "true" : "false");
+        fputs(",\n     \"band\": ", f);
+        shol_io_band_json(f, &b, "%.9g");
         fputs(",\n     \"history\": [", f);
         for (int j = 0; j < d->n_samples; j++) {
             const shol_sample *sm = &d->samples[j];

@@ -50,14 +50,6 @@ static void band_of(const shol_flown_result *fr, int i, shol_band *b)
         shol_flown_band(fr, NULL, i, b);
 }
 
-static void json_num(FILE *f, double v)
-{
-    if (isfinite(v))
-        fprintf(f, "%.6g", v);
-    else
-        fputs("null", f);
-}
-
 int shol_flown_write_csv(const char *dir, const shol_flown_result *fr, core_err *err)
 {
     char final[SHOL_IO_PATH_MAX], tmp[SHOL_IO_PATH_MAX];
@@ -89,12 +81,8 @@ int shol_flown_write_csv(const char *dir, const shol_flown_result *fr, core_err 
         fprintf(f, ",%s", shol_limit_name(d->trim_limit) ? shol_limit_name(d->trim_limit) : "none");
         shol_band b;
         band_of(fr, i, &b);
-        const double bv[5] = {b.lo_mps, b.hi_mps, b.grid_mps, b.window_mps, b.sens_mps};
-        for (int k = 0; k < 5; k++) {
-            fputc(',', f);
-            shol_io_num(f, "%.3f", bv[k] / CORE_KMH_TO_MPS);
-        }
-        fprintf(f, ",%d,%d\n", b.open_above, b.low_confidence);
+        shol_io_band_csv(f, &b, "%.3f");
+        fputc('\n', f);
     }
     if (shol_io_commit(f, tmp, final, err) < 0)
         return -1;
@@ -142,18 +130,8 @@ int shol_flown_write_json(const char *dir, const shol_flown_result *fr, const sh
         json_str(f, d->cause);
         shol_band b;
         band_of(fr, i, &b);
-        fputs(", \"band\": {\"lo_kmh\": ", f);
-        json_num(f, b.lo_mps / CORE_KMH_TO_MPS);
-        fputs(", \"hi_kmh\": ", f);
-        json_num(f, b.hi_mps / CORE_KMH_TO_MPS);
-        fputs(", \"grid_kmh\": ", f);
-        json_num(f, b.grid_mps / CORE_KMH_TO_MPS);
-        fputs(", \"window_kmh\": ", f);
-        json_num(f, b.window_mps / CORE_KMH_TO_MPS);
-        fputs(", \"sens_kmh\": ", f);
-        json_num(f, b.sens_mps / CORE_KMH_TO_MPS);
-        fprintf(f, ", \"open_above\": %s, \"widest\": \"%s\", \"low_confidence\": %s}", b.open_above ? "true" : "false",
-                shol_band_source_name(b.widest), b.low_confidence ? "true" : "false");
+        fputs(", \"band\": ", f);
+        shol_io_band_json(f, &b, "%.6g");
         fprintf(f, ", \"trim_max_speed_kt\": %.3f, \"trim_has_pass\": %d, \"trim_limit\": \"%s\", \"points\": [",
                 kt(d->trim_max_speed_mps), d->trim_has_pass,
                 shol_limit_name(d->trim_limit) ? shol_limit_name(d->trim_limit) : "none");
