@@ -47,6 +47,50 @@ static void md_cell(FILE *f, const char *s)
     }
 }
 
+/* Beam winds sheltered by a steady mean (issue 28; docs/shol.md, "LPD-17's
+ * beam winds: physics or the steady mean"): a direction within 15 deg of
+ * the beam whose trim-based limit reaches the top of the search or passes
+ * the head wind's breaks the seed paper's "smaller in crosswinds" check.
+ * Over a deck the hover there sits in the windward edge's separated shear
+ * layer; the trim passes in the mean of that flow and sees none of its
+ * gusts, so the limit rests on the steady mean's shelter. Named here as
+ * low confidence whatever its band says (the band measures the spreads of
+ * the mean, not the unsteadiness). */
+static int beam_sheltered(const shol_result *r, int i, double head_mps)
+{
+    const shol_dir_result *d = &r->dirs[i];
+    double deg = fabs(remainder(d->dir_rad * CORE_RAD_TO_DEG, 360.0));
+    if (fabs(deg - 90.0) > 15.0 + 1e-9 || !d->has_pass)
+        return 0;
+    return d->limit == SHOL_LIMIT_NONE || (isfinite(head_mps) && d->max_speed_mps > head_mps + 1e-9);
+}
+
+static void write_beam_note(FILE *f, const shol_result *r)
+{
+    double head = NAN;
+    for (int i = 0; i < r->n_dirs; i++)
+        if (fabs(remainder(r->dirs[i].dir_rad * CORE_RAD_TO_DEG, 360.0)) < 1e-6 && r->dirs[i].has_pass)
+            head = r->dirs[i].max_speed_mps;
+    int j = 0;
+    for (int i = 0; i < r->n_dirs; i++) {
+        if (!beam_sheltered(r, i, head))
+            continue;
+        char n[32];
+        core_wod_name(r->dirs[i].dir_rad * CORE_RAD_TO_DEG, n, sizeof n);
+        fprintf(f, "%s%s (%.1f km/h%s)", j++ ? ", " : "**Low confidence: beam winds resting on the steady mean:** ",
+                n, r->dirs[i].max_speed_mps / CORE_KMH_TO_MPS,
+                r->dirs[i].limit == SHOL_LIMIT_NONE ? ", nothing failed" : ", above the head wind's");
+    }
+    if (j)
+        fprintf(f, ". Here the hover sits in the shear layer of the windward deck edge's separation, and the "
+                   "trim passed in the steady mean of that flow (for a field that sheds, the mean of its last "
+                   "iterations), whose shelter moves with grid and iteration. A trim sees no gusts: with a "
+                   "turbulence intensity I the limiting control swings by about |d control / d V| I U, more than "
+                   "the margin a sheltered trim leaves for I of 0.1-0.2. The seed paper's check \"smaller in "
+                   "crosswinds\" does not hold here; use the flown envelope (`--method pilot`, with turbulence) "
+                   "or a time-accurate field for these directions (docs/shol.md, \"LPD-17's beam winds\").\n\n");
+}
+
 /* The bands section (issue 28): each direction's value, band and what
  * makes it, and the directions of low confidence named. */
 static void write_bands(FILE *f, const shol_result *r)
@@ -103,6 +147,7 @@ static void write_bands(FILE *f, const shol_result *r)
     } else {
         fprintf(f, "No band is wider than the rule: no direction is marked low confidence.\n\n");
     }
+    write_beam_note(f, r);
 }
 
 int shol_write_report(const char *dir, const shol_result *r, const shol_report_info *info,

@@ -1191,7 +1191,36 @@ static void test_bands(void)
     CHECK(md && strstr(md, "**Low confidence, where an at-sea test is most needed:** ") &&
           strstr(md, "green 90 (35.0-47.4 km/h, widest: grid)"));
     CHECK(md && !strstr(md, "No second grid level"));
+    /* beams below the head wind's 100 km/h and limited: no beam note */
+    CHECK(md && !strstr(md, "beam winds resting on the steady mean"));
     free(md);
+    /* A beam wind that reaches the top (nothing failed) or passes the head
+     * wind is named: the steady mean's shelter (docs/shol.md). */
+    {
+        shol_result sh = r;
+        shol_dir_result dirs[64];
+        CHECK(r.n_dirs <= 64);
+        memcpy(dirs, r.dirs, sizeof dirs[0] * (size_t)r.n_dirs);
+        sh.dirs = dirs;
+        for (int i = 0; i < sh.n_dirs; i++) {
+            double deg = dirs[i].dir_rad / DEG;
+            if (fabs(deg + 90) < 1e-9)
+                dirs[i].limit = SHOL_LIMIT_NONE, dirs[i].max_speed_mps = 150 * KMH;
+            if (fabs(deg - 90) < 1e-9)
+                dirs[i].max_speed_mps = 110 * KMH;
+        }
+        char dir2[] = "/tmp/disim_test_beam_XXXXXX";
+        CHECK(mkdtemp(dir2) != NULL);
+        CHECK(shol_write_report(dir2, &sh, &info, &err) == 0);
+        snprintf(path, sizeof path, "%s/report.md", dir2);
+        char *m2 = read_all(path);
+        CHECK(m2 && strstr(m2, "**Low confidence: beam winds resting on the steady mean:** "));
+        CHECK(m2 && strstr(m2, "red 90 (150.0 km/h, nothing failed)") &&
+              strstr(m2, "green 90 (110.0 km/h, above the head wind's)"));
+        free(m2);
+        remove(path);
+        rmdir(dir2);
+    }
     /* The plot: the band's amber and the low-confidence whiskers. With a
      * rule that marks nothing, fewer red whisker pixels (the key keeps its
      * own); with no band at all (a band of zero width), no amber fill. */
