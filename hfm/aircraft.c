@@ -321,6 +321,23 @@ static int load_fuselage(rd *r, hfm_fus *fu)
         rd_num(r, F, "yaw_m3_at_10deg", 0.0, 500.0, &fu->yaw_m3_10deg) ||
         rd_num(r, F, "side_force_m2", 0.0, 100.0, &fu->side_m2))
         return -1;
+    /* optional wake planform (docs/aircraft-format.md): absent, the
+     * reference point alone (fore = aft = ref x, width 0) */
+    fu->plan_x_B[0] = fu->plan_x_B[1] = fu->ref_B[0];
+    fu->plan_width = 0.0;
+    if (core_ini_find(r->ini, F, "planform_x_B_m")) {
+        int cnt = 0;
+        if (core_ini_get_doubles(r->ini, F, "planform_x_B_m", 1, -50.0, 50.0, fu->plan_x_B, 2, &cnt,
+                                 r->err))
+            return -1;
+        if (cnt != 2)
+            return rd_fail(r, F, "planform_x_B_m", "expected 2 numbers (fore, aft end), got %d", cnt);
+        if (!(fu->plan_x_B[0] >= fu->plan_x_B[1]))
+            return rd_fail(r, F, "planform_x_B_m", "fore end %g m is aft of the aft end %g m",
+                           fu->plan_x_B[0], fu->plan_x_B[1]);
+    }
+    if (core_ini_get_double(r->ini, F, "planform_width_m", 0, 0.0, 20.0, &fu->plan_width, r->err) < 0)
+        return -1;
     return 0;
 }
 

@@ -9,8 +9,25 @@
  * business). Velocities are relative to S; the air comes from the hfm_air
  * callback, so the aerodynamic velocity at a point is air - point velocity.
  * Main-rotor wake on the airframe: the wake is a cylinder of radius R skewed
- * by the wake angle chi; a point below the disk inside it (smooth edge of
- * 0.15 R) sees k vi along the shaft, k per component from the data file.
+ * by the wake angle chi from the shaft, blown along dir_H (the uncontracted
+ * skewed cylindrical vortex wake of Heyson and Katzoff, "Induced velocities
+ * near a lifting rotor with nonuniform disk loading", NACA Report 1319,
+ * 1957; Padfield, "Helicopter Flight Dynamics", 2nd ed., ch. 3, for the
+ * interference on fuselage, empennage and tail rotor). Its cross-section at
+ * a depth h below the disk is the disk displaced by h tan(chi) along dir_H;
+ * a point inside it sees k vi along the shaft, k per component from the
+ * data file, with a cosine edge of 0.15 R (hfm_wake_immersion). Each
+ * component takes the mean of that point immersion over its own extent
+ * (hfm_wake_immersion_patch, hfm_wake_immersion_disk): the fraction of its
+ * planform, surface or disk area inside the smoothed wake boundary, by the
+ * midpoint rule on cells no wider than the edge. A single reference point
+ * let the edge sweep past it within 1 kt of airspeed (UH-60A trims jumping
+ * between 47 and 48 kt, issue 29); over the extent the same sweep takes
+ * the whole length of the part.
+ * Assumptions: no wake contraction (Heyson and Katzoff's cylinder), uniform
+ * velocity k vi across the wake, the wake straight (no roll-up, which
+ * NACA Report 1319 finds far behind the rotor), the velocity applied at the
+ * component's reference point with the immersion as its weight.
  */
 #include "hfm_priv.h"
 
@@ -91,6 +108,65 @@ double hfm_wake_immersion(const hfm_aircraft *ac, const hfm_wake *w, const doubl
     if (dist >= mr->R + edge)
         return 0.0;
     return 0.5 * (1.0 + cos(CORE_PI * (dist - mr->R) / edge));
+}
+
+/* Cells along an extent of length len_m: at most one edge width (0.15 R)
+ * wide, at least one, at most nmax. */
+static int wake_cells(const hfm_aircraft *ac, double len_m, int nmax)
+{
+    double n = ceil(len_m / (0.15 * ac->mr.R) - 1e-9);
+    return n < 1.0 ? 1 : (n > nmax ? nmax : (int)n);
+}
+
+double hfm_wake_immersion_patch(const hfm_aircraft *ac, const hfm_wake *w, const double c_B[3],
+                                const double a_B[3], const double b_B[3])
+{
+    int na = wake_cells(ac, 2.0 * sqrt(v3_dot(a_B, a_B)), HFM_WAKE_MAX_CELLS);
+    int nb = wake_cells(ac, 2.0 * sqrt(v3_dot(b_B, b_B)), HFM_WAKE_MAX_CELLS);
+    double sum = 0.0;
+    for (int i = 0; i < na; i++) {
+        double s = -1.0 + (2.0 * i + 1.0) / na;
+        for (int j = 0; j < nb; j++) {
+            double t = -1.0 + (2.0 * j + 1.0) / nb, p[3];
+            for (int k = 0; k < 3; k++)
+                p[k] = c_B[k] + s * a_B[k] + t * b_B[k];
+            sum += hfm_wake_immersion(ac, w, p);
+        }
+    }
+    return sum / (na * nb);
+}
+
+double hfm_wake_immersion_disk(const hfm_aircraft *ac, const hfm_wake *w, const double c_B[3],
+                               const double n_B[3], double radius_m)
+{
+    /* two unit vectors in the disk's plane */
+    double e[3] = {0, 0, 1}, u[3], v[3];
+    if (fabs(n_B[2]) > 0.9) {
+        e[0] = 1.0;
+        e[2] = 0.0;
+    }
+    double en = v3_dot(e, n_B);
+    for (int k = 0; k < 3; k++)
+        u[k] = e[k] - en * n_B[k];
+    double un = sqrt(v3_dot(u, u));
+    for (int k = 0; k < 3; k++)
+        u[k] /= un;
+    v3_cross(n_B, u, v);
+    /* three annuli of equal area, each at its area-median radius
+     * r sqrt((j + 1/2)/3), with 4, 8 and 12 points */
+    double sum = 0.0;
+    for (int j = 0; j < 3; j++) {
+        int np = 4 * (j + 1);
+        double rr = radius_m * sqrt((j + 0.5) / 3.0), ring = 0.0;
+        for (int i = 0; i < np; i++) {
+            double ps = 2.0 * CORE_PI * (i + 0.5 * j) / np, cu = rr * cos(ps), sv = rr * sin(ps), p[3];
+            for (int k = 0; k < 3; k++)
+                p[k] = c_B[k] + cu * u[k] + sv * v[k];
+            ring += hfm_wake_immersion(ac, w, p);
+        }
+        sum += ring / np;
+    }
+    return sum / 3.0;
 }
 
 void hfm_body_accel(const hfm_aircraft *ac, const hfm_body *b, hfm_loads *L)

@@ -18,7 +18,11 @@
  * the hover downwash). Without it, a wings-level trim balanced the tail
  * rotor's side force with 6 deg of sideslip at 140 kt.
  * The air is sampled at the fuselage reference point (hfm_air callback)
- * plus the main-rotor wake (k_fus vi along the shaft where immersed). Flow
+ * plus the main-rotor wake: k_fus vi along the shaft times the fraction of
+ * the fuselage planform inside the wake (body.c): a rectangle from
+ * planform_x_B_m's fore to aft end, planform_width_m wide, at the
+ * reference point's y and z (the data file; absent, the reference point
+ * alone). Flow
  * from behind (|alpha| > 90) uses the mirrored angle: a crude stand-in for
  * rearward flight.
  */
@@ -32,7 +36,10 @@ int hfm_fuselage(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, hf
     if (hfm_air_rel_B(k, f->ref_B, a))
         return -1;
     *airspeed = sqrt(v3_dot(a, a));
-    double imm = hfm_wake_immersion(ac, w, f->ref_B) * ac->mr.k_fus * w->vi_mps;
+    const double c[3] = {0.5 * (f->plan_x_B[0] + f->plan_x_B[1]), f->ref_B[1], f->ref_B[2]};
+    const double ha[3] = {0.5 * (f->plan_x_B[0] - f->plan_x_B[1]), 0, 0};
+    const double hb[3] = {0, 0.5 * f->plan_width, 0};
+    double imm = hfm_wake_immersion_patch(ac, w, c, ha, hb) * ac->mr.k_fus * w->vi_mps;
     for (int i = 0; i < 3; i++)
         a[i] += imm * ac->mr.C_BH[i][2];
     double U2 = v3_dot(a, a);

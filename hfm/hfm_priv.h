@@ -55,6 +55,7 @@ typedef struct hfm_fus {
     hfm_table drag, lift, pitch, dbeta; /* m^2, m^2, m^3 vs alpha/beta (rad) */
     double yaw_m3_10deg;                /* N/q at beta = 10 deg, destabilizing */
     double side_m2;                     /* slender-body side force Y/q = -side sin b cos b */
+    double plan_x_B[2], plan_width;     /* wake planform: body x of its fore and aft ends, width (m) */
 } hfm_fus;
 
 enum { HFM_STAB_FIXED = 0, HFM_STAB_UH60A = 1 };
@@ -167,6 +168,15 @@ void hfm_kin_setup(hfm_kin *k, const hfm_air *air, double t, const hfm_body *b);
 int hfm_air_rel_B(const hfm_kin *k, const double r_B[3], double out_B[3]);
 void hfm_body_accel(const hfm_aircraft *ac, const hfm_body *b, hfm_loads *L);
 double hfm_wake_immersion(const hfm_aircraft *ac, const hfm_wake *w, const double r_B[3]);
+/* The mean immersion over the parallelogram c_B + s a_B + t b_B (s, t in
+ * [-1, 1]; a_B, b_B its half-sides, m), on cells at most 0.15 R wide (at
+ * most HFM_WAKE_MAX_CELLS along a side); a zero half-side is one cell. */
+#define HFM_WAKE_MAX_CELLS 16
+double hfm_wake_immersion_patch(const hfm_aircraft *ac, const hfm_wake *w, const double c_B[3],
+                                const double a_B[3], const double b_B[3]);
+/* The mean immersion over a disk (centre c_B, unit normal n_B, radius_m). */
+double hfm_wake_immersion_disk(const hfm_aircraft *ac, const hfm_wake *w, const double c_B[3],
+                               const double n_B[3], double radius_m);
 
 /* rotor.c */
 typedef struct hfm_blade_out {
