@@ -628,6 +628,11 @@ static void controls_at(const sim_replay_log *r, double t_s, long k, double ctl[
     memcpy(ctl, r->s[j].ctl, 4 * sizeof *ctl);
 }
 
+/* The log's times are whole microseconds (utime) and the loop's are sums
+ * of its step: a time within half a tick of a sample is that sample's, so
+ * the loop's time of the last logged step is inside the log. */
+#define LOG_TICK_HALF_S 0.5e-6
+
 int sim_replay_log_sample(const sim_replay_log *r, double t_s, sim_replay_sample *out)
 {
     memset(out, 0, sizeof *out);
@@ -635,7 +640,7 @@ int sim_replay_log_sample(const sim_replay_log *r, double t_s, sim_replay_sample
     long k = find(r, t_s);
     const rec_state *a = &r->s[k], *b = k + 1 < r->n ? &r->s[k + 1] : a;
     double w = 0.0;
-    int outside = !(t_s >= r->s[0].t_s && t_s <= r->s[r->n - 1].t_s);
+    int outside = !(t_s >= r->s[0].t_s - LOG_TICK_HALF_S && t_s <= r->s[r->n - 1].t_s + LOG_TICK_HALF_S);
     if (b != a && t_s > a->t_s)
         w = fmin(1.0, (t_s - a->t_s) / (b->t_s - a->t_s));
     for (int i = 0; i < 3; i++) {
@@ -650,7 +655,7 @@ int sim_replay_log_sample(const sim_replay_log *r, double t_s, sim_replay_sample
     for (int i = 0; i < 9; i++)
         out->C_ES[i] = a->C_ES[i] + w * (b->C_ES[i] - a->C_ES[i]);
     out->heading_rad = wrap_pi(a->heading + w * (b->heading - a->heading));
-    if (t_s > r->s[r->n - 1].t_s) /* after the end: held there */
+    if (t_s > r->s[r->n - 1].t_s + LOG_TICK_HALF_S) /* after the end: held there */
         for (int i = 0; i < 3; i++)
             out->vel_S_mps[i] = out->acc_S_mps2[i] = out->vel_mean_S_mps[i] = out->rate_B_radps[i] = 0.0;
     controls_at(r, t_s, k, out->controls_pct);
@@ -678,7 +683,7 @@ int sim_replay_log_state(const sim_replay_log *r, double t_s, sim_log_state *out
     out->t_s = t_s;
     long k = find(r, t_s);
     const rec_state *a = &r->s[k], *b = k + 1 < r->n ? &r->s[k + 1] : a;
-    int outside = !(t_s >= r->s[0].t_s && t_s <= r->s[r->n - 1].t_s);
+    int outside = !(t_s >= r->s[0].t_s - LOG_TICK_HALF_S && t_s <= r->s[r->n - 1].t_s + LOG_TICK_HALF_S);
     double w = 0.0;
     if (b != a && t_s > a->t_s)
         w = fmin(1.0, (t_s - a->t_s) / (b->t_s - a->t_s));
