@@ -50,7 +50,8 @@ static void md_cell(FILE *f, const char *s)
 /* Beam winds sheltered by a steady mean (issue 28; docs/shol.md, "LPD-17's
  * beam winds: physics or the steady mean"): a direction within 15 deg of
  * the beam whose trim-based limit reaches the top of the search or passes
- * the head wind's breaks the seed paper's "smaller in crosswinds" check.
+ * the head wind's goes against the seed paper's expectation of crosswind
+ * limits below those near the bow (shol/checks.c, "smaller in crosswinds").
  * Over a deck the hover there sits in the windward edge's separated shear
  * layer; the trim passes in the mean of that flow and sees none of its
  * gusts, so the limit rests on the steady mean's shelter. Named here as
@@ -86,8 +87,8 @@ static void write_beam_note(FILE *f, const shol_result *r)
                    "trim passed in the steady mean of that flow (for a field that sheds, the mean of its last "
                    "iterations), whose shelter moves with grid and iteration. A trim sees no gusts: with a "
                    "turbulence intensity I the limiting control swings by about |d control / d V| I U, more than "
-                   "the margin a sheltered trim leaves for I of 0.1-0.2. The seed paper's check \"smaller in "
-                   "crosswinds\" does not hold here; use the flown envelope (`--method pilot`, with turbulence) "
+                   "the margin a sheltered trim leaves for I of 0.1-0.2. The seed paper expects crosswind limits "
+                   "below those near the bow (the physics check \"smaller in crosswinds\"); use the flown envelope (`--method pilot`, with turbulence) "
                    "or a time-accurate field for these directions (docs/shol.md, \"LPD-17's beam winds\").\n\n");
 }
 
