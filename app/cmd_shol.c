@@ -98,6 +98,53 @@ static int two_trim(void *user, double v, double dir, shol_trim_point *out)
     return rc;
 }
 
+/* Each converged sample's component loads (shol_sample.loads, for the
+ * report's "driven by": shol_envelope_attribution), from the coupling
+ * history of the trim that made it: the last converged point at the same
+ * WOD in first's history, else in second's (NULL: none). In a two-way
+ * sweep first is the coupled context: a speed it trimmed at a direction
+ * is coupled in the final sweep too (its coupled region only grows
+ * downward), the rest are one-way. The weight is what the total holds
+ * beyond the five components (hfm/body.c, hfm_eval_rest). */
+static void fill_loads(shol_result *r, const couple_ctx *first, const couple_ctx *second)
+{
+    const couple_ctx *cx[2] = {first, second};
+    for (int i = 0; i < r->n_dirs; i++) {
+        shol_dir_result *d = &r->dirs[i];
+        for (int j = 0; j < d->n_samples; j++) {
+            shol_sample *sm = &d->samples[j];
+            const couple_point *p = NULL;
+            for (int k = 0; k < 2 && !p && sm->trim_status == 0; k++) {
+                int n = 0;
+                const couple_point *h = cx[k] ? couple_history(cx[k], &n) : NULL;
+                for (int m = n - 1; m >= 0 && !p; m--)
+                    if (h[m].converged && fabs(h[m].wod_speed_mps - sm->speed_mps) < 1e-9 &&
+                        fabs(remainder(h[m].wod_dir_rad - d->dir_rad, 2 * CORE_PI)) < 1e-9)
+                        p = &h[m];
+            }
+            memset(&sm->loads, 0, sizeof sm->loads);
+            if (!p)
+                continue;
+            const hfm_loads *L = &p->trim.loads;
+            const hfm_fm *c[5] = {&L->mr, &L->tr, &L->fus, &L->stab, &L->fin};
+            for (int a = 0; a < 3; a++) {
+                double F = L->total.F_B_N[a], M = L->total.M_B_Nm[a];
+                for (int k = 0; k < 5; k++) {
+                    sm->loads.F_B_N[k][a] = c[k]->F_B_N[a];
+                    sm->loads.M_B_Nm[k][a] = c[k]->M_B_Nm[a];
+                    F -= c[k]->F_B_N[a];
+                    M -= c[k]->M_B_Nm[a];
+                }
+                sm->loads.F_B_N[SHOL_COMP_GRAVITY][a] = F;
+                sm->loads.M_B_Nm[SHOL_COMP_GRAVITY][a] = M;
+            }
+            sm->loads.mr_power_W = L->mr_power_W;
+            sm->loads.tr_power_W = L->tr_power_W;
+            sm->loads.valid = 1;
+        }
+    }
+}
+
 /* Markdown of the airwake fields the envelope used (couple_fields_md). */
 static char *fields_md(const couple_ctx *one, const couple_ctx *two)
 {
@@ -504,6 +551,7 @@ int cmd_shol(int argc, char **argv)
             snprintf(err.msg, sizeof err.msg, "%s", couple_last_error(one));
         goto fail;
     }
+    fill_loads(&r1, one, NULL);
     /* each direction's band (issue 28; app/shol_bands.c); two-way below */
     if (mode != CORE_COUPLING_TWO_WAY &&
         app_shol_bands(&bands, ac, &sc->ship, db, &cs, one, &set, &r1, NULL, &log, &err) != 0)
@@ -540,6 +588,7 @@ int cmd_shol(int argc, char **argv)
                 snprintf(err.msg, sizeof err.msg, "%s", tc.err);
             goto fail;
         }
+        fill_loads(&r2, two, one);
         cs.mode = CORE_COUPLING_ONE_WAY;
         if (app_shol_bands(&bands, ac, &sc->ship, db, &cs, one, &set, &r1, &r2, &log, &err) != 0)
             goto fail;

@@ -305,6 +305,53 @@ static void json_num(FILE *f, double v)
         fputs("null", f);
 }
 
+/* A direction's attribution (shol_envelope_attribution) in budget (-1:
+ * the criterion's primary one), or null where it is not defined. Forces
+ * in N, moments in N m, power in W; the control at both trims in deg for
+ * an attitude, % of travel for a control. */
+static void json_attribution(FILE *f, const shol_dir_result *d, int budget)
+{
+    shol_attribution a;
+    if (shol_envelope_attribution(d, budget, &a) != 0) {
+        fputs("null", f);
+        return;
+    }
+    const double k = a.crit <= SHOL_CRIT_PITCH ? CORE_RAD_TO_DEG : 1.0;
+    fprintf(f, "{\"criterion\": \"%s\", \"at_limit\": %s, \"budget\": \"%s\", \"unit\": \"%s\", ",
+            shol_limit_name(a.crit), a.at_limit ? "true" : "false", shol_budget_name(a.budget),
+            a.budget >= SHOL_BUDGET_L ? "N m" : "N");
+    fprintf(f, "\"effector\": \"%s\", \"driver\": \"%s\", \"ref_speed_kmh\": ", shol_comp_name(a.effector),
+            shol_comp_name(a.driver));
+    json_num(f, a.ref_speed_mps / CORE_KMH_TO_MPS);
+    fputs(", \"speed_kmh\": ", f);
+    json_num(f, a.at_speed_mps / CORE_KMH_TO_MPS);
+    fputs(", \"value_ref\": ", f);
+    json_num(f, a.control_ref * k);
+    fputs(", \"value\": ", f);
+    json_num(f, a.control_at * k);
+    fputs(", \"effector_ref\": ", f);
+    json_num(f, a.effector_ref);
+    fputs(", \"effector_change\": ", f);
+    json_num(f, a.effector_change);
+    fputs(", \"closure\": ", f);
+    json_num(f, a.closure);
+    fputs(",\n       \"components\": {", f);
+    for (int c = 0; c < SHOL_NCOMP; c++) {
+        fprintf(f, "%s\"%s\": {\"ref\": ", c ? ", " : "", shol_comp_name(c));
+        json_num(f, a.value_ref[c]);
+        fputs(", \"change\": ", f);
+        json_num(f, a.change[c]);
+        fputs(", \"share\": ", f);
+        json_num(f, a.share[c]);
+        fputc('}', f);
+    }
+    fputs("},\n       \"mr_power_change_W\": ", f);
+    json_num(f, a.mr_power_change_W);
+    fputs(", \"tr_power_change_W\": ", f);
+    json_num(f, a.tr_power_change_W);
+    fputc('}', f);
+}
+
 static void json_margins(FILE *f, const shol_eval *e)
 {
     static const char *const key[SHOL_NCRIT] = {"roll_deg", "pitch_deg", "long_pct",
@@ -412,6 +459,21 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
             fputs("}", f);
         } else {
             fputs(",\n     \"sensitivity\": null", f);
+        }
+        /* what drives the limit (shol_envelope_attribution; issue 29):
+         * the criterion's budget, and an attitude's secondary one */
+        fputs(",\n     \"attribution\": ", f);
+        json_attribution(f, d, -1);
+        {
+            shol_attribution a0;
+            int sec = -1;
+            if (shol_envelope_attribution(d, -1, &a0) == 0)
+                shol_crit_budget(a0.crit, &sec);
+            fputs(",\n     \"attribution_secondary\": ", f);
+            if (sec >= 0)
+                json_attribution(f, d, sec);
+            else
+                fputs("null", f);
         }
         /* the band (shol_band; km/h, null where a source is absent) */
         shol_band b;

@@ -213,7 +213,7 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
                "[shol.json](shol.json).\n\n");
     fprintf(f,
             "| WOD | max speed (%s) | limit | margins at the last pass: roll deg, pitch deg, "
-            "long %%, lat %%, coll %%, pedal %% | limit moves by | trim plot |\n|---|---|---|---|---|---|\n",
+            "long %%, lat %%, coll %%, pedal %% | limit moves by | driven by | trim plot |\n|---|---|---|---|---|---|---|\n",
             label);
     for (int i = 0; i < r->n_dirs; i++) {
         const shol_dir_result *d = &r->dirs[i];
@@ -237,6 +237,26 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
                     se.ref_error * (ang ? CORE_RAD_TO_DEG : 1.0), ang ? "deg" : "%");
         } else
             fprintf(f, " | - |");
+        /* what drives the limiting quantity (shol_envelope_attribution) */
+        shol_attribution at;
+        char drv[256];
+        if (shol_envelope_attribution(d, -1, &at) == 0) {
+            shol_attribution_format(&at, drv, sizeof drv);
+            fputc(' ', f);
+            if (!at.at_limit)
+                fprintf(f, "(closest, %s) ", shol_limit_name(at.crit));
+            md_cell(f, drv);
+            int sec = -1;
+            shol_attribution as;
+            shol_crit_budget(at.crit, &sec);
+            if (sec >= 0 && shol_envelope_attribution(d, sec, &as) == 0) {
+                shol_attribution_format(&as, drv, sizeof drv);
+                fputs("; ", f);
+                md_cell(f, drv);
+            }
+            fputs(" |", f);
+        } else
+            fprintf(f, " - |");
         fprintf(f, " [%s](%s) |\n", plot, plot);
     }
     fprintf(f, "\n\"none\" means no criterion was exceeded up to the highest speed searched; "
@@ -245,7 +265,16 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
                "off by 0.25 deg (an attitude) or 1 %% of travel (a control), from its margin's "
                "fall between the last pass and the first failure; a limit that moves by more "
                "than a speed step for an error that small is no sharper than the trim and the "
-               "airwake behind it.\n\n");
+               "airwake behind it. \"Driven by\": the flight-model component whose load change, from "
+               "the direction's lowest speed to the first failure, the limiting quantity had to "
+               "balance most (shol/attrib.c, docs/shol.md \"What drives a limit\"): the limiting "
+               "quantity's budget (pedal: the yaw moment; cyclic and attitudes: the pitch or roll "
+               "moment; collective: the vertical force; an attitude also its horizontal force), its "
+               "largest share of the change of the effector (the tail rotor for the pedal, else the "
+               "main rotor), and that change against the effector's value at the lowest speed. A "
+               "change of the effector's own effectiveness (tail-rotor inflow, translational lift) "
+               "moves the control without a change in the budget; \"closest\" marks a direction "
+               "limited by no criterion (or a failed trim), attributed at the last pass.\n\n");
 
     write_bands(f, r);
 

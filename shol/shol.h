@@ -74,6 +74,34 @@ int shol_criteria_read(core_ini *ini, shol_criteria *c, core_err *err);
 /* Load path and read its [rejection] section (see shol_criteria_read). */
 int shol_criteria_load(const char *path, shol_criteria *c, core_err *err);
 
+/* The airframe's components whose loads a trim may report (issue 29):
+ * main rotor, tail rotor (or fenestron), fuselage, horizontal stabiliser
+ * (stabilator), fin, and gravity (the weight, acting at the CG). */
+enum {
+    SHOL_COMP_MR = 0,
+    SHOL_COMP_TR = 1,
+    SHOL_COMP_FUS = 2,
+    SHOL_COMP_STAB = 3,
+    SHOL_COMP_FIN = 4,
+    SHOL_COMP_GRAVITY = 5,
+    SHOL_NCOMP = 6
+};
+/* "main_rotor", "tail_rotor", "fuselage", "stabilator", "fin", "gravity";
+ * NULL if unknown. */
+const char *shol_comp_name(int comp);
+
+/* A trim's loads by component, as the flight model computed them: the
+ * force and the moment about the centre of gravity in body axes (x
+ * forward, y starboard, z down), and the rotors' aerodynamic power. In
+ * trim they sum to zero (the accelerations of a hover over the spot).
+ * Plain data, kept per sample of a sweep (shol_sample.loads). */
+typedef struct shol_loads {
+    int valid; /* 1: filled by the trim callback; 0: not supplied */
+    double F_B_N[SHOL_NCOMP][3];
+    double M_B_Nm[SHOL_NCOMP][3];
+    double mr_power_W, tr_power_W;
+} shol_loads;
+
 /* A trimmed state: attitude and pilot controls. */
 typedef struct shol_trim_point {
     double phi_rad;                                                    /* roll, right wing down + */
@@ -140,6 +168,10 @@ typedef struct shol_sample {
     shol_trim_point trim; /* valid when trim_status == 0 */
     shol_eval eval;       /* limit SHOL_LIMIT_TRIM when the trim failed */
     int pass;             /* 1: converged and nothing exceeded */
+    /* The trim's loads by component (valid 0 from the sweep): the caller
+     * fills them after the sweep from its trims' records (disim shol from
+     * the coupling history) for shol_envelope_attribution. */
+    shol_loads loads;
 } shol_sample;
 
 /* A direction's limit as a value and a band (issue 28; shol/band.c,
@@ -272,6 +304,78 @@ typedef struct shol_sensitivity {
  * that did not fall between the two speeds), out->crit then
  * SHOL_LIMIT_NONE and the figures NAN. */
 int shol_envelope_sensitivity(const shol_dir_result *d, shol_sensitivity *out);
+
+/* What drives a direction's limit (issue 29; docs/shol.md, "What drives
+ * a limit"): the limiting quantity's budget, compared between the limiting
+ * trim and a reference trim (the direction's lowest converged speed, the
+ * calm hover of a sweep from 0). Each criterion belongs to a budget:
+ *  - pedal: the yaw moment N about the CG (body axes); the tail rotor is
+ *    the effector that the pedal moves;
+ *  - longitudinal cyclic and pitch attitude / lateral cyclic and roll
+ *    attitude: the pitch moment M / roll moment L (body axes); the main
+ *    rotor is the effector (its hub moment and thrust offset, set by the
+ *    cyclic and the disk's tilt to the shaft). The moments about the CG
+ *    set the airframe's attitude, the forces where the rotor points
+ *    (Seddon and Newman 2011, section 8.1); so an attitude's secondary
+ *    budget is the horizontal force, longitudinal / lateral, in the ship's
+ *    horizontal plane (ship axes, where the weight has no component);
+ *  - collective: the vertical force (ship axes), main rotor effector; the
+ *    rotors' power changes are given beside it.
+ * In trim the budget sums to zero, so the effector's change balances the
+ * sum of the others' changes; each other component's share of it is
+ * share = -change / effector_change (the shares sum to 1 less the trim
+ * residual's part, `closure`). The driver is the component with the
+ * largest share. The budget cannot see a change in the effector's own
+ * effectiveness (the tail rotor's inflow in a crosswind, the main rotor's
+ * translational lift): that moves the control with no change in the
+ * effector's load, which the effector's change relative to its reference
+ * value (effector_ref) shows. */
+enum {
+    SHOL_BUDGET_X = 0, /* longitudinal force, ship axes (N) */
+    SHOL_BUDGET_Y = 1, /* lateral force, ship axes (N) */
+    SHOL_BUDGET_Z = 2, /* vertical force, ship axes, down + (N) */
+    SHOL_BUDGET_L = 3, /* roll moment about the CG, body axes (N m) */
+    SHOL_BUDGET_M = 4, /* pitch moment */
+    SHOL_BUDGET_N = 5, /* yaw moment */
+    SHOL_NBUDGET = 6
+};
+/* "x_force", "y_force", "z_force", "roll_moment", "pitch_moment",
+ * "yaw_moment"; NULL if unknown. */
+const char *shol_budget_name(int budget);
+/* A criterion's budget (as above) and its secondary one (-1: none);
+ * -1 when crit is not a criterion. */
+int shol_crit_budget(int crit, int *secondary);
+
+typedef struct shol_attribution {
+    int crit;               /* the quantity attributed (SHOL_CRIT_*) */
+    int at_limit;           /* 1: crit limited the direction and the trim is the first failure;
+                               0: the closest criterion at the last pass (the limit was "trim" or
+                               "none", or the failing trim had no loads) */
+    int budget;             /* SHOL_BUDGET_* */
+    int effector;           /* SHOL_COMP_MR or SHOL_COMP_TR */
+    double ref_speed_mps;   /* the reference trim's WOD speed */
+    double at_speed_mps;    /* the attributed trim's WOD speed */
+    double control_ref, control_at; /* crit's value at both (rad or % of travel) */
+    double value_ref[SHOL_NCOMP];   /* each component's budget term at the reference (N or N m) */
+    double change[SHOL_NCOMP];      /* its change from the reference to the trim attributed */
+    double effector_ref, effector_change;
+    double share[SHOL_NCOMP];       /* -change / effector_change; NAN for the effector */
+    double closure;         /* |sum of all changes| / |effector_change| (the trim residual's part) */
+    int driver;             /* SHOL_COMP_* of the largest share */
+    double mr_power_change_W, tr_power_change_W;
+} shol_attribution;
+
+/* Attribute d's limit in budget (-1: the criterion's primary budget).
+ * Returns 0 and out filled, or 1 when it is not defined (no loads at the
+ * trims, no trim other than the reference, an effector change below 1e-9
+ * of the budget's largest term), out then with crit SHOL_LIMIT_NONE,
+ * driver -1 and the figures NAN. */
+int shol_envelope_attribution(const shol_dir_result *d, int budget, shol_attribution *out);
+/* One line for a report: "yaw_moment: fin 94 % of the tail rotor's change
+ * +6.36 kN m (-41.51 kN m at 0 km/h); pedal 20.6 to 26.1 %" (the
+ * quantity's values at both trims with its primary budget only); "-" when
+ * a is undefined (driver < 0). */
+void shol_attribution_format(const shol_attribution *a, char *buf, size_t n);
 
 /* ------------------------------------------- uncertainty bands (issue 28) */
 /* What the bands are made of. grid: the same envelope on another grid

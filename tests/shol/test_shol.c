@@ -3,9 +3,12 @@
  * hand-worked cases and data files, the envelope procedure against an
  * analytic trim model whose exceedance speeds are known in closed form,
  * and the output files (CSV round trip, JSON shape, PNG/SVG validity and
- * orientation, report links, atomic writes).
+ * orientation, report links, atomic writes); what drives a limit
+ * (shol_envelope_attribution) on synthetic loads whose budget shares are
+ * known in closed form, and on the UH-60A's free-air trims (hfm).
  */
 #include "check.h"
+#include "hfm.h"
 #include "shol.h"
 
 #include <cairo.h>
@@ -1400,6 +1403,307 @@ static void test_bands(void)
     }
 }
 
+/* ------------------------------------------- what drives a limit (issue 29) */
+/* Synthetic loads for the analytic model's trims, as a caller fills them
+ * after the sweep (c crosswind and h headwind components, m/s; q-like
+ * terms c|c| and h|h|):
+ *   yaw   N: main rotor N0 (1 - a V), fin -kfin c|c|, fuselage kfus c|c|,
+ *            tail rotor the balance;
+ *   pitch M: stabilator 20 h|h|, fuselage 5 h|h|, tail rotor 2 kN m,
+ *            main rotor the balance;
+ *   roll  L: fuselage 3 c|c|, tail rotor 1 kN m, main rotor the balance;
+ *   forces in ship axes: fuselage (-4 h|h|, -6 c|c|, 0), tail rotor
+ *            (0, 2 kN, 0), weight (0, 0, W), main rotor the balance;
+ *            given to the library in body axes at the trim's attitude
+ *            (x_S = C_SB x_B), which it must undo. */
+typedef struct model_loads {
+    double N0, a, kfin, kfus, W;
+} model_loads;
+
+static void model_fill_loads(const model_loads *ml, shol_result *r)
+{
+    for (int i = 0; i < r->n_dirs; i++)
+        for (int j = 0; j < r->dirs[i].n_samples; j++) {
+            shol_sample *sm = &r->dirs[i].samples[j];
+            memset(&sm->loads, 0, sizeof sm->loads);
+            if (sm->trim_status)
+                continue;
+            double v = sm->speed_mps, dir = r->dirs[i].dir_rad;
+            double c = v * sin(dir), h = v * cos(dir), cc = c * fabs(c), hh = h * fabs(h);
+            shol_loads *L = &sm->loads;
+            L->M_B_Nm[SHOL_COMP_MR][2] = ml->N0 * (1 - ml->a * v);
+            L->M_B_Nm[SHOL_COMP_FIN][2] = -ml->kfin * cc;
+            L->M_B_Nm[SHOL_COMP_FUS][2] = ml->kfus * cc;
+            L->M_B_Nm[SHOL_COMP_TR][2] = -(L->M_B_Nm[SHOL_COMP_MR][2] + L->M_B_Nm[SHOL_COMP_FIN][2] +
+                                           L->M_B_Nm[SHOL_COMP_FUS][2]);
+            L->M_B_Nm[SHOL_COMP_STAB][1] = 20 * hh;
+            L->M_B_Nm[SHOL_COMP_FUS][1] = 5 * hh;
+            L->M_B_Nm[SHOL_COMP_TR][1] = 2000;
+            L->M_B_Nm[SHOL_COMP_MR][1] = -(25 * hh + 2000);
+            L->M_B_Nm[SHOL_COMP_FUS][0] = 3 * cc;
+            L->M_B_Nm[SHOL_COMP_TR][0] = 1000;
+            L->M_B_Nm[SHOL_COMP_MR][0] = -(3 * cc + 1000);
+            double F_S[SHOL_NCOMP][3] = {{0}};
+            F_S[SHOL_COMP_FUS][0] = -4 * hh;
+            F_S[SHOL_COMP_FUS][1] = -6 * cc;
+            F_S[SHOL_COMP_TR][1] = 2000;
+            F_S[SHOL_COMP_GRAVITY][2] = ml->W;
+            for (int k = 0; k < 3; k++)
+                F_S[SHOL_COMP_MR][k] = -(F_S[SHOL_COMP_FUS][k] + F_S[SHOL_COMP_TR][k] + F_S[SHOL_COMP_GRAVITY][k]);
+            core_mat3 C = core_mat3_from_euler((core_euler){sm->trim.phi_rad, sm->trim.theta_rad, 0});
+            for (int k = 0; k < SHOL_NCOMP; k++) {
+                core_vec3 b = core_mat3_tmul_vec(C, core_vec3_make(F_S[k][0], F_S[k][1], F_S[k][2]));
+                L->F_B_N[k][0] = b.x;
+                L->F_B_N[k][1] = b.y;
+                L->F_B_N[k][2] = b.z;
+            }
+            L->mr_power_W = 1e6 * (1 - 0.002 * v);
+            L->tr_power_W = 1e5;
+            L->valid = 1;
+        }
+}
+
+static const shol_dir_result *dir_of(const shol_result *r, double deg)
+{
+    for (int i = 0; i < r->n_dirs; i++)
+        if (fabs(r->dirs[i].dir_rad - deg * DEG) < 1e-9)
+            return &r->dirs[i];
+    return NULL;
+}
+
+static void test_attribution_model(void)
+{
+    shol_settings s;
+    core_err err = {{0}};
+    shol_settings_default(&s);
+    model m = {1.5, 0, 0, 0, 0};
+    shol_result r;
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) == 0);
+    shol_attribution a;
+    /* without loads nothing is attributed */
+    CHECK(shol_envelope_attribution(dir_of(&r, 90), -1, &a) == 1);
+    CHECK(a.driver == -1 && a.crit == SHOL_LIMIT_NONE && isnan(a.closure));
+    char txt[256];
+    shol_attribution_format(&a, txt, sizeof txt);
+    CHECK(strcmp(txt, "-") == 0);
+
+    model_loads ml = {40e3, 0.004, 30, 10, 1e5};
+    model_fill_loads(&ml, &r);
+
+    /* green 90: pedal (60 + 1.5 c > 80 first at 50 km/h); the yaw budget,
+     * tail rotor the effector, the fin's weathercock the driver */
+    const shol_dir_result *g = dir_of(&r, 90);
+    CHECK(g && g->limit == SHOL_CRIT_PEDAL);
+    CHECK(shol_envelope_attribution(g, -1, &a) == 0);
+    {
+        double v = g->fail_speed_mps;
+        CHECK_NEAR(v, 50 * KMH, 1e-9);
+        double dmr = -ml.N0 * ml.a * v, dfin = -ml.kfin * v * v, dfus = ml.kfus * v * v;
+        double dtr = -(dmr + dfin + dfus);
+        CHECK(a.crit == SHOL_CRIT_PEDAL && a.at_limit == 1);
+        CHECK(a.budget == SHOL_BUDGET_N && a.effector == SHOL_COMP_TR);
+        CHECK(a.driver == SHOL_COMP_FIN);
+        CHECK_NEAR(a.ref_speed_mps, 0, 1e-12);
+        CHECK_NEAR(a.at_speed_mps, v, 1e-12);
+        CHECK_NEAR(a.effector_change, dtr, 1e-9 * fabs(dtr));
+        CHECK_NEAR(a.effector_ref, -ml.N0, 1e-6);
+        CHECK_NEAR(a.share[SHOL_COMP_FIN], -dfin / dtr, 1e-9);
+        CHECK_NEAR(a.share[SHOL_COMP_MR], -dmr / dtr, 1e-9);
+        CHECK_NEAR(a.share[SHOL_COMP_FUS], -dfus / dtr, 1e-9);
+        CHECK(isnan(a.share[SHOL_COMP_TR]));
+        CHECK(a.closure < 1e-12);
+        CHECK_NEAR(a.control_ref, 60, 1e-9);
+        CHECK_NEAR(a.control_at, 60 + 1.5 * v, 1e-9);
+        CHECK_NEAR(a.mr_power_change_W, -2000 * v, 1e-6);
+        CHECK_NEAR(a.tr_power_change_W, 0, 1e-9);
+        shol_attribution_format(&a, txt, sizeof txt);
+        CHECK(strstr(txt, "yaw_moment: fin ") == txt);
+        CHECK(strstr(txt, "of the tail rotor's change") != NULL);
+        CHECK(strstr(txt, "pedal 60.0 to 80.8 %") != NULL);
+        if (!strstr(txt, "pedal 60.0 to 80.8 %"))
+            fprintf(stderr, "  attribution text: %s\n", txt);
+    }
+    int sec = 0;
+    CHECK(shol_crit_budget(SHOL_CRIT_PEDAL, &sec) == SHOL_BUDGET_N && sec == -1);
+    CHECK(shol_crit_budget(SHOL_CRIT_ROLL, &sec) == SHOL_BUDGET_L && sec == SHOL_BUDGET_Y);
+    CHECK(shol_crit_budget(SHOL_LIMIT_TRIM, &sec) == -1 && sec == -1);
+
+    /* head: longitudinal cyclic (50 + 1.25 h > 85 first at 105 km/h); the
+     * pitch budget, the stabilator 20 of the 25 h|h| */
+    const shol_dir_result *hd = dir_of(&r, 0);
+    CHECK(hd && hd->limit == SHOL_CRIT_LONG);
+    CHECK(shol_envelope_attribution(hd, -1, &a) == 0);
+    CHECK(a.budget == SHOL_BUDGET_M && a.effector == SHOL_COMP_MR && a.driver == SHOL_COMP_STAB);
+    CHECK_NEAR(a.share[SHOL_COMP_STAB], 0.8, 1e-9);
+    CHECK_NEAR(a.share[SHOL_COMP_FUS], 0.2, 1e-9);
+
+    /* red 90: roll (15 m/s of crosswind, at 55 km/h) in the roll moment,
+     * and in the lateral force in ship axes: the fuselage alone changes; the
+     * weight's change there is 0 only if the body-axis forces are turned
+     * back through the trim's 5 deg of roll */
+    const shol_dir_result *rd = dir_of(&r, -90);
+    CHECK(rd && rd->limit == SHOL_CRIT_ROLL);
+    CHECK(shol_envelope_attribution(rd, -1, &a) == 0);
+    CHECK(a.budget == SHOL_BUDGET_L && a.driver == SHOL_COMP_FUS);
+    CHECK_NEAR(a.share[SHOL_COMP_FUS], 1.0, 1e-9);
+    CHECK(shol_envelope_attribution(rd, SHOL_BUDGET_Y, &a) == 0);
+    CHECK(a.budget == SHOL_BUDGET_Y && a.effector == SHOL_COMP_MR && a.driver == SHOL_COMP_FUS);
+    CHECK_NEAR(a.share[SHOL_COMP_FUS], 1.0, 1e-9);
+    CHECK(fabs(a.change[SHOL_COMP_GRAVITY]) < 1e-6 * ml.W);
+    CHECK(fabs(a.change[SHOL_COMP_TR]) < 1e-6);
+    CHECK(shol_envelope_attribution(rd, SHOL_BUDGET_Z, &a) == 1); /* no vertical change: undefined */
+
+    /* another driver: without the fin the main rotor's torque drop drives
+     * the pedal at green 90, the fuselage's (unstable) yaw opposing it */
+    model_loads nofin = ml;
+    nofin.kfin = 0;
+    model_fill_loads(&nofin, &r);
+    CHECK(shol_envelope_attribution(g, -1, &a) == 0);
+    CHECK(a.driver == SHOL_COMP_MR);
+    CHECK(a.share[SHOL_COMP_FUS] < 0);
+
+    /* in the outputs: the report's column and the JSON's fields */
+    model_fill_loads(&ml, &r);
+    char dir[] = "/tmp/disim_test_attr_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    CHECK(shol_write_report(dir, &r, NULL, &err) == 0);
+    CHECK(shol_write_json(dir, &r, NULL, &err) == 0);
+    char path[640];
+    snprintf(path, sizeof path, "%s/report.md", dir);
+    char *md = read_all(path);
+    CHECK(md && strstr(md, "| limit moves by | driven by | trim plot |"));
+    CHECK(md && strstr(md, "| yaw_moment: fin "));
+    CHECK(md && strstr(md, "pitch_moment: stabilator 80 %"));
+    /* roll: its moment, then its horizontal force */
+    CHECK(md && strstr(md, "roll_moment: fuselage 100 % of the main rotor's change") &&
+          strstr(md, "; y_force: fuselage 100 %"));
+    free(md);
+    snprintf(path, sizeof path, "%s/shol.json", dir);
+    char *js = read_all(path);
+    CHECK(js && strstr(js, "\"attribution\": {\"criterion\": \"pedal\", \"at_limit\": true, \"budget\": \"yaw_moment\""));
+    CHECK(js && strstr(js, "\"effector\": \"tail_rotor\", \"driver\": \"fin\""));
+    CHECK(js && strstr(js, "\"attribution_secondary\": {\"criterion\": \"roll\""));
+    free(js);
+    /* no loads: "-" and null */
+    for (int i = 0; i < r.n_dirs; i++)
+        for (int j = 0; j < r.dirs[i].n_samples; j++)
+            r.dirs[i].samples[j].loads.valid = 0;
+    CHECK(shol_write_report(dir, &r, NULL, &err) == 0);
+    CHECK(shol_write_json(dir, &r, NULL, &err) == 0);
+    snprintf(path, sizeof path, "%s/report.md", dir);
+    md = read_all(path);
+    CHECK(md && !strstr(md, "yaw_moment:") && strstr(md, "per 1 % | - | [shol_trim_green090.png]"));
+    free(md);
+    snprintf(path, sizeof path, "%s/shol.json", dir);
+    js = read_all(path);
+    CHECK(js && strstr(js, "\"attribution\": null") && !strstr(js, "\"driver\""));
+    free(js);
+    char cmd[760];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    CHECK(system(cmd) == 0);
+    shol_result_free(&r);
+}
+
+/* The UH-60A's free-air trims over the spot (hfm, uniform wind), as
+ * disim shol fills a sample's loads from its coupling history. */
+static void hfm_sample(hfm_trim *tr, double v, double dir, shol_sample *sm)
+{
+    hfm_trim_cond c;
+    memset(&c, 0, sizeof c);
+    c.kind = HFM_TRIM_HOVER_SHIP;
+    c.wod_speed_mps = v;
+    c.wod_dir_rad = dir;
+    hfm_trim_result t;
+    memset(sm, 0, sizeof *sm);
+    sm->speed_mps = v;
+    int rc = hfm_trim_solve(tr, &c, NULL, &t);
+    CHECK(rc == 0 && t.converged);
+    sm->trim_status = rc == 0 && t.converged ? 0 : 1;
+    sm->trim = (shol_trim_point){t.body.euler_rad[0], t.body.euler_rad[1], t.u.long_pct,
+                                 t.u.lat_pct,        t.u.collective_pct, t.u.pedal_pct};
+    const hfm_fm *fm[5] = {&t.loads.mr, &t.loads.tr, &t.loads.fus, &t.loads.stab, &t.loads.fin};
+    for (int a = 0; a < 3; a++) {
+        double F = t.loads.total.F_B_N[a], M = t.loads.total.M_B_Nm[a];
+        for (int k = 0; k < 5; k++) {
+            sm->loads.F_B_N[k][a] = fm[k]->F_B_N[a];
+            sm->loads.M_B_Nm[k][a] = fm[k]->M_B_Nm[a];
+            F -= fm[k]->F_B_N[a];
+            M -= fm[k]->M_B_Nm[a];
+        }
+        sm->loads.F_B_N[SHOL_COMP_GRAVITY][a] = F;
+        sm->loads.M_B_Nm[SHOL_COMP_GRAVITY][a] = M;
+    }
+    sm->loads.mr_power_W = t.loads.mr_power_W;
+    sm->loads.tr_power_W = t.loads.tr_power_W;
+    sm->loads.valid = 1;
+}
+
+/* Pedal in a 30 km/h beam wind from either side against the calm hover.
+ * Not a comparison with published data (none gives a yaw budget by
+ * component): the physics that must hold whatever the magnitudes. The
+ * fin and the fuselage are side-force surfaces in 90 deg of sideslip,
+ * whose yaw moments change sign with the side the wind comes from (the
+ * directional static stability terms of Seddon and Newman 2011, section
+ * 8.4); the main rotor's torque falls with the wind speed on either side
+ * (translational lift lowers the induced power: Leishman, Principles of
+ * Helicopter Aerodynamics, 2nd ed., 2006, section 5.4). The budget must
+ * close to the trim's tolerance, the weight must drop out of the ship-axis
+ * forces, and the driver must be a component that changed (fin, fuselage
+ * or main rotor), not the stabilator (no yaw moment) nor the weight. */
+static void test_attribution_uh60a(void)
+{
+    core_err err = {{0}};
+    hfm_aircraft *ac = hfm_aircraft_load("scenarios/aircraft/uh60a.ini", NULL, &err);
+    CHECK(ac != NULL);
+    if (!ac) {
+        fprintf(stderr, "  %s\n", err.msg);
+        return;
+    }
+    hfm_trim *tr = hfm_trim_create(ac, NULL);
+    CHECK(tr != NULL);
+    const double v = 30 * KMH;
+    double dfin[2], dfus[2], dmr[2];
+    for (int side = 0; side < 2; side++) {
+        const double dir = (side ? 90 : -90) * DEG;
+        shol_sample sm[2];
+        hfm_sample(tr, 0.0, dir, &sm[0]);
+        hfm_sample(tr, v, dir, &sm[1]);
+        shol_dir_result d;
+        memset(&d, 0, sizeof d);
+        d.dir_rad = dir;
+        d.has_pass = 1;
+        d.max_speed_mps = 0;
+        d.fail_speed_mps = v;
+        d.limit = SHOL_CRIT_PEDAL; /* attributed as if the pedal failed there */
+        d.n_samples = 2;
+        d.samples = sm;
+        shol_attribution a;
+        CHECK(shol_envelope_attribution(&d, -1, &a) == 0);
+        CHECK(a.budget == SHOL_BUDGET_N && a.effector == SHOL_COMP_TR);
+        CHECK(a.closure < 1e-4);
+        CHECK(a.driver == SHOL_COMP_FIN || a.driver == SHOL_COMP_FUS || a.driver == SHOL_COMP_MR);
+        CHECK(a.share[a.driver] > 0.3);
+        CHECK(fabs(a.change[SHOL_COMP_STAB]) < 1e-6 * fabs(a.effector_change));
+        dfin[side] = a.change[SHOL_COMP_FIN];
+        dfus[side] = a.change[SHOL_COMP_FUS];
+        dmr[side] = a.change[SHOL_COMP_MR];
+        char txt[256];
+        shol_attribution_format(&a, txt, sizeof txt);
+        printf("UH-60A free air, %s 90, 30 km/h: %s\n", side ? "green" : "red", txt);
+        for (int b = SHOL_BUDGET_X; b <= SHOL_BUDGET_Z; b++) {
+            if (shol_envelope_attribution(&d, b, &a) != 0)
+                continue;
+            CHECK(fabs(a.change[SHOL_COMP_GRAVITY]) < 1e-6 * hfm_aircraft_weight_N(ac));
+            CHECK(a.closure < 1e-4 || fabs(a.effector_change) < 1e-3 * hfm_aircraft_weight_N(ac));
+        }
+    }
+    CHECK(dfin[0] * dfin[1] < 0);
+    CHECK(dfus[0] * dfus[1] < 0);
+    CHECK(dmr[0] * dmr[1] > 0);
+    hfm_trim_destroy(tr);
+    hfm_aircraft_destroy(ac);
+}
+
 int main(void)
 {
     test_criteria_eval();
@@ -1412,6 +1716,8 @@ int main(void)
     test_outputs();
     test_bands();
     test_physics_checks();
+    test_attribution_model();
+    test_attribution_uh60a();
     /* Release cairo's and fontconfig's caches so LeakSanitizer sees only
      * what this code could leak. */
     cairo_debug_reset_static_data();
