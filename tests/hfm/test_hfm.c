@@ -331,6 +331,16 @@ static void test_sweep(hfm_trim *tr)
 #define POWER_TOL 0.10
 static void test_power(const char *src, const char *csv, const char *name)
 {
+    /* the new keys refuse bad values, naming file, line and key */
+    expect_error(variant(src, "power", "transmission_efficiency", "transmission_efficiency = 1.5",
+                         "pw1.ini"),
+                 "transmission_efficiency");
+    expect_error(variant(src, "power", "accessory_power_kW", NULL, "pw2.ini"), "accessory_power_kW");
+    expect_error(variant(src, "main_rotor_airfoil", "drag_divergence_mach",
+                         "drag_divergence_mach = 1.2", "pw3.ini"),
+                 "drag_divergence_mach");
+    expect_error(variant(src, "main_rotor", "hub_drag_m2", "hub_drag_m2 = -1", "pw4.ini"),
+                 "hub_drag_m2");
     FILE *f = fopen(csv, "r");
     CHECK(f != NULL);
     if (!f)
