@@ -1,8 +1,9 @@
 /* aircraft.c -- the aircraft data file (INI) read into hfm_aircraft.
  *
  * The file's format, key by key, is docs/aircraft-format.md. One loader per
- * section; every parameter is required and range-checked by core's typed
- * getters, so a missing or non-physical value is an error
+ * section; every parameter is required (but for the few documented as
+ * optional, e.g. hub_drag_m2, drag_divergence_mach, the [power] section)
+ * and range-checked by core's typed getters, so a missing or non-physical value is an error
  * "file:line: [section] key: ...". A section the loader does not know is an
  * error naming it before any key is read (a misspelt section would otherwise
  * surface as a missing key of the section meant). Cross-checks inside a
@@ -124,7 +125,8 @@ static int rd_table(rd *r, const char *sec, const char *kx, const char *ky, doub
 static const char *const known_sections[] = {"aircraft", "main_rotor", "main_rotor_airfoil",
                                              "tail_rotor", "fuselage",   "stabilator",
                                              "fin",      "controls",   "sas",
-                                             "rejection", "gear",      "cockpit"};
+                                             "rejection", "gear",      "cockpit",
+                                             "power"};
 
 static int check_sections(const rd *r)
 {
@@ -137,7 +139,7 @@ static int check_sections(const rd *r)
             return core_err_set(r->err, -1,
                                 "%s:%d: unknown section [%s] (an aircraft file has [aircraft], [main_rotor], "
                                 "[main_rotor_airfoil], [tail_rotor], [fuselage], [stabilator], [fin], "
-                                "[controls], [sas], [gear], [cockpit] and [rejection])",
+                                "[controls], [sas], [gear], [cockpit], [power] and [rejection])",
                                 r->path, e->line, e->section);
     }
     return 0;
@@ -223,6 +225,11 @@ static int load_main_rotor(rd *r, hfm_mr *mr)
         rd_num(r, M, "wake_factor_fuselage", 0.0, 2.5, &mr->k_fus) ||
         rd_num(r, M, "wake_factor_tail", 0.0, 2.5, &mr->k_tail))
         return -1;
+    /* optional: the hub's (and hub-pylon interference) flat-plate area,
+     * 0 when absent (the fuselage table then carries all the airframe drag) */
+    mr->hub_drag_m2 = 0.0;
+    if (core_ini_get_double(r->ini, M, "hub_drag_m2", 0, 0.0, 20.0, &mr->hub_drag_m2, r->err) < 0)
+        return -1;
     return 0;
 }
 
@@ -240,6 +247,31 @@ static int load_airfoil(rd *r, hfm_airfoil *af)
         af->cl[i] = hfm_table_eval(&cl, a);
         af->cd[i] = hfm_table_eval(&cd, a);
     }
+    /* optional: the drag divergence Mach number at zero lift; absent, the
+     * table is used at every Mach number (no compressibility) */
+    int rc = core_ini_get_double(r->ini, S, "drag_divergence_mach", 0, 0.5, 0.95, &af->mdd0, r->err);
+    if (rc < 0)
+        return -1;
+    af->mach = rc == 0;
+    return 0;
+}
+
+/* [power] (optional): transmission efficiency and accessory power, between
+ * the rotors' shaft power and the engines' output (hfm_loads_power). Absent:
+ * efficiency 1, no accessories (engine power = shaft power). Both keys are
+ * required once the section is there. */
+static int load_power(rd *r, hfm_aircraft *ac)
+{
+    const char *P = "power";
+    ac->xmsn_eff = 1.0;
+    ac->acc_W = 0.0;
+    if (!core_ini_has_section(r->ini, P))
+        return 0;
+    double kw;
+    if (rd_num(r, P, "transmission_efficiency", 0.5, 1.0, &ac->xmsn_eff) ||
+        rd_num(r, P, "accessory_power_kW", 0.0, 1000.0, &kw))
+        return -1;
+    ac->acc_W = kw * 1e3;
     return 0;
 }
 
@@ -251,6 +283,7 @@ static void derive_main_rotor(hfm_mr *mr)
     mr->hqc = 0.5 * mr->rho * mr->chord;
     mr->inv_I_beta = 1.0 / mr->I_beta;
     mr->inv_R = 1.0 / mr->R;
+    mr->hub_dq = 0.5 * mr->rho * mr->hub_drag_m2 / mr->nb;
     for (int j = 0; j < mr->naz; j++) {
         mr->az_c[j] = cos(2.0 * CORE_PI * j / mr->naz);
         mr->az_s[j] = sin(2.0 * CORE_PI * j / mr->naz);
@@ -604,7 +637,7 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
     if (load_tail_rotor(&r, &ac->tr) || load_fuselage(&r, &ac->fus) ||
         load_surface(&r, "stabilator", &ac->stab, 0) || load_surface(&r, "fin", &ac->fin, 1) ||
         load_controls(&r, &ac->rig) || load_sas(&r, ac) || load_gear(&r, ac) ||
-        load_cockpit(&r, ac))
+        load_cockpit(&r, ac) || load_power(&r, ac))
         goto fail;
     core_ini_skip_section(ini, "rejection");
     if (core_ini_check_unused(ini, err) || hfm_aircraft_check(ac, ini, log, err))

@@ -198,6 +198,11 @@ typedef struct hfm_loads {
     double mr_power_W;        /* aerodynamic power of the main rotor */
     double mr_torque_Nm;
     double tr_thrust_N, tr_power_W;
+    /* Power accounting (hfm_loads_power): the shaft power the drive train
+     * delivers to the rotors (main + tail rotor aerodynamic power) and the
+     * engines' output power (shaft power / transmission efficiency +
+     * accessory power, the aircraft file's [power] section). */
+    double shaft_power_W, engine_power_W;
     double stab_incidence_rad;
     double airspeed_mps;      /* air relative speed at the fuselage reference */
     double wake_skew_rad;
@@ -214,6 +219,10 @@ typedef struct hfm_loads {
  * callback. Returns 0, or < 0 if the air callback failed. */
 int hfm_eval_harmonic(const hfm_aircraft *ac, const hfm_air *air, double t_s, const hfm_body *b,
                       const hfm_controls *u, const hfm_rotor_harm *rh, hfm_loads *out);
+
+/* Fill L->shaft_power_W and L->engine_power_W from L's rotor powers
+ * (hfm_eval_harmonic calls it; a time-simulation caller may). */
+void hfm_loads_power(const hfm_aircraft *ac, hfm_loads *L);
 
 /* Blade pitch angles (rad) for controls: root collective (at r = 0), the
  * cyclic angles A1 (lateral, + right) and B1 (longitudinal, + forward), and

@@ -14,9 +14,13 @@
 #define HFM_MAX_AZ 72
 #define HFM_TAB_MAX 40
 
-/* An airfoil table resampled on a uniform 1 deg grid over [-180, 180]. */
+/* An airfoil table resampled on a uniform 1 deg grid over [-180, 180];
+ * mach: the compressible drag rise is applied (rotor.c), with the drag
+ * divergence Mach number mdd0 at zero lift. */
 typedef struct hfm_airfoil {
     double cl[361], cd[361];
+    int mach;
+    double mdd0;
 } hfm_airfoil;
 
 /* A piecewise-linear table y(x), clamped at its ends. */
@@ -39,6 +43,8 @@ typedef struct hfm_mr {
     double inv_I_beta, inv_R;
     double az_c[HFM_MAX_AZ], az_s[HFM_MAX_AZ]; /* cos, sin of the trim azimuths */
     hfm_airfoil af;
+    double hub_drag_m2;   /* hub and hub-pylon interference flat-plate area, at the hub */
+    double hub_dq;        /* 1/2 rho hub_drag_m2 / nb: each blade's share (rotor.c) */
 } hfm_mr;
 
 enum { HFM_TR_OPEN = 0, HFM_TR_FENESTRON = 1 };
@@ -87,6 +93,8 @@ struct hfm_aircraft {
     hfm_gear gear;
     int has_eye;       /* the optional [cockpit] section (aircraft.c) */
     double eye_B[3];
+    double xmsn_eff;   /* the optional [power] section: transmission efficiency (1 if absent) */
+    double acc_W;      /* accessory power (0 if absent) */
 };
 
 /* Kinematics shared by the components of one evaluation. */

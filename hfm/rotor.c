@@ -47,6 +47,43 @@
  * hub's azimuth, so that a side wind skews the wake to the side; with the
  * in-plane speed's direction folded into k's components the inflow is
  * smooth through the hover (no term in |mu| alone).
+ *
+ * Profile drag: the section's table (aircraft file, [main_rotor_airfoil])
+ * gives cl and cd over the full circle of angle of attack: attached flow,
+ * the stall and the post-stall flat plate (cd to 2.0 at 90 deg) and reversed
+ * flow, at low Mach number. Where the file gives the drag divergence Mach
+ * number at zero lift (drag_divergence_mach, M_dd0) the element's drag has
+ * the compressible drag rise added at its Mach number M = U / a (U the
+ * element's speed normal to the span, a = 340.29 m/s, ISA sea level):
+ *   M_dd = M_dd0 - |cl| / 10     (Korn's equation M_dd + cl/10 + t/c =
+ *          kappa_A for an unswept section, with t/c and the technology
+ *          factor kappa_A, 0.87 conventional to 0.95 supercritical, folded
+ *          into M_dd0 = kappa_A - t/c),
+ *   M_cr = M_dd - (0.1 / 80)^(1/3),
+ *   dcd  = 20 (M - M_cr)^4 for M > M_cr   (Lock's fourth-power drag-rise
+ *          law; Korn's and Lock's relations together as in Gur, Mason and
+ *          Schetz, "Full-configuration drag estimation", J. Aircraft 47(4),
+ *          2010, wave-drag section), so that dcd/dM = 0.1 at M_dd, the
+ *          usual definition of drag divergence (Prouty, "Helicopter Performance,
+ *          Stability and Control", ch. 6, Fig. 6.28a, gives the measured
+ *          zero-lift M_dd of rotor sections against thickness ratio; Leishman,
+ *          "Principles of Helicopter Aerodynamics", 2nd ed., ch. 7, the drag
+ *          rise of rotor airfoils with Mach number; section not checked here).
+ * Assumptions: quasi-steady two-dimensional drag (no yawed-flow or
+ * three-dimensional tip relief, no unsteady shock motion); the lift is
+ * left incompressible (no Prandtl-Glauert factor: the aircraft files'
+ * lift slopes are the [TM]/GenHel values the trim is validated with,
+ * themselves without one), so the Mach number changes the profile power
+ * and the in-plane force, not the lift.
+ *
+ * Hub drag: a flat-plate area f (main_rotor hub_drag_m2: the hub, blade
+ * cuffs and the hub-pylon interference) at the hub centre along the air
+ * relative to the hub, D = 1/2 rho f |v| v (Prouty, sec. 5, parasite drag
+ * as equivalent flat-plate areas of the components, section not checked
+ * here); the rotor's induced
+ * velocity at the hub is not in v. It is carried by the blades' hub loads,
+ * a share f / N_b each, so that any sum over the blades (the trim's
+ * azimuth quadrature, the time simulation's N_b blades) carries it once.
  */
 #include "hfm_priv.h"
 
@@ -248,6 +285,15 @@ static int blade_elements(const hfm_aircraft *ac, const hfm_rotor_in *in, int nb
             al += 2.0 * CORE_PI;
         hfm_airfoil_eval(&mr->af, al, &cl[k], &cd[k]);
     }
+    /* compressible drag rise (see the header): Korn's M_dd, Lock's law */
+    if (mr->af.mach) {
+        const double ia = 1.0 / 340.294, m0 = mr->af.mdd0 - 0.10772173450159418;
+        for (int k = 0; k < K; k++) {
+            double x = fmax(U[k] * ia - (m0 - 0.1 * fabs(cl[k])), 0.0);
+            x *= x;
+            cd[k] += 20.0 * x * x;
+        }
+    }
     /* L = q c cl dr, D = q c cd dr normal and along the element velocity:
      * F_up = L cos(phi) - D sin(phi), F_t = -L sin(phi) - D cos(phi) */
     for (int k = 0; k < K; k++) {
@@ -363,7 +409,24 @@ int hfm_rotor_blades(const hfm_aircraft *ac, const hfm_rotor_in *in, int nbl,
             blade_post(ac, in, &g[b], Fu + b * ns, Ft + b * ns, ddbeta ? ddbeta[b0 + b] : 0.0,
                        ddbeta == NULL, &o[b0 + b]);
     }
+    /* the hub's drag, a share per blade (see the header) */
+    if (ac->mr.hub_dq > 0.0) {
+        const double *v = in->rel_hub_H, h = ac->mr.hub_dq * sqrt(v3_dot(v, v));
+        for (int b = 0; b < nbl; b++)
+            for (int j = 0; j < 3; j++)
+                o[b].F_H[j] += h * v[j];
+    }
     return 0;
+}
+
+/* Shaft power: what the drive train delivers to the main and tail rotors;
+ * engine power: shaft power through the transmission's efficiency plus the
+ * accessories ([power] of the aircraft file). A rotor that gives power back
+ * (autorotation) is counted as it comes, negative. */
+void hfm_loads_power(const hfm_aircraft *ac, hfm_loads *L)
+{
+    L->shaft_power_W = L->mr_power_W + L->tr_power_W;
+    L->engine_power_W = L->shaft_power_W / ac->xmsn_eff + ac->acc_W;
 }
 
 void hfm_rotor_inflow(const hfm_aircraft *ac, const hfm_rotor_in *in, double CT, double CL,
@@ -530,7 +593,10 @@ int hfm_eval_harmonic(const hfm_aircraft *ac, const hfm_air *air, double t_s, co
     L->wake_skew_rad = skew;
     hfm_wake w;
     hfm_rotor_wake(ac, &in, skew, u, b, &w);
-    return hfm_eval_rest(ac, &k, b, u, &w, L);
+    if (hfm_eval_rest(ac, &k, b, u, &w, L))
+        return -1;
+    hfm_loads_power(ac, L);
+    return 0;
 }
 
 int hfm_rotor_disk(const hfm_aircraft *ac, const hfm_air *air, double t_s, const hfm_body *b,
