@@ -221,15 +221,21 @@ static int load_main_rotor(rd *r, hfm_mr *mr)
     if (rd_num(r, M, "flap_spring_Nmprad", 0.0, 1e7, &mr->K_beta) ||
         rd_deg(r, M, "shaft_tilt_deg", -15.0, 15.0, &mr->shaft_tilt) ||
         rd_vec3(r, M, "hub_B_m", -20.0, 20.0, mr->hub_B) || rd_int(r, M, "segments", 8, HFM_MAX_SEG, &mr->nseg) ||
-        rd_int(r, M, "trim_azimuths", 8, HFM_MAX_AZ, &mr->naz) ||
-        rd_num(r, M, "wake_factor_fuselage", 0.0, 2.5, &mr->k_fus) ||
-        rd_num(r, M, "wake_factor_tail", 0.0, 2.5, &mr->k_tail))
+        rd_int(r, M, "trim_azimuths", 8, HFM_MAX_AZ, &mr->naz))
         return -1;
     /* optional: the hub's (and hub-pylon interference) flat-plate area,
      * 0 when absent (the fuselage table then carries all the airframe drag) */
     mr->hub_drag_m2 = 0.0;
     if (core_ini_get_double(r->ini, M, "hub_drag_m2", 0, 0.0, 20.0, &mr->hub_drag_m2, r->err) < 0)
         return -1;
+    /* the wake's velocity at the airframe now follows from the wake's path
+     * (hfm/body.c), so the two factors that set it are gone */
+    static const char *const gone[2] = {"wake_factor_fuselage", "wake_factor_tail"};
+    for (int i = 0; i < 2; i++)
+        if (core_ini_find(r->ini, M, gone[i]))
+            return rd_fail(r, M, gone[i],
+                           "no longer a key: the wake velocity at the airframe grows along the "
+                           "wake's path (docs/aircraft-format.md, main-rotor wake); delete the line");
     return 0;
 }
 
@@ -355,22 +361,38 @@ static int load_fuselage(rd *r, hfm_fus *fu)
         rd_num(r, F, "side_force_m2", 0.0, 100.0, &fu->side_m2))
         return -1;
     /* optional wake planform (docs/aircraft-format.md): absent, the
-     * reference point alone (fore = aft = ref x, width 0) */
+     * reference point alone (two stations at ref x, width 0) */
+    fu->plan_n = 2;
     fu->plan_x_B[0] = fu->plan_x_B[1] = fu->ref_B[0];
-    fu->plan_width = 0.0;
+    fu->plan_w[0] = fu->plan_w[1] = 0.0;
     if (core_ini_find(r->ini, F, "planform_x_B_m")) {
         int cnt = 0;
-        if (core_ini_get_doubles(r->ini, F, "planform_x_B_m", 1, -50.0, 50.0, fu->plan_x_B, 2, &cnt,
-                                 r->err))
+        if (core_ini_get_doubles(r->ini, F, "planform_x_B_m", 1, -50.0, 50.0, fu->plan_x_B,
+                                 HFM_PLAN_MAX, &cnt, r->err))
             return -1;
-        if (cnt != 2)
-            return rd_fail(r, F, "planform_x_B_m", "expected 2 numbers (fore, aft end), got %d", cnt);
-        if (!(fu->plan_x_B[0] >= fu->plan_x_B[1]))
-            return rd_fail(r, F, "planform_x_B_m", "fore end %g m is aft of the aft end %g m",
-                           fu->plan_x_B[0], fu->plan_x_B[1]);
+        if (cnt < 2)
+            return rd_fail(r, F, "planform_x_B_m",
+                           "expected 2 to %d stations (fore end first), got %d", HFM_PLAN_MAX, cnt);
+        for (int i = 1; i < cnt; i++)
+            if (!(fu->plan_x_B[i - 1] >= fu->plan_x_B[i]))
+                return rd_fail(r, F, "planform_x_B_m",
+                               "station %d (%g m) is ahead of station %d (%g m): list fore to aft",
+                               i + 1, fu->plan_x_B[i], i, fu->plan_x_B[i - 1]);
+        fu->plan_n = cnt;
     }
-    if (core_ini_get_double(r->ini, F, "planform_width_m", 0, 0.0, 20.0, &fu->plan_width, r->err) < 0)
-        return -1;
+    if (core_ini_find(r->ini, F, "planform_width_m")) {
+        int cnt = 0;
+        if (core_ini_get_doubles(r->ini, F, "planform_width_m", 1, 0.0, 20.0, fu->plan_w,
+                                 HFM_PLAN_MAX, &cnt, r->err))
+            return -1;
+        if (cnt == 1)
+            for (int i = 1; i < fu->plan_n; i++)
+                fu->plan_w[i] = fu->plan_w[0];
+        else if (cnt != fu->plan_n)
+            return rd_fail(r, F, "planform_width_m",
+                           "expected 1 width or one per planform_x_B_m station (%d), got %d",
+                           fu->plan_n, cnt);
+    }
     return 0;
 }
 

@@ -8,26 +8,37 @@
  * taken as inertial (steady ship translation; ship motion is the coupling's
  * business). Velocities are relative to S; the air comes from the hfm_air
  * callback, so the aerodynamic velocity at a point is air - point velocity.
- * Main-rotor wake on the airframe: the wake is a cylinder of radius R skewed
- * by the wake angle chi from the shaft, blown along dir_H (the uncontracted
- * skewed cylindrical vortex wake of Heyson and Katzoff, "Induced velocities
- * near a lifting rotor with nonuniform disk loading", NACA Report 1319,
- * 1957; Padfield, "Helicopter Flight Dynamics", 2nd ed., ch. 3, for the
- * interference on fuselage, empennage and tail rotor). Its cross-section at
- * a depth h below the disk is the disk displaced by h tan(chi) along dir_H;
- * a point inside it sees k vi along the shaft, k per component from the
- * data file, with a cosine edge of 0.15 R (hfm_wake_immersion). Each
- * component takes the mean of that point immersion over its own extent
- * (hfm_wake_immersion_patch, hfm_wake_immersion_disk): the fraction of its
- * planform, surface or disk area inside the smoothed wake boundary, by the
- * midpoint rule on cells no wider than the edge. A single reference point
- * let the edge sweep past it within 1 kt of airspeed (UH-60A trims jumping
- * between 47 and 48 kt, issue 29); over the extent the same sweep takes
- * the whole length of the part.
- * Assumptions: no wake contraction (Heyson and Katzoff's cylinder), uniform
- * velocity k vi across the wake, the wake straight (no roll-up, which
- * NACA Report 1319 finds far behind the rotor), the velocity applied at the
- * component's reference point with the immersion as its weight.
+ * Main-rotor wake on the airframe: the wake is a cylinder skewed by the
+ * wake angle chi from the shaft, blown along dir_H (the skewed cylindrical
+ * vortex wake of Heyson and Katzoff, "Induced velocities near a lifting
+ * rotor with nonuniform disk loading", NACA Report 1319, 1957; Padfield,
+ * "Helicopter Flight Dynamics", 2nd ed., ch. 3, for the interference on
+ * fuselage, empennage and tail rotor). Its cross-section at a depth h
+ * below the disk is centred h tan(chi) along dir_H from the hub. There:
+ * - the air has travelled s = h / cos(chi) from the disk, and the wake's
+ *   velocity has grown from the disk's vi to k(s) vi, with
+ *   k(s) = 1 + s / sqrt(s^2 + R^2), the axial velocity of a semi-infinite
+ *   cylinder of ring vorticity (an actuator disk) on its axis by Biot-Savart
+ *   (1 at the disk, 2 in the far wake, momentum theory's limit; Johnson,
+ *   "Helicopter Theory", 1980, ch. 2, for the far-wake value);
+ * - the radius has contracted to R sqrt(U0/U(s)), U0 = |V_inplane, V_axial
+ *   + vi| and U(s) = |V_inplane, V_axial + k vi|, which carries the disk's
+ *   mass flow at the faster speed (continuity in the stream tube): R/sqrt(2)
+ *   in the far wake of the hover, almost R in forward flight.
+ * A point inside sees k(s) vi along the shaft, with a cosine edge of
+ * 0.15 R (hfm_wake_point). Each component takes the mean over its own
+ * extent (hfm_wake_speed_patch, hfm_wake_speed_disk) by the midpoint rule
+ * on cells no wider than the edge, or (the fuselage, fuselage.c) the loads
+ * cell by cell; a single reference point let the edge sweep past it
+ * within 1 kt of airspeed (UH-60A trims jumping between 47 and 48 kt,
+ * issue 29). Assumptions: uniform velocity across the wake's section (the
+ * disk's first-harmonic inflow is not carried downstream: traced along the
+ * wake it put the UH-60A's stabilator at 60 kt in the front of the disk's
+ * low inflow and its pitch 2.7 deg below GenHel's); the wake straight
+ * (no roll-up, which NACA Report 1319 finds far behind the rotor, and no
+ * descent steepening with k(s): with that curvature the tail went into
+ * the wake at 80 kt and the UH-60A turned speed-unstable there, M_u < 0 and
+ * a real root of +0.24 /s, which its flight-test handling does not show).
  */
 #include "hfm_priv.h"
 
@@ -93,36 +104,60 @@ int hfm_air_rel_B(const hfm_kin *k, const double r_B[3], double out_B[3])
     return 0;
 }
 
-double hfm_wake_immersion(const hfm_aircraft *ac, const hfm_wake *w, const double r_B[3])
+/* The wake at the depth h_m below the disk (hub axes): the in-plane
+ * offset of its cross-section, its velocity growth k and its contracted
+ * radius there (the model in the file's header). */
+static void wake_section(const hfm_aircraft *ac, const hfm_wake *w, double h_m, double *off_m,
+                         double *k, double *Rw_m)
+{
+    const double R = ac->mr.R, vi = w->vi_mps, vin = w->vin_mps, vax = w->vax_mps;
+    double s = h_m * sqrt(1.0 + w->tan_skew * w->tan_skew);
+    double kz = 1.0 + s / sqrt(s * s + R * R);
+    double u0 = hypot(vin, vax + vi), uz = hypot(vin, vax + kz * vi);
+    double c = uz > 1e-9 ? clampd(u0 / uz, 0.25, 1.0) : 1.0;
+    *off_m = h_m * w->tan_skew;
+    *k = kz;
+    *Rw_m = R * sqrt(c);
+}
+
+double hfm_wake_point(const hfm_aircraft *ac, const hfm_wake *w, const double r_B[3],
+                      double *speed_mps)
 {
     const hfm_mr *mr = &ac->mr;
     double d[3] = {r_B[0] - mr->hub_B[0], r_B[1] - mr->hub_B[1], r_B[2] - mr->hub_B[2]}, h[3];
+    if (speed_mps)
+        *speed_mps = 0.0;
     m3_tmul(mr->C_BH, d, h);
     if (h[2] <= 0.0)
         return 0.0;
-    double off = h[2] * w->tan_skew;
+    double off, kz, Rw;
+    wake_section(ac, w, h[2], &off, &kz, &Rw);
     double dx = h[0] - off * w->dir_H[0], dy = h[1] - off * w->dir_H[1];
-    double dist = sqrt(dx * dx + dy * dy), edge = 0.15 * mr->R;
-    if (dist <= mr->R)
-        return 1.0;
-    if (dist >= mr->R + edge)
+    double dist = sqrt(dx * dx + dy * dy), edge = 0.15 * mr->R, imm;
+    if (dist <= Rw)
+        imm = 1.0;
+    else if (dist >= Rw + edge)
         return 0.0;
-    return 0.5 * (1.0 + cos(CORE_PI * (dist - mr->R) / edge));
+    else
+        imm = 0.5 * (1.0 + cos(CORE_PI * (dist - Rw) / edge));
+    if (speed_mps)
+        *speed_mps = imm * kz * w->vi_mps;
+    return imm;
 }
 
 /* Cells along an extent of length len_m: at most one edge width (0.15 R)
  * wide, at least one, at most nmax. */
-static int wake_cells(const hfm_aircraft *ac, double len_m, int nmax)
+int hfm_wake_cells(const hfm_aircraft *ac, double len_m, int nmax)
 {
     double n = ceil(len_m / (0.15 * ac->mr.R) - 1e-9);
     return n < 1.0 ? 1 : (n > nmax ? nmax : (int)n);
 }
 
-double hfm_wake_immersion_patch(const hfm_aircraft *ac, const hfm_wake *w, const double c_B[3],
-                                const double a_B[3], const double b_B[3])
+double hfm_wake_speed_patch(const hfm_aircraft *ac, const hfm_wake *w, const double c_B[3],
+                            const double a_B[3], const double b_B[3])
 {
-    int na = wake_cells(ac, 2.0 * sqrt(v3_dot(a_B, a_B)), HFM_WAKE_MAX_CELLS);
-    int nb = wake_cells(ac, 2.0 * sqrt(v3_dot(b_B, b_B)), HFM_WAKE_MAX_CELLS);
+    int na = hfm_wake_cells(ac, 2.0 * sqrt(v3_dot(a_B, a_B)), HFM_WAKE_MAX_CELLS);
+    int nb = hfm_wake_cells(ac, 2.0 * sqrt(v3_dot(b_B, b_B)), HFM_WAKE_MAX_CELLS);
     double sum = 0.0;
     for (int i = 0; i < na; i++) {
         double s = -1.0 + (2.0 * i + 1.0) / na;
@@ -130,14 +165,16 @@ double hfm_wake_immersion_patch(const hfm_aircraft *ac, const hfm_wake *w, const
             double t = -1.0 + (2.0 * j + 1.0) / nb, p[3];
             for (int k = 0; k < 3; k++)
                 p[k] = c_B[k] + s * a_B[k] + t * b_B[k];
-            sum += hfm_wake_immersion(ac, w, p);
+            double v;
+            hfm_wake_point(ac, w, p, &v);
+            sum += v;
         }
     }
     return sum / (na * nb);
 }
 
-double hfm_wake_immersion_disk(const hfm_aircraft *ac, const hfm_wake *w, const double c_B[3],
-                               const double n_B[3], double radius_m)
+double hfm_wake_speed_disk(const hfm_aircraft *ac, const hfm_wake *w, const double c_B[3],
+                           const double n_B[3], double radius_m)
 {
     /* two unit vectors in the disk's plane */
     double e[3] = {0, 0, 1}, u[3], v[3];
@@ -162,7 +199,9 @@ double hfm_wake_immersion_disk(const hfm_aircraft *ac, const hfm_wake *w, const 
             double ps = 2.0 * CORE_PI * (i + 0.5 * j) / np, cu = rr * cos(ps), sv = rr * sin(ps), p[3];
             for (int k = 0; k < 3; k++)
                 p[k] = c_B[k] + cu * u[k] + sv * v[k];
-            ring += hfm_wake_immersion(ac, w, p);
+            double v;
+            hfm_wake_point(ac, w, p, &v);
+            ring += v;
         }
         sum += ring / np;
     }

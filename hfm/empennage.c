@@ -4,8 +4,9 @@
  * flat plate CL = 1.1 sin(2 alpha); drag cd0 + CL^2/(pi AR 0.8), rising to
  * the flat plate 1.98 sin^2(alpha) after the stall (Hoerner, "Fluid-Dynamic
  * Lift", ch. 4; Padfield ch. 3.2.4). The local air is sampled at the
- * surface (hfm_air callback) plus the main-rotor wake, k_tail vi along
- * the shaft times the fraction of the surface inside the wake (body.c),
+ * surface (hfm_air callback) plus the main-rotor wake's velocity along
+ * the shaft averaged over the surface (body.c: its growth along the
+ * skewed wake, its contraction and its boundary),
  * which gives the downwash on the tail as a function of wake skew. The
  * surface is the rectangle of its area and aspect ratio (span sqrt(AR S),
  * chord S/span) centred on pos_B_m: spanwise along y for the stabilator,
@@ -60,7 +61,7 @@ static int surface(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w,
     double span = sqrt(s->ar * s->area), chord = s->area / span;
     const double ha[3] = {0, s->vertical ? 0.0 : 0.5 * span, s->vertical ? 0.5 * span : 0.0};
     const double hb[3] = {0.5 * chord, 0, 0};
-    double imm = hfm_wake_immersion_patch(ac, w, s->pos_B, ha, hb) * ac->mr.k_tail * w->vi_mps;
+    double imm = hfm_wake_speed_patch(ac, w, s->pos_B, ha, hb);
     for (int i = 0; i < 3; i++)
         v[i] += imm * ac->mr.C_BH[i][2];
     const double x[3] = {1, 0, 0};

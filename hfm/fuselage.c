@@ -17,36 +17,29 @@
  * 1951). The potential part vanishes in a pure cross-flow (a side wind in
  * the hover downwash). Without it, a wings-level trim balanced the tail
  * rotor's side force with 6 deg of sideslip at 140 kt.
- * The air is sampled at the fuselage reference point (hfm_air callback)
- * plus the main-rotor wake: k_fus vi along the shaft times the fraction of
- * the fuselage planform inside the wake (body.c): a rectangle from
- * planform_x_B_m's fore to aft end, planform_width_m wide, at the
- * reference point's y and z (the data file; absent, the reference point
- * alone). Flow
+ * The air is sampled at the fuselage reference point (hfm_air callback);
+ * the tables take it without the main-rotor wake (they are wind-tunnel
+ * data of the fuselage alone). The wake acts as cross-flow drag on the
+ * planform the data file gives (planform_x_B_m stations with their
+ * planform_width_m, linear between them): on each cell the wake's
+ * velocity (body.c) adds to the air's own cross-flow u (normal to the body
+ * axis) and the cell carries the increment 0.5 rho Cc A (|u + w| (u + w) -
+ * |u| u), Cc A the table's drag at 90 deg shared by area, at the cell
+ * (Allen and Perkins' cross-flow drag, NACA Report 1048, applied per
+ * section). So the download in the hover is the table's 90 deg drag in
+ * the wake's velocity, and a wake on the tail cone alone loads the tail
+ * cone, not the whole body's angle of attack (which put the GenHel
+ * pitching moment's unstable slope behind a nose-down moment there). Flow
  * from behind (|alpha| > 90) uses the mirrored angle: a crude stand-in for
  * rearward flight.
  */
 #include "hfm_priv.h"
 
-int hfm_fuselage(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, hfm_fm *fm,
-                 double *airspeed)
+/* The tables and the side force for the air a (body axes, m/s) at the
+ * reference point, |a|^2 = U2 > 0. */
+static void tables(const hfm_aircraft *ac, const double a[3], double U2, hfm_fm *fm)
 {
     const hfm_fus *f = &ac->fus;
-    double a[3];
-    if (hfm_air_rel_B(k, f->ref_B, a))
-        return -1;
-    *airspeed = sqrt(v3_dot(a, a));
-    const double c[3] = {0.5 * (f->plan_x_B[0] + f->plan_x_B[1]), f->ref_B[1], f->ref_B[2]};
-    const double ha[3] = {0.5 * (f->plan_x_B[0] - f->plan_x_B[1]), 0, 0};
-    const double hb[3] = {0, 0.5 * f->plan_width, 0};
-    double imm = hfm_wake_immersion_patch(ac, w, c, ha, hb) * ac->mr.k_fus * w->vi_mps;
-    for (int i = 0; i < 3; i++)
-        a[i] += imm * ac->mr.C_BH[i][2];
-    double U2 = v3_dot(a, a);
-    for (int i = 0; i < 3; i++)
-        fm->F_B_N[i] = fm->M_B_Nm[i] = 0.0;
-    if (U2 < 1e-8)
-        return 0;
     double U = sqrt(U2), q = 0.5 * ac->mr.rho * U2;
     double alpha = atan2(-a[2], -a[0]);
     if (alpha > 0.5 * CORE_PI)
@@ -74,5 +67,77 @@ int hfm_fuselage(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, hf
     /* sin(2 beta) = 2 sin(beta) cos(beta); sin(20 deg) */
     fm->M_B_Nm[2] -= q * f->yaw_m3_10deg * 2.0 * sbeta * sqrt(1.0 - sbeta * sbeta) /
                      0.34202014332566873;
+}
+
+/* The planform's width at body x (linear between stations, 0 outside). */
+static double plan_width(const hfm_fus *f, double x)
+{
+    for (int i = 1; i < f->plan_n; i++)
+        if (x >= f->plan_x_B[i] && x <= f->plan_x_B[i - 1]) {
+            double d = f->plan_x_B[i - 1] - f->plan_x_B[i];
+            double t = d > 0.0 ? (f->plan_x_B[i - 1] - x) / d : 0.0;
+            return f->plan_w[i - 1] + t * (f->plan_w[i] - f->plan_w[i - 1]);
+        }
+    return 0.0;
+}
+
+/* The main-rotor wake on the planform: on each cell (at most 0.15 R
+ * wide, hfm_wake_cells) the increment of the cross-flow drag
+ * 0.5 rho Cc A |u| u (u the air velocity normal to the body axis) that the
+ * wake velocity w adds to the air's own cross-flow, applied at the cell;
+ * Cc A is the table's drag at 90 deg shared by the cells by area (a
+ * planform of zero area: all of it at the reference point). */
+static void wake_crossflow(const hfm_aircraft *ac, const hfm_wake *w, const double a[3],
+                           hfm_fm *fm)
+{
+    const hfm_fus *f = &ac->fus;
+    const double fore = f->plan_x_B[0], len = fore - f->plan_x_B[f->plan_n - 1];
+    double wmax = 0.0;
+    for (int i = 0; i < f->plan_n; i++)
+        wmax = fmax(wmax, f->plan_w[i]);
+    const int na = hfm_wake_cells(ac, len, HFM_WAKE_MAX_CELLS);
+    const int nb = hfm_wake_cells(ac, wmax, HFM_WAKE_MAX_CELLS);
+    double wid[HFM_WAKE_MAX_CELLS], area = 0.0;
+    for (int i = 0; i < na; i++) {
+        wid[i] = plan_width(f, fore - (i + 0.5) * len / na);
+        area += wid[i];
+    }
+    const double D90 = 0.5 * ac->mr.rho * hfm_table_eval(&f->drag, 0.5 * CORE_PI);
+    const double n[3] = {0.0, ac->mr.C_BH[1][2], ac->mr.C_BH[2][2]}; /* the shaft, across the body */
+    const double u0[3] = {0.0, a[1], a[2]}, m0 = sqrt(v3_dot(u0, u0));
+    for (int i = 0; i < na; i++) {
+        double x = fore - (i + 0.5) * len / na;
+        double share = area > 0.0 ? wid[i] / (area * nb) : 1.0 / (na * nb);
+        for (int j = 0; j < nb; j++) {
+            double p[3] = {x, f->ref_B[1] + (-0.5 + (j + 0.5) / nb) * wid[i], f->ref_B[2]};
+            double v, df[3], dm[3];
+            if (hfm_wake_point(ac, w, p, &v) <= 0.0)
+                continue;
+            double u[3] = {0.0, u0[1] + v * n[1], u0[2] + v * n[2]}, m = sqrt(v3_dot(u, u));
+            for (int c = 0; c < 3; c++)
+                df[c] = D90 * share * (m * u[c] - m0 * u0[c]);
+            v3_cross(p, df, dm);
+            for (int c = 0; c < 3; c++) {
+                fm->F_B_N[c] += df[c];
+                fm->M_B_Nm[c] += dm[c];
+            }
+        }
+    }
+}
+
+int hfm_fuselage(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, hfm_fm *fm,
+                 double *airspeed)
+{
+    double a[3];
+    if (hfm_air_rel_B(k, ac->fus.ref_B, a))
+        return -1;
+    *airspeed = sqrt(v3_dot(a, a));
+    double U2 = v3_dot(a, a);
+    for (int i = 0; i < 3; i++)
+        fm->F_B_N[i] = fm->M_B_Nm[i] = 0.0;
+    if (U2 >= 1e-8)
+        tables(ac, a, U2, fm);
+    wake_crossflow(ac, w, a, fm);
     return 0;
 }
+

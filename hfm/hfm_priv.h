@@ -24,6 +24,7 @@ typedef struct hfm_airfoil {
 } hfm_airfoil;
 
 /* A piecewise-linear table y(x), clamped at its ends. */
+#define HFM_PLAN_MAX 12 /* fuselage planform stations */
 typedef struct hfm_table {
     int n;
     double x[HFM_TAB_MAX], y[HFM_TAB_MAX];
@@ -38,7 +39,6 @@ typedef struct hfm_mr {
     double area, rho;
     double r[HFM_MAX_SEG], drl[HFM_MAX_SEG], drd[HFM_MAX_SEG];
     double x[HFM_MAX_SEG], tw[HFM_MAX_SEG]; /* r - e, twist (r/R) */
-    double k_fus, k_tail; /* wake velocity at fuselage / tail, of the disk value */
     double hqc;           /* rho chord / 2 */
     double inv_I_beta, inv_R;
     double az_c[HFM_MAX_AZ], az_s[HFM_MAX_AZ]; /* cos, sin of the trim azimuths */
@@ -61,7 +61,8 @@ typedef struct hfm_fus {
     hfm_table drag, lift, pitch, dbeta; /* m^2, m^2, m^3 vs alpha/beta (rad) */
     double yaw_m3_10deg;                /* N/q at beta = 10 deg, destabilizing */
     double side_m2;                     /* slender-body side force Y/q = -side sin b cos b */
-    double plan_x_B[2], plan_width;     /* wake planform: body x of its fore and aft ends, width (m) */
+    int plan_n;                         /* wake planform: stations fore to aft (>= 2) */
+    double plan_x_B[HFM_PLAN_MAX], plan_w[HFM_PLAN_MAX]; /* body x and width there (m) */
 } hfm_fus;
 
 enum { HFM_STAB_FIXED = 0, HFM_STAB_UH60A = 1 };
@@ -111,6 +112,8 @@ typedef struct hfm_kin {
 /* Main-rotor wake quantities seen by the other components. */
 typedef struct hfm_wake {
     double vi_mps;   /* disk-average induced velocity */
+    double vin_mps, vax_mps; /* the wake air through the disk: in-plane speed and
+                                the component down the shaft (induced excluded) */
     double skew_rad; /* wake skew from the shaft (NaN in time simulation,
                         which uses only tan_skew) */
     double tan_skew; /* tan of the skew, held at 89 deg */
@@ -175,16 +178,23 @@ static inline void hfm_airfoil_eval(const hfm_airfoil *af, double alpha_rad, dou
 void hfm_kin_setup(hfm_kin *k, const hfm_air *air, double t, const hfm_body *b);
 int hfm_air_rel_B(const hfm_kin *k, const double r_B[3], double out_B[3]);
 void hfm_body_accel(const hfm_aircraft *ac, const hfm_body *b, hfm_loads *L);
-double hfm_wake_immersion(const hfm_aircraft *ac, const hfm_wake *w, const double r_B[3]);
-/* The mean immersion over the parallelogram c_B + s a_B + t b_B (s, t in
- * [-1, 1]; a_B, b_B its half-sides, m), on cells at most 0.15 R wide (at
- * most HFM_WAKE_MAX_CELLS along a side); a zero half-side is one cell. */
+/* The immersion (0..1) of a body point in the main-rotor wake, and where
+ * speed_mps is not NULL the wake's velocity there along the shaft (m/s,
+ * down the shaft positive): immersion x axial growth x local disk inflow. */
+double hfm_wake_point(const hfm_aircraft *ac, const hfm_wake *w, const double r_B[3],
+                      double *speed_mps);
+/* The mean wake velocity (m/s along the shaft) over the parallelogram
+ * c_B + s a_B + t b_B (s, t in [-1, 1]; a_B, b_B its half-sides, m), on
+ * cells at most 0.15 R wide (at most HFM_WAKE_MAX_CELLS along a side); a
+ * zero half-side is one cell. */
 #define HFM_WAKE_MAX_CELLS 16
-double hfm_wake_immersion_patch(const hfm_aircraft *ac, const hfm_wake *w, const double c_B[3],
-                                const double a_B[3], const double b_B[3]);
-/* The mean immersion over a disk (centre c_B, unit normal n_B, radius_m). */
-double hfm_wake_immersion_disk(const hfm_aircraft *ac, const hfm_wake *w, const double c_B[3],
-                               const double n_B[3], double radius_m);
+/* Cells along an extent of len_m: at most 0.15 R wide, 1 to nmax of them. */
+int hfm_wake_cells(const hfm_aircraft *ac, double len_m, int nmax);
+double hfm_wake_speed_patch(const hfm_aircraft *ac, const hfm_wake *w, const double c_B[3],
+                            const double a_B[3], const double b_B[3]);
+/* The mean wake velocity over a disk (centre c_B, unit normal n_B, radius_m). */
+double hfm_wake_speed_disk(const hfm_aircraft *ac, const hfm_wake *w, const double c_B[3],
+                           const double n_B[3], double radius_m);
 
 /* rotor.c */
 typedef struct hfm_blade_out {

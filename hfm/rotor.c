@@ -524,6 +524,8 @@ void hfm_rotor_wake(const hfm_aircraft *ac, const hfm_rotor_in *in, double skew,
     double lt = r[2] + in->lam[0] * ac->mr.omega * ac->mr.R;
     lt = lt > 1e-6 * ac->mr.omega * ac->mr.R ? lt : 1e-6 * ac->mr.omega * ac->mr.R;
     w->tan_skew = fmin(h / lt, 57.289961630759425); /* tan 89 deg */
+    w->vin_mps = h;
+    w->vax_mps = r[2];
     w->dir_H[0] = h > 1e-6 ? r[0] / h : 0.0;
     w->dir_H[1] = h > 1e-6 ? r[1] / h : 0.0;
     w->coll_pct = u->collective_pct;

@@ -14,8 +14,8 @@
  * Morelli, 12th European Rotorcraft Forum, 1986). lambda = lambda_c + lambda_i.
  * Torque CQ = lambda CT_fan + sigma cd0/8 (1 + 4.6 mu^2).
  * Inflow: the air at the hub (hfm_air callback) plus the main-rotor wake,
- * k_tail vi along the shaft times the fraction of the tail-rotor disk
- * inside it (body.c); fin blockage scales the thrust below
+ * its velocity along the shaft averaged over the tail-rotor disk
+ * (body.c); fin blockage scales the thrust below
  * blockage_below_kt (GenHel: 0.9 below 30 kt), blended over 10 kt.
  * The inflow equation is solved by Newton's method from a momentum first
  * guess (in fixed-step time simulation, from the last evaluation's value).
@@ -30,7 +30,7 @@ int hfm_tailrotor(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, d
     double rel[3];
     if (hfm_air_rel_B(k, t->hub_B, rel))
         return -1;
-    double imm = hfm_wake_immersion_disk(ac, w, t->hub_B, t->dir_B, t->R) * ac->mr.k_tail * w->vi_mps;
+    double imm = hfm_wake_speed_disk(ac, w, t->hub_B, t->dir_B, t->R);
     for (int i = 0; i < 3; i++)
         rel[i] += imm * ac->mr.C_BH[i][2];
     double OR = t->omega * t->R, ax = v3_dot(rel, t->dir_B);

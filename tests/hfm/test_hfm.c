@@ -85,11 +85,18 @@ static void test_bad_input(void)
     expect_error(variant(UH60, "fuselage", "side_force_m2", NULL, "k.ini"), "side_force_m2");
     expect_error(variant(UH60, "fuselage", "side_force_m2", "side_force_m2 = -1", "l.ini"),
                  "side_force_m2");
-    /* the optional wake planform: two numbers, fore end ahead of the aft end */
-    expect_error(variant(UH60, "fuselage", "planform_x_B_m", "planform_x_B_m = -8.6, 5.3", "p.ini"),
-                 "fore end -8.6 m is aft of the aft end 5.3 m");
+    /* the optional wake planform: stations fore to aft, one width or one
+     * per station */
+    expect_error(variant(UH60, "fuselage", "planform_x_B_m",
+                         "planform_x_B_m = 5.3, 4.07, -3.17, -2.02, -8.6", "p.ini"),
+                 "station 4 (-2.02 m) is ahead of station 3 (-3.17 m)");
     expect_error(variant(UH60, "fuselage", "planform_x_B_m", "planform_x_B_m = 5.3", "q.ini"),
-                 "expected 2 numbers");
+                 "expected 2 to 12 stations");
+    expect_error(variant(UH60, "fuselage", "planform_width_m", "planform_width_m = 2.36, 1.0", "s.ini"),
+                 "expected 1 width or one per planform_x_B_m station (5), got 2");
+    /* the wake factors the wake's path replaced are refused by name */
+    expect_error(variant(UH60, "main_rotor", "segments", "segments = 10\nwake_factor_tail = 1.5", "t.ini"),
+                 "wake_factor_tail: no longer a key");
     expect_error(variant(UH60, "fuselage", "planform_width_m", "planform_width_m = -1", "r.ini"),
                  "planform_width_m");
     /* mass properties no body has: Izz above Ixx + Iyy (a typo), a blade

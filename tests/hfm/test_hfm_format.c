@@ -198,7 +198,7 @@ static void test_checks(void)
      * missing key of the section meant */
     const char *p = variant(LUH, (edit[]){{"fin", "cd0", NULL}, {NULL, NULL, "[fin_extra]\ncd0 = 0.01"}}, 2,
                             "sec.ini");
-    expect_refused(p, NEEDLES("sec.ini:137: unknown section [fin_extra]"), "unknown section");
+    expect_refused(p, NEEDLES("sec.ini:135: unknown section [fin_extra]"), "unknown section");
 }
 
 /* ------------------------------------------------------------- LUH-25 */
