@@ -22,8 +22,10 @@
  * data of the fuselage alone). The wake acts as cross-flow drag on the
  * planform the data file gives (planform_x_B_m stations with their
  * planform_width_m, linear between them): on each cell the wake's
- * velocity (body.c) adds to the air's own cross-flow u (normal to the body
- * axis) and the cell carries the increment 0.5 rho Cc A (|u + w| (u + w) -
+ * velocity (body.c) adds to the cell's own cross-flow u (the air at the
+ * cell, the body's rotation included, normal to the body axis: the
+ * planform's yaw and pitch damping in the wake) and the cell carries the
+ * increment 0.5 rho Cc A (|u + w| (u + w) -
  * |u| u), Cc A the table's drag at 90 deg shared by area, at the cell
  * (Allen and Perkins' cross-flow drag, NACA Report 1048, applied per
  * section). So the download in the hover is the table's 90 deg drag in
@@ -87,8 +89,8 @@ static double plan_width(const hfm_fus *f, double x)
  * wake velocity w adds to the air's own cross-flow, applied at the cell;
  * Cc A is the table's drag at 90 deg shared by the cells by area (a
  * planform of zero area: all of it at the reference point). */
-static void wake_crossflow(const hfm_aircraft *ac, const hfm_wake *w, const double a[3],
-                           hfm_fm *fm)
+static int wake_crossflow(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w,
+                          hfm_fm *fm)
 {
     const hfm_fus *f = &ac->fus;
     const double fore = f->plan_x_B[0], len = fore - f->plan_x_B[f->plan_n - 1];
@@ -104,15 +106,19 @@ static void wake_crossflow(const hfm_aircraft *ac, const hfm_wake *w, const doub
     }
     const double D90 = 0.5 * ac->mr.rho * hfm_table_eval(&f->drag, 0.5 * CORE_PI);
     const double n[3] = {0.0, ac->mr.C_BH[1][2], ac->mr.C_BH[2][2]}; /* the shaft, across the body */
-    const double u0[3] = {0.0, a[1], a[2]}, m0 = sqrt(v3_dot(u0, u0));
     for (int i = 0; i < na; i++) {
         double x = fore - (i + 0.5) * len / na;
         double share = area > 0.0 ? wid[i] / (area * nb) : 1.0 / (na * nb);
         for (int j = 0; j < nb; j++) {
             double p[3] = {x, f->ref_B[1] + (-0.5 + (j + 0.5) / nb) * wid[i], f->ref_B[2]};
-            double v, df[3], dm[3];
+            double v, df[3], dm[3], a[3];
             if (hfm_wake_point(ac, w, p, &v) <= 0.0)
                 continue;
+            /* the cell's own air: the body's rotation moves it (yaw and
+             * pitch damping of the planform in the wake) */
+            if (hfm_air_rel_B(k, p, a))
+                return -1;
+            const double u0[3] = {0.0, a[1], a[2]}, m0 = sqrt(v3_dot(u0, u0));
             double u[3] = {0.0, u0[1] + v * n[1], u0[2] + v * n[2]}, m = sqrt(v3_dot(u, u));
             for (int c = 0; c < 3; c++)
                 df[c] = D90 * share * (m * u[c] - m0 * u0[c]);
@@ -123,6 +129,7 @@ static void wake_crossflow(const hfm_aircraft *ac, const hfm_wake *w, const doub
             }
         }
     }
+    return 0;
 }
 
 int hfm_fuselage(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, hfm_fm *fm,
@@ -137,7 +144,6 @@ int hfm_fuselage(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, hf
         fm->F_B_N[i] = fm->M_B_Nm[i] = 0.0;
     if (U2 >= 1e-8)
         tables(ac, a, U2, fm);
-    wake_crossflow(ac, w, a, fm);
-    return 0;
+    return wake_crossflow(ac, k, w, fm);
 }
 

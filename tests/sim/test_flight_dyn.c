@@ -131,7 +131,13 @@ typedef struct inertia {
  * (0.25 m/s): the UH-60A's stabilator sits on the edge of the rotor wake
  * (body.c's blend), whose curvature makes the pitch response to u
  * quadratic enough that after 0.5 m/s theta differs by 8 % from either
- * linear model (4 % after 0.25 m/s, 0.8 % after 0.05 m/s). */
+ * linear model (4 % after 0.25 m/s, 0.8 % after 0.05 m/s). The kick in u
+ * moves theta through the wake on the tail cone (hfm/fuselage.c: its
+ * cross-flow drag cell by cell), which follows the inflow: hfm_linearise's
+ * rotor answers at once and its theta differs from the flight's by 5.4 %
+ * (the model with the rotor states kept: 1.0 %), so theta is compared
+ * there with the rotor states only, as for the p and q kicks; u is
+ * compared with both. */
 typedef struct lin_case {
     const char *what;
     int control;    /* 1 long, 2 lat: a +2 % step; -1: a kick */
@@ -139,6 +145,7 @@ typedef struct lin_case {
     int qs;         /* compared with hfm_linearise (1) or only printed */
     int nchk;
     int chk[3];     /* the states checked */
+    int qs_skip;    /* a checked state not compared with hfm_linearise (-1: none) */
 } lin_case;
 
 typedef struct kick {
@@ -429,14 +436,14 @@ static void test_linear(const hfm_aircraft *ac, const core_ship *ship, const cha
 {
     /* u v w p q r phi theta psi = 0 .. 8 */
     static const lin_case cases[] = {
-        {"+2 % longitudinal cyclic", 1, 0, 1, 1, {7}},
-        {"+2 % lateral cyclic", 2, 0, 1, 1, {6}},
-        {"kick in u", -1, 0, 1, 2, {0, 7}},
-        {"kick in v", -1, 1, 1, 2, {1, 6}},
-        {"kick in w", -1, 2, 1, 1, {2}},
-        {"kick in p", -1, 3, 0, 2, {3, 6}},
-        {"kick in q", -1, 4, 0, 2, {4, 7}},
-        {"kick in r", -1, 5, 1, 2, {5, 8}},
+        {"+2 % longitudinal cyclic", 1, 0, 1, 1, {7}, -1},
+        {"+2 % lateral cyclic", 2, 0, 1, 1, {6}, -1},
+        {"kick in u", -1, 0, 1, 2, {0, 7}, 7},
+        {"kick in v", -1, 1, 1, 2, {1, 6}, -1},
+        {"kick in w", -1, 2, 1, 1, {2}, -1},
+        {"kick in p", -1, 3, 0, 2, {3, 6}, -1},
+        {"kick in q", -1, 4, 0, 2, {4, 7}, -1},
+        {"kick in r", -1, 5, 1, 2, {5, 8}, -1},
     };
     static const char *const sn[NX] = {"u", "v", "w", "p", "q", "r", "phi", "theta", "psi"};
     static const double wod[2] = {0.0, 3.0};
@@ -472,9 +479,10 @@ static void test_linear(const hfm_aircraft *ac, const core_ship *ship, const cha
                 int i = lc->chk[k];
                 printf("  %s: hfm_linearise's response up to %.4g, difference %.4g (%.2f %%%s); with the rotor "
                        "states %.4g, %.4g (%.2f %%)\n",
-                       sn[i], mag[i], err[i], 100.0 * err[i] / mag[i], lc->qs ? "" : ", not checked", fmag[i],
-                       ferr[i], 100.0 * ferr[i] / fmag[i]);
-                if (lc->qs)
+                       sn[i], mag[i], err[i], 100.0 * err[i] / mag[i],
+                       lc->qs && i != lc->qs_skip ? "" : ", not checked", fmag[i], ferr[i],
+                       100.0 * ferr[i] / fmag[i]);
+                if (lc->qs && i != lc->qs_skip)
                     CHECK(mag[i] > 0.0 && err[i] <= 0.05 * mag[i]);
                 CHECK(fmag[i] > 0.0 && ferr[i] <= 0.05 * fmag[i]);
             }
