@@ -773,8 +773,12 @@ static void test_deck(const hfm_aircraft *uh60, const hfm_aircraft *sa365)
      * less than 2.5 deg from its trim to start and stop the 1 m/s
      * traverse (a step took 6 deg, past the 5 deg roll limit of the
      * UH-60A's [rejection]) and the heading loop's pedal stays within
-     * 0.6 % of the hover's trim (20.98 %; the step took it 1.24 % below,
-     * under the 20 % limit of the flown SHOL's criteria). */
+     * 1.0 % of the hover's trim and above the flown SHOL's 20 % floor (the
+     * step took it 1.24 % below the trim, under the floor). With the
+     * fuselage's planform in the downwash (hfm/fuselage.c) the side
+     * velocity's cross-flow on the tail cone yaws the aircraft: the smooth
+     * traverse moves the pedal 0.87 % below its 21.13 % trim (0.57 % below
+     * 20.60 % with the whole-body fuselage). */
     deck_run d;
     fly_deck(uh60, &cg47, PORT, 0.0, 0.0, 0, 1, &d);
     sim_flight_inputs trim_in;
@@ -799,7 +803,8 @@ static void test_deck(const hfm_aircraft *uh60, const hfm_aircraft *sa365)
     CHECK(!d.failed && !d.crashed && d.r.grade >= 1);
     CHECK(d.ref_acc_max_mps2 > 0.1 && d.ref_acc_max_mps2 <= 0.2 + 1e-6);
     CHECK(d.move_roll_max_rad <= 2.5 * CORE_DEG_TO_RAD);
-    CHECK(d.move_ped_min_pct >= trim_in.pedal_pct - 0.6 && d.move_ped_max_pct <= trim_in.pedal_pct + 0.6);
+    CHECK(d.move_ped_min_pct >= trim_in.pedal_pct - 1.0 && d.move_ped_max_pct <= trim_in.pedal_pct + 1.0);
+    CHECK(d.move_ped_min_pct > 20.0);
     free(d.u);
 }
 
