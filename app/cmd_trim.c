@@ -31,7 +31,8 @@ static void usage(void)
             "       disim trim AIRCRAFT.ini --hover-wod-kt A:B:STEP --field SHIPONLY.h5 --cg-S X,Y,Z [--csv OUT.csv]\n"
             "  --field: hover with the CG at X,Y,Z (m, frame S) in a ship-only airwake\n"
             "  (rotor off) scaled from its WOD speed; the direction is the field's.\n"
-            "  power_kW is main plus tail rotor aerodynamic power; --modes prints each\n"
+            "  power_kW is main plus tail rotor aerodynamic power, engine_power_kW that\n"
+            "  through the drive train ([power] of the aircraft file); --modes prints each\n"
             "  trim's eigenvalues and mode names (linearised, rotor quasi-steady).\n");
 }
 
@@ -232,15 +233,17 @@ int cmd_trim(int argc, char **argv)
     }
     FILE *o = f ? f : stdout;
     fprintf(o, "speed_kt,collective_pct,long_cyclic_pct,lat_cyclic_pct,pedal_pct,pitch_deg,"
-               "roll_deg,thrust_N,power_kW,beta0_deg,beta1c_deg,beta1s_deg,lambda0,converged\n");
+               "roll_deg,thrust_N,power_kW,engine_power_kW,beta0_deg,beta1c_deg,beta1s_deg,lambda0,"
+               "converged\n");
     int failed = 0;
     for (int i = 0; i < n; i++) {
         const hfm_trim_result *r = &res[i];
         const double R2D = CORE_RAD_TO_DEG;
-        fprintf(o, "%.3f,%.3f,%.3f,%.3f,%.3f,%.4f,%.4f,%.1f,%.2f,%.4f,%.4f,%.4f,%.6f,%d\n", kt[i],
+        fprintf(o, "%.3f,%.3f,%.3f,%.3f,%.3f,%.4f,%.4f,%.1f,%.2f,%.2f,%.4f,%.4f,%.4f,%.6f,%d\n", kt[i],
                 r->u.collective_pct, r->u.long_pct, r->u.lat_pct, r->u.pedal_pct,
                 r->body.euler_rad[1] * R2D, r->body.euler_rad[0] * R2D, r->loads.mr_thrust_N,
-                (r->loads.mr_power_W + r->loads.tr_power_W) / 1000.0, r->rotor.beta0_rad * R2D,
+                (r->loads.mr_power_W + r->loads.tr_power_W) / 1000.0,
+                r->loads.engine_power_W / 1000.0, r->rotor.beta0_rad * R2D,
                 r->rotor.beta1c_rad * R2D, r->rotor.beta1s_rad * R2D, r->rotor.lambda0,
                 r->converged);
         if (!r->converged) {

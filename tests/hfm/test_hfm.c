@@ -6,7 +6,9 @@
  * continuation sweep, turning-point handling on a curve with folds, pedal in
  * a WOD, WOD-speed sweeps over the ship, and the continuity of the
  * 0-160 kt trims through the main-rotor wake's sweep over the airframe,
- * and the engine power against published power (uh60a_power.csv). */
+ * the engine power against published power (uh60a_power.csv), and the
+ * Bo105, written from published data alone, against its flight test
+ * (bo105_trim.csv). */
 #include "check.h"
 #include "hfm.h"
 
