@@ -290,23 +290,31 @@ int main(void)
         if (l) {
             double worst = 0.0, t0 = core_monotonic_s(), a;
             long i = 0;
-            int slow = 0;
+            int slow = 0, slow_wait = 0;
             while ((a = core_monotonic_s()) < t0 + 1.0) {
                 render_state s;
                 state_at(i, &s);
                 s.t_s = (double)i++ / 1000.0;
                 render_live_offer(l, &s);
-                double d = core_monotonic_s() - a;
+                double b = core_monotonic_s(), d = b - a;
                 worst = d > worst ? d : worst;
                 slow += d >= SLOW_S;
-                while (core_monotonic_s() < a + 50e-6)
+                while (core_monotonic_s() < b + 50e-6)
                     ;
+                /* the same run's measure of the machine: a 50 us busy wait
+                 * that took 1 ms was the thread preempted, nothing else */
+                slow_wait += core_monotonic_s() - b >= SLOW_S;
             }
             render_live_report r;
             CHECK(render_live_destroy(l, &r, &err) == 0);
-            printf("burst: %ld offers in 1 s, longest %.0f us, %d over 1 ms; %ld frames, %ld dropped\n", i, 1e6 * worst,
-                   slow, r.frames, r.dropped);
-            CHECK(slow <= SLOW_MAX);
+            printf("burst: %ld offers in 1 s, longest %.0f us, %d over 1 ms (and %d of the 50 us waits between "
+                   "them: the machine's preemptions); %ld frames, %ld dropped\n",
+                   i, 1e6 * worst, slow, slow_wait, r.frames, r.dropped);
+            /* a non-blocking offer (a trylock, render/live.c) is preempted
+             * no more often than the waits around it, which take most of
+             * the loop's time; one that waited for the renderer would be
+             * slow at every frame whatever the machine does */
+            CHECK(slow <= SLOW_MAX + slow_wait);
             CHECK(r.offered == i && r.frames >= 2 && r.dropped > i / 2 && r.frames + r.dropped == i);
         }
         rm_dir(bd);
