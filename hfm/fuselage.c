@@ -22,9 +22,9 @@
  * data of the fuselage alone). The wake acts as cross-flow drag on the
  * planform the data file gives (planform_x_B_m stations with their
  * planform_width_m, linear between them): on each cell the wake's
- * velocity (body.c) adds to the cell's own cross-flow u (the air at the
- * cell, the body's rotation included, normal to the body axis: the
- * planform's yaw and pitch damping in the wake) and the cell carries the
+ * velocity (body.c) adds to the cell's own cross-flow u (the reference
+ * point's air less the body's rotation about it, normal to the body axis:
+ * the planform's yaw and pitch damping in the wake) and the cell carries the
  * increment 0.5 rho Cc A (|u + w| (u + w) -
  * |u| u), Cc A the table's drag at 90 deg shared by area, at the cell
  * (Allen and Perkins' cross-flow drag, NACA Report 1048, applied per
@@ -90,7 +90,7 @@ static double plan_width(const hfm_fus *f, double x)
  * Cc A is the table's drag at 90 deg shared by the cells by area (a
  * planform of zero area: all of it at the reference point). */
 static int wake_crossflow(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w,
-                          hfm_fm *fm)
+                          const double a_ref[3], hfm_fm *fm)
 {
     const hfm_fus *f = &ac->fus;
     const double fore = f->plan_x_B[0], len = fore - f->plan_x_B[f->plan_n - 1];
@@ -111,13 +111,20 @@ static int wake_crossflow(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wa
         double share = area > 0.0 ? wid[i] / (area * nb) : 1.0 / (na * nb);
         for (int j = 0; j < nb; j++) {
             double p[3] = {x, f->ref_B[1] + (-0.5 + (j + 0.5) / nb) * wid[i], f->ref_B[2]};
-            double v, df[3], dm[3], a[3];
+            double v, df[3], dm[3], a[3], d[3], wxd[3];
             if (hfm_wake_point(ac, w, p, &v) <= 0.0)
                 continue;
-            /* the cell's own air: the body's rotation moves it (yaw and
-             * pitch damping of the planform in the wake) */
-            if (hfm_air_rel_B(k, p, a))
-                return -1;
+            /* the cell's air: the reference point's, less the body's
+             * rotation about it (the planform's yaw and pitch damping in
+             * the wake); the air itself is sampled once, at the reference
+             * point, as the tables are: a field sampled cell by cell put
+             * the coupled hover's iterations into a cycle (test_couple
+             * calm) */
+            for (int c = 0; c < 3; c++)
+                d[c] = p[c] - f->ref_B[c];
+            v3_cross(k->rate_B, d, wxd);
+            for (int c = 0; c < 3; c++)
+                a[c] = a_ref[c] - wxd[c];
             const double u0[3] = {0.0, a[1], a[2]}, m0 = sqrt(v3_dot(u0, u0));
             double u[3] = {0.0, u0[1] + v * n[1], u0[2] + v * n[2]}, m = sqrt(v3_dot(u, u));
             for (int c = 0; c < 3; c++)
@@ -144,6 +151,6 @@ int hfm_fuselage(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, hf
         fm->F_B_N[i] = fm->M_B_Nm[i] = 0.0;
     if (U2 >= 1e-8)
         tables(ac, a, U2, fm);
-    return wake_crossflow(ac, k, w, fm);
+    return wake_crossflow(ac, k, w, a, fm);
 }
 
