@@ -104,20 +104,19 @@ int hfm_air_rel_B(const hfm_kin *k, const double r_B[3], double out_B[3])
     return 0;
 }
 
-/* The wake at the depth h_m below the disk (hub axes): the in-plane
- * offset of its cross-section, its velocity growth k and its contracted
- * radius there (the model in the file's header). */
-static void wake_section(const hfm_aircraft *ac, const hfm_wake *w, double h_m, double *off_m,
-                         double *k, double *Rw_m)
+/* The wake at the depth h_m below the disk (hub axes): its velocity
+ * growth k and its contracted radius squared there (the model in the
+ * file's header; the section's centre is h_m tan(chi) along dir_H). */
+static void wake_section(const hfm_aircraft *ac, const hfm_wake *w, double h_m, double *k,
+                         double *Rw2_m2)
 {
     const double R = ac->mr.R, vi = w->vi_mps, vin = w->vin_mps, vax = w->vax_mps;
-    double s = h_m * sqrt(1.0 + w->tan_skew * w->tan_skew);
+    double s = h_m * w->sec_skew;
     double kz = 1.0 + s / sqrt(s * s + R * R);
-    double u0 = hypot(vin, vax + vi), uz = hypot(vin, vax + kz * vi);
-    double c = uz > 1e-9 ? clampd(u0 / uz, 0.25, 1.0) : 1.0;
-    *off_m = h_m * w->tan_skew;
+    double t = vax + kz * vi, uz = sqrt(vin * vin + t * t);
+    double c = uz > 1e-9 ? clampd(w->u0_mps / uz, 0.25, 1.0) : 1.0;
     *k = kz;
-    *Rw_m = R * sqrt(c);
+    *Rw2_m2 = R * R * c;
 }
 
 double hfm_wake_point(const hfm_aircraft *ac, const hfm_wake *w, const double r_B[3],
@@ -130,16 +129,21 @@ double hfm_wake_point(const hfm_aircraft *ac, const hfm_wake *w, const double r_
     m3_tmul(mr->C_BH, d, h);
     if (h[2] <= 0.0)
         return 0.0;
-    double off, kz, Rw;
-    wake_section(ac, w, h[2], &off, &kz, &Rw);
+    double off = h[2] * w->tan_skew, edge = 0.15 * mr->R;
     double dx = h[0] - off * w->dir_H[0], dy = h[1] - off * w->dir_H[1];
-    double dist = sqrt(dx * dx + dy * dy), edge = 0.15 * mr->R, imm;
-    if (dist <= Rw)
-        imm = 1.0;
-    else if (dist >= Rw + edge)
+    double d2 = dx * dx + dy * dy, imm;
+    if (d2 >= (mr->R + edge) * (mr->R + edge)) /* outside even the uncontracted wake */
         return 0.0;
-    else
+    double kz, Rw2;
+    wake_section(ac, w, h[2], &kz, &Rw2);
+    if (d2 <= Rw2) {
+        imm = 1.0;
+    } else {
+        double Rw = sqrt(Rw2), dist = sqrt(d2);
+        if (dist >= Rw + edge)
+            return 0.0;
         imm = 0.5 * (1.0 + cos(CORE_PI * (dist - Rw) / edge));
+    }
     if (speed_mps)
         *speed_mps = imm * kz * w->vi_mps;
     return imm;

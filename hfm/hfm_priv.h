@@ -114,6 +114,8 @@ typedef struct hfm_wake {
     double vi_mps;   /* disk-average induced velocity */
     double vin_mps, vax_mps; /* the wake air through the disk: in-plane speed and
                                 the component down the shaft (induced excluded) */
+    double u0_mps;   /* |vin, vax + vi|: the air's speed through the disk */
+    double sec_skew; /* sqrt(1 + tan_skew^2): path length per depth below the disk */
     double skew_rad; /* wake skew from the shaft (NaN in time simulation,
                         which uses only tan_skew) */
     double tan_skew; /* tan of the skew, held at 89 deg */

@@ -526,6 +526,8 @@ void hfm_rotor_wake(const hfm_aircraft *ac, const hfm_rotor_in *in, double skew,
     w->tan_skew = fmin(h / lt, 57.289961630759425); /* tan 89 deg */
     w->vin_mps = h;
     w->vax_mps = r[2];
+    w->u0_mps = sqrt(h * h + (r[2] + w->vi_mps) * (r[2] + w->vi_mps));
+    w->sec_skew = sqrt(1.0 + w->tan_skew * w->tan_skew);
     w->dir_H[0] = h > 1e-6 ? r[0] / h : 0.0;
     w->dir_H[1] = h > 1e-6 ? r[1] / h : 0.0;
     w->coll_pct = u->collective_pct;
