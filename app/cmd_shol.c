@@ -126,21 +126,9 @@ static void fill_loads(shol_result *r, const couple_ctx *first, const couple_ctx
             if (!p)
                 continue;
             const hfm_loads *L = &p->trim.loads;
-            const hfm_fm *c[5] = {&L->mr, &L->tr, &L->fus, &L->stab, &L->fin};
-            for (int a = 0; a < 3; a++) {
-                double F = L->total.F_B_N[a], M = L->total.M_B_Nm[a];
-                for (int k = 0; k < 5; k++) {
-                    sm->loads.F_B_N[k][a] = c[k]->F_B_N[a];
-                    sm->loads.M_B_Nm[k][a] = c[k]->M_B_Nm[a];
-                    F -= c[k]->F_B_N[a];
-                    M -= c[k]->M_B_Nm[a];
-                }
-                sm->loads.F_B_N[SHOL_COMP_GRAVITY][a] = F;
-                sm->loads.M_B_Nm[SHOL_COMP_GRAVITY][a] = M;
-            }
-            sm->loads.mr_power_W = L->mr_power_W;
-            sm->loads.tr_power_W = L->tr_power_W;
-            sm->loads.valid = 1;
+            const double *F[5] = {L->mr.F_B_N, L->tr.F_B_N, L->fus.F_B_N, L->stab.F_B_N, L->fin.F_B_N};
+            const double *M[5] = {L->mr.M_B_Nm, L->tr.M_B_Nm, L->fus.M_B_Nm, L->stab.M_B_Nm, L->fin.M_B_Nm};
+            shol_loads_set(&sm->loads, F, M, L->total.F_B_N, L->total.M_B_Nm, L->mr_power_W, L->tr_power_W);
         }
     }
 }

@@ -54,6 +54,26 @@ static const char *const comp_words[SHOL_NCOMP] = {"main rotor", "tail rotor", "
 static const char *const budget_names[SHOL_NBUDGET] = {"x_force",     "y_force",      "z_force",
                                                        "roll_moment", "pitch_moment", "yaw_moment"};
 
+void shol_loads_set(shol_loads *out, const double *const F_B_N[SHOL_NCOMP - 1],
+                    const double *const M_B_Nm[SHOL_NCOMP - 1], const double total_F_B_N[3],
+                    const double total_M_B_Nm[3], double mr_power_W, double tr_power_W)
+{
+    for (int a = 0; a < 3; a++) {
+        double F = total_F_B_N[a], M = total_M_B_Nm[a];
+        for (int k = 0; k < SHOL_NCOMP - 1; k++) {
+            out->F_B_N[k][a] = F_B_N[k][a];
+            out->M_B_Nm[k][a] = M_B_Nm[k][a];
+            F -= F_B_N[k][a];
+            M -= M_B_Nm[k][a];
+        }
+        out->F_B_N[SHOL_COMP_GRAVITY][a] = F;
+        out->M_B_Nm[SHOL_COMP_GRAVITY][a] = M;
+    }
+    out->mr_power_W = mr_power_W;
+    out->tr_power_W = tr_power_W;
+    out->valid = 1;
+}
+
 const char *shol_comp_name(int comp)
 {
     return comp >= 0 && comp < SHOL_NCOMP ? comp_names[comp] : NULL;

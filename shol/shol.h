@@ -101,6 +101,12 @@ typedef struct shol_loads {
     double M_B_Nm[SHOL_NCOMP][3];
     double mr_power_W, tr_power_W;
 } shol_loads;
+/* Fill *out (valid = 1) from the flight model's components in SHOL_COMP
+ * order without the gravity (F_B_N[k], M_B_Nm[k]: 3 each) and their sum
+ * with the gravity: the gravity's row is what that sum holds beyond them. */
+void shol_loads_set(shol_loads *out, const double *const F_B_N[SHOL_NCOMP - 1],
+                    const double *const M_B_Nm[SHOL_NCOMP - 1], const double total_F_B_N[3],
+                    const double total_M_B_Nm[3], double mr_power_W, double tr_power_W);
 
 /* A trimmed state: attitude and pilot controls. */
 typedef struct shol_trim_point {

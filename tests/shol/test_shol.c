@@ -1621,21 +1621,10 @@ static void hfm_sample(hfm_trim *tr, double v, double dir, shol_sample *sm)
     sm->trim_status = rc == 0 && t.converged ? 0 : 1;
     sm->trim = (shol_trim_point){t.body.euler_rad[0], t.body.euler_rad[1], t.u.long_pct,
                                  t.u.lat_pct,        t.u.collective_pct, t.u.pedal_pct};
-    const hfm_fm *fm[5] = {&t.loads.mr, &t.loads.tr, &t.loads.fus, &t.loads.stab, &t.loads.fin};
-    for (int a = 0; a < 3; a++) {
-        double F = t.loads.total.F_B_N[a], M = t.loads.total.M_B_Nm[a];
-        for (int k = 0; k < 5; k++) {
-            sm->loads.F_B_N[k][a] = fm[k]->F_B_N[a];
-            sm->loads.M_B_Nm[k][a] = fm[k]->M_B_Nm[a];
-            F -= fm[k]->F_B_N[a];
-            M -= fm[k]->M_B_Nm[a];
-        }
-        sm->loads.F_B_N[SHOL_COMP_GRAVITY][a] = F;
-        sm->loads.M_B_Nm[SHOL_COMP_GRAVITY][a] = M;
-    }
-    sm->loads.mr_power_W = t.loads.mr_power_W;
-    sm->loads.tr_power_W = t.loads.tr_power_W;
-    sm->loads.valid = 1;
+    const hfm_loads *L = &t.loads;
+    const double *F[5] = {L->mr.F_B_N, L->tr.F_B_N, L->fus.F_B_N, L->stab.F_B_N, L->fin.F_B_N};
+    const double *M[5] = {L->mr.M_B_Nm, L->tr.M_B_Nm, L->fus.M_B_Nm, L->stab.M_B_Nm, L->fin.M_B_Nm};
+    shol_loads_set(&sm->loads, F, M, L->total.F_B_N, L->total.M_B_Nm, L->mr_power_W, L->tr_power_W);
 }
 
 /* Pedal in a 30 km/h beam wind from either side against the calm hover.
