@@ -661,6 +661,7 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
         load_controls(&r, &ac->rig) || load_sas(&r, ac) || load_gear(&r, ac) ||
         load_cockpit(&r, ac) || load_power(&r, ac))
         goto fail;
+    hfm_fuselage_cells(ac);
     core_ini_skip_section(ini, "rejection");
     if (core_ini_check_unused(ini, err) || hfm_aircraft_check(ac, ini, log, err))
         goto fail;

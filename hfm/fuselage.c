@@ -83,34 +83,43 @@ static double plan_width(const hfm_fus *f, double x)
     return 0.0;
 }
 
-/* The main-rotor wake on the planform: on each cell (at most 0.15 R
- * wide, hfm_wake_cells) the increment of the cross-flow drag
- * 0.5 rho Cc A |u| u (u the air velocity normal to the body axis) that the
- * wake velocity w adds to the air's own cross-flow, applied at the cell;
- * Cc A is the table's drag at 90 deg shared by the cells by area (a
- * planform of zero area: all of it at the reference point). */
-static int wake_crossflow(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w,
-                          const double a_ref[3], hfm_fm *fm)
+void hfm_fuselage_cells(hfm_aircraft *ac)
 {
-    const hfm_fus *f = &ac->fus;
+    hfm_fus *f = &ac->fus;
     const double fore = f->plan_x_B[0], len = fore - f->plan_x_B[f->plan_n - 1];
     double wmax = 0.0;
     for (int i = 0; i < f->plan_n; i++)
         wmax = fmax(wmax, f->plan_w[i]);
     const int na = hfm_wake_cells(ac, len, HFM_WAKE_MAX_CELLS);
     const int nb = hfm_wake_cells(ac, wmax, HFM_WAKE_MAX_CELLS);
-    double wid[HFM_WAKE_MAX_CELLS], area = 0.0;
+    double area = 0.0;
     for (int i = 0; i < na; i++) {
-        wid[i] = plan_width(f, fore - (i + 0.5) * len / na);
-        area += wid[i];
+        f->cell_x[i] = fore - (i + 0.5) * len / na;
+        f->cell_w[i] = plan_width(f, f->cell_x[i]);
+        area += f->cell_w[i];
     }
     const double D90 = 0.5 * ac->mr.rho * hfm_table_eval(&f->drag, 0.5 * CORE_PI);
+    for (int i = 0; i < na; i++)
+        f->cell_cA[i] = D90 * (area > 0.0 ? f->cell_w[i] / (area * nb) : 1.0 / (na * nb));
+    f->cell_na = na;
+    f->cell_nb = nb;
+}
+
+/* The main-rotor wake on the planform: on each cell (hfm_fuselage_cells)
+ * the increment of the cross-flow drag 0.5 rho Cc A |u| u (u the air
+ * velocity normal to the body axis) that the wake velocity w adds to the
+ * air's own cross-flow, applied at the cell; Cc A is the table's drag at
+ * 90 deg shared by the cells by area (a planform of zero area: all of it
+ * at the reference point). */
+static void wake_crossflow(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w,
+                           const double a_ref[3], hfm_fm *fm)
+{
+    const hfm_fus *f = &ac->fus;
+    const int nb = f->cell_nb;
     const double n[3] = {0.0, ac->mr.C_BH[1][2], ac->mr.C_BH[2][2]}; /* the shaft, across the body */
-    for (int i = 0; i < na; i++) {
-        double x = fore - (i + 0.5) * len / na;
-        double share = area > 0.0 ? wid[i] / (area * nb) : 1.0 / (na * nb);
+    for (int i = 0; i < f->cell_na; i++) {
         for (int j = 0; j < nb; j++) {
-            double p[3] = {x, f->ref_B[1] + (-0.5 + (j + 0.5) / nb) * wid[i], f->ref_B[2]};
+            double p[3] = {f->cell_x[i], f->ref_B[1] + (-0.5 + (j + 0.5) / nb) * f->cell_w[i], f->ref_B[2]};
             double v, df[3], dm[3], a[3], d[3], wxd[3];
             if (hfm_wake_point(ac, w, p, &v) <= 0.0)
                 continue;
@@ -128,7 +137,7 @@ static int wake_crossflow(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wa
             const double u0[3] = {0.0, a[1], a[2]}, m0 = sqrt(v3_dot(u0, u0));
             double u[3] = {0.0, u0[1] + v * n[1], u0[2] + v * n[2]}, m = sqrt(v3_dot(u, u));
             for (int c = 0; c < 3; c++)
-                df[c] = D90 * share * (m * u[c] - m0 * u0[c]);
+                df[c] = f->cell_cA[i] * (m * u[c] - m0 * u0[c]);
             v3_cross(p, df, dm);
             for (int c = 0; c < 3; c++) {
                 fm->F_B_N[c] += df[c];
@@ -136,7 +145,6 @@ static int wake_crossflow(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wa
             }
         }
     }
-    return 0;
 }
 
 int hfm_fuselage(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, hfm_fm *fm,
@@ -145,12 +153,12 @@ int hfm_fuselage(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, hf
     double a[3];
     if (hfm_air_rel_B(k, ac->fus.ref_B, a))
         return -1;
-    *airspeed = sqrt(v3_dot(a, a));
     double U2 = v3_dot(a, a);
+    *airspeed = sqrt(U2);
     for (int i = 0; i < 3; i++)
         fm->F_B_N[i] = fm->M_B_Nm[i] = 0.0;
     if (U2 >= 1e-8)
         tables(ac, a, U2, fm);
-    return wake_crossflow(ac, k, w, a, fm);
+    wake_crossflow(ac, k, w, a, fm);
+    return 0;
 }
-

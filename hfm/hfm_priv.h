@@ -23,8 +23,10 @@ typedef struct hfm_airfoil {
     double mdd0;
 } hfm_airfoil;
 
+#define HFM_PLAN_MAX 12       /* fuselage planform stations */
+#define HFM_WAKE_MAX_CELLS 16 /* wake cells along a side of a part (body.c) */
+
 /* A piecewise-linear table y(x), clamped at its ends. */
-#define HFM_PLAN_MAX 12 /* fuselage planform stations */
 typedef struct hfm_table {
     int n;
     double x[HFM_TAB_MAX], y[HFM_TAB_MAX];
@@ -63,6 +65,11 @@ typedef struct hfm_fus {
     double side_m2;                     /* slender-body side force Y/q = -side sin b cos b */
     int plan_n;                         /* wake planform: stations fore to aft (>= 2) */
     double plan_x_B[HFM_PLAN_MAX], plan_w[HFM_PLAN_MAX]; /* body x and width there (m) */
+    /* derived (hfm_fuselage_cells): the planform's cells for the wake,
+     * cell_na along x by cell_nb across, at cell_x with width cell_w, each
+     * of the row carrying cell_cA of the cross-flow drag's 0.5 rho Cc A */
+    int cell_na, cell_nb;
+    double cell_x[HFM_WAKE_MAX_CELLS], cell_w[HFM_WAKE_MAX_CELLS], cell_cA[HFM_WAKE_MAX_CELLS];
 } hfm_fus;
 
 enum { HFM_STAB_FIXED = 0, HFM_STAB_UH60A = 1 };
@@ -182,14 +189,13 @@ int hfm_air_rel_B(const hfm_kin *k, const double r_B[3], double out_B[3]);
 void hfm_body_accel(const hfm_aircraft *ac, const hfm_body *b, hfm_loads *L);
 /* The immersion (0..1) of a body point in the main-rotor wake, and where
  * speed_mps is not NULL the wake's velocity there along the shaft (m/s,
- * down the shaft positive): immersion x axial growth x local disk inflow. */
+ * down the shaft positive): immersion x axial growth x the disk's vi. */
 double hfm_wake_point(const hfm_aircraft *ac, const hfm_wake *w, const double r_B[3],
                       double *speed_mps);
 /* The mean wake velocity (m/s along the shaft) over the parallelogram
  * c_B + s a_B + t b_B (s, t in [-1, 1]; a_B, b_B its half-sides, m), on
  * cells at most 0.15 R wide (at most HFM_WAKE_MAX_CELLS along a side); a
  * zero half-side is one cell. */
-#define HFM_WAKE_MAX_CELLS 16
 /* Cells along an extent of len_m: at most 0.15 R wide, 1 to nmax of them. */
 int hfm_wake_cells(const hfm_aircraft *ac, double len_m, int nmax);
 double hfm_wake_speed_patch(const hfm_aircraft *ac, const hfm_wake *w, const double c_B[3],
@@ -251,6 +257,9 @@ int hfm_tailrotor(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, d
                   hfm_fm *fm, double *thrust, double *power);
 int hfm_fuselage(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, hfm_fm *fm,
                  double *airspeed);
+/* Derive the planform's wake cells (hfm_fus.cell_*) once the main rotor
+ * (its radius, the air's density) and the fuselage are loaded. */
+void hfm_fuselage_cells(hfm_aircraft *ac);
 int hfm_empennage(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, hfm_fm *stab,
                   hfm_fm *fin, double *incidence);
 double hfm_stab_schedule_uh60a(const hfm_wake *w);

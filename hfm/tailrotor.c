@@ -44,12 +44,12 @@ int hfm_tailrotor(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, d
     /* the coning's flap moment stops at the tip-loss radius too */
     double B2 = B * B, B3 = B2 * B, B4 = B3 * B, B5 = B4 * B;
     double den = 1.0 + K * g8 * (B4 + mu2 * B2);
-    double c1 = B * B * B / 3.0 + mu2 * B / 2.0, c2 = B * B * B * B / 4.0 + mu2 * B * B / 4.0;
+    double c1 = B3 / 3.0 + mu2 * B / 2.0, c2 = B4 / 4.0 + mu2 * B * B / 4.0;
     double km = t->kind == HFM_TR_FENESTRON ? 1.0 : 2.0, ff = t->fan_fraction;
     /* CT_fan(lambda) = a0 + a1 lambda (linear through the delta-3 solve) */
     double thA = (th0 - K * g8 * 0.8 * tw * (B5 + 5.0 / 6.0 * mu2 * B3)) / den;
     double thL = K * g8 * (4.0 / 3.0) * B3 / den;
-    double a0 = sa2 * (thA * c1 + tw * c2), a1 = sa2 * (thL * c1 - B * B / 2.0);
+    double a0 = sa2 * (thA * c1 + tw * c2), a1 = sa2 * (thL * c1 - B2 / 2.0);
     /* first guess from momentum with the thrust at lambda = lambda_c (exact
      * in hover for a1 = 0, CT/(k mu) in edgewise flight); Newton from it */
     double ct0 = (a0 + a1 * lc) / ff;
