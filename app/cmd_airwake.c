@@ -72,7 +72,7 @@ static int parse_double(const char *flag, const char *s, double lo, double hi, d
 static int queue_request(const char *db_dir, const awdb_key *key, const core_log *log)
 {
     awdb_key k = *key;
-    core_err err = {{0}};
+    core_err err = {0};
     awdb *db = awdb_open(db_dir, log, &err);
     awdb_state before;
     if (!db || awdb_submit(db, &k, &before, &err) != 0) {
@@ -96,7 +96,7 @@ static int rotor_from_trim(const sim_scenario *sc, double speed, double dir, int
                            const core_log *log)
 {
 #ifdef DISIM_HAVE_SHOL_CMD
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load(sc->aircraft_path, log, &err);
     if (!ac) {
         fprintf(stderr, "disim airwake: %s\n", err.msg);
@@ -263,7 +263,7 @@ static int airwake_key(const sim_scenario *sc, const airwake_args *o, double spe
         key->thrust_N = o->thrust_N;
     if (!isnan(o->radius_m))
         key->radius_m = o->radius_m;
-    core_err err = {{0}};
+    core_err err = {0};
     if (awdb_key_canon(key, &err) != 0) {
         fprintf(stderr, "disim airwake: %s\n", err.msg);
         return 1;
@@ -292,7 +292,7 @@ static cfd_field *airwake_zone(const sim_scenario *sc, const airwake_args *o, co
         memcpy(sp->disk.centre_m, hub.station_S_m, sizeof sp->disk.centre_m);
         sp->disk.radius_m = hub.radius_m;
     }
-    core_err err = {{0}};
+    core_err err = {0};
     cfd_field *outer = cfd_field_load(o->zone, &err);
     const cfd_meta *om = outer ? cfd_field_meta(outer) : NULL;
     const char *why = !outer                                 ? err.msg
@@ -336,7 +336,7 @@ static void airwake_grid_name(const airwake_args *o, core_grid_level level, char
 static int airwake_solve(const airwake_args *o, const cfd_airwake_spec *sp, const awdb_key *key,
                          const core_log *log)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     progress_state ps = {isatty(2), -1.0};
     cfd_solver *s = cfd_airwake_create(sp, log, progress_print, &ps, &err);
     if (!s) {
@@ -402,7 +402,7 @@ int cmd_airwake(int argc, char **argv)
     sim_scenario *sc = malloc(sizeof *sc);
     if (!sc)
         return 1;
-    core_err err = {{0}};
+    core_err err = {0};
     if (sim_scenario_load(o.scen, sc, &err)) {
         fprintf(stderr, "disim airwake: %s\n", err.msg);
         free(sc);
@@ -487,7 +487,7 @@ int cmd_probe(int argc, char **argv)
         fprintf(stderr, "disim probe: --line: expected X0,Y0,Z0:X1,Y1,Z1:N with N in [1, 1000000], got '%s'\n", line);
         return 1;
     }
-    core_err err = {{0}};
+    core_err err = {0};
     cfd_field *f = cfd_field_load(path, &err);
     if (!f) {
         fprintf(stderr, "disim probe: %s\n", err.msg);
@@ -557,7 +557,7 @@ int cmd_validate(int argc, char **argv)
     cfd_report *rep = malloc(sizeof *rep);
     if (!rep)
         return 1;
-    core_err err = {{0}};
+    core_err err = {0};
     int rc = cfd_validate(name, small, data, NULL, &log, progress_print, &ps, rep, &err);
     progress_end(&ps);
     if (rc) {

@@ -178,7 +178,7 @@ static void on_request(daemon_ctx *c, const disim_airwake_request_t *m)
     k.shaft_pitch_rad = m->shaft_pitch_rad;
     k.shaft_roll_rad = m->shaft_roll_rad;
     k.grid = core_grid_parse(m->grid); /* one of the three: lcm_types checked the message */
-    core_err e = {{0}};
+    core_err e = {0};
     awdb_state before;
     if (awdb_submit(c->db, &k, &before, &e) != 0) {
         core_log_msg(c->log, CORE_LOG_WARN, "refused LCM request %s: %s", m->request_id, e.msg);
@@ -281,7 +281,7 @@ int cmd_airwaked(int argc, char **argv)
         jobs = 1;
     app_log al = {"airwaked", 0};
     core_log log = {app_log_stderr, &al, CORE_LOG_INFO};
-    core_err err = {{0}};
+    core_err err = {0};
     awdb *db = awdb_open(dir, &log, &err);
     awdb_embedded *emb = db ? awdb_embedded_create(ships, (int)max_iter, (int)(ncores / jobs > 0 ? ncores / jobs : 1), &log, &err) : NULL;
     if (!db || !emb) {

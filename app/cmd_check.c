@@ -49,7 +49,7 @@ static int file_kind(const char *path, core_err *err)
  * rejection criteria. 0, or 1 after printing the error. */
 static int check_aircraft(const char *path, const core_log *log, char *name, size_t n)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load(path, log, &err);
     if (!ac) {
         fprintf(stderr, "disim check: %s\n", err.msg);
@@ -87,7 +87,7 @@ static int check_aircraft(const char *path, const core_log *log, char *name, siz
 
 static int check_ship(const char *path, const core_log *log, char *name, size_t n)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     core_ship *ship = malloc(sizeof *ship);
     if (!ship)
         return 1;
@@ -112,7 +112,7 @@ static int check_scenario(const char *path, const core_log *log, char *name, siz
     sim_scenario *sc = malloc(sizeof *sc);
     if (!sc)
         return 1;
-    core_err err = {{0}};
+    core_err err = {0};
     if (sim_scenario_load(path, sc, &err)) {
         fprintf(stderr, "disim check: %s\n", err.msg);
         free(sc);
@@ -144,7 +144,7 @@ int cmd_check(int argc, char **argv)
     const char *path = argv[1];
     app_log al = {"disim check", isatty(2)};
     core_log log = {app_log_stderr, &al, CORE_LOG_WARN};
-    core_err err = {{0}};
+    core_err err = {0};
     int kind = file_kind(path, &err);
     if (kind < 0) {
         fprintf(stderr, "disim check: %s\n", err.msg);

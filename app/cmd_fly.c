@@ -85,7 +85,7 @@ typedef struct fly_args {
 static void fly_scenario_pilot(fly_args *o)
 {
     sim_scenario *sc = malloc(sizeof *sc);
-    core_err err = {{0}};
+    core_err err = {0};
     if (!sc || sim_scenario_load(o->scen, sc, &err) != 0) {
         free(sc);
         return;
@@ -116,7 +116,7 @@ static void fly_scenario_pilot(fly_args *o)
 static int fly_parse_render(fly_args *o, const char *a, const char *v)
 {
     const char *P = "disim fly";
-    core_err err = {{0}};
+    core_err err = {0};
     if (!strcmp(a, "--render")) {
         o->render_dir = v;
         return 0;
@@ -408,7 +408,7 @@ static int coupled_candidate(void *user, const awdb_key *k)
         kz.zone_ref_mps = k->zone_ref_mps;
         memcpy(kz.station_S_m, p->sc->station_S_m, sizeof kz.station_S_m);
         kz.radius_m = k->radius_m;
-        core_err e2 = {{0}};
+        core_err e2 = {0};
         if (awdb_key_canon(&kw, &e2) || awdb_key_canon(&kz, &e2) || awdb_query(p->db, &kw, wp, sizeof wp) != AWDB_READY ||
             awdb_query(p->db, &kz, zp, sizeof zp) != AWDB_READY)
             return 0;
@@ -1027,7 +1027,7 @@ int cmd_fly(int argc, char **argv)
         return rc;
     if (o.render_dir)
         fly_render_threads(); /* before any thread or GL context */
-    core_err err = {{0}};
+    core_err err = {0};
     int tty = isatty(2);
     app_log al = {"fly", tty};
     core_log log = {app_log_stderr, &al, CORE_LOG_WARN};

@@ -28,7 +28,7 @@
 
 static int parse_size(const char *v, int *w, int *h)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     if (render_size_parse(v, w, h, &err) != 0) {
         fprintf(stderr, "disim render: --size %s\n", err.msg);
         return -1;
@@ -63,7 +63,7 @@ static int parse_cameras(const char *list, unsigned *bits)
     snprintf(buf, sizeof buf, "%s", list);
     for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
         render_camera_kind k;
-        core_err err = {{0}};
+        core_err err = {0};
         if (!strcmp(tok, "all"))
             *bits |= (1u << RENDER_CAM_COUNT) - 1u;
         else if (render_camera_parse(tok, &k, &err) == 0)
@@ -100,7 +100,7 @@ static int is_ini(const char *p)
 static int render_still(const render_args *a)
 {
     sim_scenario *sc = malloc(sizeof *sc);
-    core_err err = {{0}};
+    core_err err = {0};
     if (!sc || sim_scenario_load(a->in, sc, &err)) {
         fprintf(stderr, "disim render: %s\n", sc ? err.msg : "out of memory");
         free(sc);
@@ -288,7 +288,7 @@ out:
 
 static int render_log(const render_args *a)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     int tty = isatty(2);
     app_log al = {"render", tty};
     core_log log = {app_log_stderr, &al, CORE_LOG_WARN};
@@ -394,7 +394,7 @@ int cmd_render(int argc, char **argv)
             fprintf(stderr, "disim render: %s: expected a value\n", f);
             return 2;
         }
-        core_err err = {{0}};
+        core_err err = {0};
         if (!strcmp(f, "-o"))
             a.out = v;
         else if (!strcmp(f, "--size")) {

@@ -449,7 +449,7 @@ int cmd_shol(int argc, char **argv)
     int tty = isatty(2);
     app_log al = {"shol", tty};
     core_log log = {app_log_stderr, &al, CORE_LOG_INFO};
-    core_err err = {{0}};
+    core_err err = {0};
     sim_scenario *sc = calloc(1, sizeof *sc);
     hfm_aircraft *ac = NULL;
     awdb *db = NULL;

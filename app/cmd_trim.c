@@ -43,7 +43,7 @@ static void usage(void)
 static int field_trims(const char *path, hfm_trim *tr, hfm_trim_cond *c, int have_dir, const double cg_S[3],
                        const double *mps, const double *kt, int n, hfm_trim_result *res)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     cfd_field *f = cfd_field_load(path, &err);
     if (!f) {
         fprintf(stderr, "disim trim: --field: %s\n", err.msg);
@@ -193,7 +193,7 @@ int cmd_trim(int argc, char **argv)
         }
         mps[i] = kt[i] * CORE_KT_TO_MPS;
     }
-    core_err err = {{0}};
+    core_err err = {0};
     app_log al = {NULL, 0};
     core_log log = {app_log_stderr, &al, CORE_LOG_WARN};
     ac = hfm_aircraft_load(ac_path, &log, &err);

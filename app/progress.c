@@ -94,7 +94,7 @@ void app_progress_wait(void *user, const awdb_key *key, double waited_s)
     if (!fresh && pw->last_s >= 0.0 && waited_s - pw->last_s < pw->period_s)
         return;
     awdb_progress st;
-    core_err err = {{0}};
+    core_err err = {0};
     if (awdb_progress_read(pw->db, &st, &err) != 0)
         return; /* the wait's own checks report a database that went away */
     pw->last_s = waited_s;

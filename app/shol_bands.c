@@ -52,7 +52,7 @@ static int ready_dirs(awdb *db, const hfm_aircraft *ac, const core_ship *ship, c
     for (int d = 0; d < set->n_dirs; d++) {
         awdb_key k;
         awdb_key_ship_only(&k, ship->name, hfm_aircraft_name(ac), cs->ref_speed_mps, set->dirs_rad[d], level);
-        core_err e = {{0}};
+        core_err e = {0};
         if (awdb_key_canon(&k, &e) == 0 && awdb_query(db, &k, NULL, 0) == AWDB_READY)
             out->dirs_rad[out->n_dirs++] = set->dirs_rad[d];
     }

@@ -311,7 +311,7 @@ static int verify_field(awdb *db, const char *name, char *path, size_t n, seen *
             return 1;
         }
     pthread_mutex_unlock(&db->lock);
-    core_err err = {{0}};
+    core_err err = {0};
     uint64_t want_size, want_crc, size, crc;
     awdb_key sk;
     if (read_sum(sum, &want_size, &want_crc, &sk, &err) != 0) {
@@ -649,7 +649,7 @@ static int read_run_progress(const awdb *db, awdb_run_progress *r)
     char path[AWDB_PATH];
     if (awdb_fmt(path, sizeof path, "%s/running/%s.prog", db->dir, r->name) < 0)
         return 0;
-    core_err err = {{0}};
+    core_err err = {0};
     core_ini *ini = core_ini_load(path, &err);
     if (!ini)
         return 0;
@@ -755,7 +755,7 @@ int awdb_list(awdb *db, awdb_list_fn fn, void *user, core_err *err)
         awdb_fmt(sp, sizeof sp, "%s/%s", p, e->d_name);
         uint64_t size, crc;
         awdb_key k;
-        core_err e2 = {{0}};
+        core_err e2 = {0};
         if (read_sum(sp, &size, &crc, &k, &e2) != 0)
             continue; /* a torn or foreign entry: not a field */
         n++;

@@ -176,7 +176,7 @@ static void *run_job(void *arg)
     char running[AWDB_PATH], tmp[AWDB_PATH + 64], warm[AWDB_PATH], path[AWDB_PATH];
     awdb_path(db, running, sizeof running, "running", j->name, ".req");
     awdb_fmt(tmp, sizeof tmp, "%s/fields/.tmp-%s.h5", db->dir, j->name);
-    core_err err = {{0}};
+    core_err err = {0};
     if (awdb_query(db, &j->key, path, sizeof path) == AWDB_READY) {
         /* Built by someone else since it was queued (or before a crash). */
         remove(running);
@@ -212,7 +212,7 @@ static void *run_job(void *arg)
         rename(running, q);
         status(b, &j->key, AWDB_QUEUED, 0.0, 0.0, 0, "", "builder stopped");
     } else if (rc != 0) {
-        core_err werr = {{0}};
+        core_err werr = {0};
         /* if it cannot be written, the reason lives in the log only */
         if (write_failure(db, j->name, err.msg[0] ? err.msg : "engine failed", &werr) != 0)
             core_log_msg(db->log, CORE_LOG_ERROR, "%s", werr.msg);
@@ -320,7 +320,7 @@ static int held_back(builder *b, const char *q, char **names, size_t i)
 {
     if (!b->engine->source)
         return 0;
-    core_err err = {{0}};
+    core_err err = {0};
     core_ini *ini = core_ini_load(q, &err);
     awdb_key key, src;
     int ok = ini && awdb_key_read(ini, &key, &err) == 0;
@@ -382,7 +382,7 @@ static int claim(builder *b, job *j)
         awdb_fmt(j->name, sizeof j->name, "%.*s", (int)(strlen(stem) - 4), stem);
         awdb_path(db, run, sizeof run, "running", j->name, ".req");
         core_ini *ini = NULL;
-        core_err err = {{0}};
+        core_err err = {0};
         if (link(q, run) != 0) {
             /* Already running: this is a duplicate request. Gone (ENOENT):
              * another builder or a clean-up took it. Anything else (a file
@@ -399,7 +399,7 @@ static int claim(builder *b, job *j)
             } else if (lasting) {
                 char text[1200];
                 awdb_fmt(text, sizeof text, "cannot claim the request: link %s -> %s: %s", q, run, strerror(e));
-                core_err werr = {{0}};
+                core_err werr = {0};
                 if (write_failure(db, j->name, text, &werr) == 0) /* the reason kept, or the request stays */
                     remove(q);
                 core_log_msg(db->log, CORE_LOG_ERROR, "%s: cannot claim it (link to running/: %s)%s%s", names[i],
@@ -421,7 +421,7 @@ static int claim(builder *b, job *j)
              * rotor on, a positive mean load...): a request written by
              * another program is held to them too, and built as the
              * canonical key its name stands for. */
-            core_err cerr = {{0}};
+            core_err cerr = {0};
             if (awdb_key_canon(&j->key, &cerr) != 0)
                 rc = core_err_set(&err, -1, "%s: %s", run, cerr.msg);
         }

@@ -190,7 +190,7 @@ static int mirror_source(void *user, const awdb_key *k, awdb_key *src)
     src->wod_dir_rad = -d;
     src->station_S_m[1] = -k->station_S_m[1];
     src->shaft_roll_rad = -k->shaft_roll_rad;
-    core_err err = {{0}};
+    core_err err = {0};
     return awdb_key_canon(src, &err) == 0;
 }
 

@@ -56,10 +56,18 @@ typedef struct core_log {
 void core_log_msg(const core_log *log, int level, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
-/* An error message buffer that functions fill on failure ("file:line: ..."). */
+/* An error that functions fill on failure: the message ("file:line: ...")
+ * for people, the code for callers, who branch on it and never on the
+ * message's text. core_err_set stores the code it returns. */
 typedef struct core_err {
     char msg[1024];
+    int code;
 } core_err;
+/* Codes a caller tells apart (< 0 fatal, > 0 recoverable). */
+enum {
+    CORE_ERR_FAIL = -1,   /* fatal: the message says what */
+    CORE_ERR_NO_TRIM = 2, /* the trim did not converge: a rejection, not a failure */
+};
 
 /* A growing text buffer for reports (plain data; zero-initialise it).
  * core_str_printf appends formatted text, growing the buffer as needed;

@@ -23,6 +23,7 @@ int core_err_set(core_err *err, int code, const char *fmt, ...)
         va_start(ap, fmt);
         vsnprintf(err->msg, sizeof err->msg, fmt, ap);
         va_end(ap);
+        err->code = code;
     }
     return code;
 }

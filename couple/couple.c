@@ -495,7 +495,7 @@ int couple_shol_trim(void *user, double v, double dir, shol_trim_point *out)
         c->caphist = cap;
     }
     couple_point *p = &c->hist[c->nhist];
-    core_err err = {{0}};
+    core_err err = {0};
     int rc = couple_trim(c, v, dir, p, &err);
     if (rc < 0) {
         snprintf(c->last_error, sizeof c->last_error, "%s", err.msg);

@@ -129,7 +129,7 @@ static void live_draw(render_live *l, render_ctx *rc, live_out *out, const rende
         if (!(l->o.cameras & (1u << c)))
             continue;
         uint8_t *rgba = out->rgba[c];
-        core_err e = {{0}};
+        core_err e = {0};
         char what[160];
         snprintf(what, sizeof what, "t = %.3f s, camera %s", s->t_s, render_camera_name((render_camera_kind)c));
         double t0 = core_monotonic_s();
@@ -184,7 +184,7 @@ static void live_warm(render_live *l, render_ctx *rc, uint8_t **rgba)
     s.heli.pos_E_m = core_vec3_make(0.0, 0.0, -10.0);
     for (int c = 0; c < RENDER_CAM_COUNT; c++) {
         render_view v;
-        core_err e = {{0}};
+        core_err e = {0};
         if ((l->o.cameras & (1u << c)) && render_camera_place((render_camera_kind)c, &l->sc, &s, &v, &e) == 0)
             render_frame(rc, &l->sc, &s, &v, rgba[c], &e);
     }
@@ -201,7 +201,7 @@ static void *live_main(void *arg)
     for (int c = 0; c < RENDER_CAM_COUNT; c++)
         out.last_k[c] = -1;
     render_ctx *rc = NULL;
-    core_err e = {{0}};
+    core_err e = {0};
     for (int c = 0; c < RENDER_CAM_COUNT && l->rc == 0; c++)
         if ((l->o.cameras & (1u << c)) && !(out.rgba[c] = malloc((size_t)4 * l->o.width * l->o.height))) {
             core_err_set(&e, -1, "out of memory");

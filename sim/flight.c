@@ -298,7 +298,8 @@ static int hover_start(sim_flight *f, hfm_body *bE, hfm_rotor_harm *rh, core_err
     int rc = hfm_trim_solve(tr, &cond, NULL, &r);
     hfm_trim_destroy(tr);
     if (rc != 0) {
-        core_err_set(err, -1, "flight: the hover at (%.2f, %.2f, %.2f) m in S in %.2f m/s from %.1f deg %s",
+        core_err_set(err, rc > 0 ? CORE_ERR_NO_TRIM : CORE_ERR_FAIL,
+                     "flight: the hover at (%.2f, %.2f, %.2f) m in S in %.2f m/s from %.1f deg %s",
                      o->station_S_m[0], o->station_S_m[1], o->station_S_m[2], o->wod_speed_mps,
                      o->wod_dir_rad * CORE_RAD_TO_DEG, rc > 0 ? "does not trim" : "failed to evaluate");
         return -1;

@@ -183,7 +183,7 @@ static int flight_start(const sim_fly_task *t, double wod_speed_mps, double wod_
         fo.sas = 0;
     memcpy(fo.station_S_m, station_S_m, sizeof fo.station_S_m);
     if (!(*fl = sim_flight_create(t->ac, &t->ship, &fo, sim_ship_motion_frame_fn, *motion, field, t->log, err)))
-        return strstr(err->msg, "does not trim") ? 1 : -1;
+        return err->code == CORE_ERR_NO_TRIM ? 1 : -1;
     return 0;
 }
 
@@ -222,7 +222,7 @@ static void exceeded_cause(const shol_flown_track *k, char *cause, size_t n)
 static int run_replay(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
                       const struct cfd_field *field, struct shol_flight *out)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     int rc = -1;
     sim_ship_motion *motion = NULL;
     sim_flight *fl = NULL;
@@ -247,7 +247,7 @@ static int run_replay(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad,
     sim_flight_inputs in;
     sim_flight_trim_inputs(fl, &in);
     if (!(pilot = sim_pilot_replay_create(t->ac, ref, &po, &in, t->log, &err))) {
-        if (strstr(err.msg, "does not trim"))
+        if (err.code == CORE_ERR_NO_TRIM)
             goto no_trim;
         goto fatal;
     }
@@ -329,7 +329,7 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
     shol_flown_track_init(&out->track, &t->crit, &j);
     if (t->replay)
         return run_replay(t, wod_speed_mps, wod_dir_rad, seed, field, out);
-    core_err err = {{0}};
+    core_err err = {0};
     int rc = -1;
     sim_ship_motion *motion = NULL;
     sim_flight *fl = NULL;
@@ -354,7 +354,7 @@ int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, 
     sim_flight_inputs in;
     sim_flight_trim_inputs(fl, &in);
     if (!(pilot = sim_pilot_auto_create(t->ac, &t->task, &po, &in, t->log, &err))) {
-        if (strstr(err.msg, "does not trim"))
+        if (err.code == CORE_ERR_NO_TRIM)
             goto no_trim;
         goto fatal;
     }
@@ -433,7 +433,7 @@ int sim_fly_task_shol(void *user, double wod_speed_mps, double wod_dir_rad, unsi
     sim_fly_task_user *u = user;
     const struct cfd_field *f = NULL;
     if (u->field && wod_speed_mps > 0.0) { /* calm air needs no field (it scales to zero) */
-        core_err err = {{0}};
+        core_err err = {0};
         if (u->field(u->field_user, wod_dir_rad, &f, &err) != 0) {
             snprintf(u->task->err, sizeof u->task->err, "%.1000s", err.msg);
             return -1;

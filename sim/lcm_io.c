@@ -688,7 +688,7 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
     snprintf(l->scenario_path, sizeof l->scenario_path, "%s", o->scenario_path);
     l->o.scenario_path = l->scenario_path;
     if (o->pilot_source_id) {
-        core_err e = {{0}};
+        core_err e = {0};
         if (sim_station_id_check(o->pilot_source_id, &e) != 0) {
             core_err_set(err, -1, "flight loop: pilot_source_id: %s", e.msg);
             free(l);
@@ -790,7 +790,7 @@ static int do_controls(sim_loop *l, core_err *err)
         } else {
             const char *path = c->command == DISIM_SIM_CONTROL_T_RESET ? l->scenario_path : c->path;
             sim_loop_world w = {0};
-            core_err e = {{0}};
+            core_err e = {0};
             if (l->build(l->user, path, &w, &e) != 0 || !w.flight) {
                 char why[256];
                 snprintf(why, sizeof why, "%s refused: %.200s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "load",

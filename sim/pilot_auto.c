@@ -726,7 +726,8 @@ sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t,
         rc = hfm_linearise(tr, &c, &res, &L);
     hfm_trim_destroy(tr);
     if (rc != 0) {
-        core_err_set(err, -1, "pilot_auto: the hover at the task's first point (%.2f, %.2f, %.2f) m in S in %.2f m/s %s",
+        core_err_set(err, rc > 0 ? CORE_ERR_NO_TRIM : CORE_ERR_FAIL,
+                     "pilot_auto: the hover at the task's first point (%.2f, %.2f, %.2f) m in S in %.2f m/s %s",
                      c.pos_S_m[0], c.pos_S_m[1], c.pos_S_m[2], o->wod_speed_mps,
                      rc > 0 ? "does not trim" : "could not be linearised");
         goto fail;

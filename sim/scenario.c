@@ -201,7 +201,7 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
             (rc = core_ini_get_double(ini, "pilot", "hold_after_s", 0, 0.01, 60.0, &sc->pilot_hold_after_s, err)) < 0)
             goto out;
         sim_pilots_opts po;
-        core_err e2 = {{0}};
+        core_err e2 = {0};
         if (sc->pilot_stations[0] && sim_pilots_opts_parse(&po, sc->pilot_stations, &e2) != 0) {
             rc = core_err_set(err, -1, "%s:%d: [pilot] stations: %s", core_ini_path(ini),
                               core_ini_find(ini, "pilot", "stations")->line, e2.msg);

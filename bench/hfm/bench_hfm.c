@@ -14,7 +14,7 @@
 int main(int argc, char **argv)
 {
     const char *path = argc > 1 ? argv[1] : "scenarios/aircraft/uh60a.ini";
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load(path, NULL, &err);
     if (!ac) {
         fprintf(stderr, "bench_hfm: %s\n", err.msg);

@@ -74,7 +74,7 @@ static int bench_case(const bench_run *b, const render_scene *sc, render_ctx *rc
     uint8_t *rgba = malloc((size_t)4 * w * h);
     if (!rgba)
         return -1;
-    core_err err = {{0}};
+    core_err err = {0};
     int bad = 0;
     for (int r = 0; r < REPEATS && !bad; r++) {
         render_video *v = NULL;
@@ -122,7 +122,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: bench_render [FRAMES [CAMERA [WxH]]]\n");
         return 2;
     }
-    core_err err = {{0}};
+    core_err err = {0};
     if (argc > 2) {
         render_camera_kind k;
         if (render_camera_parse(argv[2], &k, &err) != 0) {

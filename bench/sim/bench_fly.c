@@ -42,7 +42,7 @@ static cfd_field *small_field(const core_ship *ship, const char *path)
     sp.monitor_z_m = -5.0;
     sp.max_iter = 3;
     sp.h_fine_m = 2.0;
-    core_err err = {{0}};
+    core_err err = {0};
     cfd_solver *s = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
     if (!s)
         return NULL;
@@ -75,7 +75,7 @@ static double fly_case(const hfm_aircraft *ac, const core_ship *ship, const cfd_
 {
     double t[REPEATS], drift = 0.0;
     for (int r = 0; r < REPEATS; r++) {
-        core_err err = {{0}};
+        core_err err = {0};
         sim_sea sea;
         sim_sea_default(&sea);
         sea.state = sea_state;
@@ -165,7 +165,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: bench_fly [STEPS >= 100 [CASE 1-4]]\n");
         return 2;
     }
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load("scenarios/aircraft/uh60a.ini", NULL, &err);
     core_ship ship;
     if (!ac || core_ship_load("scenarios/ships/cg47.ini", &ship, &err)) {

@@ -43,7 +43,7 @@ static int lin_inflow(void *user, const double p[3], double out[5])
 static cfd_field *make_field(lin *L, const char *rotor, double thrust_N, const double hub[3], const char *tag)
 {
     cfd_axis_spec ax[3] = {{-40, 40, 0, 0, 2.0, 2.0, 1.0}, {-40, 40, 0, 0, 2.0, 2.0, 1.0}, {-30, 2, 0, 0, 2.0, 2.0, 1.0}};
-    core_err err = {{0}};
+    core_err err = {0};
     cfd_config cfg;
     cfd_config_default(&cfg);
     cfg.u_ref_mps = 10.0;
@@ -85,7 +85,7 @@ static double fly_us(const hfm_aircraft *ac, const core_ship *ship, const cfd_fi
     o.wod_speed_mps = 10.0;
     o.turbulence = 0;
     o.interaction = ia;
-    core_err err = {{0}};
+    core_err err = {0};
     double t[REPEATS];
     for (int r = 0; r < REPEATS; r++) {
         sim_flight *f = sim_flight_create(ac, ship, &o, NULL, NULL, fs, NULL, &err);
@@ -132,7 +132,7 @@ static double air_ns(const cfd_field *fs, const sim_interaction *ia)
     sim_air_opts_default(&ao);
     ao.wod_speed_mps = 10.0;
     ao.deck_height_m = 10.0;
-    core_err err = {{0}};
+    core_err err = {0};
     sim_air *a = sim_air_create(&ao, still, NULL, &err);
     if (!a || sim_air_set_field(a, fs, -INFINITY, &err) != 0) {
         sim_air_destroy(a);
@@ -157,7 +157,7 @@ static double air_ns(const cfd_field *fs, const sim_interaction *ia)
 int main(int argc, char **argv)
 {
     long steps = argc > 1 ? atol(argv[1]) : 20000;
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load("scenarios/aircraft/uh60a.ini", NULL, &err);
     core_ship ship;
     if (!ac || core_ship_load("scenarios/ships/sfs2.ini", &ship, &err) != 0) {

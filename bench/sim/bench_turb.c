@@ -60,7 +60,7 @@ int main(void)
 
     sim_turb_opts o;
     sim_turb_opts_default(&o);
-    core_err err = {{0}};
+    core_err err = {0};
     for (int c = 0; c < 3; c++) {
         double vel[3] = {-speeds[c], 0.0, 0.0}, tstep[REPEATS], tsamp[REPEATS];
         sim_turb *t = sim_turb_create(&o, 1, &err);

@@ -170,7 +170,7 @@ static int run_builder(awdb *db, test_engine *te, int jobs, core_err *err)
 
 static void test_keys(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     awdb_key a = key(15.0, -30.0), b = key(15.001, -30.001);
     CHECK(awdb_key_canon(&a, &err) == 0 && awdb_key_canon(&b, &err) == 0);
     char na[200], nb[200];
@@ -312,7 +312,7 @@ static void test_crc(const char *dir)
 
 static void test_flow(const char *dir)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     awdb *db = awdb_open(dir, NULL, &err);
     awdb *db2 = awdb_open(dir, NULL, &err); /* a second client */
     CHECK(db && db2);
@@ -541,7 +541,7 @@ static void test_flow(const char *dir)
 
 static void test_kill(const char *dir)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     awdb *db = awdb_open(dir, NULL, &err);
     awdb_state st;
     for (int i = 0; i < 4; i++) {
@@ -605,7 +605,7 @@ static void test_kill(const char *dir)
  * the order they were asked for. */
 static void test_term(const char *dir)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     awdb *db = awdb_open(dir, NULL, &err);
     enum { NT = 4 };
     awdb_key k[NT];
@@ -684,7 +684,7 @@ static int se_source(void *user, const awdb_key *k, awdb_key *src)
         return 0;
     *src = *k;
     src->wod_dir_rad = -k->wod_dir_rad;
-    core_err err = {{0}};
+    core_err err = {0};
     return awdb_key_canon(src, &err) == 0;
 }
 
@@ -705,7 +705,7 @@ static int se_build(void *user, const awdb_key *k, const char *warm, const char 
 
 static void test_source(const char *dir)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     awdb *db = awdb_open(dir, NULL, &err);
     CHECK(db != NULL);
     if (!db)
@@ -748,7 +748,7 @@ static void test_source(const char *dir)
  * process's temporary goes. */
 static void test_recover(const char *dir)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     awdb *db = awdb_open(dir, NULL, &err);
     CHECK(db != NULL);
     if (!db)
@@ -807,7 +807,7 @@ static void *reader(void *p)
 
 static void test_commit_race(const char *dir)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     awdb *db = awdb_open(dir, NULL, &err);
     CHECK(db != NULL);
     if (!db)
@@ -855,7 +855,7 @@ static void test_commit_race(const char *dir)
  * corruption: the field stays. */
 static void test_check_fails(const char *dir)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     awdb *db = awdb_open(dir, NULL, &err);
     CHECK(db != NULL);
     if (!db)
@@ -890,7 +890,7 @@ static void test_check_fails(const char *dir)
  * starting then waits it out instead of refusing to run. */
 static void test_probe(const char *dir)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     awdb *db = awdb_open(dir, NULL, &err);
     CHECK(db != NULL);
     if (!db)
@@ -927,7 +927,7 @@ static void test_probe(const char *dir)
  * and an --exit-when-idle builder never stopped. */
 static void test_unclaimable(const char *dir)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     awdb *db = awdb_open(dir, NULL, &err);
     CHECK(db != NULL);
     if (!db)
@@ -1019,7 +1019,7 @@ static int read_raw_progress(const char *path)
 
 static void test_progress(const char *dir)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     awdb *db = awdb_open(dir, NULL, &err);
     CHECK(db != NULL);
     if (!db)
@@ -1036,7 +1036,7 @@ static void test_progress(const char *dir)
         snprintf(progp[i], sizeof progp[i], "%s/running/%s.prog", dir, names[i]);
     }
     CHECK(awdb_progress_read(db, &pr, &err) == 0 && pr.queued == 3 && pr.running == 0 && pr.ready == 0);
-    prog_thread t = {awdb_open(dir, NULL, &err), 0, {{0}}};
+    prog_thread t = {awdb_open(dir, NULL, &err), 0, {{0}, 0}};
     pthread_t th;
     CHECK(t.db && pthread_create(&th, NULL, prog_builder, &t) == 0);
     int whole = 0, torn = 0, reads = 0, insane = 0, seen_first = 0, seen_left = 0, last_ready = 0, last_queued = 3,
@@ -1182,7 +1182,7 @@ static int watch_build(void *user, const awdb_key *k, const char *warm, const ch
 
 static void test_embedded(const char *dir)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     core_log log = {NULL, NULL, CORE_LOG_ERROR};
     awdb *db = awdb_open(dir, NULL, &err);
     awdb_embedded *e = awdb_embedded_create("scenarios/ships", EMB_ITER, 1, &log, &err);
@@ -1239,7 +1239,7 @@ static void test_long_ships_path(const char *dir)
     CHECK(fp != NULL);
     if (fp)
         fclose(fp);
-    core_err err = {{0}};
+    core_err err = {0};
     core_log log = {NULL, NULL, CORE_LOG_ERROR};
     awdb_embedded *e = awdb_embedded_create(p, 10, 1, &log, &err);
     CHECK(e == NULL && strstr(err.msg, "path longer") != NULL);

@@ -576,7 +576,7 @@ static int write_raw_field(const char *path, int bad)
  * read out of its bounds or with its arrays in the wrong order. */
 static void test_io_bad(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     const char *tmp = getenv("TMPDIR");
     char tmpl[256];
     snprintf(tmpl, sizeof tmpl, "%s/disim_cfd_bad_XXXXXX", tmp && *tmp ? tmp : "/tmp");

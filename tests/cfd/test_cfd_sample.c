@@ -124,7 +124,7 @@ static void check_grid(const char *what, cfd_grid *g, long npts)
 
 int main(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     /* the airwake's kind of grid: fine over the ship, stretched outwards */
     cfd_axis_spec airwake[3] = {{-250.0, 150.0, -90.0, 20.0, 1.0, 16.0, 1.12},
                                 {-120.0, 120.0, -15.0, 15.0, 1.0, 16.0, 1.12},

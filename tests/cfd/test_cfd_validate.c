@@ -18,7 +18,7 @@ int main(int argc, char **argv)
         return 2;
     }
     cfd_report rep;
-    core_err err = {{0}};
+    core_err err = {0};
     int rc = cfd_validate(argv[1], !full, NULL, NULL, NULL, NULL, NULL, &rep, &err);
     CHECK(rc == 0);
     if (rc)

@@ -205,7 +205,7 @@ static const char *write_tmp(const char *name, const char *text)
 
 static void test_ini(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     const char *p = write_tmp("disim_core_ini.ini",
                               "; comment\n[a]\nx = 1.5\nn = 7\nb = yes\ne = beta\n"
                               "list = 1, 2, 3\ns = hello world ; inline comment\n\n[b]\ny = oops\n");
@@ -302,7 +302,7 @@ static void test_ini(void)
 static void test_ship(void)
 {
     core_ship ship;
-    core_err err = {{0}};
+    core_err err = {0};
     CHECK(core_ship_load("scenarios/ships/sfs2.ini", &ship, &err) == 0);
     if (err.msg[0])
         fprintf(stderr, "%s\n", err.msg);
@@ -424,7 +424,7 @@ static void test_mkdir(void)
     char base[256], dir[512], file[512];
     snprintf(base, sizeof base, "%s/disim_core_mkdir_%d", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp", (int)getpid());
     snprintf(dir, sizeof dir, "%s/it's a/b", base);
-    core_err err = {{0}};
+    core_err err = {0};
     CHECK(core_mkdir_p(dir, &err) == 0);
     struct stat st;
     CHECK(stat(dir, &st) == 0 && S_ISDIR(st.st_mode));

@@ -162,7 +162,7 @@ typedef struct envelope {
 
 static int envelope_run(const char *aircraft, double roll_max_deg, envelope *e)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     char path[1024];
     memset(e, 0, sizeof *e);
     snprintf(path, sizeof path, "%s/scenarios/aircraft/%s", TEST_SRC_DIR, aircraft);
@@ -443,7 +443,7 @@ typedef struct fixture {
 
 static int fixture_open(fixture *fx)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     memset(fx, 0, sizeof *fx);
     fx->log.fn = log_quiet;
     fx->log.max_level = CORE_LOG_WARN;
@@ -497,7 +497,7 @@ static void fixture_close(fixture *fx)
  * the first coupled iteration of a free-air start asks for. */
 static int free_air_key(const fixture *fx, awdb_key *k)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     memset(k, 0, sizeof *k);
     snprintf(k->ship, sizeof k->ship, "BOX40");
     snprintf(k->aircraft, sizeof k->aircraft, "%s", hfm_aircraft_name(fx->ac));
@@ -523,7 +523,7 @@ static void two_way_settings(couple_settings *s)
  * compare with. */
 static int head_wind_point(fixture *fx, couple_point *p2)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     couple_settings s;
     two_way_settings(&s);
     couple_ctx *c = couple_create(fx->ac, &fx->ship, fx->db, &s, &fx->log, &err);
@@ -564,7 +564,7 @@ static void print_trim(const char *what, const couple_point *p)
 static void loaded_disk(const fixture *fx, awdb_key *k)
 {
     const hfm_aircraft *ac = fx->ac;
-    core_err err = {{0}};
+    core_err err = {0};
     if (free_air_key(fx, k) != 0)
         return;
     CHECK(k->rotor == CORE_ROTOR_LOADED);
@@ -634,7 +634,7 @@ static void loaded_disk(const fixture *fx, awdb_key *k)
  * alone sees. */
 static void cold_retry(fixture *fx)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     capture cap;
     memset(&cap, 0, sizeof cap);
     core_log clog = {log_capture, &cap, CORE_LOG_INFO};
@@ -716,7 +716,7 @@ static void cold_retry(fixture *fx)
  * image of red 30's, made by the builder without a solve. */
 static void mirror(fixture *fx)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     awdb_key kr, kg;
     memset(&kr, 0, sizeof kr);
     snprintf(kr.ship, sizeof kr.ship, "BOX40");
@@ -777,7 +777,7 @@ static void mirror(fixture *fx)
 
 static int case_engine(fixture *fx)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     awdb_key k;
     loaded_disk(fx, &k);
     cold_retry(fx);
@@ -798,7 +798,7 @@ static int case_engine(fixture *fx)
 /* ------------------------------------------------------------ two-way */
 static int case_twoway(fixture *fx)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     couple_point p2;
     if (head_wind_point(fx, &p2) != 0)
         return -1;
@@ -880,7 +880,7 @@ static int case_twoway(fixture *fx)
 /* ------------------------------------------------------------ next speed */
 static int case_nextspeed(fixture *fx)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     couple_point p2;
     if (head_wind_point(fx, &p2) != 0)
         return -1;
@@ -925,7 +925,7 @@ static int case_nextspeed(fixture *fx)
 /* ------------------------------------------------------------ seeds */
 static int case_seeds(fixture *fx)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     couple_point p2;
     if (head_wind_point(fx, &p2) != 0)
         return -1;
@@ -986,7 +986,7 @@ static int case_seeds(fixture *fx)
  * zone). */
 static int case_zone(fixture *fx)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     couple_point p2, pz;
     if (head_wind_point(fx, &p2) != 0)
         return -1;
@@ -1016,7 +1016,7 @@ static int case_zone(fixture *fx)
  * and the coupling converge within the default 6 iterations. */
 static int case_calm(fixture *fx)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     couple_settings s;
     two_way_settings(&s);
     couple_ctx *c = couple_create(fx->ac, &fx->ship, fx->db, &s, &fx->log, &err);

@@ -60,7 +60,7 @@ static const char *variant(const char *src, const char *section, const char *key
 
 static void expect_error(const char *path, const char *needle)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = path ? hfm_aircraft_load(path, NULL, &err) : NULL;
     CHECK(path && ac == NULL);
     CHECK(strstr(err.msg, needle) != NULL);
@@ -366,7 +366,7 @@ static void test_power(const char *src, const char *csv, const char *name)
         rows++;
         char repl[64];
         snprintf(repl, sizeof repl, "mass_kg = %.3f", w_lb * 0.45359237);
-        core_err err = {{0}};
+        core_err err = {0};
         hfm_aircraft *ac = hfm_aircraft_load(variant(src, "aircraft", "mass_kg", repl, "pw.ini"),
                                              NULL, &err);
         CHECK(ac != NULL);
@@ -397,7 +397,7 @@ static void test_power(const char *src, const char *csv, const char *name)
     fclose(f);
     CHECK(rows >= 2);
     /* the file's weight: the curve and the hover main-rotor torque, printed */
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load(src, NULL, &err);
     CHECK(ac != NULL);
     if (!ac)
@@ -696,7 +696,7 @@ static const bo105_gap bo105_gaps[] = {
 
 static void test_bo105(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load(BO105, NULL, &err);
     CHECK(ac != NULL);
     if (!ac) {
@@ -806,7 +806,7 @@ int main(void)
     if (!mkdtemp(tmpdir))
         return 1;
     test_bad_input();
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *uh = hfm_aircraft_load(UH60, NULL, &err);
     CHECK(uh != NULL);
     hfm_aircraft *sa = hfm_aircraft_load(SA365, NULL, &err);

@@ -310,7 +310,7 @@ static void test_external(const hfm_aircraft *ac, hfm_trim *tr)
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load(UH60, NULL, &err);
     CHECK(ac != NULL);
     if (!ac) {

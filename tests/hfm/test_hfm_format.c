@@ -92,7 +92,7 @@ static const char *variant(const char *src, const edit *ed, int ne, const char *
 /* Load path; expect a refusal whose message holds every needle. */
 static void expect_refused(const char *path, const char *const *needles, const char *what)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = path ? hfm_aircraft_load(path, NULL, &err) : NULL;
     int ok = path && !ac;
     for (int i = 0; needles[i]; i++)
@@ -109,7 +109,7 @@ static void expect_refused(const char *path, const char *const *needles, const c
 /* Load path; expect it to load with a warning holding every needle. */
 static void expect_warned(const char *path, const char *const *needles, const char *what, sink *s)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     memset(s, 0, sizeof *s);
     core_log log = {sink_fn, s, CORE_LOG_INFO};
     hfm_aircraft *ac = path ? hfm_aircraft_load(path, &log, &err) : NULL;
@@ -208,7 +208,7 @@ static void test_shipped(void)
     for (int i = 0; i < 3; i++) {
         sink s = {0};
         core_log log = {sink_fn, &s, CORE_LOG_WARN};
-        core_err err = {{0}};
+        core_err err = {0};
         hfm_aircraft *ac = hfm_aircraft_load(files[i], &log, &err);
         CHECK(ac != NULL && s.warnings == 0);
         if (!ac || s.warnings)
@@ -226,7 +226,7 @@ static double weight_down_S(const hfm_body *b, const double F_B[3])
 
 static void test_luh25(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load(LUH, NULL, &err);
     CHECK(ac != NULL);
     if (!ac) {

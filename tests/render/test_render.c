@@ -244,7 +244,7 @@ static void sky_point(const double eye[3], double az_deg, double el_deg, double 
 /* ------------------------------------------------------------ golden */
 static int golden_compare(const char *path, const uint8_t *img, int w, int h, int update)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     if (update) {
         int r = render_write_png(path, w, h, img, &err);
         printf("  wrote %s%s%s\n", path, r ? ": " : "", r ? err.msg : "");
@@ -277,7 +277,7 @@ static int golden_compare(const char *path, const uint8_t *img, int w, int h, in
 /* ------------------------------------------------------------ checks */
 static void test_cameras(const render_scene *sc, sea_user *su, const char *dump_dir, int update)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     render_state s;
     make_state(&s);
     const int w = 640, h = 480;
@@ -406,7 +406,7 @@ static void test_cameras(const render_scene *sc, sea_user *su, const char *dump_
  * elevation is an error. */
 static void test_sea(const render_scene *sc, sea_user *su)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     const int w = 160, h = 120;
     render_ctx *rc = render_create(w, h, &err);
     uint8_t *a = malloc((size_t)4 * w * h), *b = malloc((size_t)4 * w * h);
@@ -454,7 +454,7 @@ static void test_sea(const render_scene *sc, sea_user *su)
  * axis, the dark fan inside a lighter duct ring. */
 static void test_rotors(const render_scene *sc0)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     const int w = 320, h = 240;
     render_ctx *rc = render_create(w, h, &err);
     uint8_t *img = malloc((size_t)4 * w * h);
@@ -529,7 +529,7 @@ static void test_rotors(const render_scene *sc0)
 
 static void test_bad_views(const render_scene *sc)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     render_state s;
     make_state(&s);
     render_ctx *rc = render_create(64, 48, &err);
@@ -615,7 +615,7 @@ static void test_bad_views(const render_scene *sc)
 static void test_deck_view(void)
 {
     core_ship ship;
-    core_err err = {{0}};
+    core_err err = {0};
     CHECK(core_ship_load("scenarios/ships/sfs2.ini", &ship, &err) == 0);
     render_ctx *rc = render_create(W, H, &err);
     CHECK(rc != NULL);
@@ -736,7 +736,7 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    core_err err = {{0}};
+    core_err err = {0};
     core_ship ship;
     CHECK(core_ship_load("scenarios/ships/cg47.ini", &ship, &err) == 0);
     hfm_aircraft *ac = hfm_aircraft_load("scenarios/aircraft/uh60a.ini", NULL, &err);

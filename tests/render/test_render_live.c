@@ -190,7 +190,7 @@ static void rm_dir(const char *dir)
 
 int main(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     core_ship ship;
     CHECK(core_ship_load("scenarios/ships/cg47.ini", &ship, &err) == 0);
     hfm_aircraft *ac = hfm_aircraft_load("scenarios/aircraft/uh60a.ini", NULL, &err);
@@ -340,7 +340,7 @@ int main(void)
             render_live_offer(l, &s);
         }
         render_live_report r;
-        core_err e2 = {{0}};
+        core_err e2 = {0};
         CHECK(render_live_destroy(l, &r, &e2) < 0);
         CHECK(strstr(e2.msg, file) != NULL);
         CHECK(strstr(e2.msg, ".png") == NULL); /* the folder's error, not a frame's after it */
@@ -354,7 +354,7 @@ int main(void)
         render_live_opts ob = o;
         ob.dir = tmp;
         ob.rate_hz = 0.0;
-        core_err e2 = {{0}};
+        core_err e2 = {0};
         CHECK(render_live_create(&sc, &ob, &e2) == NULL && strstr(e2.msg, "rate"));
         ob.rate_hz = 10.0;
         ob.cameras = 0;

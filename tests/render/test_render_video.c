@@ -24,7 +24,7 @@ static const double D2R = M_PI / 180.0;
 /* ---------------------------------------------------------------- parse */
 static void test_parse(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     unsigned b = 99;
     CHECK(render_overlays_parse("hud", &b, &err) == 0 && b == RENDER_OVERLAY_HUD);
     CHECK(render_overlays_parse("airwake", &b, &err) == 0 && b == RENDER_OVERLAY_AIRWAKE);
@@ -143,7 +143,7 @@ static void test_hud_size(int W, int H)
     double ship_E[3] = {0, 0, 6}, cg_E[3] = {1, 2, -2};
     render_state s = test_state(ship_E, cg_E, 0.0);
     render_view v = {{0, 0, -10}, {1, 0, 0}, {0, 0, -1}, 60, 0.5, 2000};
-    core_err err = {{0}};
+    core_err err = {0};
     uint8_t *img = malloc((size_t)4 * W * H), *ref = malloc((size_t)4 * W * H);
     fill(img, W, H, 128);
     memcpy(ref, img, (size_t)4 * W * H);
@@ -284,7 +284,7 @@ static void test_legend(void)
     double ship_E[3] = {0, 0, 6}, cg_E[3] = {1, 2, -2};
     render_state s = test_state(ship_E, cg_E, 0.0);
     render_view v = {{0, 0, -10}, {1, 0, 0}, {0, 0, -1}, 60, 0.5, 2000};
-    core_err err = {{0}};
+    core_err err = {0};
     uint8_t *img = malloc(4 * W * H), *ref = malloc(4 * W * H);
     fill(img, W, H, 128);
     memcpy(ref, img, 4 * W * H);
@@ -332,7 +332,7 @@ static void test_colour_map(void)
 
 static void test_slice(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     core_ship ship = test_ship();
     hfm_geometry g = heli_geom();
     air_case a = {0, 0};
@@ -535,7 +535,7 @@ static void frame_colour(uint8_t *img, int w, int h, int k)
 
 static void encode(const char *name, int w, int h, int n, int ew, int eh)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     char path[512];
     snprintf(path, sizeof path, "%s/%s", tmpdir, name);
     render_video *v = render_video_open(path, w, h, 30, &err);
@@ -572,7 +572,7 @@ static void test_video(void)
     const char *t = getenv("TMPDIR");
     snprintf(tmpdir, sizeof tmpdir, "%s/disim-video-XXXXXX", t && t[0] ? t : "/tmp");
     CHECK(mkdtemp(tmpdir) != NULL);
-    core_err err = {{0}};
+    core_err err = {0};
     /* A close that waits for ever (an ffmpeg that never sees the end of its
      * input) ends the test here rather than at CTest's timeout. */
     alarm(120);

@@ -105,7 +105,7 @@ static void test_search(void)
     fs.n_seeds = 5;
     synth sy = {0, 0, INFINITY};
     shol_flown_result fr;
-    core_err err = {{0}};
+    core_err err = {0};
     CHECK(shol_flown_run(&fs, &t, synth_fly, &sy, NULL, NULL, NULL, &fr, &err) == 0);
     CHECK(fr.n_dirs == 3);
     int from0 = 0;
@@ -228,7 +228,7 @@ static void test_point_tally(void)
     shol_flown_settings_default(&fs);
     fs.n_seeds = 5;
     shol_flown_result fr;
-    core_err err = {{0}};
+    core_err err = {0};
     CHECK(shol_flown_run(&fs, &t, abb_fly, NULL, NULL, NULL, NULL, &fr, &err) == 0);
     const shol_flown_point *q = &fr.dirs[1].points[0];
     CHECK(fr.dirs[1].n_points == 1 && q->n_flights == 5 && q->n_pass == 2);
@@ -285,7 +285,7 @@ static void test_track(void)
     shol_flown_judge jd;
     shol_flown_judge_default(&jd);
     CHECK(jd.window_s == 3.0 && jd.transient_frac == 0.5);
-    core_err err = {{0}};
+    core_err err = {0};
     shol_flown_judge bad = {-1.0, 0.5};
     CHECK(shol_flown_judge_check(&bad, &err) < 0 && strstr(err.msg, "window_s"));
     bad.window_s = 3.0, bad.transient_frac = NAN;
@@ -454,7 +454,7 @@ static void test_outputs(void)
     fs.n_seeds = 5;
     synth sy = {0, 0, INFINITY};
     shol_flown_result fr;
-    core_err err = {{0}};
+    core_err err = {0};
     CHECK(shol_flown_run(&fs, &t, synth_fly, &sy, NULL, NULL, NULL, &fr, &err) == 0);
     char dir[] = "/tmp/disim_test_flown_XXXXXX";
     CHECK(mkdtemp(dir) != NULL);
@@ -554,7 +554,7 @@ static void test_bands(void)
         in.window_dir_rad[i] = t.dirs[i].dir_rad;
         in.window_frac[i] = wf[i];
     }
-    core_err err = {{0}};
+    core_err err = {0};
     CHECK(shol_band_compute(&t, &in, &err) == 0);
     shol_flown_settings fs;
     shol_flown_settings_default(&fs);

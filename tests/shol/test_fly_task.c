@@ -42,7 +42,7 @@ static int fly_w(const sim_task *task, const shol_criteria *c, const double stat
     if (window_s >= 0)
         o.window_s = window_s;
     memcpy(o.station_S_m, station, sizeof o.station_S_m);
-    core_err err = {{0}};
+    core_err err = {0};
     sim_fly_task *t = sim_fly_task_create(ac, &ship, task, c, &o, NULL, &err);
     if (!t) {
         fprintf(stderr, "fly_task_create: %s\n", err.msg);
@@ -95,7 +95,7 @@ static int no_build(void *user, const char *path, sim_loop_world *w, core_err *e
 
 static int record_hover(const char *log_path)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_flight_opts fo;
     sim_flight_opts_default(&fo);
     fo.turbulence = 0;
@@ -144,7 +144,7 @@ static int record_hover(const char *log_path)
 /* The trimmed hover's pitch in calm air with the CG at station (NAN if it does not trim). */
 static double hover_pitch(const double station[3])
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_flight_opts fo;
     sim_flight_opts_default(&fo);
     fo.turbulence = 0;
@@ -173,7 +173,7 @@ static int replay(const sim_replay_log *ref, const shol_criteria *c, double pos_
     o.sea.state = sea_state;
     o.replay = ref;
     o.replay_pos_m = pos_m;
-    core_err err = {{0}};
+    core_err err = {0};
     sim_fly_task *t = sim_fly_task_create(ac, &ship, NULL, c, &o, NULL, &err);
     if (!t) {
         fprintf(stderr, "fly_task_create: %s\n", err.msg);
@@ -187,7 +187,7 @@ static int replay(const sim_replay_log *ref, const shol_criteria *c, double pos_
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *a = hfm_aircraft_load(AC, NULL, &err);
     CHECK(a != NULL);
     if (!a) {

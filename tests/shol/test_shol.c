@@ -92,7 +92,7 @@ static void test_criteria_eval(void)
 static void test_criteria_files(void)
 {
     shol_criteria c;
-    core_err err = {{0}};
+    core_err err = {0};
 
     CHECK(shol_criteria_load(DATA "aircraft_partial.ini", &c, &err) == 0);
     CHECK_NEAR(c.roll_max_rad, 6 * DEG, 1e-15);
@@ -266,7 +266,7 @@ static void test_envelope_steps(void)
 
     /* The full circle by 30 deg: -150 ... 180, 12 directions. */
     shol_settings fc = s;
-    core_err err = {{0}};
+    core_err err = {0};
     CHECK(shol_settings_full_circle(&fc, 30 * DEG, &err) == 0);
     CHECK(fc.n_dirs == 12);
     CHECK_NEAR(fc.dirs_rad[0], -150 * DEG, 1e-12);
@@ -374,7 +374,7 @@ static void test_envelope_steps(void)
 static void test_envelope_bisection(void)
 {
     shol_settings s;
-    core_err err = {{0}};
+    core_err err = {0};
     shol_settings_default(&s);
     CHECK(shol_settings_full_circle(&s, 30 * DEG, &err) == 0);
     s.bisect_tol_mps = 0.1 * KMH;
@@ -420,7 +420,7 @@ static int counted_trim(void *user, double v, double dir, shol_trim_point *out)
 
 static void test_envelope_near(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     shol_settings s;
     shol_settings_default(&s);
     const double gains[2] = {1.0, 3.0}; /* costly pedal limit above / far below the cheap one (gain 1.5) */
@@ -473,7 +473,7 @@ static void test_envelope_near(void)
 static void test_envelope_edges(void)
 {
     shol_settings s;
-    core_err err = {{0}};
+    core_err err = {0};
     shol_result r;
     model m = {1.5, 0, 0, 0, 0};
 
@@ -646,7 +646,7 @@ static void test_outputs(void)
     snprintf(out, sizeof out, "%s/out/nested", dir); /* created on demand */
 
     shol_settings s;
-    core_err err = {{0}};
+    core_err err = {0};
     shol_settings_default(&s);
     model m = {1.5, 0, 0, 0, 0}, m2 = {2.0, 0, 0, 0, 0};
     shol_result r, c;
@@ -1061,7 +1061,7 @@ static void test_bands(void)
 {
     shol_settings s;
     shol_settings_default(&s);
-    core_err err = {{0}};
+    core_err err = {0};
     model m = {1.5, 0, 0, 0, 0}, m2 = {2.0, 0, 0, 0, 0};
     shol_result r, g;
     CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) == 0);
@@ -1474,7 +1474,7 @@ static const shol_dir_result *dir_of(const shol_result *r, double deg)
 static void test_attribution_model(void)
 {
     shol_settings s;
-    core_err err = {{0}};
+    core_err err = {0};
     shol_settings_default(&s);
     model m = {1.5, 0, 0, 0, 0};
     shol_result r;
@@ -1641,7 +1641,7 @@ static void hfm_sample(hfm_trim *tr, double v, double dir, shol_sample *sm)
  * or main rotor), not the stabilator (no yaw moment) nor the weight. */
 static void test_attribution_uh60a(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load("scenarios/aircraft/uh60a.ini", NULL, &err);
     CHECK(ac != NULL);
     if (!ac) {

@@ -26,7 +26,7 @@
 static double rest_height_m(const hfm_gear *g, double W)
 {
     double load[HFM_GEAR_MAX_LEGS], h = 0;
-    core_err err = {{0}};
+    core_err err = {0};
     if (sim_contact_static_loads(g, W, load, &err))
         return NAN;
     for (int i = 0; i < g->nlegs; i++)
@@ -44,7 +44,7 @@ static void test_static(const hfm_aircraft *ac, const core_ship *ship)
     hfm_gear g;
     CHECK(hfm_aircraft_gear(ac, &g) == 0);
     double W = hfm_aircraft_weight_N(ac), load[HFM_GEAR_MAX_LEGS], sum = 0, mx = 0;
-    core_err err = {{0}};
+    core_err err = {0};
     CHECK(sim_contact_static_loads(&g, W, load, &err) == 0);
     for (int i = 0; i < g.nlegs; i++) {
         sum += load[i];
@@ -147,7 +147,7 @@ static int park_run(const hfm_aircraft *ac, const core_ship *ship, sim_ship_fram
     double h = rest_height_m(&g, hfm_aircraft_weight_N(ac));
     /* the wheels just touching: the rest height plus the mean static compression */
     double load[HFM_GEAR_MAX_LEGS], xm = 0;
-    core_err err = {{0}};
+    core_err err = {0};
     sim_contact_static_loads(&g, hfm_aircraft_weight_N(ac), load, &err);
     for (int i = 0; i < g.nlegs; i++)
         xm += sim_contact_leg_compression(&g.leg[i], load[i]) / g.nlegs;
@@ -279,7 +279,7 @@ static void test_park(const hfm_aircraft *ac, const core_ship *ship, double hold
     sim_sea_default(&sea);
     sea.state = 4;
     sea.wave_dir_rad = 30 * CORE_DEG_TO_RAD;
-    core_err err = {{0}};
+    core_err err = {0};
     sim_ship_motion *m = sim_ship_motion_create(ship, &sea, 7, &err);
     CHECK(m != NULL);
     if (m) {
@@ -360,7 +360,7 @@ static void test_hangar(const hfm_aircraft *ac, const core_ship *ship)
 {
     hfm_gear g;
     hfm_aircraft_gear(ac, &g);
-    core_err err = {{0}};
+    core_err err = {0};
     sim_contact *c = sim_contact_create(ac, ship, NULL, NULL, 200.0, &err);
     CHECK(c != NULL);
     if (!c)
@@ -430,7 +430,7 @@ static int bad_gear(const char *from, const char *to, const char *want)
     }
     fclose(in);
     fclose(out);
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load(path, NULL, &err);
     int ok = !ac && strstr(err.msg, path) && strstr(err.msg, want);
     printf("bad [gear]: %s\n", err.msg);
@@ -442,7 +442,7 @@ static int bad_gear(const char *from, const char *to, const char *want)
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *uh = hfm_aircraft_load(UH60, NULL, &err);
     if (!uh)
         fprintf(stderr, "set-up: %s\n", err.msg);

@@ -36,7 +36,7 @@ static int fly(sim_flight *f, int n, run *r)
 {
     sim_flight_inputs in;
     sim_flight_trim_inputs(f, &in);
-    core_err err = {{0}};
+    core_err err = {0};
     r->n = 0;
     for (int i = 0; i < n && i < 4096; i++) {
         if (sim_flight_step(f, &in, &r->out[i], &err) != 0) {
@@ -55,7 +55,7 @@ static sim_flight *make(const hfm_aircraft *ac, const core_ship *ship, double wo
     o.wod_speed_mps = wod_mps;
     o.wod_dir_rad = dir_deg * CORE_DEG_TO_RAD;
     o.ship_speed_mps = ship_mps;
-    core_err err = {{0}};
+    core_err err = {0};
     sim_flight *f = sim_flight_create(ac, ship, &o, NULL, NULL, NULL, NULL, &err);
     if (!f)
         fprintf(stderr, "flight: %s\n", err.msg);
@@ -159,7 +159,7 @@ static void test_air(const core_ship *ship, const cfd_field *fld)
     o.wod_speed_mps = 15.0;
     o.deck_height_m = ship->deck_height_m;
     o.anemometer_height_m = 20.0;
-    core_err err = {{0}};
+    core_err err = {0};
     sim_air *a = sim_air_create(&o, level_ship, NULL, &err);
     CHECK(a != NULL);
     if (!a)
@@ -222,7 +222,7 @@ static void test_turbulence(const hfm_aircraft *ac, const core_ship *ship, const
         o.wod_speed_mps = 10.0;
         o.turbulence = turb[i];
         o.seed = seed[i];
-        core_err err = {{0}};
+        core_err err = {0};
         fl[i] = sim_flight_create(ac, ship, &o, NULL, NULL, fld, NULL, &err);
         CHECK(fl[i] != NULL);
         if (!fl[i]) {
@@ -269,7 +269,7 @@ static void test_frame_interp(void)
     sim_air_opts_default(&o);
     o.wod_speed_mps = 15.0;
     o.deck_height_m = 5.0;
-    core_err err = {{0}};
+    core_err err = {0};
     sim_air *ex = sim_air_create(&o, rolling_ship, NULL, &err), *in = sim_air_create(&o, rolling_ship, NULL, &err);
     CHECK(ex && in);
     if (!ex || !in) {
@@ -313,7 +313,7 @@ static cfd_field *small_field(const core_ship *ship, char *path, size_t n)
     sp.monitor_z_m = -5.0;
     sp.max_iter = 3;
     sp.h_fine_m = 2.0;
-    core_err err = {{0}};
+    core_err err = {0};
     cfd_solver *s = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
     if (!s)
         return NULL;
@@ -363,7 +363,7 @@ static int deck_fly(const hfm_aircraft *ac, const core_ship *ship, sim_ship_fram
     o.start_heading_rad = psi_rad;
     o.sas = deck_sas;
     o.station_S_m[0] = x_S_m;
-    core_err err = {{0}};
+    core_err err = {0};
     memset(r, 0, sizeof *r);
     sim_flight *f = sim_flight_create(ac, ship, &o, frame, fu, NULL, NULL, &err);
     if (!f) {
@@ -412,7 +412,7 @@ static int deck_fly(const hfm_aircraft *ac, const core_ship *ship, sim_ship_fram
     r->last = out;
     if (r->rc > 0) { /* ended: it steps no further and says so again */
         sim_flight_out again;
-        core_err e2 = {{0}};
+        core_err e2 = {0};
         int rc2 = sim_flight_step(f, &in, &again, &e2);
         CHECK(rc2 == 1 && again.step == out.step && strcmp(e2.msg, err.msg) == 0);
     }
@@ -429,7 +429,7 @@ static void test_gear_hover(const hfm_aircraft *ac, const core_ship *ship)
 {
     sim_flight_opts o;
     sim_flight_opts_default(&o);
-    core_err err = {{0}};
+    core_err err = {0};
     sim_flight *a = sim_flight_create(ac, ship, &o, NULL, NULL, NULL, NULL, &err);
     o.gear = 1;
     sim_flight *b = sim_flight_create(ac, ship, &o, NULL, NULL, NULL, NULL, &err);
@@ -481,7 +481,7 @@ static void test_hover_start_level(const hfm_aircraft *ac, const core_ship *ship
     sim_sea_default(&sea);
     sea.state = 5;
     sea.wave_dir_rad = 30 * CORE_DEG_TO_RAD;
-    core_err err = {{0}};
+    core_err err = {0};
     sim_ship_motion *m = sim_ship_motion_create(ship, &sea, 7, &err);
     CHECK(m != NULL);
     if (!m)
@@ -520,7 +520,7 @@ static void test_deck(const hfm_aircraft *ac, const hfm_aircraft *slippery, cons
     sim_sea_default(&sea);
     sea.state = 4;
     sea.wave_dir_rad = 30 * CORE_DEG_TO_RAD;
-    core_err err = {{0}};
+    core_err err = {0};
     sim_ship_motion *m = sim_ship_motion_create(ship, &sea, 7, &err);
     CHECK(m != NULL);
     if (!m)
@@ -680,7 +680,7 @@ static void test_gear_loop(const hfm_aircraft *ac, const core_ship *ship)
     o.start = SIM_START_DECK;
     o.start_heading_rad = M_PI;
     o.station_S_m[0] = hg->x0_m - 11.115 - 0.5;
-    core_err err = {{0}};
+    core_err err = {0};
     sim_flight *f = sim_flight_create(ac, ship, &o, NULL, NULL, NULL, NULL, &err);
     CHECK(f != NULL);
     if (!f)
@@ -713,7 +713,7 @@ static void test_gear_loop(const hfm_aircraft *ac, const core_ship *ship)
     printf("the loop: %s after %ld steps (%s)\n", rc == SIM_LOOP_CRASHED ? "crashed" : "no crash", n + 1, err.msg);
     CHECK(rc == SIM_LOOP_CRASHED && strstr(err.msg, "tail_rotor_aft hit hangar") != NULL);
     CHECK(out.step == n + 1 && (out.contact_flags & SIM_CONTACT_CRASH));
-    core_err e2 = {{0}};
+    core_err e2 = {0};
     CHECK(sim_loop_iterate(l, NULL, &e2) == SIM_LOOP_CRASHED); /* nothing more steps */
     sim_flight_state(f, &out);
     CHECK(out.step == n + 1);
@@ -791,7 +791,7 @@ static hfm_aircraft *slippery_aircraft(void)
     }
     fclose(in);
     fclose(out);
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load(path, NULL, &err);
     if (!ac)
         fprintf(stderr, "slippery: %s\n", err.msg);
@@ -802,7 +802,7 @@ static hfm_aircraft *slippery_aircraft(void)
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load(UH60, NULL, &err);
     core_ship ship;
     int ok = ac && core_ship_load(SHIP, &ship, &err) == 0;

@@ -41,7 +41,7 @@ static sim_flight *make(const hfm_aircraft *ac, const core_ship *ship, int sas, 
     o.sas = sas;
     o.wod_speed_mps = wod_mps;
     memcpy(o.station_S_m, station_S_m, sizeof o.station_S_m);
-    core_err err = {{0}};
+    core_err err = {0};
     sim_flight *f = sim_flight_create(ac, ship, &o, NULL, NULL, NULL, NULL, &err);
     if (!f)
         fprintf(stderr, "flight: %s\n", err.msg);
@@ -293,7 +293,7 @@ static int lin_model(const hfm_aircraft *ac, const core_ship *ship, double wod_m
     ao.wod_speed_mps = wod_mps;
     ao.deck_height_m = ship->deck_height_m;
     ao.anemometer_height_m = fmax(ship->deck_height_m - ship->anemometer_S_m[2], 2.0);
-    core_err aerr = {{0}};
+    core_err aerr = {0};
     sim_air *sa = sim_air_create(&ao, level_ship, NULL, &aerr);
     if (!sa) {
         hfm_trim_destroy(tr);
@@ -351,7 +351,7 @@ static int lin_fly(const hfm_aircraft *ac, const core_ship *ship, double wod_mps
     out_to_x(&o, x0);
     for (int i = 0; i < NX; i++)
         err[i] = mag[i] = ferr[i] = fmag[i] = 0.0;
-    core_err e = {{0}};
+    core_err e = {0};
     int rc = 0;
     for (int s = 0; s < N_LIN; s++) {
         if (sim_flight_step(f, &in, &o, &e) != 0) {
@@ -533,7 +533,7 @@ static void fly_hold(sim_flight *f, const pulse *dist, double T_s, double stop_d
     hfm_sas_gains g;
     sim_sas *sas = sim_flight_sas(f);
     sim_sas_gains(sas, &g);
-    core_err e = {{0}};
+    core_err e = {0};
     long n = (long)(T_s * RATE_HZ + 0.5);
     for (long s = 0; s < n; s++) {
         if (sim_flight_step(f, &in, &o, &e) != 0) {
@@ -651,7 +651,7 @@ static void test_authority(const hfm_aircraft *ac, const core_ship *ship, const 
 
     hfm_sas_gains g;
     hfm_aircraft_sas(ac, &g);
-    core_err err = {{0}};
+    core_err err = {0};
     sim_sas *s = sim_sas_create(&g, &err);
     CHECK(s != NULL);
     if (!s)
@@ -703,7 +703,7 @@ static void test_authority(const hfm_aircraft *ac, const core_ship *ship, const 
  * there. */
 static void test_format(const core_ship *ship)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *luh = hfm_aircraft_load(LUH, NULL, &err);
     CHECK(luh != NULL);
     if (luh) {
@@ -744,7 +744,7 @@ static void test_format(const core_ship *ship)
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
-    core_err err = {{0}};
+    core_err err = {0};
     core_ship ship;
     if (core_ship_load(SHIP, &ship, &err) != 0) {
         fprintf(stderr, "set-up: %s\n", err.msg);

@@ -94,7 +94,7 @@ static int write_field(lin *L, const cfd_meta *meta, const char *path, core_err 
 /* A field holding L at every cell, loaded (the file removed). */
 static cfd_field *make_field(lin *L, const char *rotor, double thrust_N, const double hub[3], const char *tag)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     cfd_meta meta;
     memset(&meta, 0, sizeof meta);
     meta.wod_speed_mps = WOD_MPS;
@@ -237,7 +237,7 @@ static double worst_err(const sim_air *a, const triple *t, const double (*p)[3],
  * without the interaction, S. Away: S + w(d) I, S beyond the fade. */
 static void test_place(const triple *t)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_air *a = make_air(t, &err);
     sim_interaction *ia = make_inter(t, &err);
     CHECK(a && ia);
@@ -297,7 +297,7 @@ static void test_place(const triple *t)
  * change it by |I| in one step. */
 static void test_continuity(const triple *t)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_air *a = make_air(t, &err);
     sim_interaction *ia = make_inter(t, &err);
     CHECK(a && ia);
@@ -351,7 +351,7 @@ static double glauert(double T, double V)
  * lag's step response 1 - exp(-t / tau), tau = R / sqrt(V^2 + v^2). */
 static void test_thrust(const triple *t)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_air *a = make_air(t, &err);
     sim_interaction *ia = make_inter(t, &err), *ib = make_inter(t, &err);
     CHECK(a && ia && ib);
@@ -393,7 +393,7 @@ static void test_thrust(const triple *t)
 
 static void test_bad(const triple *t)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_interaction_opts io;
     sim_interaction_opts_default(&io);
     lin L = t->iso;
@@ -415,7 +415,7 @@ static void test_bad(const triple *t)
  * whole-domain pair and a deck-zone one (zone 1). */
 static void test_couple_trim(const hfm_aircraft *ac, const core_ship *ship, int zone)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     double station[3] = {0.0, 0.0, -6.0};
     /* the one-way trim in a ship-only field gives the disk the fields are
      * solved for (as the coupling's first iteration) */
@@ -657,7 +657,7 @@ static void test_db_fly(const char *disim)
     char dir[256], scen[300], csv[300], cmd[2048], out[8192], cwd[1024];
     snprintf(dir, sizeof dir, "/tmp/disim_test_interaction_%ld_db", (long)getpid());
     CHECK(getcwd(cwd, sizeof cwd) != NULL);
-    core_err err = {{0}};
+    core_err err = {0};
     triple t[2]; /* the whole-domain and the deck-zone lins (the engine writes the fields) */
     double hub[3] = {0.05, 0.0, -7.9}, fwd[3] = {20.0, 0.0, -7.9}, station[3] = {0.0, 0.0, -6.0};
     int ok = triple_make(&t[0], 73000.0, hub, station, 0.0, 0) == 0;
@@ -785,7 +785,7 @@ int main(int argc, char **argv)
     if (ok)
         test_place(&t);
     if (ok) { /* the zone's ship-only field alone is refused */
-        core_err err = {{0}};
+        core_err err = {0};
         sim_interaction_opts io;
         sim_interaction_opts_default(&io);
         io.ship_zone = t.fsz;
@@ -793,7 +793,7 @@ int main(int argc, char **argv)
     }
     triple_free(&t);
 #ifdef DISIM_TEST_COUPLE
-    core_err err = {{0}};
+    core_err err = {0};
     hfm_aircraft *ac = hfm_aircraft_load(UH60, NULL, &err);
     core_ship ship;
     ok = ac && core_ship_load(SHIP, &ship, &err) == 0;

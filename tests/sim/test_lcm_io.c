@@ -62,7 +62,7 @@ static int idx_of(const sim_pilots *p, const char *id)
 /* The rules alone, on buffers. */
 static void test_rules(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_pilots_opts o;
     sim_pilots_opts_default(&o);
     sim_pilots *p = sim_pilots_create(&o, &err);
@@ -218,7 +218,7 @@ static void drain(lcm_t *lc)
 
 static int iter(sim_loop *l, lcm_t *lc, sim_flight_out *out)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     int r = sim_loop_iterate(l, out, &err);
     drain(lc);
     return r;
@@ -241,7 +241,7 @@ static int fly_station(const char *log, const char *replay, int bad, int n, doub
 {
     world w;
     memset(&w, 0, sizeof w);
-    core_err err = {{0}};
+    core_err err = {0};
     sim_loop_world lw;
     if (build(&w, SCEN_A, &lw, &err) != 0) {
         fprintf(stderr, "build: %s\n", err.msg);
@@ -356,7 +356,7 @@ static void test_control(void)
 {
     world w;
     memset(&w, 0, sizeof w);
-    core_err err = {{0}};
+    core_err err = {0};
     sim_loop_world lw;
     CHECK(build(&w, SCEN_A, &lw, &err) == 0);
     if (!w.fl)

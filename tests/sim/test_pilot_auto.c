@@ -74,7 +74,7 @@ static void fly(const hfm_aircraft *ac, const core_ship *ship, const sim_task *t
     fo.sas = 0;
     fo.wod_speed_mps = wod_kt * KT;
     memcpy(fo.station_S_m, start_S_m, sizeof fo.station_S_m);
-    core_err err = {{0}};
+    core_err err = {0};
     sim_flight *f = sim_flight_create(ac, ship, &fo, NULL, NULL, NULL, NULL, &err);
     if (!f) {
         fprintf(stderr, "flight: %s\n", err.msg);
@@ -206,7 +206,7 @@ static void test_delay(const hfm_aircraft *ac, const core_ship *ship, const sim_
 static void test_land(const hfm_aircraft *ac, const core_ship *ship, const double start[3])
 {
     sim_task t;
-    core_err err = {{0}};
+    core_err err = {0};
     if (sim_task_load(LAND, &t, &err) != 0) {
         fprintf(stderr, "%s\n", err.msg);
         CHECK(0);
@@ -246,7 +246,7 @@ static void test_reference(const hfm_aircraft *ac, const core_ship *ship, const 
     fo.turbulence = 0;
     fo.sas = 0;
     memcpy(fo.station_S_m, t->target_S_m, sizeof fo.station_S_m);
-    core_err err = {{0}};
+    core_err err = {0};
     sim_flight *f = sim_flight_create(ac, ship, &fo, NULL, NULL, NULL, NULL, &err);
     sim_pilot_auto_opts po;
     sim_pilot_auto_opts_default(&po);
@@ -326,7 +326,7 @@ static void fly_trim_ref(const hfm_aircraft *ac, const core_ship *ship, const si
     fo.sas = 0;
     fo.wod_speed_mps = 20.0 * KT;
     memcpy(fo.station_S_m, t->target_S_m, sizeof fo.station_S_m);
-    core_err err = {{0}};
+    core_err err = {0};
     sim_flight *f = sim_flight_create(ac, ship, &fo, NULL, NULL, NULL, NULL, &err);
     sim_pilot_auto_opts po;
     sim_pilot_auto_opts_default(&po);
@@ -436,7 +436,7 @@ static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *
 {
     memset(out, 0, sizeof *out);
     out->failed = 1;
-    core_err err = {{0}};
+    core_err err = {0};
     sim_task t;
     if (sim_task_load_ship(task_path, ship, &t, &err) != 0) {
         fprintf(stderr, "deck: %s\n", err.msg);
@@ -654,7 +654,7 @@ static void test_result_files(const deck_run *d)
     char csv[128], json[128];
     snprintf(csv, sizeof csv, "/tmp/test_pilot_auto_%d.csv", (int)getpid());
     snprintf(json, sizeof json, "/tmp/test_pilot_auto_%d.json", (int)getpid());
-    core_err err = {{0}};
+    core_err err = {0};
     CHECK(sim_task_result_write(&d->t, &d->r, csv, json, &err) == 0);
     char *c = slurp(csv);
     CHECK(c != NULL);
@@ -701,7 +701,7 @@ static void test_result_files(const deck_run *d)
 static void test_deck(const hfm_aircraft *uh60, const hfm_aircraft *sa365)
 {
     core_ship cg47, lpd17;
-    core_err err = {{0}};
+    core_err err = {0};
     if (core_ship_load(SHIP, &cg47, &err) != 0 || core_ship_load(LPD, &lpd17, &err) != 0) {
         fprintf(stderr, "deck: %s\n", err.msg);
         CHECK(0);
@@ -820,7 +820,7 @@ static void write_file(const char *path, const char *text)
 
 static void test_task_file(const sim_task *t)
 {
-    core_err err0 = {{0}};
+    core_err err0 = {0};
     CHECK(t->kind == SIM_TASK_STATION_KEEP);
     CHECK_NEAR(t->target_S_m[2], -6.0, 0.0);
     CHECK_NEAR(t->duration_s, 60.0, 0.0);
@@ -843,7 +843,7 @@ static void test_task_file(const sim_task *t)
         snprintf(text, sizeof text, "%s%s", base, bad[k].adequate);
         write_file(path, text);
         sim_task tt;
-        core_err err = {{0}};
+        core_err err = {0};
         int rc = sim_task_load(path, &tt, &err);
         printf("bad task file %d: %s\n", k, err.msg);
         CHECK(rc < 0 && strstr(err.msg, path) && strstr(err.msg, bad[k].want));
@@ -877,7 +877,7 @@ static void test_task_file(const sim_task *t)
         snprintf(text, sizeof text, "%s%s%s%s", pb[k].head, pb[k].a, pb[k].d, pb[k].extra);
         write_file(path, text);
         sim_task tt;
-        core_err err = {{0}};
+        core_err err = {0};
         int rc = sim_task_load_ship(path, pb[k].with_ship ? &ship : NULL, &tt, &err);
         printf("phase file %d: %s\n", k, rc ? err.msg : "read");
         if (!pb[k].want) {
@@ -896,7 +896,7 @@ static void test_task_file(const sim_task *t)
         memcpy(q, "adequate_sink_mps =.5", 21);
     write_file(path, text);
     sim_task tt;
-    core_err err = {{0}};
+    core_err err = {0};
     CHECK(sim_task_load_ship(path, &ship, &tt, &err) < 0 && strstr(err.msg, "[phase d]") &&
           strstr(err.msg, "no tighter"));
     printf("phase file 6: %s\n", err.msg);
@@ -912,7 +912,7 @@ static void test_task_file(const sim_task *t)
 static void test_descent_gate(const hfm_aircraft *uh60)
 {
     core_ship cg47;
-    core_err err = {{0}};
+    core_err err = {0};
     if (core_ship_load(SHIP, &cg47, &err) != 0) {
         fprintf(stderr, "gate: %s\n", err.msg);
         CHECK(0);
@@ -956,7 +956,7 @@ static void test_descent_gate(const hfm_aircraft *uh60)
 static void test_descent_pause(const hfm_aircraft *uh60)
 {
     core_ship cg47;
-    core_err err = {{0}};
+    core_err err = {0};
     if (core_ship_load(SHIP, &cg47, &err) != 0) {
         fprintf(stderr, "pause: %s\n", err.msg);
         CHECK(0);
@@ -979,7 +979,7 @@ static void test_descent_pause(const hfm_aircraft *uh60)
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
-    core_err err = {{0}};
+    core_err err = {0};
     core_ship ship;
     sim_task task;
     if (core_ship_load(SHIP, &ship, &err) != 0 || sim_task_load(TASK, &task, &err) != 0) {

@@ -101,7 +101,7 @@ static int no_build(void *user, const char *path, sim_loop_world *w, core_err *e
 /* 1. The landing flown by the automated pilot as a station, logged. */
 static int record(const hfm_aircraft *ac, const core_ship *ship, const conds *c, const char *log, traj *tr)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_task task;
     if (sim_task_load(LAND, &task, &err) != 0) {
         fprintf(stderr, "record: %s\n", err.msg);
@@ -208,7 +208,7 @@ static void replay(const hfm_aircraft *ac, const core_ship *ship, const sim_repl
 {
     memset(out, 0, sizeof *out);
     out->max_dev_m = -1.0;
-    core_err err = {{0}};
+    core_err err = {0};
     sim_replay_sample s0;
     sim_replay_log_sample(L, 0.0, &s0);
     sim_ship_motion *motion = NULL;
@@ -403,7 +403,7 @@ static void write_states(const char *path, int n, const int64_t *utime, int nan_
 
 static void expect_refused(const char *what, const char *path, const char *want1, const char *want2)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_replay_log *L = sim_replay_log_load(path, &err);
     printf("bad log, %s: %s\n", what, err.msg);
     CHECK(L == NULL && strstr(err.msg, path) && strstr(err.msg, want1) && (!want2 || strstr(err.msg, want2)));
@@ -498,7 +498,7 @@ static void test_bad(const char *good)
     /* the same writer's log without a fault reads */
     snprintf(p, sizeof p, "%s/ok.log", dir);
     write_states(p, 4, ut, -1, -1);
-    core_err err = {{0}};
+    core_err err = {0};
     sim_replay_log *L = sim_replay_log_load(p, &err);
     CHECK(L != NULL);
     sim_replay_log_destroy(L);
@@ -554,7 +554,7 @@ static void test_bad(const char *good)
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
-    core_err err = {{0}};
+    core_err err = {0};
     core_ship ship;
     hfm_aircraft *ac = NULL;
     if (core_ship_load(SHIP, &ship, &err) != 0 || !(ac = hfm_aircraft_load(UH60, NULL, &err))) {

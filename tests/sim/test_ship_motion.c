@@ -98,7 +98,7 @@ static void spectral_m0(const sim_ship_motion *m, double m0[4])
 static void test_table(void)
 {
     double hs, tp;
-    core_err err = {{0}};
+    core_err err = {0};
     /* Bales (1983) Table 1, North Atlantic: state 5 3.25 m, 9.7 s; state 6 5.0 m, 12.4 s */
     CHECK(sim_sea_state_table(5, &hs, &tp, &err) == 0);
     CHECK_NEAR(hs, 3.25, 1e-12);
@@ -113,7 +113,7 @@ static void test_table(void)
 /* --------------------------------------------------------------- spectra */
 static void test_spectra(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     for (int sp = 0; sp < 2; sp++) {
         sim_sea sea = make_sea(5, 0.0, 0.0, (sim_spectrum)sp);
         sim_ship_motion *m = sim_ship_motion_create(&cg47, &sea, 1, &err);
@@ -152,7 +152,7 @@ static void test_spectra(void)
 /* ------------------------------------------------------------------ RAOs */
 static void test_rao_limits(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     /* Long waves (w = 0.05 rad/s, 25 km long), no speed: the ship lies in
      * the surface: heave 1 m/m, pitch the slope k in head seas, roll the
      * slope k in beam seas, and nothing of the other angle. */
@@ -184,7 +184,7 @@ static void test_rao_limits(void)
  * against 2 sqrt(integral of S RAO^2), both within 10 %. */
 static void check_record(const char *what, const core_ship *ship, const sim_sea *sea, uint64_t seed, int motions)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_ship_motion *m = sim_ship_motion_create(ship, sea, seed, &err);
     CHECK(m != NULL);
     if (!m) {
@@ -243,7 +243,7 @@ static void test_long_records(void)
 /* ------------------------------------------------------------ calm seas */
 static void test_calm(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     /* still water, no way on: everything exactly zero, at any time */
     sim_sea sea = make_sea(0, 0.0, 30.0, SIM_SPECTRUM_ITTC);
     sim_ship_motion *m = sim_ship_motion_create(&cg47, &sea, 5, &err);
@@ -296,7 +296,7 @@ static void test_calm(void)
 /* ---------------------------------------------------------- determinism */
 static void test_seeds(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_sea sea = make_sea(5, 12.0, 45.0, SIM_SPECTRUM_JONSWAP);
     sim_ship_motion *a = sim_ship_motion_create(&cg47, &sea, 42, &err);
     sim_ship_motion *b = sim_ship_motion_create(&cg47, &sea, 43, &err);
@@ -347,7 +347,7 @@ static void test_seeds(void)
  * large. */
 static void test_phasors(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_sea sea = make_sea(6, 20.0, 30.0, SIM_SPECTRUM_ITTC);
     const double h = 0.005;
     sim_ship_motion *a = sim_ship_motion_create(&cg47, &sea, 11, &err); /* direct */
@@ -453,7 +453,7 @@ static double vdist(core_vec3 a, core_vec3 b)
 
 static void test_derivatives(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_sea sea = make_sea(6, 10.0, 60.0, SIM_SPECTRUM_ITTC);
     sea.course_rad = 200.0 * CORE_DEG_TO_RAD;
     sim_ship_motion *m = sim_ship_motion_create(&lpd17, &sea, 3, &err);
@@ -528,7 +528,7 @@ static double corr(const double *a, const double *b, int n)
  * side rises first (roll to port, negative), from port the other way. */
 static void test_phases(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     core_ship ship = cg47;
     ship.length_m = 40.0;
     ship.beam_m = 8.0;
@@ -624,7 +624,7 @@ static double spectrum_peak(const double *x, const double *y, double w0, double 
  * CG-47 at 20 kt, sea state 5), and at w_p itself in beam seas. */
 static void test_encounter(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     const double dirs[2] = {0.0, 90.0}, U = 20.0 * CORE_KT_TO_MPS, wp = 2.0 * CORE_PI / 9.7;
     for (int k = 0; k < 2; k++) {
         sim_sea sea = make_sea(5, 20.0, dirs[k], SIM_SPECTRUM_JONSWAP);
@@ -645,7 +645,7 @@ static void test_encounter(void)
 
 static void test_roll_resonance(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     /* CG-47 in beam seas at rest, sea state 5: the roll's peak is at the
      * ship file's roll_period_s (11 s), and follows it when it changes */
     const double periods[2] = {cg47.roll_period_s, 8.0};
@@ -672,7 +672,7 @@ static void test_roll_resonance(void)
 /* ------------------------------------------------------------ bad input */
 static void expect_refused(const core_ship *ship, const sim_sea *sea, const char *a, const char *b)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_ship_motion *m = sim_ship_motion_create(ship, sea, 1, &err);
     CHECK(m == NULL);
     CHECK(strstr(err.msg, a) != NULL);
@@ -717,7 +717,7 @@ static void test_refusals(void)
     CHECK_NEAR(lpd17.hull_draft_m, lpd17.draft_m, 1e-12);
     CHECK(sfs2.block_coefficient == 0.0 && sfs2.roll_period_s == 0.0);
     core_ship partial;
-    core_err err = {{0}};
+    core_err err = {0};
     CHECK(core_ship_load("tests/sim/data/ship_partial_seakeeping.ini", &partial, &err) < 0);
     CHECK(strstr(err.msg, "ship_partial_seakeeping.ini:12: [ship] roll_period_s given without block_coefficient"));
     if (!strstr(err.msg, "given without block_coefficient"))
@@ -733,7 +733,7 @@ static void test_refusals(void)
 /* The pieces a flight gets: the frame callback agrees with the state. */
 static void test_frame_fn(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_sea sea = make_sea(5, 15.0, 30.0, SIM_SPECTRUM_ITTC);
     sim_ship_motion *m = sim_ship_motion_create(&cg47, &sea, 2, &err);
     CHECK(m != NULL);
@@ -767,7 +767,7 @@ static void test_elevation(void)
     for (int d = 0; d < 3; d++) {
         sim_sea sea = make_sea(5, 23.3, dirs[d], SIM_SPECTRUM_ITTC);
         sea.course_rad = 0.7;
-        core_err err = {{0}};
+        core_err err = {0};
         sim_ship_motion *m = sim_ship_motion_create(&cg47, &sea, 42, &err);
         CHECK(m != NULL);
         if (!m)
@@ -807,7 +807,7 @@ static void test_elevation(void)
         sim_ship_motion_destroy(m);
     }
     sim_sea calm = make_sea(0, 10.0, 0.0, SIM_SPECTRUM_ITTC);
-    core_err err = {{0}};
+    core_err err = {0};
     sim_ship_motion *m = sim_ship_motion_create(&cg47, &calm, 1, &err);
     double x[2] = {0.0, 100.0}, y[2] = {5.0, -50.0}, eta[2] = {1.0, 1.0};
     CHECK(m && sim_ship_motion_elevation(m, 3.0, 2, x, y, eta) == 0 && eta[0] == 0.0 && eta[1] == 0.0);
@@ -816,7 +816,7 @@ static void test_elevation(void)
 
 int main(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     if (core_ship_load("scenarios/ships/cg47.ini", &cg47, &err) || core_ship_load("scenarios/ships/lpd17.ini", &lpd17, &err) ||
         core_ship_load("scenarios/ships/sfs2.ini", &sfs2, &err)) {
         fprintf(stderr, "%s\n", err.msg);

@@ -58,7 +58,7 @@ static const struct {
 int main(void)
 {
     sim_scenario *sc = malloc(sizeof *sc);
-    core_err err = {{0}};
+    core_err err = {0};
     CHECK(sim_scenario_load("scenarios/sfs2_validation.ini", sc, &err) == 0);
     if (err.msg[0])
         fprintf(stderr, "%s\n", err.msg);

@@ -110,7 +110,7 @@ static const double offs[NP][2] = {{0, 0},     {0.1, 0},  {0, 0.1},   {0.5, 0}, 
  * wind axes at point p. every: keep one step in every. */
 static int long_run(const double vel_S[3], uint64_t seed, int every, double *series[NP][3], size_t *n_out)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_turb_opts o;
     sim_turb_opts_default(&o);
     sim_turb *t = sim_turb_create(&o, seed, &err);
@@ -236,7 +236,7 @@ static void statistics(void)
 /* A short run's samples at a few points: n steps of 3 points, 3 components. */
 static void short_run(const sim_turb_opts *o, uint64_t seed, int n, double *out)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_turb *t = sim_turb_create(o, seed, &err);
     CHECK(t != NULL);
     if (!t)
@@ -271,7 +271,7 @@ static void determinism_and_off(void)
     CHECK(amax > 1.0); /* the run is turbulent at all */
 
     /* reset gives the run again */
-    core_err err = {{0}};
+    core_err err = {0};
     sim_turb *t = sim_turb_create(&o, 7, &err);
     const double ref[3] = {0, 0, -5}, vel[3] = {-10, 0, 0}, p[3] = {-3, 2, -5};
     double g1[3], g2[3];
@@ -320,7 +320,7 @@ static void scales(void)
 
 static void refusals(void)
 {
-    core_err err = {{0}};
+    core_err err = {0};
     sim_turb_opts o;
     /* each bad option refused, its name in the message */
     const char *names[] = {"enabled", "cmu", "cmu", "length_min_m", "length_max_m", "length_max_m",

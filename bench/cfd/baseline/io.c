@@ -449,7 +449,7 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
         core_err_set(err, -2, "%s: out of memory", path);
         goto fail;
     }
-    core_err gerr = {{0}};
+    core_err gerr = {0};
     fl->g = cfd_grid_create(xn[0], n[0], xn[1], n[1], xn[2], n[2], &gerr);
     if (!fl->g) {
         /* the grid's message does not know the file */
