@@ -22,16 +22,6 @@ static int scene_air(void *user, const double p_S_m[3], double v_S_mps[3])
     return sim_air_mean_S(user, p_S_m, 0.0, v_S_mps, NULL, NULL) == 1 ? 1 : 0;
 }
 
-/* The level frame the overlay's air is sampled in (the field is in S). */
-static int scene_frame(void *user, double t_s, sim_ship_frame *out)
-{
-    (void)user;
-    (void)t_s;
-    memset(out, 0, sizeof *out);
-    out->C_ES[0] = out->C_ES[4] = out->C_ES[8] = 1.0;
-    return 0;
-}
-
 int app_scene_open(app_scene *s, const sim_run_info *ri, unsigned overlays, const core_log *log, core_err *err)
 {
     memset(s, 0, sizeof *s);
@@ -74,7 +64,7 @@ int app_scene_set_field(app_scene *s, struct cfd_field *field, core_err *err)
     ao.wod_dir_rad = s->info.wod_dir_rad;
     ao.deck_height_m = s->ship.deck_height_m;
     sim_air_destroy(s->air);
-    if (!(s->air = sim_air_create(&ao, scene_frame, NULL, err)) || sim_air_set_field(s->air, field, -1e9, err) != 0)
+    if (!(s->air = sim_air_create(&ao, err)) || sim_air_set_field(s->air, field, -1e9, err) != 0)
         return -1;
     s->field = field;
     s->scene.air = scene_air;

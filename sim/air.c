@@ -30,11 +30,13 @@
  *    old one plus w of the new, w rising linearly from 0 to 1 over
  *    blend_s, so the air at a point changes by at most |v_new - v_old|
  *    * dt / blend_s per step.
- *  - With a coupled field pair (sim_air_set_interaction), the rotor's
+ *  - With a coupled field pair (sim_air_in.inter), the rotor's
  *    interaction with the ship near the rotor station is added to the mean
  *    air (sim/interaction.c).
- * Everything here is a pure function of position, time and what was
- * offered when: the loop stays deterministic.
+ *  - In E (sim_air_sample_E), with the ship's frame at the time that the
+ *    caller gives (the flight's ship stage, sim/ship_frame.c).
+ * Everything here is a pure function of position, time, the inputs given
+ * and the fields offered when: the loop stays deterministic.
  */
 #include "sim.h"
 #include "cfd.h"
@@ -51,29 +53,10 @@ typedef struct air_src {
 
 struct sim_air {
     sim_air_opts o;
-    sim_ship_frame_fn frame;
-    void *frame_user;
     air_src cur, old;
     double t_blend0_s; /* blend from old to cur from this time (-inf: none) */
     double wind_S[3];  /* the WOD free stream at anemometer height, in S */
     double ln_an;      /* ln(h_an / z0) */
-    const sim_turb *turb; /* NULL: no turbulence */
-    const sim_interaction *inter; /* NULL: none (sim/interaction.c) */
-    /* the ship frames of the last few times asked for: the integrator
-     * samples the air at hundreds of points at each of a step's stage
-     * times, and the frame (a sum over the seaway's waves) is the same
-     * for all of them */
-    struct {
-        double t_s;
-        sim_ship_frame fr;
-    } frames[4];
-    int nframes, next_frame;
-    double step_s; /* > 0: the loop's step (frame_compute interpolates within it) */
-    /* the frame of the last time asked (a stage time: every point of the
-     * stage asks for the same one) */
-    int have_last;
-    double last_t_s;
-    sim_ship_frame last_fr;
 };
 
 void sim_air_opts_default(sim_air_opts *o)
@@ -84,11 +67,11 @@ void sim_air_opts_default(sim_air_opts *o)
     o->blend_s = 3.0;
 }
 
-sim_air *sim_air_create(const sim_air_opts *o, sim_ship_frame_fn frame, void *frame_user, core_err *err)
+sim_air *sim_air_create(const sim_air_opts *o, core_err *err)
 {
-    if (!frame || !(o->wod_speed_mps >= 0.0) || !(o->anemometer_height_m > o->z0_m) || !(o->z0_m > 0.0) ||
+    if (!(o->wod_speed_mps >= 0.0) || !(o->anemometer_height_m > o->z0_m) || !(o->z0_m > 0.0) ||
         !(o->blend_s > 0.0) || !isfinite(o->wod_dir_rad)) {
-        core_err_set(err, -1, "flight air: expected a ship frame, a WOD speed >= 0, z0 > 0 below the anemometer "
+        core_err_set(err, -1, "flight air: expected a WOD speed >= 0, z0 > 0 below the anemometer "
                               "height and a blend time > 0");
         return NULL;
     }
@@ -98,8 +81,6 @@ sim_air *sim_air_create(const sim_air_opts *o, sim_ship_frame_fn frame, void *fr
         return NULL;
     }
     a->o = *o;
-    a->frame = frame;
-    a->frame_user = frame_user;
     a->t_blend0_s = -INFINITY;
     core_vec3 w = core_wod_vel_S_mps(o->wod_speed_mps, o->wod_dir_rad);
     a->wind_S[0] = w.x, a->wind_S[1] = w.y, a->wind_S[2] = w.z;
@@ -184,8 +165,6 @@ int sim_air_mean_S(const sim_air *a, const double p_S[3], double t_s, double v_S
         for (int i = 0; i < 2; i++)
             ke[i] = w * ke[i] + (1.0 - w) * keo[i];
     }
-    if (a->inter) /* the coupled rotor interaction near the station */
-        sim_interaction_apply(a->inter, p_S, v_S);
     if (k_m2ps2)
         *k_m2ps2 = ke[0];
     if (eps_m2ps3)
@@ -193,129 +172,46 @@ int sim_air_mean_S(const sim_air *a, const double p_S[3], double t_s, double v_S
     return free_cur;
 }
 
-int sim_air_sample_S(const sim_air *a, const double p_S[3], double t_s, double v_S[3])
+int sim_air_sample_S(const sim_air *a, const sim_air_in *in, const double p_S[3], double t_s, double v_S[3])
 {
+    const sim_turb *turb = in ? in->turb : NULL;
     double k = 0.0;
-    int rc = sim_air_mean_S(a, p_S, t_s, v_S, a->turb ? &k : NULL, NULL);
-    if (a->turb && k > 0.0) {
+    int rc = sim_air_mean_S(a, p_S, t_s, v_S, turb ? &k : NULL, NULL);
+    if (in && in->inter) /* the coupled rotor interaction near the station */
+        sim_interaction_apply(in->inter, p_S, v_S);
+    if (turb && k > 0.0) {
         double g[3];
-        if (sim_turb_sample(a->turb, p_S, k, g) == 0)
+        if (sim_turb_sample(turb, p_S, k, g) == 0)
             for (int i = 0; i < 3; i++)
                 v_S[i] += g[i];
     }
     return rc;
 }
 
-void sim_air_set_turb(sim_air *a, const sim_turb *t) { a->turb = t; }
-
-void sim_air_set_interaction(sim_air *a, const sim_interaction *ia) { a->inter = ia; }
-
-/* The ship's frame at t_s, through the small cache (exact times only, so
- * the result is the frame function's own). */
-static int frame_exact(sim_air *a, double t_s, sim_ship_frame *fr)
+void sim_air_sample_E(const sim_air *a, const sim_air_in *in, const sim_ship_frame *fr, const double pos_E_m[3],
+                      double t_s, double vel_E_mps[3])
 {
-    for (int i = 0; i < a->nframes; i++)
-        if (a->frames[i].t_s == t_s) {
-            *fr = a->frames[i].fr;
-            return 0;
-        }
-    if (a->frame(a->frame_user, t_s, fr))
-        return -1;
-    a->frames[a->next_frame].t_s = t_s;
-    a->frames[a->next_frame].fr = *fr;
-    a->next_frame = (a->next_frame + 1) % 4;
-    if (a->nframes < 4)
-        a->nframes++;
-    return 0;
-}
-
-/* The ship's frame at t_s. With a step set (sim_air_set_step), a time
- * between two step times is interpolated linearly between the frames at
- * those times: the integrator's stage times then cost no frame of their
- * own (a frame sums the seaway's waves). The error is of order (h w)^2 of
- * the motion for a step h and a motion of frequency w: below 1e-5 of it at
- * 200 Hz for the ship's periods of 5 s and more. */
-static int frame_compute(sim_air *a, double t_s, sim_ship_frame *fr)
-{
-    if (!(a->step_s > 0.0))
-        return frame_exact(a, t_s, fr);
-    /* a step time (k h, as the loop computes it) is exact; floor alone
-     * put 3 h / h = 2.9999... in the step before and interpolated there */
-    double kn = nearbyint(t_s / a->step_s);
-    if (fabs(t_s - kn * a->step_s) <= 1e-12 * fmax(1.0, fabs(t_s)))
-        return frame_exact(a, kn * a->step_s, fr);
-    double k = floor(t_s / a->step_s), t0 = k * a->step_s;
-    sim_ship_frame f0, f1;
-    if (frame_exact(a, t0, &f0) || frame_exact(a, (k + 1.0) * a->step_s, &f1))
-        return -1;
-    double w = (t_s - t0) / a->step_s;
-    for (int i = 0; i < 3; i++) {
-        fr->origin_E_m[i] = (1.0 - w) * f0.origin_E_m[i] + w * f1.origin_E_m[i];
-        fr->mean_vel_E_mps[i] = (1.0 - w) * f0.mean_vel_E_mps[i] + w * f1.mean_vel_E_mps[i];
-    }
-    for (int i = 0; i < 9; i++)
-        fr->C_ES[i] = (1.0 - w) * f0.C_ES[i] + w * f1.C_ES[i];
-    return 0;
-}
-
-/* frame_compute through the last time's frame; NULL on failure. */
-static const sim_ship_frame *frame_ptr(sim_air *a, double t_s)
-{
-    if (a->have_last && t_s == a->last_t_s)
-        return &a->last_fr;
-    a->have_last = 0;
-    if (frame_compute(a, t_s, &a->last_fr))
-        return NULL;
-    a->have_last = 1;
-    a->last_t_s = t_s;
-    return &a->last_fr;
-}
-
-static int frame_at(sim_air *a, double t_s, sim_ship_frame *fr)
-{
-    const sim_ship_frame *p = frame_ptr(a, t_s);
-    if (!p)
-        return -1;
-    *fr = *p;
-    return 0;
-}
-
-void sim_air_set_step(sim_air *a, double step_s)
-{
-    a->step_s = step_s;
-    a->have_last = 0;
-}
-
-int sim_air_frame(sim_air *a, double t_s, sim_ship_frame *fr) { return frame_at(a, t_s, fr); }
-
-int sim_air_fn(void *user, const double pos_E_m[3], double t_s, double vel_E_mps[3])
-{
-    sim_air *a = user;
-    const sim_ship_frame *fr = frame_ptr(a, t_s);
-    if (!fr)
-        return -1;
     double d[3], p_S[3], v_S[3];
     for (int i = 0; i < 3; i++)
         d[i] = pos_E_m[i] - fr->origin_E_m[i];
     for (int i = 0; i < 3; i++) /* C_ES^T d */
         p_S[i] = fr->C_ES[0 * 3 + i] * d[0] + fr->C_ES[1 * 3 + i] * d[1] + fr->C_ES[2 * 3 + i] * d[2];
-    sim_air_sample_S(a, p_S, t_s, v_S);
+    sim_air_sample_S(a, in, p_S, t_s, v_S);
     for (int i = 0; i < 3; i++)
         vel_E_mps[i] = fr->C_ES[i * 3 + 0] * v_S[0] + fr->C_ES[i * 3 + 1] * v_S[1] + fr->C_ES[i * 3 + 2] * v_S[2] +
                        fr->mean_vel_E_mps[i];
-    return 0;
 }
 
-unsigned sim_air_flags(const sim_air *a, double t_s)
+unsigned sim_air_flags(const sim_air *a, const sim_interaction *inter, double t_s)
 {
     unsigned fl = 0;
     if (!a->cur.f)
         fl |= SIM_AIR_FREE_STREAM;
     if (sim_air_blend(a, t_s) < 1.0)
         fl |= SIM_AIR_BLENDING;
-    if (a->inter) {
+    if (inter) {
         sim_interaction_info ii;
-        sim_interaction_state(a->inter, &ii);
+        sim_interaction_state(inter, &ii);
         if (ii.weight * ii.factor > 0.0)
             fl |= SIM_AIR_INTERACTION;
     }

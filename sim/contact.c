@@ -42,10 +42,12 @@
  *      v0^2) along its heading, v0 = 0.05 m/s. Anchors move only between
  *      steps (sim_contact_step), so within a step the loads are a smooth
  *      function of the state for the flight model's Runge-Kutta stages.
- *   4. The loads go to the flight model (hfm_tsim's integrator) as an
- *      hfm_ext_fn: the force at each tyre's contact point, summed as a force
- *      and a moment about the CG in B. Nothing is integrated here; ODE's
- *      solver is not used (no soft-contact parameters to choose).
+ *   4. The loads go to the flight model (hfm_tsim's integrator) through
+ *      the flight's external loads (sim_contact_loads, with the deck's
+ *      motion that the flight's ship stage gives): the force at each tyre's
+ *      contact point, summed as a force and a moment about the CG in B.
+ *      Nothing is integrated here; ODE's solver is not used (no
+ *      soft-contact parameters to choose).
  *   5. Strikes: the aircraft file's strike points (rotor tips, tail, nose,
  *      belly) as small ODE spheres against the deck box and one ODE box per
  *      ship block (a tapered bow is taken as its box), checked after each
@@ -88,8 +90,6 @@ typedef struct leg_rt {
 struct sim_contact {
     hfm_gear g;
     core_ship ship;
-    sim_ship_frame_fn frame;
-    void *frame_user;
     double h_s, weight_N;
     int brakes, lock, ode;
     dWorldID world;
@@ -175,35 +175,10 @@ int sim_contact_static_loads(const hfm_gear *g, double weight_N, double load_N[]
 }
 
 /* ---------------------------------------------------------- the ship frame */
-static int frame_at(const sim_contact *c, double t, sim_ship_frame *fr)
+/* The deck's kinematic body: the ship's frame and its velocities. */
+static void place_deck(sim_contact *c, const sim_ship_deck *d)
 {
-    if (!c->frame) {
-        memset(fr, 0, sizeof *fr);
-        fr->C_ES[0] = fr->C_ES[4] = fr->C_ES[8] = 1.0;
-        return 0;
-    }
-    return c->frame(c->frame_user, t, fr);
-}
-
-/* The deck's kinematic body at t: pose, and the velocities by central
- * differences of the frame (any sim_ship_frame_fn). */
-static int place_deck(sim_contact *c, double t, sim_ship_frame *fr)
-{
-    sim_ship_frame a, b;
-    const double dt = 1e-4;
-    if (frame_at(c, t, fr) || frame_at(c, t - dt, &a) || frame_at(c, t + dt, &b))
-        return -1;
-    double v[3], W[3][3];
-    for (int i = 0; i < 3; i++)
-        v[i] = (b.origin_E_m[i] - a.origin_E_m[i]) / (2 * dt);
-    /* Omega_x = dC/dt C^T */
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            double s = 0;
-            for (int k = 0; k < 3; k++)
-                s += (b.C_ES[3 * i + k] - a.C_ES[3 * i + k]) / (2 * dt) * fr->C_ES[3 * j + k];
-            W[i][j] = s;
-        }
+    const sim_ship_frame *fr = &d->fr;
     dMatrix3 R;
     for (int i = 0; i < 3; i++) {
         for (int j = 0; j < 3; j++)
@@ -212,10 +187,8 @@ static int place_deck(sim_contact *c, double t, sim_ship_frame *fr)
     }
     dBodySetPosition(c->deck_body, fr->origin_E_m[0], fr->origin_E_m[1], fr->origin_E_m[2]);
     dBodySetRotation(c->deck_body, R);
-    dBodySetLinearVel(c->deck_body, v[0], v[1], v[2]);
-    dBodySetAngularVel(c->deck_body, 0.5 * (W[2][1] - W[1][2]), 0.5 * (W[0][2] - W[2][0]),
-                       0.5 * (W[1][0] - W[0][1]));
-    return 0;
+    dBodySetLinearVel(c->deck_body, d->vel_E_mps[0], d->vel_E_mps[1], d->vel_E_mps[2]);
+    dBodySetAngularVel(c->deck_body, d->omega_E_radps[0], d->omega_E_radps[1], d->omega_E_radps[2]);
 }
 
 /* v_S = C_ES^T v_E */
@@ -247,13 +220,12 @@ static void rot(core_quat q, const double v[3], double o[3])
 }
 
 /* ------------------------------------------------------------- the loads */
-/* The gear's loads in E (force, moment about the CG) for body state b at
- * t; each leg's state kept for the step's bookkeeping. */
-static int gear_loads(sim_contact *c, double t, const hfm_body *b, double F_E[3], double Mom_E[3],
-                      sim_ship_frame *fr)
+/* The gear's loads in E (force, moment about the CG) for body state b on
+ * the deck; each leg's state kept for the step's bookkeeping. */
+static int gear_loads(sim_contact *c, const sim_ship_deck *deck, const hfm_body *b, double F_E[3], double Mom_E[3])
 {
-    if (place_deck(c, t, fr))
-        return -1;
+    const sim_ship_frame *fr = &deck->fr;
+    place_deck(c, deck);
     core_quat q = body_quat(b);
     double vcg[3], w[3];
     rot(q, b->vel_B_mps, vcg);
@@ -376,15 +348,13 @@ static int gear_loads(sim_contact *c, double t, const hfm_body *b, double F_E[3]
     return 0;
 }
 
-int sim_contact_ext_fn(void *user, double t_s, const hfm_body *b, double F_B_N[3], double M_B_Nm[3])
+int sim_contact_loads(sim_contact *c, const sim_ship_deck *deck, const hfm_body *b, double F_B_N[3], double M_B_Nm[3])
 {
-    sim_contact *c = user;
     double F[3], M[3];
-    sim_ship_frame fr;
     double slip[HFM_GEAR_MAX_LEGS];
     for (int i = 0; i < c->g.nlegs; i++)
         slip[i] = c->leg[i].st.slip_m;
-    int rc = gear_loads(c, t_s, b, F, M, &fr);
+    int rc = gear_loads(c, deck, b, F, M);
     for (int i = 0; i < c->g.nlegs; i++)
         c->leg[i].st.slip_m = slip[i];
     if (rc)
@@ -412,14 +382,15 @@ static void flag(sim_contact *c, unsigned what, double t, double *t_first, const
     c->rep.flags |= what;
 }
 
-int sim_contact_step(sim_contact *c, double t_s, const hfm_body *b, sim_contact_report *rep)
+int sim_contact_step(sim_contact *c, double t_s, const sim_ship_deck *deck, const hfm_body *b,
+                     sim_contact_report *rep)
 {
     double F[3], M[3];
-    sim_ship_frame fr;
+    const sim_ship_frame *fr = &deck->fr;
     double slip[HFM_GEAR_MAX_LEGS];
     for (int i = 0; i < c->g.nlegs; i++)
         slip[i] = c->leg[i].st.slip_m;
-    int bad = gear_loads(c, t_s, b, F, M, &fr);
+    int bad = gear_loads(c, deck, b, F, M);
     char msg[160];
     c->rep.t_s = t_s;
     for (int i = 0; i < c->g.nlegs; i++) {
@@ -472,7 +443,7 @@ int sim_contact_step(sim_contact *c, double t_s, const hfm_body *b, sim_contact_
     core_quat q = body_quat(b);
     double zb[3] = {0, 0, 1}, zE[3];
     rot(q, zb, zE);
-    double cz = zE[0] * fr.C_ES[2] + zE[1] * fr.C_ES[5] + zE[2] * fr.C_ES[8];
+    double cz = zE[0] * fr->C_ES[2] + zE[1] * fr->C_ES[5] + zE[2] * fr->C_ES[8];
     c->rep.tilt_rad = acos(cz > 1 ? 1 : cz < -1 ? -1 : cz);
     int any = 0;
     for (int i = 0; i < c->g.nlegs; i++)
@@ -567,8 +538,7 @@ static double tip_angle(const hfm_gear *g, const double *load_N)
     return atan2(dmin, h);
 }
 
-sim_contact *sim_contact_create(const hfm_aircraft *ac, const core_ship *ship, sim_ship_frame_fn frame,
-                                void *frame_user, double rate_hz, core_err *err)
+sim_contact *sim_contact_create(const hfm_aircraft *ac, const core_ship *ship, double rate_hz, core_err *err)
 {
     if (!ac || !ship || !(rate_hz > 0)) {
         core_err_set(err, -1, "sim_contact_create: an aircraft, a ship and a rate > 0 are needed");
@@ -586,8 +556,6 @@ sim_contact *sim_contact_create(const hfm_aircraft *ac, const core_ship *ship, s
         goto fail;
     }
     c->ship = *ship;
-    c->frame = frame;
-    c->frame_user = frame_user;
     c->h_s = 1.0 / rate_hz;
     c->weight_N = hfm_aircraft_weight_N(ac);
     c->brakes = c->g.brakes_on;

@@ -1,24 +1,35 @@
 /* flight.c -- the deterministic flight step of the real-time loop.
  *
  * One step of h = 1 / rate_hz runs its stages in this fixed order, as
- * JSBSim's FGFDMExec::Run runs its models, each fed by an explicit input:
- *   1. pilot:   the step's controls (sim_flight_inputs; hold keeps the last)
+ * JSBSim's FGFDMExec::Run runs its models, each a static function fed by
+ * an explicit input that the step fills before it runs (as
+ * FGFDMExec::LoadInputs):
+ *   1. pilot:   the step's controls (sim_flight_inputs; hold keeps the
+ *               last), through the stability augmentation (sim/sas.c) from
+ *               the body state at the step's start
  *   2. ship:    the ship frame S in E, a pure function of time (the
- *               caller's sim_ship_frame_fn, or the ship steady at its speed)
+ *               caller's sim_ship_frame_fn, or the ship steady at its
+ *               speed), computed once per step at the step times around
+ *               the step (sim/ship_frame.c); every time the later stages
+ *               ask within the step is had from these frames
  *   3. air:     the airwake attached to the ship, in E (sim/air.c), sampled
  *               by the flight model at every blade element, the tail rotor,
- *               fuselage and tail surfaces through one hfm_air callback;
- *               its frozen turbulence (sim/turbulence.c) advanced once per
- *               step with the field's mean air, k and epsilon at the CG
+ *               fuselage and tail surfaces through one hfm_air callback
+ *               with the ship stage's frame at the sample's time; its
+ *               inputs advanced once per step from the CG in S at the
+ *               step's start: the coupled rotor interaction's rotor
+ *               (sim/interaction.c) and the frozen turbulence
+ *               (sim/turbulence.c) with the field's mean air, k and
+ *               epsilon at the CG
  *   4. flight model: the helicopter integrated in the Earth frame E
  *               (inertial) by hfm_tsim, ARKODE explicit Runge-Kutta at the
  *               fixed step (Ralston's 2-stage method, hfm/tsim.c)
  *   5. external loads: the landing gear on the deck (opts.gear,
- *               sim/contact.c) and the caller's hfm_ext_fn, summed and
- *               added at every right-hand side; after the step the gear's
- *               bookkeeping (sim_contact_step: the tyres' slides, the
- *               strike points, slide / tip-over / crash), from the state
- *               the step ended at
+ *               sim/contact.c) with the ship stage's deck at the time, and
+ *               the caller's hfm_ext_fn, summed and added at every
+ *               right-hand side; after the step the gear's bookkeeping
+ *               (sim_contact_step: the tyres' slides, the strike points,
+ *               slide / tip-over / crash), from the state the step ended at
  *   6. outputs: the state in E and relative to the ship, the main rotor's
  *               thrust and power, the gear's loads and flags
  *               (sim_flight_out).
@@ -64,9 +75,16 @@ struct sim_flight {
     sim_flight_opts o;
     sim_ship_frame_fn frame;
     void *frame_user;
+    sim_ship_frames frames;   /* the ship stage's: S at the step times around the step */
     sim_air *air;
+    sim_air_in air_in;        /* the air's inputs: the turbulence, the interaction */
     sim_turb *turb;           /* NULL: no turbulence */
     hfm_air hair;
+    /* the frame of the last time the air asked (every point of a stage
+     * asks the same one) */
+    int have_air_fr;
+    double air_t_s;
+    sim_ship_frame air_fr;
     hfm_tsim *ts;
     hfm_controls u, u_trim;   /* the pilot's (the rotor's: u with the SAS's) */
     sim_sas *sas;             /* the stability augmentation (sim/sas.c) */
@@ -145,12 +163,29 @@ static void body_S_to_E(const sim_ship_frame *fr, const hfm_body *bS, hfm_body *
     bE->euler_rad[0] = a.phi_rad, bE->euler_rad[1] = a.theta_rad, bE->euler_rad[2] = a.psi_rad;
 }
 
-/* The gear sees the ship's frame the air has (its cache of the steps'
- * frames): one wave sum per time, the same frames as the air. */
-static int gear_frame(void *user, double t_s, sim_ship_frame *fr)
+/* The air at a right-hand side (the hfm_air callback): the ship stage's
+ * frame at t_s and the air's inputs. */
+static int flight_air(void *user, const double pos_E_m[3], double t_s, double vel_E_mps[3])
 {
     sim_flight *f = user;
-    return sim_air_frame(f->air, t_s, fr);
+    if (!f->have_air_fr || t_s != f->air_t_s) {
+        f->have_air_fr = 0;
+        if (sim_ship_frames_at(&f->frames, t_s, &f->air_fr) != 0)
+            return -1;
+        f->have_air_fr = 1;
+        f->air_t_s = t_s;
+    }
+    sim_air_sample_E(f->air, &f->air_in, &f->air_fr, pos_E_m, t_s, vel_E_mps);
+    return 0;
+}
+
+/* The gear's loads at t_s on the ship stage's deck. */
+static int gear_loads(sim_flight *f, double t_s, const hfm_body *b, double F_B_N[3], double M_B_Nm[3])
+{
+    sim_ship_deck deck;
+    if (sim_ship_deck_at(sim_ship_frames_fn, &f->frames, t_s, &deck) != 0)
+        return -1;
+    return sim_contact_loads(f->gear, &deck, b, F_B_N, M_B_Nm);
 }
 
 /* The external loads at a right-hand side: the gear's and the caller's. */
@@ -159,7 +194,7 @@ static int flight_ext(void *user, double t_s, const hfm_body *b, double F_B_N[3]
     sim_flight *f = user;
     for (int i = 0; i < 3; i++)
         F_B_N[i] = M_B_Nm[i] = 0.0;
-    if (f->gear && sim_contact_ext_fn(f->gear, t_s, b, F_B_N, M_B_Nm) != 0)
+    if (f->gear && gear_loads(f, t_s, b, F_B_N, M_B_Nm) != 0)
         return -1;
     if (f->ext) {
         double F[3] = {0, 0, 0}, M[3] = {0, 0, 0};
@@ -265,13 +300,14 @@ static int deck_start(sim_flight *f, hfm_body *bE, hfm_controls *u, core_err *er
  * mean frame), for hfm_trim (which works in S). */
 typedef struct trim_air {
     const sim_air *air;
+    sim_air_in in; /* the interaction; no turbulence */
 } trim_air;
 
 static int trim_air_fn(void *user, const double pos_S_m[3], double t_s, double vel_S_mps[3])
 {
     (void)t_s;
     const trim_air *ta = user;
-    sim_air_sample_S(ta->air, pos_S_m, 0.0, vel_S_mps);
+    sim_air_sample_S(ta->air, &ta->in, pos_S_m, 0.0, vel_S_mps);
     return 0;
 }
 
@@ -285,7 +321,7 @@ static int hover_start(sim_flight *f, hfm_body *bE, hfm_rotor_harm *rh, core_err
     hfm_trim *tr = hfm_trim_create(ac, log);
     if (!tr)
         return core_err_set(err, -1, "flight: out of memory");
-    trim_air ta = {f->air};
+    trim_air ta = {f->air, {NULL, o->interaction}};
     hfm_air tair = {trim_air_fn, &ta, NULL};
     hfm_trim_cond cond;
     memset(&cond, 0, sizeof cond);
@@ -358,17 +394,17 @@ sim_flight *sim_flight_create(const hfm_aircraft *ac, const core_ship *ship, con
     ao.deck_height_m = ship->deck_height_m;
     ao.anemometer_height_m = fmax(ship->deck_height_m - ship->anemometer_S_m[2], 2.0);
     ao.blend_s = o->blend_s;
-    if (!(f->air = sim_air_create(&ao, f->frame, f->frame_user, err)))
+    if (!(f->air = sim_air_create(&ao, err)))
         goto fail;
     if (sim_air_set_field(f->air, field, -INFINITY, err) != 0)
         goto fail;
-    sim_air_set_interaction(f->air, o->interaction);
+    f->air_in.inter = o->interaction;
     /* the start's place gives the interaction's weight in the trim */
-    if (o->interaction && sim_interaction_set_rotor(o->interaction, o->station_S_m, NAN, 0.0) != 0) {
+    if (o->interaction && sim_interaction_step(o->interaction, o->station_S_m, NAN, 0.0) != 0) {
         core_err_set(err, -1, "flight: the station is not finite");
         goto fail;
     }
-    if (o->gear && !(f->gear = sim_contact_create(ac, ship, gear_frame, f, o->rate_hz, err)))
+    if (o->gear && !(f->gear = sim_contact_create(ac, ship, o->rate_hz, err)))
         goto fail;
     hfm_body bE;
     hfm_rotor_harm rh;
@@ -396,14 +432,17 @@ sim_flight *sim_flight_create(const hfm_aircraft *ac, const core_ship *ship, con
         sim_turb_opts_default(&to);
         if (!(f->turb = sim_turb_create(&to, (uint64_t)o->seed, err)))
             goto fail;
-        sim_air_set_turb(f->air, f->turb);
+        f->air_in.turb = f->turb;
     }
-    sim_air_set_step(f->air, f->h_s);
     /* a seaway's frame at the step times by phasor rotation (sim/ship_motion.c) */
     if (f->frame == sim_ship_motion_frame_fn && sim_ship_motion_set_step(f->frame_user, f->h_s, err) != 0)
         goto fail;
-    f->hair.fn = sim_air_fn;
-    f->hair.user = f->air;
+    if (sim_ship_frames_advance(&f->frames, f->frame, f->frame_user, f->h_s, 0) != 0) {
+        core_err_set(err, -1, "flight: no ship frame at t = 0");
+        goto fail;
+    }
+    f->hair.fn = flight_air;
+    f->hair.user = f;
     f->hair.wake = NULL;
     if (!(f->ts = hfm_tsim_create(ac, &f->hair, HFM_TSIM_ARKODE_FIXED, f->h_s, 0.0, log)) ||
         hfm_tsim_init(f->ts, 0.0, &bE, &f->u, &rh) != 0) {
@@ -413,8 +452,10 @@ sim_flight *sim_flight_create(const hfm_aircraft *ac, const core_ship *ship, con
     set_ext(f);
     if (f->gear) { /* the tyres' anchors where they stand at the start, a strike at once */
         hfm_body b;
+        sim_ship_deck deck;
         hfm_tsim_body(f->ts, &b);
-        if (sim_contact_step(f->gear, 0.0, &b, &f->rep) != 0 || (f->rep.flags & SIM_CONTACT_TIP)) {
+        if (sim_ship_deck_at(sim_ship_frames_fn, &f->frames, 0.0, &deck) != 0 ||
+            sim_contact_step(f->gear, 0.0, &deck, &b, &f->rep) != 0 || (f->rep.flags & SIM_CONTACT_TIP)) {
             core_err_set(err, -1, "flight: at the start: %s", f->rep.what);
             goto fail;
         }
@@ -481,15 +522,18 @@ static void to_S(const sim_ship_frame *fr, const double v_E[3], double v_S[3])
         v_S[i] = fr->C_ES[i] * v_E[0] + fr->C_ES[3 + i] * v_E[1] + fr->C_ES[6 + i] * v_E[2];
 }
 
-/* The CG's position in S for the body state b (in E) at t_s. */
-static void cg_pos_S(const sim_flight *f, const hfm_body *b, double t_s, double p_S[3])
+/* The CG's position in S for the body state b (in E) at t_s. 0, or -1
+ * outside the ship stage's frames. */
+static int cg_pos_S(const sim_flight *f, const hfm_body *b, double t_s, double p_S[3])
 {
     sim_ship_frame fr;
-    sim_air_frame(f->air, t_s, &fr);
+    if (sim_ship_frames_at(&f->frames, t_s, &fr) != 0)
+        return -1;
     double d[3];
     for (int i = 0; i < 3; i++)
         d[i] = b->pos_S_m[i] - fr.origin_E_m[i];
     to_S(&fr, d, p_S);
+    return 0;
 }
 
 void sim_flight_state(const sim_flight *f, sim_flight_out *out)
@@ -507,7 +551,8 @@ void sim_flight_state(const sim_flight *f, sim_flight_out *out)
     memcpy(out->vel_E_mps, vE, sizeof vE);
     memcpy(out->euler_E_rad, b.euler_rad, sizeof out->euler_E_rad);
     memcpy(out->rate_B_radps, b.rate_B_radps, sizeof out->rate_B_radps);
-    sim_air_frame(f->air, out->t_s, &out->ship); /* the frame the air has just used, not a second wave sum */
+    /* the ship stage's frame, not a second wave sum */
+    int no_frame = sim_ship_frames_at(&f->frames, out->t_s, &out->ship) != 0;
     const sim_ship_frame *fr = &out->ship;
     double d[3], dv[3];
     for (int i = 0; i < 3; i++) {
@@ -520,14 +565,14 @@ void sim_flight_state(const sim_flight *f, sim_flight_out *out)
     out->long_pct = f->u.long_pct;
     out->lat_pct = f->u.lat_pct;
     out->pedal_pct = f->u.pedal_pct;
-    double a[3];
-    if (sim_air_fn(f->air, out->pos_E_m, out->t_s, a) == 0) {
-        double r2 = 0.0;
+    if (!no_frame) {
+        double a[3], r2 = 0.0;
+        sim_air_sample_E(f->air, &f->air_in, fr, out->pos_E_m, out->t_s, a);
         for (int i = 0; i < 3; i++)
             r2 += (a[i] - vE[i]) * (a[i] - vE[i]);
         out->airspeed_mps = sqrt(r2);
     }
-    out->air_flags = sim_air_flags(f->air, out->t_s);
+    out->air_flags = sim_air_flags(f->air, f->air_in.inter, out->t_s);
     hfm_tsim_rotor(f->ts, &out->rotor_thrust_N, &out->rotor_power_W);
     if (f->gear) {
         const sim_contact_report *r = &f->rep;
@@ -543,6 +588,97 @@ void sim_flight_state(const sim_flight *f, sim_flight_out *out)
     }
 }
 
+/* The stages' inputs, filled by the step before each stage runs. */
+typedef struct pilot_in {
+    const sim_flight_inputs *in; /* NULL or hold: the last controls kept */
+    hfm_body body;               /* the state at the step's start, for the SAS */
+} pilot_in;
+typedef struct ship_in {
+    long step; /* the step under way */
+} ship_in;
+typedef struct air_in {
+    double t_s;        /* the step's start */
+    double cg_S_m[3];  /* the CG in S there */
+    double thrust_N;   /* the main rotor's thrust there (NaN: not known yet) */
+} air_in;
+typedef struct model_in {
+    hfm_controls u_rotor; /* the pilot stage's controls at the rotor */
+    double t1_s;          /* the step's end */
+} model_in;
+typedef struct gear_in {
+    double t_s;   /* the step's end */
+    hfm_body body; /* the state there */
+} gear_in;
+
+/* 1. The pilot's controls, clamped, held when asked, and the controls at
+ * the rotor: the SAS's from the state at the step's start. */
+static void stage_pilot(sim_flight *f, const pilot_in *in, hfm_controls *u_rotor)
+{
+    if (in->in && !in->in->hold) {
+        f->u.collective_pct = clamp_pct(in->in->collective_pct);
+        f->u.long_pct = clamp_pct(in->in->long_pct);
+        f->u.lat_pct = clamp_pct(in->in->lat_pct);
+        f->u.pedal_pct = clamp_pct(in->in->pedal_pct);
+    }
+    sim_sas_step(f->sas, &in->body, &f->u, u_rotor);
+}
+
+/* 2. The ship's frames around the step (one new frame a step). */
+static int stage_ship(sim_flight *f, const ship_in *in, core_err *err)
+{
+    if (sim_ship_frames_advance(&f->frames, f->frame, f->frame_user, f->h_s, in->step) != 0)
+        return core_err_set(err, -1, "flight: no ship frame at t = %.3f s", (double)in->step * f->h_s);
+    return 0;
+}
+
+/* 3. The air's inputs for the step: the interaction's rotor, and the
+ * turbulence's frozen field moved on by one step, convected by the mean
+ * air at the CG (the interaction's included). */
+static int stage_air(sim_flight *f, const air_in *in, core_err *err)
+{
+    if (f->o.interaction && sim_interaction_step(f->o.interaction, in->cg_S_m, in->thrust_N, f->h_s) != 0)
+        return core_err_set(err, -1, "flight: the CG is not finite at t = %.3f s", in->t_s);
+    if (f->turb) {
+        double v[3], k, eps;
+        sim_air_mean_S(f->air, in->cg_S_m, in->t_s, v, &k, &eps);
+        if (f->o.interaction)
+            sim_interaction_apply(f->o.interaction, in->cg_S_m, v);
+        if (sim_turb_step(f->turb, in->cg_S_m, v, k, eps, f->h_s, err) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+/* 4-5. The flight model over the step, the external loads at its
+ * right-hand sides. */
+static int stage_model(sim_flight *f, const model_in *in, core_err *err)
+{
+    hfm_tsim_set_controls(f->ts, &in->u_rotor);
+    if (hfm_tsim_advance(f->ts, in->t1_s) != 0)
+        return core_err_set(err, -1, "flight: the integrator failed at t = %.3f s", in->t1_s);
+    return 0;
+}
+
+/* 5. The gear's bookkeeping from the state the step ended at; a crash or a
+ * roll-over ends the flight. */
+static int stage_gear(sim_flight *f, const gear_in *in, core_err *err)
+{
+    sim_ship_deck deck;
+    if (sim_ship_deck_at(sim_ship_frames_fn, &f->frames, in->t_s, &deck) != 0)
+        return core_err_set(err, -1, "flight: no ship frame at t = %.3f s", in->t_s);
+    if (sim_contact_step(f->gear, in->t_s, &deck, &in->body, &f->rep) == 0 && !(f->rep.flags & SIM_CONTACT_TIP))
+        return 0;
+    f->ended = 1;
+    if (f->rep.flags & SIM_CONTACT_CRASH)
+        snprintf(f->end_msg, sizeof f->end_msg, "%s at t = %.2f s", f->rep.what, in->t_s);
+    else
+        snprintf(f->end_msg, sizeof f->end_msg,
+                 "roll-over on the deck: tilted %.1f deg from the deck, past the gear's tip-over angle %.1f "
+                 "deg, at t = %.2f s",
+                 f->rep.tilt_rad * CORE_RAD_TO_DEG, f->rep.tip_angle_rad * CORE_RAD_TO_DEG, in->t_s);
+    return 0;
+}
+
 int sim_flight_step(sim_flight *f, const sim_flight_inputs *in, sim_flight_out *out, core_err *err)
 {
     if (f->ended) {
@@ -550,56 +686,32 @@ int sim_flight_step(sim_flight *f, const sim_flight_inputs *in, sim_flight_out *
             sim_flight_state(f, out);
         return core_err_set(err, 1, "%s", f->end_msg);
     }
-    /* 1. pilot, and the stability augmentation between the pilot's
-     * controls and the rotor, from the body state at the step's start */
-    if (in && !in->hold) {
-        f->u.collective_pct = clamp_pct(in->collective_pct);
-        f->u.long_pct = clamp_pct(in->long_pct);
-        f->u.lat_pct = clamp_pct(in->lat_pct);
-        f->u.pedal_pct = clamp_pct(in->pedal_pct);
-    }
-    hfm_body b0;
-    hfm_tsim_body(f->ts, &b0);
-    hfm_controls u_rotor;
-    sim_sas_step(f->sas, &b0, &f->u, &u_rotor);
-    hfm_tsim_set_controls(f->ts, &u_rotor);
-    /* 2-3: the ship frame and the air are functions of time, sampled by the
-     * flight model's right-hand sides; the turbulence's frozen field moves
-     * on by one step, convected by the mean air at the CG */
     double t0 = (double)f->step * f->h_s, t1 = (double)(f->step + 1) * f->h_s;
-    if (f->o.interaction) { /* the rotor's place and thrust for the coupled interaction */
-        double p_S[3], T_N, P_W;
-        cg_pos_S(f, &b0, t0, p_S);
-        hfm_tsim_rotor(f->ts, &T_N, &P_W);
-        if (sim_interaction_set_rotor(f->o.interaction, p_S, hfm_tsim_rhs_evals(f->ts) > 0 ? T_N : NAN, f->h_s) != 0)
-            return core_err_set(err, -1, "flight: the CG is not finite at t = %.3f s", t0);
-    }
-    if (f->turb) {
-        double p_S[3], v[3], k, eps;
-        cg_pos_S(f, &b0, t0, p_S);
-        sim_air_mean_S(f->air, p_S, t0, v, &k, &eps);
-        if (sim_turb_step(f->turb, p_S, v, k, eps, f->h_s, err) != 0)
+    pilot_in pi = {.in = in};
+    hfm_tsim_body(f->ts, &pi.body);
+    model_in mi = {.t1_s = t1};
+    stage_pilot(f, &pi, &mi.u_rotor);
+    ship_in si = {f->step};
+    if (stage_ship(f, &si, err) != 0)
+        return -1;
+    if (f->o.interaction || f->turb) {
+        air_in ai = {.t_s = t0, .thrust_N = NAN};
+        if (cg_pos_S(f, &pi.body, t0, ai.cg_S_m) != 0)
+            return core_err_set(err, -1, "flight: no ship frame at t = %.3f s", t0);
+        double P_W;
+        if (hfm_tsim_rhs_evals(f->ts) > 0)
+            hfm_tsim_rotor(f->ts, &ai.thrust_N, &P_W);
+        if (stage_air(f, &ai, err) != 0)
             return -1;
     }
-    /* 4-5: the flight model with the external loads */
-    if (hfm_tsim_advance(f->ts, t1) != 0)
-        return core_err_set(err, -1, "flight: the integrator failed at t = %.3f s", t1);
+    if (stage_model(f, &mi, err) != 0)
+        return -1;
     f->step++;
-    /* 5. the gear's bookkeeping from the state the step ended at; a crash
-     * or a roll-over ends the flight */
     if (f->gear) {
-        hfm_body b;
-        hfm_tsim_body(f->ts, &b);
-        if (sim_contact_step(f->gear, t1, &b, &f->rep) != 0 || (f->rep.flags & SIM_CONTACT_TIP)) {
-            f->ended = 1;
-            if (f->rep.flags & SIM_CONTACT_CRASH)
-                snprintf(f->end_msg, sizeof f->end_msg, "%s at t = %.2f s", f->rep.what, t1);
-            else
-                snprintf(f->end_msg, sizeof f->end_msg,
-                         "roll-over on the deck: tilted %.1f deg from the deck, past the gear's tip-over angle %.1f "
-                         "deg, at t = %.2f s",
-                         f->rep.tilt_rad * CORE_RAD_TO_DEG, f->rep.tip_angle_rad * CORE_RAD_TO_DEG, t1);
-        }
+        gear_in gi = {.t_s = t1};
+        hfm_tsim_body(f->ts, &gi.body);
+        if (stage_gear(f, &gi, err) != 0)
+            return -1;
     }
     /* 6. outputs */
     if (out)

@@ -148,7 +148,7 @@ struct sim_interaction {
     double tau_s;         /* the thrust's lag */
     double area_m2;
     sim_disk_modes dm;
-    /* the rotor now (sim_interaction_set_rotor) */
+    /* the rotor now (sim_interaction_step) */
     double shift_S_m[3];  /* the CG's displacement from the station */
     double shift_H_m[3];  /* the same in the fit's disk frame */
     double dist_m;
@@ -307,7 +307,7 @@ static double fade(const sim_interaction *ia, double d)
     return 1.0 - s * s * (3.0 - 2.0 * s);
 }
 
-int sim_interaction_set_rotor(sim_interaction *ia, const double cg_S_m[3], double thrust_N, double dt_s)
+int sim_interaction_step(sim_interaction *ia, const double cg_S_m[3], double thrust_N, double dt_s)
 {
     if (!isfinite(cg_S_m[0]) || !isfinite(cg_S_m[1]) || !isfinite(cg_S_m[2]) || !(dt_s >= 0.0))
         return -1;

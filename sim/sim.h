@@ -109,6 +109,38 @@ typedef struct sim_ship_frame {
  * deterministic). Returns 0, or non-zero when it cannot be had. */
 typedef int (*sim_ship_frame_fn)(void *user, double t_s, sim_ship_frame *out);
 
+/* The ship stage's frames (sim/ship_frame.c): S at the step times k h of
+ * the steps around the one under way, step - 1 .. step + 2 (what the
+ * gear's central differences reach from the step's start to its end),
+ * computed once per step; a time between two step times is interpolated
+ * between theirs. Plain data: zero it before the first advance. */
+#define SIM_SHIP_FRAMES 4
+typedef struct sim_ship_frames {
+    double h_s;                         /* the step */
+    long step;                          /* the step under way: fr[i] at (step - 1 + i) h */
+    int n;                              /* frames held: 0 or SIM_SHIP_FRAMES */
+    sim_ship_frame fr[SIM_SHIP_FRAMES];
+} sim_ship_frames;
+/* Move fs to the step `step` of h_s, the frames it held kept, the rest
+ * from frame. 0, or non-zero as frame (fs then holds none). */
+int sim_ship_frames_advance(sim_ship_frames *fs, sim_ship_frame_fn frame, void *user, double h_s, long step);
+/* The frame at t_s: a step time's own, or interpolated linearly between
+ * the two around it. 0, or -1 for a time outside the frames held. */
+int sim_ship_frames_at(const sim_ship_frames *fs, double t_s, sim_ship_frame *fr);
+/* sim_ship_frames_at as a sim_ship_frame_fn (user: a const sim_ship_frames *). */
+int sim_ship_frames_fn(void *user, double t_s, sim_ship_frame *fr);
+/* The deck's motion at one instant, the gear's input: S's frame and its
+ * velocities in E, by central differences of the frame over 1e-4 s. */
+typedef struct sim_ship_deck {
+    sim_ship_frame fr;
+    double vel_E_mps[3];     /* S's origin */
+    double omega_E_radps[3]; /* S's angular velocity */
+} sim_ship_deck;
+/* The deck at t_s from frame. 0, or non-zero as frame. */
+int sim_ship_deck_at(sim_ship_frame_fn frame, void *user, double t_s, sim_ship_deck *d);
+/* S still and level at E's origin. */
+void sim_ship_deck_still(sim_ship_deck *d);
+
 /* ---------------------------------------------------- the air (sim/air.c) */
 /* The air in E that the flight model meets: the ship-only airwake field
  * attached to the ship, scaled to the WOD speed, the log-law free stream
@@ -124,40 +156,41 @@ typedef struct sim_air_opts {
     double blend_s;                    /* a new field's blend time (3 s) */
 } sim_air_opts;
 void sim_air_opts_default(sim_air_opts *o);
-sim_air *sim_air_create(const sim_air_opts *o, sim_ship_frame_fn frame, void *frame_user, core_err *err);
+sim_air *sim_air_create(const sim_air_opts *o, core_err *err);
 void sim_air_destroy(sim_air *a);
 /* Fly the ship-only field f (NULL: the free stream) from t_s on, blended
  * from the air before over blend_s. f must outlive its use (this call and
  * the next). 0, or < 0 with err for a field that is not ship-only. */
 int sim_air_set_field(sim_air *a, const struct cfd_field *f, double t_s, core_err *err);
+/* What the air adds to the field's mean air, given with every sample:
+ * the gusts of the frozen turbulence (sim/turbulence.c) and the coupled
+ * rotor interaction near the station (sim/interaction.c); NULL: none. */
+struct sim_turb;
+struct sim_interaction;
+typedef struct sim_air_in {
+    const struct sim_turb *turb;
+    const struct sim_interaction *inter;
+} sim_air_in;
 /* The air at a point of S (m/s, S, relative to the ship's mean motion),
- * the turbulence's gust included. Returns 1 where it is the free stream,
- * 0 inside the field. */
-int sim_air_sample_S(const sim_air *a, const double p_S[3], double t_s, double v_S[3]);
-/* The mean air alone (no gust) and the field's k (m^2/s^2) and epsilon
- * (m^2/s^3) there, scaled to the WOD speed (0 in the free stream); k and
- * eps may be NULL. Returns as sim_air_sample_S. */
+ * in's interaction and gusts included (in NULL: none). Returns 1 where it
+ * is the free stream, 0 inside the field. */
+int sim_air_sample_S(const sim_air *a, const sim_air_in *in, const double p_S[3], double t_s, double v_S[3]);
+/* The field's mean air alone (no interaction, no gust) and its k
+ * (m^2/s^2) and epsilon (m^2/s^3) there, scaled to the WOD speed (0 in
+ * the free stream); k and eps may be NULL. Returns as sim_air_sample_S. */
 int sim_air_mean_S(const sim_air *a, const double p_S[3], double t_s, double v_S[3], double *k_m2ps2,
                    double *eps_m2ps3);
-/* Add the gusts of t (NULL: none) to the air (t outlives its use). */
-struct sim_turb;
-void sim_air_set_turb(sim_air *a, const struct sim_turb *t);
-/* An hfm_air_fn over E (user: a sim_air). */
-int sim_air_fn(void *user, const double pos_E_m[3], double t_s, double vel_E_mps[3]);
-/* The loop's step (s): the ship frame at a time between two steps is then
- * interpolated between theirs (0: every time exact, the default). */
-void sim_air_set_step(sim_air *a, double step_s);
-/* The ship's frame at t_s as the air sees it: through the air's cache of
- * the last few frames (the step times exact, times between them
- * interpolated when a step is set). 0, or non-zero as the frame
- * function. */
-int sim_air_frame(sim_air *a, double t_s, sim_ship_frame *fr);
+/* The air at a point of E at t_s, the ship's frame there being fr
+ * (sim_air_sample_S carried into E). */
+void sim_air_sample_E(const sim_air *a, const sim_air_in *in, const sim_ship_frame *fr, const double pos_E_m[3],
+                      double t_s, double vel_E_mps[3]);
 /* The weight of the newest field at t_s, 0 to 1 (1: no blend under way). */
 double sim_air_blend(const sim_air *a, double t_s);
-/* SIM_AIR_INTERACTION: the coupled rotor interaction is flown now (its
- * weight above 0, sim/interaction.c); without it, the ship-only air alone. */
+/* SIM_AIR_INTERACTION: the coupled rotor interaction inter is flown now
+ * (its weight above 0, sim/interaction.c); without it, the ship-only air
+ * alone. inter may be NULL. */
 enum { SIM_AIR_FREE_STREAM = 1u, SIM_AIR_BLENDING = 2u, SIM_AIR_INTERACTION = 4u };
-unsigned sim_air_flags(const sim_air *a, double t_s);
+unsigned sim_air_flags(const sim_air *a, const struct sim_interaction *inter, double t_s);
 
 /* ---------------------------------------------- the flight (sim/flight.c) */
 /* The deterministic flight step (see sim/flight.c): pilot input -> ship ->
@@ -1106,9 +1139,10 @@ void sim_pilot_replay_result(const sim_pilot_replay *p, sim_replay_result *r);
  * series with a tyre, pressed on the deck (the plane z_S = 0 over the flight
  * deck, moving with the ship) with a regularised Coulomb friction that holds
  * a standing aircraft; the body's strike points against the ship's blocks.
- * ODE finds the contacts; the loads go to the flight model as an hfm_ext_fn
- * (the flight owns one with sim_flight_opts.gear; by hand,
- * sim_flight_set_external(f, sim_contact_ext_fn, c)). See sim/contact.c. */
+ * ODE finds the contacts; the loads go to the flight model as external
+ * loads (the flight owns one with sim_flight_opts.gear; by hand, an
+ * hfm_ext_fn that calls sim_contact_loads with the deck at its time,
+ * sim_ship_deck_at). See sim/contact.c. */
 typedef struct sim_contact sim_contact;
 enum {
     SIM_CONTACT_SLIDE = 1u, /* a braked or locked wheel slid on the deck */
@@ -1133,21 +1167,21 @@ typedef struct sim_contact_report {
     double tilt_rad;       /* the body z axis from the deck normal */
     double tip_angle_rad;  /* the gear's static tip-over angle */
 } sim_contact_report;
-/* The gear of ac (it needs a [gear] section) on ship (copied), the ship's
- * frame from frame (NULL: S is E, still), for a flight stepping at rate_hz.
- * NULL with err. */
-sim_contact *sim_contact_create(const hfm_aircraft *ac, const core_ship *ship, sim_ship_frame_fn frame,
-                                void *frame_user, double rate_hz, core_err *err);
+/* The gear of ac (it needs a [gear] section) on ship (copied), for a
+ * flight stepping at rate_hz. NULL with err. */
+sim_contact *sim_contact_create(const hfm_aircraft *ac, const core_ship *ship, double rate_hz, core_err *err);
 void sim_contact_destroy(sim_contact *c);
-/* The hfm_ext_fn (user: a sim_contact): the gear's force and moment about
- * the CG in B for the body state b in E (as sim/flight.c flies it) at t_s.
- * Non-zero only when the loads are not finite. */
-int sim_contact_ext_fn(void *user, double t_s, const hfm_body *b, double F_B_N[3], double M_B_Nm[3]);
-/* After each flight step, with the state it ended at (sim_contact_body):
- * the tyres' slides taken, the strike points checked, the report filled
- * (rep may be NULL). 0; 1 when a crash stops the run (rep->what says what
- * hit what). */
-int sim_contact_step(sim_contact *c, double t_s, const hfm_body *b, sim_contact_report *rep);
+/* The gear's force and moment about the CG in B for the body state b in E
+ * (as sim/flight.c flies it) on the deck moving as deck (the deck at the
+ * right-hand side's time). Non-zero only when the loads are not finite. */
+int sim_contact_loads(sim_contact *c, const sim_ship_deck *deck, const hfm_body *b, double F_B_N[3],
+                      double M_B_Nm[3]);
+/* After each flight step, with the state it ended at (sim_contact_body)
+ * and the deck at t_s: the tyres' slides taken, the strike points
+ * checked, the report filled (rep may be NULL). 0; 1 when a crash stops
+ * the run (rep->what says what hit what). */
+int sim_contact_step(sim_contact *c, double t_s, const sim_ship_deck *deck, const hfm_body *b,
+                     sim_contact_report *rep);
 void sim_contact_report_get(const sim_contact *c, sim_contact_report *rep);
 /* The body state in E of a flight step's output. */
 void sim_contact_body(const sim_flight_out *out, hfm_body *b);
@@ -1279,10 +1313,11 @@ void sim_interaction_opts_default(sim_interaction_opts *o);
 sim_interaction *sim_interaction_create(const struct cfd_field *coupled, const struct cfd_field *isolated,
                                         const sim_interaction_opts *o, core_err *err);
 void sim_interaction_destroy(sim_interaction *ia);
-/* The rotor now, once per step: the CG in S and the main rotor's thrust
- * (N; NaN: not known, the lagged thrust kept) over dt_s. 0, or -1 for a
- * position that is not finite or dt_s < 0. */
-int sim_interaction_set_rotor(sim_interaction *ia, const double cg_S_m[3], double thrust_N, double dt_s);
+/* One step of the rotor's interaction, its inputs the rotor now: the CG
+ * in S and the main rotor's thrust (N; NaN: not known, the lagged thrust
+ * kept) over dt_s. 0, or -1 for a position that is not finite or
+ * dt_s < 0. The air applies it where it is given (sim_air_in.inter). */
+int sim_interaction_step(sim_interaction *ia, const double cg_S_m[3], double thrust_N, double dt_s);
 /* Add g v_int at p_S to the ship-only air v_S (m/s, S), in place. */
 void sim_interaction_apply(const sim_interaction *ia, const double p_S[3], double v_S[3]);
 typedef struct sim_interaction_info {
@@ -1293,9 +1328,6 @@ typedef struct sim_interaction_info {
     double m_mps[3], c_mps[3], s_mps[3]; /* the fitted modes of coupled - isolated */
 } sim_interaction_info;
 void sim_interaction_state(const sim_interaction *ia, sim_interaction_info *s);
-/* The air's interaction (NULL: none; ia outlives its use). The trim of a
- * flight's start sees it: attach it through sim_flight_opts.interaction. */
-void sim_air_set_interaction(sim_air *a, const sim_interaction *ia);
 
 #ifdef __cplusplus
 }

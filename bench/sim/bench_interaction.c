@@ -105,15 +105,6 @@ static double fly_us(const hfm_aircraft *ac, const core_ship *ship, const cfd_fi
     return 1e6 * bench_median(t, REPEATS);
 }
 
-static int still(void *user, double t_s, sim_ship_frame *fr)
-{
-    (void)user;
-    (void)t_s;
-    memset(fr, 0, sizeof *fr);
-    fr->C_ES[0] = fr->C_ES[4] = fr->C_ES[8] = 1.0;
-    return 0;
-}
-
 static double air_ns(const cfd_field *fs, const sim_interaction *ia)
 {
     enum { N = 2000 };
@@ -133,18 +124,18 @@ static double air_ns(const cfd_field *fs, const sim_interaction *ia)
     ao.wod_speed_mps = 10.0;
     ao.deck_height_m = 10.0;
     core_err err = {0};
-    sim_air *a = sim_air_create(&ao, still, NULL, &err);
+    sim_air *a = sim_air_create(&ao, &err);
     if (!a || sim_air_set_field(a, fs, -INFINITY, &err) != 0) {
         sim_air_destroy(a);
         return NAN;
     }
-    sim_air_set_interaction(a, ia);
+    sim_air_in in = {NULL, ia};
     double t[REPEATS], v[3], sum = 0.0;
     for (int r = 0; r < REPEATS; r++) {
         double t0 = bench_cpu_s();
         for (int k = 0; k < 100; k++)
             for (int i = 0; i < N; i++) {
-                sim_air_mean_S(a, p[i], 0.0, v, NULL, NULL);
+                sim_air_sample_S(a, &in, p[i], 0.0, v);
                 sum += v[2];
             }
         t[r] = (bench_cpu_s() - t0) / (100.0 * N);

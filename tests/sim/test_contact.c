@@ -52,7 +52,7 @@ static void test_static(const hfm_aircraft *ac, const core_ship *ship)
     }
     CHECK_NEAR(sum, W, 1e-6 * W);
     CHECK_NEAR(mx, 0.0, 1e-6 * W);
-    sim_contact *c = sim_contact_create(ac, ship, NULL, NULL, 200.0, &err);
+    sim_contact *c = sim_contact_create(ac, ship, 200.0, &err);
     CHECK(c != NULL);
     if (!c) {
         fprintf(stderr, "contact: %s\n", err.msg);
@@ -66,7 +66,9 @@ static void test_static(const hfm_aircraft *ac, const core_ship *ship)
     CHECK_NEAR(sim_contact_leg_compression(l0, load[0]), x0, 1e-12);
     hfm_body b = {{0, 0, -(l0->pos_B_m[2] + l0->tyre_radius_m - x0)}, {0}, {0}, {0}};
     double F[3], M[3];
-    CHECK(sim_contact_ext_fn(c, 0.0, &b, F, M) == 0);
+    sim_ship_deck still;
+    sim_ship_deck_still(&still);
+    CHECK(sim_contact_loads(c, &still, &b, F, M) == 0);
     sim_contact_report rep;
     sim_contact_report_get(c, &rep);
     printf("%s: %s static %.0f N, compression %.4f m (strut %.4f), gear load %.0f N\n", hfm_aircraft_name(ac),
@@ -79,7 +81,7 @@ static void test_static(const hfm_aircraft *ac, const core_ship *ship)
     for (int i = 0; i < g.nlegs; i++) {
         double h = g.leg[i].pos_B_m[2] + g.leg[i].tyre_radius_m - sim_contact_leg_compression(&g.leg[i], load[i]);
         hfm_body bi = {{0, 0, -h}, {0}, {0}, {0}};
-        CHECK(sim_contact_ext_fn(c, 0.0, &bi, F, M) == 0);
+        CHECK(sim_contact_loads(c, &still, &bi, F, M) == 0);
         sim_contact_report_get(c, &rep);
         CHECK_NEAR(rep.leg[i].normal_N, load[i], 1e-6 * load[i]);
         Fz += rep.leg[i].normal_N;
@@ -130,6 +132,30 @@ typedef struct park {
 
 static int park_sas = -1; /* the flight's opts.sas in park_run */
 
+/* The gear as a flight's external loads by hand: the deck at each time
+ * from the ship's frame function (NULL: the deck still). */
+typedef struct gear_ext {
+    sim_contact *c;
+    sim_ship_frame_fn frame;
+    void *user;
+} gear_ext;
+
+static int gear_deck(const gear_ext *g, double t_s, sim_ship_deck *d)
+{
+    if (!g->frame) {
+        sim_ship_deck_still(d);
+        return 0;
+    }
+    return sim_ship_deck_at(g->frame, g->user, t_s, d);
+}
+
+static int gear_ext_fn(void *user, double t_s, const hfm_body *b, double F_B_N[3], double M_B_Nm[3])
+{
+    const gear_ext *g = user;
+    sim_ship_deck d;
+    return gear_deck(g, t_s, &d) != 0 ? -1 : sim_contact_loads(g->c, &d, b, F_B_N, M_B_Nm);
+}
+
 /* Park ac on the deck: the CG over the spot, the lowest tyre touching (or
  * drop_m above), the collective lowered to full down over ramp_s; the
  * position after settle_s, and how far it moves in hold_s more. */
@@ -175,13 +201,14 @@ static int park_run(const hfm_aircraft *ac, const core_ship *ship, sim_ship_fram
         o.station_S_m[2] -= low + drop_m;
         f = sim_flight_create(ac, ship, &o, frame, fu, NULL, NULL, &err);
     }
-    sim_contact *c = f ? sim_contact_create(ac, ship, frame, fu, o.rate_hz, &err) : NULL;
+    sim_contact *c = f ? sim_contact_create(ac, ship, o.rate_hz, &err) : NULL;
     if (!f || !c) {
         fprintf(stderr, "park: %s\n", err.msg);
         sim_flight_destroy(f);
         return -1;
     }
-    sim_flight_set_external(f, sim_contact_ext_fn, c);
+    gear_ext ge = {c, frame, fu};
+    sim_flight_set_external(f, gear_ext_fn, &ge);
     sim_flight_inputs in;
     sim_flight_trim_inputs(f, &in);
     double coll_trim = in.collective_pct;
@@ -202,7 +229,8 @@ static int park_run(const hfm_aircraft *ac, const core_ship *ship, sim_ship_fram
         }
         hfm_body b;
         sim_contact_body(&out, &b);
-        int rc = sim_contact_step(c, out.t_s, &b, &p->rep);
+        sim_ship_deck d;
+        int rc = gear_deck(&ge, out.t_s, &d) != 0 ? 1 : sim_contact_step(c, out.t_s, &d, &b, &p->rep);
         for (int k = 0; k < 3; k++)
             p->finite &= isfinite(out.pos_S_m[k]) && isfinite(out.vel_S_mps[k]);
         for (int l = 0; l < p->rep.nlegs; l++) {
@@ -361,7 +389,7 @@ static void test_hangar(const hfm_aircraft *ac, const core_ship *ship)
     hfm_gear g;
     hfm_aircraft_gear(ac, &g);
     core_err err = {0};
-    sim_contact *c = sim_contact_create(ac, ship, NULL, NULL, 200.0, &err);
+    sim_contact *c = sim_contact_create(ac, ship, 200.0, &err);
     CHECK(c != NULL);
     if (!c)
         return;
@@ -387,7 +415,9 @@ static void test_hangar(const hfm_aircraft *ac, const core_ship *ship)
     for (int i = 0; i < 2000 && hg && ip >= 0; i++) {
         double t = i / 200.0;
         hfm_body b = {{-3.0 + t, 0, -h}, {-1.0, 0, 0}, {0}, {0, 0, M_PI}};
-        if (sim_contact_step(c, t, &b, &rep)) {
+        sim_ship_deck still;
+        sim_ship_deck_still(&still);
+        if (sim_contact_step(c, t, &still, &b, &rep)) {
             x_hit = b.pos_S_m[0];
             break;
         }

@@ -141,14 +141,6 @@ static void test_external(const hfm_aircraft *ac, const core_ship *ship)
     sim_flight_destroy(f);
 }
 
-static int level_ship(void *user, double t_s, sim_ship_frame *fr)
-{
-    (void)user, (void)t_s;
-    memset(fr, 0, sizeof *fr);
-    fr->C_ES[0] = fr->C_ES[4] = fr->C_ES[8] = 1.0;
-    return 0;
-}
-
 /* The free stream: the WOD at anemometer height, the log law over the sea
  * below and above it; a new field offered at t blends in linearly over
  * blend_s (a field that is not ship-only is refused). */
@@ -160,41 +152,41 @@ static void test_air(const core_ship *ship, const cfd_field *fld)
     o.deck_height_m = ship->deck_height_m;
     o.anemometer_height_m = 20.0;
     core_err err = {0};
-    sim_air *a = sim_air_create(&o, level_ship, NULL, &err);
+    sim_air *a = sim_air_create(&o, &err);
     CHECK(a != NULL);
     if (!a)
         return;
     double at_an[3] = {0.0, 0.0, ship->deck_height_m - 20.0}, v[3];
-    CHECK(sim_air_sample_S(a, at_an, 0.0, v) == 1);
+    CHECK(sim_air_sample_S(a, NULL, at_an, 0.0, v) == 1);
     CHECK_NEAR(v[0], -15.0, 1e-9);
     CHECK_NEAR(v[1], 0.0, 1e-12);
     double low[3] = {0.0, 0.0, ship->deck_height_m - 2.0};
-    sim_air_sample_S(a, low, 0.0, v);
+    sim_air_sample_S(a, NULL, low, 0.0, v);
     CHECK_NEAR(v[0], -15.0 * log(2.0 / 2e-4) / log(20.0 / 2e-4), 1e-9);
-    CHECK(sim_air_flags(a, 0.0) == SIM_AIR_FREE_STREAM);
+    CHECK(sim_air_flags(a, NULL, 0.0) == SIM_AIR_FREE_STREAM);
     if (fld) {
         CHECK(sim_air_set_field(a, fld, 10.0, &err) == 0);
         double p[3] = {-5.0, 0.0, -6.0}, vf[3], vh[3], o5[CFD_NVARS];
         CHECK(cfd_field_sample(fld, p, o5) == 0);
         double scale = 15.0 / cfd_field_meta(fld)->wod_speed_mps;
-        sim_air_sample_S(a, p, 9.0, vf); /* before the blend starts: the free stream */
+        sim_air_sample_S(a, NULL, p, 9.0, vf); /* before the blend starts: the free stream */
         double fs[3];
-        CHECK(sim_air_sample_S(a, p, 20.0, vh) == 0); /* after: the field */
+        CHECK(sim_air_sample_S(a, NULL, p, 20.0, vh) == 0); /* after: the field */
         CHECK_NEAR(vh[0], scale * o5[CFD_VAR_U], 1e-9);
         CHECK_NEAR(vh[2], scale * o5[CFD_VAR_W], 1e-9);
         double mid[3];
-        sim_air_sample_S(a, p, 10.0 + 0.5 * 3.0, mid); /* half way */
+        sim_air_sample_S(a, NULL, p, 10.0 + 0.5 * 3.0, mid); /* half way */
         for (int k = 0; k < 3; k++)
             fs[k] = vf[k];
         CHECK_NEAR(mid[0], 0.5 * (fs[0] + vh[0]), 1e-9);
-        CHECK(sim_air_flags(a, 11.0) == SIM_AIR_BLENDING);
-        CHECK(sim_air_flags(a, 14.0) == 0);
+        CHECK(sim_air_flags(a, NULL, 11.0) == SIM_AIR_BLENDING);
+        CHECK(sim_air_flags(a, NULL, 14.0) == 0);
         /* the largest change of the air in one 200 Hz step during the blend */
         double jump = 0.0, prev[3];
-        sim_air_sample_S(a, p, 10.0, prev);
+        sim_air_sample_S(a, NULL, p, 10.0, prev);
         for (int i = 1; i <= 600; i++) {
             double cur[3];
-            sim_air_sample_S(a, p, 10.0 + i * 0.005, cur);
+            sim_air_sample_S(a, NULL, p, 10.0 + i * 0.005, cur);
             for (int k = 0; k < 3; k++)
                 jump = fmax(jump, fabs(cur[k] - prev[k]));
             memcpy(prev, cur, sizeof prev);
@@ -260,9 +252,10 @@ static int rolling_ship(void *user, double t_s, sim_ship_frame *fr)
     return 0;
 }
 
-/* The ship frame between two loop steps is interpolated (sim_air_set_step):
- * the air at a point at a stage time agrees with the exact frame's to
- * the order (h w)^2 of the motion, and exactly at the step times. */
+/* The ship frame between two loop steps is interpolated (the ship
+ * stage's frames, sim_ship_frames): the air at a point at a stage time
+ * agrees with the exact frame's to the order (h w)^2 of the motion, and
+ * exactly at the step times. */
 static void test_frame_interp(void)
 {
     sim_air_opts o;
@@ -270,34 +263,44 @@ static void test_frame_interp(void)
     o.wod_speed_mps = 15.0;
     o.deck_height_m = 5.0;
     core_err err = {0};
-    sim_air *ex = sim_air_create(&o, rolling_ship, NULL, &err), *in = sim_air_create(&o, rolling_ship, NULL, &err);
-    CHECK(ex && in);
-    if (!ex || !in) {
-        sim_air_destroy(ex);
-        sim_air_destroy(in);
+    sim_air *a = sim_air_create(&o, &err);
+    CHECK(a != NULL);
+    if (!a)
         return;
-    }
-    sim_air_set_step(in, 0.005);
+    const double h = 0.005;
+    sim_ship_frames fs;
+    memset(&fs, 0, sizeof fs);
     double p[3] = {3.0, -2.0, -10.0}, worst = 0.0, at_step = 0.0;
+    int bad = 0;
     for (int i = 0; i < 1000; i++) {
-        double t = 0.005 * i + 0.005 * 2.0 / 3.0, ve[3], vi[3];
-        sim_air_fn(ex, p, t, ve);
-        sim_air_fn(in, p, t, vi);
+        double t = h * i + h * 2.0 / 3.0, ve[3], vi[3];
+        sim_ship_frame fe, fi;
+        bad |= sim_ship_frames_advance(&fs, rolling_ship, NULL, h, i) != 0;
+        rolling_ship(NULL, t, &fe);
+        bad |= sim_ship_frames_at(&fs, t, &fi) != 0;
+        sim_air_sample_E(a, NULL, &fe, p, t, ve);
+        sim_air_sample_E(a, NULL, &fi, p, t, vi);
         for (int k = 0; k < 3; k++)
             worst = fmax(worst, fabs(ve[k] - vi[k]));
-        sim_air_fn(ex, p, 0.005 * i, ve);
-        sim_air_fn(in, p, 0.005 * i, vi);
+        rolling_ship(NULL, h * i, &fe);
+        bad |= sim_ship_frames_at(&fs, h * i, &fi) != 0;
+        sim_air_sample_E(a, NULL, &fe, p, h * i, ve);
+        sim_air_sample_E(a, NULL, &fi, p, h * i, vi);
         for (int k = 0; k < 3; k++)
             at_step = fmax(at_step, fabs(ve[k] - vi[k]));
     }
+    CHECK(!bad);
+    /* the frames reach one step back and two ahead, no further */
+    sim_ship_frame fr;
+    CHECK(sim_ship_frames_at(&fs, h * 998.5, &fr) == 0 && sim_ship_frames_at(&fs, h * 1001, &fr) == 0);
+    CHECK(sim_ship_frames_at(&fs, h * 997.5, &fr) < 0 && sim_ship_frames_at(&fs, h * 1001.5, &fr) < 0);
     /* the air changes with the frame through the log law's height and the
      * rotation: at most about |v| (h w)^2 = 15 x 1e-4 */
     printf("ship frame interpolated within a 200 Hz step (2 rad/s motion): air within %.2e m/s of the exact frame's, "
            "%.1e at the steps\n", worst, at_step);
-    CHECK(worst < 15.0 * (0.005 * 2.0) * (0.005 * 2.0));
+    CHECK(worst < 15.0 * (h * 2.0) * (h * 2.0));
     CHECK(worst > 0.0 && at_step == 0.0);
-    sim_air_destroy(ex);
-    sim_air_destroy(in);
+    sim_air_destroy(a);
 }
 
 /* A small ship-only field of the ship: 2 m cells, a few iterations (the

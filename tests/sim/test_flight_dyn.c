@@ -173,6 +173,15 @@ static int level_ship(void *user, double t_s, sim_ship_frame *fr)
     return 0;
 }
 
+/* The air over E (an hfm_air_fn, user: a sim_air) with the ship level. */
+static int level_air(void *user, const double pos_E_m[3], double t_s, double vel_E_mps[3])
+{
+    sim_ship_frame fr;
+    level_ship(NULL, t_s, &fr);
+    sim_air_sample_E(user, NULL, &fr, pos_E_m, t_s, vel_E_mps);
+    return 0;
+}
+
 /* The flight model's own linear model, its rotor states kept: the
  * derivative of the time model (hfm_tsim_rhs: body, Pitt-Peters inflow,
  * multiblade flap coordinates and their rates; the position and the
@@ -294,12 +303,12 @@ static int lin_model(const hfm_aircraft *ac, const core_ship *ship, double wod_m
     ao.deck_height_m = ship->deck_height_m;
     ao.anemometer_height_m = fmax(ship->deck_height_m - ship->anemometer_S_m[2], 2.0);
     core_err aerr = {0};
-    sim_air *sa = sim_air_create(&ao, level_ship, NULL, &aerr);
+    sim_air *sa = sim_air_create(&ao, &aerr);
     if (!sa) {
         hfm_trim_destroy(tr);
         return -1;
     }
-    hfm_air ha = {sim_air_fn, sa, NULL};
+    hfm_air ha = {level_air, sa, NULL};
     c.air = &ha;
     int ok = hfm_trim_solve(tr, &c, NULL, r) == 0 && hfm_linearise(tr, &c, r, L) == 0 &&
              full_model(ac, &ha, r, F) == 0;

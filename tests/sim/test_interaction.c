@@ -119,15 +119,6 @@ static cfd_field *make_field(lin *L, const char *rotor, double thrust_N, const d
     return f;
 }
 
-static int still(void *user, double t_s, sim_ship_frame *fr)
-{
-    (void)user;
-    (void)t_s;
-    memset(fr, 0, sizeof *fr);
-    fr->C_ES[0] = fr->C_ES[4] = fr->C_ES[8] = 1.0;
-    return 0;
-}
-
 /* The fields of the test: the ship-only airwake S = wind + A, the
  * isolated rotor's i = wind + Rr (its own slipstream), the coupled c =
  * wind + A + Rr + I; the interaction is I. A deck-zone pair (zone 1): c
@@ -184,7 +175,7 @@ static sim_air *make_air(const triple *t, core_err *err)
     sim_air_opts_default(&ao);
     ao.wod_speed_mps = WOD_MPS;
     ao.deck_height_m = 10.0;
-    sim_air *a = sim_air_create(&ao, still, NULL, err);
+    sim_air *a = sim_air_create(&ao, err);
     if (a && sim_air_set_field(a, t->fs, -INFINITY, err) != 0) {
         sim_air_destroy(a);
         return NULL;
@@ -213,13 +204,13 @@ static double weight_of(double d)
 }
 
 /* The largest |air - (S + g I)| over the points, and the smallest |I|. */
-static double worst_err(const sim_air *a, const triple *t, const double (*p)[3], int n, double g, double *min_I)
+static double worst_err(const sim_air *a, const sim_air_in *in, const triple *t, const double (*p)[3], int n, double g, double *min_I)
 {
     double worst = 0.0;
     *min_I = INFINITY;
     for (int i = 0; i < n; i++) {
         double v[3], s[3], I[3];
-        sim_air_mean_S(a, p[i], 0.0, v, NULL, NULL);
+        sim_air_sample_S(a, in, p[i], 0.0, v);
         lin_at(&t->S, p[i], s);
         lin_at(&t->I, p[i], I);
         double e = 0.0, m = 0.0;
@@ -252,17 +243,17 @@ static void test_place(const triple *t)
      * 5 m below the hub, the tail rotor behind the disk, above the disk */
     double pd[3][3] = {{h[0], h[1], h[2]}, {h[0] + 3.0, h[1] + 2.0, h[2] + 0.5}, {h[0] + 4.0, h[1] - 7.0, h[2] - 1.0}};
     double po[3][3] = {{h[0], h[1], h[2] + 5.0}, {h[0] - 9.8, h[1] + 0.4, h[2] + 1.0}, {h[0] + 1.0, h[1], h[2] - 4.0}};
-    double minI, e_plain = worst_err(a, t, pd, 3, 0.0, &minI);
-    double e0 = fmax(e_plain, worst_err(a, t, po, 3, 0.0, &minI));
-    sim_air_set_interaction(a, ia);
-    double ed = worst_err(a, t, pd, 3, 1.0, &minI), eo = worst_err(a, t, po, 3, 1.0, &minI);
+    double minI, e_plain = worst_err(a, NULL, t, pd, 3, 0.0, &minI);
+    double e0 = fmax(e_plain, worst_err(a, NULL, t, po, 3, 0.0, &minI));
+    sim_air_in in = {NULL, ia};
+    double ed = worst_err(a, &in, t, pd, 3, 1.0, &minI), eo = worst_err(a, &in, t, po, 3, 1.0, &minI);
     printf("at the station: air - (ship-only + I) %.2e m/s on the disk, %.2e off it (|I| >= %.2f m/s); without the "
            "interaction air - ship-only %.2e\n", ed, eo, minI, e0);
     CHECK(ed < 1e-9 && eo < 1e-9 && e0 < 1e-9 && minI > 1.0);
-    CHECK(sim_air_flags(a, 0.0) & SIM_AIR_INTERACTION);
+    CHECK(sim_air_flags(a, ia, 0.0) & SIM_AIR_INTERACTION);
     if (t->fsz) { /* outside the deck zone: the ship-only air alone */
         double px[2][3] = {{30.0, 5.0, -8.0}, {-5.0, -33.0, -3.0}};
-        double ex = worst_err(a, t, px, 2, 0.0, &minI);
+        double ex = worst_err(a, &in, t, px, 2, 0.0, &minI);
         printf("deck-zone pair: outside the zone air - ship-only %.2e m/s\n", ex);
         CHECK(ex < 1e-12);
     }
@@ -271,22 +262,22 @@ static void test_place(const triple *t)
     double worst = 0.0;
     for (int i = 0; i < 6; i++) {
         double cg[3] = {t->station[0], t->station[1] + ds[i], t->station[2]};
-        CHECK(sim_interaction_set_rotor(ia, cg, NAN, 0.005) == 0);
+        CHECK(sim_interaction_step(ia, cg, NAN, 0.005) == 0);
         double w = weight_of(ds[i]);
         /* a point on the moved disk and one off it, both fixed in S */
         double p[2][3] = {{h[0] + 2.0, h[1] + ds[i] - 3.0, h[2]}, {h[0], h[1] + ds[i], h[2] + 5.0}};
-        double e = worst_err(a, t, p, 2, w, &minI);
+        double e = worst_err(a, &in, t, p, 2, w, &minI);
         sim_interaction_info ii;
         sim_interaction_state(ia, &ii);
         printf("CG %.2f R from the station: weight %.4f (expected %.4f), air - (ship-only + w I) %.2e m/s, flag %u\n",
-               ds[i] / R_M, ii.weight, w, e, (sim_air_flags(a, 0.0) & SIM_AIR_INTERACTION) != 0);
+               ds[i] / R_M, ii.weight, w, e, (sim_air_flags(a, ia, 0.0) & SIM_AIR_INTERACTION) != 0);
         CHECK_NEAR(ii.weight, w, 1e-12);
-        CHECK(((sim_air_flags(a, 0.0) & SIM_AIR_INTERACTION) != 0) == (w > 0.0));
+        CHECK(((sim_air_flags(a, ia, 0.0) & SIM_AIR_INTERACTION) != 0) == (w > 0.0));
         worst = fmax(worst, e);
     }
     CHECK(worst < 1e-9);
     CHECK(weight_of(1.6 * R_M) == 0.0 && weight_of(0.2 * R_M) == 1.0);
-    CHECK(sim_interaction_set_rotor(ia, (double[3]){NAN, 0, 0}, 1.0, 0.005) < 0);
+    CHECK(sim_interaction_step(ia, (double[3]){NAN, 0, 0}, 1.0, 0.005) < 0);
     sim_interaction_destroy(ia);
     sim_air_destroy(a);
 }
@@ -306,18 +297,18 @@ static void test_continuity(const triple *t)
         sim_interaction_destroy(ia);
         return;
     }
-    sim_air_set_interaction(a, ia);
+    sim_air_in in = {NULL, ia};
     const double v = 5.0, h = 0.005;
     double p[3] = {t->hub[0], t->hub[1], t->hub[2] + 5.0}, Ip[3];
     lin_at(&t->I, p, Ip);
     double nI = sqrt(Ip[0] * Ip[0] + Ip[1] * Ip[1] + Ip[2] * Ip[2]);
     double prev[3], jump = 0.0;
-    sim_air_mean_S(a, p, 0.0, prev, NULL, NULL);
+    sim_air_sample_S(a, &in, p, 0.0, prev);
     for (int i = 1; i <= 600; i++) {
         double cg[3] = {t->station[0], t->station[1] + v * h * i, t->station[2]};
-        sim_interaction_set_rotor(ia, cg, NAN, h);
+        sim_interaction_step(ia, cg, NAN, h);
         double now[3], d2 = 0.0;
-        sim_air_mean_S(a, p, i * h, now, NULL, NULL);
+        sim_air_sample_S(a, &in, p, i * h, now);
         for (int k = 0; k < 3; k++)
             d2 += (now[k] - prev[k]) * (now[k] - prev[k]);
         jump = fmax(jump, sqrt(d2));
@@ -361,12 +352,12 @@ static void test_thrust(const triple *t)
         sim_interaction_destroy(ib);
         return;
     }
-    sim_air_set_interaction(a, ia);
+    sim_air_in in = {NULL, ia};
     double T = 2.0 * t->thrust_N;
-    CHECK(sim_interaction_set_rotor(ia, t->station, T, 1000.0) == 0); /* settled */
+    CHECK(sim_interaction_step(ia, t->station, T, 1000.0) == 0); /* settled */
     double f = glauert(T, WOD_MPS) / glauert(t->thrust_N, WOD_MPS), minI;
     double p[2][3] = {{t->hub[0], t->hub[1], t->hub[2]}, {t->hub[0], t->hub[1], t->hub[2] + 5.0}};
-    double e = worst_err(a, t, p, 2, f, &minI);
+    double e = worst_err(a, &in, t, p, 2, f, &minI);
     sim_interaction_info ii;
     sim_interaction_state(ia, &ii);
     printf("twice the field's thrust in %.0f m/s: factor %.5f (Glauert %.5f; sqrt 2 = 1.41421 in hover), air - "
@@ -379,8 +370,8 @@ static void test_thrust(const triple *t)
     const double h = 0.005;
     int n = (int)lround(tau / h);
     for (int i = 0; i < n; i++)
-        sim_interaction_set_rotor(ib, t->station, T, h);
-    sim_interaction_set_rotor(ib, t->station, NAN, h); /* not known: kept */
+        sim_interaction_step(ib, t->station, T, h);
+    sim_interaction_step(ib, t->station, NAN, h); /* not known: kept */
     sim_interaction_state(ib, &ii);
     double expect = t->thrust_N + (T - t->thrust_N) * (1.0 - exp(-n * h / tau));
     printf("thrust stepped to twice the field's: after %.3f s (tau %.3f s) the lagged thrust %.1f N (expected %.1f)\n",
@@ -475,14 +466,14 @@ static void test_couple_trim(const hfm_aircraft *ac, const core_ship *ship, int 
     /* the two airs at the disk's points and off the disk */
     if (ia) {
         sim_air *a = make_air(&t, &err);
-        sim_air_set_interaction(a, ia);
+        sim_air_in in = {NULL, ia};
         const double *h = disk->hub_S_m;
         double p[6][3] = {{h[0], h[1], h[2]},        {h[0] + 3.0, h[1] + 2.0, h[2]}, {h[0] - 2.0, h[1] - 7.5, h[2]},
                           {h[0], h[1], h[2] + 5.0}, {h[0] - 9.8, h[1], h[2] + 1.0}, {h[0] + 2.0, h[1] + 2.0, h[2] - 4.0}};
         double worst_disk = 0.0, worst_off = 0.0, spread = 0.0;
         for (int i = 0; i < 6; i++) {
             double vl[3], vc[3], vp[3];
-            sim_air_mean_S(a, p[i], 0.0, vl, NULL, NULL);
+            sim_air_sample_S(a, &in, p[i], 0.0, vl);
             couple_interaction_air(&ai, p[i], 0.0, vc);
             /* pointwise: wind + c - i (+ S - Sz in a deck zone) */
             double vi[3], vs[3] = {0, 0, 0}, vz[3] = {0, 0, 0};

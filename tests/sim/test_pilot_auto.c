@@ -414,6 +414,7 @@ typedef struct deck_run {
  * takes the helicopter off the spot in the descent (test_descent_pause). */
 typedef struct side_push {
     sim_contact *gear;
+    const sim_ship_motion *m; /* the deck's motion */
     double F_N, z_m, dur_s; /* the push along body y for dur_s from when the CG first goes below z_m */
     double t0_s;            /* when it began (-1: not yet) */
 } side_push;
@@ -421,7 +422,10 @@ typedef struct side_push {
 static int side_push_ext(void *user, double t_s, const hfm_body *b, double F_B_N[3], double M_B_Nm[3])
 {
     side_push *sp = user;
-    int rc = sim_contact_ext_fn(sp->gear, t_s, b, F_B_N, M_B_Nm);
+    sim_ship_deck d;
+    int rc = sim_ship_deck_at(sim_ship_motion_frame_fn, (void *)sp->m, t_s, &d) != 0
+                 ? -1
+                 : sim_contact_loads(sp->gear, &d, b, F_B_N, M_B_Nm);
     if (sp->t0_s < 0.0 && -b->pos_S_m[2] < sp->z_m)
         sp->t0_s = t_s;
     if (sp->t0_s >= 0.0 && t_s >= sp->t0_s && t_s < sp->t0_s + sp->dur_s)
@@ -455,15 +459,17 @@ static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *
     fo.wod_dir_rad = wod_dir_deg * CORE_DEG_TO_RAD;
     memcpy(fo.station_S_m, t.start_S_m, sizeof fo.station_S_m);
     sim_flight *f = m ? sim_flight_create(ac, ship, &fo, sim_ship_motion_frame_fn, m, NULL, NULL, &err) : NULL;
-    sim_contact *c = f ? sim_contact_create(ac, ship, sim_ship_motion_frame_fn, m, RATE_HZ, &err) : NULL;
+    sim_contact *c = f ? sim_contact_create(ac, ship, RATE_HZ, &err) : NULL;
+    side_push gear_only = {c, m, 0.0, 0.0, 0.0, -1.0}; /* the gear alone: no push */
     sim_pilot_auto *p = NULL;
     sim_flight_inputs in;
     if (c) {
         if (push_cfg) {
             push_cfg->gear = c;
+            push_cfg->m = m;
             sim_flight_set_external(f, side_push_ext, push_cfg);
         } else
-            sim_flight_set_external(f, sim_contact_ext_fn, c);
+            sim_flight_set_external(f, side_push_ext, &gear_only);
         sim_pilot_auto_opts po;
         sim_pilot_auto_opts_default(&po);
         po.rate_hz = RATE_HZ;
@@ -528,8 +534,10 @@ static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *
             break;
         }
         hfm_body b;
+        sim_ship_deck d;
         sim_contact_body(&o, &b);
-        if (sim_contact_step(c, o.t_s, &b, &out->c)) {
+        if (sim_ship_deck_at(sim_ship_motion_frame_fn, m, o.t_s, &d) != 0 ||
+            sim_contact_step(c, o.t_s, &d, &b, &out->c)) {
             out->crashed = 1;
             break;
         }
@@ -962,7 +970,7 @@ static void test_descent_pause(const hfm_aircraft *uh60)
         CHECK(0);
         return;
     }
-    side_push sp = {NULL, 0.08 * hfm_aircraft_weight_N(uh60), 5.9, 1.5, -1.0};
+    side_push sp = {NULL, NULL, 0.08 * hfm_aircraft_weight_N(uh60), 5.9, 1.5, -1.0};
     deck_run d;
     push_cfg = &sp;
     fly_deck(uh60, &cg47, PORT, 25.0, 0.0, 0, 1, &d);
