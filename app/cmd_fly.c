@@ -641,7 +641,7 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
         goto fail;
     }
     fo.start = o->start_deck ? SIM_START_DECK : SIM_START_HOVER;
-    fo.ship_speed_mps = isnan(o->ship_speed_kt) ? sc->ship_speed_mps : o->ship_speed_kt * CORE_KT_TO_MPS;
+    fo.ship_speed_mps = isnan(o->ship_speed_kt) ? sc->sea.ship_speed_mps : o->ship_speed_kt * CORE_KT_TO_MPS;
     memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
     if (o->has_start) /* --pilot replay: where the replayed run starts */
         memcpy(fo.station_S_m, o->start_S_m, sizeof fo.station_S_m);
@@ -654,10 +654,10 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
     /* the ship in a seaway (its own seed stream: the turbulence's + 1) */
     sim_sea sea;
     sim_sea_default(&sea);
-    sea.state = o->sea_state >= 0 ? o->sea_state : sc->sea_state;
+    sea.state = o->sea_state >= 0 ? o->sea_state : sc->sea.state;
     sea.ship_speed_mps = fo.ship_speed_mps;
-    sea.wave_dir_rad = isnan(o->wave_dir_deg) ? sc->wave_dir_rad : core_wod_wrap_deg(o->wave_dir_deg) * CORE_DEG_TO_RAD;
-    sea.spectrum = sc->spectrum ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
+    sea.wave_dir_rad = isnan(o->wave_dir_deg) ? sc->sea.wave_dir_rad : core_wod_wrap_deg(o->wave_dir_deg) * CORE_DEG_TO_RAD;
+    sea.spectrum = sc->sea.spectrum;
     w->sea_state = sea.state;
     if (!(w->motion = sim_ship_motion_create(&sc->ship, &sea, (uint64_t)o->seed + 1u, err)))
         goto fail;

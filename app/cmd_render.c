@@ -159,10 +159,10 @@ static int run_info_of(const render_args *a, const sim_replay_log *L, sim_run_in
     snprintf(ri->ship_path, sizeof ri->ship_path, "%s", sc->ship_path);
     ri->seed = (unsigned long long)a->seed;
     sim_sea_default(&ri->sea);
-    ri->sea.state = sc->sea_state;
-    ri->sea.ship_speed_mps = sc->ship_speed_mps;
-    ri->sea.wave_dir_rad = sc->wave_dir_rad;
-    ri->sea.spectrum = sc->spectrum ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
+    ri->sea.state = sc->sea.state;
+    ri->sea.ship_speed_mps = sc->sea.ship_speed_mps;
+    ri->sea.wave_dir_rad = sc->sea.wave_dir_rad;
+    ri->sea.spectrum = sc->sea.spectrum;
     ri->wod_speed_mps = sc->wod_speed_mps;
     ri->wod_dir_rad = sc->wod_dir_rad;
     ri->rate_hz = 200.0;

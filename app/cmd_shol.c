@@ -213,10 +213,10 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
     fo.replay = ref;
     fo.replay_feed_controls = feed_controls;
     fo.turbulence = sc->turbulence;
-    fo.sea.state = sc->sea_state;
-    fo.sea.ship_speed_mps = sc->ship_speed_mps;
-    fo.sea.wave_dir_rad = sc->wave_dir_rad;
-    fo.sea.spectrum = sc->spectrum ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
+    fo.sea.state = sc->sea.state;
+    fo.sea.ship_speed_mps = sc->sea.ship_speed_mps;
+    fo.sea.wave_dir_rad = sc->sea.wave_dir_rad;
+    fo.sea.spectrum = sc->sea.spectrum;
     memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
     /* the criteria's judgement: the flag, else the scenario's [flown], else the defaults */
     if (!isnan(sc->flown_window_s))
@@ -467,11 +467,11 @@ int cmd_shol(int argc, char **argv)
     {
         /* --method pilot flies in the scenario's sea; its trims, as every
          * trim sweep, are over the ship at rest */
-        int sea = sc->sea_state;
+        int sea = sc->sea.state;
         if (pilot)
-            sc->sea_state = 0;
+            sc->sea.state = 0;
         int src = couple_shol_settings_scenario(&set, sc, &err);
-        sc->sea_state = sea;
+        sc->sea.state = sea;
         if (src != 0)
             goto fail;
     }

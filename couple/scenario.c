@@ -11,10 +11,10 @@
 int couple_shol_settings_scenario(shol_settings *set, const sim_scenario *sc, core_err *err)
 {
     shol_settings_default(set);
-    if (sc->sea_state > 0)
+    if (sc->sea.state > 0)
         return core_err_set(err, -1, "%s: [sea] state = %d: the candidate SHOL trims the aircraft over a ship at rest; "
                                      "the sea state is for the flight loop (disim fly): set state = 0 or remove it",
-                            sc->path, sc->sea_state);
+                            sc->path, sc->sea.state);
     if (shol_criteria_load(sc->aircraft_path, &set->criteria, err) != 0)
         return -1;
     if (sc->wod_mode == SIM_WOD_SWEEP) {

@@ -589,16 +589,16 @@ static int ref_ok(const sim_pilot_ref *r)
     for (int i = 0; i < 3; i++)
         if (!isfinite(r->pos_S_m[i]) || !isfinite(r->vel_S_mps[i]))
             return 0;
-    if (!(fabs(r->heading_rad) <= M_PI) || (r->mode != SIM_PILOT_HOLD && r->mode != SIM_PILOT_DESCEND))
+    if (!(fabs(r->heading_rad) <= M_PI) || (r->mode != SIM_PHASE_HOLD && r->mode != SIM_PHASE_DESCEND))
         return 0;
-    return r->mode == SIM_PILOT_HOLD || (r->vel_S_mps[2] > 0.0 && r->vel_S_mps[2] <= 5.0);
+    return r->mode == SIM_PHASE_HOLD || (r->vel_S_mps[2] > 0.0 && r->vel_S_mps[2] <= 5.0);
 }
 
 /* The one way the reference changes (the phases and a caller alike): a
  * descent starts from the height reference where it is. */
 static void set_ref(sim_pilot_auto *p, const sim_pilot_ref *r)
 {
-    if (r->mode == SIM_PILOT_HOLD)
+    if (r->mode == SIM_PHASE_HOLD)
         p->z_ref_S_m = r->pos_S_m[2];
     p->ref = *r;
 }
@@ -622,7 +622,7 @@ static void hold_ref(sim_pilot_auto *p, const double pos[3], const double vel[3]
     if (vel)
         memcpy(r.vel_S_mps, vel, sizeof r.vel_S_mps);
     r.heading_rad = wrap(heading);
-    r.mode = SIM_PILOT_HOLD;
+    r.mode = SIM_PHASE_HOLD;
     set_ref(p, &r);
 }
 
@@ -1159,7 +1159,7 @@ static void phases(sim_pilot_auto *p, const sim_flight_out *out, double psi_rel)
                 r->t_descent_s = out->t_s;
                 if (!p->external) {
                     sim_pilot_ref d = p->ref;
-                    d.mode = SIM_PILOT_DESCEND;
+                    d.mode = SIM_PHASE_DESCEND;
                     memset(d.vel_S_mps, 0, sizeof d.vel_S_mps);
                     d.vel_S_mps[2] = ph->descent_mps;
                     set_ref(p, &d);
@@ -1230,7 +1230,7 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     }
     double w_ref = 0.0;
     const sim_pilot_ref *R = &p->ref;
-    if (R->mode == SIM_PILOT_DESCEND) {
+    if (R->mode == SIM_PHASE_DESCEND) {
         /* the height reference moves down at the descent rate to 0.3 m
          * below the touchdown height (the wheels meet the deck on the way) */
         double z_end = -p->td_height_m + 0.3;
@@ -1259,7 +1259,7 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
         iH[0] = (c * p->i_pos_S[0] + s * p->i_pos_S[1]) / o->trim_s;
         iH[1] = (-s * p->i_pos_S[0] + c * p->i_pos_S[1]) / o->trim_s;
         double hl = 10.0 * o->trim_s * fabs(g->Z_col) / (o->hgt_crossover_radps * p->a_lead[3]);
-        if (R->mode == SIM_PILOT_HOLD)
+        if (R->mode == SIM_PHASE_HOLD)
             p->i_hgt = clampd(p->i_hgt + (p->z_ref_S_m - out->pos_S_m[2]) * dt, -hl, hl);
     }
     double vc[2] = {vr[0] + o->pos_bw_radps * (eH[0] + iH[0]), vr[1] + o->pos_bw_radps * (eH[1] + iH[1])};

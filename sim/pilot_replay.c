@@ -902,7 +902,7 @@ int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_fl
         ref.vel_S_mps[i] = ahead.vel_S_mps[i] + acc_ahead.acc_S_mps2[i] / p->o.pilot.vel_bw_radps;
     ref.vel_S_mps[2] = ahead.vel_S_mps[2] + (ahead.acc_S_mps2[2] - p->Z_w * ahead.vel_S_mps[2]) / p->o.pilot.hgt_crossover_radps;
     ref.heading_rad = ahead.heading_rad;
-    ref.mode = SIM_PILOT_HOLD;
+    ref.mode = SIM_PHASE_HOLD;
     if (sim_pilot_auto_set_reference(p->pilot, &ref) != 0)
         return -1; /* not reached: the log's values were checked finite */
     int stop = sim_pilot_auto_step(p->pilot, out, in);

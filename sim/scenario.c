@@ -158,6 +158,12 @@ static int mode_keys(const core_ini *ini, core_err *err)
     return 0;
 }
 
+/* A scenario's [task] type's name (SIM_TASK_*). */
+static const char *task_name(int task)
+{
+    return task == SIM_TASK_STATION_KEEP ? "hover" : task == SIM_TASK_LAND ? "landing" : "shol";
+}
+
 int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
 {
     memset(sc, 0, sizeof *sc);
@@ -187,8 +193,9 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
     /* task: shol (the trims), or a piloted hover or landing (its task file) */
     if ((rc = core_ini_get_enum(ini, "task", "type", 0, "shol|hover|landing", &v, err)) < 0)
         goto out;
-    sc->task_type = rc == 0 ? v : SIM_SC_TASK_SHOL;
-    if (sc->task_type != SIM_SC_TASK_SHOL &&
+    static const int task_of[] = {SIM_TASK_SHOL, SIM_TASK_STATION_KEEP, SIM_TASK_LAND}; /* as the names */
+    sc->task_type = rc == 0 ? task_of[v] : SIM_TASK_SHOL;
+    if (sc->task_type != SIM_TASK_SHOL &&
         (rc = core_ini_get_path(ini, "task", "file", 1, sc->task_path, sizeof sc->task_path, err)))
         goto out;
     /* pilot (disim fly): the stations, the automated pilot, the replay pilot */
@@ -213,7 +220,7 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
             goto out;
     }
     /* the piloted task is the automated pilot's; the automated pilot needs one */
-    if ((sc->pilot == SIM_SC_PILOT_AUTO) != (sc->task_type != SIM_SC_TASK_SHOL)) {
+    if ((sc->pilot == SIM_SC_PILOT_AUTO) != (sc->task_type != SIM_TASK_SHOL)) {
         const core_ini_entry *e = sc->pilot == SIM_SC_PILOT_AUTO ? core_ini_find(ini, "pilot", "type")
                                                                  : core_ini_find(ini, "task", "type");
         rc = core_err_set(err, -1,
@@ -222,7 +229,7 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
                                 "[task] type = hover or landing with its file"
                               : "%s:%d: [task] type = %s: a piloted task is flown by the automated pilot; set "
                                 "[pilot] type = auto (the stations and the replay pilot fly no task file)",
-                          core_ini_path(ini), e ? e->line : 0, sc->task_type == SIM_SC_TASK_HOVER ? "hover" : "landing");
+                          core_ini_path(ini), e ? e->line : 0, task_name(sc->task_type));
         goto out;
     }
     sc->hover_height_m = 5.0;
@@ -239,18 +246,18 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
     long state = 0;
     if ((rc = core_ini_get_int(ini, "sea", "state", 0, 0, 6, &state, err)) < 0)
         goto out;
-    sc->sea_state = (int)state;
+    sim_sea_default(&sc->sea);
+    sc->sea.state = (int)state;
     double kt = 0.0, wave_deg = 0.0;
     if ((rc = core_ini_get_double(ini, "sea", "ship_speed_kt", 0, 0.0, 40.0, &kt, err)) < 0 ||
         (rc = core_ini_get_double(ini, "sea", "wave_dir_deg", 0, -180.0, 180.0, &wave_deg, err)) < 0)
         goto out;
-    sc->ship_speed_mps = kt * CORE_KT_TO_MPS;
-    sc->wave_dir_rad = wave_deg * CORE_DEG_TO_RAD;
-    sc->spectrum = 0;
+    sc->sea.ship_speed_mps = kt * CORE_KT_TO_MPS;
+    sc->sea.wave_dir_rad = wave_deg * CORE_DEG_TO_RAD;
     if ((rc = core_ini_get_enum(ini, "sea", "spectrum", 0, "ittc|jonswap", &v, err)) < 0)
         goto out;
     if (rc == 0)
-        sc->spectrum = v;
+        sc->sea.spectrum = v ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
     /* the air's turbulence in disim fly (the trims are in the mean air) */
     sc->turbulence = 1;
     if ((rc = core_ini_get_bool(ini, "wod", "turbulence", 0, &sc->turbulence, err)) < 0)
@@ -318,18 +325,18 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
         goto out;
     /* the task file, with the ship's deck for its points: hover a station
      * keeping task, landing a landing */
-    if (sc->task_type != SIM_SC_TASK_SHOL) {
+    if (sc->task_type != SIM_TASK_SHOL) {
         sim_task t;
         if ((rc = sim_task_load_ship(sc->task_path, &sc->ship, &t, err)))
             goto out;
-        int want = sc->task_type == SIM_SC_TASK_HOVER ? SIM_TASK_STATION_KEEP : SIM_TASK_LAND;
+        int want = sc->task_type;
         if (t.kind != want) {
             const core_ini_entry *e = core_ini_find(ini, "task", "file");
             rc = core_err_set(err, -1, "%s:%d: [task] file = %s: a %s task, expected a %s task for type = %s",
                               core_ini_path(ini), e ? e->line : 0, sc->task_path,
                               t.kind == SIM_TASK_LAND ? "landing" : "station-keeping",
                               want == SIM_TASK_LAND ? "landing" : "station-keeping",
-                              sc->task_type == SIM_SC_TASK_HOVER ? "hover" : "landing");
+                              task_name(sc->task_type));
             goto out;
         }
     }
@@ -364,11 +371,12 @@ void sim_scenario_print(const sim_scenario *sc, FILE *f)
                 sc->speed_max_mps * 3.6);
     }
     fprintf(f, "turbulence = %s\n", sc->turbulence ? "true" : "false");
-    fprintf(f, "\n[sea]\nstate = %d\nship_speed_kt = %.1f\nwave_dir_deg = %.1f\nspectrum = %s\n", sc->sea_state,
-            sc->ship_speed_mps / CORE_KT_TO_MPS, sc->wave_dir_rad * CORE_RAD_TO_DEG, sc->spectrum ? "jonswap" : "ittc");
-    static const char *tt[] = {"shol", "hover", "landing"}, *pt[] = {"station", "auto", "replay"};
-    fprintf(f, "\n[task]\ntype = %s\n", tt[sc->task_type]);
-    if (sc->task_type != SIM_SC_TASK_SHOL)
+    fprintf(f, "\n[sea]\nstate = %d\nship_speed_kt = %.1f\nwave_dir_deg = %.1f\nspectrum = %s\n", sc->sea.state,
+            sc->sea.ship_speed_mps / CORE_KT_TO_MPS, sc->sea.wave_dir_rad * CORE_RAD_TO_DEG,
+            sc->sea.spectrum == SIM_SPECTRUM_JONSWAP ? "jonswap" : "ittc");
+    static const char *pt[] = {"station", "auto", "replay"};
+    fprintf(f, "\n[task]\ntype = %s\n", task_name(sc->task_type));
+    if (sc->task_type != SIM_TASK_SHOL)
         fprintf(f, "file = %s\n", sc->task_path);
     fprintf(f, "hover_height_m = %.2f\nstation_S_m = %.2f, %.2f, %.2f\n", sc->hover_height_m, sc->station_S_m[0],
             sc->station_S_m[1], sc->station_S_m[2]);

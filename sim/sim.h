@@ -26,6 +26,31 @@ extern "C" {
 
 typedef enum { SIM_WOD_SINGLE = 0, SIM_WOD_SWEEP = 1 } sim_wod_mode;
 
+/* A piloted task's kind: a task file's (station_keep, land) and a
+ * scenario's [task] type (hover: station keeping, landing: land; shol:
+ * the trims of disim shol, no task file). */
+enum { SIM_TASK_SHOL = -1, SIM_TASK_STATION_KEEP = 0, SIM_TASK_LAND = 1 };
+
+/* The sea (sim/ship_motion.c has the model) */
+#define SIM_SEA_MAX_STATE 6
+#define SIM_SEA_DEFAULT_WAVES 256
+#define SIM_SEA_MAX_WAVES 4096
+
+typedef enum { SIM_SPECTRUM_ITTC = 0, SIM_SPECTRUM_JONSWAP = 1 } sim_spectrum;
+
+/* The sea and the ship's steady course through it: plain data. */
+typedef struct sim_sea {
+    int state;             /* sea state 0 (calm: the ship still) to 6 */
+    double ship_speed_mps; /* the ship's speed through the water, >= 0 */
+    double wave_dir_rad;   /* heading to the waves: where they come FROM,
+                              from the bow, + to starboard (as WOD):
+                              0 head seas, pi/2 beam seas from starboard,
+                              pi following seas */
+    double course_rad;     /* the ship's mean heading in E (0: north) */
+    sim_spectrum spectrum; /* ITTC (Bretschneider) or JONSWAP (gamma 3.3) */
+    int n_waves;           /* sinusoids in the sum; 0: SIM_SEA_DEFAULT_WAVES */
+} sim_sea;
+
 /* A resolved scenario: plain data. */
 typedef struct sim_scenario {
     char path[SIM_PATH_MAX];
@@ -47,11 +72,10 @@ typedef struct sim_scenario {
     double hover_height_m; /* CG height above the landing spot for the hover-over-spot station */
     double station_S_m[3]; /* hover-over-spot station in S (CG position) */
 
-    /* [sea] (disim fly: the ship's motion; disim shol refuses state > 0) */
-    int sea_state;          /* 0 calm (the ship still) to 6 */
-    double ship_speed_mps;  /* the ship's speed through the water */
-    double wave_dir_rad;    /* where the waves come from, from the bow, + starboard */
-    int spectrum;           /* 0 ITTC, 1 JONSWAP (sim_spectrum) */
+    /* [sea] (disim fly: the ship's motion; disim shol refuses state > 0):
+     * state, ship_speed_mps, wave_dir_rad, spectrum; course_rad 0 (north),
+     * n_waves 0 (the default) */
+    sim_sea sea;
     int turbulence;         /* [wod] turbulence (disim fly): 1 the field's turbulence */
 
     /* CFD (the embedded engine, the only one) */
@@ -68,7 +92,7 @@ typedef struct sim_scenario {
 
     /* [task] type and the piloted task's file (disim fly: the automated
      * pilot flies it; scenarios/README.md) */
-    int task_type;                 /* SIM_SC_TASK_* */
+    int task_type;                 /* SIM_TASK_*: [task] type shol, hover (STATION_KEEP) or landing (LAND) */
     char task_path[SIM_PATH_MAX];  /* hover, landing: a task file (sim_task_load_ship) */
     /* [pilot] (disim fly; its flags override) */
     int pilot;                     /* SIM_SC_PILOT_* (station, the default) */
@@ -80,7 +104,6 @@ typedef struct sim_scenario {
     double flown_window_s;         /* window_s: the steady criteria's running mean (s) */
     double flown_transient_frac;   /* transient_frac: the transient attitude limits' margin */
 } sim_scenario;
-enum { SIM_SC_TASK_SHOL = 0, SIM_SC_TASK_HOVER = 1, SIM_SC_TASK_LANDING = 2 };
 enum { SIM_SC_PILOT_STATION = 0, SIM_SC_PILOT_AUTO = 1, SIM_SC_PILOT_REPLAY = 2 };
 
 /* Parse and resolve a scenario file. Returns 0, or < 0 with err naming the
@@ -305,25 +328,6 @@ int sim_pacer_os_realtime(int priority, char *what, size_t n);
  * file's natural period and damping. A pure function of time: the same
  * ship, sea and seed give the same motion bit for bit, at any t. */
 #include <stdint.h>
-
-#define SIM_SEA_MAX_STATE 6
-#define SIM_SEA_DEFAULT_WAVES 256
-#define SIM_SEA_MAX_WAVES 4096
-
-typedef enum { SIM_SPECTRUM_ITTC = 0, SIM_SPECTRUM_JONSWAP = 1 } sim_spectrum;
-
-/* The sea and the ship's steady course through it: plain data. */
-typedef struct sim_sea {
-    int state;             /* sea state 0 (calm: the ship still) to 6 */
-    double ship_speed_mps; /* the ship's speed through the water, >= 0 */
-    double wave_dir_rad;   /* heading to the waves: where they come FROM,
-                              from the bow, + to starboard (as WOD):
-                              0 head seas, pi/2 beam seas from starboard,
-                              pi following seas */
-    double course_rad;     /* the ship's mean heading in E (0: north) */
-    sim_spectrum spectrum; /* ITTC (Bretschneider) or JONSWAP (gamma 3.3) */
-    int n_waves;           /* sinusoids in the sum; 0: SIM_SEA_DEFAULT_WAVES */
-} sim_sea;
 
 /* Sea state 0 calm, in SIM_SPECTRUM_ITTC, everything else 0. */
 void sim_sea_default(sim_sea *sea);
@@ -835,7 +839,6 @@ struct _lcm_t *sim_loop_lcm(sim_loop *l);
  * crossover frequency and pure delay, its gains scheduled from the
  * linearised flight model (hfm_linearise) at the task's hover; it flies a
  * task file. sim/pilot_auto.c has the model and its references. */
-enum { SIM_TASK_STATION_KEEP = 0, SIM_TASK_LAND = 1 };
 /* A task's tolerances (ADS-33E-PRF style): horizontal distance from the
  * target, height, heading, and the time by which the helicopter must be
  * (and from then on stay) within them. */
@@ -949,14 +952,15 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
 /* The pilot's reference (plain data): what the outer loops track. The
  * task's phases set it each step; a caller (e.g. a replay pilot) may set
  * it instead. */
-enum { SIM_PILOT_HOLD = 0, SIM_PILOT_DESCEND = 1 };
 typedef struct sim_pilot_ref {
     double pos_S_m[3];   /* the CG's reference in S, from the spot (z < 0: above the deck) */
     double vel_S_mps[3]; /* its velocity in S, fed forward to the velocity loop; DESCEND:
                             vel_S_mps[2] > 0 is the rate of descent */
     double heading_rad;  /* from the bow, + to starboard, in [-pi, pi] */
-    int mode;            /* SIM_PILOT_HOLD: the height loop holds pos_S_m[2];
-                            SIM_PILOT_DESCEND: the height reference moves down at
+    int mode;            /* a phase's kind, SIM_PHASE_HOLD or SIM_PHASE_DESCEND (a move
+                            phase flies as HOLD with the reference moving):
+                            HOLD: the height loop holds pos_S_m[2];
+                            DESCEND: the height reference moves down at
                             vel_S_mps[2] from where it is to the deck (pos_S_m[2] not
                             used), the collective lowered once the wheels touch */
 } sim_pilot_ref;
@@ -1038,6 +1042,9 @@ typedef struct sim_replay_info {
 } sim_replay_info;
 enum { SIM_REPLAY_HOVER = 0, SIM_REPLAY_TRANSLATE = 1, SIM_REPLAY_DESCEND = 2, SIM_REPLAY_ON_DECK = 3,
        SIM_REPLAY_NPHASE = 4 };
+/* (SIM_REPLAY_*: the recorded reference's motion at a sample, classified
+ * from its velocities for the replay's error statistics: what the logged
+ * flight did, not a phase a pilot is asked to fly, SIM_PHASE_*.) */
 /* The reference at one time (plain data). */
 typedef struct sim_replay_sample {
     double t_s;

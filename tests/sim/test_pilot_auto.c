@@ -264,7 +264,7 @@ static void test_reference(const hfm_aircraft *ac, const core_ship *ship, const 
     }
     sim_pilot_ref r0, r, bad;
     sim_pilot_auto_reference(p, &r0);
-    CHECK(r0.mode == SIM_PILOT_HOLD && r0.pos_S_m[2] == t->target_S_m[2]);
+    CHECK(r0.mode == SIM_PHASE_HOLD && r0.pos_S_m[2] == t->target_S_m[2]);
     r = r0;
     r.pos_S_m[0] += 5.0;
     r.pos_S_m[2] += 1.0;
@@ -276,7 +276,7 @@ static void test_reference(const hfm_aircraft *ac, const core_ship *ship, const 
     bad.heading_rad = 4.0;
     CHECK(sim_pilot_auto_set_reference(p, &bad) == -1);
     bad = r;
-    bad.mode = SIM_PILOT_DESCEND;
+    bad.mode = SIM_PHASE_DESCEND;
     bad.vel_S_mps[2] = 0.0;
     CHECK(sim_pilot_auto_set_reference(p, &bad) == -1);
     sim_pilot_ref now;

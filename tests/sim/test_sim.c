@@ -109,17 +109,17 @@ int main(void)
     /* The sea and the turbulence as the flight loop reads them; absent, a
      * calm sea, the ship at rest and turbulence on. */
     CHECK(sim_scenario_load("tests/sim/data/sea.ini", sc, &err) == 0);
-    CHECK(sc->sea_state == 4 && sc->spectrum == 1 && sc->turbulence == 0);
-    CHECK_NEAR(sc->ship_speed_mps, 15.0 * CORE_KT_TO_MPS, 1e-12);
-    CHECK_NEAR(sc->wave_dir_rad, -30.0 * CORE_DEG_TO_RAD, 1e-12);
+    CHECK(sc->sea.state == 4 && sc->sea.spectrum == SIM_SPECTRUM_JONSWAP && sc->turbulence == 0);
+    CHECK_NEAR(sc->sea.ship_speed_mps, 15.0 * CORE_KT_TO_MPS, 1e-12);
+    CHECK_NEAR(sc->sea.wave_dir_rad, -30.0 * CORE_DEG_TO_RAD, 1e-12);
     CHECK(sim_scenario_load("tests/sim/data/full_circle.ini", sc, &err) == 0);
-    CHECK(sc->sea_state == 0 && sc->ship_speed_mps == 0.0 && sc->spectrum == 0 && sc->turbulence == 1);
+    CHECK(sc->sea.state == 0 && sc->sea.ship_speed_mps == 0.0 && sc->sea.spectrum == SIM_SPECTRUM_ITTC && sc->turbulence == 1);
     CHECK(sim_scenario_load("tests/sim/bad/bad_sea_state.ini", sc, &err) < 0);
     CHECK(strstr(err.msg, "bad_sea_state.ini:13: [sea] state = 7: out of range, expected 0 to 6") != NULL);
     /* The pilot and the task as disim fly reads them; absent, the stations
      * (the first to connect) and the shol task. */
     CHECK(sim_scenario_load("tests/sim/data/pilot_auto.ini", sc, &err) == 0);
-    CHECK(sc->pilot == SIM_SC_PILOT_AUTO && sc->task_type == SIM_SC_TASK_LANDING);
+    CHECK(sc->pilot == SIM_SC_PILOT_AUTO && sc->task_type == SIM_TASK_LAND);
     CHECK(strstr(sc->task_path, "scenarios/tasks/land_port.ini") != NULL);
     CHECK(sim_scenario_load("tests/sim/data/pilot_station.ini", sc, &err) == 0);
     CHECK(sc->pilot == SIM_SC_PILOT_STATION && strcmp(sc->pilot_stations, "deck,cockpit") == 0);
@@ -128,7 +128,7 @@ int main(void)
     CHECK(sc->pilot == SIM_SC_PILOT_REPLAY && sc->pilot_feed_controls == 1 && strstr(sc->pilot_log, "sea.ini"));
     CHECK(sim_scenario_load("tests/sim/data/sea.ini", sc, &err) == 0);
     CHECK(sc->pilot == SIM_SC_PILOT_STATION && sc->pilot_stations[0] == '\0' && sc->pilot_hold_after_s == 0.0 &&
-          sc->task_type == SIM_SC_TASK_SHOL);
+          sc->task_type == SIM_TASK_SHOL);
     /* A speed step larger than the sweep's top is refused naming the line. */
     CHECK(sim_scenario_load("tests/sim/bad/speed_step_over_max.ini", sc, &err) < 0);
     CHECK(strstr(err.msg, "speed_step_over_max.ini:10: [wod] speed_step_kmh = 20: expected at most") != NULL);
