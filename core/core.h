@@ -119,6 +119,9 @@ core_vec3 core_vec3_scale(core_vec3 a, double s);
 double core_vec3_dot(core_vec3 a, core_vec3 b);
 core_vec3 core_vec3_cross(core_vec3 a, core_vec3 b);
 double core_vec3_norm(core_vec3 a);
+/* An angle (rad) wrapped into [-pi, pi] as atan2(sin a, cos a): the one
+ * wrap of headings and attitude errors (WOD directions: core_wod_wrap_deg). */
+double core_wrap_pi(double a_rad);
 
 core_quat core_quat_identity(void);
 core_quat core_quat_mul(core_quat a, core_quat b);

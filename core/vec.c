@@ -16,6 +16,8 @@ core_vec3 core_vec3_make(double x, double y, double z)
     core_vec3 v = {x, y, z};
     return v;
 }
+double core_wrap_pi(double a_rad) { return atan2(sin(a_rad), cos(a_rad)); }
+
 core_vec3 core_vec3_add(core_vec3 a, core_vec3 b) { return core_vec3_make(a.x + b.x, a.y + b.y, a.z + b.z); }
 core_vec3 core_vec3_sub(core_vec3 a, core_vec3 b) { return core_vec3_make(a.x - b.x, a.y - b.y, a.z - b.z); }
 core_vec3 core_vec3_scale(core_vec3 a, double s) { return core_vec3_make(a.x * s, a.y * s, a.z * s); }

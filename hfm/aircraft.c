@@ -21,7 +21,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define D2R CORE_DEG_TO_RAD
 
 double hfm_table_eval(const hfm_table *t, double x)
 {
@@ -76,7 +75,7 @@ static int rd_deg(rd *r, const char *sec, const char *key, double lo, double hi,
     double d;
     if (rd_num(r, sec, key, lo, hi, &d))
         return -1;
-    *dst_rad = d * D2R;
+    *dst_rad = d * CORE_DEG_TO_RAD;
     return 0;
 }
 
@@ -116,7 +115,7 @@ static int rd_table(rd *r, const char *sec, const char *kx, const char *ky, doub
         if (!(t->x[i] > t->x[i - 1]))
             return rd_fail(r, sec, kx, "abscissae must increase (item %d)", i + 1);
     for (int i = 0; i < nx; i++)
-        t->x[i] *= D2R;
+        t->x[i] *= CORE_DEG_TO_RAD;
     t->n = nx;
     return 0;
 }
@@ -249,7 +248,7 @@ static int load_airfoil(rd *r, hfm_airfoil *af)
     if (cl.x[0] > -CORE_PI + 1e-9 || cl.x[cl.n - 1] < CORE_PI - 1e-9)
         return rd_fail(r, S, "alpha_deg", "the table must span -180 to 180 deg (reversed flow)");
     for (int i = 0; i <= 360; i++) {
-        double a = (i - 180) * D2R;
+        double a = (i - 180) * CORE_DEG_TO_RAD;
         af->cl[i] = hfm_table_eval(&cl, a);
         af->cd[i] = hfm_table_eval(&cd, a);
     }
@@ -469,8 +468,8 @@ static int load_sas(rd *r, hfm_aircraft *ac)
         snprintf(k, sizeof k, "%s_authority_pct", axis[i]);
         if (rd_num(r, S, k, 0.0, 50.0, &ac->sas.authority_pct[i]))
             return -1;
-        ac->sas.rate_pct_per_radps[i] = rate / D2R;
-        ac->sas.att_pct_per_rad[i] = att / D2R;
+        ac->sas.rate_pct_per_radps[i] = rate / CORE_DEG_TO_RAD;
+        ac->sas.att_pct_per_rad[i] = att / CORE_DEG_TO_RAD;
     }
     return 0;
 }
@@ -721,10 +720,10 @@ void hfm_controls_to_pitch(const hfm_aircraft *ac, const hfm_controls *u, double
     double xl_e = xl + g->mix_cl * dc + g->mix_pl * xp;
     double xa_e = xa + g->mix_ca * dc;
     double xp_e = xp + g->mix_cp * dc;
-    double B1 = g->long_gain * xl_e * D2R, A1 = g->lat_gain * xa_e * D2R;
+    double B1 = g->long_gain * xl_e * CORE_DEG_TO_RAD, A1 = g->lat_gain * xa_e * CORE_DEG_TO_RAD;
     double c = g->swash_c, s = g->swash_s;
-    *theta0_rad = (g->coll_pitch0 + g->coll_gain * xc) * D2R;
+    *theta0_rad = (g->coll_pitch0 + g->coll_gain * xc) * CORE_DEG_TO_RAD;
     *A1_rad = c * A1 + s * B1;
     *B1_rad = c * B1 - s * A1;
-    *theta_tr_rad = (g->tr_pitch0 + g->tr_gain * xp_e) * D2R;
+    *theta_tr_rad = (g->tr_pitch0 + g->tr_gain * xp_e) * CORE_DEG_TO_RAD;
 }

@@ -40,7 +40,6 @@
 
 #include <stdio.h>
 
-#define R2D CORE_RAD_TO_DEG
 
 /* Bands (see above). */
 #define TIP_MIN_MPS 150.0
@@ -83,9 +82,9 @@ void hfm_aircraft_get_figures(const hfm_aircraft *ac, hfm_aircraft_figures *f)
     f->airfoil_cl_max = cl_max;
     double B = mr->B, lam = KAPPA_HOVER * sqrt(0.5 * CT);
     double a = f->lift_slope_per_rad > 0.1 ? f->lift_slope_per_rad : 0.1;
-    f->hover_pitch75_deg = (6.0 * CT / (f->solidity * a) + 1.5 * B * B * lam) / (B * B * B) * R2D;
+    f->hover_pitch75_deg = (6.0 * CT / (f->solidity * a) + 1.5 * B * B * lam) / (B * B * B) * CORE_RAD_TO_DEG;
     /* the rig's collective gives the pitch at twist_ref R; at 0.75 R add the twist between */
-    double d75 = mr->twist * (0.75 - mr->twist_ref) * R2D;
+    double d75 = mr->twist * (0.75 - mr->twist_ref) * CORE_RAD_TO_DEG;
     f->coll_pitch75_min_deg = g->coll_pitch0 + d75;
     f->coll_pitch75_max_deg = g->coll_pitch0 + g->coll_gain * g->coll_travel + d75;
     f->tr_tip_speed_mps = tr->omega * tr->R;
@@ -113,13 +112,13 @@ void hfm_aircraft_get_figures(const hfm_aircraft *ac, hfm_aircraft_figures *f)
 static int check_twist(const core_ini *ini, const char *path, const char *sec, double twist_rad,
                        core_err *err)
 {
-    double d = twist_rad * R2D;
+    double d = twist_rad * CORE_RAD_TO_DEG;
     if (d != 0.0 && fabs(d) < TWIST_MIN_DEG)
         FAIL(sec, "twist_deg", d,
              "a blade twist below %g deg in magnitude is no helicopter blade's (main rotors 5-20 deg): this "
              "looks like radians, which would be %.1f deg; give the twist in degrees (or 0 for an untwisted "
              "blade)",
-             TWIST_MIN_DEG, d * R2D);
+             TWIST_MIN_DEG, d * CORE_RAD_TO_DEG);
     return 0;
 }
 
@@ -219,7 +218,7 @@ int hfm_aircraft_check(const hfm_aircraft *ac, const core_ini *ini, const core_l
              "twist_ref_r_over_R = %g), but the hover needs about %.1f deg there (blade-element momentum "
              "theory): the rig cannot hover the aircraft. Is the rig's pitch quoted at another station than "
              "twist_ref_r_over_R (root 0, three-quarter radius 0.75)?",
-             f.coll_pitch75_min_deg, f.coll_pitch75_max_deg, mr->twist * R2D, mr->twist_ref,
+             f.coll_pitch75_min_deg, f.coll_pitch75_max_deg, mr->twist * CORE_RAD_TO_DEG, mr->twist_ref,
              f.hover_pitch75_deg);
 
     /* the fuselage */

@@ -361,16 +361,6 @@ static void field(cairo_t *cr, double x, double y, const char *label, const char
     text_at(cr, x + text_w(cr, label), y, GREEN, value);
 }
 
-static double wrap_pi(double a)
-{
-    a = fmod(a, 2.0 * M_PI);
-    if (a > M_PI)
-        a -= 2.0 * M_PI;
-    else if (a <= -M_PI)
-        a += 2.0 * M_PI;
-    return a;
-}
-
 /* The height over the deck plane: the lowest wheel's bottom with gear, else
  * the CG's. */
 double render_overlay_deck_height(const render_scene *sc, const render_state *s)
@@ -439,7 +429,7 @@ static void draw_bottom(cairo_t *cr, const hud_geom *g, const render_scene *sc, 
     field(cr, x, base[0], "ROLL  ", v);
     snprintf(v, sizeof v, "%+6.1f\xc2\xb0", s->pitch_rad * r2d);
     field(cr, x, base[1], "PITCH ", v);
-    snprintf(v, sizeof v, "%+6.1f\xc2\xb0", wrap_pi(s->yaw_rad - s->ship_yaw_rad) * r2d);
+    snprintf(v, sizeof v, "%+6.1f\xc2\xb0", core_wrap_pi(s->yaw_rad - s->ship_yaw_rad) * r2d);
     field(cr, x, base[2], "RHDG  ", v);
     x += 14 * g->cw;
     snprintf(v, sizeof v, "%6.2f m", render_overlay_deck_height(sc, s));

@@ -225,7 +225,6 @@ struct sim_pilot_auto {
 
 static int pos_fin(double v) { return isfinite(v) && v > 0.0; }
 
-static double wrap(double a) { return atan2(sin(a), cos(a)); }
 
 static double clampd(double v, double lo, double hi) { return fmin(fmax(v, lo), hi); }
 
@@ -567,7 +566,7 @@ void sim_pilot_auto_opts_default(sim_pilot_auto_opts *o)
     o->vel_bw_radps = 0.8;
     o->pos_bw_radps = 0.3;
     o->max_speed_mps = 3.0;
-    o->max_att_rad = 10.0 * D2R;
+    o->max_att_rad = 10.0 * CORE_DEG_TO_RAD;
     o->cutoff_fraction = 0.5;
     o->trim_s = 8.0;
 }
@@ -621,7 +620,7 @@ static void hold_ref(sim_pilot_auto *p, const double pos[3], const double vel[3]
     memcpy(r.pos_S_m, pos, sizeof r.pos_S_m);
     if (vel)
         memcpy(r.vel_S_mps, vel, sizeof r.vel_S_mps);
-    r.heading_rad = wrap(heading);
+    r.heading_rad = core_wrap_pi(heading);
     r.mode = SIM_PHASE_HOLD;
     set_ref(p, &r);
 }
@@ -988,7 +987,7 @@ static void touchdown(sim_pilot_auto *p, const sim_flight_out *out, double h, do
     r->sink_mps = (out->pos_S_m[2] - p->prev_pos_S_m[2]) / h;
     r->drift_mps = hypot(out->pos_S_m[0] - p->prev_pos_S_m[0], out->pos_S_m[1] - p->prev_pos_S_m[1]) / h;
     r->dist_m = hypot(out->pos_S_m[0] - ph->target_S_m[0], out->pos_S_m[1] - ph->target_S_m[1]);
-    r->td_heading_err_rad = wrap(psi_rel - ph->heading_rad);
+    r->td_heading_err_rad = core_wrap_pi(psi_rel - ph->heading_rad);
     r->td_roll_deck_rad = roll_d;
     r->td_pitch_deck_rad = pitch_d;
     double hm = p->hn ? p->h_sum / p->hn : 0.0;
@@ -1068,7 +1067,7 @@ static void phases(sim_pilot_auto *p, const sim_flight_out *out, double psi_rel)
     /* the errors from the reference (hold, move) */
     double dx = out->pos_S_m[0] - p->ref.pos_S_m[0], dy = out->pos_S_m[1] - p->ref.pos_S_m[1];
     double e_pos = sqrt(dx * dx + dy * dy), e_h = -(out->pos_S_m[2] - p->ref.pos_S_m[2]);
-    double e_psi = wrap(psi_rel - p->ref.heading_rad);
+    double e_psi = core_wrap_pi(psi_rel - p->ref.heading_rad);
     if (ph->kind == SIM_PHASE_HOLD) {
         r->err_pos_m = e_pos;
         r->err_height_m = e_h;
@@ -1175,7 +1174,7 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     const sim_pilot_gains *g = &p->g;
     /* the heading relative to the ship: S's x axis in E is C_ES's first column */
     double psi_ship = atan2(out->ship.C_ES[3], out->ship.C_ES[0]);
-    double psi_rel = wrap(out->euler_E_rad[2] - psi_ship);
+    double psi_rel = core_wrap_pi(out->euler_E_rad[2] - psi_ship);
     double h = p->have_prev ? out->t_s - p->prev_t_s : 0.0;
     if (!p->have_prev || h > 0.0)
         heave(p, out, h);
@@ -1270,7 +1269,7 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     double th_c = g->trim_att_rad[1] + clampd((ac[0] - g->X_u * vH[0]) / g->X_theta, -o->max_att_rad, o->max_att_rad);
     double ph_c = g->trim_att_rad[0] + clampd((ac[1] - g->Y_v * vH[1]) / g->Y_phi, -o->max_att_rad, o->max_att_rad);
     /* inner loops: the crossover pilot's lead on each attitude (height) error */
-    double e_att[4] = {ph_c - out->euler_E_rad[0], th_c - out->euler_E_rad[1], wrap(R->heading_rad - psi_rel),
+    double e_att[4] = {ph_c - out->euler_E_rad[0], th_c - out->euler_E_rad[1], core_wrap_pi(R->heading_rad - psi_rel),
                        p->z_ref_S_m - out->pos_S_m[2] + (o->trim_s > 0.0 ? p->i_hgt / o->trim_s : 0.0)};
     double rate[4] = {out->rate_B_radps[0], out->rate_B_radps[1], out->rate_B_radps[2], out->vel_S_mps[2] - w_ref};
     const double K[4] = {g->L_lat, g->M_long, g->N_ped, g->Z_col};

@@ -78,14 +78,6 @@ static double axis_ctl_c(const hfm_controls *u, int i)
     return i == 0 ? u->lat_pct : i == 1 ? u->long_pct : u->pedal_pct;
 }
 
-static double wrap_pi(double a)
-{
-    a = fmod(a + CORE_PI, 2.0 * CORE_PI);
-    if (a <= 0.0)
-        a += 2.0 * CORE_PI;
-    return a - CORE_PI;
-}
-
 sim_sas *sim_sas_create(const hfm_sas_gains *g, core_err *err)
 {
     static const char *const ax[3] = {"roll", "pitch", "yaw"};
@@ -150,7 +142,7 @@ void sim_sas_step(sim_sas *s, const hfm_body *b, const hfm_controls *pilot, hfm_
             }
             double e = b->euler_rad[i] - s->ref_rad[i];
             if (i == 2)
-                e = wrap_pi(e);
+                e = core_wrap_pi(e);
             double d = -(s->g.rate_pct_per_radps[i] * b->rate_B_radps[i] + s->g.att_pct_per_rad[i] * e);
             double A = s->g.authority_pct[i];
             if (d > A || d < -A) {

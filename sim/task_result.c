@@ -13,7 +13,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#define R2D CORE_RAD_TO_DEG
 
 static const char *grade_name(int g) { return g == 2 ? "desired" : g == 1 ? "adequate" : g == 0 ? "not_met" : ""; }
 static const char *kind_name(int k) { return k == SIM_PHASE_HOLD ? "hold" : k == SIM_PHASE_MOVE ? "move" : "descend"; }
@@ -44,12 +43,12 @@ static int scalars(const sim_task_result *r, col *c)
     c[n++] = (col){"sink_mps", td ? r->sink_mps : nan};
     c[n++] = (col){"drift_mps", td ? r->drift_mps : nan};
     c[n++] = (col){"dist_spot_m", td ? r->dist_m : nan};
-    c[n++] = (col){"heading_err_deg", td ? r->td_heading_err_rad * R2D : nan};
-    c[n++] = (col){"roll_deck_deg", td ? r->td_roll_deck_rad * R2D : nan};
-    c[n++] = (col){"pitch_deck_deg", td ? r->td_pitch_deck_rad * R2D : nan};
+    c[n++] = (col){"heading_err_deg", td ? r->td_heading_err_rad * CORE_RAD_TO_DEG : nan};
+    c[n++] = (col){"roll_deck_deg", td ? r->td_roll_deck_rad * CORE_RAD_TO_DEG : nan};
+    c[n++] = (col){"pitch_deck_deg", td ? r->td_pitch_deck_rad * CORE_RAD_TO_DEG : nan};
     c[n++] = (col){"heave_m", td ? r->td_heave_m : nan};
     c[n++] = (col){"heave_rate_mps", td ? r->td_heave_rate_mps : nan};
-    c[n++] = (col){"heave_phase_deg", td ? r->td_heave_phase_rad * R2D : nan};
+    c[n++] = (col){"heave_phase_deg", td ? r->td_heave_phase_rad * CORE_RAD_TO_DEG : nan};
     c[n++] = (col){"heave_energy", td ? r->td_energy : nan};
     c[n++] = (col){"t_settled_s", r->settled ? r->t_settled_s : nan};
     c[n++] = (col){"stop_steps", (double)r->stop_steps};
@@ -73,7 +72,7 @@ static void phase_cols(const sim_task *t, const sim_task_result *r, int i, col c
     c[1] = (col){"t_end_s", p->t_end_s >= 0.0 ? p->t_end_s : NAN};
     c[2] = (col){"max_err_pos_m", flown ? p->max_err_pos_m : NAN};
     c[3] = (col){"max_err_height_m", flown && !desc ? p->max_err_height_m : NAN};
-    c[4] = (col){"max_err_heading_deg", flown ? p->max_err_heading_rad * R2D : NAN};
+    c[4] = (col){"max_err_heading_deg", flown ? p->max_err_heading_rad * CORE_RAD_TO_DEG : NAN};
     c[5] = (col){"wait_s", flown && desc ? p->t_wait_s : NAN};
 }
 

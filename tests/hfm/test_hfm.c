@@ -20,7 +20,6 @@
 #define UH60 "scenarios/aircraft/uh60a.ini"
 #define SA365 "scenarios/aircraft/sa365n.ini"
 #define KT CORE_KT_TO_MPS
-#define R2D CORE_RAD_TO_DEG
 
 static char tmpdir[256];
 
@@ -187,8 +186,8 @@ static void test_genhel(hfm_trim *tr)
         CHECK(genhel_cmp(v, "longitudinal %", r.u.long_pct, pct_long(lo), tc));
         CHECK(genhel_cmp(v, "lateral %", r.u.lat_pct, pct_lat(la), tc));
         CHECK(genhel_cmp(v, "pedal %", r.u.pedal_pct, pct_ped(pe), tc));
-        CHECK(genhel_cmp(v, "pitch deg", r.body.euler_rad[1] * R2D, th, ta));
-        double beta_deg = r.sideslip_rad * R2D, phi_deg = r.body.euler_rad[0] * R2D;
+        CHECK(genhel_cmp(v, "pitch deg", r.body.euler_rad[1] * CORE_RAD_TO_DEG, th, ta));
+        double beta_deg = r.sideslip_rad * CORE_RAD_TO_DEG, phi_deg = r.body.euler_rad[0] * CORE_RAD_TO_DEG;
         /* consistency: the row was flown under its constraint */
         CHECK(r.wings_level == level);
         if (level) {
@@ -506,11 +505,11 @@ static void test_sa365n(hfm_trim *tr)
     printf("SA365N hover: coll %.1f%% long %.1f%% lat %.1f%% ped %.1f%% pitch %.2f roll %.2f "
            "deg, power %.0f kW (main %.0f, fenestron %.0f)\n",
            r.u.collective_pct, r.u.long_pct, r.u.lat_pct, r.u.pedal_pct,
-           r.body.euler_rad[1] * R2D, r.body.euler_rad[0] * R2D, P / 1e3,
+           r.body.euler_rad[1] * CORE_RAD_TO_DEG, r.body.euler_rad[0] * CORE_RAD_TO_DEG, P / 1e3,
            r.loads.mr_power_W / 1e3, r.loads.tr_power_W / 1e3);
     CHECK(r.u.collective_pct >= 40.0 && r.u.collective_pct <= 75.0);
-    CHECK(fabs(r.body.euler_rad[1] * R2D) <= 6.0);
-    CHECK(fabs(r.body.euler_rad[0] * R2D) <= 6.0);
+    CHECK(fabs(r.body.euler_rad[1] * CORE_RAD_TO_DEG) <= 6.0);
+    CHECK(fabs(r.body.euler_rad[0] * CORE_RAD_TO_DEG) <= 6.0);
     CHECK(P <= 2.0 * 550e3);
 }
 
@@ -543,8 +542,8 @@ static void wake_continuity(hfm_trim *tr, const char *name)
         y[1][i] = res[i].u.long_pct;
         y[2][i] = res[i].u.lat_pct;
         y[3][i] = res[i].u.pedal_pct;
-        y[4][i] = res[i].body.euler_rad[1] * R2D;
-        y[5][i] = res[i].body.euler_rad[0] * R2D;
+        y[4][i] = res[i].body.euler_rad[1] * CORE_RAD_TO_DEG;
+        y[5][i] = res[i].body.euler_rad[0] * CORE_RAD_TO_DEG;
     }
     CHECK(fails == 0);
     static const char *qn[NQ] = {"collective %", "long %", "lat %", "pedal %", "pitch deg",
@@ -739,15 +738,15 @@ static void test_bo105(void)
         double model;
         int power = 0;
         if (!strcmp(q, "pitch_deg"))
-            model = r.body.euler_rad[1] * R2D;
+            model = r.body.euler_rad[1] * CORE_RAD_TO_DEG;
         else if (!strcmp(q, "theta0_deg"))
-            model = th0 * R2D;
+            model = th0 * CORE_RAD_TO_DEG;
         else if (!strcmp(q, "theta1s_deg"))
-            model = -B1 * R2D;
+            model = -B1 * CORE_RAD_TO_DEG;
         else if (!strcmp(q, "theta1c_deg"))
-            model = -A1 * R2D;
+            model = -A1 * CORE_RAD_TO_DEG;
         else if (!strcmp(q, "theta0tr_deg"))
-            model = thtr * R2D;
+            model = thtr * CORE_RAD_TO_DEG;
         else if (!strcmp(q, "power_kW")) {
             model = (r.loads.mr_power_W + r.loads.tr_power_W) / 1e3;
             power = 1;

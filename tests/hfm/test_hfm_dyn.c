@@ -9,7 +9,6 @@
 #include <string.h>
 
 #define UH60 "scenarios/aircraft/uh60a.ini"
-#define R2D CORE_RAD_TO_DEG
 
 static void trim_at(hfm_trim *tr, double kt, hfm_trim_cond *cd, hfm_trim_result *r)
 {
@@ -65,7 +64,7 @@ static double drift(hfm_tsim *ts, const hfm_trim_result *r, double T, double *da
             v += pow(b.vel_B_mps[i] - r->body.vel_B_mps[i], 2);
         dv = isfinite(v) ? fmax(dv, sqrt(v)) : NAN;
         for (int i = 0; i < 2; i++)
-            da = isfinite(b.euler_rad[i]) ? fmax(da, fabs(b.euler_rad[i] - r->body.euler_rad[i]) * R2D) : NAN;
+            da = isfinite(b.euler_rad[i]) ? fmax(da, fabs(b.euler_rad[i] - r->body.euler_rad[i]) * CORE_RAD_TO_DEG) : NAN;
         if (!isfinite(dv) || !isfinite(da))
             break;
     }
@@ -93,8 +92,8 @@ static void test_tsim(const hfm_aircraft *ac, hfm_trim *tr, double kt)
     /* heading: the psi drift is the yaw equation's */
     hfm_body b;
     hfm_tsim_body(ts, &b);
-    printf("  heading change %.3f deg\n", (b.euler_rad[2] - r.body.euler_rad[2]) * R2D);
-    CHECK(fabs(b.euler_rad[2] - r.body.euler_rad[2]) * R2D < 0.5);
+    printf("  heading change %.3f deg\n", (b.euler_rad[2] - r.body.euler_rad[2]) * CORE_RAD_TO_DEG);
+    CHECK(fabs(b.euler_rad[2] - r.body.euler_rad[2]) * CORE_RAD_TO_DEG < 0.5);
     /* CVODE reference over 2 s agrees with ARKODE */
     hfm_body ba, bc;
     CHECK(hfm_tsim_init(ts, 0.0, &r.body, &r.u, &r.rotor) == 0);

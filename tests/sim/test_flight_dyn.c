@@ -23,7 +23,6 @@
 #define SA365 "scenarios/aircraft/sa365n.ini"
 #define LUH "tests/hfm/data/luh25.ini"
 #define SHIP "scenarios/ships/sfs2.ini"
-#define R2D CORE_RAD_TO_DEG
 #define RATE_HZ 200.0
 #define NX HFM_LIN_NX
 #define NU HFM_LIN_NU
@@ -555,7 +554,7 @@ static void fly_hold(sim_flight *f, const pulse *dist, double T_s, double stop_d
             double d = o.euler_E_rad[i] - o0.euler_E_rad[i];
             if (i == 2)
                 d = atan2(sin(d), cos(d));
-            h->max_att_deg[i] = fmax(h->max_att_deg[i], fabs(d) * R2D);
+            h->max_att_deg[i] = fmax(h->max_att_deg[i], fabs(d) * CORE_RAD_TO_DEG);
             if (g.authority_pct[i] > 0.0)
                 h->max_ratio[i] = fmax(h->max_ratio[i], fabs(so.delta_pct[i]) / g.authority_pct[i]);
             h->saturated |= so.saturated[i];
