@@ -286,7 +286,6 @@ void awdb_fields_opts_default(awdb_fields_opts *o);
 /* Over an open database that outlives it. NULL with err. */
 awdb_fields *awdb_fields_create(awdb *db, const awdb_fields_opts *o, const core_log *log, core_err *err);
 void awdb_fields_destroy(awdb_fields *fc);
-awdb *awdb_fields_db(const awdb_fields *fc);
 /* The field of key (canonicalised in place): loaded from the database when
  * READY, else queued and waited for. NULL with err: the key is invalid,
  * its build failed, no builder serves it (and none can be started), or it

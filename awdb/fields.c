@@ -70,8 +70,6 @@ void awdb_fields_destroy(awdb_fields *fc)
     free(fc);
 }
 
-awdb *awdb_fields_db(const awdb_fields *fc) { return fc->db; }
-
 const cfd_field *awdb_fields_load(awdb_fields *fc, const char *path, core_err *err)
 {
     int lru = 0;

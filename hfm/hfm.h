@@ -348,7 +348,6 @@ void hfm_trim_destroy(hfm_trim *tr);
  * angular accelerations (rad/s^2), 6-8 flapping 0/1c/1s, 9-11 inflow,
  * 12-13 flapping 2c/2s. Returns 0 or < 0. */
 int hfm_trim_residual(hfm_trim *tr, const hfm_trim_cond *c, const double *x, double *f);
-const char *hfm_trim_eq_name(int i);
 /* Trim one condition; guess may be NULL (cold start) or a previous result.
  * Returns 0 converged, 1 not converged (res->worst_eq says which equation),
  * < 0 fatal. */

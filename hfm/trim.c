@@ -42,11 +42,6 @@ const hfm_aircraft *hfm_trim_aircraft(const hfm_trim *tr)
     return tr->ac;
 }
 
-const char *hfm_trim_eq_name(int i)
-{
-    return i >= 0 && i < HFM_TRIM_N ? eq_names[i] : "?";
-}
-
 hfm_trim *hfm_trim_create(const hfm_aircraft *ac, const core_log *log)
 {
     if (!ac)

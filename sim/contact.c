@@ -503,9 +503,6 @@ void sim_contact_body(const sim_flight_out *out, hfm_body *b)
     b->vel_B_mps[2] = v.z;
 }
 
-void sim_contact_set_brakes(sim_contact *c, int on) { c->brakes = on != 0; }
-void sim_contact_set_lock(sim_contact *c, int on) { c->lock = on != 0; }
-
 /* ------------------------------------------------------------ create */
 /* The static tip-over angle: atan(d / h), d the CG's distance to the
  * nearest edge of the wheels' convex polygon (body x, y), h the CG's mean

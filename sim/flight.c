@@ -506,8 +506,6 @@ int sim_flight_contact(const sim_flight *f, sim_contact_report *rep)
     return 0;
 }
 
-sim_contact *sim_flight_gear(sim_flight *f) { return f->gear; }
-
 int sim_flight_set_field(sim_flight *f, const cfd_field *field, core_err *err)
 {
     return sim_air_set_field(f->air, field, (double)f->step * f->h_s, err);

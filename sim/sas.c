@@ -109,13 +109,6 @@ sim_sas *sim_sas_create(const hfm_sas_gains *g, core_err *err)
 
 void sim_sas_destroy(sim_sas *s) { free(s); }
 
-void sim_sas_reset(sim_sas *s)
-{
-    s->sync = 1;
-    memset(&s->last, 0, sizeof s->last);
-    s->last.engaged = s->engaged;
-}
-
 void sim_sas_set_engaged(sim_sas *s, int on)
 {
     on = on != 0;

@@ -490,8 +490,6 @@ typedef struct sim_sas_out {
  * outside 0-100 %, engaged not 0 or 1. Engaged as g->engaged. */
 sim_sas *sim_sas_create(const hfm_sas_gains *g, core_err *err);
 void sim_sas_destroy(sim_sas *s);
-/* The hold takes its references from the next step's state (a reset). */
-void sim_sas_reset(sim_sas *s);
 /* Engage (1) or disengage (0); engaging holds the attitude of the next step. */
 void sim_sas_set_engaged(sim_sas *s, int on);
 int sim_sas_engaged(const sim_sas *s);
@@ -1192,13 +1190,8 @@ int sim_contact_step(sim_contact *c, double t_s, const sim_ship_deck *deck, cons
 void sim_contact_report_get(const sim_contact *c, sim_contact_report *rep);
 /* The body state in E of a flight step's output. */
 void sim_contact_body(const sim_flight_out *out, hfm_body *b);
-/* The parking brake and the castoring wheels' lock (as the file's at the start). */
-void sim_contact_set_brakes(sim_contact *c, int on);
-void sim_contact_set_lock(sim_contact *c, int on);
 /* The flight's gear (opts.gear): its report, 0; 1 (rep zeroed) without. */
 int sim_flight_contact(const sim_flight *f, sim_contact_report *rep);
-/* The flight's gear itself (brakes, lock), NULL without. */
-sim_contact *sim_flight_gear(sim_flight *f);
 /* The legs' static loads (N) holding weight_N on a level deck (the CG over
  * the support, moments balanced; three legs exactly, more by least squares).
  * 0, or < 0 with err when the CG is outside the support. */
