@@ -220,127 +220,185 @@ static void rot(core_quat q, const double v[3], double o[3])
 }
 
 /* ------------------------------------------------------------- the loads */
+/* The body at one evaluation, in E: its attitude, the CG and its
+ * velocity, the angular velocity; the deck's normal (up) and the body's
+ * heading in the deck plane (e_r along it, e_s to its right). */
+typedef struct gear_body {
+    core_quat q;
+    const double *cg;
+    double vcg[3], w[3];
+    double n_up[3];
+    double e_r[2], e_s[2];
+} gear_body;
+
+static void gear_body_at(const sim_ship_frame *fr, const hfm_body *b, gear_body *gb)
+{
+    gb->q = body_quat(b);
+    rot(gb->q, b->vel_B_mps, gb->vcg);
+    rot(gb->q, b->rate_B_radps, gb->w);
+    gb->cg = b->pos_S_m;
+    gb->n_up[0] = -fr->C_ES[2];
+    gb->n_up[1] = -fr->C_ES[5];
+    gb->n_up[2] = -fr->C_ES[8];
+    double xb[3] = {1, 0, 0}, xE[3], xS[3];
+    rot(gb->q, xb, xE);
+    to_S(fr, xE, xS);
+    double hx = hypot(xS[0], xS[1]);
+    gb->e_r[0] = hx > 1e-9 ? xS[0] / hx : 1.0;
+    gb->e_r[1] = hx > 1e-9 ? xS[1] / hx : 0.0;
+    gb->e_s[0] = -gb->e_r[1];
+    gb->e_s[1] = gb->e_r[0];
+}
+
+/* A leg's tyre on the deck: its penetration x (m, along the deck normal;
+ * 0 off the deck) and the contact point pc in E. */
+static double leg_contact(const sim_contact *c, int i, const gear_body *gb, double pc[3])
+{
+    const hfm_gear_leg *l = &c->g.leg[i];
+    const leg_rt *L = &c->leg[i];
+    /* the probe sphere: radius tyre + s_off, its centre s_off up the
+     * strut from the wheel's, so the penetration stays measured (the
+     * centre above the deck) to s_off past the tyre's radius */
+    double s_off = l->stroke_m + l->tyre_radius_m, top_B[3], off[3], ctr[3], zB[3], zb[3] = {0, 0, 1};
+    for (int k = 0; k < 3; k++)
+        top_B[k] = l->pos_B_m[k] - s_off * zb[k];
+    rot(gb->q, top_B, off);
+    rot(gb->q, zb, zB);
+    for (int k = 0; k < 3; k++)
+        ctr[k] = gb->cg[k] + off[k];
+    dGeomSetPosition(L->sphere, ctr[0], ctr[1], ctr[2]);
+    dContactGeom cgm;
+    int n = dCollide(L->sphere, c->deck, 1, &cgm, sizeof cgm);
+    /* the tyre's own penetration: the probe's less s_off (1 - cos beta),
+     * beta the strut's tilt from the deck normal (exact for the plane) */
+    const double *n_up = gb->n_up;
+    double cb = -(zB[0] * n_up[0] + zB[1] * n_up[1] + zB[2] * n_up[2]);
+    double x = n > 0 ? cgm.depth - s_off * (1 - cb) : 0.0;
+    if (n < 1 || !(x > 0))
+        return 0.0;
+    if (x > s_off)
+        x = s_off; /* the probe's centre at the deck: a crash the step reports */
+    for (int k = 0; k < 3; k++)
+        ctr[k] += s_off * zB[k]; /* back to the wheel's centre */
+    for (int k = 0; k < 3; k++)
+        pc[k] = ctr[k] - n_up[k] * (l->tyre_radius_m - x);
+    return x;
+}
+
+/* A leg's friction in the deck plane (S x, y) for the normal load N, the
+ * tyre's velocity vt (S) over the deck and its place pS (S). *held_roll:
+ * 1 braked along its heading too, 0 rolling, -1 a free castor. */
+static void leg_friction(const sim_contact *c, int i, const gear_body *gb, double N, const double vt[3],
+                         const double pS[3], double Ft[2], int *held_roll)
+{
+    const hfm_gear_leg *l = &c->g.leg[i];
+    const leg_rt *L = &c->leg[i];
+    const double *e_r = gb->e_r, *e_s = gb->e_s;
+    int free_castor = l->castor && !c->lock;
+    int held = l->brake && c->brakes && !free_castor;
+    double dS[2] = {0, 0};
+    if (L->has_anchor) {
+        dS[0] = pS[0] - L->anchor_S[0];
+        dS[1] = pS[1] - L->anchor_S[1];
+    }
+    double vr = vt[0] * e_r[0] + vt[1] * e_r[1], vs = vt[0] * e_s[0] + vt[1] * e_s[1];
+    *held_roll = free_castor ? -1 : held;
+    if (free_castor) {
+        double vm = sqrt(vt[0] * vt[0] + vt[1] * vt[1] + V0_ROLL_MPS * V0_ROLL_MPS);
+        Ft[0] = -c->g.mu_rolling * N * vt[0] / vm;
+        Ft[1] = -c->g.mu_rolling * N * vt[1] / vm;
+        return;
+    }
+    double kb = l->tyre_stiffness_Npm, cb = L->cb_Nspm;
+    double ds = dS[0] * e_s[0] + dS[1] * e_s[1], dr = dS[0] * e_r[0] + dS[1] * e_r[1];
+    double fs = -kb * ds - cb * vs, fr_ = 0;
+    if (held)
+        fr_ = -kb * dr - cb * vr;
+    double lim = c->g.mu_static * N, fm = hypot(fs, fr_);
+    if (fm > lim && fm > 0) {
+        double sc = c->g.mu_dynamic * N / fm;
+        fs *= sc;
+        fr_ *= sc;
+    }
+    if (!held)
+        fr_ = -c->g.mu_rolling * N * vr / sqrt(vr * vr + V0_ROLL_MPS * V0_ROLL_MPS);
+    Ft[0] = fs * e_s[0] + fr_ * e_r[0];
+    Ft[1] = fs * e_s[1] + fr_ * e_r[1];
+}
+
+/* A leg's load on the body (force f and moment m about the CG, E), its
+ * state kept for the step's bookkeeping; 0 off the deck. */
+static void leg_load(sim_contact *c, int i, const sim_ship_frame *fr, const gear_body *gb, double f[3], double m[3])
+{
+    const hfm_gear_leg *l = &c->g.leg[i];
+    leg_rt *L = &c->leg[i];
+    memset(&L->st, 0, sizeof L->st); /* slip_m: its callers keep it */
+    L->N = 0;
+    f[0] = f[1] = f[2] = m[0] = m[1] = m[2] = 0.0;
+    double pc[3], r[3], vc[3], vd[3], vrel[3];
+    double x = leg_contact(c, i, gb, pc);
+    if (!(x > 0))
+        return;
+    const double *n_up = gb->n_up;
+    for (int k = 0; k < 3; k++)
+        r[k] = pc[k] - gb->cg[k];
+    cross(gb->w, r, vc);
+    dVector3 dv;
+    dBodyGetPointVel(c->deck_body, pc[0], pc[1], pc[2], dv);
+    for (int k = 0; k < 3; k++) {
+        vd[k] = dv[k];
+        vrel[k] = gb->vcg[k] + vc[k] - vd[k];
+    }
+    double xdot = -(vrel[0] * n_up[0] + vrel[1] * n_up[1] + vrel[2] * n_up[2]);
+    double N, xs;
+    leg_force(l, x, xdot, &N, &xs);
+    if (N > OVERLOAD_WEIGHTS * c->weight_N)
+        N = OVERLOAD_WEIGHTS * c->weight_N;
+    /* tangential, in S's deck plane */
+    double vt_E[3], vt[3], pS[3], d[3];
+    for (int k = 0; k < 3; k++) {
+        vt_E[k] = vrel[k] + xdot * n_up[k];
+        d[k] = pc[k] - fr->origin_E_m[k];
+    }
+    to_S(fr, vt_E, vt);
+    to_S(fr, d, pS);
+    double Ft[2];
+    int held_roll;
+    leg_friction(c, i, gb, N, vt, pS, Ft, &held_roll);
+    for (int k = 0; k < 3; k++)
+        f[k] = N * n_up[k] + fr->C_ES[3 * k] * Ft[0] + fr->C_ES[3 * k + 1] * Ft[1];
+    cross(r, f, m);
+    L->st.on_deck = 1;
+    L->st.compression_m = x;
+    L->st.strut_m = xs;
+    L->st.normal_N = N;
+    L->st.friction_N[0] = Ft[0];
+    L->st.friction_N[1] = Ft[1];
+    L->N = N;
+    L->p_S[0] = pS[0];
+    L->p_S[1] = pS[1];
+    L->e_r[0] = gb->e_r[0];
+    L->e_r[1] = gb->e_r[1];
+    L->held_roll = held_roll;
+}
+
 /* The gear's loads in E (force, moment about the CG) for body state b on
  * the deck; each leg's state kept for the step's bookkeeping. */
 static int gear_loads(sim_contact *c, const sim_ship_deck *deck, const hfm_body *b, double F_E[3], double Mom_E[3])
 {
-    const sim_ship_frame *fr = &deck->fr;
     place_deck(c, deck);
-    core_quat q = body_quat(b);
-    double vcg[3], w[3];
-    rot(q, b->vel_B_mps, vcg);
-    rot(q, b->rate_B_radps, w);
-    const double *cg = b->pos_S_m;
-    double n_up[3] = {-fr->C_ES[2], -fr->C_ES[5], -fr->C_ES[8]};
-    double xb[3] = {1, 0, 0}, xE[3], xS[3];
-    rot(q, xb, xE);
-    to_S(fr, xE, xS);
-    double hx = hypot(xS[0], xS[1]);
-    double e_r[2] = {hx > 1e-9 ? xS[0] / hx : 1.0, hx > 1e-9 ? xS[1] / hx : 0.0};
-    double e_s[2] = {-e_r[1], e_r[0]};
+    gear_body gb;
+    gear_body_at(&deck->fr, b, &gb);
     F_E[0] = F_E[1] = F_E[2] = Mom_E[0] = Mom_E[1] = Mom_E[2] = 0;
     for (int i = 0; i < c->g.nlegs; i++) {
-        const hfm_gear_leg *l = &c->g.leg[i];
-        leg_rt *L = &c->leg[i];
-        /* the probe sphere: radius tyre + s_off, its centre s_off up the
-         * strut from the wheel's, so the penetration stays measured (the
-         * centre above the deck) to s_off past the tyre's radius */
-        double s_off = l->stroke_m + l->tyre_radius_m, top_B[3], off[3], ctr[3], zB[3], zb[3] = {0, 0, 1};
-        for (int k = 0; k < 3; k++)
-            top_B[k] = l->pos_B_m[k] - s_off * zb[k];
-        rot(q, top_B, off);
-        rot(q, zb, zB);
-        for (int k = 0; k < 3; k++)
-            ctr[k] = cg[k] + off[k];
-        dGeomSetPosition(L->sphere, ctr[0], ctr[1], ctr[2]);
-        dContactGeom cgm;
-        int n = dCollide(L->sphere, c->deck, 1, &cgm, sizeof cgm);
-        memset(&L->st, 0, sizeof L->st); /* slip_m: its callers keep it */
-        L->N = 0;
-        /* the tyre's own penetration: the probe's less s_off (1 - cos beta),
-         * beta the strut's tilt from the deck normal (exact for the plane) */
-        double cb = -(zB[0] * n_up[0] + zB[1] * n_up[1] + zB[2] * n_up[2]);
-        double x = n > 0 ? cgm.depth - s_off * (1 - cb) : 0.0, pc[3], r[3], vc[3], vd[3], vrel[3];
-        if (n < 1 || !(x > 0))
-            continue;
-        if (x > s_off)
-            x = s_off; /* the probe's centre at the deck: a crash the step reports */
-        for (int k = 0; k < 3; k++)
-            ctr[k] += s_off * zB[k]; /* back to the wheel's centre */
-        for (int k = 0; k < 3; k++) {
-            pc[k] = ctr[k] - n_up[k] * (l->tyre_radius_m - x);
-            r[k] = pc[k] - cg[k];
-        }
-        cross(w, r, vc);
-        dVector3 dv;
-        dBodyGetPointVel(c->deck_body, pc[0], pc[1], pc[2], dv);
-        for (int k = 0; k < 3; k++) {
-            vd[k] = dv[k];
-            vrel[k] = vcg[k] + vc[k] - vd[k];
-        }
-        double xdot = -(vrel[0] * n_up[0] + vrel[1] * n_up[1] + vrel[2] * n_up[2]);
-        double N, xs;
-        leg_force(l, x, xdot, &N, &xs);
-        if (N > OVERLOAD_WEIGHTS * c->weight_N)
-            N = OVERLOAD_WEIGHTS * c->weight_N;
-        /* tangential, in S's deck plane */
-        double vt_E[3], vt[3], pS[3], d[3];
-        for (int k = 0; k < 3; k++) {
-            vt_E[k] = vrel[k] + xdot * n_up[k];
-            d[k] = pc[k] - fr->origin_E_m[k];
-        }
-        to_S(fr, vt_E, vt);
-        to_S(fr, d, pS);
-        double Ft[2] = {0, 0};
-        int free_castor = l->castor && !c->lock;
-        int held_roll = l->brake && c->brakes && !free_castor;
-        double dS[2] = {0, 0};
-        if (L->has_anchor) {
-            dS[0] = pS[0] - L->anchor_S[0];
-            dS[1] = pS[1] - L->anchor_S[1];
-        }
-        double vr = vt[0] * e_r[0] + vt[1] * e_r[1], vs = vt[0] * e_s[0] + vt[1] * e_s[1];
-        if (free_castor) {
-            double vm = sqrt(vt[0] * vt[0] + vt[1] * vt[1] + V0_ROLL_MPS * V0_ROLL_MPS);
-            Ft[0] = -c->g.mu_rolling * N * vt[0] / vm;
-            Ft[1] = -c->g.mu_rolling * N * vt[1] / vm;
-        } else {
-            double kb = l->tyre_stiffness_Npm, cb = L->cb_Nspm;
-            double ds = dS[0] * e_s[0] + dS[1] * e_s[1], dr = dS[0] * e_r[0] + dS[1] * e_r[1];
-            double fs = -kb * ds - cb * vs, fr_ = 0;
-            if (held_roll)
-                fr_ = -kb * dr - cb * vr;
-            double lim = c->g.mu_static * N, fm = hypot(fs, fr_);
-            if (fm > lim && fm > 0) {
-                double s = c->g.mu_dynamic * N / fm;
-                fs *= s;
-                fr_ *= s;
-            }
-            if (!held_roll)
-                fr_ = -c->g.mu_rolling * N * vr / sqrt(vr * vr + V0_ROLL_MPS * V0_ROLL_MPS);
-            Ft[0] = fs * e_s[0] + fr_ * e_r[0];
-            Ft[1] = fs * e_s[1] + fr_ * e_r[1];
-        }
         double f[3], m[3];
-        for (int k = 0; k < 3; k++)
-            f[k] = N * n_up[k] + fr->C_ES[3 * k] * Ft[0] + fr->C_ES[3 * k + 1] * Ft[1];
-        cross(r, f, m);
+        leg_load(c, i, &deck->fr, &gb, f, m);
+        if (!c->leg[i].st.on_deck)
+            continue;
         for (int k = 0; k < 3; k++) {
             F_E[k] += f[k];
             Mom_E[k] += m[k];
         }
-        L->st.on_deck = 1;
-        L->st.compression_m = x;
-        L->st.strut_m = xs;
-        L->st.normal_N = N;
-        L->st.friction_N[0] = Ft[0];
-        L->st.friction_N[1] = Ft[1];
-        L->N = N;
-        L->p_S[0] = pS[0];
-        L->p_S[1] = pS[1];
-        L->e_r[0] = e_r[0];
-        L->e_r[1] = e_r[1];
-        L->held_roll = free_castor ? -1 : held_roll;
     }
     for (int k = 0; k < 3; k++)
         if (!isfinite(F_E[k]) || !isfinite(Mom_E[k]))
