@@ -164,6 +164,159 @@ static const char *task_name(int task)
     return task == SIM_TASK_STATION_KEEP ? "hover" : task == SIM_TASK_LAND ? "landing" : "shol";
 }
 
+/* [task] and [pilot]: shol (the trims), or a piloted hover or landing
+ * (its task file) for the automated pilot; the stations, the replay
+ * pilot. 0, or the failing reader's code. */
+static int task_pilot_sections(core_ini *ini, sim_scenario *sc, core_err *err)
+{
+    int rc, v = 0;
+    if ((rc = core_ini_get_enum(ini, "task", "type", 0, "shol|hover|landing", &v, err)) < 0)
+        return rc;
+    static const int task_of[] = {SIM_TASK_SHOL, SIM_TASK_STATION_KEEP, SIM_TASK_LAND}; /* as the names */
+    sc->task_type = rc == 0 ? task_of[v] : SIM_TASK_SHOL;
+    if (sc->task_type != SIM_TASK_SHOL &&
+        (rc = core_ini_get_path(ini, "task", "file", 1, sc->task_path, sizeof sc->task_path, err)))
+        return rc;
+    /* pilot (disim fly): the stations, the automated pilot, the replay pilot */
+    if ((rc = core_ini_get_enum(ini, "pilot", "type", 0, "station|auto|replay", &v, err)) < 0)
+        return rc;
+    sc->pilot = rc == 0 ? v : SIM_SC_PILOT_STATION;
+    if (sc->pilot == SIM_SC_PILOT_STATION) {
+        if ((rc = core_ini_get_string(ini, "pilot", "stations", 0, sc->pilot_stations, sizeof sc->pilot_stations,
+                                      err)) < 0 ||
+            (rc = core_ini_get_double(ini, "pilot", "hold_after_s", 0, 0.01, 60.0, &sc->pilot_hold_after_s, err)) < 0)
+            return rc;
+        sim_pilots_opts po;
+        core_err e2 = {0};
+        if (sc->pilot_stations[0] && sim_pilots_opts_parse(&po, sc->pilot_stations, &e2) != 0)
+            return core_err_set(err, -1, "%s:%d: [pilot] stations: %s", core_ini_path(ini),
+                                core_ini_find(ini, "pilot", "stations")->line, e2.msg);
+    } else if (sc->pilot == SIM_SC_PILOT_REPLAY) {
+        if ((rc = core_ini_get_path(ini, "pilot", "log", 1, sc->pilot_log, sizeof sc->pilot_log, err)) ||
+            (rc = core_ini_get_bool(ini, "pilot", "feed_controls", 0, &sc->pilot_feed_controls, err)) < 0)
+            return rc;
+    }
+    /* the piloted task is the automated pilot's; the automated pilot needs one */
+    if ((sc->pilot == SIM_SC_PILOT_AUTO) != (sc->task_type != SIM_TASK_SHOL)) {
+        const core_ini_entry *e = sc->pilot == SIM_SC_PILOT_AUTO ? core_ini_find(ini, "pilot", "type")
+                                                                 : core_ini_find(ini, "task", "type");
+        return core_err_set(err, -1,
+                            sc->pilot == SIM_SC_PILOT_AUTO
+                                ? "%s:%d: [pilot] type = auto: the automated pilot flies the scenario's task; set "
+                                  "[task] type = hover or landing with its file"
+                                : "%s:%d: [task] type = %s: a piloted task is flown by the automated pilot; set "
+                                  "[pilot] type = auto (the stations and the replay pilot fly no task file)",
+                            core_ini_path(ini), e ? e->line : 0, task_name(sc->task_type));
+    }
+    sc->hover_height_m = 5.0;
+    if ((rc = core_ini_get_double(ini, "task", "hover_height_m", 0, 0.5, 100.0,
+                                  &sc->hover_height_m, err)) < 0)
+        return rc;
+    sc->station_S_m[0] = 0.0;
+    sc->station_S_m[1] = 0.0;
+    sc->station_S_m[2] = -sc->hover_height_m;
+    return 0;
+}
+
+/* [sea]: the ship's motion in disim fly (sim_ship_motion); the trims of
+ * disim shol are on a ship at rest and refuse a sea state above 0
+ * (couple_shol_settings_scenario). And [wod] turbulence: the air's
+ * turbulence in disim fly (the trims are in the mean air). */
+static int sea_section(core_ini *ini, sim_scenario *sc, core_err *err)
+{
+    int rc, v = 0;
+    long state = 0;
+    if ((rc = core_ini_get_int(ini, "sea", "state", 0, 0, 6, &state, err)) < 0)
+        return rc;
+    sim_sea_default(&sc->sea);
+    sc->sea.state = (int)state;
+    double kt = 0.0, wave_deg = 0.0;
+    if ((rc = core_ini_get_double(ini, "sea", "ship_speed_kt", 0, 0.0, 40.0, &kt, err)) < 0 ||
+        (rc = core_ini_get_double(ini, "sea", "wave_dir_deg", 0, -180.0, 180.0, &wave_deg, err)) < 0)
+        return rc;
+    sc->sea.ship_speed_mps = kt * CORE_KT_TO_MPS;
+    sc->sea.wave_dir_rad = wave_deg * CORE_DEG_TO_RAD;
+    if ((rc = core_ini_get_enum(ini, "sea", "spectrum", 0, "ittc|jonswap", &v, err)) < 0)
+        return rc;
+    if (rc == 0)
+        sc->sea.spectrum = v ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
+    sc->turbulence = 1;
+    if ((rc = core_ini_get_bool(ini, "wod", "turbulence", 0, &sc->turbulence, err)) < 0)
+        return rc;
+    return 0;
+}
+
+/* [cfd]: the embedded engine's grid, rotor, coupling, deck zone and
+ * iteration limit. */
+static int cfd_section(core_ini *ini, sim_scenario *sc, core_err *err)
+{
+    int rc, v = 0;
+    long it = 0;
+    sc->grid = CORE_GRID_DEFAULT;
+    sc->rotor = CORE_ROTOR_UNIFORM;
+    /* embedded is the only engine (openfoam is refused above) */
+    if ((rc = core_ini_get_enum(ini, "cfd", "engine", 0, "embedded", &v, err)) < 0)
+        return rc;
+    if ((rc = core_ini_get_enum(ini, "cfd", "grid", 0, core_grid_choices(), &v, err)) < 0)
+        return rc;
+    if (rc == 0)
+        sc->grid = (core_grid_level)v;
+    if ((rc = core_ini_get_enum(ini, "cfd", "rotor", 0, core_rotor_choices(), &v, err)) < 0)
+        return rc;
+    if (rc == 0)
+        sc->rotor = (core_rotor_mode)v;
+    if ((rc = core_ini_get_enum(ini, "cfd", "coupling", 0, core_coupling_choices(), &v, err)) < 0)
+        return rc;
+    sc->coupling = rc == 0 ? (core_coupling_mode)v : CORE_COUPLING_TWO_WAY;
+    /* the deck zone is a coupled point's: with the one-way coupling the key
+     * stays unused and mode_keys names it */
+    if (sc->coupling == CORE_COUPLING_TWO_WAY) {
+        if ((rc = core_ini_get_enum(ini, "cfd", "coupled_domain", 0, "whole|zone", &v, err)) < 0)
+            return rc;
+        sc->coupled_zone = rc == 0 && v == 1;
+    }
+    /* the two-way coupling solves with the rotor's disk: rotor = off would
+     * be read and ignored there */
+    if (sc->rotor == CORE_ROTOR_OFF && sc->coupling == CORE_COUPLING_TWO_WAY) {
+        const core_ini_entry *e = core_ini_find(ini, "cfd", "rotor");
+        return core_err_set(err, -1,
+                            "%s:%d: [cfd] rotor = off: the two-way coupling (coupling = two-way, "
+                            "the default) solves with the rotor's disk; set rotor = uniform or "
+                            "loaded, or coupling = one-way",
+                            core_ini_path(ini), e ? e->line : 0);
+    }
+    if ((rc = core_ini_get_int(ini, "cfd", "max_iterations", 0, 0, 1000000, &it, err)) < 0)
+        return rc;
+    sc->max_iterations = (int)it;
+    return 0;
+}
+
+/* The referenced files: the aircraft's name, the ship, and the task file
+ * with the ship's deck for its points (hover a station keeping task,
+ * landing a landing). */
+static int referenced_files(core_ini *ini, sim_scenario *sc, core_err *err)
+{
+    int rc;
+    if ((rc = peek_aircraft(sc->aircraft_path, sc->aircraft_name, sizeof sc->aircraft_name, err)))
+        return rc;
+    if ((rc = core_ship_load(sc->ship_path, &sc->ship, err)))
+        return rc;
+    if (sc->task_type == SIM_TASK_SHOL)
+        return 0;
+    sim_task t;
+    if ((rc = sim_task_load_ship(sc->task_path, &sc->ship, &t, err)))
+        return rc;
+    int want = sc->task_type;
+    if (t.kind != want) {
+        const core_ini_entry *e = core_ini_find(ini, "task", "file");
+        return core_err_set(err, -1, "%s:%d: [task] file = %s: a %s task, expected a %s task for type = %s",
+                            core_ini_path(ini), e ? e->line : 0, sc->task_path,
+                            t.kind == SIM_TASK_LAND ? "landing" : "station-keeping",
+                            want == SIM_TASK_LAND ? "landing" : "station-keeping", task_name(sc->task_type));
+    }
+    return 0;
+}
+
 int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
 {
     memset(sc, 0, sizeof *sc);
@@ -176,7 +329,7 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
     core_ini *ini = core_ini_load(path, err);
     if (!ini)
         return -1;
-    int rc = 0, v = 0;
+    int rc = 0;
     const char *S = "scenario";
     if ((rc = refused_keys(ini, err)))
         goto out;
@@ -187,121 +340,9 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
                                 sizeof sc->aircraft_path, err)) ||
         (rc = core_ini_get_path(ini, S, "ship", 1, sc->ship_path, sizeof sc->ship_path, err)))
         goto out;
-    if ((rc = wod_section(ini, sc, err)))
+    if ((rc = wod_section(ini, sc, err)) || (rc = task_pilot_sections(ini, sc, err)) ||
+        (rc = sea_section(ini, sc, err)) || (rc = cfd_section(ini, sc, err)))
         goto out;
-
-    /* task: shol (the trims), or a piloted hover or landing (its task file) */
-    if ((rc = core_ini_get_enum(ini, "task", "type", 0, "shol|hover|landing", &v, err)) < 0)
-        goto out;
-    static const int task_of[] = {SIM_TASK_SHOL, SIM_TASK_STATION_KEEP, SIM_TASK_LAND}; /* as the names */
-    sc->task_type = rc == 0 ? task_of[v] : SIM_TASK_SHOL;
-    if (sc->task_type != SIM_TASK_SHOL &&
-        (rc = core_ini_get_path(ini, "task", "file", 1, sc->task_path, sizeof sc->task_path, err)))
-        goto out;
-    /* pilot (disim fly): the stations, the automated pilot, the replay pilot */
-    if ((rc = core_ini_get_enum(ini, "pilot", "type", 0, "station|auto|replay", &v, err)) < 0)
-        goto out;
-    sc->pilot = rc == 0 ? v : SIM_SC_PILOT_STATION;
-    if (sc->pilot == SIM_SC_PILOT_STATION) {
-        if ((rc = core_ini_get_string(ini, "pilot", "stations", 0, sc->pilot_stations, sizeof sc->pilot_stations,
-                                      err)) < 0 ||
-            (rc = core_ini_get_double(ini, "pilot", "hold_after_s", 0, 0.01, 60.0, &sc->pilot_hold_after_s, err)) < 0)
-            goto out;
-        sim_pilots_opts po;
-        core_err e2 = {0};
-        if (sc->pilot_stations[0] && sim_pilots_opts_parse(&po, sc->pilot_stations, &e2) != 0) {
-            rc = core_err_set(err, -1, "%s:%d: [pilot] stations: %s", core_ini_path(ini),
-                              core_ini_find(ini, "pilot", "stations")->line, e2.msg);
-            goto out;
-        }
-    } else if (sc->pilot == SIM_SC_PILOT_REPLAY) {
-        if ((rc = core_ini_get_path(ini, "pilot", "log", 1, sc->pilot_log, sizeof sc->pilot_log, err)) ||
-            (rc = core_ini_get_bool(ini, "pilot", "feed_controls", 0, &sc->pilot_feed_controls, err)) < 0)
-            goto out;
-    }
-    /* the piloted task is the automated pilot's; the automated pilot needs one */
-    if ((sc->pilot == SIM_SC_PILOT_AUTO) != (sc->task_type != SIM_TASK_SHOL)) {
-        const core_ini_entry *e = sc->pilot == SIM_SC_PILOT_AUTO ? core_ini_find(ini, "pilot", "type")
-                                                                 : core_ini_find(ini, "task", "type");
-        rc = core_err_set(err, -1,
-                          sc->pilot == SIM_SC_PILOT_AUTO
-                              ? "%s:%d: [pilot] type = auto: the automated pilot flies the scenario's task; set "
-                                "[task] type = hover or landing with its file"
-                              : "%s:%d: [task] type = %s: a piloted task is flown by the automated pilot; set "
-                                "[pilot] type = auto (the stations and the replay pilot fly no task file)",
-                          core_ini_path(ini), e ? e->line : 0, task_name(sc->task_type));
-        goto out;
-    }
-    sc->hover_height_m = 5.0;
-    if ((rc = core_ini_get_double(ini, "task", "hover_height_m", 0, 0.5, 100.0,
-                                  &sc->hover_height_m, err)) < 0)
-        goto out;
-    sc->station_S_m[0] = 0.0;
-    sc->station_S_m[1] = 0.0;
-    sc->station_S_m[2] = -sc->hover_height_m;
-
-    /* sea: the ship's motion in disim fly (sim_ship_motion); the trims of
-     * disim shol are on a ship at rest and refuse a sea state above 0
-     * (couple_shol_settings_scenario) */
-    long state = 0;
-    if ((rc = core_ini_get_int(ini, "sea", "state", 0, 0, 6, &state, err)) < 0)
-        goto out;
-    sim_sea_default(&sc->sea);
-    sc->sea.state = (int)state;
-    double kt = 0.0, wave_deg = 0.0;
-    if ((rc = core_ini_get_double(ini, "sea", "ship_speed_kt", 0, 0.0, 40.0, &kt, err)) < 0 ||
-        (rc = core_ini_get_double(ini, "sea", "wave_dir_deg", 0, -180.0, 180.0, &wave_deg, err)) < 0)
-        goto out;
-    sc->sea.ship_speed_mps = kt * CORE_KT_TO_MPS;
-    sc->sea.wave_dir_rad = wave_deg * CORE_DEG_TO_RAD;
-    if ((rc = core_ini_get_enum(ini, "sea", "spectrum", 0, "ittc|jonswap", &v, err)) < 0)
-        goto out;
-    if (rc == 0)
-        sc->sea.spectrum = v ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
-    /* the air's turbulence in disim fly (the trims are in the mean air) */
-    sc->turbulence = 1;
-    if ((rc = core_ini_get_bool(ini, "wod", "turbulence", 0, &sc->turbulence, err)) < 0)
-        goto out;
-
-    /* cfd */
-    long it = 0;
-    sc->grid = CORE_GRID_DEFAULT;
-    sc->rotor = CORE_ROTOR_UNIFORM;
-    /* embedded is the only engine (openfoam is refused above) */
-    if ((rc = core_ini_get_enum(ini, "cfd", "engine", 0, "embedded", &v, err)) < 0)
-        goto out;
-    if ((rc = core_ini_get_enum(ini, "cfd", "grid", 0, core_grid_choices(), &v, err)) < 0)
-        goto out;
-    if (rc == 0)
-        sc->grid = (core_grid_level)v;
-    if ((rc = core_ini_get_enum(ini, "cfd", "rotor", 0, core_rotor_choices(), &v, err)) < 0)
-        goto out;
-    if (rc == 0)
-        sc->rotor = (core_rotor_mode)v;
-    if ((rc = core_ini_get_enum(ini, "cfd", "coupling", 0, core_coupling_choices(), &v, err)) < 0)
-        goto out;
-    sc->coupling = rc == 0 ? (core_coupling_mode)v : CORE_COUPLING_TWO_WAY;
-    /* the deck zone is a coupled point's: with the one-way coupling the key
-     * stays unused and mode_keys names it */
-    if (sc->coupling == CORE_COUPLING_TWO_WAY) {
-        if ((rc = core_ini_get_enum(ini, "cfd", "coupled_domain", 0, "whole|zone", &v, err)) < 0)
-            goto out;
-        sc->coupled_zone = rc == 0 && v == 1;
-    }
-    /* the two-way coupling solves with the rotor's disk: rotor = off would
-     * be read and ignored there */
-    if (sc->rotor == CORE_ROTOR_OFF && sc->coupling == CORE_COUPLING_TWO_WAY) {
-        const core_ini_entry *e = core_ini_find(ini, "cfd", "rotor");
-        rc = core_err_set(err, -1,
-                          "%s:%d: [cfd] rotor = off: the two-way coupling (coupling = two-way, "
-                          "the default) solves with the rotor's disk; set rotor = uniform or "
-                          "loaded, or coupling = one-way",
-                          core_ini_path(ini), e ? e->line : 0);
-        goto out;
-    }
-    if ((rc = core_ini_get_int(ini, "cfd", "max_iterations", 0, 0, 1000000, &it, err)) < 0)
-        goto out;
-    sc->max_iterations = (int)it;
 
     /* [flown]: how disim shol --method pilot judges a flight (shol_flown_judge) */
     sc->flown_window_s = sc->flown_transient_frac = NAN;
@@ -317,29 +358,7 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
 
     if ((rc = mode_keys(ini, err)) || (rc = core_ini_check_unused(ini, err)))
         goto out;
-
-    /* referenced files */
-    if ((rc = peek_aircraft(sc->aircraft_path, sc->aircraft_name, sizeof sc->aircraft_name, err)))
-        goto out;
-    if ((rc = core_ship_load(sc->ship_path, &sc->ship, err)))
-        goto out;
-    /* the task file, with the ship's deck for its points: hover a station
-     * keeping task, landing a landing */
-    if (sc->task_type != SIM_TASK_SHOL) {
-        sim_task t;
-        if ((rc = sim_task_load_ship(sc->task_path, &sc->ship, &t, err)))
-            goto out;
-        int want = sc->task_type;
-        if (t.kind != want) {
-            const core_ini_entry *e = core_ini_find(ini, "task", "file");
-            rc = core_err_set(err, -1, "%s:%d: [task] file = %s: a %s task, expected a %s task for type = %s",
-                              core_ini_path(ini), e ? e->line : 0, sc->task_path,
-                              t.kind == SIM_TASK_LAND ? "landing" : "station-keeping",
-                              want == SIM_TASK_LAND ? "landing" : "station-keeping",
-                              task_name(sc->task_type));
-            goto out;
-        }
-    }
+    rc = referenced_files(ini, sc, err);
 out:
     core_ini_destroy(ini);
     return rc < 0 ? rc : 0;
