@@ -657,61 +657,40 @@ static void phase_start(sim_pilot_auto *p, int i, double t_s)
                  NULL, ph->heading_rad);
 }
 
-sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t, const sim_pilot_auto_opts *o,
-                                      const sim_flight_inputs *trim, const core_log *log, core_err *err)
+/* The task's kind and phases as the pilot flies them. 0, or -1 with err. */
+static int task_ok(const sim_task *t, core_err *err)
 {
-    if (!ac || !t || !o || !trim || !(o->rate_hz >= 10.0 && o->rate_hz <= 10000.0) ||
-        !(o->delay_s >= 0.0 && o->delay_s <= 10.0) || !pos_fin(o->att_crossover_radps) ||
-        !pos_fin(o->yaw_crossover_radps) || !pos_fin(o->hgt_crossover_radps) || !pos_fin(o->vel_bw_radps) ||
-        !pos_fin(o->pos_bw_radps) || !pos_fin(o->max_speed_mps) || !pos_fin(o->max_att_rad) ||
-        !(o->wod_speed_mps >= 0.0) || (o->sas != 0 && o->sas != 1) || (o->gear != 0 && o->gear != 1) ||
-        !(o->cutoff_fraction > 0.0 && o->cutoff_fraction < 1.0) || !(o->trim_s >= 0.0 && o->trim_s <= 1000.0)) {
-        core_err_set(err, -1, "pilot_auto: expected an aircraft, a task, the trim, a rate of 10 to 10000 Hz, a delay "
-                              "of 0 to 10 s, positive crossover frequencies, bandwidths and limits, sas and gear 0 "
-                              "or 1, a cut-off fraction in (0, 1) and a trim time of 0 to 1000 s");
-        return NULL;
-    }
-    sim_task tl;
-    if (t && t->nphases == 0) { /* a task built by hand from the legacy fields */
-        tl = *t;
-        legacy_phases(&tl);
-        t = &tl;
-    }
     if ((t->kind != SIM_TASK_STATION_KEEP && t->kind != SIM_TASK_LAND) || t->nphases < 1 ||
-        t->nphases > SIM_TASK_MAX_PHASES) {
-        core_err_set(err, -1, "pilot_auto: task type %d with %d phases: expected station keeping (%d) or land (%d) "
-                              "with 1 to %d phases (sim_task_load)",
-                     t->kind, t->nphases, SIM_TASK_STATION_KEEP, SIM_TASK_LAND, SIM_TASK_MAX_PHASES);
-        return NULL;
-    }
+        t->nphases > SIM_TASK_MAX_PHASES)
+        return core_err_set(err, -1, "pilot_auto: task type %d with %d phases: expected station keeping (%d) or land "
+                                     "(%d) with 1 to %d phases (sim_task_load)",
+                            t->kind, t->nphases, SIM_TASK_STATION_KEEP, SIM_TASK_LAND, SIM_TASK_MAX_PHASES);
     for (int i = 0; i < t->nphases; i++) {
         const sim_task_phase *ph = &t->phase[i];
         if ((ph->kind == SIM_PHASE_DESCEND && !(ph->descent_mps > 0.0)) ||
-            (ph->kind == SIM_PHASE_MOVE && !(ph->speed_mps > 0.0))) {
-            core_err_set(err, -1, "pilot_auto: phase %s needs a rate > 0", ph->name);
-            return NULL;
-        }
+            (ph->kind == SIM_PHASE_MOVE && !(ph->speed_mps > 0.0)))
+            return core_err_set(err, -1, "pilot_auto: phase %s needs a rate > 0", ph->name);
     }
-    sim_pilot_auto *p = calloc(1, sizeof *p);
-    if (!p || !(p->Xre = calloc(4, sizeof *p->Xre)) || !(p->Xim = calloc(4, sizeof *p->Xim))) {
-        core_err_set(err, -1, "pilot_auto: out of memory");
-        goto fail;
-    }
-    p->task = *t;
-    p->o = *o;
-    p->have_gear = hfm_aircraft_gear(ac, &p->gear) == 0 && p->gear.nlegs > 0;
+    return 0;
+}
+
+/* The gains' schedule: the hover at the first phase's target in the
+ * options' WOD, linearised (with the SAS's rate feedback closed when the
+ * pilot flies it), the trim's controls and attitude, the lead's corner on
+ * each axis. 0, or < 0 with err. */
+static int schedule_gains(sim_pilot_auto *p, const hfm_aircraft *ac, const sim_task *t, const sim_flight_inputs *trim,
+                          const core_log *log, core_err *err)
+{
+    const sim_pilot_auto_opts *o = &p->o;
     hfm_sas_gains sg;
     memset(&sg, 0, sizeof sg);
     if (o->sas && hfm_aircraft_sas(ac, &sg) != 0) {
         core_err_set(err, -1, "pilot_auto: flying with the SAS: %s has no [sas]", hfm_aircraft_name(ac));
-        goto fail;
+        return -1;
     }
-    /* the gains' schedule: the hover at the first phase's target in the options' WOD */
     hfm_trim *tr = hfm_trim_create(ac, log);
-    if (!tr) {
-        core_err_set(err, -1, "pilot_auto: out of memory");
-        goto fail;
-    }
+    if (!tr)
+        return core_err_set(err, -1, "pilot_auto: out of memory");
     hfm_trim_cond c;
     memset(&c, 0, sizeof c);
     c.kind = HFM_TRIM_HOVER_SHIP;
@@ -729,7 +708,7 @@ sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t,
                      "pilot_auto: the hover at the task's first point (%.2f, %.2f, %.2f) m in S in %.2f m/s %s",
                      c.pos_S_m[0], c.pos_S_m[1], c.pos_S_m[2], o->wod_speed_mps,
                      rc > 0 ? "does not trim" : "could not be linearised");
-        goto fail;
+        return -1;
     }
     sim_pilot_gains *g = &p->g;
     g->X_u = L.A[0 * NX + 0];
@@ -757,20 +736,21 @@ sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t,
     for (int i = 0; i < 4; i++)
         if (!(fabs(K[i]) > 1e-9) || !isfinite(K[i]) || (i < 2 && !(fabs(ctl[i]) > 1e-6))) {
             core_err_set(err, -1, "pilot_auto: the linear model has no control on axis %d (derivative %g)", i, K[i]);
-            goto fail;
+            return -1;
         }
     const double a[4] = {g->L_p, g->M_q, g->N_r, g->Z_w};
     const double wc[4] = {o->att_crossover_radps, o->att_crossover_radps, o->yaw_crossover_radps,
                           o->hgt_crossover_radps};
     for (int i = 0; i < 4; i++)
         p->a_lead[i] = fmax(-a[i], 0.3 * wc[i]);
-    p->nbuf = (int)lround(o->delay_s * o->rate_hz) + 1;
-    if (!(p->buf = malloc((size_t)p->nbuf * 4 * sizeof *p->buf))) {
-        core_err_set(err, -1, "pilot_auto: out of memory");
-        goto fail;
-    }
-    for (int k = 0; k < p->nbuf; k++)
-        memcpy(p->buf + 4 * k, g->trim_pct, sizeof g->trim_pct);
+    return 0;
+}
+
+/* The result's and the reference's start: nothing flown yet, the
+ * reference at the first phase's target. */
+static void result_start(sim_pilot_auto *p, const sim_task *t)
+{
+    const sim_pilot_gains *g = &p->g;
     p->r.t_desired_s = p->r.t_adequate_s = p->r.t_descent_s = p->r.t_touchdown_s = p->r.t_settled_s = -1.0;
     p->td_height_m = p->have_gear ? gear_height(&p->gear, 1)
                      : t->touchdown_height_m > 0.0 ? t->touchdown_height_m
@@ -788,6 +768,48 @@ sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t,
     p->ref.heading_rad = t->phase[0].heading_rad;
     p->z_ref_S_m = p->ref.pos_S_m[2];
     p->still_since_s = -1.0;
+}
+
+sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t, const sim_pilot_auto_opts *o,
+                                      const sim_flight_inputs *trim, const core_log *log, core_err *err)
+{
+    if (!ac || !t || !o || !trim || !(o->rate_hz >= 10.0 && o->rate_hz <= 10000.0) ||
+        !(o->delay_s >= 0.0 && o->delay_s <= 10.0) || !pos_fin(o->att_crossover_radps) ||
+        !pos_fin(o->yaw_crossover_radps) || !pos_fin(o->hgt_crossover_radps) || !pos_fin(o->vel_bw_radps) ||
+        !pos_fin(o->pos_bw_radps) || !pos_fin(o->max_speed_mps) || !pos_fin(o->max_att_rad) ||
+        !(o->wod_speed_mps >= 0.0) || (o->sas != 0 && o->sas != 1) || (o->gear != 0 && o->gear != 1) ||
+        !(o->cutoff_fraction > 0.0 && o->cutoff_fraction < 1.0) || !(o->trim_s >= 0.0 && o->trim_s <= 1000.0)) {
+        core_err_set(err, -1, "pilot_auto: expected an aircraft, a task, the trim, a rate of 10 to 10000 Hz, a delay "
+                              "of 0 to 10 s, positive crossover frequencies, bandwidths and limits, sas and gear 0 "
+                              "or 1, a cut-off fraction in (0, 1) and a trim time of 0 to 1000 s");
+        return NULL;
+    }
+    sim_task tl;
+    if (t && t->nphases == 0) { /* a task built by hand from the legacy fields */
+        tl = *t;
+        legacy_phases(&tl);
+        t = &tl;
+    }
+    if (task_ok(t, err) != 0)
+        return NULL;
+    sim_pilot_auto *p = calloc(1, sizeof *p);
+    if (!p || !(p->Xre = calloc(4, sizeof *p->Xre)) || !(p->Xim = calloc(4, sizeof *p->Xim))) {
+        core_err_set(err, -1, "pilot_auto: out of memory");
+        goto fail;
+    }
+    p->task = *t;
+    p->o = *o;
+    p->have_gear = hfm_aircraft_gear(ac, &p->gear) == 0 && p->gear.nlegs > 0;
+    if (schedule_gains(p, ac, t, trim, log, err) != 0)
+        goto fail;
+    p->nbuf = (int)lround(o->delay_s * o->rate_hz) + 1;
+    if (!(p->buf = malloc((size_t)p->nbuf * 4 * sizeof *p->buf))) {
+        core_err_set(err, -1, "pilot_auto: out of memory");
+        goto fail;
+    }
+    for (int k = 0; k < p->nbuf; k++)
+        memcpy(p->buf + 4 * k, p->g.trim_pct, sizeof p->g.trim_pct);
+    result_start(p, t);
     phase_start(p, 0, 0.0);
     return p;
 fail:
@@ -1168,80 +1190,77 @@ static void phases(sim_pilot_auto *p, const sim_flight_out *out, double psi_rel)
     }
 }
 
-int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight_inputs *in)
+/* The task's grade: the lowest of the phases flown (and the touchdown). */
+static int task_grade(const sim_pilot_auto *p)
 {
-    const sim_pilot_auto_opts *o = &p->o;
-    const sim_pilot_gains *g = &p->g;
-    /* the heading relative to the ship: S's x axis in E is C_ES's first column */
-    double psi_ship = atan2(out->ship.C_ES[3], out->ship.C_ES[0]);
-    double psi_rel = core_wrap_pi(out->euler_E_rad[2] - psi_ship);
-    double h = p->have_prev ? out->t_s - p->prev_t_s : 0.0;
-    if (!p->have_prev || h > 0.0)
-        heave(p, out, h);
-    double roll_d, pitch_d, clear = wheel_clearance(p, out, &roll_d, &pitch_d);
-    p->clear_m = clear;
-    sim_task_result *r = &p->r;
-    r->t_s = out->t_s;
-    if (!r->touched && p->have_prev && h > 0.0 && clear <= 0.0)
-        touchdown(p, out, h, psi_rel, roll_d, pitch_d);
-    else if (!r->touched)
-        phases(p, out, psi_rel);
-    /* the task's grade: the lowest of the phases flown (and the touchdown) */
+    const sim_task_result *r = &p->r;
     int gr = 2;
     for (int i = 0; i < p->task.nphases && i <= p->ph; i++) {
         if (i == p->ph && p->task.phase[i].kind != SIM_PHASE_HOLD)
             break; /* a move or descent under way is graded at its end */
         gr = r->phase[i].grade < gr ? (r->phase[i].grade < 0 ? 0 : r->phase[i].grade) : gr;
     }
-    r->grade = gr;
-    double dpos[3] = {0.0, 0.0, 0.0};
-    if (h > 0.0)
-        for (int k = 0; k < 3; k++)
-            dpos[k] = (out->pos_S_m[k] - p->prev_pos_S_m[k]) / h;
-    memcpy(p->prev_pos_S_m, out->pos_S_m, sizeof p->prev_pos_S_m);
-    p->prev_t_s = out->t_s;
-    p->have_prev = 1;
+    return gr;
+}
+
+/* On the deck with the gear: the collective down, the rest held; settled
+ * once still (dpos: the CG's velocity in S over the last step); the
+ * controls straight out, no delay: the pilot's hand goes down. */
+static void on_deck(sim_pilot_auto *p, const sim_flight_out *out, const double dpos[3], sim_flight_inputs *in)
+{
+    const sim_pilot_auto_opts *o = &p->o;
+    sim_task_result *r = &p->r;
     double cmd[4];
-    if (r->touched && o->gear) {
-        /* on deck: the collective down, the rest held; settled once still */
-        p->coll_pct = fmax(p->coll_pct - DOWN_PCTPS / o->rate_hz, 0.0);
-        memcpy(cmd, p->hold_u, sizeof cmd);
-        cmd[0] = p->coll_pct;
-        double v = sqrt(dpos[0] * dpos[0] + dpos[1] * dpos[1] + dpos[2] * dpos[2]);
-        if (p->coll_pct <= 0.0 && v < SETTLE_MPS) {
-            if (p->still_since_s < 0.0)
-                p->still_since_s = out->t_s;
-            if (!r->settled && out->t_s - p->still_since_s >= SETTLE_S - 1e-9) {
-                r->settled = 1;
-                r->t_settled_s = out->t_s;
-                r->done = 1;
-            }
-        } else {
-            p->still_since_s = -1.0;
+    p->coll_pct = fmax(p->coll_pct - DOWN_PCTPS / o->rate_hz, 0.0);
+    memcpy(cmd, p->hold_u, sizeof cmd);
+    cmd[0] = p->coll_pct;
+    double v = sqrt(dpos[0] * dpos[0] + dpos[1] * dpos[1] + dpos[2] * dpos[2]);
+    if (p->coll_pct <= 0.0 && v < SETTLE_MPS) {
+        if (p->still_since_s < 0.0)
+            p->still_since_s = out->t_s;
+        if (!r->settled && out->t_s - p->still_since_s >= SETTLE_S - 1e-9) {
+            r->settled = 1;
+            r->t_settled_s = out->t_s;
+            r->done = 1;
         }
-        /* straight out, no delay: the pilot's hand goes down */
-        memset(in, 0, sizeof *in);
-        in->collective_pct = cmd[0];
-        in->long_pct = cmd[1];
-        in->lat_pct = cmd[2];
-        in->pedal_pct = cmd[3];
-        return 0;
+    } else {
+        p->still_since_s = -1.0;
     }
-    double w_ref = 0.0;
+    memset(in, 0, sizeof *in);
+    in->collective_pct = cmd[0];
+    in->long_pct = cmd[1];
+    in->lat_pct = cmd[2];
+    in->pedal_pct = cmd[3];
+}
+
+/* The step's height reference (p->z_ref_S_m) and its rate down (m/s). */
+static double height_ref(sim_pilot_auto *p)
+{
     const sim_pilot_ref *R = &p->ref;
+    double w_ref = 0.0;
     if (R->mode == SIM_PHASE_DESCEND) {
         /* the height reference moves down at the descent rate to 0.3 m
          * below the touchdown height (the wheels meet the deck on the way) */
         double z_end = -p->td_height_m + 0.3;
         if (p->z_ref_S_m < z_end && !p->desc_hold) {
-            p->z_ref_S_m = fmin(p->z_ref_S_m + R->vel_S_mps[2] / o->rate_hz, z_end);
+            p->z_ref_S_m = fmin(p->z_ref_S_m + R->vel_S_mps[2] / p->o.rate_hz, z_end);
             w_ref = p->z_ref_S_m < z_end ? R->vel_S_mps[2] : 0.0;
         }
     } else {
         w_ref = R->vel_S_mps[2];
         p->z_ref_S_m = R->pos_S_m[2];
     }
-    /* outer loops in the heading axes H (x forward, y right, level) */
+    return w_ref;
+}
+
+/* The outer loops in the heading axes H (x forward, y right, level): the
+ * position and velocity errors to the roll and pitch commands (rad), with
+ * the pilot's slow trim of the position and height errors. */
+static void outer_loops(sim_pilot_auto *p, const sim_flight_out *out, double psi_rel, double *ph_c, double *th_c)
+{
+    const sim_pilot_auto_opts *o = &p->o;
+    const sim_pilot_gains *g = &p->g;
+    const sim_pilot_ref *R = &p->ref;
     double c = cos(psi_rel), s = sin(psi_rel);
     double ex = R->pos_S_m[0] - out->pos_S_m[0], ey = R->pos_S_m[1] - out->pos_S_m[1];
     double eH[2] = {c * ex + s * ey, -s * ex + c * ey};
@@ -1266,8 +1285,44 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     if (vn > o->max_speed_mps)
         vc[0] *= o->max_speed_mps / vn, vc[1] *= o->max_speed_mps / vn;
     double ac[2] = {o->vel_bw_radps * (vc[0] - vH[0]), o->vel_bw_radps * (vc[1] - vH[1])};
-    double th_c = g->trim_att_rad[1] + clampd((ac[0] - g->X_u * vH[0]) / g->X_theta, -o->max_att_rad, o->max_att_rad);
-    double ph_c = g->trim_att_rad[0] + clampd((ac[1] - g->Y_v * vH[1]) / g->Y_phi, -o->max_att_rad, o->max_att_rad);
+    *th_c = g->trim_att_rad[1] + clampd((ac[0] - g->X_u * vH[0]) / g->X_theta, -o->max_att_rad, o->max_att_rad);
+    *ph_c = g->trim_att_rad[0] + clampd((ac[1] - g->Y_v * vH[1]) / g->Y_phi, -o->max_att_rad, o->max_att_rad);
+}
+
+int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight_inputs *in)
+{
+    const sim_pilot_auto_opts *o = &p->o;
+    const sim_pilot_gains *g = &p->g;
+    /* the heading relative to the ship: S's x axis in E is C_ES's first column */
+    double psi_ship = atan2(out->ship.C_ES[3], out->ship.C_ES[0]);
+    double psi_rel = core_wrap_pi(out->euler_E_rad[2] - psi_ship);
+    double h = p->have_prev ? out->t_s - p->prev_t_s : 0.0;
+    if (!p->have_prev || h > 0.0)
+        heave(p, out, h);
+    double roll_d, pitch_d, clear = wheel_clearance(p, out, &roll_d, &pitch_d);
+    p->clear_m = clear;
+    sim_task_result *r = &p->r;
+    r->t_s = out->t_s;
+    if (!r->touched && p->have_prev && h > 0.0 && clear <= 0.0)
+        touchdown(p, out, h, psi_rel, roll_d, pitch_d);
+    else if (!r->touched)
+        phases(p, out, psi_rel);
+    r->grade = task_grade(p);
+    double dpos[3] = {0.0, 0.0, 0.0};
+    if (h > 0.0)
+        for (int k = 0; k < 3; k++)
+            dpos[k] = (out->pos_S_m[k] - p->prev_pos_S_m[k]) / h;
+    memcpy(p->prev_pos_S_m, out->pos_S_m, sizeof p->prev_pos_S_m);
+    p->prev_t_s = out->t_s;
+    p->have_prev = 1;
+    double cmd[4];
+    if (r->touched && o->gear) {
+        on_deck(p, out, dpos, in);
+        return 0;
+    }
+    const sim_pilot_ref *R = &p->ref;
+    double w_ref = height_ref(p), ph_c, th_c;
+    outer_loops(p, out, psi_rel, &ph_c, &th_c);
     /* inner loops: the crossover pilot's lead on each attitude (height) error */
     double e_att[4] = {ph_c - out->euler_E_rad[0], th_c - out->euler_E_rad[1], core_wrap_pi(R->heading_rad - psi_rel),
                        p->z_ref_S_m - out->pos_S_m[2] + (o->trim_s > 0.0 ? p->i_hgt / o->trim_s : 0.0)};
