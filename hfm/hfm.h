@@ -173,7 +173,11 @@ typedef struct hfm_body {
     double euler_rad[3];   /* phi theta psi (3-2-1, B relative to S) */
 } hfm_body;
 
-/* Pilot controls, percent of travel. */
+/* Pilot controls, percent of travel: the collective, the longitudinal
+ * and lateral cyclic, the pedals. The same four are sim_flight_inputs'
+ * and sim_flight_out's (long_pct, lat_pct as here) and, named
+ * long_cyclic_pct and lat_cyclic_pct, the LCM wire's (pilot_input_t,
+ * heli_state_t), sim_station_controls' and shol's. */
 typedef struct hfm_controls {
     double collective_pct, long_pct, lat_pct, pedal_pct;
 } hfm_controls;
