@@ -303,6 +303,35 @@ static void test_frame_interp(void)
     sim_air_destroy(a);
 }
 
+/* The deck's motion by central differences (sim_ship_deck_at): the
+ * rolling ship's roll rate 0.2 cos 2t about x and heave rate 3 cos(2t +
+ * 0.3), to the differences' order (dt w)^2 / 6 of them, and the frame at
+ * the time itself. */
+static void test_deck_motion(void)
+{
+    double worst_w = 0.0, worst_v = 0.0, worst_fr = 0.0;
+    for (int i = 0; i < 50; i++) {
+        double t = 0.137 * i;
+        sim_ship_deck d;
+        sim_ship_frame fr;
+        CHECK(sim_ship_deck_at(rolling_ship, NULL, t, &d) == 0);
+        rolling_ship(NULL, t, &fr);
+        for (int k = 0; k < 9; k++)
+            worst_fr = fmax(worst_fr, fabs(d.fr.C_ES[k] - fr.C_ES[k]));
+        worst_w = fmax(worst_w, fabs(d.omega_E_radps[0] - 0.2 * cos(2.0 * t)));
+        worst_w = fmax(worst_w, fmax(fabs(d.omega_E_radps[1]), fabs(d.omega_E_radps[2])));
+        worst_v = fmax(worst_v, fabs(d.vel_E_mps[2] - 3.0 * cos(2.0 * t + 0.3)));
+        worst_v = fmax(worst_v, fmax(fabs(d.vel_E_mps[0]), fabs(d.vel_E_mps[1])));
+    }
+    printf("deck motion by central differences: roll rate within %.1e rad/s, heave rate within %.1e m/s\n", worst_w,
+           worst_v);
+    CHECK(worst_fr == 0.0 && worst_w < 1e-8 && worst_v < 1e-7); /* 1.3e-9 and 2e-8 expected */
+    sim_ship_deck still;
+    sim_ship_deck_still(&still);
+    CHECK(still.fr.C_ES[0] == 1.0 && still.fr.C_ES[4] == 1.0 && still.fr.C_ES[8] == 1.0 && still.vel_E_mps[2] == 0.0 &&
+          still.omega_E_radps[0] == 0.0);
+}
+
 /* A small ship-only field of the ship: 2 m cells, a few iterations (the
  * air's tests need a field, not a converged one). NULL on failure. */
 static cfd_field *small_field(const core_ship *ship, char *path, size_t n)
@@ -818,6 +847,7 @@ int main(void)
     test_frames(ac, &ship);
     test_external(ac, &ship);
     test_frame_interp();
+    test_deck_motion();
     char fpath[128];
     cfd_field *fld = small_field(&ship, fpath, sizeof fpath);
     CHECK(fld != NULL);
