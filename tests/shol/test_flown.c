@@ -24,7 +24,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#define DEG CORE_DEG_TO_RAD
 #define KMH CORE_KMH_TO_MPS
 
 typedef struct synth {
@@ -60,9 +59,9 @@ static void make_trim(shol_result *t)
     memset(t, 0, sizeof *t);
     shol_settings_default(&t->settings);
     t->settings.n_dirs = 3;
-    t->settings.dirs_rad[0] = -90 * DEG;
+    t->settings.dirs_rad[0] = -90 * CORE_DEG_TO_RAD;
     t->settings.dirs_rad[1] = 0;
-    t->settings.dirs_rad[2] = 90 * DEG;
+    t->settings.dirs_rad[2] = 90 * CORE_DEG_TO_RAD;
     t->settings.speed_step_mps = 5 * KMH;
     t->settings.speed_max_mps = 100 * KMH;
     t->n_dirs = 3;
@@ -115,7 +114,8 @@ static void test_search(void)
         double want = expect_radius(d->dir_rad, 5, 0.8, 5 * KMH, 100 * KMH, &has, &from0);
         printf("flown %+.0f deg: %.2f m/s (expected %.2f), first failure %.2f m/s at pass rate %.2f (%s), %d "
                "points\n",
-               d->dir_rad / DEG, d->max_speed_mps, want, d->fail_speed_mps, d->pass_rate_fail, d->cause, d->n_points);
+               d->dir_rad / CORE_DEG_TO_RAD, d->max_speed_mps, want, d->fail_speed_mps, d->pass_rate_fail, d->cause,
+               d->n_points);
         CHECK(d->has_pass == has);
         CHECK_NEAR(d->max_speed_mps, want, 1e-9);
         CHECK_NEAR(d->fail_speed_mps, want + 5 * KMH, 1e-9);
@@ -253,12 +253,12 @@ static void test_track(void)
     const shol_flown_judge j0 = {0.0, 0.5};
     shol_flown_track tr;
     shol_flown_track_init(&tr, &c, &j0);
-    shol_trim_point ok = {4.9 * DEG, 2 * DEG, 50, 50, 60, 50};
+    shol_trim_point ok = {4.9 * CORE_DEG_TO_RAD, 2 * CORE_DEG_TO_RAD, 50, 50, 60, 50};
     CHECK(shol_flown_track_step(&tr, 0.0, "hover", &ok) == 0);
     CHECK(tr.first_crit == SHOL_LIMIT_NONE);
     CHECK_NEAR(tr.min_frac[SHOL_CRIT_ROLL], 0.1 / 5.0, 1e-12);
     /* roll past 5 deg for one step in the descent: the first exceedance */
-    shol_trim_point roll = {-5.1 * DEG, 2 * DEG, 50, 50, 60, 50};
+    shol_trim_point roll = {-5.1 * CORE_DEG_TO_RAD, 2 * CORE_DEG_TO_RAD, 50, 50, 60, 50};
     CHECK(shol_flown_track_step(&tr, 2.0, "descent", &roll) == 1);
     CHECK(tr.first_crit == SHOL_CRIT_ROLL);
     CHECK_NEAR(tr.first_t_s, 2.0, 0);
@@ -307,7 +307,7 @@ static double fly_hist(hist_fn f, double W, double t_phase, double t_end, shol_f
     for (long k = 0; k < n; k++) {
         double t = k / 200.0, th, lon, ph = 0.5;
         f(t, &th, &lon, &ph);
-        shol_trim_point p = {ph * DEG, th * DEG, lon, 50, 55, 50};
+        shol_trim_point p = {ph * CORE_DEG_TO_RAD, th * CORE_DEG_TO_RAD, lon, 50, 55, 50};
         if (shol_flown_track_step(tr, t, t < t_phase ? "hover" : "descent", &p) != 0)
             return t;
     }

@@ -22,7 +22,6 @@
 #include <unistd.h>
 
 #define DATA "tests/shol/data/"
-#define DEG CORE_DEG_TO_RAD
 #define KMH CORE_KMH_TO_MPS
 
 /* ------------------------------------------------------------ criteria */
@@ -30,18 +29,18 @@ static void test_criteria_eval(void)
 {
     shol_criteria c;
     shol_criteria_default(&c);
-    CHECK_NEAR(c.roll_max_rad, 5 * DEG, 1e-15);
-    CHECK_NEAR(c.pitch_max_rad, 8 * DEG, 1e-15);
+    CHECK_NEAR(c.roll_max_rad, 5 * CORE_DEG_TO_RAD, 1e-15);
+    CHECK_NEAR(c.pitch_max_rad, 8 * CORE_DEG_TO_RAD, 1e-15);
     CHECK(c.long_cyclic_pct == 85 && c.lat_cyclic_pct == 85 && c.collective_pct == 85);
     CHECK(c.pedal_pct == 80);
 
     /* Four exceeded: pitch -1/8, long -5/35, lat -5/35, pedal -1/30 of the
      * half-band; long and lat tie and long comes first. */
-    shol_trim_point p = {3 * DEG, -9 * DEG, 90, 10, 50, 19};
+    shol_trim_point p = {3 * CORE_DEG_TO_RAD, -9 * CORE_DEG_TO_RAD, 90, 10, 50, 19};
     shol_eval e;
     CHECK(shol_criteria_eval(&c, &p, &e) == 0);
-    CHECK_NEAR(e.margin[SHOL_CRIT_ROLL] / DEG, 2.0, 1e-12);
-    CHECK_NEAR(e.margin[SHOL_CRIT_PITCH] / DEG, -1.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_ROLL] / CORE_DEG_TO_RAD, 2.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_PITCH] / CORE_DEG_TO_RAD, -1.0, 1e-12);
     CHECK_NEAR(e.margin[SHOL_CRIT_LONG], -5.0, 1e-12);
     CHECK_NEAR(e.margin[SHOL_CRIT_LAT], -5.0, 1e-12);
     CHECK_NEAR(e.margin[SHOL_CRIT_COLL], 35.0, 1e-12);
@@ -50,12 +49,12 @@ static void test_criteria_eval(void)
     CHECK(e.limit == SHOL_CRIT_LONG);
 
     /* Passing: the closest is collective (5/35 = 0.143 < pedal 5/30, roll 1/5 = 0.2). */
-    shol_trim_point q = {-4 * DEG, 0, 50, 50, 80, 75};
+    shol_trim_point q = {-4 * CORE_DEG_TO_RAD, 0, 50, 50, 80, 75};
     CHECK(shol_criteria_eval(&c, &q, &e) == 0);
     CHECK(e.n_exceeded == 0);
     CHECK(e.limit == SHOL_CRIT_COLL);
-    CHECK_NEAR(e.margin[SHOL_CRIT_ROLL] / DEG, 1.0, 1e-12);
-    CHECK_NEAR(e.margin[SHOL_CRIT_PITCH] / DEG, 8.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_ROLL] / CORE_DEG_TO_RAD, 1.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_PITCH] / CORE_DEG_TO_RAD, 8.0, 1e-12);
     CHECK_NEAR(e.margin[SHOL_CRIT_COLL], 5.0, 1e-12);
     CHECK_NEAR(e.margin[SHOL_CRIT_PEDAL], 5.0, 1e-12);
 
@@ -66,12 +65,12 @@ static void test_criteria_eval(void)
     CHECK(e.limit == SHOL_CRIT_PEDAL);
 
     /* Exactly at a limit is not "exceeded" (Table 4: rejected when > limit). */
-    shol_trim_point at = {-5 * DEG, 8 * DEG, 85, 15, 50, 80};
+    shol_trim_point at = {-5 * CORE_DEG_TO_RAD, 8 * CORE_DEG_TO_RAD, 85, 15, 50, 80};
     CHECK(shol_criteria_eval(&c, &at, &e) == 0);
     CHECK(e.n_exceeded == 0);
     CHECK_NEAR(e.margin[SHOL_CRIT_ROLL], 0.0, 1e-15);
     /* Just beyond: the roll. */
-    at.phi_rad = -5.01 * DEG;
+    at.phi_rad = -5.01 * CORE_DEG_TO_RAD;
     CHECK(shol_criteria_eval(&c, &at, &e) == 0);
     CHECK(e.n_exceeded == 1 && e.limit == SHOL_CRIT_ROLL);
 
@@ -95,13 +94,13 @@ static void test_criteria_files(void)
     core_err err = {0};
 
     CHECK(shol_criteria_load(DATA "aircraft_partial.ini", &c, &err) == 0);
-    CHECK_NEAR(c.roll_max_rad, 6 * DEG, 1e-15);
-    CHECK_NEAR(c.pitch_max_rad, 8 * DEG, 1e-15);
+    CHECK_NEAR(c.roll_max_rad, 6 * CORE_DEG_TO_RAD, 1e-15);
+    CHECK_NEAR(c.pitch_max_rad, 8 * CORE_DEG_TO_RAD, 1e-15);
     CHECK(c.pedal_pct == 75 && c.long_cyclic_pct == 85 && c.collective_pct == 85);
 
     CHECK(shol_criteria_load(DATA "aircraft_full.ini", &c, &err) == 0);
-    CHECK_NEAR(c.roll_max_rad, 4.5 * DEG, 1e-15);
-    CHECK_NEAR(c.pitch_max_rad, 10 * DEG, 1e-15);
+    CHECK_NEAR(c.roll_max_rad, 4.5 * CORE_DEG_TO_RAD, 1e-15);
+    CHECK_NEAR(c.pitch_max_rad, 10 * CORE_DEG_TO_RAD, 1e-15);
     CHECK(c.long_cyclic_pct == 90 && c.lat_cyclic_pct == 88 && c.collective_pct == 95);
     CHECK(c.pedal_pct == 82.5);
 
@@ -173,13 +172,13 @@ static int model_trim(void *user, double v, double dir, shol_trim_point *out)
     double c = v * sin(dir), h = v * cos(dir);
     if (h < -20)
         return 1;
-    out->phi_rad = (c < 0 ? -1 : 1) * 5.0 / 225.0 * c * c * DEG;
-    out->theta_rad = (2 - 0.01 * h * h) * DEG;
+    out->phi_rad = (c < 0 ? -1 : 1) * 5.0 / 225.0 * c * c * CORE_DEG_TO_RAD;
+    out->theta_rad = (2 - 0.01 * h * h) * CORE_DEG_TO_RAD;
     out->long_cyclic_pct = 50 + 1.25 * h;
     out->lat_cyclic_pct = 50 + 0.8 * c;
     out->collective_pct = 60 - 0.1 * v;
     out->pedal_pct = 60 + m->pedal_gain * c;
-    if (m->nan_dir_deg_set && fabs(dir / DEG - m->nan_dir_deg) < 1e-9 && v > 10)
+    if (m->nan_dir_deg_set && fabs(dir / CORE_DEG_TO_RAD - m->nan_dir_deg) < 1e-9 && v > 10)
         out->pedal_pct = NAN;
     return 0;
 }
@@ -237,7 +236,7 @@ static void test_progress_format(void)
     /* Half way, a coupled-like rate of one trim per 2.5 min, 10 trims in
      * 25 min: 25 min left. */
     shol_progress p = {0};
-    p.dir_rad = -30 * DEG;
+    p.dir_rad = -30 * CORE_DEG_TO_RAD;
     p.speed_mps = 45 * KMH;
     p.n_trims = 10;
     p.fraction = 0.5;
@@ -259,19 +258,19 @@ static void test_envelope_steps(void)
     shol_settings s;
     shol_settings_default(&s);
     CHECK(s.n_dirs == 7);
-    CHECK_NEAR(s.dirs_rad[0], -90 * DEG, 1e-12);
+    CHECK_NEAR(s.dirs_rad[0], -90 * CORE_DEG_TO_RAD, 1e-12);
     CHECK_NEAR(s.dirs_rad[3], 0, 1e-15);
-    CHECK_NEAR(s.dirs_rad[6], 90 * DEG, 1e-12);
+    CHECK_NEAR(s.dirs_rad[6], 90 * CORE_DEG_TO_RAD, 1e-12);
     CHECK_NEAR(s.speed_step_mps, 5 * KMH, 1e-15);
 
     /* The full circle by 30 deg: -150 ... 180, 12 directions. */
     shol_settings fc = s;
     core_err err = {0};
-    CHECK(shol_settings_full_circle(&fc, 30 * DEG, &err) == 0);
+    CHECK(shol_settings_full_circle(&fc, 30 * CORE_DEG_TO_RAD, &err) == 0);
     CHECK(fc.n_dirs == 12);
-    CHECK_NEAR(fc.dirs_rad[0], -150 * DEG, 1e-12);
-    CHECK_NEAR(fc.dirs_rad[11], 180 * DEG, 1e-12);
-    CHECK(shol_settings_full_circle(&fc, 35 * DEG, &err) < 0);
+    CHECK_NEAR(fc.dirs_rad[0], -150 * CORE_DEG_TO_RAD, 1e-12);
+    CHECK_NEAR(fc.dirs_rad[11], 180 * CORE_DEG_TO_RAD, 1e-12);
+    CHECK(shol_settings_full_circle(&fc, 35 * CORE_DEG_TO_RAD, &err) < 0);
 
     model m = {1.5, 0, 0, 0, 0};
     shol_result r;
@@ -297,7 +296,7 @@ static void test_envelope_steps(void)
         CHECK_NEAR(d->fail_speed_mps, expect + fc.speed_step_mps, 1e-9);
         CHECK(d->limit == lim);
         if (d->limit != lim)
-            fprintf(stderr, "  dir %g: limit %s, expected %s\n", d->dir_rad / DEG,
+            fprintf(stderr, "  dir %g: limit %s, expected %s\n", d->dir_rad / CORE_DEG_TO_RAD,
                     shol_limit_name(d->limit), shol_limit_name(lim));
         saw[d->limit + 1] = 1;
         /* Stop at the first exceedance: 0 .. last pass, then one failure. */
@@ -311,7 +310,7 @@ static void test_envelope_steps(void)
         double c = d->max_speed_mps * sin(d->dir_rad), h = d->max_speed_mps * cos(d->dir_rad);
         double pedal = 60 + 1.5 * c;
         CHECK_NEAR(d->margins.margin[SHOL_CRIT_PEDAL], fmin(80 - pedal, pedal - 20), 1e-9);
-        CHECK_NEAR(d->margins.margin[SHOL_CRIT_ROLL] / DEG, 5 - 5.0 / 225 * c * c, 1e-9);
+        CHECK_NEAR(d->margins.margin[SHOL_CRIT_ROLL] / CORE_DEG_TO_RAD, 5 - 5.0 / 225 * c * c, 1e-9);
         CHECK_NEAR(d->margins.margin[SHOL_CRIT_LONG], fmin(35 - 1.25 * h, 35 + 1.25 * h), 1e-9);
         CHECK(d->margins.n_exceeded == 0);
         /* The limit's sensitivity: the margin's secant slope between the
@@ -321,7 +320,7 @@ static void test_envelope_steps(void)
         double v1 = d->max_speed_mps, v2 = d->fail_speed_mps, sn = sin(d->dir_rad), cs = cos(d->dir_rad);
         if (d->limit == SHOL_CRIT_ROLL) { /* 5 - 5/225 c^2 deg */
             CHECK(srs == 0 && se.crit == SHOL_CRIT_ROLL);
-            CHECK_NEAR(se.slope_per_mps / DEG, 5.0 / 225 * sn * sn * (v1 + v2), 1e-9);
+            CHECK_NEAR(se.slope_per_mps / CORE_DEG_TO_RAD, 5.0 / 225 * sn * sn * (v1 + v2), 1e-9);
             CHECK_NEAR(se.shift_mps, 0.25 / (5.0 / 225 * sn * sn * (v1 + v2)), 1e-9);
         } else if (d->limit == SHOL_CRIT_PEDAL) { /* 80 - (60 + 1.5 c) or (60 + 1.5 c) - 20 */
             CHECK(srs == 0);
@@ -343,7 +342,7 @@ static void test_envelope_steps(void)
      * stern no trim above 20 m/s = 72 km/h -> 70. */
     for (int i = 0; i < r.n_dirs; i++) {
         const shol_dir_result *d = &r.dirs[i];
-        double deg = d->dir_rad / DEG, kmh = d->max_speed_mps / KMH;
+        double deg = d->dir_rad / CORE_DEG_TO_RAD, kmh = d->max_speed_mps / KMH;
         if (fabs(deg - 90) < 1e-9)
             CHECK(fabs(kmh - 45) < 1e-9 && d->limit == SHOL_CRIT_PEDAL);
         if (fabs(deg + 90) < 1e-9)
@@ -376,7 +375,7 @@ static void test_envelope_bisection(void)
     shol_settings s;
     core_err err = {0};
     shol_settings_default(&s);
-    CHECK(shol_settings_full_circle(&s, 30 * DEG, &err) == 0);
+    CHECK(shol_settings_full_circle(&s, 30 * CORE_DEG_TO_RAD, &err) == 0);
     s.bisect_tol_mps = 0.1 * KMH;
     model m = {1.5, 0, 0, 0, 0};
     shol_result r;
@@ -491,13 +490,13 @@ static void test_envelope_edges(void)
 
     /* Rejected at 0: pitch 2 deg in still air against a 1 deg limit. */
     shol_settings_default(&s);
-    s.criteria.pitch_max_rad = 1 * DEG;
+    s.criteria.pitch_max_rad = 1 * CORE_DEG_TO_RAD;
     CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) == 0);
     for (int i = 0; i < r.n_dirs; i++) {
         CHECK(!r.dirs[i].has_pass);
         CHECK(r.dirs[i].limit == SHOL_CRIT_PITCH);
         CHECK(r.dirs[i].n_samples == 1);
-        CHECK_NEAR(r.dirs[i].margins.margin[SHOL_CRIT_PITCH] / DEG, -1.0, 1e-9);
+        CHECK_NEAR(r.dirs[i].margins.margin[SHOL_CRIT_PITCH] / CORE_DEG_TO_RAD, -1.0, 1e-9);
     }
     shol_result_free(&r);
 
@@ -519,7 +518,7 @@ static void test_envelope_edges(void)
     m.nan_dir_deg = 30;
     CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) == 0);
     for (int i = 0; i < r.n_dirs; i++)
-        if (fabs(r.dirs[i].dir_rad / DEG - 30) < 1e-9) {
+        if (fabs(r.dirs[i].dir_rad / CORE_DEG_TO_RAD - 30) < 1e-9) {
             CHECK(r.dirs[i].limit == SHOL_LIMIT_TRIM);
             CHECK(r.dirs[i].max_speed_mps <= 10 + 1e-9);
         }
@@ -755,15 +754,15 @@ static void test_outputs(void)
         CHECK(ink > 0.03);
     }
     char nm[64];
-    shol_trim_plot_name(-30 * DEG, nm, sizeof nm);
+    shol_trim_plot_name(-30 * CORE_DEG_TO_RAD, nm, sizeof nm);
     CHECK(strcmp(nm, "shol_trim_red030.png") == 0);
     shol_trim_plot_name(0, nm, sizeof nm);
     CHECK(strcmp(nm, "shol_trim_head.png") == 0);
-    shol_trim_plot_name(7.5 * DEG, nm, sizeof nm);
+    shol_trim_plot_name(7.5 * CORE_DEG_TO_RAD, nm, sizeof nm);
     CHECK(strcmp(nm, "shol_trim_green007p5.png") == 0);
-    shol_trim_plot_name(-7.25 * DEG, nm, sizeof nm);
+    shol_trim_plot_name(-7.25 * CORE_DEG_TO_RAD, nm, sizeof nm);
     CHECK(strcmp(nm, "shol_trim_red007p25.png") == 0);
-    shol_trim_plot_name(-7.3 * DEG, nm, sizeof nm);
+    shol_trim_plot_name(-7.3 * CORE_DEG_TO_RAD, nm, sizeof nm);
     CHECK(strcmp(nm, "shol_trim_red007p3.png") == 0);
 
     /* Report: every link resolves, the comparison names each direction. */
@@ -795,7 +794,7 @@ static void test_outputs(void)
         if (cmp)
             for (int i = 0; i < r.n_dirs; i++) {
                 char n[32], row[48];
-                core_wod_name(r.dirs[i].dir_rad / DEG, n, sizeof n);
+                core_wod_name(r.dirs[i].dir_rad / CORE_DEG_TO_RAD, n, sizeof n);
                 snprintf(row, sizeof row, "| %s |", n);
                 CHECK(strstr(cmp, row) != NULL);
             }
@@ -819,7 +818,7 @@ static void test_outputs(void)
      * centre too, since the stern sector clears up to 70 km/h). */
     shol_result full;
     shol_settings fs = s;
-    CHECK(shol_settings_full_circle(&fs, 30 * DEG, &err) == 0);
+    CHECK(shol_settings_full_circle(&fs, 30 * CORE_DEG_TO_RAD, &err) == 0);
     fs.bisect_tol_mps = 0.5 * KMH;
     char fdir[600];
     snprintf(fdir, sizeof fdir, "%s/full", dir);
@@ -833,7 +832,7 @@ static void test_outputs(void)
 
     /* A direction with no passing speed round-trips as nan. */
     shol_result z;
-    s.criteria.pitch_max_rad = 1 * DEG;
+    s.criteria.pitch_max_rad = 1 * CORE_DEG_TO_RAD;
     char zdir[600];
     snprintf(zdir, sizeof zdir, "%s/zero", dir);
     CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &z, &err) == 0);
@@ -1076,7 +1075,7 @@ static void test_bands(void)
     in.n_window = s.n_dirs;
     for (int i = 0; i < s.n_dirs; i++) {
         in.window_dir_rad[i] = s.dirs_rad[i];
-        double deg = s.dirs_rad[i] / DEG;
+        double deg = s.dirs_rad[i] / CORE_DEG_TO_RAD;
         in.window_frac[i] = fabs(deg) < 1e-9 ? NAN : fabs(deg - 90) < 1e-9 ? 0.0 : 0.04;
     }
     CHECK(shol_band_compute(&r, &in, &err) == 0);
@@ -1085,7 +1084,7 @@ static void test_bands(void)
     for (int i = 0; i < r.n_dirs; i++) {
         const shol_dir_result *d = &r.dirs[i];
         const shol_band *b = &d->band;
-        const double dir = d->dir_rad, deg = dir / DEG;
+        const double dir = d->dir_rad, deg = dir / CORE_DEG_TO_RAD;
         const double v = model_radius(&m, dir, step), vg = model_radius(&m2, dir, step);
         CHECK(b->valid);
         CHECK_NEAR(d->max_speed_mps, v, 1e-9);
@@ -1126,7 +1125,7 @@ static void test_bands(void)
      * 1 % = 0.8 m/s = 2.88 km/h: band 97.12-102.88. */
     for (int i = 0; i < r.n_dirs; i++) {
         const shol_band *b = &r.dirs[i].band;
-        double deg = r.dirs[i].dir_rad / DEG;
+        double deg = r.dirs[i].dir_rad / CORE_DEG_TO_RAD;
         if (fabs(deg - 90) < 1e-9) {
             CHECK_NEAR(b->grid_mps / KMH, -10, 1e-9);
             CHECK_NEAR(b->lo_mps / KMH, 35, 1e-9);
@@ -1206,7 +1205,7 @@ static void test_bands(void)
         memcpy(dirs, r.dirs, sizeof dirs[0] * (size_t)r.n_dirs);
         sh.dirs = dirs;
         for (int i = 0; i < sh.n_dirs; i++) {
-            double deg = dirs[i].dir_rad / DEG;
+            double deg = dirs[i].dir_rad / CORE_DEG_TO_RAD;
             if (fabs(deg + 90) < 1e-9)
                 dirs[i].limit = SHOL_LIMIT_NONE, dirs[i].max_speed_mps = 150 * KMH;
             if (fabs(deg - 90) < 1e-9)
@@ -1291,7 +1290,7 @@ static void test_bands(void)
         hg.dirs = hgd;
         const double rad[2] = {20, 100};
         for (int k = 0; k < 2; k++) {
-            hd[k].dir_rad = (k ? 30 : -30) * DEG;
+            hd[k].dir_rad = (k ? 30 : -30) * CORE_DEG_TO_RAD;
             hd[k].has_pass = 1;
             hd[k].max_speed_mps = rad[k] * KMH;
             hd[k].limit = SHOL_CRIT_PITCH;
@@ -1466,7 +1465,7 @@ static void model_fill_loads(const model_loads *ml, shol_result *r)
 static const shol_dir_result *dir_of(const shol_result *r, double deg)
 {
     for (int i = 0; i < r->n_dirs; i++)
-        if (fabs(r->dirs[i].dir_rad - deg * DEG) < 1e-9)
+        if (fabs(r->dirs[i].dir_rad - deg * CORE_DEG_TO_RAD) < 1e-9)
             return &r->dirs[i];
     return NULL;
 }
@@ -1653,7 +1652,7 @@ static void test_attribution_uh60a(void)
     const double v = 30 * KMH;
     double dfin[2], dfus[2], dmr[2];
     for (int side = 0; side < 2; side++) {
-        const double dir = (side ? 90 : -90) * DEG;
+        const double dir = (side ? 90 : -90) * CORE_DEG_TO_RAD;
         shol_sample sm[2];
         hfm_sample(tr, 0.0, dir, &sm[0]);
         hfm_sample(tr, v, dir, &sm[1]);
