@@ -9,13 +9,16 @@
  * station for a given wind over deck, e.g. in the coupled airwake. See
  * docs/shol.md for how a command drives it.
  *
- * Conventions (../shared/CONVENTIONS.md):
+ * Conventions (docs/conventions.md):
  *  - SI inside: speeds in m/s, angles in rad. Degrees, knots and km/h appear
  *    only in the data file keys and the output files, whose names say so.
  *  - WOD direction is where the wind comes FROM, from the bow, positive to
  *    starboard (green), negative to port (red), in (-180, 180].
  *  - Controls are percentages of full travel, 0..100, 50 mid-travel. A limit
- *    L% on a control rejects it above L% or below (100 - L)%.
+ *    L% on a control rejects it above L% or below (100 - L)%. (The
+ *    convention reads a cyclic or pedal limit as a displacement from
+ *    neutral, rejected beyond 50 +- L/2 %, and a collective limit from full
+ *    down; docs/conventions.md sets the two readings side by side.)
  *  - Functions return int: 0 ok, < 0 fatal (err filled), > 0 recoverable.
  */
 #ifndef DISIM_SHOL_H
@@ -60,7 +63,7 @@ typedef struct shol_criteria {
     double pedal_pct;
 } shol_criteria;
 
-/* The defaults of CONVENTIONS.md (seed paper Table 4): 5 deg, 8 deg, 85 %,
+/* The defaults of docs/conventions.md (seed paper Table 4): 5 deg, 8 deg, 85 %,
  * 85 %, 85 %, 80 %. */
 void shol_criteria_default(shol_criteria *c);
 
