@@ -1,5 +1,5 @@
 /*
- * flown.c -- the SHOL from flown tasks (issue 26): a WOD point is flown,
+ * flown.c -- the SHOL from flown tasks: a WOD point is flown,
  * not trimmed, and judged over its whole time history.
  *
  * Model. At each WOD point the caller's fly callback flies the task (an
