@@ -5,7 +5,7 @@
  * trim by Newton-Raphson and pseudo-arc-length continuation, linearisation
  * and time simulation (SUNDIALS ARKODE fixed step, CVODE variable step).
  *
- * Frames and units follow ../shared/CONVENTIONS.md: SI inside; the ship
+ * Frames and units follow docs/conventions.md: SI inside; the ship
  * frame S (x bow, y starboard, z down) is the reference frame of the
  * kinematics and is treated as inertial (steady ship translation); body
  * frame B at the centre of gravity; Euler angles 3-2-1 of B relative to S.
@@ -312,7 +312,7 @@ enum { HFM_PARAM_AIRSPEED = 0, HFM_PARAM_WOD_SPEED = 1 };
 /* A flight condition. FORWARD: straight level flight at airspeed_mps in
  * still air (or in `air` when given), heading along S's x. HOVER_SHIP: the
  * CG fixed at pos_S_m, heading along the ship's bow (psi = 0), in a WOD
- * of wod_speed_mps from wod_dir_rad (CONVENTIONS.md), or in `air` when
+ * of wod_speed_mps from wod_dir_rad (docs/conventions.md), or in `air` when
  * given (a field). */
 typedef struct hfm_trim_cond {
     int kind;
