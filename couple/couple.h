@@ -190,6 +190,24 @@ void couple_settings_scenario(couple_settings *cs, const struct sim_scenario *sc
 /* The last fatal error of couple_shol_trim. */
 const char *couple_last_error(const couple_ctx *c);
 
+/* The candidate SHOL's sweeps (shol_sweep.c). One-way: shol_envelope_run
+ * with couple_shol_trim over one, each converged sample's component loads
+ * (shol_sample.loads) from one's history. Two-way: shol_envelope_run_near
+ * over r1 (one's envelope), coupled by two from two steps of the
+ * resolution (the speed step, or the bisection's tolerance where finer)
+ * below r1's limit, one info line on log per coupled point, the loads from
+ * two's history, else one's. 0, or < 0 with err (the coupling's own
+ * message where it has one). */
+int couple_shol_one_way(couple_ctx *one, const shol_settings *set, shol_progress_fn progress, void *progress_user,
+                        const core_log *log, shol_result *r, core_err *err);
+int couple_shol_two_way(couple_ctx *one, couple_ctx *two, const shol_settings *set, const shol_result *r1,
+                        shol_progress_fn progress, void *progress_user, const core_log *log, shol_result *r2,
+                        core_err *err);
+/* The report's words for the coupling of cs (shol_report_info.coupling). */
+const char *couple_shol_coupling_text(const couple_settings *cs);
+/* couple_fields_md of one's fields and two's (two may be NULL). */
+char *couple_shol_fields_md(const couple_ctx *one, const couple_ctx *two);
+
 #ifdef __cplusplus
 }
 #endif
