@@ -5,7 +5,7 @@
  * [--cfd-max-iter N] [--method trim|pilot] [--task FILE] [--seeds N]
  * [--criteria-window-s S] [--band-grid auto|none|coarse|default|fine]
  * [--band-grid-csv FILE]`.
- * Every direction's limit comes with a band (app/shol_bands.c):
+ * Every direction's limit comes with a band (couple_shol_bands):
  * the window spreads of its fields, the limit on a second grid (auto: the
  * one-way envelope on another level over the fields the database already
  * has; LEVEL: on that level, its fields built; --band-grid-csv: an earlier
@@ -41,7 +41,6 @@
 #include "hfm.h"
 #include "progress.h"
 #include "shol.h"
-#include "shol_bands.h"
 #include "sim.h"
 
 #include <math.h>
@@ -271,7 +270,7 @@ typedef struct shol_args {
     int pilot, feed_controls, full, direct, no_seed;
     int grid, coupling, zone;
     double seeds, window_s, dstep, sstep, smax, bisect, maxit, cfdit;
-    app_band_opts bands; /* --band-grid, --band-grid-csv (shol_bands.h) */
+    couple_band_opts bands; /* --band-grid, --band-grid-csv */
 } shol_args;
 
 static int parse_domain(const char *v) { return !strcmp(v, "zone") ? 1 : !strcmp(v, "whole") ? 0 : -2; }
@@ -299,7 +298,7 @@ static int shol_flag(shol_args *o, const char *a, const char *v)
         const char *expect;
     } word[] = {
         {"--grid", core_grid_parse, 0, &o->grid, "coarse, default or fine"},
-        {"--band-grid", app_band_grid_parse, -2, &o->bands.grid, "auto, none, coarse, default or fine"},
+        {"--band-grid", couple_band_grid_parse, -2, &o->bands.grid, "auto, none, coarse, default or fine"},
         {"--coupling", core_coupling_parse, 0, &o->coupling, "two-way or one-way"},
         {"--domain", parse_domain, 0, &o->zone, "whole or zone"},
         {"--method", parse_method, 0, &o->pilot, "trim or pilot"},
@@ -339,7 +338,7 @@ static int shol_flag(shol_args *o, const char *a, const char *v)
 static int shol_parse(int argc, char **argv, shol_args *o)
 {
     memset(o, 0, sizeof *o);
-    o->bands.grid = APP_BAND_GRID_AUTO;
+    o->bands.grid = COUPLE_BAND_GRID_AUTO;
     o->grid = o->coupling = o->zone = -1;
     o->window_s = NAN;
     o->smax = -1;
@@ -487,6 +486,36 @@ static int job_open(shol_job *j)
     return 0;
 }
 
+/* The bands' second grid: its sweep starts. */
+static void on_band_grid(void *user, core_grid_level level, int n_dirs)
+{
+    (void)user;
+    fprintf(stderr, "shol: bands: the one-way envelope on the %s grid, %d direction%s\n", core_grid_name(level),
+            n_dirs, n_dirs == 1 ? "" : "s");
+}
+
+/* The bands of r1, and r2's with r2 (couple_shol_bands), one line per
+ * direction of the main envelope on stderr. */
+static int job_bands(shol_job *j, shol_result *r2)
+{
+    couple_band_opts bo = j->a->bands;
+    bo.on_grid = on_band_grid;
+    if (couple_shol_bands(&bo, j->ac, &j->sc->ship, j->db, &j->cs, j->one, &j->set, &j->r1, r2, &j->log, &j->err) != 0)
+        return -1;
+    const shol_result *m = r2 ? r2 : &j->r1;
+    for (int i = 0; i < m->n_dirs; i++) {
+        const shol_dir_result *d = &m->dirs[i];
+        char name[32], what[256];
+        core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+        shol_band_format(&d->band, m->band_grid_label, d->limit, what, sizeof what);
+        fprintf(stderr, "shol: band %s: %.0f km/h, %.1f-%.1f km/h%s (%s)%s\n", name,
+                d->has_pass ? d->max_speed_mps / CORE_KMH_TO_MPS : 0.0, d->band.lo_mps / CORE_KMH_TO_MPS,
+                d->band.hi_mps / CORE_KMH_TO_MPS, d->band.open_above ? " open above" : "", what,
+                d->band.low_confidence ? ", LOW confidence" : "");
+    }
+    return 0;
+}
+
 /* The one-way envelope, the two-way one near its boundary in two-way mode,
  * and the bands. */
 static int job_sweep(shol_job *j)
@@ -506,10 +535,9 @@ static int job_sweep(shol_job *j)
                                              : "two-way coupling");
     if (couple_shol_one_way(j->one, &j->set, on_progress, &pc, &j->log, &j->r1, &j->err) != 0)
         return -1;
-    /* each direction's band (app/shol_bands.c), over the two-way envelope too in two-way mode */
+    /* each direction's band, over the two-way envelope too in two-way mode */
     if (j->mode != CORE_COUPLING_TWO_WAY)
-        return app_shol_bands(&j->a->bands, j->ac, &j->sc->ship, j->db, cs, j->one, &j->set, &j->r1, NULL, &j->log,
-                              &j->err);
+        return job_bands(j, NULL);
     cs->mode = CORE_COUPLING_TWO_WAY;
     if (!(j->two = couple_create(j->ac, &j->sc->ship, j->db, cs, &j->log, &j->err)))
         return -1;
@@ -517,8 +545,7 @@ static int job_sweep(shol_job *j)
     if (couple_shol_two_way(j->one, j->two, &j->set, &j->r1, on_progress, &pc, &j->log, &j->r2, &j->err) != 0)
         return -1;
     cs->mode = CORE_COUPLING_ONE_WAY;
-    int rc = app_shol_bands(&j->a->bands, j->ac, &j->sc->ship, j->db, cs, j->one, &j->set, &j->r1, &j->r2, &j->log,
-                            &j->err);
+    int rc = job_bands(j, &j->r2);
     cs->mode = CORE_COUPLING_TWO_WAY;
     return rc;
 }
