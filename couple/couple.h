@@ -190,6 +190,51 @@ void couple_settings_scenario(couple_settings *cs, const struct sim_scenario *sc
 /* The last fatal error of couple_shol_trim. */
 const char *couple_last_error(const couple_ctx *c);
 
+/* The candidate SHOL's sweeps (shol_sweep.c). One-way: shol_envelope_run
+ * with couple_shol_trim over one, each converged sample's component loads
+ * (shol_sample.loads) from one's history. Two-way: shol_envelope_run_near
+ * over r1 (one's envelope), coupled by two from two steps of the
+ * resolution (the speed step, or the bisection's tolerance where finer)
+ * below r1's limit, one info line on log per coupled point, the loads from
+ * two's history, else one's. 0, or < 0 with err (the coupling's own
+ * message where it has one). */
+int couple_shol_one_way(couple_ctx *one, const shol_settings *set, shol_progress_fn progress, void *progress_user,
+                        const core_log *log, shol_result *r, core_err *err);
+int couple_shol_two_way(couple_ctx *one, couple_ctx *two, const shol_settings *set, const shol_result *r1,
+                        shol_progress_fn progress, void *progress_user, const core_log *log, shol_result *r2,
+                        core_err *err);
+/* The bands of the candidate SHOL (shol_bands.c). */
+#define COUPLE_BAND_GRID_AUTO (-1) /* another level whose fields the database has for some directions */
+#define COUPLE_BAND_GRID_NONE (-2)
+typedef struct couple_band_opts {
+    int grid;             /* COUPLE_BAND_GRID_AUTO, _NONE, or a core_grid_level (its fields built if missing) */
+    const char *grid_csv; /* the second grid's envelope from an earlier run's shol.csv; NULL: none */
+    /* Called (NULL: not) when the second grid's one-way sweep starts, its
+     * fields queued: the level and the number of directions. */
+    void (*on_grid)(void *user, core_grid_level level, int n_dirs);
+    void *user;
+} couple_band_opts;
+/* The grid of the bands' second envelope in words: auto, none, coarse,
+ * default or fine; < -2 if none of those. */
+int couple_band_grid_parse(const char *s);
+/* The bands of r1 (shol_dir_result.band), the one-way envelope on
+ * cs->grid that the context one trimmed: the window spreads of one's
+ * fields (each direction's ship-only field: 0 converged, max(mean_drift,
+ * mean_change) averaged, unknown otherwise), the second grid's one-way
+ * envelope (o->grid_csv, or a second one-way sweep on the level o->grid
+ * names, auto: the directions whose ship-only field the database already
+ * has at the first level of finer-then-coarser that has any), and the
+ * sensitivity. With r2 (the two-way envelope over r1), r2's bands too:
+ * the same window spreads, and the one-way grid spread (second grid minus
+ * r1) applied to r2. 0, or < 0 with err. */
+int couple_shol_bands(const couple_band_opts *o, const hfm_aircraft *ac, const core_ship *ship, awdb *db,
+                      const couple_settings *cs, couple_ctx *one, const shol_settings *set, shol_result *r1,
+                      shol_result *r2, const core_log *log, core_err *err);
+/* The report's words for the coupling of cs (shol_report_info.coupling). */
+const char *couple_shol_coupling_text(const couple_settings *cs);
+/* couple_fields_md of one's fields and two's (two may be NULL). */
+char *couple_shol_fields_md(const couple_ctx *one, const couple_ctx *two);
+
 #ifdef __cplusplus
 }
 #endif

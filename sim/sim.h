@@ -608,6 +608,9 @@ typedef struct sim_station_view {
 } sim_station_view;
 /* 0 for an id the station may have, else -1 with err. */
 int sim_station_id_check(const char *id, core_err *err);
+/* A default id: the host's name (characters an id may hold, '-' for the
+ * others, at most 40) and source (at most 20), joined by '-'. */
+void sim_station_default_id(char *id, size_t n, const char *source);
 /* NULL with err for a bad id or an LCM URL it cannot open. */
 sim_station *sim_station_create(const sim_station_opts *o, core_err *err);
 void sim_station_destroy(sim_station *st);
