@@ -7,7 +7,7 @@
  * not have it yet, it is requested and the loop flies the free stream, and
  * blends the field in when it is ready.
  *
- * The loop's LCM side (sim_loop, sim/lcm_io.c): pilot stations fly it
+ * The loop's LCM side (sim_loop, sim/loop.c): pilot stations fly it
  * (pilot_input_t, by the stations' rules), sim_control_t pauses, resumes,
  * resets it and loads another scenario; it publishes heli_state_t,
  * ship_state_t and sim_status_t; --log records every message sent and

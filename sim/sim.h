@@ -481,7 +481,7 @@ sim_sas *sim_flight_sas(sim_flight *f);
 typedef struct sim_station_controls {
     double collective_pct, long_cyclic_pct, lat_cyclic_pct, pedal_pct;
     int trim_button, trim_release; /* held (evdev buttons) */
-    int take_over;                 /* this station takes the controls (sim/lcm_io.c) */
+    int take_over;                 /* this station takes the controls (sim/pilots.c) */
 } sim_station_controls;
 /* All four at 50 %, the buttons released. */
 void sim_station_controls_centre(sim_station_controls *c);
@@ -653,13 +653,14 @@ typedef struct sim_station_run_opts {
 } sim_station_run_opts;
 int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *err);
 
-/* ------------------- the flight loop's LCM side (sim/lcm_io.c, issue 25) */
+/* ------------- the pilot stations' rules (sim/pilots.c) and the real-time
+ * loop (sim/loop.c) */
 /* Around the deterministic step, never inside it: pilot stations'
- * pilot_input_t taken by their rules (sim_pilots), sim_control_t (pause,
- * resume, reset, load scenario), heli_state_t, ship_state_t and
- * sim_status_t published, every message sent and received written to an
- * LCM event log, a log's inputs replayed (sim_loop). sim/lcm_io.c has the
- * rules, the log's clock and its references. */
+ * pilot_input_t taken by their rules (sim_pilots, sim/pilots.c),
+ * sim_control_t (pause, resume, reset, load scenario), heli_state_t,
+ * ship_state_t and sim_status_t published, every message sent and
+ * received written to an LCM event log, a log's inputs replayed (sim_loop,
+ * sim/loop.c, which has the log's clock and its references). */
 #define SIM_PILOTS_MAX 16
 #define SIM_STATION_ID_MAX 64
 
