@@ -701,243 +701,6 @@ static int loop_build(void *user, const char *path, sim_loop_world *lw, core_err
     return 0;
 }
 
-/* --pilot auto with --log, --lcm or --realtime: the loop flies, the
- * automated pilot its pilot source (sim_loop_set_inputs, station "auto"):
- * the log and LCM carry the run as a station's flight (the run
- * information, the states, the pilot's inputs, the status), and the
- * trajectory is the one flown straight, step for step. */
-#define AUTO_STATION "auto"
-static sim_loop *auto_loop(fly_ctx *c, double T, core_err *err)
-{
-    const fly_args *o = c->o;
-    sim_loop_opts lo;
-    sim_loop_opts_default(&lo);
-    lo.rate_hz = o->rate_hz;
-    lo.realtime = o->realtime;
-    lo.duration_s = T + 2.0 / o->rate_hz;
-    lo.state_rate_hz = o->state_rate_hz;
-    lo.lcm = o->lcm >= 0 ? o->lcm : o->realtime; /* as a station's flight: LCM in real time unless --no-lcm */
-    lo.lcm_url = o->lcm_url;
-    lo.log_path = o->log;
-    lo.scenario_path = o->scen;
-    lo.pilot_source_id = AUTO_STATION;
-    sim_loop_world lw;
-    loop_world(&c->w, &lw);
-    return sim_loop_create(&lo, &lw, loop_build, c, c->log, err);
-}
-
-/* One step of the automated pilot's flight: straight (l NULL) or through
- * the loop. 0 stepped, > 0 the flight ended (err says why), < 0 with err. */
-static int auto_step(fly_world *w, sim_loop *l, const sim_flight_inputs *in, sim_flight_out *out, core_err *err)
-{
-    if (!l)
-        return sim_flight_step(w->fl, in, out, err);
-    sim_loop_set_inputs(l, in);
-    int r = sim_loop_iterate(l, out, err);
-    if (r == SIM_LOOP_STEPPED)
-        return 0;
-    if (r == SIM_LOOP_CRASHED)
-        return 1;
-    return r < 0 ? -1 : core_err_set(err, -1, "fly: the loop did not step (%d)", r);
-}
-
-/* --pilot auto: the automated pilot flies the task headless, as fast as
- * it can (the task's length unless --duration), the trajectory to --csv
- * and, with --log, the run to an LCM log; the task's grade and errors said
- * at the end. 0, or < 0 with err. */
-static int fly_auto(fly_ctx *c, core_err *err)
-{
-    const fly_args *o = c->o;
-    fly_world *w = &c->w;
-    sim_task task;
-    if (sim_task_load_ship(o->task, &w->sc->ship, &task, err) != 0)
-        return -1;
-    sim_pilot_auto_opts po;
-    sim_pilot_auto_opts_default(&po);
-    po.rate_hz = o->rate_hz;
-    po.wod_speed_mps = w->speed_mps;
-    po.wod_dir_rad = w->dir_rad;
-    po.sas = sim_sas_engaged(sim_flight_sas(w->fl)); /* its gains know the SAS the flight has */
-    hfm_gear gear;
-    po.gear = o->gear && hfm_aircraft_gear(w->ac, &gear) == 0; /* the flight has the gear (world_build) */
-    sim_flight_inputs in;
-    sim_flight_trim_inputs(w->fl, &in);
-    sim_pilot_auto *p = sim_pilot_auto_create(w->ac, &task, &po, &in, c->log, err);
-    if (!p)
-        return -1;
-    sim_flight_out s0; /* the attitudes it aims at: the flight's trim in its air */
-    sim_flight_state(w->fl, &s0);
-    if (!o->start_deck && sim_pilot_auto_set_trim_state(p, &s0) != 0) {
-        sim_pilot_auto_destroy(p);
-        return core_err_set(err, -1, "fly: the flight's start is not a hover's trimmed state");
-    }
-    traj_csv csv;
-    int rc = -1;
-    sim_loop *loop = NULL;
-    if (traj_open(&csv, o->csv, err) != 0)
-        goto out;
-    double T = o->duration_set ? o->duration_s : sim_task_length_s(&task);
-    if ((o->log || o->lcm == 1 || o->realtime) && !(loop = auto_loop(c, T, err)))
-        goto out;
-    long n = (long)llround(T * o->rate_hz), csv_every = (long)fmax(1.0, llround(o->rate_hz / o->csv_rate_hz));
-    long poll_every = (long)llround(o->rate_hz);
-    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, %s, the automated pilot flies %s for %.0f s%s\n",
-            w->sc->ship.name, hfm_aircraft_name(w->ac), w->speed_mps / CORE_KT_TO_MPS, w->dir_rad * CORE_RAD_TO_DEG,
-            w->sea_state, w->fld ? "airwake field" : w->waiting ? "free stream until the airwake field is built" : "free stream",
-            o->task, T, loop ? (o->realtime ? ", in real time" : ", through the loop") : "");
-    sim_flight_out out;
-    sim_flight_state(w->fl, &out);
-    if (traj_row(&csv, &out) != 0)
-        goto write_fail;
-    sim_task_result r;
-    char ended[256] = ""; /* what ended the flight ("" it flew on) */
-    for (long s = 0; s < n && !fly_stop; s++) {
-        sim_pilot_auto_step(p, &out, &in);
-        sim_pilot_auto_result(p, &r);
-        if (r.done) /* the task is over: settled on the deck (gear), touched down, its last hold flown */
-            break;
-        int st = auto_step(w, loop, &in, &out, err);
-        if (st < 0)
-            goto out;
-        if ((st > 0 || out.step % csv_every == 0) && traj_row(&csv, &out) != 0)
-            goto write_fail;
-        if (st > 0) { /* a crash or a roll-over ended the flight: said, the trajectory kept */
-            snprintf(ended, sizeof ended, "%.250s", err->msg);
-            break;
-        }
-        int polled = world_poll(c->db, w, out.step, poll_every, err);
-        if (polled < 0)
-            goto out;
-        if (polled > 0)
-            fprintf(stderr, "fly: the airwake field is ready at t = %.1f s: blended in\n", out.t_s);
-    }
-    sim_pilot_auto_step(p, &out, &in); /* grades the last state */
-    if (traj_commit(&csv, err) != 0 || (loop && sim_loop_finish(loop, err) != 0))
-        goto out;
-    if (loop)
-        fprintf(stderr, "fly: the run logged to %s\n", o->log);
-    sim_pilot_auto_result(p, &r);
-    /* the task's result: --task-result PREFIX, else beside --csv (OUT_task.csv, .json) */
-    char res[2][1100], pre[1024] = "";
-    if (o->task_result)
-        snprintf(pre, sizeof pre, "%s", o->task_result);
-    else if (o->csv)
-        snprintf(pre, sizeof pre, "%.*s_task", (int)(strlen(o->csv) - (strlen(o->csv) > 4 &&
-                 !strcmp(o->csv + strlen(o->csv) - 4, ".csv") ? 4 : 0)), o->csv);
-    if (pre[0]) {
-        snprintf(res[0], sizeof res[0], "%s.csv", pre);
-        snprintf(res[1], sizeof res[1], "%s.json", pre);
-        if (sim_task_result_write(&task, &r, res[0], res[1], err) != 0)
-            goto out;
-        fprintf(stderr, "fly: the task's result in %s and %s\n", res[0], res[1]);
-    }
-    if (task.kind == SIM_TASK_LAND && r.touched)
-        fprintf(stderr, "fly: touchdown %s at %.2f s (descent from %.2f s): sink %.2f m/s, drift %.2f m/s, %.2f m from "
-                        "the spot\n",
-                r.touchdown_grade == 2 ? "desired" : r.touchdown_grade == 1 ? "adequate" : "not met", r.t_touchdown_s,
-                r.t_descent_s, r.sink_mps, r.drift_mps, r.dist_m);
-    else if (task.kind == SIM_TASK_LAND)
-        fprintf(stderr, "fly: no touchdown by %.1f s\n", r.t_s);
-    fprintf(stderr, "fly: task %s at %.1f s%s: within desired since %.2f s, adequate since %.2f s; largest error after "
-                    "%.0f s %.2f m, height %.2f m, heading %.1f deg; %ld steps with a control at a stop\n",
-            r.grade == 2 ? "desired" : r.grade == 1 ? "adequate" : "not met", r.t_s, fly_stop ? " (stopped)" : "",
-            r.t_desired_s, r.t_adequate_s, task.desired.time_s, r.max_err_pos_m, r.max_err_height_m,
-            r.max_err_heading_rad * CORE_RAD_TO_DEG, r.stop_steps);
-    rc = 0;
-    if (ended[0]) {
-        fprintf(stderr, "fly: the flight ended at %.2f s: %s\n", out.t_s, ended);
-        core_err_set(err, 1, "%s", ended);
-        rc = 1;
-    }
-    goto out;
-write_fail:
-    core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", o->csv);
-out:
-    traj_close(&csv);
-    sim_loop_destroy(loop);
-    sim_pilot_auto_destroy(p);
-    return rc;
-}
-
-/* --pilot replay LOG: the replay pilot re-flies LOG's run relative to the
- * deck (sim/pilot_replay.c) headless, as fast as it can, for the log's
- * length unless --duration; the trajectory to --csv; how far it stayed
- * from the reference said at the end, per phase. 0, or < 0 with err. */
-static int fly_replay(fly_ctx *c, const sim_replay_log *ref, core_err *err)
-{
-    const fly_args *o = c->o;
-    fly_world *w = &c->w;
-    sim_replay_info info;
-    sim_replay_log_info(ref, &info);
-    sim_pilot_replay_opts po;
-    sim_pilot_replay_opts_default(&po);
-    po.pilot.rate_hz = o->rate_hz;
-    po.pilot.wod_speed_mps = w->speed_mps;
-    po.pilot.wod_dir_rad = w->dir_rad;
-    po.feed_controls = o->feed_controls;
-    sim_flight_inputs in;
-    sim_flight_trim_inputs(w->fl, &in);
-    sim_pilot_replay *p = sim_pilot_replay_create(w->ac, ref, &po, &in, c->log, err);
-    if (!p)
-        return -1;
-    sim_flight_out s0; /* the attitude references of the flight's own trim */
-    sim_flight_state(w->fl, &s0);
-    if (!s0.on_deck && sim_pilot_replay_set_trim_state(p, &s0) != 0)
-        fprintf(stderr, "fly: warning: the replay pilot keeps the uniform-WOD trim's attitudes\n");
-    traj_csv csv;
-    int rc = -1;
-    if (traj_open(&csv, o->csv, err) != 0)
-        goto out;
-    double T = o->duration_set ? o->duration_s : info.t1_s;
-    long n = (long)llround(T * o->rate_hz), csv_every = (long)fmax(1.0, llround(o->rate_hz / o->csv_rate_hz));
-    long poll_every = (long)llround(o->rate_hz);
-    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, the replay pilot re-flies %s (%ld states, "
-                    "%.2f s, controls from %s%s) for %.2f s\n",
-            w->sc->ship.name, hfm_aircraft_name(w->ac), w->speed_mps / CORE_KT_TO_MPS, w->dir_rad * CORE_RAD_TO_DEG,
-            w->sea_state, o->replay_log, info.n_states, info.t1_s,
-            info.n_inputs ? "the station's inputs" : "the flown states", o->feed_controls ? ", fed forward" : "", T);
-    sim_flight_out out;
-    sim_flight_state(w->fl, &out);
-    if (traj_row(&csv, &out) != 0)
-        goto write_fail;
-    for (long s = 0; s < n && !fly_stop; s++) {
-        sim_pilot_replay_step(p, &out, &in);
-        int st = sim_flight_step(w->fl, &in, &out, err);
-        if (st < 0)
-            goto out;
-        if (out.step % csv_every == 0 && traj_row(&csv, &out) != 0)
-            goto write_fail;
-        if (st > 0) { /* the flight ended (a crash): said, the trajectory kept */
-            fprintf(stderr, "fly: the flight ended at %.2f s: %s\n", out.t_s, err->msg);
-            break;
-        }
-        if (world_poll(c->db, w, out.step, poll_every, err) < 0)
-            goto out;
-    }
-    sim_pilot_replay_step(p, &out, &in); /* counts the last state */
-    if (traj_commit(&csv, err) != 0)
-        goto out;
-    sim_replay_result r;
-    sim_pilot_replay_result(p, &r);
-    fprintf(stderr, "fly: replay to %.2f s%s: from the reference rms %.3f m, max %.3f m at %.2f s, heading max %.2f deg; "
-                    "%ld steps with a control at a stop\n",
-            r.t_s, fly_stop ? " (stopped)" : r.ended ? "" : " (the reference not ended)", r.all.rms_m, r.all.max_m,
-            r.all.t_max_s, r.max_heading_err_rad * CORE_RAD_TO_DEG, r.stop_steps);
-    for (int ph = 0; ph < SIM_REPLAY_NPHASE; ph++)
-        if (r.phase[ph].n)
-            fprintf(stderr, "fly: replay %s: %.2f s, rms %.3f m, max %.3f m at %.2f s\n", sim_replay_phase_name(ph),
-                    r.phase[ph].duration_s, r.phase[ph].rms_m, r.phase[ph].max_m, r.phase[ph].t_max_s);
-    /* 1: a crash or a roll-over ended the flight (said above) */
-    rc = out.contact_flags & (SIM_CONTACT_CRASH | SIM_CONTACT_TIP) ? 1 : 0;
-    goto out;
-write_fail:
-    core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", o->csv);
-out:
-    traj_close(&csv);
-    sim_pilot_replay_destroy(p);
-    return rc;
-}
-
 /* --render DIR: the live renderer and its scene (app/scene.c: the run's
  * ship and aircraft loaded again, so that a reset or a load, which frees
  * the world's, leaves it standing, and a seaway of its own built as the
@@ -1016,6 +779,285 @@ static int fly_render_close(fly_render *r, const sim_loop_report *lr, core_err *
     if (r->open)
         app_scene_close(&r->scene);
     r->open = 0;
+    return rc;
+}
+
+/* What every flight of disim fly does after each step (the runner's
+ * observer, sim_run): the frame offered to --render, the trajectory's
+ * row every csv_every steps (and the row of the step that ended the
+ * flight, row_at_end), the database polled once a simulated second for a
+ * field not ready (said with say_ready), the progress line on a terminal
+ * (the loop's, with loop). A step that ended the flight stops the run,
+ * what ended it kept in ended. */
+typedef struct fly_obs {
+    fly_ctx *c;
+    traj_csv *csv;
+    fly_render *render;
+    sim_loop *loop;
+    long csv_every, poll_every, n_stepped;
+    int row_at_end, say_ready, tty, lcm_on;
+    char ended[256];
+} fly_obs;
+
+static void fly_obs_init(fly_obs *b, fly_ctx *c, traj_csv *csv)
+{
+    memset(b, 0, sizeof *b);
+    b->c = c;
+    b->csv = csv;
+    b->csv_every = (long)fmax(1.0, llround(c->o->rate_hz / c->o->csv_rate_hz));
+    b->poll_every = (long)llround(c->o->rate_hz); /* the database, once a simulated second */
+    b->row_at_end = 1;
+    b->say_ready = 1;
+}
+
+static void fly_progress(const fly_obs *b, const sim_flight_out *out)
+{
+    sim_loop_report lr;
+    sim_loop_report_get(b->loop, &lr);
+    fprintf(stderr, "\r\033[Kfly: t %.0f s  x %.2f y %.2f z %.2f m (S)  roll %.1f pitch %.1f deg  %.1fx real time  "
+                    "%ld overruns%s%s",
+            out->t_s, out->pos_S_m[0], out->pos_S_m[1], out->pos_S_m[2], out->euler_E_rad[0] * CORE_RAD_TO_DEG,
+            out->euler_E_rad[1] * CORE_RAD_TO_DEG, lr.pace.realtime_factor, lr.pace.overruns,
+            out->air_flags & SIM_AIR_FREE_STREAM ? "  free stream" : "", lr.held && b->lcm_on ? "  input held" : "");
+}
+
+static int fly_observe(void *user, const sim_flight_out *out, int st, core_err *err)
+{
+    fly_obs *b = user;
+    if (st < 0)
+        return 0; /* the run fails with err */
+    b->n_stepped++;
+    if (b->render)
+        fly_render_offer(b->render, out); /* a copy: the flight is the same without it */
+    if (((st > 0 && b->row_at_end) || out->step % b->csv_every == 0) && traj_row(b->csv, out) != 0)
+        return core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", b->csv->path);
+    if (st > 0) { /* a crash or a roll-over ended the flight: said by the caller, the trajectory kept */
+        snprintf(b->ended, sizeof b->ended, "%.250s", err->msg);
+        return 1;
+    }
+    fly_world *w = &b->c->w; /* the running world (a reset or a load may have replaced it) */
+    int polled = world_poll(b->c->db, w, out->step, b->poll_every, err);
+    if (polled < 0)
+        return -1;
+    if (polled > 0 && b->say_ready)
+        fprintf(stderr, "%sfly: the airwake field is ready at t = %.1f s: blended in\n", b->tty ? "\r\033[K" : "",
+                out->t_s);
+    if (b->tty && b->loop && b->n_stepped % b->poll_every == 0)
+        fly_progress(b, out);
+    return 0;
+}
+
+/* --pilot auto with --log, --lcm or --realtime: the loop flies, the
+ * automated pilot its pilot source (sim_loop_set_inputs, station "auto"):
+ * the log and LCM carry the run as a station's flight (the run
+ * information, the states, the pilot's inputs, the status), and the
+ * trajectory is the one flown straight, step for step. */
+#define AUTO_STATION "auto"
+static sim_loop *auto_loop(fly_ctx *c, double T, core_err *err)
+{
+    const fly_args *o = c->o;
+    sim_loop_opts lo;
+    sim_loop_opts_default(&lo);
+    lo.rate_hz = o->rate_hz;
+    lo.realtime = o->realtime;
+    lo.duration_s = T + 2.0 / o->rate_hz;
+    lo.state_rate_hz = o->state_rate_hz;
+    lo.lcm = o->lcm >= 0 ? o->lcm : o->realtime; /* as a station's flight: LCM in real time unless --no-lcm */
+    lo.lcm_url = o->lcm_url;
+    lo.log_path = o->log;
+    lo.scenario_path = o->scen;
+    lo.pilot_source_id = AUTO_STATION;
+    sim_loop_world lw;
+    loop_world(&c->w, &lw);
+    return sim_loop_create(&lo, &lw, loop_build, c, c->log, err);
+}
+
+/* --pilot auto: the automated pilot flies the task headless, as fast as
+ * it can (the task's length unless --duration), the trajectory to --csv
+ * and, with --log, the run to an LCM log; the task's grade and errors said
+ * at the end. 0, or < 0 with err. */
+static int fly_auto(fly_ctx *c, core_err *err)
+{
+    const fly_args *o = c->o;
+    fly_world *w = &c->w;
+    sim_task task;
+    if (sim_task_load_ship(o->task, &w->sc->ship, &task, err) != 0)
+        return -1;
+    sim_pilot_auto_opts po;
+    sim_pilot_auto_opts_default(&po);
+    po.rate_hz = o->rate_hz;
+    po.wod_speed_mps = w->speed_mps;
+    po.wod_dir_rad = w->dir_rad;
+    po.sas = sim_sas_engaged(sim_flight_sas(w->fl)); /* its gains know the SAS the flight has */
+    hfm_gear gear;
+    po.gear = o->gear && hfm_aircraft_gear(w->ac, &gear) == 0; /* the flight has the gear (world_build) */
+    sim_flight_inputs in;
+    sim_flight_trim_inputs(w->fl, &in);
+    sim_pilot_auto *p = sim_pilot_auto_create(w->ac, &task, &po, &in, c->log, err);
+    if (!p)
+        return -1;
+    sim_flight_out s0; /* the attitudes it aims at: the flight's trim in its air */
+    sim_flight_state(w->fl, &s0);
+    if (!o->start_deck && sim_pilot_auto_set_trim_state(p, &s0) != 0) {
+        sim_pilot_auto_destroy(p);
+        return core_err_set(err, -1, "fly: the flight's start is not a hover's trimmed state");
+    }
+    traj_csv csv;
+    int rc = -1;
+    sim_loop *loop = NULL;
+    if (traj_open(&csv, o->csv, err) != 0)
+        goto out;
+    double T = o->duration_set ? o->duration_s : sim_task_length_s(&task);
+    if ((o->log || o->lcm == 1 || o->realtime) && !(loop = auto_loop(c, T, err)))
+        goto out;
+    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, %s, the automated pilot flies %s for %.0f s%s\n",
+            w->sc->ship.name, hfm_aircraft_name(w->ac), w->speed_mps / CORE_KT_TO_MPS, w->dir_rad * CORE_RAD_TO_DEG,
+            w->sea_state, w->fld ? "airwake field" : w->waiting ? "free stream until the airwake field is built" : "free stream",
+            o->task, T, loop ? (o->realtime ? ", in real time" : ", through the loop") : "");
+    sim_flight_out out;
+    sim_flight_state(w->fl, &out);
+    if (traj_row(&csv, &out) != 0)
+        goto write_fail;
+    /* the task over (settled on the deck, touched down, its last hold
+     * flown) ends the run before the step, a crash or a roll-over after it */
+    fly_obs ob;
+    fly_obs_init(&ob, c, &csv);
+    sim_run_opts ro;
+    sim_run_opts_default(&ro);
+    ro.max_steps = (long)llround(T * o->rate_hz);
+    ro.stop = &fly_stop;
+    ro.observe = fly_observe;
+    ro.observe_user = &ob;
+    if (loop)
+        sim_loop_run_opts(loop, &ro);
+    sim_pilot pilot = sim_pilot_auto_pilot(p);
+    if (sim_run(loop ? NULL : w->fl, &pilot, &ro, &out, err) < 0)
+        goto out;
+    const char *ended = ob.ended; /* what ended the flight ("" it flew on) */
+    sim_pilot_auto_step(p, &out, &in); /* grades the last state */
+    sim_task_result r;
+    if (traj_commit(&csv, err) != 0 || (loop && sim_loop_finish(loop, err) != 0))
+        goto out;
+    if (loop)
+        fprintf(stderr, "fly: the run logged to %s\n", o->log);
+    sim_pilot_auto_result(p, &r);
+    /* the task's result: --task-result PREFIX, else beside --csv (OUT_task.csv, .json) */
+    char res[2][1100], pre[1024] = "";
+    if (o->task_result)
+        snprintf(pre, sizeof pre, "%s", o->task_result);
+    else if (o->csv)
+        snprintf(pre, sizeof pre, "%.*s_task", (int)(strlen(o->csv) - (strlen(o->csv) > 4 &&
+                 !strcmp(o->csv + strlen(o->csv) - 4, ".csv") ? 4 : 0)), o->csv);
+    if (pre[0]) {
+        snprintf(res[0], sizeof res[0], "%s.csv", pre);
+        snprintf(res[1], sizeof res[1], "%s.json", pre);
+        if (sim_task_result_write(&task, &r, res[0], res[1], err) != 0)
+            goto out;
+        fprintf(stderr, "fly: the task's result in %s and %s\n", res[0], res[1]);
+    }
+    if (task.kind == SIM_TASK_LAND && r.touched)
+        fprintf(stderr, "fly: touchdown %s at %.2f s (descent from %.2f s): sink %.2f m/s, drift %.2f m/s, %.2f m from "
+                        "the spot\n",
+                r.touchdown_grade == 2 ? "desired" : r.touchdown_grade == 1 ? "adequate" : "not met", r.t_touchdown_s,
+                r.t_descent_s, r.sink_mps, r.drift_mps, r.dist_m);
+    else if (task.kind == SIM_TASK_LAND)
+        fprintf(stderr, "fly: no touchdown by %.1f s\n", r.t_s);
+    fprintf(stderr, "fly: task %s at %.1f s%s: within desired since %.2f s, adequate since %.2f s; largest error after "
+                    "%.0f s %.2f m, height %.2f m, heading %.1f deg; %ld steps with a control at a stop\n",
+            r.grade == 2 ? "desired" : r.grade == 1 ? "adequate" : "not met", r.t_s, fly_stop ? " (stopped)" : "",
+            r.t_desired_s, r.t_adequate_s, task.desired.time_s, r.max_err_pos_m, r.max_err_height_m,
+            r.max_err_heading_rad * CORE_RAD_TO_DEG, r.stop_steps);
+    rc = 0;
+    if (ended[0]) {
+        fprintf(stderr, "fly: the flight ended at %.2f s: %s\n", out.t_s, ended);
+        core_err_set(err, 1, "%s", ended);
+        rc = 1;
+    }
+    goto out;
+write_fail:
+    core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", o->csv);
+out:
+    traj_close(&csv);
+    sim_loop_destroy(loop);
+    sim_pilot_auto_destroy(p);
+    return rc;
+}
+
+/* --pilot replay LOG: the replay pilot re-flies LOG's run relative to the
+ * deck (sim/pilot_replay.c) headless, as fast as it can, for the log's
+ * length unless --duration; the trajectory to --csv; how far it stayed
+ * from the reference said at the end, per phase. 0, or < 0 with err. */
+static int fly_replay(fly_ctx *c, const sim_replay_log *ref, core_err *err)
+{
+    const fly_args *o = c->o;
+    fly_world *w = &c->w;
+    sim_replay_info info;
+    sim_replay_log_info(ref, &info);
+    sim_pilot_replay_opts po;
+    sim_pilot_replay_opts_default(&po);
+    po.pilot.rate_hz = o->rate_hz;
+    po.pilot.wod_speed_mps = w->speed_mps;
+    po.pilot.wod_dir_rad = w->dir_rad;
+    po.feed_controls = o->feed_controls;
+    sim_flight_inputs in;
+    sim_flight_trim_inputs(w->fl, &in);
+    sim_pilot_replay *p = sim_pilot_replay_create(w->ac, ref, &po, &in, c->log, err);
+    if (!p)
+        return -1;
+    sim_flight_out s0; /* the attitude references of the flight's own trim */
+    sim_flight_state(w->fl, &s0);
+    if (!s0.on_deck && sim_pilot_replay_set_trim_state(p, &s0) != 0)
+        fprintf(stderr, "fly: warning: the replay pilot keeps the uniform-WOD trim's attitudes\n");
+    traj_csv csv;
+    int rc = -1;
+    if (traj_open(&csv, o->csv, err) != 0)
+        goto out;
+    double T = o->duration_set ? o->duration_s : info.t1_s;
+    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, the replay pilot re-flies %s (%ld states, "
+                    "%.2f s, controls from %s%s) for %.2f s\n",
+            w->sc->ship.name, hfm_aircraft_name(w->ac), w->speed_mps / CORE_KT_TO_MPS, w->dir_rad * CORE_RAD_TO_DEG,
+            w->sea_state, o->replay_log, info.n_states, info.t1_s,
+            info.n_inputs ? "the station's inputs" : "the flown states", o->feed_controls ? ", fed forward" : "", T);
+    sim_flight_out out;
+    sim_flight_state(w->fl, &out);
+    if (traj_row(&csv, &out) != 0)
+        goto write_fail;
+    fly_obs ob; /* a crash ends the run (its row at the rate alone) */
+    fly_obs_init(&ob, c, &csv);
+    ob.row_at_end = 0;
+    ob.say_ready = 0;
+    sim_run_opts ro;
+    sim_run_opts_default(&ro);
+    ro.max_steps = (long)llround(T * o->rate_hz);
+    ro.stop = &fly_stop;
+    ro.observe = fly_observe;
+    ro.observe_user = &ob;
+    sim_pilot pilot = sim_pilot_replay_pilot(p);
+    if (sim_run(w->fl, &pilot, &ro, &out, err) < 0)
+        goto out;
+    if (ob.ended[0])
+        fprintf(stderr, "fly: the flight ended at %.2f s: %s\n", out.t_s, ob.ended);
+    sim_pilot_replay_step(p, &out, &in); /* counts the last state */
+    if (traj_commit(&csv, err) != 0)
+        goto out;
+    sim_replay_result r;
+    sim_pilot_replay_result(p, &r);
+    fprintf(stderr, "fly: replay to %.2f s%s: from the reference rms %.3f m, max %.3f m at %.2f s, heading max %.2f deg; "
+                    "%ld steps with a control at a stop\n",
+            r.t_s, fly_stop ? " (stopped)" : r.ended ? "" : " (the reference not ended)", r.all.rms_m, r.all.max_m,
+            r.all.t_max_s, r.max_heading_err_rad * CORE_RAD_TO_DEG, r.stop_steps);
+    for (int ph = 0; ph < SIM_REPLAY_NPHASE; ph++)
+        if (r.phase[ph].n)
+            fprintf(stderr, "fly: replay %s: %.2f s, rms %.3f m, max %.3f m at %.2f s\n", sim_replay_phase_name(ph),
+                    r.phase[ph].duration_s, r.phase[ph].rms_m, r.phase[ph].max_m, r.phase[ph].t_max_s);
+    /* 1: a crash or a roll-over ended the flight (said above) */
+    rc = out.contact_flags & (SIM_CONTACT_CRASH | SIM_CONTACT_TIP) ? 1 : 0;
+    goto out;
+write_fail:
+    core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", o->csv);
+out:
+    traj_close(&csv);
+    sim_pilot_replay_destroy(p);
     return rc;
 }
 
@@ -1110,52 +1152,31 @@ int cmd_fly(int argc, char **argv)
         fprintf(stderr, "fly: no coupled fields for this WOD in the database: the ship-only airwake alone\n");
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
-    long csv_every = (long)fmax(1.0, llround(o.rate_hz / o.csv_rate_hz));
-    long poll_every = (long)llround(o.rate_hz); /* the database, once a simulated second */
     sim_flight_out out;
     sim_flight_state(ctx.w.fl, &out);
     if (traj_row(&csv, &out) != 0)
         goto write_fail;
     fly_render_offer(&fr, &out); /* frame 0 at t = 0 */
-    long n_stepped = 0;
-    char ended[256] = ""; /* what ended the flight: a crash, a roll-over ("" none) */
-    while (!fly_stop) {
-        int r = sim_loop_iterate(loop, &out, &err);
-        if (r < 0)
-            goto fail;
-        if (r == SIM_LOOP_DONE)
-            break;
-        if (r == SIM_LOOP_CRASHED) { /* its last state into the trajectory; the log finished as at the end */
-            n_stepped++;
-            fly_render_offer(&fr, &out);
-            snprintf(ended, sizeof ended, "%.250s", err.msg);
-            if (traj_row(&csv, &out) != 0)
-                goto write_fail;
-            break;
-        }
-        if (r != SIM_LOOP_STEPPED)
-            continue;
-        n_stepped++;
-        fly_render_offer(&fr, &out); /* a copy: the flight is the same without it */
-        if (out.step % csv_every == 0 && traj_row(&csv, &out) != 0)
-            goto write_fail;
-        fly_world *w = &ctx.w; /* the running world (a load may have replaced it) */
-        int polled = world_poll(ctx.db, w, out.step, poll_every, &err);
-        if (polled < 0)
-            goto fail;
-        if (polled > 0)
-            fprintf(stderr, "%sfly: the airwake field is ready at t = %.1f s: blended in\n", tty ? "\r\033[K" : "",
-                    out.t_s);
-        if (tty && n_stepped % poll_every == 0) {
-            sim_loop_report lr;
-            sim_loop_report_get(loop, &lr);
-            fprintf(stderr, "\r\033[Kfly: t %.0f s  x %.2f y %.2f z %.2f m (S)  roll %.1f pitch %.1f deg  %.1fx real time  "
-                            "%ld overruns%s%s",
-                    out.t_s, out.pos_S_m[0], out.pos_S_m[1], out.pos_S_m[2], out.euler_E_rad[0] * CORE_RAD_TO_DEG,
-                    out.euler_E_rad[1] * CORE_RAD_TO_DEG, lr.pace.realtime_factor, lr.pace.overruns,
-                    out.air_flags & SIM_AIR_FREE_STREAM ? "  free stream" : "", lr.held && lo.lcm ? "  input held" : "");
-        }
-    }
+    /* the loop's own pilot (the stations, or the replayed log's inputs
+     * through them) until the duration, a crash (its last state into the
+     * trajectory; the log finished as at the end) or a signal */
+    fly_obs ob;
+    fly_obs_init(&ob, &ctx, &csv);
+    ob.render = &fr;
+    ob.loop = loop;
+    ob.tty = tty;
+    ob.lcm_on = lo.lcm;
+    sim_run_opts ro;
+    sim_run_opts_default(&ro);
+    ro.stop = &fly_stop;
+    ro.observe = fly_observe;
+    ro.observe_user = &ob;
+    sim_loop_run_opts(loop, &ro);
+    sim_pilot pilot = sim_loop_own_pilot(loop);
+    if (sim_run(NULL, &pilot, &ro, &out, &err) < 0)
+        goto fail;
+    long n_stepped = ob.n_stepped;
+    const char *ended = ob.ended; /* what ended the flight: a crash, a roll-over ("" none) */
     if (sim_loop_finish(loop, &err) != 0)
         goto fail;
     if (traj_commit(&csv, &err) != 0)

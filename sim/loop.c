@@ -3,17 +3,20 @@
  * (sim/flight.c), never inside it.
  *
  * Model. The loop runs on a run clock: k steps of 1 / rate_hz since it
- * started, which pauses do not advance and resets do not set back. One
- * pass of sim_loop_iterate at run step k
+ * started, which pauses do not advance and resets do not set back. The
+ * loop is the runner's wrap (sim/runner.c: sim_run_pass, sim_run); one
+ * pass at run step k
  *   1. takes what was received since the last pass (or, replaying, the
  *      logged DISIM_PILOT_INPUT and DISIM_SIM_CONTROL events of run steps
  *      <= k): each pilot_input_t is offered to the stations' rules at run
  *      time k / rate_hz, each sim_control_t queued;
  *   2. carries out the controls in the order received (pause, resume,
  *      reset, load scenario);
- *   3. unless paused, takes the step's inputs from the rules and steps the
- *      flight (run step k + 1), then publishes heli_state_t and
- *      ship_state_t every rate_hz / state_rate_hz steps;
+ *   3. unless paused, takes the step's inputs from the pilot (the
+ *      stations' rules, the inputs the caller sets, or a pilot of the
+ *      caller's, whose inputs go out as its station's pilot_input_t) and
+ *      steps the flight (run step k + 1), then publishes heli_state_t
+ *      and ship_state_t every rate_hz / state_rate_hz steps;
  *   4. publishes sim_status_t every status_period_s of wall time and at
  *      once when the state, the flags, the active station or a refusal
  *      change; then waits for the deadline (sim_pacer) in real time.
@@ -353,18 +356,19 @@ static void publish_run_info(sim_loop *l)
     SEND(l, run_info_t, DISIM_CH_RUN_INFO, &m);
 }
 
-/* The caller's pilot's inputs of this step, as a station's message. */
-static void publish_source(sim_loop *l)
+/* The inputs of this step of a pilot of the caller's, as a station's
+ * message. */
+static void publish_source(sim_loop *l, const sim_flight_inputs *in)
 {
     disim_pilot_input_t m;
     memset(&m, 0, sizeof m);
     m.utime = (int64_t)llround(l->out.t_s * 1e6);
     m.station_id = l->source_id;
     m.seq = l->seq_source++;
-    m.collective_pct = l->source_in.collective_pct;
-    m.long_cyclic_pct = l->source_in.long_pct;
-    m.lat_cyclic_pct = l->source_in.lat_pct;
-    m.pedal_pct = l->source_in.pedal_pct;
+    m.collective_pct = in->collective_pct;
+    m.long_cyclic_pct = in->long_pct;
+    m.lat_cyclic_pct = in->lat_pct;
+    m.pedal_pct = in->pedal_pct;
     SEND(l, pilot_input_t, DISIM_CH_PILOT_INPUT, &m);
 }
 
@@ -611,44 +615,11 @@ static int do_controls(sim_loop *l, core_err *err)
     return 0;
 }
 
-int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
+/* ---- the loop's pass, as the runner's wrap (sim/runner.c) */
+/* After a pass: the status when due, then (a step flown) the deadline
+ * waited for. 0, or < 0 with err (a log write or a publish failed). */
+static int pass_end(sim_loop *l, int stepped, core_err *err)
 {
-    if (l->fatal)
-        return core_err_set(err, -1, "%s", l->ferr.msg);
-    if (l->crashed)
-        return core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg);
-    if (!l->paused && l->run_step >= l->nsteps)
-        return SIM_LOOP_DONE;
-    take_received(l, l->paused ? 100 : 0);
-    if (do_controls(l, err) != 0)
-        return -1;
-    int rc = SIM_LOOP_PAUSED;
-    if (!l->paused) {
-        sim_flight_inputs in;
-        if (l->source_id[0]) { /* the caller's pilot, said as a station's message */
-            in = l->source_in;
-            l->held = 0;
-            if (l->lc || l->elog)
-                publish_source(l);
-        } else
-            l->held = sim_pilots_inputs(l->pilots, run_t(l), &in);
-        int frc = sim_flight_step(l->w.flight, &in, &l->out, err);
-        if (frc < 0)
-            return -1;
-        l->run_step++;
-        if (frc > 0) { /* the flight ended: its last state goes out whatever the rate */
-            l->crashed = 1;
-            snprintf(l->crash_msg, sizeof l->crash_msg, "%.250s", err->msg);
-            snprintf(l->message, sizeof l->message, "%s", l->crash_msg); /* the status says what hit what */
-            l->dirty = 1;
-            core_log_msg(l->log, CORE_LOG_WARN, "the flight ended: %s", l->crash_msg);
-        }
-        if ((l->lc || l->elog) && (frc > 0 || l->run_step % l->state_every == 0))
-            publish_states(l, &l->out);
-        rc = frc > 0 ? SIM_LOOP_CRASHED : SIM_LOOP_STEPPED;
-        if (out)
-            *out = l->out;
-    }
     if (l->lc || l->elog) {
         unsigned f = loop_flags(l);
         if (l->dirty || f != l->last_flags || sim_pilots_active(l->pilots) != l->last_active ||
@@ -657,11 +628,111 @@ int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
     }
     if (l->fatal)
         return core_err_set(err, -1, "%s", l->ferr.msg);
-    if (rc == SIM_LOOP_STEPPED)
+    if (stepped)
         sim_pacer_wait(l->pacer);
-    if (rc == SIM_LOOP_CRASHED)
-        return core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg);
-    return rc;
+    return 0;
+}
+
+/* Before the pilot: the messages received taken, the controls carried
+ * out; a pause ends the pass here. */
+static int pass_before(void *user, core_err *err)
+{
+    sim_loop *l = user;
+    if (l->fatal)
+        return core_err_set(err, -1, "%s", l->ferr.msg);
+    if (l->crashed) {
+        core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg);
+        return SIM_RUN_ENDED;
+    }
+    if (!l->paused && l->run_step >= l->nsteps)
+        return SIM_RUN_LENGTH;
+    take_received(l, l->paused ? 100 : 0);
+    if (do_controls(l, err) != 0)
+        return -1;
+    if (!l->paused)
+        return SIM_RUN_STEPPED;
+    return pass_end(l, 0, err) != 0 ? -1 : SIM_RUN_SKIPPED;
+}
+
+/* The step with the pilot's inputs: a pilot of the caller's said as a
+ * station's message, the flight stepped (run step k + 1), its states
+ * published at their rate (the last state of a flight that ended
+ * whatever the rate), the status, the deadline. As sim_flight_step. */
+static int pass_step(void *user, const sim_flight_inputs *in, sim_flight_out *out, core_err *err)
+{
+    sim_loop *l = user;
+    if (l->source_id[0]) {
+        l->held = 0;
+        if (l->lc || l->elog)
+            publish_source(l, in);
+    }
+    int frc = sim_flight_step(l->w.flight, in, &l->out, err);
+    if (frc < 0)
+        return -1;
+    l->run_step++;
+    if (frc > 0) { /* the flight ended: nothing more steps */
+        l->crashed = 1;
+        snprintf(l->crash_msg, sizeof l->crash_msg, "%.250s", err->msg);
+        snprintf(l->message, sizeof l->message, "%s", l->crash_msg); /* the status says what hit what */
+        l->dirty = 1;
+        core_log_msg(l->log, CORE_LOG_WARN, "the flight ended: %s", l->crash_msg);
+    }
+    if ((l->lc || l->elog) && (frc > 0 || l->run_step % l->state_every == 0))
+        publish_states(l, &l->out);
+    *out = l->out;
+    if (pass_end(l, frc == 0, err) != 0)
+        return -1;
+    return frc > 0 ? core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg) : 0;
+}
+
+void sim_loop_run_opts(sim_loop *l, sim_run_opts *o)
+{
+    o->wrap.before = pass_before;
+    o->wrap.step = pass_step;
+    o->wrap.user = l;
+}
+
+/* The loop's own pilots: the stations by their rules at the run clock,
+ * or the inputs the caller sets (opts.pilot_source_id). */
+static int stations_step(void *self, const sim_flight_out *out, sim_flight_inputs *in)
+{
+    sim_loop *l = self;
+    (void)out;
+    l->held = sim_pilots_inputs(l->pilots, run_t(l), in);
+    return 0;
+}
+
+static int inputs_step(void *self, const sim_flight_out *out, sim_flight_inputs *in)
+{
+    const sim_loop *l = self;
+    (void)out;
+    *in = l->source_in;
+    return 0;
+}
+
+sim_pilot sim_loop_own_pilot(sim_loop *l)
+{
+    static const sim_pilot_ops stations = {"stations", stations_step}, inputs = {"inputs", inputs_step};
+    sim_pilot p = {l->source_id[0] ? &inputs : &stations, l};
+    return p;
+}
+
+int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
+{
+    sim_run_opts o;
+    sim_run_opts_default(&o);
+    sim_loop_run_opts(l, &o);
+    sim_pilot p = sim_loop_own_pilot(l);
+    sim_flight_out step_out = l->out;
+    long long k0 = l->run_step;
+    int r = sim_run_pass(NULL, &p, &o, &step_out, err);
+    if (out && l->run_step != k0)
+        *out = step_out;
+    if (r < 0)
+        return -1;
+    if (r == SIM_RUN_ENDED)
+        return SIM_LOOP_CRASHED; /* err says what hit what */
+    return r == SIM_RUN_STEPPED ? SIM_LOOP_STEPPED : r == SIM_RUN_SKIPPED ? SIM_LOOP_PAUSED : SIM_LOOP_DONE;
 }
 
 int sim_loop_finish(sim_loop *l, core_err *err)

@@ -653,6 +653,67 @@ typedef struct sim_station_run_opts {
 } sim_station_run_opts;
 int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *err);
 
+/* ------------------------ a pilot, and the one flight runner (sim/runner.c) */
+/* A pilot gives each step's inputs from the flight's output (the state
+ * after the last step). Its implementations: the automated pilot
+ * (sim_pilot_auto_pilot), the replay pilot (sim_pilot_replay_pilot), and
+ * in the real-time loop the LCM stations or the inputs its caller sets
+ * (sim_loop_pilot). A sim_pilot is a view: whoever created the pilot
+ * destroys it. */
+typedef struct sim_pilot_ops {
+    const char *kind; /* "auto", "replay", "stations", "inputs" */
+    /* The next step's inputs: 0 fly on; > 0 the pilot is done (nothing
+     * more to fly; in not used); < 0 it failed. */
+    int (*step)(void *self, const sim_flight_out *out, sim_flight_inputs *in);
+} sim_pilot_ops;
+typedef struct sim_pilot {
+    const sim_pilot_ops *ops;
+    void *self;
+} sim_pilot;
+int sim_pilot_step(const sim_pilot *p, const sim_flight_out *out, sim_flight_inputs *in);
+
+/* The runner: one pass (sim_run_pass) asks the wrap's before whether to
+ * step, the pilot for the inputs, steps the flight (sim_flight_step, or
+ * the wrap's step) and shows the observer the output; sim_run passes
+ * until an end and returns which (or < 0 with err). sim/runner.c has the
+ * order. */
+enum {
+    SIM_RUN_STEPPED = 0, /* a pass: the flight stepped */
+    SIM_RUN_SKIPPED,     /* a pass: nothing stepped (the real-time loop paused) */
+    SIM_RUN_LENGTH,      /* max_steps stepped, or the wrap's length flown */
+    SIM_RUN_PILOT_DONE,  /* the pilot is done: nothing stepped */
+    SIM_RUN_ENDED,       /* the step ended the flight (a crash, a roll-over; err says what) */
+    SIM_RUN_OBSERVED,    /* the observer stopped the run */
+    SIM_RUN_STOPPED      /* *stop was set before a pass */
+};
+/* What wraps the step (the real-time loop's I/O and pacing): before
+ * returns SIM_RUN_STEPPED to step, SIM_RUN_SKIPPED for a pass that does
+ * not, another end, or < 0 with err; step (NULL: sim_flight_step on the
+ * run's flight) returns as sim_flight_step does. */
+typedef struct sim_run_wrap {
+    int (*before)(void *user, core_err *err);
+    int (*step)(void *user, const sim_flight_inputs *in, sim_flight_out *out, core_err *err);
+    void *user;
+} sim_run_wrap;
+/* After every step: out, and st as the step returned it (> 0: the flight
+ * ended, err says what; < 0: it failed, err says why). 0 runs on, > 0
+ * stops the run (SIM_RUN_OBSERVED), < 0 fails it with err. */
+typedef int (*sim_run_observe_fn)(void *user, const sim_flight_out *out, int st, core_err *err);
+typedef struct sim_run_opts {
+    long max_steps;                    /* < 0 (the default): no limit */
+    const volatile sig_atomic_t *stop; /* set (by a signal handler): stop; NULL: none */
+    sim_run_wrap wrap;                 /* zeroed: the flight stepped bare */
+    sim_run_observe_fn observe;        /* NULL: none */
+    void *observe_user;
+} sim_run_opts;
+void sim_run_opts_default(sim_run_opts *o);
+/* One pass on flight fl (NULL where the wrap steps its own) with pilot p
+ * from out, which becomes the step's output: a SIM_RUN_* or < 0 with err. */
+int sim_run_pass(sim_flight *fl, const sim_pilot *p, const sim_run_opts *o, sim_flight_out *out, core_err *err);
+/* Passes until an end: SIM_RUN_LENGTH, _PILOT_DONE, _ENDED, _OBSERVED,
+ * _STOPPED, or < 0 with err; out is the last output. */
+int sim_run(sim_flight *fl, const sim_pilot *p, const sim_run_opts *o, sim_flight_out *out, core_err *err);
+
 /* ------------- the pilot stations' rules (sim/pilots.c) and the real-time
  * loop (sim/loop.c) */
 /* Around the deterministic step, never inside it: pilot stations'
@@ -776,8 +837,18 @@ enum { SIM_LOOP_STEPPED = 0, SIM_LOOP_PAUSED = 1, SIM_LOOP_DONE = 2, SIM_LOOP_CR
  * failed). */
 int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err);
 /* With opts.pilot_source_id: the inputs of the next step (kept for the
- * steps after until set again). */
+ * steps after until set again) that the loop's own pilot gives. */
 void sim_loop_set_inputs(sim_loop *l, const sim_flight_inputs *in);
+/* The loop as the runner's wrap (o's wrap set, the rest kept): sim_run
+ * with it (a NULL flight: the loop steps the world it flies) passes as
+ * sim_loop_iterate does, with the pilot the caller gives; the run ends
+ * SIM_RUN_LENGTH at the duration, SIM_RUN_ENDED at a crash (the loop to
+ * be finished as at the end). */
+void sim_loop_run_opts(sim_loop *l, sim_run_opts *o);
+/* The loop's own pilot: the stations by their rules at the run clock, or
+ * with opts.pilot_source_id the inputs of sim_loop_set_inputs. A pilot
+ * of the caller's given to sim_run instead flies as pilot_source_id. */
+sim_pilot sim_loop_own_pilot(sim_loop *l);
 /* The end: a last status (STOPPED), the log flushed, synced and renamed.
  * 0, or < 0 with err (the log is then removed). */
 int sim_loop_finish(sim_loop *l, core_err *err);
@@ -985,6 +1056,9 @@ typedef struct sim_task_result {
 int sim_task_result_write(const sim_task *t, const sim_task_result *r, const char *csv_path,
                           const char *json_path, core_err *err);
 void sim_pilot_auto_result(const sim_pilot_auto *p, sim_task_result *r);
+/* The automated pilot as a sim_pilot (kind "auto"): done once its task
+ * result says done (touched down and settled, or its last hold flown). */
+sim_pilot sim_pilot_auto_pilot(sim_pilot_auto *p);
 
 /* ---------------------------- the replay pilot (sim/pilot_replay.c, issue 26) */
 /* A recorded run (the LCM event log of `disim fly --log`) as a reference:
@@ -1101,6 +1175,9 @@ void sim_pilot_replay_destroy(sim_pilot_replay *p);
  * 0, or 1 when a control is at a stop. */
 int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_flight_inputs *in);
 void sim_pilot_replay_result(const sim_pilot_replay *p, sim_replay_result *r);
+/* The replay pilot as a sim_pilot (kind "replay"): never done (the run
+ * goes the length its caller gives). */
+sim_pilot sim_pilot_replay_pilot(sim_pilot_replay *p);
 
 /* ---------------------------------------- the landing gear (sim/contact.c) */
 /* The aircraft file's [gear] on the ship's deck: each leg an oleo strut in
