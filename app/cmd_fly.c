@@ -539,24 +539,19 @@ typedef struct fly_world {
     sim_scenario *sc;
     hfm_aircraft *ac;
     cfd_field *fld, *later;
-    sim_ship_motion *motion;
-    sim_flight *fl;
     int waiting; /* the database's field requested, not ready yet */
     cfd_field *cpl[4];      /* the coupled field of the WOD, its isolated rotor's (NULL: none) and, for a
                                deck-zone pair, the whole domain's ship-only field and the zone's own */
     sim_interaction *inter; /* their interaction near the station (sim/interaction.c) */
-    double speed_mps, dir_rad;
-    int sea_state;
-    sim_run_info info; /* what it was built from (run_info_t in the log) */
+    sim_world sw;           /* the ship's motion, the flight, what they were built from (run_info_t) */
 } fly_world;
 
 static void world_free(fly_world *w)
 {
-    sim_flight_destroy(w->fl);
+    sim_world_free(&w->sw);
     sim_interaction_destroy(w->inter);
     for (int i = 0; i < 4; i++)
         cfd_field_destroy(w->cpl[i]);
-    sim_ship_motion_destroy(w->motion);
     cfd_field_destroy(w->later);
     cfd_field_destroy(w->fld);
     hfm_aircraft_destroy(w->ac);
@@ -579,11 +574,53 @@ static int world_poll(awdb *db, fly_world *w, long step, long poll_every, core_e
 {
     if (!w->waiting || step % poll_every != 0)
         return 0;
-    int got = db_field(db, w->sc, w->dir_rad, &w->later, err);
-    if (got < 0 || (got > 0 && sim_flight_set_field(w->fl, w->later, err) != 0))
+    int got = db_field(db, w->sc, w->sw.info.wod_dir_rad, &w->later, err);
+    if (got < 0 || (got > 0 && sim_flight_set_field(w->sw.flight, w->later, err) != 0))
         return -1;
     w->waiting = got == 0;
     return got > 0;
+}
+
+/* The flags over the scenario's keys (sim_world_build's overrides). */
+static void world_overrides(const fly_args *o, const fly_world *w, sim_world_overrides *ov)
+{
+    sim_world_overrides_default(ov);
+    ov->rate_hz = o->rate_hz;
+    ov->wod_speed_mps = isnan(o->speed_kt) ? NAN : o->speed_kt * CORE_KT_TO_MPS;
+    ov->wod_dir_rad = isnan(o->dir_deg) ? NAN : core_wod_wrap_deg(o->dir_deg) * CORE_DEG_TO_RAD;
+    ov->seed = (unsigned long long)o->seed;
+    ov->turbulence = o->turbulence;
+    ov->sea_state = o->sea_state;
+    ov->wave_dir_rad = isnan(o->wave_dir_deg) ? NAN : core_wod_wrap_deg(o->wave_dir_deg) * CORE_DEG_TO_RAD;
+    ov->ship_speed_mps = isnan(o->ship_speed_kt) ? NAN : o->ship_speed_kt * CORE_KT_TO_MPS;
+    ov->gear = o->gear;
+    ov->start = o->start_deck ? SIM_START_DECK : SIM_START_HOVER;
+    /* the replay pilot's gains are the bare airframe's; the automated pilot flies the SAS */
+    ov->sas = o->pilot && strcmp(o->pilot, "auto") ? 0 : o->sas;
+    ov->field = w->fld;
+    ov->interaction = w->inter;
+}
+
+/* The airwake of the WOD: --field, else the database's ship-only field
+ * (requested when absent: w->waiting) and its coupled fields. */
+static int world_fields(fly_ctx *c, fly_world *w, double speed, double dir, core_err *err)
+{
+    const fly_args *o = c->o;
+    if (o->field)
+        return (w->fld = cfd_field_load(o->field, err)) ? 0 : -1;
+    if (speed > 0.0) {
+        if (!c->db && (core_mkdir_p(o->db, err) != 0 || !(c->db = awdb_open(o->db, c->log, err))))
+            return -1;
+        int got = db_field(c->db, w->sc, dir, &w->fld, err);
+        if (got < 0)
+            return -1;
+        w->waiting = got == 0;
+    }
+    if (!c->db && access(o->db, F_OK) == 0 && !(c->db = awdb_open(o->db, c->log, err)))
+        return -1; /* calm air: coupled fields (ground effect) without a ship-only one */
+    if (c->db && db_coupled(c->db, w->sc, speed, dir, w->cpl, &w->inter, err) < 0)
+        return -1;
+    return 0;
 }
 
 static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err)
@@ -599,79 +636,33 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
         goto fail;
     if (!(w->ac = hfm_aircraft_load(sc->aircraft_path, c->log, err)))
         goto fail;
-    double speed = isnan(o->speed_kt) ? sc->wod_speed_mps : o->speed_kt * CORE_KT_TO_MPS;
-    double dir = isnan(o->dir_deg) ? sc->wod_dir_rad : core_wod_wrap_deg(o->dir_deg) * CORE_DEG_TO_RAD;
-    w->speed_mps = speed;
-    w->dir_rad = dir;
+    sim_world_overrides ov;
+    world_overrides(o, w, &ov);
+    sim_run_info ri; /* the WOD flown */
+    sim_world_run_info(sc, &ov, &ri);
     if (sc->wod_mode == SIM_WOD_SWEEP && (isnan(o->speed_kt) || isnan(o->dir_deg))) {
         core_err_set(err, -1, "%s: a WOD sweep: give the flight's --wod-speed-kt and --wod-dir-deg", path);
         goto fail;
     }
-    if (o->field) {
-        if (!(w->fld = cfd_field_load(o->field, err)))
-            goto fail;
-    } else if (speed > 0.0) {
-        if (!c->db) {
-            if (core_mkdir_p(o->db, err) != 0 || !(c->db = awdb_open(o->db, c->log, err)))
-                goto fail;
-        }
-        int got = db_field(c->db, sc, dir, &w->fld, err);
-        if (got < 0)
-            goto fail;
-        w->waiting = got == 0;
-    }
-    if (!o->field && !c->db && access(o->db, F_OK) == 0 && !(c->db = awdb_open(o->db, c->log, err)))
-        goto fail; /* calm air: coupled fields (ground effect) without a ship-only one */
-    if (!o->field && c->db && db_coupled(c->db, sc, speed, dir, w->cpl, &w->inter, err) < 0)
+    if (world_fields(c, w, ri.wod_speed_mps, ri.wod_dir_rad, err) != 0)
         goto fail;
-    sim_flight_opts fo;
-    sim_flight_opts_default(&fo);
-    fo.interaction = w->inter;
-    fo.rate_hz = o->rate_hz;
-    fo.wod_speed_mps = speed;
-    fo.wod_dir_rad = dir;
-    /* the flags, else the scenario's [sea] and [wod] turbulence */
-    fo.turbulence = o->turbulence >= 0 ? o->turbulence : sc->turbulence;
-    fo.seed = (unsigned long long)o->seed;
-    /* the gear on the deck when the aircraft file has one (--no-gear: none) */
     hfm_gear gear;
-    fo.gear = o->gear && hfm_aircraft_gear(w->ac, &gear) == 0;
-    if (o->start_deck && !fo.gear) {
+    if (o->start_deck && !(o->gear && hfm_aircraft_gear(w->ac, &gear) == 0)) {
         core_err_set(err, -1, "--start deck: %s", o->gear ? "the aircraft file has no [gear] section" : "not with --no-gear");
         goto fail;
     }
-    fo.start = o->start_deck ? SIM_START_DECK : SIM_START_HOVER;
-    fo.ship_speed_mps = isnan(o->ship_speed_kt) ? sc->ship_speed_mps : o->ship_speed_kt * CORE_KT_TO_MPS;
-    memcpy(fo.station_S_m, sc->station_S_m, sizeof fo.station_S_m);
-    if (o->has_start) /* --pilot replay: where the replayed run starts */
-        memcpy(fo.station_S_m, o->start_S_m, sizeof fo.station_S_m);
-    if (o->task && sim_task_start_S(o->task, &sc->ship, fo.station_S_m, err) != 0)
-        goto fail; /* --pilot auto: a phase task starts at its first point */
-    if (o->pilot && strcmp(o->pilot, "auto"))
-        fo.sas = 0; /* the replay pilot's gains are the bare airframe's; the automated pilot flies the SAS */
-    else if (o->sas >= 0)
-        fo.sas = o->sas; /* --sas on|off */
-    /* the ship in a seaway (its own seed stream: the turbulence's + 1) */
-    sim_sea sea;
-    sim_sea_default(&sea);
-    sea.state = o->sea_state >= 0 ? o->sea_state : sc->sea_state;
-    sea.ship_speed_mps = fo.ship_speed_mps;
-    sea.wave_dir_rad = isnan(o->wave_dir_deg) ? sc->wave_dir_rad : core_wod_wrap_deg(o->wave_dir_deg) * CORE_DEG_TO_RAD;
-    sea.spectrum = sc->spectrum ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
-    w->sea_state = sea.state;
-    if (!(w->motion = sim_ship_motion_create(&sc->ship, &sea, (uint64_t)o->seed + 1u, err)))
-        goto fail;
-    sim_run_info *ri = &w->info;
-    snprintf(ri->scenario_path, sizeof ri->scenario_path, "%s", path);
-    snprintf(ri->scenario, sizeof ri->scenario, "%s", sc->name);
-    snprintf(ri->aircraft_path, sizeof ri->aircraft_path, "%s", sc->aircraft_path);
-    snprintf(ri->ship_path, sizeof ri->ship_path, "%s", sc->ship_path);
-    ri->seed = (unsigned long long)o->seed;
-    ri->sea = sea;
-    ri->wod_speed_mps = speed;
-    ri->wod_dir_rad = dir;
-    ri->rate_hz = o->rate_hz;
-    if (!(w->fl = sim_flight_create(w->ac, &sc->ship, &fo, sim_ship_motion_frame_fn, w->motion, w->fld, c->log, err)))
+    world_overrides(o, w, &ov); /* with the fields */
+    if (o->has_start) { /* --pilot replay: where the replayed run starts */
+        ov.has_station = 1;
+        memcpy(ov.station_S_m, o->start_S_m, sizeof ov.station_S_m);
+    }
+    if (o->task) { /* --pilot auto: a phase task starts at its first point */
+        ov.has_station = 1;
+        memcpy(ov.station_S_m, sc->station_S_m, sizeof ov.station_S_m);
+        if (sim_task_start_S(o->task, &sc->ship, ov.station_S_m, err) != 0)
+            goto fail;
+    }
+    if (sim_world_build(sc, w->ac, &ov, c->log, &w->sw, err) != 0)
         goto fail;
     return 0;
 fail:
@@ -682,10 +673,10 @@ fail:
 static void loop_world(const fly_world *w, sim_loop_world *lw)
 {
     memset(lw, 0, sizeof *lw);
-    lw->flight = w->fl;
-    lw->motion = w->motion;
+    lw->flight = w->sw.flight;
+    lw->motion = w->sw.motion;
     snprintf(lw->scenario, sizeof lw->scenario, "%s", w->sc->name);
-    lw->info = w->info;
+    lw->info = w->sw.info;
 }
 
 /* sim_loop's build: a new world, the old one freed only once it stands. */
@@ -730,7 +721,7 @@ static int fly_render_open(fly_render *r, const fly_args *o, const fly_world *w,
     if (!o->render_dir)
         return 0;
     r->dir = o->render_dir;
-    if (app_scene_open(&r->scene, &w->info, RENDER_OVERLAY_HUD, log, err) != 0)
+    if (app_scene_open(&r->scene, &w->sw.info, RENDER_OVERLAY_HUD, log, err) != 0)
         return -1;
     r->open = 1;
     render_live_opts lo;
@@ -886,18 +877,18 @@ static int fly_auto(fly_ctx *c, core_err *err)
     sim_pilot_auto_opts po;
     sim_pilot_auto_opts_default(&po);
     po.rate_hz = o->rate_hz;
-    po.wod_speed_mps = w->speed_mps;
-    po.wod_dir_rad = w->dir_rad;
-    po.sas = sim_sas_engaged(sim_flight_sas(w->fl)); /* its gains know the SAS the flight has */
+    po.wod_speed_mps = w->sw.info.wod_speed_mps;
+    po.wod_dir_rad = w->sw.info.wod_dir_rad;
+    po.sas = sim_sas_engaged(sim_flight_sas(w->sw.flight)); /* its gains know the SAS the flight has */
     hfm_gear gear;
     po.gear = o->gear && hfm_aircraft_gear(w->ac, &gear) == 0; /* the flight has the gear (world_build) */
     sim_flight_inputs in;
-    sim_flight_trim_inputs(w->fl, &in);
+    sim_flight_trim_inputs(w->sw.flight, &in);
     sim_pilot_auto *p = sim_pilot_auto_create(w->ac, &task, &po, &in, c->log, err);
     if (!p)
         return -1;
     sim_flight_out s0; /* the attitudes it aims at: the flight's trim in its air */
-    sim_flight_state(w->fl, &s0);
+    sim_flight_state(w->sw.flight, &s0);
     if (!o->start_deck && sim_pilot_auto_set_trim_state(p, &s0) != 0) {
         sim_pilot_auto_destroy(p);
         return core_err_set(err, -1, "fly: the flight's start is not a hover's trimmed state");
@@ -911,11 +902,11 @@ static int fly_auto(fly_ctx *c, core_err *err)
     if ((o->log || o->lcm == 1 || o->realtime) && !(loop = auto_loop(c, T, err)))
         goto out;
     fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, %s, the automated pilot flies %s for %.0f s%s\n",
-            w->sc->ship.name, hfm_aircraft_name(w->ac), w->speed_mps / CORE_KT_TO_MPS, w->dir_rad * CORE_RAD_TO_DEG,
-            w->sea_state, w->fld ? "airwake field" : w->waiting ? "free stream until the airwake field is built" : "free stream",
+            w->sc->ship.name, hfm_aircraft_name(w->ac), w->sw.info.wod_speed_mps / CORE_KT_TO_MPS, w->sw.info.wod_dir_rad * CORE_RAD_TO_DEG,
+            w->sw.info.sea.state, w->fld ? "airwake field" : w->waiting ? "free stream until the airwake field is built" : "free stream",
             o->task, T, loop ? (o->realtime ? ", in real time" : ", through the loop") : "");
     sim_flight_out out;
-    sim_flight_state(w->fl, &out);
+    sim_flight_state(w->sw.flight, &out);
     if (traj_row(&csv, &out) != 0)
         goto write_fail;
     /* the task over (settled on the deck, touched down, its last hold
@@ -931,7 +922,7 @@ static int fly_auto(fly_ctx *c, core_err *err)
     if (loop)
         sim_loop_run_opts(loop, &ro);
     sim_pilot pilot = sim_pilot_auto_pilot(p);
-    if (sim_run(loop ? NULL : w->fl, &pilot, &ro, &out, err) < 0)
+    if (sim_run(loop ? NULL : w->sw.flight, &pilot, &ro, &out, err) < 0)
         goto out;
     const char *ended = ob.ended; /* what ended the flight ("" it flew on) */
     sim_pilot_auto_step(p, &out, &in); /* grades the last state */
@@ -996,16 +987,16 @@ static int fly_replay(fly_ctx *c, const sim_replay_log *ref, core_err *err)
     sim_pilot_replay_opts po;
     sim_pilot_replay_opts_default(&po);
     po.pilot.rate_hz = o->rate_hz;
-    po.pilot.wod_speed_mps = w->speed_mps;
-    po.pilot.wod_dir_rad = w->dir_rad;
+    po.pilot.wod_speed_mps = w->sw.info.wod_speed_mps;
+    po.pilot.wod_dir_rad = w->sw.info.wod_dir_rad;
     po.feed_controls = o->feed_controls;
     sim_flight_inputs in;
-    sim_flight_trim_inputs(w->fl, &in);
+    sim_flight_trim_inputs(w->sw.flight, &in);
     sim_pilot_replay *p = sim_pilot_replay_create(w->ac, ref, &po, &in, c->log, err);
     if (!p)
         return -1;
     sim_flight_out s0; /* the attitude references of the flight's own trim */
-    sim_flight_state(w->fl, &s0);
+    sim_flight_state(w->sw.flight, &s0);
     if (!s0.on_deck && sim_pilot_replay_set_trim_state(p, &s0) != 0)
         fprintf(stderr, "fly: warning: the replay pilot keeps the uniform-WOD trim's attitudes\n");
     traj_csv csv;
@@ -1015,11 +1006,11 @@ static int fly_replay(fly_ctx *c, const sim_replay_log *ref, core_err *err)
     double T = o->duration_set ? o->duration_s : info.t1_s;
     fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, the replay pilot re-flies %s (%ld states, "
                     "%.2f s, controls from %s%s) for %.2f s\n",
-            w->sc->ship.name, hfm_aircraft_name(w->ac), w->speed_mps / CORE_KT_TO_MPS, w->dir_rad * CORE_RAD_TO_DEG,
-            w->sea_state, o->replay_log, info.n_states, info.t1_s,
+            w->sc->ship.name, hfm_aircraft_name(w->ac), w->sw.info.wod_speed_mps / CORE_KT_TO_MPS, w->sw.info.wod_dir_rad * CORE_RAD_TO_DEG,
+            w->sw.info.sea.state, o->replay_log, info.n_states, info.t1_s,
             info.n_inputs ? "the station's inputs" : "the flown states", o->feed_controls ? ", fed forward" : "", T);
     sim_flight_out out;
-    sim_flight_state(w->fl, &out);
+    sim_flight_state(w->sw.flight, &out);
     if (traj_row(&csv, &out) != 0)
         goto write_fail;
     fly_obs ob; /* a crash ends the run (its row at the rate alone) */
@@ -1033,7 +1024,7 @@ static int fly_replay(fly_ctx *c, const sim_replay_log *ref, core_err *err)
     ro.observe = fly_observe;
     ro.observe_user = &ob;
     sim_pilot pilot = sim_pilot_replay_pilot(p);
-    if (sim_run(w->fl, &pilot, &ro, &out, err) < 0)
+    if (sim_run(w->sw.flight, &pilot, &ro, &out, err) < 0)
         goto out;
     if (ob.ended[0])
         fprintf(stderr, "fly: the flight ended at %.2f s: %s\n", out.t_s, ob.ended);
@@ -1136,8 +1127,8 @@ int cmd_fly(int argc, char **argv)
     {
         const fly_world *w = &ctx.w;
         fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, %s, %s, %.0f Hz, %.0f s%s%s%s%s\n",
-                w->sc->ship.name, hfm_aircraft_name(w->ac), w->speed_mps / CORE_KT_TO_MPS, w->dir_rad * CORE_RAD_TO_DEG,
-                w->sea_state, w->fld ? "airwake field" : w->waiting ? "free stream until the airwake field is built" : "free stream",
+                w->sc->ship.name, hfm_aircraft_name(w->ac), w->sw.info.wod_speed_mps / CORE_KT_TO_MPS, w->sw.info.wod_dir_rad * CORE_RAD_TO_DEG,
+                w->sw.info.sea.state, w->fld ? "airwake field" : w->waiting ? "free stream until the airwake field is built" : "free stream",
                 o.realtime ? "real time" : "as fast as it can", o.rate_hz, o.duration_s, lo.lcm ? ", LCM " : "",
                 lo.lcm ? (o.lcm_url ? o.lcm_url : "(default URL)") : "", o.replay ? ", inputs from " : "",
                 o.replay ? o.replay : "");
@@ -1153,7 +1144,7 @@ int cmd_fly(int argc, char **argv)
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
     sim_flight_out out;
-    sim_flight_state(ctx.w.fl, &out);
+    sim_flight_state(ctx.w.sw.flight, &out);
     if (traj_row(&csv, &out) != 0)
         goto write_fail;
     fly_render_offer(&fr, &out); /* frame 0 at t = 0 */

@@ -152,20 +152,10 @@ static int run_info_of(const render_args *a, const sim_replay_log *L, sim_run_in
         free(sc);
         return -1;
     }
-    memset(ri, 0, sizeof *ri);
-    snprintf(ri->scenario_path, sizeof ri->scenario_path, "%s", a->scenario);
-    snprintf(ri->scenario, sizeof ri->scenario, "%s", sc->name);
-    snprintf(ri->aircraft_path, sizeof ri->aircraft_path, "%s", sc->aircraft_path);
-    snprintf(ri->ship_path, sizeof ri->ship_path, "%s", sc->ship_path);
-    ri->seed = (unsigned long long)a->seed;
-    sim_sea_default(&ri->sea);
-    ri->sea.state = sc->sea_state;
-    ri->sea.ship_speed_mps = sc->ship_speed_mps;
-    ri->sea.wave_dir_rad = sc->wave_dir_rad;
-    ri->sea.spectrum = sc->spectrum ? SIM_SPECTRUM_JONSWAP : SIM_SPECTRUM_ITTC;
-    ri->wod_speed_mps = sc->wod_speed_mps;
-    ri->wod_dir_rad = sc->wod_dir_rad;
-    ri->rate_hz = 200.0;
+    sim_world_overrides ov; /* the scenario's own keys, the run's seed */
+    sim_world_overrides_default(&ov);
+    ov.seed = (unsigned long long)a->seed;
+    sim_world_run_info(sc, &ov, ri);
     ri->state_rate_hz = 50.0;
     free(sc);
     return 0;
