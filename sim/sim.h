@@ -1285,66 +1285,6 @@ int sim_contact_static_loads(const hfm_gear *g, double weight_N, double load_N[]
  * from the series law (the inverse of the leg's force law). */
 double sim_contact_leg_compression(const hfm_gear_leg *l, double load_N);
 
-/* ------------------- one task flown for the flown SHOL (sim/fly_task.c, issue 26) */
-/* The automated pilot flies a task headless at one WOD point with one
- * seed, in the ship's motion, the field's turbulence and (where the
- * aircraft has one) the landing gear; the flight is judged against the
- * SHOL's rejection criteria at every step, the touchdown and the task's
- * adequate tolerances. sim/fly_task.c has the order of the causes. */
-struct shol_criteria;
-struct shol_flight;
-typedef struct sim_fly_task sim_fly_task;
-typedef struct sim_fly_task_opts {
-    double rate_hz;        /* the step rate (200) */
-    int turbulence;        /* 1 (default): the field's turbulence, seeded by the flight's seed */
-    sim_sea sea;           /* the ship's sea and speed (calm by default), seeded by seed + 1 */
-    double station_S_m[3]; /* the start: the trimmed hover with the CG here */
-    double max_s;          /* the longest flight (s); 0: the task's length (sim_task_length_s) */
-    /* The replay pilot instead of the automated one (sim/pilot_replay.c):
-     * it re-flies this log (kept by the caller; NULL: none, the default)
-     * and the task may be NULL; the flight fails farther than
-     * replay_pos_m (2 m) from the recorded run, or at a touchdown sink
-     * above replay_sink_mps (2 m/s). */
-    const sim_replay_log *replay;
-    double replay_pos_m, replay_sink_mps;
-    int replay_feed_controls; /* 1: the recorded controls fed forward too (sim_pilot_replay_opts) */
-    /* How the criteria judge the flight (shol_flown_judge): the steady
-     * limits on the phase's running mean over window_s (3 s; 0: every
-     * step's values), the transient ones (a control at its stop, an
-     * attitude past the limit times 1 + transient_frac, 0.5) at each step. */
-    double window_s, transient_frac;
-} sim_fly_task_opts;
-void sim_fly_task_opts_default(sim_fly_task_opts *o);
-/* ac (and o->replay) kept by the caller; the rest is copied. NULL with err. */
-sim_fly_task *sim_fly_task_create(const hfm_aircraft *ac, const core_ship *ship, const sim_task *task,
-                                  const struct shol_criteria *crit, const sim_fly_task_opts *o, const core_log *log,
-                                  core_err *err);
-void sim_fly_task_destroy(sim_fly_task *t);
-/* Fly once in field (the direction's ship-only field, NULL: the free
- * stream): 0 flown (out filled, passed or not), 1 no trim at the start
- * (out->cause "no trim"), < 0 fatal (sim_fly_task_last_error says why). */
-int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
-                     const struct cfd_field *field, struct shol_flight *out);
-const char *sim_fly_task_last_error(const sim_fly_task *t);
-/* The last flight's task result and final state. */
-typedef struct sim_fly_task_last {
-    sim_task_result result;        /* the automated pilot's */
-    sim_replay_result replay;      /* the replay pilot's */
-    sim_flight_out end;
-} sim_fly_task_last;
-void sim_fly_task_last_get(const sim_fly_task *t, sim_fly_task_last *out);
-/* A shol_fly_fn (user: a sim_fly_task_user): the field of the direction
- * from field (NULL: always the free stream; never asked at 0 m/s, where a
- * field scales to still air), then sim_fly_task_run. */
-typedef int (*sim_fly_field_fn)(void *user, double wod_dir_rad, const struct cfd_field **out, core_err *err);
-typedef struct sim_fly_task_user {
-    sim_fly_task *task;
-    sim_fly_field_fn field; /* 0 and *out (NULL: the free stream), or < 0 with err */
-    void *field_user;
-} sim_fly_task_user;
-int sim_fly_task_shol(void *user, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
-                      struct shol_flight *out);
-
 /* -------------- the coupled rotor interaction (sim/interaction.c, issue 25) */
 /* An interaction over a rotor disk projected on the flight model's inflow
  * modes (Pitt-Peters: uniform and first harmonics, linear in r), the hub
