@@ -708,6 +708,20 @@ int sim_world_build(const sim_scenario *sc, const hfm_aircraft *ac, const sim_wo
                     const core_log *log, sim_world *w, core_err *err);
 void sim_world_free(sim_world *w);
 
+/* ------------------------------ a trajectory as CSV (sim/trajectory.c) */
+/* Rows of a flight's outputs, every rate_hz / row_rate_hz steps, written
+ * to PATH.tmpPID and renamed into place by sim_traj_commit (a trajectory
+ * destroyed uncommitted leaves nothing). A NULL sim_traj takes every call
+ * and writes nothing (no trajectory asked for). */
+typedef struct sim_traj sim_traj;
+/* The header written. NULL with err. */
+sim_traj *sim_traj_create(const char *path, double rate_hz, double row_rate_hz, core_err *err);
+/* o's row at its step's turn (always: whatever the step). 0, or < 0 with err. */
+int sim_traj_row(sim_traj *t, const sim_flight_out *o, int always, core_err *err);
+/* Flushed, synced and renamed into place: 0, or < 0 with err. */
+int sim_traj_commit(sim_traj *t, core_err *err);
+void sim_traj_destroy(sim_traj *t);
+
 /* ------------------------ a pilot, and the one flight runner (sim/runner.c) */
 /* A pilot gives each step's inputs from the flight's output (the state
  * after the last step). Its implementations: the automated pilot
