@@ -191,6 +191,23 @@ void couple_settings_scenario(couple_settings *cs, const struct sim_scenario *sc
 /* The last fatal error of couple_shol_trim. */
 const char *couple_last_error(const couple_ctx *c);
 
+/* ------------- a flight's airwake from the database (couple/flight_fields.c) */
+struct cfd_field;
+struct sim_interaction;
+/* The ship-only field of sc's ship, aircraft and grid for WOD direction
+ * dir_rad: 1 with *out loaded (the caller's), 0 when not ready (requested
+ * from the database's builder where absent; a failed build stays failed),
+ * -1 with err. */
+int couple_flight_field(awdb *db, const sim_scenario *sc, double dir_rad, struct cfd_field **out, core_err *err);
+/* The coupled rotor interaction at WOD v, dir_rad near sc's station
+ * (couple/flight_fields.c says which): 1 with cf[0] the coupled field,
+ * cf[1] its isolated rotor's, for a deck-zone pair cf[2], cf[3] the whole
+ * domain's ship-only field and the zone's (NULL otherwise), all the
+ * caller's, and *inter their interaction (the caller's); 0 none; -1 with
+ * err. */
+int couple_flight_coupled(awdb *db, const sim_scenario *sc, double v, double dir_rad, struct cfd_field *cf[4],
+                          struct sim_interaction **inter, core_err *err);
+
 /* ------------------ one task flown for the flown SHOL (couple/fly_task.c) */
 /* The automated pilot flies a task headless at one WOD point with one
  * seed, in the ship's motion, the field's turbulence and (where the
