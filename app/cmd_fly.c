@@ -13,7 +13,16 @@
  * ship_state_t and sim_status_t; --log records every message sent and
  * received, --replay-inputs flies a log's pilot inputs and controls at
  * their logged steps. LCM is on in real time (the library's default URL
- * or --lcm URL) and off with --fast unless --lcm is given. */
+ * or --lcm URL) and off with --fast unless --lcm is given.
+ *
+ * What is here: the flags (a table), the world from the flags
+ * (sim_world_build over the scenario, the fields from the database:
+ * couple_flight_field, couple_flight_coupled), and one function per
+ * pilot: the stations (the loop's own pilot), the automated pilot
+ * (--pilot auto) and the replay pilot (--pilot replay), each flown by the
+ * one runner (sim_run) with the same observer (the trajectory's rows,
+ * sim_traj; the database polled; the render's frames; the progress
+ * line) and its start and end said. */
 #include "awdb.h"
 #include "cfd.h"
 #include "cmds.h"
