@@ -900,9 +900,11 @@ void sim_loop_set_inputs(sim_loop *l, const sim_flight_inputs *in);
  * SIM_RUN_LENGTH at the duration, SIM_RUN_ENDED at a crash (the loop to
  * be finished as at the end). */
 void sim_loop_run_opts(sim_loop *l, sim_run_opts *o);
-/* The loop's own pilot: the stations by their rules at the run clock, or
- * with opts.pilot_source_id the inputs of sim_loop_set_inputs. A pilot
- * of the caller's given to sim_run instead flies as pilot_source_id. */
+/* The loop's own pilot: the stations by their rules at the run clock (the
+ * messages LCM brought, or with opts.replay_path the replayed log's at
+ * their logged steps), or with opts.pilot_source_id the inputs of
+ * sim_loop_set_inputs. A pilot of the caller's given to sim_run instead
+ * flies as pilot_source_id. */
 sim_pilot sim_loop_own_pilot(sim_loop *l);
 /* The end: a last status (STOPPED), the log flushed, synced and renamed.
  * 0, or < 0 with err (the log is then removed). */
