@@ -201,8 +201,8 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
     sim_replay_log *ref = NULL;
     if (replay ? !(ref = sim_replay_log_load(task_path, err)) : sim_task_load_ship(task_path, &sc->ship, &task, err) != 0)
         return -1;
-    sim_fly_task_opts fo;
-    sim_fly_task_opts_default(&fo);
+    couple_fly_task_opts fo;
+    couple_fly_task_opts_default(&fo);
     fo.replay = ref;
     fo.replay_feed_controls = feed_controls;
     fo.turbulence = sc->turbulence;
@@ -218,7 +218,7 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
         fo.transient_frac = sc->flown_transient_frac;
     if (!isnan(window_s))
         fo.window_s = window_s;
-    sim_fly_task *ft = sim_fly_task_create(ac, &sc->ship, replay ? NULL : &task, &set->criteria, &fo, log, err);
+    couple_fly_task *ft = couple_fly_task_create(ac, &sc->ship, replay ? NULL : &task, &set->criteria, &fo, log, err);
     if (!ft) {
         sim_replay_log_destroy(ref);
         return -1;
@@ -230,7 +230,7 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
     if (!fc)
         goto out;
     pilot_fields pf = {fc, sc->ship.name, hfm_aircraft_name(ac), cs->grid, cs->ref_speed_mps};
-    sim_fly_task_user fu = {ft, pilot_field, &pf};
+    couple_fly_task_user fu = {ft, pilot_field, &pf};
     shol_flown_settings fs;
     shol_flown_settings_default(&fs);
     if (seeds > 0)
@@ -242,12 +242,12 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
             replay ? "the replay pilot re-flies" : "the automated pilot flies", task_path, fs.n_seeds,
             fs.n_seeds == 1 ? "" : "s", fo.sea.state, fo.turbulence ? "on" : "off",
             fo.window_s > 0 ? "a running mean" : "every step");
-    if (shol_flown_run(&fs, trim, sim_fly_task_shol, &fu, on_progress_flown, &pc, log, &fr, err) != 0) {
-        if (sim_fly_task_last_error(ft)[0])
+    if (shol_flown_run(&fs, trim, couple_fly_task_shol, &fu, on_progress_flown, &pc, log, &fr, err) != 0) {
+        if (couple_fly_task_last_error(ft)[0])
         {
             char why[512];
             snprintf(why, sizeof why, "%.500s", err->msg);
-            snprintf(err->msg, sizeof err->msg, "%.500s: %.500s", why, sim_fly_task_last_error(ft));
+            snprintf(err->msg, sizeof err->msg, "%.500s: %.500s", why, couple_fly_task_last_error(ft));
         }
         goto out;
     }
@@ -258,7 +258,7 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
 out:
     shol_flown_result_free(&fr);
     awdb_fields_destroy(fc);
-    sim_fly_task_destroy(ft);
+    couple_fly_task_destroy(ft);
     sim_replay_log_destroy(ref);
     return rc;
 }

@@ -1305,3 +1305,18 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
         p->r.stop_steps++;
     return stop;
 }
+
+/* ---------------------------------------------- as a sim_pilot (runner) */
+static int auto_pilot_step(void *self, const sim_flight_out *out, sim_flight_inputs *in)
+{
+    sim_pilot_auto *p = self;
+    sim_pilot_auto_step(p, out, in);
+    return p->r.done ? 1 : 0;
+}
+
+sim_pilot sim_pilot_auto_pilot(sim_pilot_auto *p)
+{
+    static const sim_pilot_ops ops = {"auto", auto_pilot_step};
+    sim_pilot pl = {&ops, p};
+    return pl;
+}

@@ -942,3 +942,17 @@ int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_fl
 }
 
 void sim_pilot_replay_result(const sim_pilot_replay *p, sim_replay_result *r) { *r = p->r; }
+
+/* ---------------------------------------------- as a sim_pilot (runner) */
+static int replay_pilot_step(void *self, const sim_flight_out *out, sim_flight_inputs *in)
+{
+    sim_pilot_replay_step(self, out, in);
+    return 0;
+}
+
+sim_pilot sim_pilot_replay_pilot(sim_pilot_replay *p)
+{
+    static const sim_pilot_ops ops = {"replay", replay_pilot_step};
+    sim_pilot pl = {&ops, p};
+    return pl;
+}
