@@ -863,12 +863,12 @@ out:
  * deck (sim/pilot_replay.c) headless, as fast as it can, for the log's
  * length unless --duration; the trajectory to --csv; how far it stayed
  * from the reference said at the end, per phase. 0, or < 0 with err. */
-static int fly_replay(fly_ctx *c, const sim_replay_log *ref, core_err *err)
+static int fly_replay(fly_ctx *c, const sim_log *ref, core_err *err)
 {
     const fly_args *o = c->o;
     fly_world *w = &c->w;
-    sim_replay_info info;
-    sim_replay_log_info(ref, &info);
+    sim_log_summary info;
+    sim_log_info(ref, &info);
     sim_pilot_replay_opts po;
     sim_pilot_replay_opts_default(&po);
     po.pilot.rate_hz = o->rate_hz;
@@ -1038,12 +1038,12 @@ int cmd_fly(int argc, char **argv)
     fly_render fr; /* --render: the live renderer */
     memset(&fr, 0, sizeof fr);
     rc = 1;
-    sim_replay_log *replay_ref = NULL; /* --pilot replay: read first, the flight starts where it does */
+    sim_log *replay_ref = NULL; /* --pilot replay: read first, the flight starts where it does */
     if (o.replay_log) {
-        sim_replay_sample s0;
-        if (!(replay_ref = sim_replay_log_load(o.replay_log, &err)))
+        sim_log_sample s0;
+        if (!(replay_ref = sim_log_load(o.replay_log, &err)))
             goto fail;
-        sim_replay_log_sample(replay_ref, 0.0, &s0);
+        sim_log_sample_at(replay_ref, 0.0, &s0);
         memcpy(o.start_S_m, s0.pos_S_m, sizeof o.start_S_m);
         o.has_start = 1;
     }
@@ -1209,6 +1209,6 @@ done:
     sim_loop_destroy(loop);
     world_free(&ctx.w);
     awdb_close(ctx.db);
-    sim_replay_log_destroy(replay_ref);
+    sim_log_destroy(replay_ref);
     return rc;
 }

@@ -227,12 +227,12 @@ static int run_replay(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad,
     sim_ship_motion *motion = NULL;
     sim_flight *fl = NULL;
     sim_pilot_replay *pilot = NULL;
-    const sim_replay_log *ref = t->o.replay;
-    sim_replay_info info;
-    sim_replay_log_info(ref, &info);
-    sim_replay_sample s0, s1;
-    sim_replay_log_sample(ref, info.t0_s, &s0);
-    sim_replay_log_sample(ref, info.t1_s, &s1);
+    const sim_log *ref = t->o.replay;
+    sim_log_summary info;
+    sim_log_info(ref, &info);
+    sim_log_sample s0, s1;
+    sim_log_sample_at(ref, info.t0_s, &s0);
+    sim_log_sample_at(ref, info.t1_s, &s1);
     int st0 = flight_start(t, wod_speed_mps, wod_dir_rad, seed, field, s0.pos_S_m, 1, &motion, &fl, &err);
     if (st0 > 0) /* the replay pilot's gains are the bare airframe's: the SAS off */
         goto no_trim;
@@ -261,12 +261,12 @@ static int run_replay(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad,
         (void)sim_pilot_replay_set_trim_state(pilot, &o);
     int exceeded = 0, crashed = 0, touched = 0;
     double prev_z = o.pos_S_m[2], prev_t = o.t_s;
-    sim_replay_sample sm;
-    sim_replay_log_sample(ref, o.t_s, &sm);
+    sim_log_sample sm;
+    sim_log_sample_at(ref, o.t_s, &sm);
     track(&out->track, &o, sim_replay_phase_name(sm.phase), &exceeded);
     for (long k = 0; k < n && !exceeded && !crashed; k++) {
         sim_pilot_replay_step(pilot, &o, &in);
-        sim_replay_log_sample(ref, o.t_s, &sm);
+        sim_log_sample_at(ref, o.t_s, &sm);
         const char *phase = sim_replay_phase_name(sm.phase);
         int st = sim_flight_step(fl, &in, &o, &err);
         if (step_crash(st, &o, phase, out->cause, sizeof out->cause))
