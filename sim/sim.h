@@ -861,6 +861,10 @@ int sim_task_load_ship(const char *path, const core_ship *ship, sim_task *t, cor
 int sim_task_start_S(const char *path, const core_ship *ship, double start_S_m[3], core_err *err);
 /* The task's length: each phase's longest time, and a landing's settling. */
 double sim_task_length_s(const sim_task *t);
+/* The phases of a task given by its legacy fields alone (target_S_m,
+ * duration_s, the bands; land: descent_mps): a hold, and for land a
+ * descend after it (no time asked); nphases set. */
+void sim_task_legacy_phases(sim_task *t);
 
 typedef struct sim_pilot_auto sim_pilot_auto;
 typedef struct sim_pilot_auto_opts {
