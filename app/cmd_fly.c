@@ -808,12 +808,12 @@ out:
  * length unless --duration; the trajectory to --csv; how far it stayed
  * from the reference said at the end, per phase. 0, 1 when a crash or a
  * roll-over ended the flight (said), or < 0 with err. */
-static int fly_replay(fly_ctx *c, const sim_replay_log *ref, core_err *err)
+static int fly_replay(fly_ctx *c, const sim_log *ref, core_err *err)
 {
     const fly_args *o = c->o;
     fly_world *w = &c->w;
-    sim_replay_info info;
-    sim_replay_log_info(ref, &info);
+    sim_log_summary info;
+    sim_log_info(ref, &info);
     sim_pilot_replay_opts po;
     sim_pilot_replay_opts_default(&po);
     po.pilot.rate_hz = o->rate_hz;
@@ -981,12 +981,12 @@ int cmd_fly(int argc, char **argv)
     ctx.log = &log;
     ctx.tty = tty;
     rc = -1;
-    sim_replay_log *replay_ref = NULL; /* --pilot replay: read first, the flight starts where it does */
+    sim_log *replay_ref = NULL; /* --pilot replay: read first, the flight starts where it does */
     if (o.replay_log) {
-        sim_replay_sample s0;
-        if (!(replay_ref = sim_replay_log_load(o.replay_log, &err)))
+        sim_log_sample s0;
+        if (!(replay_ref = sim_log_load(o.replay_log, &err)))
             goto done;
-        sim_replay_log_sample(replay_ref, 0.0, &s0);
+        sim_log_sample_at(replay_ref, 0.0, &s0);
         memcpy(o.start_S_m, s0.pos_S_m, sizeof o.start_S_m);
         o.has_start = 1;
     }
@@ -1006,6 +1006,6 @@ done:
     sim_loop_destroy(ctx.loop);
     world_free(&ctx.w);
     awdb_close(ctx.db);
-    sim_replay_log_destroy(replay_ref);
+    sim_log_destroy(replay_ref);
     return rc;
 }

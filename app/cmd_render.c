@@ -8,7 +8,7 @@
  *   disim render SCENARIO.ini -o VIEW.png [--eye-S X,Y,Z] [--target-S X,Y,Z]
  *                [--size WxH] [--fov-deg F]
  *
- * A log (disim fly --log) is drawn from its states (sim_replay_log_state)
+ * A log (disim fly --log) is drawn from its states (sim_log_state_at)
  * in the scene its run_info_t names (app/scene.c): DIR/CAMERA_NNNNNN.png
  * and DIR/CAMERA.mp4 per camera (ffmpeg), each written to a temporary
  * name and renamed. A progress line on a terminal, none in a log. */
@@ -136,10 +136,10 @@ static int render_still(const render_args *a)
 
 /* ------------------------------------------------------------- a log */
 /* The run's information: the log's run_info_t, or --scenario's. */
-static int run_info_of(const render_args *a, const sim_replay_log *L, sim_run_info *ri, core_err *err)
+static int run_info_of(const render_args *a, const sim_log *L, sim_run_info *ri, core_err *err)
 {
     if (!a->scenario) {
-        if (sim_replay_log_run_info(L, ri) == 0)
+        if (sim_log_run_info(L, ri) == 0)
             return 0;
         return core_err_set(err, -1,
                             "%s: no run_info_t in the log (written by a disim before run information was "
@@ -223,7 +223,7 @@ static void progress(int tty, const char *cam, long done, long total, double t0_
 
 /* One camera's frames and video. 0, or < 0 with err (nothing of the
  * video left; the PNGs written so far stay, each whole). */
-static int render_camera_run(const render_args *a, app_scene *s, const sim_replay_log *L, render_camera_kind cam,
+static int render_camera_run(const render_args *a, app_scene *s, const sim_log *L, render_camera_kind cam,
                              render_ctx *rc, uint8_t *img, double t0, long n, int tty, core_err *err)
 {
     const char *name = render_camera_name(cam);
@@ -243,7 +243,7 @@ static int render_camera_run(const render_args *a, app_scene *s, const sim_repla
         sim_log_state ls;
         render_state st;
         render_view view;
-        sim_replay_log_state(L, t0 + i / a->fps, &ls);
+        sim_log_state_at(L, t0 + i / a->fps, &ls);
         app_render_state_from_log(s, &ls, &st);
         if (render_camera_place(cam, &s->scene, &st, &view, err) != 0 ||
             render_frame(rc, &s->scene, &st, &view, img, err) != 0)
@@ -288,7 +288,7 @@ static int render_log(const render_args *a)
     render_ctx *rc = NULL;
     uint8_t *img = NULL;
     int ret = 1;
-    sim_replay_log *L = sim_replay_log_load(a->in, &err);
+    sim_log *L = sim_log_load(a->in, &err);
     sim_run_info ri;
     if (!L || run_info_of(a, L, &ri, &err) != 0 || app_scene_open(&s, &ri, a->overlays, &log, &err) != 0)
         goto fail;
@@ -303,8 +303,8 @@ static int render_log(const render_args *a)
                 off, a->scenario ? a->scenario : "its run_info_t", ri.seed, ri.sea.state);
         s.scene.sea = NULL;
     }
-    sim_replay_info info;
-    sim_replay_log_info(L, &info);
+    sim_log_summary info;
+    sim_log_info(L, &info);
     double t0 = fmax(info.t0_s, a->from_s), t1 = fmin(info.t1_s, a->to_s);
     if (!(t1 >= t0)) {
         core_err_set(&err, -1, "--from %g / --to %g: outside the log's %.2f to %.2f s", a->from_s, a->to_s, info.t0_s,
@@ -350,7 +350,7 @@ done:
     render_destroy(rc);
     free(img);
     app_scene_close(&s);
-    sim_replay_log_destroy(L);
+    sim_log_destroy(L);
     return ret;
 }
 

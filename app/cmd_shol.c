@@ -198,8 +198,8 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
     size_t tl = strlen(task_path);
     int replay = !(tl >= 4 && !strcmp(task_path + tl - 4, ".ini"));
     sim_task task;
-    sim_replay_log *ref = NULL;
-    if (replay ? !(ref = sim_replay_log_load(task_path, err)) : sim_task_load_ship(task_path, &sc->ship, &task, err) != 0)
+    sim_log *ref = NULL;
+    if (replay ? !(ref = sim_log_load(task_path, err)) : sim_task_load_ship(task_path, &sc->ship, &task, err) != 0)
         return -1;
     couple_fly_task_opts fo;
     couple_fly_task_opts_default(&fo);
@@ -220,7 +220,7 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
         fo.window_s = window_s;
     couple_fly_task *ft = couple_fly_task_create(ac, &sc->ship, replay ? NULL : &task, &set->criteria, &fo, log, err);
     if (!ft) {
-        sim_replay_log_destroy(ref);
+        sim_log_destroy(ref);
         return -1;
     }
     awdb_fields *fc = pilot_fields_open(db, cs, log, err);
@@ -259,7 +259,7 @@ out:
     shol_flown_result_free(&fr);
     awdb_fields_destroy(fc);
     couple_fly_task_destroy(ft);
-    sim_replay_log_destroy(ref);
+    sim_log_destroy(ref);
     return rc;
 }
 

@@ -155,10 +155,10 @@ void app_render_state_from_log(const app_scene *s, const sim_log_state *l, rende
     rs->flags = l->on_deck ? (unsigned)DISIM_SIM_STATUS_T_FLAG_ON_DECK : 0u;
 }
 
-double app_scene_check_log(const app_scene *s, const sim_replay_log *log)
+double app_scene_check_log(const app_scene *s, const sim_log *log)
 {
-    sim_replay_info info;
-    sim_replay_log_info(log, &info);
+    sim_log_summary info;
+    sim_log_info(log, &info);
     double rate = s->info.state_rate_hz > 0.0 ? s->info.state_rate_hz : 50.0, worst = 0.0;
     long n = (long)llround((info.t1_s - info.t0_s) * rate);
     for (int k = 0; k <= 20; k++) {
@@ -166,7 +166,7 @@ double app_scene_check_log(const app_scene *s, const sim_replay_log *log)
         double t = info.t0_s + (double)(n * k / 20) / rate;
         sim_log_state l;
         sim_ship_state ss;
-        sim_replay_log_state(log, t, &l);
+        sim_log_state_at(log, t, &l);
         if (sim_ship_motion_at(s->sea, t, &ss) != 0)
             return INFINITY;
         worst = fmax(worst, core_vec3_norm(core_vec3_sub(l.ship.pos_E_m, ss.pose.pos_E_m)));

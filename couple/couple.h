@@ -271,7 +271,7 @@ typedef struct couple_fly_task_opts {
      * and the task may be NULL; the flight fails farther than
      * replay_pos_m (2 m) from the recorded run, or at a touchdown sink
      * above replay_sink_mps (2 m/s). */
-    const sim_replay_log *replay;
+    const sim_log *replay;
     double replay_pos_m, replay_sink_mps;
     int replay_feed_controls; /* 1: the recorded controls fed forward too (sim_pilot_replay_opts) */
     /* How the criteria judge the flight (shol_flown_judge): the steady

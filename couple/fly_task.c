@@ -223,7 +223,7 @@ typedef struct judge {
     const couple_fly_task *t;
     struct shol_flight *out;
     const sim_pilot_auto *pilot;    /* the automated pilot's flight: its phase */
-    const sim_replay_log *ref;      /* the replay pilot's: the reference's phase */
+    const sim_log *ref;      /* the replay pilot's: the reference's phase */
     int exceeded, crashed, touched; /* touched: the replay's first wheel on the deck */
     double prev_z, prev_t;          /* the replay's state before the step */
     double end_S_m[3];              /* the reference's last position */
@@ -253,8 +253,8 @@ static int judge_replay(void *user, const sim_flight_out *o, int st, core_err *e
 {
     judge *b = user;
     (void)err;
-    sim_replay_sample sm;
-    sim_replay_log_sample(b->ref, b->prev_t, &sm);
+    sim_log_sample sm;
+    sim_log_sample_at(b->ref, b->prev_t, &sm);
     const char *phase = sim_replay_phase_name(sm.phase);
     if (step_crash(st, o, phase, b->out->cause, sizeof b->out->cause))
         b->crashed = 1;
@@ -299,12 +299,12 @@ static void fly_judged(const couple_fly_task *t, sim_world *w, const sim_pilot *
 static int run_replay(couple_fly_task *t, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
                       const struct cfd_field *field, struct shol_flight *out, core_err *err)
 {
-    const sim_replay_log *ref = t->o.replay;
-    sim_replay_info info;
-    sim_replay_log_info(ref, &info);
-    sim_replay_sample s0, s1;
-    sim_replay_log_sample(ref, info.t0_s, &s0);
-    sim_replay_log_sample(ref, info.t1_s, &s1);
+    const sim_log *ref = t->o.replay;
+    sim_log_summary info;
+    sim_log_info(ref, &info);
+    sim_log_sample s0, s1;
+    sim_log_sample_at(ref, info.t0_s, &s0);
+    sim_log_sample_at(ref, info.t1_s, &s1);
     sim_world w;
     /* the replay pilot's gains are the bare airframe's: the SAS off */
     int rc = world_start(t, wod_speed_mps, wod_dir_rad, seed, field, s0.pos_S_m, 1, &w, err);
@@ -330,8 +330,8 @@ static int run_replay(couple_fly_task *t, double wod_speed_mps, double wod_dir_r
     if (!o.on_deck)
         (void)sim_pilot_replay_set_trim_state(p, &o);
     judge b = {t, out, NULL, ref, 0, 0, 0, o.pos_S_m[2], o.t_s, {s1.pos_S_m[0], s1.pos_S_m[1], s1.pos_S_m[2]}};
-    sim_replay_sample sm;
-    sim_replay_log_sample(ref, o.t_s, &sm);
+    sim_log_sample sm;
+    sim_log_sample_at(ref, o.t_s, &sm);
     sim_pilot pilot = sim_pilot_replay_pilot(p);
     fly_judged(t, &w, &pilot, t->o.max_s > 0.0 ? t->o.max_s : info.t1_s, judge_replay, &b,
                sim_replay_phase_name(sm.phase), &o);

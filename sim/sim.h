@@ -993,6 +993,10 @@ int sim_task_load_ship(const char *path, const core_ship *ship, sim_task *t, cor
 int sim_task_start_S(const char *path, const core_ship *ship, double start_S_m[3], core_err *err);
 /* The task's length: each phase's longest time, and a landing's settling. */
 double sim_task_length_s(const sim_task *t);
+/* The phases of a task given by its legacy fields alone (target_S_m,
+ * duration_s, the bands; land: descent_mps): a hold, and for land a
+ * descend after it (no time asked); nphases set. */
+void sim_task_legacy_phases(sim_task *t);
 
 typedef struct sim_pilot_auto sim_pilot_auto;
 typedef struct sim_pilot_auto_opts {
@@ -1120,15 +1124,35 @@ void sim_pilot_auto_result(const sim_pilot_auto *p, sim_task_result *r);
  * result says done (touched down and settled, or its last hold flown). */
 sim_pilot sim_pilot_auto_pilot(sim_pilot_auto *p);
 
-/* ---------------------------- the replay pilot (sim/pilot_replay.c, issue 26) */
-/* A recorded run (the LCM event log of `disim fly --log`) as a reference:
- * the helicopter's position, velocity and heading relative to the ship's
- * landing spot (S) as functions of the flight's time, and the recorded
- * pilot's controls; the replay pilot re-flies it through the automated
- * pilot's loops in another wind over deck and sea state, relative to its
- * own deck. sim/pilot_replay.c has the model and the log's rules. */
-typedef struct sim_replay_log sim_replay_log;
-typedef struct sim_replay_info {
+/* ------------------------------------------- the LCM log of a run (sim/log.c) */
+/* The writer: an LCM event log written whole or not at all. Events go to
+ * a new temporary file beside path, in LCM's format (the bytes of
+ * lcm_eventlog_write_event); commit flushes, syncs and renames it to
+ * path. NULL with err naming the file. */
+typedef struct sim_log_writer sim_log_writer;
+sim_log_writer *sim_log_writer_create(const char *path, core_err *err);
+/* One event: the channel (1 to 255 characters), the timestamp (the loop's
+ * run clock, us) and the message. 0, or -1 with err naming the temporary
+ * file (a failed write fails the commit too). */
+int sim_log_writer_write(sim_log_writer *w, const char *channel, int64_t utime_us, const void *data, int size,
+                         core_err *err);
+/* The events written so far. */
+long sim_log_writer_events(const sim_log_writer *w);
+/* The log flushed, synced and renamed to its path: 0, or -1 with err
+ * naming the path, the temporary file removed (nothing half-written).
+ * Once only. */
+int sim_log_writer_commit(sim_log_writer *w, core_err *err);
+/* Frees w; an uncommitted log's temporary file is removed. */
+void sim_log_writer_destroy(sim_log_writer *w);
+
+/* The reader: a recorded run (the LCM event log of `disim fly --log`) as
+ * a reference: the helicopter's position, velocity and heading relative
+ * to the ship's landing spot (S) as functions of the flight's time, and
+ * the recorded pilot's controls (the replay pilot re-flies it, relative
+ * to its own deck); and its states for drawing. sim/log.c has the
+ * reference's model and the log's rules. */
+typedef struct sim_log sim_log;
+typedef struct sim_log_summary {
     long n_events;      /* every event in the log */
     long n_states;      /* heli_state_t (each with its ship_state_t): the reference's samples */
     long n_ship;        /* ship_state_t */
@@ -1137,38 +1161,36 @@ typedef struct sim_replay_info {
     int n_stations;     /* stations heard (2: two or more) */
     char station[SIM_STATION_ID_MAX]; /* the one station's id ("" otherwise) */
     double t0_s, t1_s;  /* the first and the last state's time */
-} sim_replay_info;
+} sim_log_summary;
 enum { SIM_REPLAY_HOVER = 0, SIM_REPLAY_TRANSLATE = 1, SIM_REPLAY_DESCEND = 2, SIM_REPLAY_ON_DECK = 3,
        SIM_REPLAY_NPHASE = 4 };
 /* The reference at one time (plain data). */
-typedef struct sim_replay_sample {
+typedef struct sim_log_sample {
     double t_s;
     double pos_S_m[3];        /* the CG from the landing spot, in S */
     double vel_S_mps[3];      /* d pos_S_m / dt: relative to the deck, in S (0 after the end) */
     double acc_S_mps2[3];     /* d vel_S_mps / dt (central differences over the samples) */
     double heading_rad;       /* from the bow, + to starboard */
-    int phase;                /* SIM_REPLAY_*: of the reference's motion (sim/pilot_replay.c) */
+    int phase;                /* SIM_REPLAY_*: of the reference's motion (sim/log.c) */
     int on_deck;              /* the recorded state has a wheel on the deck */
     /* the recorded state as sim_flight_out has it */
     double vel_mean_S_mps[3]; /* relative to the ship's mean motion, in S */
     double euler_E_rad[3], rate_B_radps[3];
     double C_ES[9];
     double controls_pct[4];   /* the recorded controls of the step from t_s: collective, long, lat, pedal */
-} sim_replay_sample;
+} sim_log_sample;
 /* Read a log. NULL with err naming the file and, for a bad event, its
  * number (from 1), channel and byte offset: missing, not a file, empty,
  * not an event log, truncated, corrupt, a state failing
  * disim_lcm_check_raw or not finite, fewer than two heli_state_t, a state
  * without the ship state of its time, states not in time order (a reset
  * or a load: one flight is expected). */
-sim_replay_log *sim_replay_log_load(const char *path, core_err *err);
-void sim_replay_log_destroy(sim_replay_log *r);
-void sim_replay_log_info(const sim_replay_log *r, sim_replay_info *i);
+sim_log *sim_log_load(const char *path, core_err *err);
+void sim_log_destroy(sim_log *r);
+void sim_log_info(const sim_log *r, sim_log_summary *i);
 /* The reference at t_s, linear between samples, held at the nearest end
  * outside them. 0 inside [t0_s, t1_s], 1 outside. */
-int sim_replay_log_sample(const sim_replay_log *r, double t_s, sim_replay_sample *s);
-/* "hover", "translate", "descend", "on deck"; "all" for SIM_REPLAY_NPHASE. */
-const char *sim_replay_phase_name(int phase);
+int sim_log_sample_at(const sim_log *r, double t_s, sim_log_sample *s);
 
 /* A logged instant for drawing it (render/, disim render LOG): the states'
  * poses in E as published, linear between samples (the attitude by
@@ -1190,12 +1212,18 @@ typedef struct sim_log_state {
 } sim_log_state;
 /* The log's state at t_s: 0 inside [t0_s, t1_s], 1 outside (held at the
  * nearer end). */
-int sim_replay_log_state(const sim_replay_log *r, double t_s, sim_log_state *s);
+int sim_log_state_at(const sim_log *r, double t_s, sim_log_state *s);
 
 /* The run information of the log's first run_info_t: 0, or 1 when the log
  * has none (a log of an older disim: draw it with --scenario). */
-int sim_replay_log_run_info(const sim_replay_log *r, sim_run_info *ri);
+int sim_log_run_info(const sim_log *r, sim_run_info *ri);
 
+/* ------------------------------------------ the replay pilot (sim/pilot_replay.c) */
+/* Re-flies a recorded run (sim_log) through the automated pilot's loops
+ * in another wind over deck and sea state, relative to its own deck.
+ * sim/pilot_replay.c has the model. */
+/* "hover", "translate", "descend", "on deck"; "all" for SIM_REPLAY_NPHASE. */
+const char *sim_replay_phase_name(int phase);
 typedef struct sim_pilot_replay sim_pilot_replay;
 typedef struct sim_pilot_replay_opts {
     sim_pilot_auto_opts pilot; /* the automated pilot's loops (rate, delay, the WOD of the gains) */
@@ -1223,7 +1251,7 @@ typedef struct sim_replay_result {
 /* A replay pilot for ref (kept by the caller) on aircraft ac, from the
  * flight's trimmed inputs; the flight should start at the reference's
  * start (its first sample's pos_S_m) with the SAS off. NULL with err. */
-sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_replay_log *ref,
+sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_log *ref,
                                           const sim_pilot_replay_opts *o, const sim_flight_inputs *trim,
                                           const core_log *log, core_err *err);
 /* The attitude references from the flight's own trim (its state s0 right

@@ -164,7 +164,7 @@ static double hover_pitch(const double station[3])
     return th;
 }
 
-static int replay(const sim_replay_log *ref, const shol_criteria *c, double pos_m, double v_mps, int sea_state,
+static int replay(const sim_log *ref, const shol_criteria *c, double pos_m, double v_mps, int sea_state,
                   shol_flight *out)
 {
     couple_fly_task_opts o;
@@ -344,7 +344,7 @@ int main(void)
     if (lfd >= 0)
         close(lfd);
     CHECK(record_hover(logp) == 0);
-    sim_replay_log *ref = sim_replay_log_load(logp, &err);
+    sim_log *ref = sim_log_load(logp, &err);
     CHECK(ref != NULL);
     if (ref) {
         shol_flight rp;
@@ -358,7 +358,7 @@ int main(void)
         show("replay, pitch limit below the trim", rc, &rp);
         CHECK(rc == 0 && !rp.pass && strcmp(rp.cause, "pitch (3 s mean) in hover") == 0 &&
               fabs(rp.flown_s - 3.0) < 0.01);
-        sim_replay_log_destroy(ref);
+        sim_log_destroy(ref);
     }
     unlink(logp);
 
