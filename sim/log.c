@@ -73,6 +73,7 @@
 #define LOG_MAGIC 0xEDA1DA01u
 #define HDR_BYTES 28 /* sync word, event number, timestamp, channel and data lengths */
 
+/* ----------------------------------------------------------------- the reader */
 /* one recorded state (the heli and ship messages of one utime) */
 typedef struct rec_state {
     double t_s;
@@ -117,7 +118,6 @@ struct sim_log {
     sim_run_info run_info; /* the first run_info_t */
 };
 
-/* ------------------------------------------------------------ growable arrays */
 static int grow(void **p, long *cap, long need, size_t size)
 {
     if (need <= *cap)
