@@ -53,7 +53,7 @@ check_scenarios() {
     done
 }
 
-# The main job (issue 28): the builder in the background on the database;
+# The main job: the builder in the background on the database;
 # a port-side deck landing of each combination flown in real time by the
 # automated pilot in the airwake as the builder finishes it (the best field
 # there is, a better one blended in), published on LCM and logged; the

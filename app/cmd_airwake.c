@@ -137,6 +137,82 @@ typedef struct airwake_args {
     cfd_limiter limiter;
 } airwake_args;
 
+static int parse_limiter(const char *v)
+{
+    return !strcmp(v, "vanleer") ? CFD_LIMITER_VANLEER : !strcmp(v, "minmod") ? CFD_LIMITER_MINMOD : -1;
+}
+
+/* One flag with its value v: 0, 1 after a message on a bad value, -1 not a
+ * flag with a value. */
+static int airwake_flag(airwake_args *o, const char *a, const char *v)
+{
+    double n;
+    const struct {
+        const char *flag;
+        double lo, hi, *out;
+    } num[] = {
+        {"--wod-speed-kt", 0.0, 200.0, &o->speed_kt}, {"--wod-dir-deg", -360.0, 360.0, &o->dir_deg},
+        {"--thrust-n", 0.0, 1e7, &o->thrust_N},       {"--radius-m", 0.1, 50.0, &o->radius_m},
+        {"--h-fine-m", 0.1, 5.0, &o->h_fine_m},       /* grid studies past the three levels: the focus box's spacing */
+        {"--growth", 1.01, 1.5, &o->growth},          /* grid studies: the stretching outside the focus box */
+        {"--focus-fwd-m", 0.5, 500.0, &o->focus_fwd_m}, /* grid studies: the focus box's reach forward of the deck */
+        {"--h-max-m", 0.1, 50.0, &o->h_max_m},
+    };
+    const struct {
+        const char *flag;
+        double lo, hi;
+        int *out;
+    } whole[] = {
+        {"--avg-window", 2, 1e6, &o->avg_window}, /* studies of shedding fields: how long a mean the field is */
+        {"--max-iter", 1, 1e6, &o->max_iter},
+        {"--threads", 1, 1024, &o->threads},
+    };
+    const struct {
+        const char *flag, *expect;
+        int (*parse)(const char *);
+        int *out;
+    } word[] = {
+        {"--rotor", "off, uniform or loaded", core_rotor_parse, &o->rotor},
+        {"--grid", "coarse, default or fine", core_grid_parse, &o->level},
+        {"--limiter", "vanleer or minmod", parse_limiter, NULL}, /* grid studies: one convection scheme on every grid */
+    };
+    const struct {
+        const char *flag;
+        const char **out;
+    } str[] = {{"-o", &o->out}, {"--queue", &o->queue}, {"--warm", &o->warm}, {"--zone", &o->zone}};
+    for (size_t k = 0; k < sizeof num / sizeof num[0]; k++)
+        if (!strcmp(a, num[k].flag))
+            return parse_double(a, v, num[k].lo, num[k].hi, num[k].out) ? 1 : 0;
+    for (size_t k = 0; k < sizeof whole / sizeof whole[0]; k++)
+        if (!strcmp(a, whole[k].flag)) {
+            if (parse_double(a, v, whole[k].lo, whole[k].hi, &n))
+                return 1;
+            *whole[k].out = (int)n;
+            return 0;
+        }
+    for (size_t k = 0; k < sizeof word / sizeof word[0]; k++)
+        if (!strcmp(a, word[k].flag)) {
+            int c = word[k].parse(v);
+            if (word[k].out)
+                *word[k].out = c;
+            else { /* --limiter */
+                o->limiter_fixed = 1;
+                if (c >= 0)
+                    o->limiter = (cfd_limiter)c;
+            }
+            if (c >= 0)
+                return 0;
+            fprintf(stderr, "%s: expected %s, got '%s'\n", a, word[k].expect, v);
+            return 1;
+        }
+    for (size_t k = 0; k < sizeof str / sizeof str[0]; k++)
+        if (!strcmp(a, str[k].flag)) {
+            *str[k].out = v;
+            return 0;
+        }
+    return -1;
+}
+
 /* 0 ok, 1 bad value (printed), 2 usage. */
 static int airwake_parse(int argc, char **argv, airwake_args *o)
 {
@@ -145,83 +221,14 @@ static int airwake_parse(int argc, char **argv, airwake_args *o)
     o->rotor = o->level = -1;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
-        int more = i + 1 < argc;
-        double v;
-        if (!strcmp(a, "-o") && more)
-            o->out = argv[++i];
-        else if (!strcmp(a, "--queue") && more)
-            o->queue = argv[++i];
-        else if (!strcmp(a, "--wod-speed-kt") && more) {
-            if (parse_double(a, argv[++i], 0.0, 200.0, &o->speed_kt))
-                return 1;
-        } else if (!strcmp(a, "--wod-dir-deg") && more) {
-            if (parse_double(a, argv[++i], -360.0, 360.0, &o->dir_deg))
-                return 1;
-        } else if (!strcmp(a, "--thrust-n") && more) {
-            if (parse_double(a, argv[++i], 0.0, 1e7, &o->thrust_N))
-                return 1;
-        } else if (!strcmp(a, "--radius-m") && more) {
-            if (parse_double(a, argv[++i], 0.1, 50.0, &o->radius_m))
-                return 1;
-        } else if (!strcmp(a, "--rotor") && more) {
-            const char *r = argv[++i];
-            if ((o->rotor = core_rotor_parse(r)) < 0) {
-                fprintf(stderr, "--rotor: expected off, uniform or loaded, got '%s'\n", r);
-                return 1;
-            }
-        } else if (!strcmp(a, "--grid") && more) {
-            const char *g = argv[++i];
-            if ((o->level = core_grid_parse(g)) < 0) {
-                fprintf(stderr, "--grid: expected coarse, default or fine, got '%s'\n", g);
-                return 1;
-            }
-        } else if (!strcmp(a, "--h-fine-m") && more) {
-            /* grid studies past the three levels: the focus box's spacing */
-            if (parse_double(a, argv[++i], 0.1, 5.0, &o->h_fine_m))
-                return 1;
-        } else if (!strcmp(a, "--growth") && more) {
-            /* grid studies: the stretching outside the focus box */
-            if (parse_double(a, argv[++i], 1.01, 1.5, &o->growth))
-                return 1;
-        } else if (!strcmp(a, "--focus-fwd-m") && more) {
-            /* grid studies: the focus box's reach forward of the deck */
-            if (parse_double(a, argv[++i], 0.5, 500.0, &o->focus_fwd_m))
-                return 1;
-        } else if (!strcmp(a, "--avg-window") && more) {
-            /* studies of shedding fields: how long a mean the field is */
-            if (parse_double(a, argv[++i], 2, 1e6, &v))
-                return 1;
-            o->avg_window = (int)v;
-        } else if (!strcmp(a, "--h-max-m") && more) {
-            if (parse_double(a, argv[++i], 0.1, 50.0, &o->h_max_m))
-                return 1;
-        } else if (!strcmp(a, "--limiter") && more) {
-            /* grid studies: one convection scheme on every grid */
-            const char *l = argv[++i];
-            o->limiter_fixed = 1;
-            if (!strcmp(l, "vanleer"))
-                o->limiter = CFD_LIMITER_VANLEER;
-            else if (!strcmp(l, "minmod"))
-                o->limiter = CFD_LIMITER_MINMOD;
-            else {
-                fprintf(stderr, "--limiter: expected vanleer or minmod, got '%s'\n", l);
-                return 1;
-            }
-        } else if (!strcmp(a, "--abl"))
+        int rc = i + 1 < argc ? airwake_flag(o, a, argv[i + 1]) : -1;
+        if (rc > 0)
+            return rc;
+        if (rc == 0)
+            i++;
+        else if (!strcmp(a, "--abl"))
             o->abl = 1;
-        else if (!strcmp(a, "--warm") && more)
-            o->warm = argv[++i];
-        else if (!strcmp(a, "--zone") && more)
-            o->zone = argv[++i];
-        else if (!strcmp(a, "--max-iter") && more) {
-            if (parse_double(a, argv[++i], 1, 1e6, &v))
-                return 1;
-            o->max_iter = (int)v;
-        } else if (!strcmp(a, "--threads") && more) {
-            if (parse_double(a, argv[++i], 1, 1024, &v))
-                return 1;
-            o->threads = (int)v;
-        } else if (a[0] != '-' && !o->scen)
+        else if (a[0] != '-' && !o->scen)
             o->scen = a;
         else {
             fprintf(stderr, "disim airwake: unknown or incomplete argument '%s'\n", a);

@@ -231,11 +231,16 @@ static void on_idle(void *user)
             ;
 }
 
-int cmd_airwaked(int argc, char **argv)
+/* The command line of disim airwaked. */
+typedef struct airwaked_args {
+    const char *dir, *ships;
+    long jobs, max_iter;
+    int once, use_lcm;
+} airwaked_args;
+
+/* The flags into o: 0, or 2 (usage) after the message. */
+static int airwaked_parse(int argc, char **argv, airwaked_args *o)
 {
-    const char *dir = NULL, *ships = "scenarios/ships";
-    long ncores = sysconf(_SC_NPROCESSORS_ONLN), jobs = ncores, max_iter = 0;
-    int once = 0, use_lcm = 1;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if ((!strcmp(a, "--jobs") || !strcmp(a, "--ships") || !strcmp(a, "--max-iter")) && i + 1 >= argc) {
@@ -244,39 +249,52 @@ int cmd_airwaked(int argc, char **argv)
         }
         if (!strcmp(a, "--jobs")) {
             char *end;
-            jobs = strtol(argv[++i], &end, 10);
-            if (*end || jobs < 1 || jobs > 64) {
+            o->jobs = strtol(argv[++i], &end, 10);
+            if (*end || o->jobs < 1 || o->jobs > 64) {
                 fprintf(stderr, "disim airwaked: --jobs '%s': expected 1 to 64\n", argv[i]);
                 return 2;
             }
         } else if (!strcmp(a, "--max-iter")) {
             char *end;
-            max_iter = strtol(argv[++i], &end, 10);
-            if (*end || max_iter < 10) {
+            o->max_iter = strtol(argv[++i], &end, 10);
+            if (*end || o->max_iter < 10) {
                 fprintf(stderr, "disim airwaked: --max-iter '%s': expected an integer >= 10\n", argv[i]);
                 return 2;
             }
         } else if (!strcmp(a, "--ships"))
-            ships = argv[++i];
+            o->ships = argv[++i];
         else if (!strcmp(a, "--exit-when-idle"))
-            once = 1;
+            o->once = 1;
         else if (!strcmp(a, "--no-lcm"))
-            use_lcm = 0;
+            o->use_lcm = 0;
         else if (a[0] == '-') {
             fprintf(stderr, "disim airwaked: unknown flag '%s'\n", a);
             return 2;
-        } else if (!dir)
-            dir = a;
+        } else if (!o->dir)
+            o->dir = a;
         else {
             fprintf(stderr, "disim airwaked: unexpected argument '%s'\n", a);
             return 2;
         }
     }
-    if (!dir) {
+    if (!o->dir) {
         fprintf(stderr, "usage: disim airwaked DB_DIR [--jobs N] [--ships DIR] [--max-iter N] "
                         "[--exit-when-idle] [--no-lcm]\n");
         return 2;
     }
+    return 0;
+}
+
+int cmd_airwaked(int argc, char **argv)
+{
+    long ncores = sysconf(_SC_NPROCESSORS_ONLN);
+    airwaked_args a = {NULL, "scenarios/ships", ncores, 0, 0, 1};
+    int prc = airwaked_parse(argc, argv, &a);
+    if (prc != 0)
+        return prc;
+    const char *dir = a.dir, *ships = a.ships;
+    long jobs = a.jobs, max_iter = a.max_iter;
+    int once = a.once, use_lcm = a.use_lcm;
     if (jobs < 1)
         jobs = 1;
     app_log al = {"airwaked", 0};

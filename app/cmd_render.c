@@ -8,7 +8,7 @@
  *   disim render SCENARIO.ini -o VIEW.png [--eye-S X,Y,Z] [--target-S X,Y,Z]
  *                [--size WxH] [--fov-deg F]
  *
- * A log (disim fly --log) is drawn from its states (sim_replay_log_state)
+ * A log (disim fly --log) is drawn from its states (sim_log_state_at)
  * in the scene its run_info_t names (app/scene.c): DIR/CAMERA_NNNNNN.png
  * and DIR/CAMERA.mp4 per camera (ffmpeg), each written to a temporary
  * name and renamed. A progress line on a terminal, none in a log. */
@@ -83,6 +83,7 @@ static int parse_cameras(const char *list, unsigned *bits)
 typedef struct render_args {
     const char *in, *out, *scenario, *field, *db;
     int w, h, frames, video, size_set;
+    int log_flags, still_flags; /* flags given that are for a log, for the still image */
     double fps, from_s, to_s, seed;
     unsigned cameras, overlays;
     /* the still image */
@@ -135,10 +136,10 @@ static int render_still(const render_args *a)
 
 /* ------------------------------------------------------------- a log */
 /* The run's information: the log's run_info_t, or --scenario's. */
-static int run_info_of(const render_args *a, const sim_replay_log *L, sim_run_info *ri, core_err *err)
+static int run_info_of(const render_args *a, const sim_log *L, sim_run_info *ri, core_err *err)
 {
     if (!a->scenario) {
-        if (sim_replay_log_run_info(L, ri) == 0)
+        if (sim_log_run_info(L, ri) == 0)
             return 0;
         return core_err_set(err, -1,
                             "%s: no run_info_t in the log (written by a disim before run information was "
@@ -152,20 +153,10 @@ static int run_info_of(const render_args *a, const sim_replay_log *L, sim_run_in
         free(sc);
         return -1;
     }
-    memset(ri, 0, sizeof *ri);
-    snprintf(ri->scenario_path, sizeof ri->scenario_path, "%s", a->scenario);
-    snprintf(ri->scenario, sizeof ri->scenario, "%s", sc->name);
-    snprintf(ri->aircraft_path, sizeof ri->aircraft_path, "%s", sc->aircraft_path);
-    snprintf(ri->ship_path, sizeof ri->ship_path, "%s", sc->ship_path);
-    ri->seed = (unsigned long long)a->seed;
-    sim_sea_default(&ri->sea);
-    ri->sea.state = sc->sea.state;
-    ri->sea.ship_speed_mps = sc->sea.ship_speed_mps;
-    ri->sea.wave_dir_rad = sc->sea.wave_dir_rad;
-    ri->sea.spectrum = sc->sea.spectrum;
-    ri->wod_speed_mps = sc->wod_speed_mps;
-    ri->wod_dir_rad = sc->wod_dir_rad;
-    ri->rate_hz = 200.0;
+    sim_world_overrides ov; /* the scenario's own keys, the run's seed */
+    sim_world_overrides_default(&ov);
+    ov.seed = (unsigned long long)a->seed;
+    sim_world_run_info(sc, &ov, ri);
     ri->state_rate_hz = 50.0;
     free(sc);
     return 0;
@@ -232,7 +223,7 @@ static void progress(int tty, const char *cam, long done, long total, double t0_
 
 /* One camera's frames and video. 0, or < 0 with err (nothing of the
  * video left; the PNGs written so far stay, each whole). */
-static int render_camera_run(const render_args *a, app_scene *s, const sim_replay_log *L, render_camera_kind cam,
+static int render_camera_run(const render_args *a, app_scene *s, const sim_log *L, render_camera_kind cam,
                              render_ctx *rc, uint8_t *img, double t0, long n, int tty, core_err *err)
 {
     const char *name = render_camera_name(cam);
@@ -252,7 +243,7 @@ static int render_camera_run(const render_args *a, app_scene *s, const sim_repla
         sim_log_state ls;
         render_state st;
         render_view view;
-        sim_replay_log_state(L, t0 + i / a->fps, &ls);
+        sim_log_state_at(L, t0 + i / a->fps, &ls);
         app_render_state_from_log(s, &ls, &st);
         if (render_camera_place(cam, &s->scene, &st, &view, err) != 0 ||
             render_frame(rc, &s->scene, &st, &view, img, err) != 0)
@@ -297,7 +288,7 @@ static int render_log(const render_args *a)
     render_ctx *rc = NULL;
     uint8_t *img = NULL;
     int ret = 1;
-    sim_replay_log *L = sim_replay_log_load(a->in, &err);
+    sim_log *L = sim_log_load(a->in, &err);
     sim_run_info ri;
     if (!L || run_info_of(a, L, &ri, &err) != 0 || app_scene_open(&s, &ri, a->overlays, &log, &err) != 0)
         goto fail;
@@ -312,8 +303,8 @@ static int render_log(const render_args *a)
                 off, a->scenario ? a->scenario : "its run_info_t", ri.seed, ri.sea.state);
         s.scene.sea = NULL;
     }
-    sim_replay_info info;
-    sim_replay_log_info(L, &info);
+    sim_log_summary info;
+    sim_log_info(L, &info);
     double t0 = fmax(info.t0_s, a->from_s), t1 = fmin(info.t1_s, a->to_s);
     if (!(t1 >= t0)) {
         core_err_set(&err, -1, "--from %g / --to %g: outside the log's %.2f to %.2f s", a->from_s, a->to_s, info.t0_s,
@@ -359,7 +350,7 @@ done:
     render_destroy(rc);
     free(img);
     app_scene_close(&s);
-    sim_replay_log_destroy(L);
+    sim_log_destroy(L);
     return ret;
 }
 
@@ -373,20 +364,64 @@ static void usage(void)
             "                    [--fov-deg F]\n");
 }
 
-int cmd_render(int argc, char **argv)
+/* One flag f and its value v into a (counted as a log's or the still
+ * image's): 0, or 2 after saying what was expected. */
+static int render_flag(render_args *a, const char *f, const char *v)
 {
-    render_args a;
-    memset(&a, 0, sizeof a);
-    a.w = 1280, a.h = 720, a.fps = 30.0, a.frames = 1, a.video = -1, a.from_s = -INFINITY, a.to_s = INFINITY;
-    a.seed = 1.0;
-    a.cameras = 1u << RENDER_CAM_DECK;
-    a.cam.fov_y_deg = 50.0;
-    int log_flags = 0, still_flags = 0;
+    core_err err = {0};
+    int bad = 0;
+    if (!strcmp(f, "-o"))
+        a->out = v;
+    else if (!strcmp(f, "--size")) {
+        bad = parse_size(v, &a->w, &a->h) != 0;
+        a->size_set = 1;
+    } else if (!strcmp(f, "--eye-S") || !strcmp(f, "--target-S")) {
+        int eye = f[2] == 'e';
+        bad = parse3(f, v, eye ? a->cam.eye_S_m : a->cam.target_S_m) != 0;
+        *(eye ? &a->have_eye : &a->have_target) = 1;
+        a->still_flags++;
+    } else if (!strcmp(f, "--fov-deg")) {
+        bad = app_parse_double("disim render", f, v, 1.0 + 1e-9, 170.0 - 1e-9, &a->cam.fov_y_deg) != 0;
+        a->still_flags++;
+    } else {
+        a->log_flags++;
+        if (!strcmp(f, "--camera"))
+            bad = parse_cameras(v, &a->cameras) != 0;
+        else if (!strcmp(f, "--fps"))
+            bad = app_parse_double("disim render", f, v, 0.1, 240.0, &a->fps) != 0;
+        else if (!strcmp(f, "--overlay") && render_overlays_parse(v, &a->overlays, &err) != 0) {
+            fprintf(stderr, "disim render: --overlay '%s': %s\n", v, err.msg);
+            bad = 1;
+        } else if (!strcmp(f, "--from") || !strcmp(f, "--to"))
+            bad = app_parse_double("disim render", f, v, -1e9, 1e9, f[2] == 'f' ? &a->from_s : &a->to_s) != 0;
+        else if (!strcmp(f, "--frames") || !strcmp(f, "--video"))
+            bad = on_off(f, v, f[2] == 'f' ? &a->frames : &a->video) != 0;
+        else if (!strcmp(f, "--seed") &&
+                 (app_parse_double("disim render", f, v, 0.0, 9007199254740992.0, &a->seed) || a->seed != floor(a->seed))) {
+            fprintf(stderr, "disim render: --seed: expected a whole number\n");
+            bad = 1;
+        } else if (!strcmp(f, "--scenario"))
+            a->scenario = v;
+        else if (!strcmp(f, "--field"))
+            a->field = v;
+        else if (!strcmp(f, "--db"))
+            a->db = v;
+    }
+    return bad ? 2 : 0;
+}
+
+static int render_parse(int argc, char **argv, render_args *a)
+{
+    memset(a, 0, sizeof *a);
+    a->w = 1280, a->h = 720, a->fps = 30.0, a->frames = 1, a->video = -1, a->from_s = -INFINITY, a->to_s = INFINITY;
+    a->seed = 1.0;
+    a->cameras = 1u << RENDER_CAM_DECK;
+    a->cam.fov_y_deg = 50.0;
+    static const char *const takes[] = {"-o", "--eye-S", "--target-S", "--size", "--fov-deg", "--camera",
+                                        "--fps", "--overlay", "--from", "--to", "--frames", "--video",
+                                        "--scenario", "--seed", "--field", "--db", NULL};
     for (int i = 1; i < argc; i++) {
         const char *f = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        static const char *const takes[] = {"-o", "--eye-S", "--target-S", "--size", "--fov-deg", "--camera",
-                                            "--fps", "--overlay", "--from", "--to", "--frames", "--video",
-                                            "--scenario", "--seed", "--field", "--db", NULL};
         int t = 0;
         for (int k = 0; takes[k]; k++)
             t |= !strcmp(f, takes[k]);
@@ -394,78 +429,67 @@ int cmd_render(int argc, char **argv)
             fprintf(stderr, "disim render: %s: expected a value\n", f);
             return 2;
         }
-        core_err err = {0};
-        if (!strcmp(f, "-o"))
-            a.out = v;
-        else if (!strcmp(f, "--size")) {
-            if (parse_size(v, &a.w, &a.h))
+        if (t) {
+            if (render_flag(a, f, v) != 0)
                 return 2;
-            a.size_set = 1;
-        } else if (!strcmp(f, "--eye-S")) {
-            if (parse3(f, v, a.cam.eye_S_m))
-                return 2;
-            a.have_eye = 1, still_flags++;
-        } else if (!strcmp(f, "--target-S")) {
-            if (parse3(f, v, a.cam.target_S_m))
-                return 2;
-            a.have_target = 1, still_flags++;
-        } else if (!strcmp(f, "--fov-deg")) {
-            if (app_parse_double("disim render", f, v, 1.0 + 1e-9, 170.0 - 1e-9, &a.cam.fov_y_deg))
-                return 2;
-            still_flags++;
-        } else if (!strcmp(f, "--camera")) {
-            if (parse_cameras(v, &a.cameras))
-                return 2;
-            log_flags++;
-        } else if (!strcmp(f, "--fps")) {
-            if (app_parse_double("disim render", f, v, 0.1, 240.0, &a.fps))
-                return 2;
-            log_flags++;
-        } else if (!strcmp(f, "--overlay")) {
-            if (render_overlays_parse(v, &a.overlays, &err) != 0) {
-                fprintf(stderr, "disim render: --overlay '%s': %s\n", v, err.msg);
-                return 2;
-            }
-            log_flags++;
-        } else if (!strcmp(f, "--from") || !strcmp(f, "--to")) {
-            if (app_parse_double("disim render", f, v, -1e9, 1e9, f[2] == 'f' ? &a.from_s : &a.to_s))
-                return 2;
-            log_flags++;
-        } else if (!strcmp(f, "--frames") || !strcmp(f, "--video")) {
-            if (on_off(f, v, f[2] == 'f' ? &a.frames : &a.video))
-                return 2;
-            log_flags++;
-        } else if (!strcmp(f, "--seed")) {
-            if (app_parse_double("disim render", f, v, 0.0, 9007199254740992.0, &a.seed) || a.seed != floor(a.seed)) {
-                fprintf(stderr, "disim render: --seed: expected a whole number\n");
-                return 2;
-            }
-            log_flags++;
-        } else if (!strcmp(f, "--scenario"))
-            a.scenario = v, log_flags++;
-        else if (!strcmp(f, "--field"))
-            a.field = v, log_flags++;
-        else if (!strcmp(f, "--db"))
-            a.db = v, log_flags++;
-        else if (f[0] == '-') {
+            i++;
+        } else if (f[0] == '-') {
             fprintf(stderr, "disim render: unknown flag '%s'\n", f);
             usage();
             return 2;
-        } else if (!a.in) {
-            a.in = f;
-            continue;
-        } else {
+        } else if (!a->in)
+            a->in = f;
+        else {
             fprintf(stderr, "disim render: unexpected argument '%s'\n", f);
             return 2;
         }
-        i++;
     }
-    if (!a.in || !a.out) {
+    if (!a->in || !a->out) {
         usage();
         return 2;
     }
+    return 0;
+}
+
+/* A log's flags together: 0, or 2 after saying what does not go. */
+static int render_check(render_args *a)
+{
+    if (a->still_flags) {
+        fprintf(stderr, "disim render: --eye-S, --target-S and --fov-deg are for a scenario's still image; a log is "
+                        "drawn from its cameras (--camera)\n");
+        return 2;
+    }
+    if (a->seed != 1.0 && !a->scenario) {
+        fprintf(stderr, "disim render: --seed: only with --scenario (a log's run_info_t has its seed)\n");
+        return 2;
+    }
+    if (a->field && a->db) {
+        fprintf(stderr, "disim render: --field and --db: give one\n");
+        return 2;
+    }
+    if ((a->field || a->db) && !(a->overlays & RENDER_OVERLAY_AIRWAKE)) {
+        fprintf(stderr, "disim render: --field / --db: only with --overlay airwake\n");
+        return 2;
+    }
+    if (a->video < 0)
+        a->video = render_video_available();
+    if (!a->frames && !a->video) {
+        fprintf(stderr, "disim render: --frames off and --video off: nothing to write\n");
+        return 2;
+    }
+    if ((a->w % 2 || a->h % 2) && a->video)
+        fprintf(stderr, "disim render: note: %dx%d is odd: the video is padded to even sides\n", a->w, a->h);
+    return 0;
+}
+
+int cmd_render(int argc, char **argv)
+{
+    render_args a;
+    int rc = render_parse(argc, argv, &a);
+    if (rc)
+        return rc;
     if (is_ini(a.in)) {
-        if (log_flags) {
+        if (a.log_flags) {
             fprintf(stderr, "disim render: %s is a scenario: --camera, --fps, --overlay, --from, --to, --frames, "
                             "--video, --scenario, --seed, --field and --db are for a log (disim fly --log)\n",
                     a.in);
@@ -473,30 +497,5 @@ int cmd_render(int argc, char **argv)
         }
         return render_still(&a);
     }
-    if (still_flags) {
-        fprintf(stderr, "disim render: --eye-S, --target-S and --fov-deg are for a scenario's still image; a log is "
-                        "drawn from its cameras (--camera)\n");
-        return 2;
-    }
-    if (a.seed != 1.0 && !a.scenario) {
-        fprintf(stderr, "disim render: --seed: only with --scenario (a log's run_info_t has its seed)\n");
-        return 2;
-    }
-    if (a.field && a.db) {
-        fprintf(stderr, "disim render: --field and --db: give one\n");
-        return 2;
-    }
-    if ((a.field || a.db) && !(a.overlays & RENDER_OVERLAY_AIRWAKE)) {
-        fprintf(stderr, "disim render: --field / --db: only with --overlay airwake\n");
-        return 2;
-    }
-    if (a.video < 0)
-        a.video = render_video_available();
-    if (!a.frames && !a.video) {
-        fprintf(stderr, "disim render: --frames off and --video off: nothing to write\n");
-        return 2;
-    }
-    if ((a.w % 2 || a.h % 2) && a.video)
-        fprintf(stderr, "disim render: note: %dx%d is odd: the video is padded to even sides\n", a.w, a.h);
-    return render_log(&a);
+    return (rc = render_check(&a)) ? rc : render_log(&a);
 }

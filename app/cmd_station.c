@@ -108,149 +108,108 @@ static void show(void *user, const sim_station_view *v)
     fflush(stdout);
 }
 
-/* A default id: the host's name (characters an id may hold) and the source. */
-static void default_id(char *id, size_t n, const char *source)
-{
-    char host[64] = "station";
-    if (gethostname(host, sizeof host) != 0)
-        snprintf(host, sizeof host, "station");
-    host[sizeof host - 1] = '\0';
-    for (char *p = host; *p; p++)
-        if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') || *p == '-'))
-            *p = '-';
-    snprintf(id, n, "%.40s-%.20s", host, source);
-}
+/* The command line of disim station. */
+typedef struct station_args {
+    const char *id, *url, *device, *script_path;
+    int keyboard, list, take_over;
+    double rate_hz, duration_s, step_pct;
+    sim_station_axes axes;
+} station_args;
 
-int cmd_station(int argc, char **argv)
+/* The flags into o: -1 to go on, else the exit status (0 after --help,
+ * 2 after a message). */
+static int station_parse(int argc, char **argv, station_args *o)
 {
     const char *P = "disim station";
-    const char *id = NULL, *url = NULL, *device = NULL, *script_path = NULL;
-    int keyboard = 0, list = 0, take_over = 0;
-    double rate_hz = 50.0, duration_s = 0.0, step_pct = 2.0;
-    sim_station_axes axes;
-    sim_station_axes_default(&axes);
+    memset(o, 0, sizeof *o);
+    o->rate_hz = 50.0;
+    o->step_pct = 2.0;
+    sim_station_axes_default(&o->axes);
     static const char *axis_flag[SIM_AXES] = {"--axis-collective", "--axis-long", "--axis-lat", "--axis-pedal"};
+    const struct {
+        const char *flag;
+        int *out;
+    } sw[] = {{"--keyboard", &o->keyboard}, {"--list", &o->list}, {"--take-over", &o->take_over}};
+    const struct {
+        const char *flag;
+        const char **out;
+    } str[] = {{"--id", &o->id}, {"--lcm", &o->url}, {"--device", &o->device}, {"--script", &o->script_path}};
+    const struct {
+        const char *flag;
+        double lo, hi, *out;
+    } num[] = {{"--rate-hz", 1.0, 1000.0, &o->rate_hz},
+               {"--duration", 0.001, 1e7, &o->duration_s},
+               {"--step-pct", 0.1, 50.0, &o->step_pct}};
     for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        int more = i + 1 < argc, ax = -1;
-        for (int k = 0; k < SIM_AXES; k++)
-            if (!strcmp(a, axis_flag[k]))
-                ax = k;
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int is_switch = 0, valued = 0, bad = 0;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage_station(stdout);
             return 0;
-        } else if (!strcmp(a, "--keyboard"))
-            keyboard = 1;
-        else if (!strcmp(a, "--list"))
-            list = 1;
-        else if (!strcmp(a, "--take-over"))
-            take_over = 1;
-        else if (!strcmp(a, "--id") && more)
-            id = argv[++i];
-        else if (!strcmp(a, "--lcm") && more)
-            url = argv[++i];
-        else if (!strcmp(a, "--device") && more)
-            device = argv[++i];
-        else if (!strcmp(a, "--script") && more)
-            script_path = argv[++i];
-        else if (!strcmp(a, "--rate-hz") && more) {
-            if (app_parse_double(P, a, argv[++i], 1.0, 1000.0, &rate_hz))
-                return 2;
-        } else if (!strcmp(a, "--duration") && more) {
-            if (app_parse_double(P, a, argv[++i], 0.001, 1e7, &duration_s))
-                return 2;
-        } else if (!strcmp(a, "--step-pct") && more) {
-            if (app_parse_double(P, a, argv[++i], 0.1, 50.0, &step_pct))
-                return 2;
-        } else if (ax >= 0 && more) {
-            core_err err;
-            if (sim_station_axis_parse(argv[++i], &axes.axis[ax], &err) != 0) {
-                fprintf(stderr, "%s: %s: %s\n", P, a, err.msg);
-                return 2;
-            }
-        } else {
-            static const char *valued[] = {"--id", "--lcm", "--device", "--script", "--rate-hz", "--duration",
-                                           "--step-pct"};
-            int needs = ax >= 0;
-            for (size_t k = 0; k < sizeof valued / sizeof valued[0]; k++)
-                needs |= !strcmp(a, valued[k]);
-            if (needs)
-                fprintf(stderr, "%s: %s: expected a value after it\n", P, a);
-            else
-                fprintf(stderr, "%s: unknown argument '%s'\n", P, a);
-            usage_station(stderr);
-            return 2;
         }
+        for (size_t k = 0; k < sizeof sw / sizeof sw[0]; k++)
+            if (!strcmp(a, sw[k].flag))
+                *sw[k].out = is_switch = 1;
+        if (is_switch)
+            continue;
+        for (size_t k = 0; k < sizeof str / sizeof str[0] && v; k++)
+            if (!strcmp(a, str[k].flag))
+                *str[k].out = v, valued = 1;
+        for (size_t k = 0; k < sizeof num / sizeof num[0] && v; k++)
+            if (!strcmp(a, num[k].flag))
+                bad = app_parse_double(P, a, v, num[k].lo, num[k].hi, num[k].out), valued = 1;
+        for (int k = 0; k < SIM_AXES && v; k++)
+            if (!strcmp(a, axis_flag[k])) {
+                core_err err;
+                if ((bad = sim_station_axis_parse(v, &o->axes.axis[k], &err)) != 0)
+                    fprintf(stderr, "%s: %s: %s\n", P, a, err.msg);
+                valued = 1;
+            }
+        if (bad)
+            return 2;
+        if (valued) {
+            i++;
+            continue;
+        }
+        int needs = 0; /* a value flag at the end */
+        for (size_t k = 0; k < sizeof str / sizeof str[0]; k++)
+            needs |= !strcmp(a, str[k].flag);
+        for (size_t k = 0; k < sizeof num / sizeof num[0]; k++)
+            needs |= !strcmp(a, num[k].flag);
+        for (int k = 0; k < SIM_AXES; k++)
+            needs |= !strcmp(a, axis_flag[k]);
+        if (needs)
+            fprintf(stderr, "%s: %s: expected a value after it\n", P, a);
+        else
+            fprintf(stderr, "%s: unknown argument '%s'\n", P, a);
+        usage_station(stderr);
+        return 2;
     }
-    if (keyboard + (device != NULL) + (script_path != NULL) > 1) {
+    if (o->keyboard + (o->device != NULL) + (o->script_path != NULL) > 1) {
         fprintf(stderr, "%s: --keyboard, --device and --script exclude each other: choose one\n", P);
         return 2;
     }
-    if (list) {
-        core_err err;
-        int n = sim_station_evdev_list("/dev/input", list_one, NULL, &err);
-        if (n < 0 && access("/dev/input", F_OK) == 0) {
-            fprintf(stderr, "%s: --list: %s\n", P, err.msg);
-            return 1;
-        }
-        if (n <= 0)
-            printf("no evdev input devices in /dev/input\n");
-        return 0;
-    }
+    return -1;
+}
+
+/* --list: the evdev devices and their axes on stdout. */
+static int station_list(void)
+{
     core_err err;
-    if (id && sim_station_id_check(id, &err) != 0) {
-        fprintf(stderr, "%s: --id: %s\n", P, err.msg);
-        return 2;
+    int n = sim_station_evdev_list("/dev/input", list_one, NULL, &err);
+    if (n < 0 && access("/dev/input", F_OK) == 0) {
+        fprintf(stderr, "disim station: --list: %s\n", err.msg);
+        return 1;
     }
-    if (!device && !script_path)
-        keyboard = 1;
+    if (n <= 0)
+        printf("no evdev input devices in /dev/input\n");
+    return 0;
+}
 
-    const char *source = keyboard ? "keyboard" : script_path ? "script" : device;
-    const char *dev_base = device ? strrchr(device, '/') : NULL;
-    char idbuf[80];
-    if (!id) {
-        default_id(idbuf, sizeof idbuf, keyboard ? "keyboard" : script_path ? "script" : dev_base ? dev_base + 1 : device);
-        id = idbuf;
-    }
-    sim_station_run_opts ro;
-    memset(&ro, 0, sizeof ro);
-    ro.rate_hz = rate_hz;
-    ro.duration_s = duration_s;
-    ro.key_fd = -1;
-    ro.take_over = take_over;
-    ro.stop = &station_stop;
-    sim_station_controls_centre(&ro.start);
-    sim_station_script *script = NULL;
-    sim_station_evdev *dev = NULL;
-    sim_station_keys keys;
-    if (script_path && !(script = sim_station_script_load(script_path, &err))) {
-        fprintf(stderr, "%s: %s\n", P, err.msg);
-        return 1;
-    }
-    if (device && !(dev = sim_station_evdev_open(device, &axes, &ro.start, &err))) {
-        fprintf(stderr, "%s: %s\n", P, err.msg);
-        return 1;
-    }
-    if (keyboard && !isatty(STDIN_FILENO)) {
-        fprintf(stderr, "%s: --keyboard: standard input is not a terminal (use --script or --device)\n", P);
-        return 1;
-    }
-    sim_station_opts so = {id, url};
-    sim_station *st = sim_station_create(&so, &err);
-    if (!st) {
-        fprintf(stderr, "%s: %s\n", P, err.msg);
-        sim_station_script_destroy(script);
-        sim_station_evdev_destroy(dev);
-        return 1;
-    }
-    ro.script = script;
-    ro.dev = dev;
-    if (keyboard) {
-        sim_station_keys_init(&keys, step_pct);
-        ro.keys = &keys;
-        ro.key_fd = STDIN_FILENO;
-    }
-
+/* The signals: the stop signals end the loop, the fatal ones restore the
+ * terminal first. */
+static void station_signals(void)
+{
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sigemptyset(&sa.sa_mask);
@@ -263,54 +222,133 @@ int cmd_station(int argc, char **argv)
     int fatal[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
     for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++)
         sigaction(fatal[i], &sa, NULL);
+}
 
+/* --keyboard: the terminal in raw mode (restored at exit): 0, or 1 after a
+ * message. */
+static int station_raw_tty(void)
+{
+    const char *P = "disim station";
+    if (tcgetattr(STDIN_FILENO, &tty_saved) != 0) {
+        fprintf(stderr, "%s: --keyboard: cannot read the terminal's settings: %s\n", P, strerror(errno));
+        return 1;
+    }
+    struct termios raw = tty_saved;
+    /* no line editing, no echo; ISIG stays so that ctrl-C is SIGINT */
+    raw.c_lflag &= (tcflag_t) ~(ICANON | ECHO | IEXTEN);
+    raw.c_iflag &= (tcflag_t) ~(IXON | ICRNL);
+    raw.c_cc[VMIN] = 1;
+    raw.c_cc[VTIME] = 0;
+    tty_raw = 1;
+    if (tcsetattr(STDIN_FILENO, TCSAFLUSH, &raw) != 0) {
+        tty_raw = 0;
+        fprintf(stderr, "%s: --keyboard: cannot set the terminal to raw mode: %s\n", P, strerror(errno));
+        return 1;
+    }
+    atexit(tty_restore);
+    return 0;
+}
+
+/* The station's inputs (script, device or keyboard) and its LCM side,
+ * the loop with the display, the last view: the exit status. */
+static int station_run(const station_args *o, const char *id, const char *source)
+{
+    const char *P = "disim station";
+    core_err err;
+    sim_station_run_opts ro;
+    memset(&ro, 0, sizeof ro);
+    ro.rate_hz = o->rate_hz;
+    ro.duration_s = o->duration_s;
+    ro.key_fd = -1;
+    ro.take_over = o->take_over;
+    ro.stop = &station_stop;
+    sim_station_controls_centre(&ro.start);
+    sim_station_script *script = NULL;
+    sim_station_evdev *dev = NULL;
+    sim_station_keys keys;
+    if (o->script_path && !(script = sim_station_script_load(o->script_path, &err))) {
+        fprintf(stderr, "%s: %s\n", P, err.msg);
+        return 1;
+    }
+    if (o->device && !(dev = sim_station_evdev_open(o->device, &o->axes, &ro.start, &err))) {
+        fprintf(stderr, "%s: %s\n", P, err.msg);
+        return 1;
+    }
+    if (o->keyboard && !isatty(STDIN_FILENO)) {
+        fprintf(stderr, "%s: --keyboard: standard input is not a terminal (use --script or --device)\n", P);
+        return 1;
+    }
+    sim_station_opts so = {id, o->url};
+    sim_station *st = sim_station_create(&so, &err);
+    if (!st) {
+        fprintf(stderr, "%s: %s\n", P, err.msg);
+        sim_station_script_destroy(script);
+        sim_station_evdev_destroy(dev);
+        return 1;
+    }
+    ro.script = script;
+    ro.dev = dev;
+    if (o->keyboard) {
+        sim_station_keys_init(&keys, o->step_pct);
+        ro.keys = &keys;
+        ro.key_fd = STDIN_FILENO;
+    }
+    station_signals();
     show_ctx sc;
     sc.source = source;
     sc.tty = isatty(STDOUT_FILENO);
     ro.show = show;
     ro.user = &sc;
     ro.show_hz = sc.tty ? 10.0 : 1.0; /* a log gets one line a second */
-    if (keyboard) {
-        if (tcgetattr(STDIN_FILENO, &tty_saved) != 0) {
-            fprintf(stderr, "%s: --keyboard: cannot read the terminal's settings: %s\n", P, strerror(errno));
-            sim_station_destroy(st);
-            return 1;
+    int rc = o->keyboard ? station_raw_tty() : 0;
+    if (rc == 0) {
+        if (sc.tty) {
+            tty_display = 1;
+            fputs("\033[2J\033[H\033[?25l", stdout); /* clear, home, cursor hidden */
+            fflush(stdout);
+        } else {
+            fprintf(stderr, "%s: %s publishing on %s at %g Hz (%s)\n", P, id, DISIM_CH_PILOT_INPUT, o->rate_hz, source);
         }
-        struct termios raw = tty_saved;
-        /* no line editing, no echo; ISIG stays so that ctrl-C is SIGINT */
-        raw.c_lflag &= (tcflag_t) ~(ICANON | ECHO | IEXTEN);
-        raw.c_iflag &= (tcflag_t) ~(IXON | ICRNL);
-        raw.c_cc[VMIN] = 1;
-        raw.c_cc[VTIME] = 0;
-        tty_raw = 1;
-        if (tcsetattr(STDIN_FILENO, TCSAFLUSH, &raw) != 0) {
-            tty_raw = 0;
-            fprintf(stderr, "%s: --keyboard: cannot set the terminal to raw mode: %s\n", P, strerror(errno));
-            sim_station_destroy(st);
-            return 1;
-        }
-        atexit(tty_restore);
-    }
-    if (sc.tty) {
-        tty_display = 1;
-        fputs("\033[2J\033[H\033[?25l", stdout); /* clear, home, cursor hidden */
+        rc = sim_station_run(st, &ro, &err) != 0 ? 1 : 0;
+        sim_station_format(sim_station_get_view(st), source, sc.tty, sc.buf, sizeof sc.buf);
+        if (sc.tty)
+            printf("%s\n", sc.buf);
+        else
+            printf("end: %s\n", sc.buf);
         fflush(stdout);
-    } else {
-        fprintf(stderr, "%s: %s publishing on %s at %g Hz (%s)\n", P, id, DISIM_CH_PILOT_INPUT, rate_hz, source);
+        tty_restore();
+        if (rc != 0)
+            fprintf(stderr, "%s: %s\n", P, err.msg);
+        sim_station_script_destroy(script);
+        sim_station_evdev_destroy(dev);
     }
-    int rc = sim_station_run(st, &ro, &err);
-    const sim_station_view *v = sim_station_get_view(st);
-    sim_station_format(v, source, sc.tty, sc.buf, sizeof sc.buf);
-    if (sc.tty)
-        printf("%s\n", sc.buf);
-    else
-        printf("end: %s\n", sc.buf);
-    fflush(stdout);
-    tty_restore();
-    if (rc != 0)
-        fprintf(stderr, "%s: %s\n", P, err.msg);
     sim_station_destroy(st);
-    sim_station_script_destroy(script);
-    sim_station_evdev_destroy(dev);
-    return rc != 0 ? 1 : 0;
+    return rc;
+}
+
+int cmd_station(int argc, char **argv)
+{
+    station_args o;
+    int rc = station_parse(argc, argv, &o);
+    if (rc >= 0)
+        return rc;
+    if (o.list)
+        return station_list();
+    core_err err;
+    if (o.id && sim_station_id_check(o.id, &err) != 0) {
+        fprintf(stderr, "disim station: --id: %s\n", err.msg);
+        return 2;
+    }
+    int keyboard = o.keyboard || (!o.device && !o.script_path);
+    o.keyboard = keyboard;
+    const char *source = keyboard ? "keyboard" : o.script_path ? "script" : o.device;
+    const char *dev_base = o.device ? strrchr(o.device, '/') : NULL;
+    char idbuf[80];
+    const char *id = o.id;
+    if (!id) {
+        sim_station_default_id(idbuf, sizeof idbuf,
+                               keyboard ? "keyboard" : o.script_path ? "script" : dev_base ? dev_base + 1 : o.device);
+        id = idbuf;
+    }
+    return station_run(&o, id, source);
 }

@@ -30,9 +30,9 @@ static const struct {
 #endif
 #ifdef DISIM_HAVE_AIRWAKED
     {"airwaked", cmd_airwaked, "airwaked DB_DIR           background airwake builder (--jobs N, --ships DIR, --exit-when-idle, --no-lcm)"},
-    {"fly", cmd_fly, "fly SCENARIO              the flight loop: a trimmed hover in the airwake (--fast, --duration, --rate-hz, --csv)"},
 #endif
 #ifdef DISIM_HAVE_SHOL_CMD
+    {"fly", cmd_fly, "fly SCENARIO              the flight loop: a trimmed hover in the airwake (--fast, --duration, --rate-hz, --csv)"},
     {"shol", cmd_shol, "shol SCENARIO             candidate SHOL envelope (--grid, --coupling, -o DIR, --db DIR, --full-circle)"},
 #endif
     {"station", cmd_station, "station                   pilot station: keyboard, evdev joystick or --script CSV on LCM (--device, --list, --id, --lcm)"},

@@ -3,13 +3,14 @@
  * overlay, and the flight's or the log's states as render_states.
  *
  * The seaway drawn is its own sim_ship_motion, built from the run's ship,
- * sea and seed + 1 as the flight's is (app/cmd_fly.c world_build), so it
- * is the sea the ship moved in and never the flight's motion object (whose
+ * sea and seed as the flight's is (sim_world_seaway), so it is the sea
+ * the ship moved in and never the flight's motion object (whose
  * step cache is not for two threads). A log's ship states are checked
  * against it (app_scene_check_log): a log whose ship does not move as the
  * rebuilt seaway says (another ship file, an edited scenario) is drawn on
  * a flat sea with a warning, never on a sea that disagrees with its ship. */
 #include "scene.h"
+#include "disim_lcm.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -31,7 +32,7 @@ int app_scene_open(app_scene *s, const sim_run_info *ri, unsigned overlays, cons
     if (!(s->ac = hfm_aircraft_load(ri->aircraft_path, log, err)))
         return -1;
     hfm_aircraft_geometry(s->ac, &s->geom);
-    if (!(s->sea = sim_ship_motion_create(&s->ship, &ri->sea, (uint64_t)ri->seed + 1u, err))) {
+    if (!(s->sea = sim_world_seaway(&s->ship, &ri->sea, ri->seed, err))) {
         app_scene_close(s);
         return -1;
     }
@@ -118,9 +119,10 @@ void app_render_state_from_flight(const app_scene *s, const sim_flight_out *o, r
     for (int i = 0; i < rs->n_gear; i++)
         rs->gear_load_N[i] = o->gear_load_N[i];
     rs->rotor_azimuth_rad = azimuth(s, o->t_s);
-    rs->flags = (o->on_deck ? 64u : 0u) | (o->contact_flags & SIM_CONTACT_SLIDE ? 128u : 0u) |
-                (o->contact_flags & SIM_CONTACT_TIP ? 256u : 0u) |
-                (o->contact_flags & SIM_CONTACT_CRASH ? 512u : 0u);
+    rs->flags = (o->on_deck ? (unsigned)DISIM_SIM_STATUS_T_FLAG_ON_DECK : 0u) |
+                (o->contact_flags & SIM_CONTACT_SLIDE ? (unsigned)DISIM_SIM_STATUS_T_FLAG_SLIDE : 0u) |
+                (o->contact_flags & SIM_CONTACT_TIP ? (unsigned)DISIM_SIM_STATUS_T_FLAG_TIP_OVER : 0u) |
+                (o->contact_flags & SIM_CONTACT_CRASH ? (unsigned)DISIM_SIM_STATUS_T_FLAG_CRASH : 0u);
 }
 
 void app_render_state_from_log(const app_scene *s, const sim_log_state *l, render_state *rs)
@@ -140,13 +142,13 @@ void app_render_state_from_log(const app_scene *s, const sim_log_state *l, rende
     rs->n_gear = l->n_gear < RENDER_MAX_LEGS ? l->n_gear : RENDER_MAX_LEGS;
     memcpy(rs->gear_load_N, l->gear_load_N, sizeof rs->gear_load_N);
     rs->rotor_azimuth_rad = azimuth(s, l->t_s);
-    rs->flags = l->on_deck ? 64u : 0u;
+    rs->flags = l->on_deck ? (unsigned)DISIM_SIM_STATUS_T_FLAG_ON_DECK : 0u;
 }
 
-double app_scene_check_log(const app_scene *s, const sim_replay_log *log)
+double app_scene_check_log(const app_scene *s, const sim_log *log)
 {
-    sim_replay_info info;
-    sim_replay_log_info(log, &info);
+    sim_log_summary info;
+    sim_log_info(log, &info);
     double rate = s->info.state_rate_hz > 0.0 ? s->info.state_rate_hz : 50.0, worst = 0.0;
     long n = (long)llround((info.t1_s - info.t0_s) * rate);
     for (int k = 0; k <= 20; k++) {
@@ -154,7 +156,7 @@ double app_scene_check_log(const app_scene *s, const sim_replay_log *log)
         double t = info.t0_s + (double)(n * k / 20) / rate;
         sim_log_state l;
         sim_ship_state ss;
-        sim_replay_log_state(log, t, &l);
+        sim_log_state_at(log, t, &l);
         if (sim_ship_motion_at(s->sea, t, &ss) != 0)
             return INFINITY;
         worst = fmax(worst, core_vec3_norm(core_vec3_sub(l.ship.pos_E_m, ss.pose.pos_E_m)));

@@ -32,6 +32,6 @@ void app_render_state_from_flight(const app_scene *s, const sim_flight_out *o, r
 void app_render_state_from_log(const app_scene *s, const sim_log_state *l, render_state *rs);
 /* The largest distance (m) between the log's ship and the rebuilt
  * seaway's at 21 of the log's sample times (0 for the same run). */
-double app_scene_check_log(const app_scene *s, const sim_replay_log *log);
+double app_scene_check_log(const app_scene *s, const sim_log *log);
 
 #endif

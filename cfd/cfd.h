@@ -23,7 +23,7 @@
  *  - airwake.c:  a ship airwake case from a ship, a WOD and a rotor.
  *  - validate.c: the validation cases of `disim validate`.
  *
- * Frames and units follow ../shared/CONVENTIONS.md: SI, positions and
+ * Frames and units follow docs/conventions.md: SI, positions and
  * velocities of airwakes in the ship frame S (x bow, y starboard, z down).
  * Pressures are stored in Pa (gauge, relative to the outlet pressure).
  * The library never prints; it reports through core_log and a progress

@@ -3,7 +3,7 @@
  * frame transforms (S, E, B), units, the wind-over-deck convention, an INI
  * reader with schema checking, and the ship geometry file.
  *
- * Conventions (../shared/CONVENTIONS.md):
+ * Conventions (docs/conventions.md):
  *  - SI inside; names carry unit and frame where not obvious (vel_S_mps).
  *  - Frames are right-handed: ship frame S (x bow, y starboard, z down, origin
  *    at the landing spot on the deck), Earth frame E (NED), body frame B
@@ -35,7 +35,7 @@ extern "C" {
 #define CORE_PI 3.14159265358979323846
 #define CORE_DEG_TO_RAD (CORE_PI / 180.0)
 #define CORE_RAD_TO_DEG (180.0 / CORE_PI)
-/* Standard sea-level air (CONVENTIONS.md). */
+/* Standard sea-level air (docs/conventions.md). */
 #define CORE_RHO_SL_KGPM3 1.225
 #define CORE_NU_SL_M2PS 1.46e-5
 #define CORE_G_MPS2 9.80665

@@ -1,6 +1,7 @@
-/* wod.c -- the wind-over-deck convention (CONVENTIONS.md): direction the wind
- * comes FROM, measured from the bow, positive to starboard ("green"), negative
- * to port ("red"), in (-180, 180]; velocity in S = -V (cos dir, sin dir, 0). */
+/* wod.c -- the wind-over-deck convention (docs/conventions.md): direction the
+ * wind comes FROM, measured from the bow, positive to starboard ("green"),
+ * negative to port ("red"), in (-180, 180]; velocity in S = -V (cos dir,
+ * sin dir, 0). */
 #include "core.h"
 
 #include <math.h>

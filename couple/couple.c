@@ -112,14 +112,15 @@ void couple_destroy(couple_ctx *c)
     free(c);
 }
 /* The relative change of a control or attitude, against at least `floor`.
- * The floors are the smallest margins the rejection criteria leave
- * (CONVENTIONS.md): 20 % of travel (the pedal's) for a control, 5 deg (the
- * roll limit) for an attitude, so 5 % is 1 % of travel or 0.25 deg near
- * zero. Why not less: a control's percentage has an arbitrary origin (pedal
- * 9.7 % is 90.3 % from the other stop), and with floors of 10 % and 1 deg a
- * point near a stop kept iterating on changes of 0.6 % of travel and 0.09
- * deg, below what the averaged fields resolve (CG-47 red 60 at 50 km/h:
- * six coupled iterations, the last two moving pedal 10.4 -> 9.8 -> 9.7 %). */
+ * The floors are the smallest margins the rejection criteria leave as
+ * shol/criteria.c applies them (docs/conventions.md): 20 % of travel (the
+ * pedal's) for a control, 5 deg (the roll limit) for an attitude, so 5 % is
+ * 1 % of travel or 0.25 deg near zero. Why not less: a control's percentage
+ * has an arbitrary origin (pedal 9.7 % is 90.3 % from the other stop), and
+ * with floors of 10 % and 1 deg a point near a stop keeps iterating on
+ * changes of 0.6 % of travel and 0.09 deg, below what the averaged fields
+ * resolve (CG-47 red 60 at 50 km/h: six coupled iterations, the last two
+ * moving pedal 10.4 -> 9.8 -> 9.7 %). */
 static double change(double a, double b, double floor)
 {
     return fabs(a - b) / fmax(fmax(fabs(a), fabs(b)), floor);

@@ -28,6 +28,7 @@
 #include "core.h"
 #include "hfm.h"
 #include "shol.h"
+#include "sim.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -189,6 +190,126 @@ void couple_settings_scenario(couple_settings *cs, const struct sim_scenario *sc
 
 /* The last fatal error of couple_shol_trim. */
 const char *couple_last_error(const couple_ctx *c);
+
+/* The candidate SHOL's sweeps (shol_sweep.c). One-way: shol_envelope_run
+ * with couple_shol_trim over one, each converged sample's component loads
+ * (shol_sample.loads) from one's history. Two-way: shol_envelope_run_near
+ * over r1 (one's envelope), coupled by two from two steps of the
+ * resolution (the speed step, or the bisection's tolerance where finer)
+ * below r1's limit, one info line on log per coupled point, the loads from
+ * two's history, else one's. 0, or < 0 with err (the coupling's own
+ * message where it has one). */
+int couple_shol_one_way(couple_ctx *one, const shol_settings *set, shol_progress_fn progress, void *progress_user,
+                        const core_log *log, shol_result *r, core_err *err);
+int couple_shol_two_way(couple_ctx *one, couple_ctx *two, const shol_settings *set, const shol_result *r1,
+                        shol_progress_fn progress, void *progress_user, const core_log *log, shol_result *r2,
+                        core_err *err);
+/* The bands of the candidate SHOL (shol_bands.c). */
+#define COUPLE_BAND_GRID_AUTO (-1) /* another level whose fields the database has for some directions */
+#define COUPLE_BAND_GRID_NONE (-2)
+typedef struct couple_band_opts {
+    int grid;             /* COUPLE_BAND_GRID_AUTO, _NONE, or a core_grid_level (its fields built if missing) */
+    const char *grid_csv; /* the second grid's envelope from an earlier run's shol.csv; NULL: none */
+    /* Called (NULL: not) when the second grid's one-way sweep starts, its
+     * fields queued: the level and the number of directions. */
+    void (*on_grid)(void *user, core_grid_level level, int n_dirs);
+    void *user;
+} couple_band_opts;
+/* The grid of the bands' second envelope in words: auto, none, coarse,
+ * default or fine; < -2 if none of those. */
+int couple_band_grid_parse(const char *s);
+/* The bands of r1 (shol_dir_result.band), the one-way envelope on
+ * cs->grid that the context one trimmed: the window spreads of one's
+ * fields (each direction's ship-only field: 0 converged, max(mean_drift,
+ * mean_change) averaged, unknown otherwise), the second grid's one-way
+ * envelope (o->grid_csv, or a second one-way sweep on the level o->grid
+ * names, auto: the directions whose ship-only field the database already
+ * has at the first level of finer-then-coarser that has any), and the
+ * sensitivity. With r2 (the two-way envelope over r1), r2's bands too:
+ * the same window spreads, and the one-way grid spread (second grid minus
+ * r1) applied to r2. 0, or < 0 with err. */
+int couple_shol_bands(const couple_band_opts *o, const hfm_aircraft *ac, const core_ship *ship, awdb *db,
+                      const couple_settings *cs, couple_ctx *one, const shol_settings *set, shol_result *r1,
+                      shol_result *r2, const core_log *log, core_err *err);
+/* The report's words for the coupling of cs (shol_report_info.coupling). */
+const char *couple_shol_coupling_text(const couple_settings *cs);
+/* couple_fields_md of one's fields and two's (two may be NULL). */
+char *couple_shol_fields_md(const couple_ctx *one, const couple_ctx *two);
+
+/* ------------- a flight's airwake from the database (couple/flight_fields.c) */
+struct cfd_field;
+struct sim_interaction;
+/* The ship-only field of sc's ship, aircraft and grid for WOD direction
+ * dir_rad: 1 with *out loaded (the caller's), 0 when not ready (requested
+ * from the database's builder where absent; a failed build stays failed),
+ * -1 with err. */
+int couple_flight_field(awdb *db, const sim_scenario *sc, double dir_rad, struct cfd_field **out, core_err *err);
+/* The coupled rotor interaction at WOD v, dir_rad near sc's station
+ * (couple/flight_fields.c says which): 1 with cf[0] the coupled field,
+ * cf[1] its isolated rotor's, for a deck-zone pair cf[2], cf[3] the whole
+ * domain's ship-only field and the zone's (NULL otherwise), all the
+ * caller's, and *inter their interaction (the caller's); 0 none; -1 with
+ * err. */
+int couple_flight_coupled(awdb *db, const sim_scenario *sc, double v, double dir_rad, struct cfd_field *cf[4],
+                          struct sim_interaction **inter, core_err *err);
+
+/* ------------------ one task flown for the flown SHOL (couple/fly_task.c) */
+/* The automated pilot flies a task headless at one WOD point with one
+ * seed, in the ship's motion, the field's turbulence and (where the
+ * aircraft has one) the landing gear; the flight is judged against the
+ * SHOL's rejection criteria at every step, the touchdown and the task's
+ * adequate tolerances. couple/fly_task.c has the order of the causes. */
+typedef struct couple_fly_task couple_fly_task;
+typedef struct couple_fly_task_opts {
+    double rate_hz;        /* the step rate (200) */
+    int turbulence;        /* 1 (default): the field's turbulence, seeded by the flight's seed */
+    sim_sea sea;           /* the ship's sea and speed (calm by default), seeded by seed + 1 */
+    double station_S_m[3]; /* the start: the trimmed hover with the CG here */
+    double max_s;          /* the longest flight (s); 0: the task's length (sim_task_length_s) */
+    /* The replay pilot instead of the automated one (sim/pilot_replay.c):
+     * it re-flies this log (kept by the caller; NULL: none, the default)
+     * and the task may be NULL; the flight fails farther than
+     * replay_pos_m (2 m) from the recorded run, or at a touchdown sink
+     * above replay_sink_mps (2 m/s). */
+    const sim_log *replay;
+    double replay_pos_m, replay_sink_mps;
+    int replay_feed_controls; /* 1: the recorded controls fed forward too (sim_pilot_replay_opts) */
+    /* How the criteria judge the flight (shol_flown_judge): the steady
+     * limits on the phase's running mean over window_s (3 s; 0: every
+     * step's values), the transient ones (a control at its stop, an
+     * attitude past the limit times 1 + transient_frac, 0.5) at each step. */
+    double window_s, transient_frac;
+} couple_fly_task_opts;
+void couple_fly_task_opts_default(couple_fly_task_opts *o);
+/* ac (and o->replay) kept by the caller; the rest is copied. NULL with err. */
+couple_fly_task *couple_fly_task_create(const hfm_aircraft *ac, const core_ship *ship, const sim_task *task,
+                                        const shol_criteria *crit, const couple_fly_task_opts *o,
+                                        const core_log *log, core_err *err);
+void couple_fly_task_destroy(couple_fly_task *t);
+/* Fly once in field (the direction's ship-only field, NULL: the free
+ * stream): 0 flown (out filled, passed or not), 1 no trim at the start
+ * (out->cause "no trim"), < 0 fatal (couple_fly_task_last_error says why). */
+int couple_fly_task_run(couple_fly_task *t, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
+                        const struct cfd_field *field, struct shol_flight *out);
+const char *couple_fly_task_last_error(const couple_fly_task *t);
+/* The last flight's task result and final state. */
+typedef struct couple_fly_task_last {
+    sim_task_result result;        /* the automated pilot's */
+    sim_replay_result replay;      /* the replay pilot's */
+    sim_flight_out end;
+} couple_fly_task_last;
+void couple_fly_task_last_get(const couple_fly_task *t, couple_fly_task_last *out);
+/* A shol_fly_fn (user: a couple_fly_task_user): the field of the direction
+ * from field (NULL: always the free stream; never asked at 0 m/s, where a
+ * field scales to still air), then couple_fly_task_run. */
+typedef int (*couple_fly_field_fn)(void *user, double wod_dir_rad, const struct cfd_field **out, core_err *err);
+typedef struct couple_fly_task_user {
+    couple_fly_task *task;
+    couple_fly_field_fn field; /* 0 and *out (NULL: the free stream), or < 0 with err */
+    void *field_user;
+} couple_fly_task_user;
+int couple_fly_task_shol(void *user, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
+                         struct shol_flight *out);
 
 #ifdef __cplusplus
 }

@@ -227,8 +227,9 @@ static int load_main_rotor(rd *r, hfm_mr *mr)
     mr->hub_drag_m2 = 0.0;
     if (core_ini_get_double(r->ini, M, "hub_drag_m2", 0, 0.0, 20.0, &mr->hub_drag_m2, r->err) < 0)
         return -1;
-    /* the wake's velocity at the airframe now follows from the wake's path
-     * (hfm/body.c), so the two factors that set it are gone */
+    /* the wake's velocity at the airframe follows from the wake's path
+     * (hfm/body.c); files that still set it by these two factors are
+     * refused, naming the key */
     static const char *const gone[2] = {"wake_factor_fuselage", "wake_factor_tail"};
     for (int i = 0; i < 2; i++)
         if (core_ini_find(r->ini, M, gone[i]))

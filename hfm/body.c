@@ -29,9 +29,9 @@
  * 0.15 R (hfm_wake_point). Each component takes the mean over its own
  * extent (hfm_wake_speed_patch, hfm_wake_speed_disk) by the midpoint rule
  * on cells no wider than the edge, or (the fuselage, fuselage.c) the loads
- * cell by cell; a single reference point let the edge sweep past it
- * within 1 kt of airspeed (UH-60A trims jumping between 47 and 48 kt,
- * issue 29). Assumptions: uniform velocity across the wake's section (the
+ * cell by cell; with a single reference point the edge sweeps past it
+ * within 1 kt of airspeed (UH-60A trims jump between 47 and 48 kt).
+ * Assumptions: uniform velocity across the wake's section (the
  * disk's first-harmonic inflow is not carried downstream: traced along the
  * wake it put the UH-60A's stabilator at 60 kt in the front of the disk's
  * low inflow and its pitch 2.7 deg below GenHel's); the wake straight

@@ -11,8 +11,8 @@
  * surface is the rectangle of its area and aspect ratio (span sqrt(AR S),
  * chord S/span) centred on pos_B_m: spanwise along y for the stabilator,
  * along z for the fin (sweep and taper neglected). UH-60A stabilator
- * incidence: the GenHel schedule of ../shared/reference/uh60a.md (airspeed,
- * pitch rate, lateral acceleration, collective), without its 7 deg/s rate
+ * incidence: GenHel's schedule (Howlett, NASA CR-166309, 1981) of airspeed,
+ * pitch rate, lateral acceleration and collective, without its 7 deg/s rate
  * limit.
  */
 #include "hfm_priv.h"

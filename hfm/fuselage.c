@@ -1,6 +1,7 @@
 /* fuselage.c -- fuselage aerodynamics from tables versus angle of attack and
- * sideslip (GenHel, Howlett NASA CR-166309, fuselage data as quoted in
- * ../shared/reference/uh60a.md), per dynamic pressure.
+ * sideslip, per dynamic pressure: GenHel's fuselage tables (Howlett, "UH-60A
+ * Black Hawk Engineering Simulation Program", NASA CR-166309, 1981;
+ * docs/references.md).
  *
  * Drag D/q(alpha) + dD/q(|beta|) acts along the local air velocity, lift
  * L/q(alpha) normal to it in the body x-z plane, pitching moment M/q(alpha)

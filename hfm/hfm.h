@@ -5,7 +5,7 @@
  * trim by Newton-Raphson and pseudo-arc-length continuation, linearisation
  * and time simulation (SUNDIALS ARKODE fixed step, CVODE variable step).
  *
- * Frames and units follow ../shared/CONVENTIONS.md: SI inside; the ship
+ * Frames and units follow docs/conventions.md: SI inside; the ship
  * frame S (x bow, y starboard, z down) is the reference frame of the
  * kinematics and is treated as inertial (steady ship translation); body
  * frame B at the centre of gravity; Euler angles 3-2-1 of B relative to S.
@@ -316,7 +316,7 @@ enum { HFM_PARAM_AIRSPEED = 0, HFM_PARAM_WOD_SPEED = 1 };
 /* A flight condition. FORWARD: straight level flight at airspeed_mps in
  * still air (or in `air` when given), heading along S's x. HOVER_SHIP: the
  * CG fixed at pos_S_m, heading along the ship's bow (psi = 0), in a WOD
- * of wod_speed_mps from wod_dir_rad (CONVENTIONS.md), or in `air` when
+ * of wod_speed_mps from wod_dir_rad (docs/conventions.md), or in `air` when
  * given (a field). */
 typedef struct hfm_trim_cond {
     int kind;
@@ -363,6 +363,20 @@ int hfm_trim_solve(hfm_trim *tr, const hfm_trim_cond *c, const hfm_trim_result *
  * Returns 0 when every point converged, 1 otherwise (see res[i].converged). */
 int hfm_trim_sweep(hfm_trim *tr, const hfm_trim_cond *c, int param, const double *vals, int n,
                    hfm_trim_result *res);
+/* The air of a trim at a WOD speed for hfm_trim_sweep_warm (NULL: calm). */
+typedef const hfm_air *(*hfm_air_at_fn)(void *user, double wod_speed_mps);
+/* Hover trims (c's kind and constraint, WOD direction and station) at the
+ * WOD speeds mps[0..n-1], each in the air air_at gives for its speed and
+ * started from the last converged trim (from the free-air guess again where
+ * that does not converge; a trim that does not converge is kept, see
+ * res[i].converged). Returns 0, or < 0 when trim *at failed fatally (e.g.
+ * sampled air outside a field); the later ones are not trimmed then. */
+int hfm_trim_sweep_warm(hfm_trim *tr, const hfm_trim_cond *c, const double *mps, int n, hfm_air_at_fn air_at,
+                        void *user, hfm_trim_result *res, int *at);
+/* The trim table's CSV (disim trim): the header line and the row of a trim
+ * at speed_kt, without newline (the row as snprintf returns). */
+const char *hfm_trim_csv_header(void);
+int hfm_trim_csv_row(double speed_kt, const hfm_trim_result *r, char *buf, size_t n);
 
 /* -------------------------------------------------------- linearisation */
 #define HFM_LIN_NX 9

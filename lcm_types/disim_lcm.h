@@ -1,8 +1,9 @@
 /*
  * disim_lcm.h -- the LCM message types of package disim and their channels.
  *
- * Channel names are upper case with the DISIM_ prefix (CONVENTIONS.md). Every
- * message carries utime (simulation microseconds) and a sequence number.
+ * Channel names are upper case with the DISIM_ prefix (docs/conventions.md).
+ * Every message carries utime (simulation microseconds) and a sequence
+ * number.
  * disim_lcm_check_* validate a received message before use: they return 0 if
  * every field is finite and in range, else < 0 with err naming the field.
  */

@@ -6,7 +6,7 @@
  * slice); frames to PNG and to video through ffmpeg; live rendering beside
  * the flight loop in a thread of its own.
  *
- * Frames. Poses are given in E (NED, CONVENTIONS.md) as the flight loop
+ * Frames. Poses are given in E (NED, docs/conventions.md) as the flight loop
  * publishes them (ship_state_t, heli_state_t); the ship frame S (x bow, y
  * starboard, z down, origin at the landing spot) and the body frame B are
  * placed by them. Images are RGBA, 8 bits per channel, top row first; pixel
@@ -88,7 +88,7 @@ typedef struct render_state {
     double vel_S_mps[3];          /* relative to the ship, in S */
     double roll_rad, pitch_rad, yaw_rad; /* Euler 3-2-1 of B in E */
     double ship_yaw_rad;          /* of S in E */
-    double controls_pct[4];       /* collective, longitudinal, lateral, pedal (CONVENTIONS.md) */
+    double controls_pct[4];       /* collective, longitudinal, lateral, pedal (docs/conventions.md) */
     double rotor_thrust_N;
     int on_deck;
     int n_gear;

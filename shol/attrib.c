@@ -1,5 +1,5 @@
 /*
- * attrib.c -- what drives a direction's limit (issue 29): the limiting
+ * attrib.c -- what drives a direction's limit: the limiting
  * quantity's load budget, compared between the limiting trim and a
  * reference trim, names the flight-model component whose change the
  * limiting control (or attitude) had to balance.

@@ -1,5 +1,5 @@
 /*
- * band.c -- each direction's limit as a value and a band (issue 28).
+ * band.c -- each direction's limit as a value and a band.
  *
  * Model: a candidate SHOL supports at-sea flight test, which need test
  * only "the regions with low confidence in the candidate SHOL and/or small

@@ -1,5 +1,5 @@
 /*
- * checks.c -- physics checks of a candidate SHOL envelope (issue 5).
+ * checks.c -- physics checks of a candidate SHOL envelope.
  *
  * What a flight-test engineer looks at first on a new candidate envelope,
  * after the seed paper's section 3.4 and the NATOPS SHOLs it compares with:

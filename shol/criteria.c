@@ -3,9 +3,12 @@
  *
  * Model: a trimmed hover over the spot is rejected when an attitude or a
  * control position is beyond its limit (seed paper section 2.7, Table 4;
- * CONVENTIONS.md "Rejection criteria"):
+ * docs/conventions.md "Rejection criteria"):
  *   abs(phi) > roll limit, abs(theta) > pitch limit, and for each control
  *   c (percent of travel) with limit L: c > L or c < 100 - L.
+ * That band is not the convention's reading of a control limit (a cyclic
+ * or pedal limit from neutral, 50 +- L/2 %; the collective from full
+ * down, above L %): docs/conventions.md gives both.
  * Margins are signed distances to the nearest limit (negative beyond it):
  *   attitude  m = limit - abs(angle)           [rad]
  *   control   m = min(L - c, c - (100 - L))    [percentage points]

@@ -1,11 +1,11 @@
 /*
- * flown.c -- the SHOL from flown tasks (issue 26): a WOD point is flown,
+ * flown.c -- the SHOL from flown tasks: a WOD point is flown,
  * not trimmed, and judged over its whole time history.
  *
  * Model. At each WOD point the caller's fly callback flies the task (an
  * automated pilot landing on the moving deck in the field's turbulence)
  * once per seed. A flight is rejected when a rejection criterion of the
- * trim-based procedure (seed paper Table 4, CONVENTIONS.md) is exceeded
+ * trim-based procedure (seed paper Table 4, docs/conventions.md) is exceeded
  * during the flight (shol_flown_track), when the touchdown is
  * outside the task's adequate limits, when the task's adequate tolerances
  * are not met, when the aircraft strikes the ship, or when it cannot be

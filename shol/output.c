@@ -1,6 +1,6 @@
 /*
- * output.c -- the envelope as data files: shol.csv (one row per direction,
- * the columns of issue 5) and shol.json (settings, criteria, results and the
+ * output.c -- the envelope as data files: shol.csv (one row per direction:
+ * limit speed, limiting criterion, margins, band) and shol.json (settings, criteria, results and the
  * whole trim-versus-speed history), and the CSV reader for comparisons.
  * Units are in the names: deg, kt, km/h, pct. Non-finite values are written
  * as nan (CSV) or null (JSON).
@@ -15,7 +15,7 @@
 #define CSV_HEADER_V1                                                                              \
     "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,margin_pitch_deg,"               \
     "margin_long_pct,margin_lat_pct,margin_coll_pct,margin_pedal_pct"
-/* The band's columns follow the first ten (issue 28), so that a reader of
+/* The band's columns follow the first ten, so that a reader of
  * the first ten reads on unchanged; shol_read_csv takes both headers. */
 #define CSV_BAND_COLS                                                                              \
     ",band_lo_kmh,band_hi_kmh,band_grid_kmh,band_window_kmh,band_sens_kmh,band_open_above,"        \
@@ -414,7 +414,7 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
         json_num(f, cval[k]);
     }
     fputs("},\n", f);
-    /* how the bands were made (issue 28) */
+    /* how the bands were made */
     const shol_band_rule br = shol_band_rule_of(r);
     fputs("  \"band_rule\": {\"low_confidence_width_kmh\": ", f);
     json_num(f, br.width_mps / CORE_KMH_TO_MPS);
@@ -460,7 +460,7 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
         } else {
             fputs(",\n     \"sensitivity\": null", f);
         }
-        /* what drives the limit (shol_envelope_attribution; issue 29):
+        /* what drives the limit (shol_envelope_attribution):
          * the criterion's budget, and an attitude's secondary one */
         fputs(",\n     \"attribution\": ", f);
         json_attribution(f, d, -1);

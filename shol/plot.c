@@ -3,7 +3,7 @@
  * (PNG and SVG) and the trim-versus-speed plots per direction (PNG), like
  * the seed paper's Figs. 16-22.
  *
- * Polar plot habit (CONVENTIONS.md, NATOPS launch/recovery envelopes): the
+ * Polar plot habit (docs/conventions.md, NATOPS launch/recovery envelopes): the
  * bow up, starboard to the right, relative wind direction as the angle
  * (where the wind comes from), WOD speed in knots as the radius, one closed
  * line. Directions that were not swept count as not cleared: when the swept

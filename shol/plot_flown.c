@@ -1,6 +1,6 @@
 /*
  * plot_flown.c -- the flown envelope over the trim-based one in one polar
- * plot (PNG and SVG), as the trim plot draws it (CONVENTIONS.md, NATOPS
+ * plot (PNG and SVG), as the trim plot draws it (docs/conventions.md, NATOPS
  * habit: the bow up, starboard to the right, WOD speed in knots as the
  * radius, one closed line per envelope; a gap wider than 90 deg between
  * the directions closes through the centre). The trim envelope is dashed,

@@ -3,7 +3,7 @@
  * criteria, the polar plot, the envelope table, the trim-versus-speed plots,
  * the coupling histories (text the caller supplies) and, with a second
  * result set, a direction-by-direction comparison (e.g. two-way coupled
- * versus one-way airwake, as issue 5's acceptance asks).
+ * versus one-way airwake).
  */
 #include "io.h"
 #include "shol.h"
@@ -47,7 +47,7 @@ static void md_cell(FILE *f, const char *s)
     }
 }
 
-/* Beam winds sheltered by a steady mean (issue 28; docs/shol.md, "LPD-17's
+/* Beam winds sheltered by a steady mean (docs/shol.md, "LPD-17's
  * beam winds: physics or the steady mean"): a direction within 15 deg of
  * the beam whose trim-based limit reaches the top of the search or passes
  * the head wind's goes against the seed paper's expectation of crosswind
@@ -92,7 +92,7 @@ static void write_beam_note(FILE *f, const shol_result *r)
                    "or a time-accurate field for these directions (docs/shol.md, \"LPD-17's beam winds\").\n\n");
 }
 
-/* The bands section (issue 28): each direction's value, band and what
+/* The bands section: each direction's value, band and what
  * makes it, and the directions of low confidence named. */
 static void write_bands(FILE *f, const shol_result *r)
 {

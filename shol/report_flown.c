@@ -58,7 +58,7 @@ int shol_flown_write_csv(const char *dir, const shol_flown_result *fr, core_err 
     FILE *f = shol_io_open(tmp, err);
     if (!f)
         return -1;
-    /* the band's columns after the first nine (issue 28), as in shol.csv */
+    /* the band's columns after the first nine, as in shol.csv */
     fprintf(f, "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,pass_rate_at_fail,cause,"
                "trim_max_speed_kt,trim_limit,band_lo_kmh,band_hi_kmh,band_grid_kmh,band_window_kmh,band_sens_kmh,"
                "band_open_above,low_confidence\n");
@@ -158,7 +158,7 @@ static void fmt_kt(char *b, size_t n, int has, double mps)
 }
 
 /* The bands of both envelopes, direction by direction, and the directions
- * of low confidence named (issue 28). */
+ * of low confidence named. */
 static void write_flown_bands(FILE *f, const shol_flown_result *fr, const shol_result *trim)
 {
     const double K = CORE_KMH_TO_MPS;

@@ -9,13 +9,16 @@
  * station for a given wind over deck, e.g. in the coupled airwake. See
  * docs/shol.md for how a command drives it.
  *
- * Conventions (../shared/CONVENTIONS.md):
+ * Conventions (docs/conventions.md):
  *  - SI inside: speeds in m/s, angles in rad. Degrees, knots and km/h appear
  *    only in the data file keys and the output files, whose names say so.
  *  - WOD direction is where the wind comes FROM, from the bow, positive to
  *    starboard (green), negative to port (red), in (-180, 180].
  *  - Controls are percentages of full travel, 0..100, 50 mid-travel. A limit
- *    L% on a control rejects it above L% or below (100 - L)%.
+ *    L% on a control rejects it above L% or below (100 - L)%. (The
+ *    convention reads a cyclic or pedal limit as a displacement from
+ *    neutral, rejected beyond 50 +- L/2 %, and a collective limit from full
+ *    down; docs/conventions.md sets the two readings side by side.)
  *  - Functions return int: 0 ok, < 0 fatal (err filled), > 0 recoverable.
  */
 #ifndef DISIM_SHOL_H
@@ -60,7 +63,7 @@ typedef struct shol_criteria {
     double pedal_pct;
 } shol_criteria;
 
-/* The defaults of CONVENTIONS.md (seed paper Table 4): 5 deg, 8 deg, 85 %,
+/* The defaults of docs/conventions.md (seed paper Table 4): 5 deg, 8 deg, 85 %,
  * 85 %, 85 %, 80 %. */
 void shol_criteria_default(shol_criteria *c);
 
@@ -74,7 +77,7 @@ int shol_criteria_read(core_ini *ini, shol_criteria *c, core_err *err);
 /* Load path and read its [rejection] section (see shol_criteria_read). */
 int shol_criteria_load(const char *path, shol_criteria *c, core_err *err);
 
-/* The airframe's components whose loads a trim may report (issue 29):
+/* The airframe's components whose loads a trim may report:
  * main rotor, tail rotor (or fenestron), fuselage, horizontal stabiliser
  * (stabilator), fin, and gravity (the weight, acting at the CG). */
 enum {
@@ -180,7 +183,7 @@ typedef struct shol_sample {
     shol_loads loads;
 } shol_sample;
 
-/* A direction's limit as a value and a band (issue 28; shol/band.c,
+/* A direction's limit as a value and a band (shol/band.c,
  * docs/shol.md "Uncertainty bands"), from what the project measures. Each
  * source is a speed interval round the limit V:
  *  - grid: the same limit computed on another grid level, V_g: the
@@ -311,7 +314,7 @@ typedef struct shol_sensitivity {
  * SHOL_LIMIT_NONE and the figures NAN. */
 int shol_envelope_sensitivity(const shol_dir_result *d, shol_sensitivity *out);
 
-/* What drives a direction's limit (issue 29; docs/shol.md, "What drives
+/* What drives a direction's limit (docs/shol.md, "What drives
  * a limit"): the limiting quantity's budget, compared between the limiting
  * trim and a reference trim (the direction's lowest converged speed, the
  * calm hover of a sweep from 0). Each criterion belongs to a budget:
@@ -383,7 +386,7 @@ int shol_envelope_attribution(const shol_dir_result *d, int budget, shol_attribu
  * a is undefined (driver < 0). */
 void shol_attribution_format(const shol_attribution *a, char *buf, size_t n);
 
-/* ------------------------------------------- uncertainty bands (issue 28) */
+/* ---------------------------------------------------- uncertainty bands */
 /* What the bands are made of. grid: the same envelope on another grid
  * level (its directions matched to r's within 1e-6 rad; a direction it
  * lacks has no second grid; one with no passing speed has V_g = 0), NULL
@@ -515,7 +518,7 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
 int shol_write_all(const char *dir, const shol_result *r, const shol_report_info *info,
                    core_err *err);
 
-/* ------------------------------------------- the flown envelope (issue 26) */
+/* --------------------------------------------------- the flown envelope */
 /* SHOL points from flown tasks (shol/flown.c): at each WOD point the
  * caller's fly callback flies the task (an automated pilot, ship motion,
  * turbulence) with one seed; the point's pass rate over n_seeds seeds
@@ -701,7 +704,7 @@ int shol_flown_plot_polar(const char *dir, const shol_flown_result *f, const sho
  * trim-based one direction by direction, every point's pass rate and cause. */
 int shol_flown_write_report(const char *dir, const shol_flown_result *f, const shol_result *trim,
                             const shol_report_info *info, core_err *err);
-/* The band of the flown envelope's direction i (shol_band; issue 28): the
+/* The band of the flown envelope's direction i (shol_band): the
  * trim envelope's sources carried to the flown radius V_f, as what the
  * project measures of the air the flights fly: the trim's grid spread
  * (grid_mps, the same signed shift), its window spread s (window_frac)

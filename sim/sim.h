@@ -516,7 +516,7 @@ sim_sas *sim_flight_sas(sim_flight *f);
 typedef struct sim_station_controls {
     double collective_pct, long_cyclic_pct, lat_cyclic_pct, pedal_pct;
     int trim_button, trim_release; /* held (evdev buttons) */
-    int take_over;                 /* this station takes the controls (sim/lcm_io.c) */
+    int take_over;                 /* this station takes the controls (sim/pilots.c) */
 } sim_station_controls;
 /* All four at 50 %, the buttons released. */
 void sim_station_controls_centre(sim_station_controls *c);
@@ -643,6 +643,9 @@ typedef struct sim_station_view {
 } sim_station_view;
 /* 0 for an id the station may have, else -1 with err. */
 int sim_station_id_check(const char *id, core_err *err);
+/* A default id: the host's name (characters an id may hold, '-' for the
+ * others, at most 40) and source (at most 20), joined by '-'. */
+void sim_station_default_id(char *id, size_t n, const char *source);
 /* NULL with err for a bad id or an LCM URL it cannot open. */
 sim_station *sim_station_create(const sim_station_opts *o, core_err *err);
 void sim_station_destroy(sim_station *st);
@@ -688,13 +691,144 @@ typedef struct sim_station_run_opts {
 } sim_station_run_opts;
 int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *err);
 
-/* ------------------- the flight loop's LCM side (sim/lcm_io.c, issue 25) */
+/* ----------------------------- the world a flight flies in (sim/world.c) */
+/* What a run was flown from, as disim fly publishes it once at the start
+ * and after every reset or load on DISIM_RUN_INFO (run_info_t) and so logs
+ * it: enough to draw the run again (its ship, aircraft and seaway). Plain
+ * data. */
+typedef struct sim_run_info {
+    char scenario_path[SIM_PATH_MAX];
+    char scenario[64];       /* its name */
+    char aircraft_path[SIM_PATH_MAX];
+    char ship_path[SIM_PATH_MAX];
+    unsigned long long seed; /* the run's seed (the seaway's is seed + 1: sim_world_seaway) */
+    sim_sea sea;             /* the seaway flown */
+    double wod_speed_mps, wod_dir_rad;
+    double rate_hz, state_rate_hz;
+} sim_run_info;
+/* What the caller sets over a scenario (disim fly's flags, the flown
+ * SHOL's WOD point and seed). */
+struct sim_interaction;
+typedef struct sim_world_overrides {
+    double rate_hz;                      /* the step rate (200) */
+    double wod_speed_mps, wod_dir_rad;   /* NAN (default): the scenario's single WOD */
+    unsigned long long seed;             /* 1: the turbulence's; the seaway's is seed + 1 */
+    int turbulence;                      /* -1 (default): the scenario's [wod] turbulence; 0, 1 */
+    int sea_state;                       /* -1 (default): the scenario's [sea] state */
+    double wave_dir_rad, ship_speed_mps; /* NAN (default): the scenario's */
+    const sim_sea *sea;                  /* NULL (default); else the whole seaway, the three above unused */
+    int gear;                            /* 1 (default): the aircraft file's [gear] where it has one; 0 none */
+    int start;                           /* SIM_START_HOVER (default), SIM_START_DECK */
+    int sas;                             /* -1 (default): as the aircraft file's [sas]; 0 off, 1 on */
+    int has_station;                     /* 1: the start at station_S_m, else the scenario's station */
+    double station_S_m[3];
+    const struct cfd_field *field;       /* the ship-only airwake (NULL: the free stream); kept by the caller */
+    struct sim_interaction *interaction; /* the coupled rotor interaction (NULL: none); kept by the caller */
+} sim_world_overrides;
+void sim_world_overrides_default(sim_world_overrides *o);
+/* The run information of scenario sc under ov (state_rate_hz 0). */
+void sim_world_run_info(const sim_scenario *sc, const sim_world_overrides *ov, sim_run_info *ri);
+/* The seaway of a run of seed over ship: its own stream, seed + 1 (the
+ * one place that rule is written). NULL with err. */
+sim_ship_motion *sim_world_seaway(const core_ship *ship, const sim_sea *sea, unsigned long long seed, core_err *err);
+/* A world: the ship's motion in the seaway, the flight in it, and what
+ * they were built from. */
+typedef struct sim_world {
+    sim_ship_motion *motion;
+    sim_flight *flight;
+    sim_run_info info;
+} sim_world;
+/* Build the world of sc (only its ship, station, [sea], [wod] and paths
+ * used) and aircraft ac (kept by the caller) under ov. 0, or < 0 with err
+ * and nothing left to free (err->code CORE_ERR_NO_TRIM: the start does
+ * not trim). */
+int sim_world_build(const sim_scenario *sc, const hfm_aircraft *ac, const sim_world_overrides *ov,
+                    const core_log *log, sim_world *w, core_err *err);
+void sim_world_free(sim_world *w);
+
+/* ------------------------------ a trajectory as CSV (sim/trajectory.c) */
+/* Rows of a flight's outputs, every rate_hz / row_rate_hz steps, written
+ * to PATH.tmpPID and renamed into place by sim_traj_commit (a trajectory
+ * destroyed uncommitted leaves nothing). A NULL sim_traj takes every call
+ * and writes nothing (no trajectory asked for). */
+typedef struct sim_traj sim_traj;
+/* The header written. NULL with err. */
+sim_traj *sim_traj_create(const char *path, double rate_hz, double row_rate_hz, core_err *err);
+/* o's row at its step's turn (always: whatever the step). 0, or < 0 with err. */
+int sim_traj_row(sim_traj *t, const sim_flight_out *o, int always, core_err *err);
+/* Flushed, synced and renamed into place: 0, or < 0 with err. */
+int sim_traj_commit(sim_traj *t, core_err *err);
+void sim_traj_destroy(sim_traj *t);
+
+/* ------------------------ a pilot, and the one flight runner (sim/runner.c) */
+/* A pilot gives each step's inputs from the flight's output (the state
+ * after the last step). Its implementations: the automated pilot
+ * (sim_pilot_auto_pilot), the replay pilot (sim_pilot_replay_pilot), and
+ * in the real-time loop the LCM stations or the inputs its caller sets
+ * (sim_loop_pilot). A sim_pilot is a view: whoever created the pilot
+ * destroys it. */
+typedef struct sim_pilot_ops {
+    const char *kind; /* "auto", "replay", "stations", "inputs" */
+    /* The next step's inputs: 0 fly on; > 0 the pilot is done (nothing
+     * more to fly; in not used); < 0 it failed. */
+    int (*step)(void *self, const sim_flight_out *out, sim_flight_inputs *in);
+} sim_pilot_ops;
+typedef struct sim_pilot {
+    const sim_pilot_ops *ops;
+    void *self;
+} sim_pilot;
+int sim_pilot_step(const sim_pilot *p, const sim_flight_out *out, sim_flight_inputs *in);
+
+/* The runner: one pass (sim_run_pass) asks the wrap's before whether to
+ * step, the pilot for the inputs, steps the flight (sim_flight_step, or
+ * the wrap's step) and shows the observer the output; sim_run passes
+ * until an end and returns which (or < 0 with err). sim/runner.c has the
+ * order. */
+enum {
+    SIM_RUN_STEPPED = 0, /* a pass: the flight stepped */
+    SIM_RUN_SKIPPED,     /* a pass: nothing stepped (the real-time loop paused) */
+    SIM_RUN_LENGTH,      /* max_steps stepped, or the wrap's length flown */
+    SIM_RUN_PILOT_DONE,  /* the pilot is done: nothing stepped */
+    SIM_RUN_ENDED,       /* the step ended the flight (a crash, a roll-over; err says what) */
+    SIM_RUN_OBSERVED,    /* the observer stopped the run */
+    SIM_RUN_STOPPED      /* *stop was set before a pass */
+};
+/* What wraps the step (the real-time loop's I/O and pacing): before
+ * returns SIM_RUN_STEPPED to step, SIM_RUN_SKIPPED for a pass that does
+ * not, another end, or < 0 with err; step (NULL: sim_flight_step on the
+ * run's flight) returns as sim_flight_step does. */
+typedef struct sim_run_wrap {
+    int (*before)(void *user, core_err *err);
+    int (*step)(void *user, const sim_flight_inputs *in, sim_flight_out *out, core_err *err);
+    void *user;
+} sim_run_wrap;
+/* After every step: out, and st as the step returned it (> 0: the flight
+ * ended, err says what; < 0: it failed, err says why). 0 runs on, > 0
+ * stops the run (SIM_RUN_OBSERVED), < 0 fails it with err. */
+typedef int (*sim_run_observe_fn)(void *user, const sim_flight_out *out, int st, core_err *err);
+typedef struct sim_run_opts {
+    long max_steps;                    /* < 0 (the default): no limit */
+    const volatile sig_atomic_t *stop; /* set (by a signal handler): stop; NULL: none */
+    sim_run_wrap wrap;                 /* zeroed: the flight stepped bare */
+    sim_run_observe_fn observe;        /* NULL: none */
+    void *observe_user;
+} sim_run_opts;
+void sim_run_opts_default(sim_run_opts *o);
+/* One pass on flight fl (NULL where the wrap steps its own) with pilot p
+ * from out, which becomes the step's output: a SIM_RUN_* or < 0 with err. */
+int sim_run_pass(sim_flight *fl, const sim_pilot *p, const sim_run_opts *o, sim_flight_out *out, core_err *err);
+/* Passes until an end: SIM_RUN_LENGTH, _PILOT_DONE, _ENDED, _OBSERVED,
+ * _STOPPED, or < 0 with err; out is the last output. */
+int sim_run(sim_flight *fl, const sim_pilot *p, const sim_run_opts *o, sim_flight_out *out, core_err *err);
+
+/* ------------- the pilot stations' rules (sim/pilots.c) and the real-time
+ * loop (sim/loop.c) */
 /* Around the deterministic step, never inside it: pilot stations'
- * pilot_input_t taken by their rules (sim_pilots), sim_control_t (pause,
- * resume, reset, load scenario), heli_state_t, ship_state_t and
- * sim_status_t published, every message sent and received written to an
- * LCM event log, a log's inputs replayed (sim_loop). sim/lcm_io.c has the
- * rules, the log's clock and its references. */
+ * pilot_input_t taken by their rules (sim_pilots, sim/pilots.c),
+ * sim_control_t (pause, resume, reset, load scenario), heli_state_t,
+ * ship_state_t and sim_status_t published, every message sent and
+ * received written to an LCM event log, a log's inputs replayed (sim_loop,
+ * sim/loop.c, which has the log's clock and its references). */
 #define SIM_PILOTS_MAX 16
 #define SIM_STATION_ID_MAX 64
 
@@ -749,20 +883,6 @@ long long sim_pilots_refused_unknown(const sim_pilots *p);
  * received (or the replayed log's, at their logged steps), carries out
  * the controls, steps the flight unless paused, publishes and paces. */
 typedef struct sim_loop sim_loop;
-/* What a run was flown from, as disim fly publishes it once at the start
- * and after every reset or load on DISIM_RUN_INFO (run_info_t) and so logs
- * it: enough to draw the run again (its ship, aircraft and seaway). Plain
- * data. */
-typedef struct sim_run_info {
-    char scenario_path[SIM_PATH_MAX];
-    char scenario[64];       /* its name */
-    char aircraft_path[SIM_PATH_MAX];
-    char ship_path[SIM_PATH_MAX];
-    unsigned long long seed; /* the run's seed (the seaway's is seed + 1) */
-    sim_sea sea;             /* the seaway flown */
-    double wod_speed_mps, wod_dir_rad;
-    double rate_hz, state_rate_hz;
-} sim_run_info;
 typedef struct sim_loop_world {
     sim_flight *flight;            /* the flight stepped */
     const sim_ship_motion *motion; /* its ship's motion (NULL: the frame alone) */
@@ -810,8 +930,20 @@ enum { SIM_LOOP_STEPPED = 0, SIM_LOOP_PAUSED = 1, SIM_LOOP_DONE = 2, SIM_LOOP_CR
  * failed). */
 int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err);
 /* With opts.pilot_source_id: the inputs of the next step (kept for the
- * steps after until set again). */
+ * steps after until set again) that the loop's own pilot gives. */
 void sim_loop_set_inputs(sim_loop *l, const sim_flight_inputs *in);
+/* The loop as the runner's wrap (o's wrap set, the rest kept): sim_run
+ * with it (a NULL flight: the loop steps the world it flies) passes as
+ * sim_loop_iterate does, with the pilot the caller gives; the run ends
+ * SIM_RUN_LENGTH at the duration, SIM_RUN_ENDED at a crash (the loop to
+ * be finished as at the end). */
+void sim_loop_run_opts(sim_loop *l, sim_run_opts *o);
+/* The loop's own pilot: the stations by their rules at the run clock (the
+ * messages LCM brought, or with opts.replay_path the replayed log's at
+ * their logged steps), or with opts.pilot_source_id the inputs of
+ * sim_loop_set_inputs. A pilot of the caller's given to sim_run instead
+ * flies as pilot_source_id. */
+sim_pilot sim_loop_own_pilot(sim_loop *l);
 /* The end: a last status (STOPPED), the log flushed, synced and renamed.
  * 0, or < 0 with err (the log is then removed). */
 int sim_loop_finish(sim_loop *l, core_err *err);
@@ -895,6 +1027,10 @@ int sim_task_load_ship(const char *path, const core_ship *ship, sim_task *t, cor
 int sim_task_start_S(const char *path, const core_ship *ship, double start_S_m[3], core_err *err);
 /* The task's length: each phase's longest time, and a landing's settling. */
 double sim_task_length_s(const sim_task *t);
+/* The phases of a task given by its legacy fields alone (target_S_m,
+ * duration_s, the bands; land: descent_mps): a hold, and for land a
+ * descend after it (no time asked); nphases set. */
+void sim_task_legacy_phases(sim_task *t);
 
 typedef struct sim_pilot_auto sim_pilot_auto;
 typedef struct sim_pilot_auto_opts {
@@ -1019,16 +1155,39 @@ typedef struct sim_task_result {
 int sim_task_result_write(const sim_task *t, const sim_task_result *r, const char *csv_path,
                           const char *json_path, core_err *err);
 void sim_pilot_auto_result(const sim_pilot_auto *p, sim_task_result *r);
+/* The automated pilot as a sim_pilot (kind "auto"): done once its task
+ * result says done (touched down and settled, or its last hold flown). */
+sim_pilot sim_pilot_auto_pilot(sim_pilot_auto *p);
 
-/* ---------------------------- the replay pilot (sim/pilot_replay.c, issue 26) */
-/* A recorded run (the LCM event log of `disim fly --log`) as a reference:
- * the helicopter's position, velocity and heading relative to the ship's
- * landing spot (S) as functions of the flight's time, and the recorded
- * pilot's controls; the replay pilot re-flies it through the automated
- * pilot's loops in another wind over deck and sea state, relative to its
- * own deck. sim/pilot_replay.c has the model and the log's rules. */
-typedef struct sim_replay_log sim_replay_log;
-typedef struct sim_replay_info {
+/* ------------------------------------------- the LCM log of a run (sim/log.c) */
+/* The writer: an LCM event log written whole or not at all. Events go to
+ * a new temporary file beside path, in LCM's format (the bytes of
+ * lcm_eventlog_write_event); commit flushes, syncs and renames it to
+ * path. NULL with err naming the file. */
+typedef struct sim_log_writer sim_log_writer;
+sim_log_writer *sim_log_writer_create(const char *path, core_err *err);
+/* One event: the channel (1 to 255 characters), the timestamp (the loop's
+ * run clock, us) and the message. 0, or -1 with err naming the temporary
+ * file (a failed write fails the commit too). */
+int sim_log_writer_write(sim_log_writer *w, const char *channel, int64_t utime_us, const void *data, int size,
+                         core_err *err);
+/* The events written so far. */
+long sim_log_writer_events(const sim_log_writer *w);
+/* The log flushed, synced and renamed to its path: 0, or -1 with err
+ * naming the path, the temporary file removed (nothing half-written).
+ * Once only. */
+int sim_log_writer_commit(sim_log_writer *w, core_err *err);
+/* Frees w; an uncommitted log's temporary file is removed. */
+void sim_log_writer_destroy(sim_log_writer *w);
+
+/* The reader: a recorded run (the LCM event log of `disim fly --log`) as
+ * a reference: the helicopter's position, velocity and heading relative
+ * to the ship's landing spot (S) as functions of the flight's time, and
+ * the recorded pilot's controls (the replay pilot re-flies it, relative
+ * to its own deck); and its states for drawing. sim/log.c has the
+ * reference's model and the log's rules. */
+typedef struct sim_log sim_log;
+typedef struct sim_log_summary {
     long n_events;      /* every event in the log */
     long n_states;      /* heli_state_t (each with its ship_state_t): the reference's samples */
     long n_ship;        /* ship_state_t */
@@ -1037,41 +1196,39 @@ typedef struct sim_replay_info {
     int n_stations;     /* stations heard (2: two or more) */
     char station[SIM_STATION_ID_MAX]; /* the one station's id ("" otherwise) */
     double t0_s, t1_s;  /* the first and the last state's time */
-} sim_replay_info;
+} sim_log_summary;
 enum { SIM_REPLAY_HOVER = 0, SIM_REPLAY_TRANSLATE = 1, SIM_REPLAY_DESCEND = 2, SIM_REPLAY_ON_DECK = 3,
        SIM_REPLAY_NPHASE = 4 };
 /* (SIM_REPLAY_*: the recorded reference's motion at a sample, classified
  * from its velocities for the replay's error statistics: what the logged
  * flight did, not a phase a pilot is asked to fly, SIM_PHASE_*.) */
 /* The reference at one time (plain data). */
-typedef struct sim_replay_sample {
+typedef struct sim_log_sample {
     double t_s;
     double pos_S_m[3];        /* the CG from the landing spot, in S */
     double vel_S_mps[3];      /* d pos_S_m / dt: relative to the deck, in S (0 after the end) */
     double acc_S_mps2[3];     /* d vel_S_mps / dt (central differences over the samples) */
     double heading_rad;       /* from the bow, + to starboard */
-    int phase;                /* SIM_REPLAY_*: of the reference's motion (sim/pilot_replay.c) */
+    int phase;                /* SIM_REPLAY_*: of the reference's motion (sim/log.c) */
     int on_deck;              /* the recorded state has a wheel on the deck */
     /* the recorded state as sim_flight_out has it */
     double vel_mean_S_mps[3]; /* relative to the ship's mean motion, in S */
     double euler_E_rad[3], rate_B_radps[3];
     double C_ES[9];
     double controls_pct[4];   /* the recorded controls of the step from t_s: collective, long, lat, pedal */
-} sim_replay_sample;
+} sim_log_sample;
 /* Read a log. NULL with err naming the file and, for a bad event, its
  * number (from 1), channel and byte offset: missing, not a file, empty,
  * not an event log, truncated, corrupt, a state failing
  * disim_lcm_check_raw or not finite, fewer than two heli_state_t, a state
  * without the ship state of its time, states not in time order (a reset
  * or a load: one flight is expected). */
-sim_replay_log *sim_replay_log_load(const char *path, core_err *err);
-void sim_replay_log_destroy(sim_replay_log *r);
-void sim_replay_log_info(const sim_replay_log *r, sim_replay_info *i);
+sim_log *sim_log_load(const char *path, core_err *err);
+void sim_log_destroy(sim_log *r);
+void sim_log_info(const sim_log *r, sim_log_summary *i);
 /* The reference at t_s, linear between samples, held at the nearest end
  * outside them. 0 inside [t0_s, t1_s], 1 outside. */
-int sim_replay_log_sample(const sim_replay_log *r, double t_s, sim_replay_sample *s);
-/* "hover", "translate", "descend", "on deck"; "all" for SIM_REPLAY_NPHASE. */
-const char *sim_replay_phase_name(int phase);
+int sim_log_sample_at(const sim_log *r, double t_s, sim_log_sample *s);
 
 /* A logged instant for drawing it (render/, disim render LOG): the states'
  * poses in E as published, linear between samples (the attitude by
@@ -1093,12 +1250,18 @@ typedef struct sim_log_state {
 } sim_log_state;
 /* The log's state at t_s: 0 inside [t0_s, t1_s], 1 outside (held at the
  * nearer end). */
-int sim_replay_log_state(const sim_replay_log *r, double t_s, sim_log_state *s);
+int sim_log_state_at(const sim_log *r, double t_s, sim_log_state *s);
 
 /* The run information of the log's first run_info_t: 0, or 1 when the log
  * has none (a log of an older disim: draw it with --scenario). */
-int sim_replay_log_run_info(const sim_replay_log *r, sim_run_info *ri);
+int sim_log_run_info(const sim_log *r, sim_run_info *ri);
 
+/* ------------------------------------------ the replay pilot (sim/pilot_replay.c) */
+/* Re-flies a recorded run (sim_log) through the automated pilot's loops
+ * in another wind over deck and sea state, relative to its own deck.
+ * sim/pilot_replay.c has the model. */
+/* "hover", "translate", "descend", "on deck"; "all" for SIM_REPLAY_NPHASE. */
+const char *sim_replay_phase_name(int phase);
 typedef struct sim_pilot_replay sim_pilot_replay;
 typedef struct sim_pilot_replay_opts {
     sim_pilot_auto_opts pilot; /* the automated pilot's loops (rate, delay, the WOD of the gains) */
@@ -1126,7 +1289,7 @@ typedef struct sim_replay_result {
 /* A replay pilot for ref (kept by the caller) on aircraft ac, from the
  * flight's trimmed inputs; the flight should start at the reference's
  * start (its first sample's pos_S_m) with the SAS off. NULL with err. */
-sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_replay_log *ref,
+sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_log *ref,
                                           const sim_pilot_replay_opts *o, const sim_flight_inputs *trim,
                                           const core_log *log, core_err *err);
 /* The attitude references from the flight's own trim (its state s0 right
@@ -1138,6 +1301,9 @@ void sim_pilot_replay_destroy(sim_pilot_replay *p);
  * 0, or 1 when a control is at a stop. */
 int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_flight_inputs *in);
 void sim_pilot_replay_result(const sim_pilot_replay *p, sim_replay_result *r);
+/* The replay pilot as a sim_pilot (kind "replay"): never done (the run
+ * goes the length its caller gives). */
+sim_pilot sim_pilot_replay_pilot(sim_pilot_replay *p);
 
 /* ---------------------------------------- the landing gear (sim/contact.c) */
 /* The aircraft file's [gear] on the ship's deck: each leg an oleo strut in
@@ -1199,66 +1365,6 @@ int sim_contact_static_loads(const hfm_gear *g, double weight_N, double load_N[]
 /* A leg's compression (m, tyre and strut) under the static load load_N,
  * from the series law (the inverse of the leg's force law). */
 double sim_contact_leg_compression(const hfm_gear_leg *l, double load_N);
-
-/* ------------------- one task flown for the flown SHOL (sim/fly_task.c, issue 26) */
-/* The automated pilot flies a task headless at one WOD point with one
- * seed, in the ship's motion, the field's turbulence and (where the
- * aircraft has one) the landing gear; the flight is judged against the
- * SHOL's rejection criteria at every step, the touchdown and the task's
- * adequate tolerances. sim/fly_task.c has the order of the causes. */
-struct shol_criteria;
-struct shol_flight;
-typedef struct sim_fly_task sim_fly_task;
-typedef struct sim_fly_task_opts {
-    double rate_hz;        /* the step rate (200) */
-    int turbulence;        /* 1 (default): the field's turbulence, seeded by the flight's seed */
-    sim_sea sea;           /* the ship's sea and speed (calm by default), seeded by seed + 1 */
-    double station_S_m[3]; /* the start: the trimmed hover with the CG here */
-    double max_s;          /* the longest flight (s); 0: the task's length (sim_task_length_s) */
-    /* The replay pilot instead of the automated one (sim/pilot_replay.c):
-     * it re-flies this log (kept by the caller; NULL: none, the default)
-     * and the task may be NULL; the flight fails farther than
-     * replay_pos_m (2 m) from the recorded run, or at a touchdown sink
-     * above replay_sink_mps (2 m/s). */
-    const sim_replay_log *replay;
-    double replay_pos_m, replay_sink_mps;
-    int replay_feed_controls; /* 1: the recorded controls fed forward too (sim_pilot_replay_opts) */
-    /* How the criteria judge the flight (shol_flown_judge): the steady
-     * limits on the phase's running mean over window_s (3 s; 0: every
-     * step's values), the transient ones (a control at its stop, an
-     * attitude past the limit times 1 + transient_frac, 0.5) at each step. */
-    double window_s, transient_frac;
-} sim_fly_task_opts;
-void sim_fly_task_opts_default(sim_fly_task_opts *o);
-/* ac (and o->replay) kept by the caller; the rest is copied. NULL with err. */
-sim_fly_task *sim_fly_task_create(const hfm_aircraft *ac, const core_ship *ship, const sim_task *task,
-                                  const struct shol_criteria *crit, const sim_fly_task_opts *o, const core_log *log,
-                                  core_err *err);
-void sim_fly_task_destroy(sim_fly_task *t);
-/* Fly once in field (the direction's ship-only field, NULL: the free
- * stream): 0 flown (out filled, passed or not), 1 no trim at the start
- * (out->cause "no trim"), < 0 fatal (sim_fly_task_last_error says why). */
-int sim_fly_task_run(sim_fly_task *t, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
-                     const struct cfd_field *field, struct shol_flight *out);
-const char *sim_fly_task_last_error(const sim_fly_task *t);
-/* The last flight's task result and final state. */
-typedef struct sim_fly_task_last {
-    sim_task_result result;        /* the automated pilot's */
-    sim_replay_result replay;      /* the replay pilot's */
-    sim_flight_out end;
-} sim_fly_task_last;
-void sim_fly_task_last_get(const sim_fly_task *t, sim_fly_task_last *out);
-/* A shol_fly_fn (user: a sim_fly_task_user): the field of the direction
- * from field (NULL: always the free stream; never asked at 0 m/s, where a
- * field scales to still air), then sim_fly_task_run. */
-typedef int (*sim_fly_field_fn)(void *user, double wod_dir_rad, const struct cfd_field **out, core_err *err);
-typedef struct sim_fly_task_user {
-    sim_fly_task *task;
-    sim_fly_field_fn field; /* 0 and *out (NULL: the free stream), or < 0 with err */
-    void *field_user;
-} sim_fly_task_user;
-int sim_fly_task_shol(void *user, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
-                      struct shol_flight *out);
 
 /* -------------- the coupled rotor interaction (sim/interaction.c, issue 25) */
 /* An interaction over a rotor disk projected on the flight model's inflow

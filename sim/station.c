@@ -713,6 +713,18 @@ int sim_station_id_check(const char *id, core_err *err)
                         id ? id : "");
 }
 
+void sim_station_default_id(char *id, size_t n, const char *source)
+{
+    char host[64] = "station";
+    if (gethostname(host, sizeof host) != 0)
+        snprintf(host, sizeof host, "station");
+    host[sizeof host - 1] = '\0';
+    for (char *p = host; *p; p++)
+        if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') || *p == '-'))
+            *p = '-';
+    snprintf(id, n, "%.40s-%.20s", host, source);
+}
+
 sim_station *sim_station_create(const sim_station_opts *o, core_err *err)
 {
     if (sim_station_id_check(o->id, err) != 0)

@@ -1,6 +1,7 @@
 /* bench_case.c -- the driver of bench_case.h, compiled once per solver:
  * BENCH_CASE_FN names it (bench_case_new, or bench_case_base with the
- * baseline's headers and its symbols renamed, baseline/rename.h). */
+ * baseline's headers and its names renamed by the rename.h that
+ * baseline.sh writes). */
 #include "cfd.h"
 
 #include "bench_case.h"

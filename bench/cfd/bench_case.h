@@ -1,7 +1,9 @@
 /* bench_case.h -- one airwake case run by a fixed number of SIMPLEC
- * iterations, compiled twice (bench_case.c): against the live cfd library
- * (bench_case_new) and against the frozen baseline copy in baseline/
- * (bench_case_base), so both solvers run the same driver on the same case.
+ * iterations, compiled once per solver (bench_case.c): against the live cfd
+ * library (bench_case_new; bench_cfd_compare, tests/cfd/test_cfd_same) and
+ * against the baseline, the cfd sources at the git tag cfd-baseline
+ * (bench_case_base; baseline.sh), so both solvers run the same driver on
+ * the same case.
  * Plain types only: the two sides have their own cfd.h. */
 #ifndef DISIM_BENCH_CASE_H
 #define DISIM_BENCH_CASE_H

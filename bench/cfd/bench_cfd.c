@@ -13,12 +13,13 @@
  *       one radius over the spot: wall time to convergence (normalised
  *       residuals < 1e-4 and deck-line monitors changing < 2 %), or to the
  *       limit; solver bytes per cell and the process's peak RSS per cell.
- *   bench_cfd compare [--ship NAME] [--grid coarse|default|fine]
+ *   bench_cfd_compare compare [--ship NAME] [--grid coarse|default|fine]
  *       [--rotor on|off] [--dir-deg D] [--speed MPS] [--iters N]
  *       [--threads N] [--rounds N] [--h-fine-m H --h-max-m H]
- *       The present solver against the frozen baseline (baseline/, the
- *       solver before the kernel rewrite) on the same case in this one
- *       process, alternating (baseline, present) --rounds times: per run
+ *       The present solver against the baseline (the cfd sources at the
+ *       git tag cfd-baseline, the solver before the kernel rewrite; the
+ *       target bench_cfd_compare builds it with baseline.sh) on the same
+ *       case in this one process, alternating (baseline, present) --rounds times: per run
  *       the iterations, wall time, cell-updates/s and final residuals; the
  *       ratio of the best rates; and the largest difference between the
  *       two final fields (velocities / u_ref, p / (rho u_ref^2), k /
@@ -146,6 +147,7 @@ static int parse_int(const char *s, int lo, int hi, int *out)
     return 0;
 }
 
+#ifdef BENCH_CFD_BASELINE
 static void print_run(const char *who, int round, const bench_out *o)
 {
     printf("  %-8s round %d: %d iterations, %.2f s, %.3e cell-updates/s; residuals %.2e %.2e %.2e %.2e %.2e\n", who,
@@ -211,6 +213,19 @@ static int compare(const bench_case *bc, int threads, int rounds)
     bench_out_free(&last[1]);
     return 0;
 }
+#else
+/* This build has no baseline: bench_cfd_compare has. */
+static int compare(const bench_case *bc, int threads, int rounds)
+{
+    (void)bc;
+    (void)threads;
+    (void)rounds;
+    fprintf(stderr, "bench_cfd compare: this build has no baseline solver: build the target bench_cfd_compare "
+                    "(cmake --build BUILD --target bench_cfd_compare: the cfd sources at the git tag "
+                    "cfd-baseline) and run bench_cfd_compare compare\n");
+    return 2;
+}
+#endif
 
 int main(int argc, char **argv)
 {

@@ -1,4 +1,4 @@
-/* bench_hfm.c -- the figures issue 3 asks for: one evaluation of the trim
+/* bench_hfm.c -- the flight model's speed: one evaluation of the trim
  * residual f(X, U), one trim from a cold start, a 16-point continuation
  * sweep (0-150 kt), and the time simulation's speed (ARKODE, 200 Hz) as a
  * multiple of real time. Each figure is the median of several repeats, in

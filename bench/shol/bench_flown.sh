@@ -1,11 +1,11 @@
 #!/bin/sh
-# bench_flown.sh -- the flown SHOL's benchmarks (issue 26; not in ctest),
+# bench_flown.sh -- the flown SHOL's benchmarks (not in ctest),
 # on a database that already holds the scenario's ship-only fields:
 #   1. one landing flown headless by the automated pilot (`disim fly
 #      --pilot auto`) in 25 kt from ahead, sea state 4: its wall time
-#      per minute flown (the issue asks for under 1 s);
+#      per minute flown (the target: under 1 s);
 #   2. the whole flown envelope (`disim shol --method pilot`): its wall
-#      time (the issue asks for under 30 minutes on 2 cores), the
+#      time (the target: under 30 minutes on 2 cores), the
 #      flights, the time flown and the wall time per minute flown.
 # The database is only read: both commands find every field READY.
 # Usage: bench/shol/bench_flown.sh DISIM SCENARIO DB [--grid G] [--seeds N] [--task FILE] [--keep DIR]

@@ -1,5 +1,5 @@
 #!/bin/sh
-# bench_shol.sh -- the SHOL benchmarks of issue 5 (not in ctest):
+# bench_shol.sh -- the SHOL benchmarks (not in ctest):
 #   1. a whole candidate envelope from an empty airwake database (every
 #      field built by the background builder, `--jobs` builds at once);
 #   2. the same command again on the now full database (the baseline of

@@ -1,6 +1,6 @@
 #!/bin/sh
 # Cross-process publish/subscribe over UDP multicast, inside a private network
-# namespace so that nothing leaves loopback (CONVENTIONS.md). Where unshare
+# namespace so that nothing leaves loopback (docs/conventions.md). Where unshare
 # or ip is missing: skipped (exit 77), and a failure with CI set
 # (tests/skip.sh).
 # Usage: lcm_xproc.sh LCM_XPROC_BINARY

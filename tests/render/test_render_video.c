@@ -19,7 +19,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static const double D2R = M_PI / 180.0;
 
 /* ---------------------------------------------------------------- parse */
 static void test_parse(void)
@@ -125,8 +124,8 @@ static render_state test_state(const double ship_E[3], const double cg_E[3], dou
     s.vel_S_mps[0] = 1.2;
     s.vel_S_mps[2] = 0.4;
     s.roll_rad = roll_rad;
-    s.pitch_rad = 3 * D2R;
-    s.yaw_rad = 10 * D2R;
+    s.pitch_rad = 3 * CORE_DEG_TO_RAD;
+    s.yaw_rad = 10 * CORE_DEG_TO_RAD;
     s.controls_pct[0] = 55;
     s.controls_pct[1] = 48;
     s.controls_pct[2] = 51;
@@ -226,9 +225,9 @@ static void test_height(void)
     double ship_E[3] = {3, -1, 6}, cg_E[3] = {4, 1, -2};
     render_state s = test_state(ship_E, cg_E, 0.0);
     CHECK_NEAR(render_overlay_deck_height(&sc, &s), 6.2, 1e-9);
-    s = test_state(ship_E, cg_E, 30 * D2R);
+    s = test_state(ship_E, cg_E, 30 * CORE_DEG_TO_RAD);
     CHECK_NEAR(render_overlay_deck_height(&sc, &s), 8 - 1.5 * (0.5 + sqrt(3) / 2) - 0.3, 1e-9);
-    s = test_state(ship_E, cg_E, -30 * D2R); /* the port wheel, the same height */
+    s = test_state(ship_E, cg_E, -30 * CORE_DEG_TO_RAD); /* the port wheel, the same height */
     CHECK_NEAR(render_overlay_deck_height(&sc, &s), 8 - 1.5 * (0.5 + sqrt(3) / 2) - 0.3, 1e-9);
     g.gear.nlegs = 0; /* no gear: the CG's height */
     CHECK_NEAR(render_overlay_deck_height(&sc, &s), 8.0, 1e-9);

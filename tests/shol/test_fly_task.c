@@ -1,5 +1,5 @@
 /*
- * test_fly_task.c -- one task flown for the flown SHOL (sim/fly_task.c):
+ * test_fly_task.c -- one task flown for the flown SHOL (couple/fly_task.c):
  * the UH-60A's landing on the CG-47's spot in the free stream (no field:
  * small and fast), judged as shol/flown.c judges a point. Each case
  * changes one thing the verdict depends on and checks the cause named:
@@ -14,8 +14,7 @@
  * is judged the same way.
  */
 #include "check.h"
-#include "sim.h"
-#include "shol.h"
+#include "couple.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -34,31 +33,31 @@ static shol_criteria crit;
 
 /* window_s < 0: the default judgement (a 3 s mean) */
 static int fly_w(const sim_task *task, const shol_criteria *c, const double station[3], int sea_state, double v_mps,
-                 double dir_rad, unsigned long long seed, double window_s, shol_flight *out, sim_fly_task_last *last)
+                 double dir_rad, unsigned long long seed, double window_s, shol_flight *out, couple_fly_task_last *last)
 {
-    sim_fly_task_opts o;
-    sim_fly_task_opts_default(&o);
+    couple_fly_task_opts o;
+    couple_fly_task_opts_default(&o);
     o.sea.state = sea_state;
     if (window_s >= 0)
         o.window_s = window_s;
     memcpy(o.station_S_m, station, sizeof o.station_S_m);
     core_err err = {0};
-    sim_fly_task *t = sim_fly_task_create(ac, &ship, task, c, &o, NULL, &err);
+    couple_fly_task *t = couple_fly_task_create(ac, &ship, task, c, &o, NULL, &err);
     if (!t) {
         fprintf(stderr, "fly_task_create: %s\n", err.msg);
         return -9;
     }
-    int rc = sim_fly_task_run(t, v_mps, dir_rad, seed, NULL, out);
+    int rc = couple_fly_task_run(t, v_mps, dir_rad, seed, NULL, out);
     if (rc != 0)
-        printf("  (run %d: %s)\n", rc, sim_fly_task_last_error(t));
+        printf("  (run %d: %s)\n", rc, couple_fly_task_last_error(t));
     if (last)
-        sim_fly_task_last_get(t, last);
-    sim_fly_task_destroy(t);
+        couple_fly_task_last_get(t, last);
+    couple_fly_task_destroy(t);
     return rc;
 }
 
 static int fly(const sim_task *task, const shol_criteria *c, const double station[3], int sea_state, double v_mps,
-               double dir_rad, unsigned long long seed, shol_flight *out, sim_fly_task_last *last)
+               double dir_rad, unsigned long long seed, shol_flight *out, couple_fly_task_last *last)
 {
     return fly_w(task, c, station, sea_state, v_mps, dir_rad, seed, -1.0, out, last);
 }
@@ -165,22 +164,22 @@ static double hover_pitch(const double station[3])
     return th;
 }
 
-static int replay(const sim_replay_log *ref, const shol_criteria *c, double pos_m, double v_mps, int sea_state,
+static int replay(const sim_log *ref, const shol_criteria *c, double pos_m, double v_mps, int sea_state,
                   shol_flight *out)
 {
-    sim_fly_task_opts o;
-    sim_fly_task_opts_default(&o); /* the default judgement: a 3 s mean */
+    couple_fly_task_opts o;
+    couple_fly_task_opts_default(&o); /* the default judgement: a 3 s mean */
     o.sea.state = sea_state;
     o.replay = ref;
     o.replay_pos_m = pos_m;
     core_err err = {0};
-    sim_fly_task *t = sim_fly_task_create(ac, &ship, NULL, c, &o, NULL, &err);
+    couple_fly_task *t = couple_fly_task_create(ac, &ship, NULL, c, &o, NULL, &err);
     if (!t) {
         fprintf(stderr, "fly_task_create: %s\n", err.msg);
         return -9;
     }
-    int rc = sim_fly_task_run(t, v_mps, 0.0, 1, NULL, out);
-    sim_fly_task_destroy(t);
+    int rc = couple_fly_task_run(t, v_mps, 0.0, 1, NULL, out);
+    couple_fly_task_destroy(t);
     return rc;
 }
 
@@ -203,7 +202,7 @@ int main(void)
 
     /* 1. Calm air, calm sea: the landing passes, touchdown on the spot. */
     shol_flight f;
-    sim_fly_task_last last;
+    couple_fly_task_last last;
     int rc = fly(&land, &crit, spot, 0, 0.0, 0.0, 1, &f, &last);
     show("calm", rc, &f);
     CHECK(rc == 0 && f.pass && f.cause[0] == '\0');
@@ -217,7 +216,7 @@ int main(void)
     for (int i = 0; i < SHOL_NCRIT; i++)
         CHECK(f.track.min_frac[i] > 0 && f.track.min_frac[i] <= 1);
     shol_flight f1 = f;
-    sim_fly_task_last last1 = last;
+    couple_fly_task_last last1 = last;
 
     /* 2. A pitch limit below the hover's trimmed pitch: with window 0 the
      * first step; with the default 3 s mean once the hover has lasted
@@ -238,18 +237,18 @@ int main(void)
     CHECK(f.track.first_kind == SHOL_JUDGE_MEAN && fabs(f.track.first_t_s - 3.0) < 0.01 && f.flown_s < 3.01);
     /* the same limit as a transient one (1 + 0 times it): at once */
     {
-        sim_fly_task_opts o;
-        sim_fly_task_opts_default(&o);
+        couple_fly_task_opts o;
+        couple_fly_task_opts_default(&o);
         o.transient_frac = 0.0;
         memcpy(o.station_S_m, spot, sizeof o.station_S_m);
-        sim_fly_task *t = sim_fly_task_create(ac, &ship, &land, &tight, &o, NULL, &err);
+        couple_fly_task *t = couple_fly_task_create(ac, &ship, &land, &tight, &o, NULL, &err);
         CHECK(t != NULL);
-        rc = t ? sim_fly_task_run(t, 0.0, 0.0, 1, NULL, &f) : -9;
+        rc = t ? couple_fly_task_run(t, 0.0, 0.0, 1, NULL, &f) : -9;
         if (t && rc != 0)
-            printf("  (run %d: %s)\n", rc, sim_fly_task_last_error(t));
+            printf("  (run %d: %s)\n", rc, couple_fly_task_last_error(t));
         show("pitch limit below the trim, transient at the limit", rc, &f);
         CHECK(rc == 0 && !f.pass && strcmp(f.cause, "pitch (transient) in hover") == 0 && f.flown_s < 0.1);
-        sim_fly_task_destroy(t);
+        couple_fly_task_destroy(t);
     }
 
     /* 2b. Mid-flight: the criterion whose worst margin came latest in the
@@ -345,7 +344,7 @@ int main(void)
     if (lfd >= 0)
         close(lfd);
     CHECK(record_hover(logp) == 0);
-    sim_replay_log *ref = sim_replay_log_load(logp, &err);
+    sim_log *ref = sim_log_load(logp, &err);
     CHECK(ref != NULL);
     if (ref) {
         shol_flight rp;
@@ -359,18 +358,18 @@ int main(void)
         show("replay, pitch limit below the trim", rc, &rp);
         CHECK(rc == 0 && !rp.pass && strcmp(rp.cause, "pitch (3 s mean) in hover") == 0 &&
               fabs(rp.flown_s - 3.0) < 0.01);
-        sim_replay_log_destroy(ref);
+        sim_log_destroy(ref);
     }
     unlink(logp);
 
     /* bad options */
-    sim_fly_task_opts o;
-    sim_fly_task_opts_default(&o);
+    couple_fly_task_opts o;
+    couple_fly_task_opts_default(&o);
     o.rate_hz = 1;
-    CHECK(sim_fly_task_create(ac, &ship, &land, &crit, &o, NULL, &err) == NULL && strstr(err.msg, "rate"));
-    sim_fly_task_opts_default(&o);
+    CHECK(couple_fly_task_create(ac, &ship, &land, &crit, &o, NULL, &err) == NULL && strstr(err.msg, "rate"));
+    couple_fly_task_opts_default(&o);
     o.window_s = -1;
-    CHECK(sim_fly_task_create(ac, &ship, &land, &crit, &o, NULL, &err) == NULL && strstr(err.msg, "window_s"));
+    CHECK(couple_fly_task_create(ac, &ship, &land, &crit, &o, NULL, &err) == NULL && strstr(err.msg, "window_s"));
     hfm_aircraft_destroy(a);
     return check_done("test_fly_task");
 }

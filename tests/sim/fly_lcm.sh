@@ -1,6 +1,6 @@
 #!/bin/sh
 # disim fly across processes, inside a private network namespace so that
-# nothing leaves loopback (CONVENTIONS.md): a station process (fly_lcm_peer
+# nothing leaves loopback (docs/conventions.md): a station process (fly_lcm_peer
 # pilot) flies the helicopter, its collective step climbs; killed, the
 # input is held and the flag raised within --hold-after-s (from the run's
 # LCM log); the log replayed by lcm-logplayer reaches a listener that

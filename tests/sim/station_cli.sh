@@ -4,7 +4,7 @@
 #   device, script or terminal that is not there with exit 1 naming it;
 # - a scripted station publishes pilot_input_t at 50 Hz for 2 s to a listener
 #   in another process (station_peer, UDP multicast inside a private network
-#   namespace, CONVENTIONS.md): every message arrives, seq 0..N-1 without a
+#   namespace, docs/conventions.md): every message arrives, seq 0..N-1 without a
 #   gap, the station's id, about 100 messages, the controls those of the
 #   script at the message's time within one message period; the messages it
 #   receives are shown (at most a line a second, no escapes: stdout is not

@@ -203,14 +203,14 @@ typedef struct replay_run {
 } replay_run;
 
 /* 3-4. The log replayed in conditions c; compared step by step with tr (NULL: not). */
-static void replay(const hfm_aircraft *ac, const core_ship *ship, const sim_replay_log *L, const conds *c,
+static void replay(const hfm_aircraft *ac, const core_ship *ship, const sim_log *L, const conds *c,
                    int feed, double preview_s, double acc_lead_s, const traj *tr, replay_run *out)
 {
     memset(out, 0, sizeof *out);
     out->max_dev_m = -1.0;
     core_err err = {0};
-    sim_replay_sample s0;
-    sim_replay_log_sample(L, 0.0, &s0);
+    sim_log_sample s0;
+    sim_log_sample_at(L, 0.0, &s0);
     sim_ship_motion *motion = NULL;
     sim_flight *f = make_flight(ac, ship, c, s0.pos_S_m, &motion, &err);
     sim_pilot_replay *p = NULL;
@@ -232,8 +232,8 @@ static void replay(const hfm_aircraft *ac, const core_ship *ship, const sim_repl
         out->failed = 1;
         goto done;
     }
-    sim_replay_info info;
-    sim_replay_log_info(L, &info);
+    sim_log_summary info;
+    sim_log_info(L, &info);
     for (int i = 0; i < 4; i++)
         out->min_pct[i] = 100.0, out->max_pct[i] = 0.0;
     sim_flight_out o;
@@ -282,10 +282,10 @@ static void print_replay(const char *what, const replay_run *r)
 }
 
 /* 2. The log read back. */
-static void test_read(const sim_replay_log *L, const traj *tr)
+static void test_read(const sim_log *L, const traj *tr)
 {
-    sim_replay_info info;
-    sim_replay_log_info(L, &info);
+    sim_log_summary info;
+    sim_log_info(L, &info);
     printf("log: %ld events, %ld states (%.2f-%.2f s), %ld ship states, %ld inputs of %d station '%s', %ld bad\n",
            info.n_events, info.n_states, info.t0_s, info.t1_s, info.n_ship, info.n_inputs, info.n_stations,
            info.station, info.n_inputs_bad);
@@ -297,8 +297,8 @@ static void test_read(const sim_replay_log *L, const traj *tr)
     double dpos = 0.0, dvel = 0.0;
     int phases[SIM_REPLAY_NPHASE] = {0};
     for (long k = 3; k < tr->n; k += 4) {
-        sim_replay_sample s;
-        CHECK(sim_replay_log_sample(L, tr->t_s[k], &s) == 0);
+        sim_log_sample s;
+        CHECK(sim_log_sample_at(L, tr->t_s[k], &s) == 0);
         for (int i = 0; i < 3; i++)
             dpos = fmax(dpos, fabs(s.pos_S_m[i] - tr->pos_S[k][i]));
         phases[s.phase]++;
@@ -315,14 +315,14 @@ static void test_read(const sim_replay_log *L, const traj *tr)
     CHECK(dvel <= 0.001);
     CHECK(phases[SIM_REPLAY_HOVER] > 0 && phases[SIM_REPLAY_TRANSLATE] > 0 && phases[SIM_REPLAY_DESCEND] > 0);
     /* outside: held at the ends, the velocity 0 after */
-    sim_replay_sample s;
-    CHECK(sim_replay_log_sample(L, info.t1_s + 5.0, &s) == 1);
+    sim_log_sample s;
+    CHECK(sim_log_sample_at(L, info.t1_s + 5.0, &s) == 1);
     CHECK(s.vel_S_mps[0] == 0.0 && s.vel_S_mps[1] == 0.0 && s.vel_S_mps[2] == 0.0);
     CHECK_NEAR(s.pos_S_m[2], tr->pos_S[4 * info.n_states - 1][2], 1e-9);
 
     /* the run information, as the loop logged it before the first step */
     sim_run_info ri;
-    CHECK(sim_replay_log_run_info(L, &ri) == 0);
+    CHECK(sim_log_run_info(L, &ri) == 0);
     CHECK(!strcmp(ri.scenario_path, SCEN) && !strcmp(ri.scenario, "replay-test"));
     CHECK(!strcmp(ri.ship_path, "scenarios/ships/cg47.ini") && ri.seed == 7 && ri.sea.state == 3);
     CHECK(ri.rate_hz == RATE_HZ && ri.state_rate_hz == RATE_HZ / 4);
@@ -332,7 +332,7 @@ static void test_read(const sim_replay_log *L, const traj *tr)
     double dS = 0.0, dE = 0.0, dq = 0.0;
     for (long k = 3; k < 4 * info.n_states; k += 2) {
         sim_log_state ls;
-        CHECK(sim_replay_log_state(L, tr->t_s[k], &ls) == 0);
+        CHECK(sim_log_state_at(L, tr->t_s[k], &ls) == 0);
         if (k % 4 == 3)
             for (int i = 0; i < 3; i++)
                 dS = fmax(dS, fabs(ls.pos_S_m[i] - tr->pos_S[k][i]));
@@ -404,10 +404,10 @@ static void write_states(const char *path, int n, const int64_t *utime, int nan_
 static void expect_refused(const char *what, const char *path, const char *want1, const char *want2)
 {
     core_err err = {0};
-    sim_replay_log *L = sim_replay_log_load(path, &err);
+    sim_log *L = sim_log_load(path, &err);
     printf("bad log, %s: %s\n", what, err.msg);
     CHECK(L == NULL && strstr(err.msg, path) && strstr(err.msg, want1) && (!want2 || strstr(err.msg, want2)));
-    sim_replay_log_destroy(L);
+    sim_log_destroy(L);
 }
 
 static void test_bad(const char *good)
@@ -499,9 +499,9 @@ static void test_bad(const char *good)
     snprintf(p, sizeof p, "%s/ok.log", dir);
     write_states(p, 4, ut, -1, -1);
     core_err err = {0};
-    sim_replay_log *L = sim_replay_log_load(p, &err);
+    sim_log *L = sim_log_load(p, &err);
     CHECK(L != NULL);
-    sim_replay_log_destroy(L);
+    sim_log_destroy(L);
     /* inputs: one station's are the controls, a NaN one skipped and
      * counted; with a second station the flown controls are */
     for (int two = 0; two < 2; two++) {
@@ -522,16 +522,16 @@ static void test_bad(const char *good)
         }
         if (fa)
             fclose(fa);
-        L = sim_replay_log_load(p, &err);
+        L = sim_log_load(p, &err);
         CHECK(L != NULL);
         if (!L) {
             fprintf(stderr, "inputs: %s\n", err.msg);
             continue;
         }
-        sim_replay_info in;
-        sim_replay_log_info(L, &in);
-        sim_replay_sample smp;
-        sim_replay_log_sample(L, 0.065, &smp); /* after the third input (60000 us) */
+        sim_log_summary in;
+        sim_log_info(L, &in);
+        sim_log_sample smp;
+        sim_log_sample_at(L, 0.065, &smp); /* after the third input (60000 us) */
         printf("inputs, %s: %d station(s) '%s', %ld taken, %ld bad; collective at 0.065 s %.1f %%\n",
                two ? "two stations" : "one station", in.n_stations, in.station, in.n_inputs, in.n_inputs_bad,
                smp.controls_pct[0]);
@@ -540,7 +540,7 @@ static void test_bad(const char *good)
             CHECK(in.n_stations == 1 && !strcmp(in.station, "a") && in.n_inputs == 2 && smp.controls_pct[0] == 32.0);
         else
             CHECK(in.n_stations == 2 && in.n_inputs == 0 && smp.controls_pct[0] == 50.0);
-        sim_replay_log_destroy(L);
+        sim_log_destroy(L);
     }
     const char *names[] = {"empty", "text", "truncated", "truncated_hdr", "corrupt", "not_heli", "nan",
                            "no_heli", "no_ship", "reset", "ok", "bad_status", "inputs"};
@@ -566,8 +566,8 @@ int main(void)
     snprintf(log, sizeof log, "/tmp/test_pilot_replay_%d.log", (int)getpid());
     static traj tr;
     const conds rec = {15.0, 0.0, 3, 7, 0};
-    sim_replay_log *L = NULL;
-    if (record(ac, &ship, &rec, log, &tr) != 0 || !(L = sim_replay_log_load(log, &err))) {
+    sim_log *L = NULL;
+    if (record(ac, &ship, &rec, log, &tr) != 0 || !(L = sim_log_load(log, &err))) {
         fprintf(stderr, "the recorded run: %s\n", err.msg);
         CHECK(0);
     } else {
@@ -608,8 +608,8 @@ int main(void)
         snprintf(glog, sizeof glog, "/tmp/test_pilot_replay_gear_%d.log", (int)getpid());
         static traj gtr;
         const conds grec = {15.0, 0.0, 3, 7, 1};
-        sim_replay_log *G = NULL;
-        if (record(ac, &ship, &grec, glog, &gtr) != 0 || !(G = sim_replay_log_load(glog, &err))) {
+        sim_log *G = NULL;
+        if (record(ac, &ship, &grec, glog, &gtr) != 0 || !(G = sim_log_load(glog, &err))) {
             fprintf(stderr, "the recorded run with the gear: %s\n", err.msg);
             CHECK(0);
         } else {
@@ -620,10 +620,10 @@ int main(void)
             CHECK(!gs.failed && gs.max_dev_m >= 0.0 && gs.max_dev_m <= 0.5);
             CHECK(gs.r.phase[SIM_REPLAY_ON_DECK].n > 0 && gs.end_on_deck && gs.end_coll_pct == 0.0);
         }
-        sim_replay_log_destroy(G);
+        sim_log_destroy(G);
         unlink(glog);
     }
-    sim_replay_log_destroy(L);
+    sim_log_destroy(L);
     unlink(log);
     hfm_aircraft_destroy(ac);
     return check_done("test_pilot_replay");

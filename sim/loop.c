@@ -1,19 +1,22 @@
-/* lcm_io.c -- the flight loop's LCM side: pilot stations, sim control,
+/* loop.c -- the real-time flight loop (sim_loop): pilot stations, sim control,
  * published states and the event log, all around the deterministic step
  * (sim/flight.c), never inside it.
  *
  * Model. The loop runs on a run clock: k steps of 1 / rate_hz since it
- * started, which pauses do not advance and resets do not set back. One
- * pass of sim_loop_iterate at run step k
+ * started, which pauses do not advance and resets do not set back. The
+ * loop is the runner's wrap (sim/runner.c: sim_run_pass, sim_run); one
+ * pass at run step k
  *   1. takes what was received since the last pass (or, replaying, the
  *      logged DISIM_PILOT_INPUT and DISIM_SIM_CONTROL events of run steps
  *      <= k): each pilot_input_t is offered to the stations' rules at run
  *      time k / rate_hz, each sim_control_t queued;
  *   2. carries out the controls in the order received (pause, resume,
  *      reset, load scenario);
- *   3. unless paused, takes the step's inputs from the rules and steps the
- *      flight (run step k + 1), then publishes heli_state_t and
- *      ship_state_t every rate_hz / state_rate_hz steps;
+ *   3. unless paused, takes the step's inputs from the pilot (the
+ *      stations' rules, the inputs the caller sets, or a pilot of the
+ *      caller's, whose inputs go out as its station's pilot_input_t) and
+ *      steps the flight (run step k + 1), then publishes heli_state_t
+ *      and ship_state_t every rate_hz / state_rate_hz steps;
  *   4. publishes sim_status_t every status_period_s of wall time and at
  *      once when the state, the flags, the active station or a refusal
  *      change; then waits for the deadline (sim_pacer) in real time.
@@ -31,9 +34,9 @@
  * carry utime = the flight's simulation time and seq.
  *
  * A received buffer goes through disim_lcm_check_raw before lcm-gen's
- * decoder sees it (lcm 1.3.1 decodes strings without checking their NUL),
- * then through disim_lcm_check_pilot_input / _sim_control (NaN, range):
- * lcm_types/lcm_types.c. The stations' rules are in sim.h.
+ * decoder sees it, then through disim_lcm_check_sim_control (NaN, range):
+ * lcm_types/lcm_types.c; pilot_input_t goes to the stations' rules
+ * (sim/pilots.c).
  *
  * References: LCM, Huang, Olson and Moore, "LCM: Lightweight
  * Communications and Marshalling", IROS 2010; the log format:
@@ -50,207 +53,6 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
-
-/* ------------------------------------------------------- station rules */
-typedef struct station {
-    sim_pilot_station s;
-    int prio;          /* lower flies first */
-    double in[4];      /* the last controls taken */
-} station;
-
-struct sim_pilots {
-    sim_pilots_opts o;
-    station st[SIM_PILOTS_MAX];
-    int n, active, locked, next_order;
-    long long refused_unknown;
-};
-
-void sim_pilots_opts_default(sim_pilots_opts *o)
-{
-    memset(o, 0, sizeof *o);
-    o->hold_after_s = 0.5;
-}
-
-int sim_pilots_opts_parse(sim_pilots_opts *o, const char *list, core_err *err)
-{
-    o->n_priority = 0;
-    const char *p = list;
-    while (1) {
-        const char *e = strchr(p, ',');
-        size_t len = e ? (size_t)(e - p) : strlen(p);
-        if (len == 0 || len >= SIM_STATION_ID_MAX)
-            return core_err_set(err, -1, "--stations '%s': expected ids of 1 to %d characters, comma-separated", list,
-                                SIM_STATION_ID_MAX - 1);
-        if (o->n_priority == SIM_PILOTS_MAX)
-            return core_err_set(err, -1, "--stations '%s': at most %d stations", list, SIM_PILOTS_MAX);
-        memcpy(o->priority[o->n_priority], p, len);
-        o->priority[o->n_priority][len] = '\0';
-        for (int i = 0; i < o->n_priority; i++)
-            if (!strcmp(o->priority[i], o->priority[o->n_priority]))
-                return core_err_set(err, -1, "--stations '%s': '%s' appears twice", list, o->priority[i]);
-        o->n_priority++;
-        if (!e)
-            return 0;
-        p = e + 1;
-    }
-}
-
-sim_pilots *sim_pilots_create(const sim_pilots_opts *o, core_err *err)
-{
-    if (!(o->hold_after_s > 0.0 && o->hold_after_s <= 60.0)) {
-        core_err_set(err, -1, "pilot stations: hold after %g s: expected more than 0 and at most 60 s", o->hold_after_s);
-        return NULL;
-    }
-    sim_pilots *p = calloc(1, sizeof *p);
-    if (!p) {
-        core_err_set(err, -1, "pilot stations: out of memory");
-        return NULL;
-    }
-    p->o = *o;
-    p->active = -1;
-    /* the listed stations exist from the start, in the list's order */
-    for (int i = 0; i < o->n_priority; i++) {
-        station *s = &p->st[p->n++];
-        snprintf(s->s.id, sizeof s->s.id, "%s", o->priority[i]);
-        s->s.last_seq = -1;
-        s->s.heard_t_s = -1.0;
-        s->prio = i;
-    }
-    return p;
-}
-
-void sim_pilots_destroy(sim_pilots *p) { free(p); }
-
-static int find_station(sim_pilots *p, const char *id, int add)
-{
-    for (int i = 0; i < p->n; i++)
-        if (!strcmp(p->st[i].s.id, id))
-            return i;
-    if (!add || p->n == SIM_PILOTS_MAX || p->o.n_priority > 0 || strlen(id) >= SIM_STATION_ID_MAX)
-        return -1;
-    station *s = &p->st[p->n];
-    memset(s, 0, sizeof *s);
-    snprintf(s->s.id, sizeof s->s.id, "%s", id);
-    s->s.last_seq = -1;
-    s->s.heard_t_s = -1.0;
-    s->prio = SIM_PILOTS_MAX + 1; /* set at its first message taken */
-    return p->n++;
-}
-
-/* The station id of a buffer that failed the raw check, where its bytes
- * up to the id are whole: fingerprint (8), utime (8), then the string. */
-static int peek_id(const unsigned char *b, int size, char *id)
-{
-    if (size < 20 || !b)
-        return -1;
-    int64_t hash = __disim_pilot_input_t_get_hash();
-    for (int i = 0; i < 8; i++)
-        if (b[i] != (unsigned char)((uint64_t)hash >> (56 - 8 * i)))
-            return -1;
-    int32_t len = (int32_t)((uint32_t)b[16] << 24 | (uint32_t)b[17] << 16 | (uint32_t)b[18] << 8 | b[19]);
-    if (len < 2 || len > SIM_STATION_ID_MAX || len > size - 20 || b[20 + len - 1] != 0)
-        return -1;
-    memcpy(id, b + 20, (size_t)len);
-    return strlen(id) > 0 ? 0 : -1;
-}
-
-static int live(const sim_pilots *p, int i, double t_s)
-{
-    const station *s = &p->st[i];
-    return s->s.heard_t_s >= 0.0 && t_s - s->s.heard_t_s <= p->o.hold_after_s + 1e-9;
-}
-
-static int refuse(sim_pilots *p, int i, char *why, size_t n, const char *fmt, const char *arg)
-{
-    if (i >= 0)
-        p->st[i].s.refused++;
-    else
-        p->refused_unknown++;
-    if (why)
-        snprintf(why, n, fmt, arg);
-    return 1;
-}
-
-int sim_pilots_offer(sim_pilots *p, const void *buf, int size, double t_s, char *why, size_t n)
-{
-    char e[256], id[SIM_STATION_ID_MAX + 1] = "";
-    if (disim_lcm_check_raw("pilot_input_t", buf, size, e, sizeof e) != 0) {
-        int i = peek_id(buf, size, id) == 0 ? find_station(p, id, 1) : -1;
-        return refuse(p, i, why, n, "%s", e);
-    }
-    disim_pilot_input_t m;
-    memset(&m, 0, sizeof m);
-    if (disim_pilot_input_t_decode(buf, 0, size, &m) != size) {
-        disim_pilot_input_t_decode_cleanup(&m);
-        return refuse(p, -1, why, n, "%s", "pilot_input_t: not decoded");
-    }
-    int rc = 1;
-    int listed = find_station(p, m.station_id, 0) >= 0;
-    int i = find_station(p, m.station_id, 1);
-    if (disim_lcm_check_pilot_input(&m, e, sizeof e) != 0)
-        rc = refuse(p, i, why, n, "%s", e);
-    else if (i < 0 && p->o.n_priority > 0 && !listed)
-        rc = refuse(p, -1, why, n, "pilot_input_t from '%s': not on the station list", m.station_id);
-    else if (i < 0)
-        rc = refuse(p, -1, why, n, "pilot_input_t from '%s': too many stations", m.station_id);
-    else {
-        station *s = &p->st[i];
-        if (s->s.last_seq >= 0 && m.seq <= s->s.last_seq && live(p, i, t_s))
-            rc = refuse(p, i, why, n, "pilot_input_t from '%s': seq not above the last (stale)", s->s.id);
-        else {
-            /* a seq at or below the last after a silence: the station
-             * restarted; its count starts again there */
-            if (s->s.last_seq >= 0 && m.seq > s->s.last_seq + 1)
-                s->s.gaps += m.seq - s->s.last_seq - 1;
-            if (s->s.received == 0 && p->o.n_priority == 0)
-                s->prio = p->next_order++;
-            s->s.last_seq = m.seq;
-            s->s.heard_t_s = t_s;
-            s->s.received++;
-            s->in[0] = m.collective_pct;
-            s->in[1] = m.long_cyclic_pct;
-            s->in[2] = m.lat_cyclic_pct;
-            s->in[3] = m.pedal_pct;
-            if (m.take_over) {
-                p->active = i;
-                p->locked = 1;
-            }
-            rc = 0;
-        }
-    }
-    disim_pilot_input_t_decode_cleanup(&m);
-    return rc;
-}
-
-int sim_pilots_inputs(sim_pilots *p, double t_s, sim_flight_inputs *in)
-{
-    memset(in, 0, sizeof *in);
-    if (p->locked && (p->active < 0 || !live(p, p->active, t_s)))
-        p->locked = 0;
-    if (!p->locked) {
-        int best = -1;
-        for (int i = 0; i < p->n; i++)
-            if (live(p, i, t_s) && (best < 0 || p->st[i].prio < p->st[best].prio))
-                best = i;
-        if (best >= 0 && (p->active < 0 || p->st[best].prio < p->st[p->active].prio))
-            p->active = best;
-    }
-    if (p->active >= 0 && live(p, p->active, t_s)) {
-        const station *s = &p->st[p->active];
-        in->collective_pct = s->in[0];
-        in->long_pct = s->in[1];
-        in->lat_pct = s->in[2];
-        in->pedal_pct = s->in[3];
-        return 0;
-    }
-    in->hold = 1;
-    return 1;
-}
-
-int sim_pilots_count(const sim_pilots *p) { return p->n; }
-void sim_pilots_station(const sim_pilots *p, int i, sim_pilot_station *s) { *s = p->st[i].s; }
-int sim_pilots_active(const sim_pilots *p) { return p->active; }
-long long sim_pilots_refused_unknown(const sim_pilots *p) { return p->refused_unknown; }
 
 /* ---------------------------------------------------------------- loop */
 #define LOOP_CTL_MAX 64
@@ -554,18 +356,19 @@ static void publish_run_info(sim_loop *l)
     SEND(l, run_info_t, DISIM_CH_RUN_INFO, &m);
 }
 
-/* The caller's pilot's inputs of this step, as a station's message. */
-static void publish_source(sim_loop *l)
+/* The inputs of this step of a pilot of the caller's, as a station's
+ * message. */
+static void publish_source(sim_loop *l, const sim_flight_inputs *in)
 {
     disim_pilot_input_t m;
     memset(&m, 0, sizeof m);
     m.utime = (int64_t)llround(l->out.t_s * 1e6);
     m.station_id = l->source_id;
     m.seq = l->seq_source++;
-    m.collective_pct = l->source_in.collective_pct;
-    m.long_cyclic_pct = l->source_in.long_pct;
-    m.lat_cyclic_pct = l->source_in.lat_pct;
-    m.pedal_pct = l->source_in.pedal_pct;
+    m.collective_pct = in->collective_pct;
+    m.long_cyclic_pct = in->long_pct;
+    m.lat_cyclic_pct = in->lat_pct;
+    m.pedal_pct = in->pedal_pct;
     SEND(l, pilot_input_t, DISIM_CH_PILOT_INPUT, &m);
 }
 
@@ -812,44 +615,11 @@ static int do_controls(sim_loop *l, core_err *err)
     return 0;
 }
 
-int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
+/* ---- the loop's pass, as the runner's wrap (sim/runner.c) */
+/* After a pass: the status when due, then (a step flown) the deadline
+ * waited for. 0, or < 0 with err (a log write or a publish failed). */
+static int pass_end(sim_loop *l, int stepped, core_err *err)
 {
-    if (l->fatal)
-        return core_err_set(err, -1, "%s", l->ferr.msg);
-    if (l->crashed)
-        return core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg);
-    if (!l->paused && l->run_step >= l->nsteps)
-        return SIM_LOOP_DONE;
-    take_received(l, l->paused ? 100 : 0);
-    if (do_controls(l, err) != 0)
-        return -1;
-    int rc = SIM_LOOP_PAUSED;
-    if (!l->paused) {
-        sim_flight_inputs in;
-        if (l->source_id[0]) { /* the caller's pilot, said as a station's message */
-            in = l->source_in;
-            l->held = 0;
-            if (l->lc || l->elog)
-                publish_source(l);
-        } else
-            l->held = sim_pilots_inputs(l->pilots, run_t(l), &in);
-        int frc = sim_flight_step(l->w.flight, &in, &l->out, err);
-        if (frc < 0)
-            return -1;
-        l->run_step++;
-        if (frc > 0) { /* the flight ended: its last state goes out whatever the rate */
-            l->crashed = 1;
-            snprintf(l->crash_msg, sizeof l->crash_msg, "%.250s", err->msg);
-            snprintf(l->message, sizeof l->message, "%s", l->crash_msg); /* the status says what hit what */
-            l->dirty = 1;
-            core_log_msg(l->log, CORE_LOG_WARN, "the flight ended: %s", l->crash_msg);
-        }
-        if ((l->lc || l->elog) && (frc > 0 || l->run_step % l->state_every == 0))
-            publish_states(l, &l->out);
-        rc = frc > 0 ? SIM_LOOP_CRASHED : SIM_LOOP_STEPPED;
-        if (out)
-            *out = l->out;
-    }
     if (l->lc || l->elog) {
         unsigned f = loop_flags(l);
         if (l->dirty || f != l->last_flags || sim_pilots_active(l->pilots) != l->last_active ||
@@ -858,11 +628,111 @@ int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
     }
     if (l->fatal)
         return core_err_set(err, -1, "%s", l->ferr.msg);
-    if (rc == SIM_LOOP_STEPPED)
+    if (stepped)
         sim_pacer_wait(l->pacer);
-    if (rc == SIM_LOOP_CRASHED)
-        return core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg);
-    return rc;
+    return 0;
+}
+
+/* Before the pilot: the messages received taken, the controls carried
+ * out; a pause ends the pass here. */
+static int pass_before(void *user, core_err *err)
+{
+    sim_loop *l = user;
+    if (l->fatal)
+        return core_err_set(err, -1, "%s", l->ferr.msg);
+    if (l->crashed) {
+        core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg);
+        return SIM_RUN_ENDED;
+    }
+    if (!l->paused && l->run_step >= l->nsteps)
+        return SIM_RUN_LENGTH;
+    take_received(l, l->paused ? 100 : 0);
+    if (do_controls(l, err) != 0)
+        return -1;
+    if (!l->paused)
+        return SIM_RUN_STEPPED;
+    return pass_end(l, 0, err) != 0 ? -1 : SIM_RUN_SKIPPED;
+}
+
+/* The step with the pilot's inputs: a pilot of the caller's said as a
+ * station's message, the flight stepped (run step k + 1), its states
+ * published at their rate (the last state of a flight that ended
+ * whatever the rate), the status, the deadline. As sim_flight_step. */
+static int pass_step(void *user, const sim_flight_inputs *in, sim_flight_out *out, core_err *err)
+{
+    sim_loop *l = user;
+    if (l->source_id[0]) {
+        l->held = 0;
+        if (l->lc || l->elog)
+            publish_source(l, in);
+    }
+    int frc = sim_flight_step(l->w.flight, in, &l->out, err);
+    if (frc < 0)
+        return -1;
+    l->run_step++;
+    if (frc > 0) { /* the flight ended: nothing more steps */
+        l->crashed = 1;
+        snprintf(l->crash_msg, sizeof l->crash_msg, "%.250s", err->msg);
+        snprintf(l->message, sizeof l->message, "%s", l->crash_msg); /* the status says what hit what */
+        l->dirty = 1;
+        core_log_msg(l->log, CORE_LOG_WARN, "the flight ended: %s", l->crash_msg);
+    }
+    if ((l->lc || l->elog) && (frc > 0 || l->run_step % l->state_every == 0))
+        publish_states(l, &l->out);
+    *out = l->out;
+    if (pass_end(l, frc == 0, err) != 0)
+        return -1;
+    return frc > 0 ? core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg) : 0;
+}
+
+void sim_loop_run_opts(sim_loop *l, sim_run_opts *o)
+{
+    o->wrap.before = pass_before;
+    o->wrap.step = pass_step;
+    o->wrap.user = l;
+}
+
+/* The loop's own pilots: the stations by their rules at the run clock,
+ * or the inputs the caller sets (opts.pilot_source_id). */
+static int stations_step(void *self, const sim_flight_out *out, sim_flight_inputs *in)
+{
+    sim_loop *l = self;
+    (void)out;
+    l->held = sim_pilots_inputs(l->pilots, run_t(l), in);
+    return 0;
+}
+
+static int inputs_step(void *self, const sim_flight_out *out, sim_flight_inputs *in)
+{
+    const sim_loop *l = self;
+    (void)out;
+    *in = l->source_in;
+    return 0;
+}
+
+sim_pilot sim_loop_own_pilot(sim_loop *l)
+{
+    static const sim_pilot_ops stations = {"stations", stations_step}, inputs = {"inputs", inputs_step};
+    sim_pilot p = {l->source_id[0] ? &inputs : &stations, l};
+    return p;
+}
+
+int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
+{
+    sim_run_opts o;
+    sim_run_opts_default(&o);
+    sim_loop_run_opts(l, &o);
+    sim_pilot p = sim_loop_own_pilot(l);
+    sim_flight_out step_out = l->out;
+    long long k0 = l->run_step;
+    int r = sim_run_pass(NULL, &p, &o, &step_out, err);
+    if (out && l->run_step != k0)
+        *out = step_out;
+    if (r < 0)
+        return -1;
+    if (r == SIM_RUN_ENDED)
+        return SIM_LOOP_CRASHED; /* err says what hit what */
+    return r == SIM_RUN_STEPPED ? SIM_LOOP_STEPPED : r == SIM_RUN_SKIPPED ? SIM_LOOP_PAUSED : SIM_LOOP_DONE;
 }
 
 int sim_loop_finish(sim_loop *l, core_err *err)

@@ -1,24 +1,26 @@
-/* shol_bands.c -- disim shol's uncertainty bands (issue 28; shol_bands.h).
- * Why each source comes from where it does: the window spread is what the
+/* shol_bands.c -- the candidate SHOL's uncertainty bands: the measured
+ * spreads behind each direction's band gathered from the run and the
+ * database, then shol_band_compute (shol/band.c, docs/shol.md
+ * "Uncertainty bands"). Why each source comes from where it does: the window spread is what the
  * solver measured on the very field each trim flew (cfd_result.mean_drift
  * and mean_change, kept in the field file and in couple_field_info); the
  * grid spread is the same one-way procedure on another grid level, and
  * in auto mode only over fields the database already holds, so that a
  * band never costs a field build nobody asked for (a default-grid field
  * of the CG-47 takes tens of minutes on 2 cores). */
-#include "shol_bands.h"
+#include "couple.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-int app_band_grid_parse(const char *s)
+int couple_band_grid_parse(const char *s)
 {
     if (!strcmp(s, "auto"))
-        return APP_BAND_GRID_AUTO;
+        return COUPLE_BAND_GRID_AUTO;
     if (!strcmp(s, "none"))
-        return APP_BAND_GRID_NONE;
+        return COUPLE_BAND_GRID_NONE;
     int g = core_grid_parse(s);
     return g >= 0 ? g : -3;
 }
@@ -59,9 +61,9 @@ static int ready_dirs(awdb *db, const hfm_aircraft *ac, const core_ship *ship, c
     return out->n_dirs;
 }
 
-int app_shol_bands(const app_band_opts *o, const hfm_aircraft *ac, const core_ship *ship, awdb *db,
-                   const couple_settings *cs, couple_ctx *one, const shol_settings *set, shol_result *r1,
-                   shol_result *r2, const core_log *log, core_err *err)
+int couple_shol_bands(const couple_band_opts *o, const hfm_aircraft *ac, const core_ship *ship, awdb *db,
+                      const couple_settings *cs, couple_ctx *one, const shol_settings *set, shol_result *r1,
+                      shol_result *r2, const core_log *log, core_err *err)
 {
     shol_band_inputs *in = malloc(sizeof *in);
     if (!in)
@@ -83,7 +85,7 @@ int app_shol_bands(const app_band_opts *o, const hfm_aircraft *ac, const core_sh
                 break;
         snprintf(label, sizeof label, "%.150s", p);
         have_grid = 1;
-    } else if (o->grid != APP_BAND_GRID_NONE && set->speed_max_mps > 0) {
+    } else if (o->grid != COUPLE_BAND_GRID_NONE && set->speed_max_mps > 0) {
         shol_settings s2 = *set;
         int level = -1;
         if (o->grid >= 0) {
@@ -111,8 +113,8 @@ int app_shol_bands(const app_band_opts *o, const hfm_aircraft *ac, const core_sh
                 goto out;
             if (couple_prefetch(c2, s2.dirs_rad, s2.n_dirs, err) != 0)
                 goto out;
-            fprintf(stderr, "shol: bands: the one-way envelope on the %s grid, %d direction%s\n",
-                    core_grid_name(c2s.grid), s2.n_dirs, s2.n_dirs == 1 ? "" : "s");
+            if (o->on_grid)
+                o->on_grid(o->user, c2s.grid, s2.n_dirs);
             if (shol_envelope_run(&s2, couple_shol_trim, c2, NULL, NULL, log, &g, err) != 0) {
                 if (couple_last_error(c2)[0])
                     snprintf(err->msg, sizeof err->msg, "%s", couple_last_error(c2));
@@ -132,17 +134,6 @@ int app_shol_bands(const app_band_opts *o, const hfm_aircraft *ac, const core_sh
         in->grid_base = have_grid ? r1 : NULL;
         if (shol_band_compute(r2, in, err) != 0)
             goto out;
-    }
-    const shol_result *m = r2 ? r2 : r1;
-    for (int i = 0; i < m->n_dirs; i++) {
-        const shol_dir_result *d = &m->dirs[i];
-        char name[32], what[256];
-        core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
-        shol_band_format(&d->band, m->band_grid_label, d->limit, what, sizeof what);
-        fprintf(stderr, "shol: band %s: %.0f km/h, %.1f-%.1f km/h%s (%s)%s\n", name,
-                d->has_pass ? d->max_speed_mps / CORE_KMH_TO_MPS : 0.0, d->band.lo_mps / CORE_KMH_TO_MPS,
-                d->band.hi_mps / CORE_KMH_TO_MPS, d->band.open_above ? " open above" : "", what,
-                d->band.low_confidence ? ", LOW confidence" : "");
     }
     rc = 0;
 out:
