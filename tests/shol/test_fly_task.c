@@ -25,7 +25,6 @@
 #define AC "scenarios/aircraft/uh60a.ini"
 #define SHIP "scenarios/ships/cg47.ini"
 #define LAND "scenarios/tasks/land_uh60a.ini"
-#define DEG CORE_DEG_TO_RAD
 
 static const hfm_aircraft *ac;
 static core_ship ship;
@@ -224,8 +223,9 @@ int main(void)
     shol_criteria tight = crit;
     double th0 = hover_pitch(spot);
     tight.pitch_max_rad = 0.8 * fabs(th0); /* the transient limit, 1.2 times the trim, holds it */
-    printf("  the hover's trim pitch %.3f deg, the limit %.3f deg\n", th0 / DEG, tight.pitch_max_rad / DEG);
-    CHECK(fabs(th0) > 1.0 * DEG);
+    printf("  the hover's trim pitch %.3f deg, the limit %.3f deg\n", th0 / CORE_DEG_TO_RAD,
+           tight.pitch_max_rad / CORE_DEG_TO_RAD);
+    CHECK(fabs(th0) > 1.0 * CORE_DEG_TO_RAD);
     rc = fly_w(&land, &tight, spot, 0, 0.0, 0.0, 1, 0.0, &f, NULL);
     show("pitch limit below the trim, window 0", rc, &f);
     CHECK(rc == 0 && !f.pass && strcmp(f.cause, "pitch in hover") == 0);
@@ -298,7 +298,7 @@ int main(void)
                      "pos_m = 2\nheight_m = 2\nheading_deg = 10\ntime_s = 1\nsink_mps = 2") == 0);
     CHECK(sim_task_load(path, &t3, &err) == 0);
     const double off[3] = {0, 12, -6};
-    shol_criteria loose = {90 * DEG, 90 * DEG, 100, 100, 100, 100}; /* none can be exceeded */
+    shol_criteria loose = {90 * CORE_DEG_TO_RAD, 90 * CORE_DEG_TO_RAD, 100, 100, 100, 100}; /* none can be exceeded */
     rc = fly(&t3, &loose, off, 0, 0.0, 0.0, 1, &f, &last);
     show("12 m off, 1 s", rc, &f);
     CHECK(rc == 0 && !f.pass && strcmp(f.cause, "adequate tolerance: position") == 0);
@@ -318,7 +318,7 @@ int main(void)
     unlink(path);
 
     /* 6. 100 m/s (194 kt) from green 90: no hover trims in it. */
-    rc = fly(&land, &loose, spot, 0, 100.0, 90 * DEG, 1, &f, NULL);
+    rc = fly(&land, &loose, spot, 0, 100.0, 90 * CORE_DEG_TO_RAD, 1, &f, NULL);
     show("100 m/s from green 90", rc, &f);
     CHECK(rc == 1 && !f.pass && strcmp(f.cause, "no trim") == 0);
 
