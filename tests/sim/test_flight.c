@@ -268,10 +268,12 @@ static cfd_field *turb_field(void)
  * L = Cmu^0.75 k^1.5 / epsilon the field's (s^3 / s^3), to rounding: the
  * gust sampled through the air is s times the gust at the field's own k,
  * and the turbulence's L is sim_turb_length_m of the field's k and
- * epsilon. In a synthetic ship-only field (turb_field: the coarse solved
- * one's L is at its 2 m floor everywhere, where L would not depend on k
- * and epsilon), uniform k and epsilon giving L = 9.3 m. */
-static void test_air_turb(const core_ship *ship, const cfd_field *fld)
+ * epsilon. In a synthetic ship-only field (turb_field), uniform k and
+ * epsilon giving L = 9.3 m (l_free: L clear of its floor and cap), and
+ * in the small solved field over the deck, whose L is at its 2 m floor
+ * (there L does not depend on k and epsilon: k, epsilon and sigma
+ * checked, L only against the field's). */
+static void test_air_turb(const core_ship *ship, const cfd_field *fld, const double p0[3], int l_free)
 {
     sim_air_opts o;
     sim_air_opts_default(&o);
@@ -291,11 +293,12 @@ static void test_air_turb(const core_ship *ship, const cfd_field *fld)
     CHECK(sim_air_set_field(a, fld, 0.0, &err) == 0);
     sim_air_set_turb(a, t);
     const double s = 15.0 / cfd_field_meta(fld)->wod_speed_mps;
-    double p[3] = {-3.0, 1.0, -6.0}, fo[CFD_NVARS];
+    double p[3] = {p0[0], p0[1], p0[2]}, fo[CFD_NVARS];
     CHECK(cfd_field_sample(fld, p, fo) == 0);
     const double k_f = fmax(fo[CFD_VAR_K], 0.0), eps_f = fmax(fo[CFD_VAR_EPS], 0.0);
     const double L_f = sim_turb_length_m(&to, k_f, eps_f);
-    CHECK(L_f > to.length_min_m && L_f < to.length_max_m);
+    if (l_free)
+        CHECK(L_f > to.length_min_m && L_f < to.length_max_m);
     double v[3], k, eps;
     /* after the blend (3 s): the field alone */
     CHECK(sim_air_mean_S(a, p, 10.0, v, &k, &eps) == 0);
@@ -318,7 +321,8 @@ static void test_air_turb(const core_ship *ship, const cfd_field *fld)
            s * s * s * eps_f, sig, s * sig_f, ts.length_m, L_f, to.length_min_m, to.length_max_m, gmag, gdiff);
     CHECK(k_f > 0.0 && eps_f > 0.0);
     /* L set by k and epsilon here: Cmu^0.75 k^1.5 / epsilon at the air's k and epsilon */
-    CHECK(fabs(ts.length_m - pow(to.cmu, 0.75) * pow(k, 1.5) / eps) <= 1e-9 * ts.length_m);
+    if (l_free)
+        CHECK(fabs(ts.length_m - pow(to.cmu, 0.75) * pow(k, 1.5) / eps) <= 1e-9 * ts.length_m);
     CHECK(fabs(k - s * s * k_f) <= 1e-12 * k);
     CHECK(fabs(eps - s * s * s * eps_f) <= 1e-12 * eps);
     CHECK(fabs(sig - s * sig_f) <= 1e-12 * sig);
@@ -941,10 +945,14 @@ int main(void)
     test_air(&ship, fld);
     cfd_field *tf = turb_field();
     CHECK(tf != NULL);
-    if (tf)
-        test_air_turb(&ship, tf);
+    if (tf) {
+        const double p_tf[3] = {-3.0, 1.0, -6.0};
+        test_air_turb(&ship, tf, p_tf, 1);
+    }
     cfd_field_destroy(tf);
     if (fld) {
+        const double p_deck[3] = {-5.0, 0.0, -6.0};
+        test_air_turb(&ship, fld, p_deck, 0);
         test_turbulence(ac, &ship, fld);
     }
     cfd_field_destroy(fld);
