@@ -12,7 +12,8 @@
  *
  * This is the only file of the flight loop that reads a clock; the step
  * itself (flight.c) never does, so paced and unpaced runs are the same
- * trajectory.
+ * trajectory. The clock is the create options' (sim_pacer_clock):
+ * CLOCK_MONOTONIC by default, one of its own in a test.
  */
 #include "sim.h"
 
@@ -28,6 +29,7 @@
 #define PACER_BINS 20000 /* 1 us each */
 
 struct sim_pacer {
+    sim_pacer_clock clock;
     double period_s;
     int realtime;
     struct timespec t0, next, work0;
@@ -53,8 +55,38 @@ static void ts_add(struct timespec *t, double s)
     }
 }
 
+static void mono_now(void *user, struct timespec *t)
+{
+    (void)user;
+    clock_gettime(CLOCK_MONOTONIC, t);
+}
+
+static void mono_sleep_until(void *user, const struct timespec *deadline)
+{
+    (void)user;
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, deadline, NULL) == EINTR)
+        ;
+}
+
+void sim_pacer_opts_default(sim_pacer_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->rate_hz = 100.0;
+    o->realtime = 1;
+}
+
 sim_pacer *sim_pacer_create(double rate_hz, int realtime, core_err *err)
 {
+    sim_pacer_opts o;
+    sim_pacer_opts_default(&o);
+    o.rate_hz = rate_hz;
+    o.realtime = realtime;
+    return sim_pacer_create_opts(&o, err);
+}
+
+sim_pacer *sim_pacer_create_opts(const sim_pacer_opts *o, core_err *err)
+{
+    double rate_hz = o->rate_hz;
     if (!(rate_hz >= 1.0 && rate_hz <= 100000.0)) {
         core_err_set(err, -1, "pacing: rate %g Hz: expected 1 to 100000", rate_hz);
         return NULL;
@@ -64,9 +96,20 @@ sim_pacer *sim_pacer_create(double rate_hz, int realtime, core_err *err)
         core_err_set(err, -1, "pacing: out of memory");
         return NULL;
     }
+    if (!o->clock.now != !o->clock.sleep_until) {
+        free(p);
+        core_err_set(err, -1, "pacing: a clock needs both now and sleep_until");
+        return NULL;
+    }
+    p->clock = o->clock;
+    if (!p->clock.now) {
+        p->clock.now = mono_now;
+        p->clock.sleep_until = mono_sleep_until;
+        p->clock.user = NULL;
+    }
     p->period_s = 1.0 / rate_hz;
-    p->realtime = realtime;
-    clock_gettime(CLOCK_MONOTONIC, &p->t0);
+    p->realtime = o->realtime;
+    p->clock.now(p->clock.user, &p->t0);
     p->next = p->t0;
     p->work0 = p->t0;
     return p;
@@ -77,7 +120,7 @@ void sim_pacer_destroy(sim_pacer *p) { free(p); }
 int sim_pacer_wait(sim_pacer *p)
 {
     struct timespec now;
-    clock_gettime(CLOCK_MONOTONIC, &now);
+    p->clock.now(p->clock.user, &now);
     double work = ts_s(&now) - ts_s(&p->work0);
     if (p->steps > 0) {
         long b = (long)(work * 1e6);
@@ -94,10 +137,9 @@ int sim_pacer_wait(sim_pacer *p)
             late = 1;
             p->overruns++;
         } else {
-            while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &p->next, NULL) == EINTR)
-                ;
+            p->clock.sleep_until(p->clock.user, &p->next);
             struct timespec woke;
-            clock_gettime(CLOCK_MONOTONIC, &woke);
+            p->clock.now(p->clock.user, &woke);
             double l = ts_s(&woke) - ts_s(&p->next);
             long b = (long)(l * 1e6);
             p->late_hist[b < 0 ? 0 : b >= PACER_BINS ? PACER_BINS - 1 : b]++;
@@ -106,7 +148,7 @@ int sim_pacer_wait(sim_pacer *p)
                 p->max_late_s = l;
         }
     }
-    clock_gettime(CLOCK_MONOTONIC, &p->work0);
+    p->clock.now(p->clock.user, &p->work0);
     return late;
 }
 
@@ -127,7 +169,7 @@ void sim_pacer_stats(const sim_pacer *p, sim_pacer_report *s)
 {
     memset(s, 0, sizeof *s);
     struct timespec now;
-    clock_gettime(CLOCK_MONOTONIC, &now);
+    p->clock.now(p->clock.user, &now);
     s->steps = p->steps;
     s->overruns = p->overruns;
     s->wall_s = ts_s(&now) - ts_s(&p->t0);

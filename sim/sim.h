@@ -16,6 +16,7 @@
 #include "hfm.h"
 
 #include <stdio.h>
+#include <time.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -307,6 +308,23 @@ typedef struct sim_pacer_stats {
     double step_p50_s, step_p99_s, step_max_s; /* the work of a step (between waits) */
     double late_p99_s, late_max_s; /* real time: how late the wake-ups came after their deadlines (jitter) */
 } sim_pacer_report;
+/* The pacer's clock: now (the time, on a clock that never steps back) and
+ * sleep_until (back at or after the deadline), both with user. The
+ * default (sim_pacer_opts_default) is CLOCK_MONOTONIC and clock_nanosleep
+ * on absolute deadlines; a test injects a clock of its own. */
+typedef struct sim_pacer_clock {
+    void (*now)(void *user, struct timespec *t);
+    void (*sleep_until)(void *user, const struct timespec *deadline);
+    void *user;
+} sim_pacer_clock;
+typedef struct sim_pacer_opts {
+    double rate_hz;        /* steps per second (1 to 100000) */
+    int realtime;          /* 1: paced on deadlines, 0: as fast as it can */
+    sim_pacer_clock clock; /* CLOCK_MONOTONIC (both functions NULL: the default) */
+} sim_pacer_opts;
+void sim_pacer_opts_default(sim_pacer_opts *o);
+sim_pacer *sim_pacer_create_opts(const sim_pacer_opts *o, core_err *err);
+/* sim_pacer_create_opts with the default clock. */
 sim_pacer *sim_pacer_create(double rate_hz, int realtime, core_err *err);
 void sim_pacer_destroy(sim_pacer *p);
 /* Call once per step after its work: sleeps to the next deadline (real

@@ -3,7 +3,8 @@
  * and the height of the lowest wheel over the deck; the airwake slice
  * sampled where it should be, coloured by the diverging map, clear outside
  * the field, cached per scene, drawn blended and depth-tested without depth
- * writes; MP4s through ffmpeg (when it is installed: skipped otherwise)
+ * writes; MP4s through ffmpeg (skipped where it is not installed: exit 77,
+ * and a failure with CI set: check_skip)
  * with the right frame count, size and colours, nothing at PATH before
  * close, odd sizes, two videos at once, a missing directory, abort, and an
  * ffmpeg that dies (an error, not a SIGPIPE death). */
@@ -565,7 +566,7 @@ static void encode(const char *name, int w, int h, int n, int ew, int eh)
 static void test_video(void)
 {
     if (!render_video_available()) {
-        printf("test_render_video: no ffmpeg with libx264 on PATH: the video checks were skipped\n");
+        check_skip("the video checks: no ffmpeg with libx264 on PATH (go.sh installs it)");
         return;
     }
     const char *t = getenv("TMPDIR");

@@ -1,11 +1,16 @@
 #!/bin/sh
 # disim fly --pilot replay LOG: the replay pilot (sim/pilot_replay.c)
-# re-flies a logged run headless. A 5 s run of the loop (the trim held, no
-# wind) logged with --log is re-flown in 10 kt from green 30: it flies the
-# log's 5 s from where the logged run started (within 0.01 m), reports its
-# errors, and ends within 0.5 m of where the logged run ended (the CSVs'
-# first and last rows); --feed-controls flies too, and a scenario's
-# [pilot] type = replay flies the same CSV as the flag. Bad logs
+# re-flies a logged run headless. The automated pilot's port-side deck
+# landing (scenarios/tasks/land_port.ini, calm air, flown --fast, 48.16 s
+# to touchdown and on the deck) logged with --log is re-flown in 10 kt
+# from green 30: it flies the log's whole length from where the logged run
+# started (within 0.01 m), reports its errors overall and per phase
+# (hover, translate, descend, on deck), and tracks the landing: from the
+# reference rms at most 0.45 m and max at most 0.9 m, heading within 5 deg
+# (measured 0.281 m, 0.578 m at 31.85 s, 2.13 deg: the tolerances about
+# 1.5 times these), ending on the deck within 0.25 m of where the logged
+# run ended (measured 0.055 m); --feed-controls flies too, and a
+# scenario's [pilot] type = replay flies the same CSV as the flag. Bad logs
 # (missing, not a log, truncated, without a heli_state_t) and bad flags
 # are refused, naming what, with a non-zero exit and nothing written.
 # Usage: fly_replay_cli.sh DISIM SOURCE_DIR
@@ -17,16 +22,28 @@ fail=0 pass=0
 ok() { pass=$((pass + 1)); }
 bad() { echo "FAIL: $1"; fail=$((fail + 1)); }
 scen="$src/scenarios/cg47_uh60a.ini"
-"$disim" fly "$scen" --fast --duration 5 --wod-speed-kt 0 --wod-dir-deg 0 --db "$tmp/db" --log "$tmp/rec.log" \
-    --csv "$tmp/rec.csv" 2> "$tmp/rec.err" && [ -s "$tmp/rec.log" ] && ok || { bad "the run was not logged"; cat "$tmp/rec.err"; }
+"$disim" fly "$scen" --fast --wod-speed-kt 0 --wod-dir-deg 0 --db "$tmp/db" --pilot auto \
+    --task "$src/scenarios/tasks/land_port.ini" --log "$tmp/rec.log" --csv "$tmp/rec.csv" 2> "$tmp/rec.err" \
+    && [ -s "$tmp/rec.log" ] && grep -q "fly: touchdown " "$tmp/rec.err" && ok \
+    || { bad "the landing was not flown and logged"; cat "$tmp/rec.err"; }
 args="$scen --wod-speed-kt 10 --wod-dir-deg 30 --db $tmp/db"
 "$disim" fly $args --pilot replay "$tmp/rec.log" --csv "$tmp/rep.csv" 2> "$tmp/rep.err" && ok \
     || { bad "fly --pilot replay failed"; cat "$tmp/rep.err"; }
-grep -q "the replay pilot re-flies .*rec.log (250 states, 5.00 s" "$tmp/rep.err" && ok || { bad "no start line"; cat "$tmp/rep.err"; }
-grep -q "fly: replay to 5.00 s: from the reference rms [0-9.]* m, max [0-9.]* m" "$tmp/rep.err" && ok \
-    || { bad "no report of the errors"; cat "$tmp/rep.err"; }
-grep -q "fly: replay hover: " "$tmp/rep.err" && ok || bad "no report per phase"
-[ "$(wc -l < "$tmp/rep.csv")" -eq 252 ] && ok || bad "expected a header and 251 rows at 50 Hz over the log's 5 s"
+cat "$tmp/rep.err"
+grep -q "the replay pilot re-flies .*rec.log ([0-9]* states, 48.16 s" "$tmp/rep.err" && ok \
+    || { bad "no start line for the 48.16 s landing"; cat "$tmp/rep.err"; }
+# fly: replay to 48.16 s: from the reference rms R m, max M m at T s, heading max H deg; ...
+line=$(grep "fly: replay to 48.16 s: from the reference rms [0-9.]* m, max [0-9.]* m at [0-9.]* s, heading max [0-9.]* deg" \
+    "$tmp/rep.err")
+[ -n "$line" ] && ok || { bad "no report of the errors"; cat "$tmp/rep.err"; }
+echo "$line" | awk '{ for (i = 1; i <= NF; i++) { if ($i == "rms") r = $(i + 1); if ($i == "max" && $(i - 1) == "m,") m = $(i + 1);
+        if ($i == "heading") h = $(i + 2) } exit !(r != "" && r + 0 <= 0.45 && m + 0 <= 0.9 && h + 0 <= 5.0) }' && ok \
+    || bad "the replay did not track the landing (rms <= 0.45 m, max <= 0.9 m, heading <= 5 deg): $line"
+for phase in hover translate descend "on deck"; do
+    grep -q "fly: replay $phase: [0-9.]* s, rms" "$tmp/rep.err" && ok || bad "no report of the $phase phase"
+done
+[ "$(wc -l < "$tmp/rep.csv")" -eq "$(wc -l < "$tmp/rec.csv")" ] && ok \
+    || bad "expected as many rows as the logged run's CSV (50 Hz over the log's 48.16 s)"
 # the squared distance between the two CSVs' positions in S (columns 2-4) on line LINE is below D2
 near() { # LINE D2
     awk -F, -v line="$1" -v d2="$2" 'NR == FNR { if (FNR == line) { x = $2; y = $3; z = $4 }; next }
@@ -34,8 +51,12 @@ near() { # LINE D2
         END { exit !(found && d < d2) }' "$tmp/rec.csv" "$tmp/rep.csv"
 }
 near 2 1e-4 && ok || { bad "the replay did not start within 0.01 m of where the logged run started"; sed -n 2p "$tmp/rec.csv" "$tmp/rep.csv"; }
-near "$(wc -l < "$tmp/rec.csv")" 0.25 && ok \
-    || { bad "the replay did not end within 0.5 m of the logged run's end"; tail -n 1 "$tmp/rec.csv" "$tmp/rep.csv"; }
+near "$(wc -l < "$tmp/rec.csv")" 0.0625 && ok \
+    || { bad "the replay did not end within 0.25 m of the logged run's end"; tail -n 1 "$tmp/rec.csv" "$tmp/rep.csv"; }
+# on the deck at the end (the CSV's on_deck column), as the logged run
+col=$(head -n 1 "$tmp/rep.csv" | tr , '\n' | grep -n '^on_deck$' | cut -d: -f1)
+[ -n "$col" ] && [ "$(tail -n 1 "$tmp/rep.csv" | cut -d, -f"$col")" = 1 ] \
+    && [ "$(tail -n 1 "$tmp/rec.csv" | cut -d, -f"$col")" = 1 ] && ok || bad "the replay did not end on the deck"
 "$disim" fly $args --pilot replay "$tmp/rec.log" --feed-controls 2> "$tmp/ff.err" && grep -q "fed forward" "$tmp/ff.err" \
     && ok || { bad "--feed-controls failed"; cat "$tmp/ff.err"; }
 # the scenario's [pilot] type = replay flies the same (no --pilot flag)

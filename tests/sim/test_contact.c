@@ -302,7 +302,9 @@ static void test_park(const hfm_aircraft *ac, const core_ship *ship, double hold
      * full-down thrust small) */
     CHECK(p.settle_S[2] < 0);
 
-    /* sea state 4, 30 kt over the deck: stays within 0.1 m, or says why not */
+    /* sea state 4, 30 kt over the deck: stays within 0.1 m, neither sliding
+     * nor tipping (the gear and the brakes hold it: measured 0.012 m for the
+     * UH-60A over 300 s, 0.007 m for the SA365N over 60 s) */
     sim_sea sea;
     sim_sea_default(&sea);
     sea.state = 4;
@@ -314,8 +316,9 @@ static void test_park(const hfm_aircraft *ac, const core_ship *ship, double hold
         CHECK(park_run(ac, ship, sim_ship_motion_frame_fn, m, 30 * 0.514444, 0.0, 3.0, 8.0, hold_s, &p) == 0);
         print_park("sea state 4, 30 kt", &p);
         CHECK(p.finite);
-        CHECK(p.max_dev_m < 0.1 || (p.rep.flags & (SIM_CONTACT_SLIDE | SIM_CONTACT_TIP)));
-        CHECK(!(p.rep.flags & SIM_CONTACT_CRASH));
+        CHECK(p.max_dev_m < 0.1);
+        CHECK(!(p.rep.flags & (SIM_CONTACT_SLIDE | SIM_CONTACT_TIP | SIM_CONTACT_CRASH)));
+        CHECK(p.t_parked_slide_s < 0);
         sim_ship_motion_destroy(m);
     }
 }
