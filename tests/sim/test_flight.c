@@ -272,7 +272,7 @@ static void test_air_turb(const core_ship *ship, const cfd_field *fld, const dou
     o.wod_speed_mps = 15.0;
     o.deck_height_m = ship->deck_height_m;
     core_err err = {0};
-    sim_air *a = sim_air_create(&o, level_ship, NULL, &err);
+    sim_air *a = sim_air_create(&o, &err);
     sim_turb_opts to;
     sim_turb_opts_default(&to);
     sim_turb *t = sim_turb_create(&to, 7, &err);
@@ -283,7 +283,7 @@ static void test_air_turb(const core_ship *ship, const cfd_field *fld, const dou
         return;
     }
     CHECK(sim_air_set_field(a, fld, 0.0, &err) == 0);
-    sim_air_set_turb(a, t);
+    sim_air_in in = {t, NULL};
     const double s = 15.0 / cfd_field_meta(fld)->wod_speed_mps;
     double p[3] = {p0[0], p0[1], p0[2]}, fo[CFD_NVARS];
     CHECK(cfd_field_sample(fld, p, fo) == 0);
@@ -298,7 +298,7 @@ static void test_air_turb(const core_ship *ship, const cfd_field *fld, const dou
     sim_turb_state ts;
     sim_turb_info(t, &ts);
     double vs[3], gust[3], g_f[3], gdiff = 0.0, gmag = 0.0;
-    CHECK(sim_air_sample_S(a, p, 10.0, vs) == 0);
+    CHECK(sim_air_sample_S(a, &in, p, 10.0, vs) == 0);
     CHECK(sim_turb_sample(t, p, k_f, g_f) == 0);
     for (int i = 0; i < 3; i++) {
         gust[i] = vs[i] - v[i];
