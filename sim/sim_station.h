@@ -1,0 +1,207 @@
+/* sim_station.h -- the pilot station, `disim station` (sim/station.c).
+ * Part of sim.h (the umbrella header). */
+#ifndef DISIM_SIM_STATION_H
+#define DISIM_SIM_STATION_H
+
+#include "core.h"
+#include "hfm.h"
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---------------------------- the pilot station (sim/station.c) */
+/* The parts of `disim station`, the reference pilot station: the sources of
+ * the four controls (a scripted CSV, the keyboard's keys, an evdev joystick
+ * or gamepad) and the LCM side, which publishes pilot_input_t on
+ * DISIM_PILOT_INPUT at a fixed rate and receives DISIM_HELI_STATE and
+ * DISIM_SIM_STATUS (each buffer checked with disim_lcm_check_raw before it
+ * is decoded; a bad one is counted, never used). Controls are percent of
+ * full travel (CONVENTIONS.md). */
+#include <signal.h>
+#include <stdint.h>
+typedef struct sim_station_controls {
+    double collective_pct, long_cyclic_pct, lat_cyclic_pct, pedal_pct;
+    int trim_button, trim_release; /* held (evdev buttons) */
+    int take_over;                 /* this station takes the controls (sim/pilots.c) */
+} sim_station_controls;
+/* All four at 50 %, the buttons released. */
+void sim_station_controls_centre(sim_station_controls *c);
+
+/* A scripted pilot: a CSV of rows time_s,collective,long,lat,pedal (times
+ * not decreasing from 0, percentages 0 to 100; '#' comments, blank lines
+ * and one header line allowed). Between rows the controls are interpolated
+ * linearly (two rows at one time make a step), before the first row they
+ * are the first row's, after the last they hold the last's. NULL with err
+ * naming file and line. */
+typedef struct sim_station_script sim_station_script;
+sim_station_script *sim_station_script_load(const char *path, core_err *err);
+void sim_station_script_destroy(sim_station_script *s);
+void sim_station_script_at(const sim_station_script *s, double t_s, sim_station_controls *c);
+
+/* The keyboard in a terminal (raw bytes): w / s collective up / down, the
+ * arrows the cyclic (up = forward, left = left), a / d the pedals, each by
+ * step_pct per press (clamped to 0..100); space centres the cyclic and the
+ * pedals (the collective is a lever and stays); t takes the controls over
+ * (take_over in the next message); q or ctrl-C quits. Escape
+ * sequences (ESC [ A, ESC O A) may arrive split across reads. */
+typedef struct sim_station_keys {
+    double step_pct;
+    int esc;     /* 0, 1 after ESC, 2 after ESC [ or ESC O */
+    long presses; /* keys that moved a control */
+} sim_station_keys;
+enum { SIM_KEY_NONE = 0, SIM_KEY_MOVED = 1, SIM_KEY_QUIT = 2 };
+void sim_station_keys_init(sim_station_keys *k, double step_pct);
+/* One byte from the terminal: SIM_KEY_NONE, SIM_KEY_MOVED (c changed or
+ * centred) or SIM_KEY_QUIT. */
+int sim_station_keys_feed(sim_station_keys *k, unsigned char byte, sim_station_controls *c);
+
+/* A joystick or gamepad through evdev (/dev/input/event*). Each control
+ * reads one EV_ABS axis: code (ABS_X = 0 ...), invert (1: the axis's
+ * minimum is 100 %), and the range and dead band (flat, around the
+ * centre) from EVIOCGABS. The default is a common gamepad in the
+ * helicopter layout: left stick up/down the collective (up = more,
+ * ABS_Y inverted), left stick left/right the pedals (ABS_X), right stick
+ * the cyclic (ABS_RY forward = 0 %, ABS_RX); the shoulder buttons BTN_TL
+ * and BTN_TR are the force-trim set and release, BTN_START (held) takes
+ * the controls over. */
+enum { SIM_AXIS_COLLECTIVE = 0, SIM_AXIS_LONG = 1, SIM_AXIS_LAT = 2, SIM_AXIS_PEDAL = 3, SIM_AXES = 4 };
+typedef struct sim_station_axis {
+    int code, invert;
+    int min, max, flat;
+} sim_station_axis;
+typedef struct sim_station_axes {
+    sim_station_axis axis[SIM_AXES];
+    int trim_button_code, trim_release_code, take_over_code; /* EV_KEY codes, -1: none */
+} sim_station_axes;
+void sim_station_axes_default(sim_station_axes *a);
+/* "ABS_RY", "ABS_RY:invert" or a number ("4", "4:invert"): 0, or -1 with err. */
+int sim_station_axis_parse(const char *s, sim_station_axis *ax, core_err *err);
+/* "ABS_X" ... for an axis code, "ABS_0x.." style for others (static). */
+const char *sim_station_axis_name(int code, char *buf, size_t n);
+/* Percent of travel for a value of the axis (dead band, clamp, invert). */
+double sim_station_axis_pct(const sim_station_axis *ax, int value);
+/* Apply one input event (type, code, value) to c: 1 if it was one of the
+ * mapped axes or buttons, else 0. */
+int sim_station_axes_apply(const sim_station_axes *a, int type, int code, int value, sim_station_controls *c);
+
+typedef struct sim_station_evdev sim_station_evdev;
+/* Open the device read-only, non-blocking, read each mapped axis's range
+ * and position (EVIOCGABS) into the handle's axes and c. NULL with err
+ * naming the path: missing, unreadable, not an evdev device, or without
+ * one of the axes (the message names it and points to --list). */
+sim_station_evdev *sim_station_evdev_open(const char *path, const sim_station_axes *axes,
+                                          sim_station_controls *c, core_err *err);
+/* A handle on an open descriptor whose axes' ranges are already in axes (a
+ * pipe of struct input_event in the tests); takes the descriptor. */
+sim_station_evdev *sim_station_evdev_wrap(int fd, const sim_station_axes *axes, core_err *err);
+void sim_station_evdev_destroy(sim_station_evdev *d);
+int sim_station_evdev_fd(const sim_station_evdev *d);
+/* Read every pending event (read(2) of struct input_event) into c: 0 (none
+ * or some), or -1 with err when the device is gone or failed. After
+ * SYN_DROPPED the axes are read again with EVIOCGABS. */
+int sim_station_evdev_read(sim_station_evdev *d, sim_station_controls *c, core_err *err);
+
+/* The evdev devices in dir ("/dev/input"), event* in order of number. */
+#define SIM_STATION_MAX_DEV_AXES 64
+typedef struct sim_station_devinfo {
+    char path[512], name[256];
+    char error[256]; /* non-empty: it could not be read (what failed) */
+    int naxes;
+    struct {
+        int code, min, max, flat, value;
+    } axis[SIM_STATION_MAX_DEV_AXES];
+} sim_station_devinfo;
+typedef void (*sim_station_dev_fn)(void *user, const sim_station_devinfo *d);
+/* Calls fn for each device: the number of devices (0: none), or -1 with
+ * err when dir cannot be read. */
+int sim_station_evdev_list(const char *dir, sim_station_dev_fn fn, void *user, core_err *err);
+
+/* The station on LCM. */
+typedef struct sim_station sim_station;
+typedef struct sim_station_opts {
+    const char *id;      /* station_id, 1 to 63 characters [A-Za-z0-9._:/@-] */
+    const char *lcm_url; /* NULL: the library default */
+} sim_station_opts;
+/* What the station has sent and received (plain data). */
+typedef struct sim_station_view {
+    const char *id;
+    long published, late;  /* messages sent; deadlines missed (frames skipped) */
+    int64_t last_seq;      /* -1 before the first */
+    double t_s;            /* station time of the last message */
+    sim_station_controls sent;
+    long heli_rx, status_rx, bad_rx;
+    char bad_last[256]; /* why the last bad message was refused */
+    int have_heli;
+    double heli_t_s, heli_pos_S_m[3], heli_vel_S_mps[3], roll_rad, pitch_rad, yaw_rad;
+    double heli_ctl_pct[4]; /* collective, long, lat, pedal as the loop flies them */
+    int on_deck;
+    int have_status;
+    double sim_time_s, rate_hz, real_time_factor;
+    int64_t overruns;
+    int state; /* DISIM_SIM_STATUS_T_RUNNING ... */
+    char scenario[128];
+    int n_stations, listed; /* listed: this station's id is among them */
+    char stations[512];     /* the ids, comma-separated */
+    char active[64];        /* the station flying ("" none) */
+    int32_t flags;          /* DISIM_SIM_STATUS_T_FLAG_* */
+    int64_t my_received, my_refused, my_gaps; /* the loop's counts for this station (listed) */
+    char message[256];      /* why the loop refused the last sim_control_t */
+} sim_station_view;
+/* 0 for an id the station may have, else -1 with err. */
+int sim_station_id_check(const char *id, core_err *err);
+/* A default id: the host's name (characters an id may hold, '-' for the
+ * others, at most 40) and source (at most 20), joined by '-'. */
+void sim_station_default_id(char *id, size_t n, const char *source);
+/* NULL with err for a bad id or an LCM URL it cannot open. */
+sim_station *sim_station_create(const sim_station_opts *o, core_err *err);
+void sim_station_destroy(sim_station *st);
+/* The LCM descriptor to poll for received messages. */
+int sim_station_fd(const sim_station *st);
+/* Publish c as the next pilot_input_t (seq + 1) stamped utime: 0, or -1. */
+int sim_station_publish(sim_station *st, int64_t utime, const sim_station_controls *c, core_err *err);
+/* Handle every message already received (does not wait). */
+void sim_station_handle(sim_station *st);
+/* One received buffer of channel (DISIM_HELI_STATE or DISIM_SIM_STATUS,
+ * as lcm_recv_buf_t holds it), what the LCM handlers call: checked with
+ * disim_lcm_check_raw, decoded, its shown values checked finite, then
+ * taken into the view; otherwise counted as bad with the reason. */
+void sim_station_receive(sim_station *st, const char *channel, const void *buf, int size);
+const sim_station_view *sim_station_get_view(const sim_station *st);
+/* The view as text: tty 1, a block of lines that redraws in place (ANSI:
+ * cursor home, each line cleared); tty 0, one line without escapes. */
+void sim_station_format(const sim_station_view *v, const char *source, int tty, char *buf, size_t n);
+
+/* The station's loop: publish every 1 / rate_hz on absolute deadlines
+ * (a deadline already missed is skipped and counted as late, never
+ * published in a burst), the controls from exactly one source, received
+ * messages handled between deadlines, show called show_hz times a second.
+ * take_over 1: every message carries take_over (a keyboard's t, a
+ * device's button: the next message, or while held).
+ * With keys, the controls start at 50 % and take the first received
+ * heli_state_t's controls while no key has been pressed (no jump when the
+ * station joins a flight). Ends at duration_s (> 0), when *stop is set, on
+ * a quit key or the end of the key input: 0; < 0 with err (a device gone,
+ * a failed publish). */
+typedef struct sim_station_run_opts {
+    double rate_hz, duration_s; /* duration_s <= 0: until stopped */
+    const sim_station_script *script;
+    sim_station_evdev *dev;
+    int key_fd; /* >= 0: read keys from it, with keys */
+    sim_station_keys *keys;
+    sim_station_controls start; /* the controls of a device (from its open) */
+    int take_over;
+    const volatile sig_atomic_t *stop; /* set (by a signal handler): stop */
+    void (*show)(void *user, const sim_station_view *v);
+    void *user;
+    double show_hz;
+} sim_station_run_opts;
+int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
