@@ -8,7 +8,7 @@
  * with w = (p, q, r) the body rates and e the attitude error: roll phi,
  * pitch theta and heading psi (3-2-1, Earth frame E) less the hold's
  * reference, heading wrapped to (-pi, pi]. The control senses of
- * CONVENTIONS.md make one sign right for every aircraft: right lateral
+ * docs/conventions.md make one sign right for every aircraft: right lateral
  * stick rolls right (p > 0), aft longitudinal stick (a higher percentage)
  * pitches the nose up (q > 0), right pedal yaws right (r > 0); so positive
  * gains oppose the motion. The rotor sees clamp(pilot + d, 0, 100).

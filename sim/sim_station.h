@@ -19,7 +19,7 @@ extern "C" {
  * DISIM_PILOT_INPUT at a fixed rate and receives DISIM_HELI_STATE and
  * DISIM_SIM_STATUS (each buffer checked with disim_lcm_check_raw before it
  * is decoded; a bad one is counted, never used). Controls are percent of
- * full travel (CONVENTIONS.md). */
+ * full travel (docs/conventions.md). */
 #include <signal.h>
 #include <stdint.h>
 typedef struct sim_station_controls {

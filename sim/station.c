@@ -11,7 +11,7 @@
  * arrive at the loop as one input anyway, and would look like a faster
  * station.
  *
- * Sources (controls in percent of full travel, CONVENTIONS.md):
+ * Sources (controls in percent of full travel, docs/conventions.md):
  * - a script: rows time,collective,long,lat,pedal interpolated linearly in
  *   time and held after the last row (the flight-loop tests' known inputs);
  * - the keyboard: raw terminal bytes, each press a step of the control,
@@ -740,7 +740,7 @@ sim_station *sim_station_create(const sim_station_opts *o, core_err *err)
     sim_station_controls_centre(&st->v.sent);
     st->lc = lcm_create(o->lcm_url);
     if (!st->lc) {
-        core_err_set(err, -1, "LCM '%s': cannot create (a bad URL, or no multicast route: see CONVENTIONS.md)",
+        core_err_set(err, -1, "LCM '%s': cannot create (a bad URL, or no multicast route: see docs/conventions.md, LCM)",
                      o->lcm_url ? o->lcm_url : "(default)");
         free(st);
         return NULL;

@@ -26,7 +26,7 @@ hits=$(echo "$files" | grep -E '\.(c|h|md|ini|sh|txt|cff|cmake)$|CMakeLists' | g
     | xargs grep -nE '[Ii]ssues? ?#?[0-9]+\b' 2> /dev/null | grep -v '^docs/runs/')
 [ -z "$hits" ] && ok || bad "issue numbers in the tree:
 $hits"
-hits=$(echo "$files" | grep -v '^tests/core/source_rules.sh$' | xargs grep -nE '\.\./shared|shared/(CONVENTIONS|reference)' 2> /dev/null)
+hits=$(echo "$files" | grep -v '^tests/core/source_rules.sh$' | xargs grep -nE '\.\./shared|shared/(CONVENTIONS|reference)|\bCONVENTIONS\.md' 2> /dev/null)
 [ -z "$hits" ] && ok || bad "paths outside the repository:
 $hits"
 grep -q 'disim_shol' sim/CMakeLists.txt && bad "sim/CMakeLists.txt links disim_shol" || ok

@@ -1,4 +1,4 @@
-/* test_hfm.c -- hfm acceptance tests of issue 3 (run from the source root):
+/* test_hfm.c -- hfm acceptance tests (run from the source root):
  * aircraft files and bad input, UH-60A trim against the GenHel table
  * (uh60a_genhel_trim.csv beside this file, each row under the constraint
  * the reference flew), the hover thrust balance (a consistency check) and
@@ -327,7 +327,7 @@ static void test_sweep(hfm_trim *tr)
 }
 
 /* --------------------------------------------------- power vs airspeed */
-/* Issue 29: engine power against airspeed within 10 % of published data
+/* Engine power against airspeed within 10 % of published data
  * (uh60a_power.csv beside this file, which says what the numbers are and
  * where they come from). Each row is trimmed at its own gross weight (a copy
  * of the aircraft file with that mass; inertia unchanged, it does not enter
@@ -492,7 +492,7 @@ static void test_fold(void)
 
 /* -------------------------------------------------------------- SA365N */
 /* Plausibility, not validation: the references publish no SA365N trim, and
- * most of its data file is estimated. The bands are issue 3's: collective
+ * most of its data file is estimated. The bands are the aircraft acceptance bands: collective
  * 40-75 %, attitudes within 6 deg, power within twice 550 kW. */
 static void test_sa365n(hfm_trim *tr)
 {
@@ -514,14 +514,14 @@ static void test_sa365n(hfm_trim *tr)
 }
 
 /* --------------------------------------------- wake-interaction continuity */
-/* Issue 29: every load must be a continuous function of the state, so the
+/* Every load must be a continuous function of the state, so the
  * level, zero-sideslip trim at 1 kt steps over 0-160 kt has no jump. A step
  * d_i = y(V_i) - y(V_i-1) fails when it exceeds three times the larger of its
  * neighbouring steps plus an absolute tolerance: 0.3 % of travel for the
  * controls, 0.1 deg for pitch and roll (a jump such as the point-immersion
  * model's 1.6 % of long. cyclic between 47 and 48 kt fails; the steepest
  * smooth change, the hover-to-transition collective drop, passes). The
- * tolerances are judgement (issue 29's suggestion), not published data. */
+ * tolerances are judgement, not published data. */
 static void wake_continuity(hfm_trim *tr, const char *name)
 {
     enum { NV = 161, NQ = 6 };
@@ -645,7 +645,7 @@ static void test_wod_sweep(hfm_trim *tr, const char *name)
 }
 
 /* ---------------------------------------------------------------- Bo105 */
-/* The third aircraft, written from published data alone (issue 29): its
+/* The third aircraft, written from published data alone: its
  * trims against Bo105 flight test (bo105_trim.csv beside this file: the
  * flight-test points of Padfield's chapter 4 figures as digitised by
  * HEROES; its header says how). Each row is trimmed level at its airspeed,
@@ -792,7 +792,7 @@ static void test_bo105(void)
                bo105_gaps[g].why);
     CHECK(rows == 71);
     CHECK(bad == 0);
-    /* issue 29's continuity on the third aircraft: 0-160 kt at 1 kt, no jump */
+    /* the continuity on the third aircraft: 0-160 kt at 1 kt, no jump */
     wake_continuity(tr, "Bo105");
     hfm_trim_destroy(tr);
     hfm_aircraft_destroy(ac);

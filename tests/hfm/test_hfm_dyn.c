@@ -1,4 +1,4 @@
-/* test_hfm_dyn.c -- hfm dynamics (issue 3): linearisation and eigenvalues at
+/* test_hfm_dyn.c -- hfm dynamics: linearisation and eigenvalues at
  * hover and 80 kt, consistency of trim and time simulation (a trimmed state
  * flown open loop for 10 s with ARKODE at 200 Hz drifts less than 0.5 m/s
  * and 0.5 deg), CVODE against ARKODE, and the disk loading export. */

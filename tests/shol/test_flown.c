@@ -528,7 +528,7 @@ static void test_outputs(void)
     shol_result_free(&t);
 }
 
-/* The flown envelope's bands (issue 28): the trim's sources carried to the
+/* The flown envelope's bands: the trim's sources carried to the
  * flown radius. The synthetic trim (80, 40, 0 km/h) gets a second grid of
  * 60, 40, 10 km/h and window spreads 5 %, not known, 2 %: the flown band
  * at red 90 runs from V_f - 20 km/h to V_f + 0.05 V_f, ahead +- nothing

@@ -1402,7 +1402,7 @@ static void test_bands(void)
     }
 }
 
-/* ------------------------------------------- what drives a limit (issue 29) */
+/* ------------------------------------------- ------------ what drives a limit */
 /* Synthetic loads for the analytic model's trims, as a caller fills them
  * after the sweep (c crosswind and h headwind components, m/s; q-like
  * terms c|c| and h|h|):

@@ -5,7 +5,7 @@
  * flown at another WOD speed (scaled by s^2, s^3, s and 1); the gear the flight owns (sim/contact.c through the flight): the
  * rotor's thrust and power, the deck start standing 5 minutes in sea state
  * 4 and 30 kt, a slide on a slippery deck, a roll-over and the tail driven
- * into the hangar face ending the flight, and the loop (sim/lcm_io.c)
+ * into the hangar face ending the flight, and the loop (sim/loop.c)
  * stopping there with its log whole, the gear's loads, the rotor's thrust
  * and power and the crash in the published messages. Run from the source
  * root. */

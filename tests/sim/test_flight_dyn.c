@@ -1,5 +1,5 @@
-/* test_flight_dyn.c -- the flight loop's dynamics (issue 25, first
- * acceptance item): open loop, a hover perturbed from trim (a cyclic step,
+/* test_flight_dyn.c -- the flight loop's dynamics:
+ * open loop, a hover perturbed from trim (a cyclic step,
  * a kick in u, v, w, p, q or r) departs as the linearised model
  * (hfm_linearise, and the flight model's linear model with its rotor
  * states) predicts over the first 2 s, in calm air and a light head wind;

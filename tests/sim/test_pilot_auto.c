@@ -1,4 +1,4 @@
-/* test_pilot_auto.c -- the automated pilot (sim/pilot_auto.c, issue 26):
+/* test_pilot_auto.c -- the automated pilot (sim/pilot_auto.c):
  * the station-keeping task of scenarios/tasks/station_keep.ini flown by
  * the UH-60A and the SA365N over the CG-47's spot through the flight API
  * at 200 Hz
@@ -14,7 +14,7 @@
  * margin (at least 0.35 s must still meet the desired band).
  * The same run twice gives bit-identical states and controls. The task
  * file's errors name the file, line and key. A caller's reference
- * (sim_pilot_auto_set_reference) is flown. The deck landings of issue 26
+ * (sim_pilot_auto_set_reference) is flown. The deck landings
  * (scenarios/tasks/land_port.ini, land_stern.ini) are flown with the
  * ship in a seaway and the landing gear (sim/contact.c) attached, the SAS
  * on and off, in the free stream; their result files are written and
@@ -201,7 +201,7 @@ static void test_delay(const hfm_aircraft *ac, const core_ship *ship, const sim_
  * start the hover is met, the descent at 0.5 m/s begins and the wheels
  * meet the deck (no gear yet: the CG at the touchdown height) within the
  * desired touchdown tolerances: 1 m from the spot, sink below 1 m/s
- * (issue 26's acceptance asks below 2 m/s and within 1 m), the sink
+ * (the landing's acceptance: below 2 m/s and within 1 m), the sink
  * within 0.2 m/s of the commanded descent. */
 static void test_land(const hfm_aircraft *ac, const core_ship *ship, const double start[3])
 {
@@ -492,7 +492,7 @@ static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *
     sim_flight_out o, s0;
     sim_flight_state(f, &o);
     s0 = o;
-    CHECK(sim_pilot_auto_set_trim_state(p, &o) == 0); /* as sim/fly_task.c does */
+    CHECK(sim_pilot_auto_set_trim_state(p, &o) == 0); /* as couple/fly_task.c does */
     long n = (long)((sim_task_length_s(&t) + 40.0) * RATE_HZ);
     sim_pilot_ref ref_prev;
     sim_pilot_auto_reference(p, &ref_prev);
@@ -701,7 +701,7 @@ static void test_result_files(const deck_run *d)
     CHECK(sim_task_result_write(&d->t, &d->r, csv, "/nonexistent_dir/r.json", &err) < 0 && access(csv, F_OK) != 0);
 }
 
-/* 8. Issue 26's acceptance, in the free stream: the UH-60A lands on the
+/* 8. The landing's acceptance, in the free stream: the UH-60A lands on the
  * CG-47 in a 25 kt head wind in sea state 4 by the port-side approach,
  * sink below 2 m/s and within 1 m of the spot, settled, no crash; the
  * SA365N on the LPD-17 in 20 kt from green 30 in sea state 3 likewise;

@@ -1,4 +1,4 @@
-/* test_pilot_replay.c -- the replay pilot (sim/pilot_replay.c, issue 26).
+/* test_pilot_replay.c -- the replay pilot (sim/pilot_replay.c).
  *
  * 1. A landing flown from a station and logged: the automated pilot
  *    (scenarios/tasks/land_uh60a.ini) flies the UH-60A over the CG-47 as
@@ -13,7 +13,7 @@
  *    (central differences over the flight's steps, to 0.001 m/s), and the
  *    reference's phases include a hover, a translation and a descent.
  * 3. Replayed in the same conditions: the replay's trajectory stays
- *    within 0.5 m of the recorded one at every recorded step (issue 26's
+ *    within 0.5 m of the recorded one at every recorded step (the
  *    acceptance) with the loops alone, its descent within 0.3 m and rms
  *    0.14 m (the height loop's feed-forward), its rms below that of a replay without
  *    the preview and of one without the acceleration's lead; with the

@@ -1,4 +1,4 @@
-/* test_lcm_io.c -- the flight loop's LCM side (sim/lcm_io.c) in one process
+/* test_loop.c -- the flight loop's LCM side (sim/loop.c, sim/pilots.c) in one process
  * over memq://: the stations' rules (refused messages counted per station
  * and changing nothing, sequence gaps, hold after silence with its flag,
  * priority and take-over), pause, resume, reset and load (a good and a
@@ -311,7 +311,7 @@ static void test_station_flight(void)
     static double z0[N], z1[N], z2[N];
     seen s0 = {0}, s1 = {0}, s2 = {0};
     char log[64];
-    snprintf(log, sizeof log, "/tmp/test_lcm_io_%ld.lcmlog", (long)getpid());
+    snprintf(log, sizeof log, "/tmp/test_loop_%ld.lcmlog", (long)getpid());
     CHECK(fly_station(NULL, NULL, 0, N, z0, &s0) == 0);
     CHECK(fly_station(log, NULL, 1, N, z1, &s1) == 0);
     /* the collective step climbs (z down in S): by 2 s, well above */
@@ -346,7 +346,7 @@ static void test_station_flight(void)
         lcm_eventlog_destroy(el);
     CHECK(heli == N / 4 && ship == N / 4 && status >= 2 && mono);
     CHECK(pil == (N - 200) / 4 + 3 * 10);
-    printf("test_lcm_io: station flight: climb %.2f m by 2 s, %lld refused, log %d pilot inputs, %d states, %d statuses\n",
+    printf("test_loop: station flight: climb %.2f m by 2 s, %lld refused, log %d pilot inputs, %d states, %d statuses\n",
            z0[39] - z0[399], s1.refused_A, pil, heli, status);
     unlink(log);
 }
@@ -423,7 +423,7 @@ static void test_control(void)
     lcm_publish(lc, DISIM_CH_SIM_CONTROL, junk, sizeof junk);
     CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 3);
     CHECK(s.last.control_refused == 2 && strstr(s.message, "fingerprint") != NULL);
-    printf("test_lcm_io: control: paused at %.3f s, reset to z %.2f m, loaded %s, refused '%s'\n", t_paused,
+    printf("test_loop: control: paused at %.3f s, reset to z %.2f m, loaded %s, refused '%s'\n", t_paused,
            out.pos_S_m[2], s.scenario, s.message);
     disim_sim_status_t_unsubscribe(lc, ss);
     disim_heli_state_t_unsubscribe(lc, hs);
@@ -437,6 +437,6 @@ int main(void)
     test_rules();
     test_station_flight();
     test_control();
-    printf("test_lcm_io: %d checks, %d failed\n", check_count, check_failures);
+    printf("test_loop: %d checks, %d failed\n", check_count, check_failures);
     return check_failures != 0;
 }
