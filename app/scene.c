@@ -111,8 +111,8 @@ void app_render_state_from_flight(const app_scene *s, const sim_flight_out *o, r
     memcpy(rs->pos_S_m, o->pos_S_m, sizeof rs->pos_S_m);
     memcpy(rs->vel_S_mps, o->vel_S_mps, sizeof rs->vel_S_mps);
     rs->roll_rad = e.phi_rad, rs->pitch_rad = e.theta_rad, rs->yaw_rad = e.psi_rad;
-    rs->controls_pct[0] = o->collective_pct, rs->controls_pct[1] = o->long_pct;
-    rs->controls_pct[2] = o->lat_pct, rs->controls_pct[3] = o->pedal_pct;
+    rs->controls_pct[0] = o->ctl.collective_pct, rs->controls_pct[1] = o->ctl.long_cyclic_pct;
+    rs->controls_pct[2] = o->ctl.lat_cyclic_pct, rs->controls_pct[3] = o->ctl.pedal_pct;
     rs->rotor_thrust_N = o->rotor_thrust_N;
     rs->on_deck = o->on_deck;
     rs->n_gear = o->nlegs < RENDER_MAX_LEGS ? o->nlegs : RENDER_MAX_LEGS;

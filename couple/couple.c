@@ -129,19 +129,16 @@ static double change(double a, double b, double floor)
 static void record(couple_iter *it, const hfm_trim_result *r, const couple_iter *prev)
 {
     it->thrust_N = r->loads.mr_thrust_N;
-    it->collective_pct = r->u.collective_pct;
-    it->long_pct = r->u.long_pct;
-    it->lat_pct = r->u.lat_pct;
-    it->pedal_pct = r->u.pedal_pct;
+    it->ctl = r->u;
     it->phi_rad = r->body.euler_rad[0];
     it->theta_rad = r->body.euler_rad[1];
     it->change_frac = NAN;
     if (prev) {
         const double fc = 20.0, fa = 5.0 * CORE_DEG_TO_RAD;
-        double m = change(it->collective_pct, prev->collective_pct, fc);
-        m = fmax(m, change(it->long_pct, prev->long_pct, fc));
-        m = fmax(m, change(it->lat_pct, prev->lat_pct, fc));
-        m = fmax(m, change(it->pedal_pct, prev->pedal_pct, fc));
+        double m = change(it->ctl.collective_pct, prev->ctl.collective_pct, fc);
+        m = fmax(m, change(it->ctl.long_cyclic_pct, prev->ctl.long_cyclic_pct, fc));
+        m = fmax(m, change(it->ctl.lat_cyclic_pct, prev->ctl.lat_cyclic_pct, fc));
+        m = fmax(m, change(it->ctl.pedal_pct, prev->ctl.pedal_pct, fc));
         m = fmax(m, change(it->phi_rad, prev->phi_rad, fa));
         m = fmax(m, change(it->theta_rad, prev->theta_rad, fa));
         it->change_frac = m;
@@ -508,8 +505,8 @@ int couple_shol_trim(void *user, double v, double dir, shol_trim_point *out)
     out->phi_rad = p->trim.body.euler_rad[0];
     out->theta_rad = p->trim.body.euler_rad[1];
     out->collective_pct = p->trim.u.collective_pct;
-    out->long_cyclic_pct = p->trim.u.long_pct;
-    out->lat_cyclic_pct = p->trim.u.lat_pct;
+    out->long_cyclic_pct = p->trim.u.long_cyclic_pct;
+    out->lat_cyclic_pct = p->trim.u.lat_cyclic_pct;
     out->pedal_pct = p->trim.u.pedal_pct;
     return 0;
 }

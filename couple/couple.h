@@ -96,7 +96,7 @@ int couple_free_air_rotor(const hfm_aircraft *ac, const double station_S_m[3], d
 /* One iteration of the loop: what the flight model trimmed to. */
 typedef struct couple_iter {
     double thrust_N;
-    double collective_pct, long_pct, lat_pct, pedal_pct;
+    hfm_controls ctl;
     double phi_rad, theta_rad;
     double change_frac;       /* largest change from the previous iteration: of each control
                                * relative to max(|value|, 20 % of travel), of each attitude

@@ -150,8 +150,9 @@ static const char *tol_cause(const sim_task *task, const sim_task_result *r)
 
 static void track(shol_flown_track *tr, const sim_flight_out *o, const char *phase, int *exceeded)
 {
-    shol_trim_point p = {o->euler_E_rad[0], o->euler_E_rad[1], o->long_pct, o->lat_pct, o->collective_pct,
-                         o->pedal_pct};
+    const hfm_controls *c = &o->ctl;
+    shol_trim_point p = {o->euler_E_rad[0], o->euler_E_rad[1], c->long_cyclic_pct,
+                         c->lat_cyclic_pct, c->collective_pct, c->pedal_pct};
     if (shol_flown_track_step(tr, o->t_s, phase, &p) != 0)
         *exceeded = 1;
 }

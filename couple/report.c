@@ -155,11 +155,10 @@ char *couple_points_md(const couple_ctx *c)
                 snprintf(ch, sizeof ch, "seed: one-way trim");
             if (k > 0)
                 snprintf(ch, sizeof ch, "%.1f %%", 100.0 * it->change_frac);
-            core_str_printf(&md,
-                            "| %s | %.1f | %d | %.2f | %.1f | %.1f | %.1f | %.1f | %.2f | %.2f | %s |\n", wn,
-                            h[i].wod_speed_mps / CORE_KT_TO_MPS, k, it->thrust_N / 1000.0, it->collective_pct,
-                            it->long_pct, it->lat_pct, it->pedal_pct, it->phi_rad * CORE_RAD_TO_DEG,
-                            it->theta_rad * CORE_RAD_TO_DEG, ch);
+            core_str_printf(&md, "| %s | %.1f | %d | %.2f | %.1f | %.1f | %.1f | %.1f | %.2f | %.2f | %s |\n", wn,
+                            h[i].wod_speed_mps / CORE_KT_TO_MPS, k, it->thrust_N / 1000.0, it->ctl.collective_pct,
+                            it->ctl.long_cyclic_pct, it->ctl.lat_cyclic_pct, it->ctl.pedal_pct,
+                            it->phi_rad * CORE_RAD_TO_DEG, it->theta_rad * CORE_RAD_TO_DEG, ch);
         }
     }
     if (n == 0)

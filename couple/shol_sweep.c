@@ -37,9 +37,11 @@ static int two_trim(void *user, double v, double dir, shol_trim_point *out)
                      "coupled %s %.0f km/h: %s, %d iteration(s)%s, change %.1f %%; coll %.1f long %.1f lat %.1f "
                      "pedal %.1f %%, roll %.2f pitch %.2f deg",
                      wn, v / CORE_KMH_TO_MPS, rc == 0 ? "trimmed" : "no trim", p->n_iter - 1,
-                     p->seed == COUPLE_SEED_PREVIOUS ? " (seeded)" : p->seed == COUPLE_SEED_ONE_WAY ? " (from one-way)" : "", 100.0 * it->change_frac, it->collective_pct,
-                     it->long_pct, it->lat_pct, it->pedal_pct, it->phi_rad * CORE_RAD_TO_DEG,
-                     it->theta_rad * CORE_RAD_TO_DEG);
+                     p->seed == COUPLE_SEED_PREVIOUS  ? " (seeded)"
+                     : p->seed == COUPLE_SEED_ONE_WAY ? " (from one-way)"
+                                                      : "",
+                     100.0 * it->change_frac, it->ctl.collective_pct, it->ctl.long_cyclic_pct, it->ctl.lat_cyclic_pct,
+                     it->ctl.pedal_pct, it->phi_rad * CORE_RAD_TO_DEG, it->theta_rad * CORE_RAD_TO_DEG);
     }
     return rc;
 }

@@ -714,8 +714,8 @@ void hfm_controls_to_pitch(const hfm_aircraft *ac, const hfm_controls *u, double
 {
     const hfm_rig *g = &ac->rig;
     double xc = u->collective_pct / 100.0 * g->coll_travel;           /* from bottom */
-    double xl = (50.0 - u->long_pct) / 100.0 * g->long_travel;         /* + forward */
-    double xa = (u->lat_pct - 50.0) / 100.0 * g->lat_travel;           /* + right */
+    double xl = (50.0 - u->long_cyclic_pct) / 100.0 * g->long_travel; /* + forward */
+    double xa = (u->lat_cyclic_pct - 50.0) / 100.0 * g->lat_travel;   /* + right */
     double xp = (u->pedal_pct - 50.0) / 100.0 * g->ped_travel;         /* + right */
     double dc = xc - g->mix_cref;
     double xl_e = xl + g->mix_cl * dc + g->mix_pl * xp;

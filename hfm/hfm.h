@@ -174,12 +174,13 @@ typedef struct hfm_body {
 } hfm_body;
 
 /* Pilot controls, percent of travel: the collective, the longitudinal
- * and lateral cyclic, the pedals. The same four are sim_flight_inputs'
- * and sim_flight_out's (long_pct, lat_pct as here) and, named
- * long_cyclic_pct and lat_cyclic_pct, the LCM wire's (pilot_input_t,
- * heli_state_t), sim_station_controls' and shol's. */
+ * and lateral cyclic, the pedals, named as on the LCM wire (pilot_input_t,
+ * heli_state_t). The one type of the four above hfm: sim_flight_inputs,
+ * sim_flight_out, sim_station_controls and couple_iter carry it as `ctl`.
+ * Its fields are in this order (hfm/linear.c steps through them). shol,
+ * which knows no flight model, keeps its own (shol_trim_point). */
 typedef struct hfm_controls {
-    double collective_pct, long_pct, lat_pct, pedal_pct;
+    double collective_pct, long_cyclic_pct, lat_cyclic_pct, pedal_pct;
 } hfm_controls;
 
 /* Main-rotor states for a revolution-averaged (harmonic) evaluation. */

@@ -77,8 +77,8 @@ static void unpack(const hfm_trim_cond *c, const double *x, hfm_body *b, hfm_con
     memset(b, 0, sizeof *b);
     memcpy(b->pos_S_m, c->pos_S_m, sizeof b->pos_S_m);
     u->collective_pct = x[0];
-    u->long_pct = x[1];
-    u->lat_pct = x[2];
+    u->long_cyclic_pct = x[1];
+    u->lat_cyclic_pct = x[2];
     u->pedal_pct = x[3];
     double th = x[4], ph = 0.0, be = 0.0;
     if (use_roll_constraint(c))

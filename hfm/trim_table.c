@@ -37,8 +37,9 @@ int hfm_trim_csv_row(double speed_kt, const hfm_trim_result *r, char *buf, size_
 {
     const double R2D = CORE_RAD_TO_DEG;
     return snprintf(buf, n, "%.3f,%.3f,%.3f,%.3f,%.3f,%.4f,%.4f,%.1f,%.2f,%.2f,%.4f,%.4f,%.4f,%.6f,%d", speed_kt,
-                    r->u.collective_pct, r->u.long_pct, r->u.lat_pct, r->u.pedal_pct, r->body.euler_rad[1] * R2D,
-                    r->body.euler_rad[0] * R2D, r->loads.mr_thrust_N, (r->loads.mr_power_W + r->loads.tr_power_W) / 1000.0,
-                    r->loads.engine_power_W / 1000.0, r->rotor.beta0_rad * R2D, r->rotor.beta1c_rad * R2D,
-                    r->rotor.beta1s_rad * R2D, r->rotor.lambda0, r->converged);
+                    r->u.collective_pct, r->u.long_cyclic_pct, r->u.lat_cyclic_pct, r->u.pedal_pct,
+                    r->body.euler_rad[1] * R2D, r->body.euler_rad[0] * R2D, r->loads.mr_thrust_N,
+                    (r->loads.mr_power_W + r->loads.tr_power_W) / 1000.0, r->loads.engine_power_W / 1000.0,
+                    r->rotor.beta0_rad * R2D, r->rotor.beta1c_rad * R2D, r->rotor.beta1s_rad * R2D, r->rotor.lambda0,
+                    r->converged);
 }

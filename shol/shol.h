@@ -54,6 +54,8 @@ const char *shol_limit_name(int limit);
 /* Inverse of shol_limit_name; returns 0 and sets *limit, or -1. */
 int shol_limit_parse(const char *name, int *limit);
 
+/* The control limits here are bounds on the pilot controls, not controls:
+ * L rejects a control above L or below 100 - L. */
 typedef struct shol_criteria {
     double roll_max_rad;    /* reject abs(phi) > roll_max_rad */
     double pitch_max_rad;   /* reject abs(theta) > pitch_max_rad */
@@ -111,7 +113,10 @@ void shol_loads_set(shol_loads *out, const double *const F_B_N[SHOL_NCOMP - 1],
                     const double *const M_B_Nm[SHOL_NCOMP - 1], const double total_F_B_N[3],
                     const double total_M_B_Nm[3], double mr_power_W, double tr_power_W);
 
-/* A trimmed state: attitude and pilot controls. */
+/* A trimmed state: attitude and pilot controls. The controls are
+ * hfm_controls' four under the same names, kept here because shol
+ * includes core alone (it judges any model's trims) and in the order of
+ * the criteria (shol_crit); the callers fill them from hfm_controls. */
 typedef struct shol_trim_point {
     double phi_rad;                                                    /* roll, right wing down + */
     double theta_rad;                                                  /* pitch, nose up + */

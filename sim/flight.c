@@ -292,7 +292,7 @@ static int deck_start(sim_flight *f, hfm_body *bE, hfm_controls *u, core_err *er
         bE->rate_B_radps[i] = C_EB[i] * wE[0] + C_EB[3 + i] * wE[1] + C_EB[6 + i] * wE[2];
     }
     u->collective_pct = 0.0;
-    u->long_pct = u->lat_pct = u->pedal_pct = 50.0;
+    u->long_cyclic_pct = u->lat_cyclic_pct = u->pedal_pct = 50.0;
     return 0;
 }
 
@@ -481,10 +481,7 @@ void sim_flight_destroy(sim_flight *f)
 void sim_flight_trim_inputs(const sim_flight *f, sim_flight_inputs *in)
 {
     memset(in, 0, sizeof *in);
-    in->collective_pct = f->u_trim.collective_pct;
-    in->long_pct = f->u_trim.long_pct;
-    in->lat_pct = f->u_trim.lat_pct;
-    in->pedal_pct = f->u_trim.pedal_pct;
+    in->ctl = f->u_trim;
 }
 
 sim_sas *sim_flight_sas(sim_flight *f) { return f->sas; }
@@ -559,10 +556,7 @@ void sim_flight_state(const sim_flight *f, sim_flight_out *out)
     }
     to_S(fr, d, out->pos_S_m);
     to_S(fr, dv, out->vel_S_mps);
-    out->collective_pct = f->u.collective_pct;
-    out->long_pct = f->u.long_pct;
-    out->lat_pct = f->u.lat_pct;
-    out->pedal_pct = f->u.pedal_pct;
+    out->ctl = f->u;
     if (!no_frame) {
         double a[3], r2 = 0.0;
         sim_air_sample_E(f->air, &f->air_in, fr, out->pos_E_m, out->t_s, a);
@@ -613,10 +607,11 @@ typedef struct gear_in {
 static void stage_pilot(sim_flight *f, const pilot_in *in, hfm_controls *u_rotor)
 {
     if (in->in && !in->in->hold) {
-        f->u.collective_pct = clamp_pct(in->in->collective_pct);
-        f->u.long_pct = clamp_pct(in->in->long_pct);
-        f->u.lat_pct = clamp_pct(in->in->lat_pct);
-        f->u.pedal_pct = clamp_pct(in->in->pedal_pct);
+        const hfm_controls *c = &in->in->ctl;
+        f->u.collective_pct = clamp_pct(c->collective_pct);
+        f->u.long_cyclic_pct = clamp_pct(c->long_cyclic_pct);
+        f->u.lat_cyclic_pct = clamp_pct(c->lat_cyclic_pct);
+        f->u.pedal_pct = clamp_pct(c->pedal_pct);
     }
     sim_sas_step(f->sas, &in->body, &f->u, u_rotor);
 }

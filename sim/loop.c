@@ -276,10 +276,10 @@ static void publish_states(sim_loop *l, const sim_flight_out *o)
     core_quat q = core_quat_from_euler(e);
     h.quat_EB[0] = q.w, h.quat_EB[1] = q.x, h.quat_EB[2] = q.y, h.quat_EB[3] = q.z;
     h.roll_rad = e.phi_rad, h.pitch_rad = e.theta_rad, h.yaw_rad = e.psi_rad;
-    h.collective_pct = o->collective_pct;
-    h.long_cyclic_pct = o->long_pct;
-    h.lat_cyclic_pct = o->lat_pct;
-    h.pedal_pct = o->pedal_pct;
+    h.collective_pct = o->ctl.collective_pct;
+    h.long_cyclic_pct = o->ctl.long_cyclic_pct;
+    h.lat_cyclic_pct = o->ctl.lat_cyclic_pct;
+    h.pedal_pct = o->ctl.pedal_pct;
     /* the main rotor, the deck contact and each leg's load along the deck
      * normal (no legs: a flight without the gear) */
     h.rotor_thrust_N = o->rotor_thrust_N;
@@ -365,10 +365,10 @@ static void publish_source(sim_loop *l, const sim_flight_inputs *in)
     m.utime = (int64_t)llround(l->out.t_s * 1e6);
     m.station_id = l->source_id;
     m.seq = l->seq_source++;
-    m.collective_pct = in->collective_pct;
-    m.long_cyclic_pct = in->long_pct;
-    m.lat_cyclic_pct = in->lat_pct;
-    m.pedal_pct = in->pedal_pct;
+    m.collective_pct = in->ctl.collective_pct;
+    m.long_cyclic_pct = in->ctl.long_cyclic_pct;
+    m.lat_cyclic_pct = in->ctl.lat_cyclic_pct;
+    m.pedal_pct = in->ctl.pedal_pct;
     SEND(l, pilot_input_t, DISIM_CH_PILOT_INPUT, &m);
 }
 

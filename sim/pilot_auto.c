@@ -412,10 +412,10 @@ static int schedule_gains(sim_pilot_auto *p, const hfm_aircraft *ac, const sim_t
     g->L_p = L.A[3 * NX + 3] - L.B[3 * NU + 2] * sg.rate_pct_per_radps[0];
     g->M_q = L.A[4 * NX + 4] - L.B[4 * NU + 1] * sg.rate_pct_per_radps[1];
     g->N_r = L.A[5 * NX + 5] - L.B[5 * NU + 3] * sg.rate_pct_per_radps[2];
-    g->trim_pct[0] = trim->collective_pct;
-    g->trim_pct[1] = trim->long_pct;
-    g->trim_pct[2] = trim->lat_pct;
-    g->trim_pct[3] = trim->pedal_pct;
+    g->trim_pct[0] = trim->ctl.collective_pct;
+    g->trim_pct[1] = trim->ctl.long_cyclic_pct;
+    g->trim_pct[2] = trim->ctl.lat_cyclic_pct;
+    g->trim_pct[3] = trim->ctl.pedal_pct;
     g->trim_att_rad[0] = res.body.euler_rad[0];
     g->trim_att_rad[1] = res.body.euler_rad[1];
     const double K[4] = {g->L_lat, g->M_long, g->N_ped, g->Z_col};
@@ -914,10 +914,10 @@ static void on_deck(sim_pilot_auto *p, const sim_flight_out *out, const double d
         p->still_since_s = -1.0;
     }
     memset(in, 0, sizeof *in);
-    in->collective_pct = cmd[0];
-    in->long_pct = cmd[1];
-    in->lat_pct = cmd[2];
-    in->pedal_pct = cmd[3];
+    in->ctl.collective_pct = cmd[0];
+    in->ctl.long_cyclic_pct = cmd[1];
+    in->ctl.lat_cyclic_pct = cmd[2];
+    in->ctl.pedal_pct = cmd[3];
 }
 
 /* The step's height reference (p->z_ref_S_m) and its rate down (m/s). */
@@ -1031,10 +1031,10 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     p->head = (p->head + 1) % p->nbuf;
     const double *u = p->buf + 4 * p->head;
     memset(in, 0, sizeof *in);
-    in->collective_pct = u[0];
-    in->long_pct = u[1];
-    in->lat_pct = u[2];
-    in->pedal_pct = u[3];
+    in->ctl.collective_pct = u[0];
+    in->ctl.long_cyclic_pct = u[1];
+    in->ctl.lat_cyclic_pct = u[2];
+    in->ctl.pedal_pct = u[3];
     sample_controls(p, u);
     for (int i = 0; i < 4; i++) {
         p->r.min_pct[i] = fmin(p->r.min_pct[i], u[i]);

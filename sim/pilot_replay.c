@@ -161,8 +161,8 @@ sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_log 
     sim_pilot_auto_gains(p->pilot, &g);
     p->Z_w = g.Z_w;
     memcpy(p->last_u, g.trim_pct, sizeof p->last_u);
-    p->trim_pct[0] = trim->collective_pct, p->trim_pct[1] = trim->long_pct;
-    p->trim_pct[2] = trim->lat_pct, p->trim_pct[3] = trim->pedal_pct;
+    p->trim_pct[0] = trim->ctl.collective_pct, p->trim_pct[1] = trim->ctl.long_cyclic_pct;
+    p->trim_pct[2] = trim->ctl.lat_cyclic_pct, p->trim_pct[3] = trim->ctl.pedal_pct;
     if (o->feed_controls && !(p->shadow = sim_pilot_auto_create(ac, &t, &o->pilot, trim, log, err)))
         goto fail;
     p->r.t_s = -1.0;
@@ -235,8 +235,8 @@ int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_fl
         p->deck = 1;
         p->deck_u[0] = fmax(p->deck_u[0] - 20.0 * h, 0.0);
         memset(in, 0, sizeof *in);
-        in->collective_pct = p->deck_u[0], in->long_pct = p->deck_u[1];
-        in->lat_pct = p->deck_u[2], in->pedal_pct = p->deck_u[3];
+        in->ctl.collective_pct = p->deck_u[0], in->ctl.long_cyclic_pct = p->deck_u[1];
+        in->ctl.lat_cyclic_pct = p->deck_u[2], in->ctl.pedal_pct = p->deck_u[3];
         memcpy(p->last_u, p->deck_u, sizeof p->last_u);
         return 0;
     }
@@ -273,8 +273,9 @@ int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_fl
         sim_flight_inputs xs;
         sim_pilot_auto_set_reference(p->shadow, &ref);
         sim_pilot_auto_step(p->shadow, &x, &xs);
-        const double c[4] = {in->collective_pct, in->long_pct, in->lat_pct, in->pedal_pct};
-        const double cs[4] = {xs.collective_pct, xs.long_pct, xs.lat_pct, xs.pedal_pct};
+        const double c[4] = {in->ctl.collective_pct, in->ctl.long_cyclic_pct, in->ctl.lat_cyclic_pct,
+                             in->ctl.pedal_pct};
+        const double cs[4] = {xs.ctl.collective_pct, xs.ctl.long_cyclic_pct, xs.ctl.lat_cyclic_pct, xs.ctl.pedal_pct};
         double u[4];
         for (int i = 0; i < 4; i++)
             u[i] = p->trim_pct[i] + (now.controls_pct[i] - p->ctl0_pct[i]) + (c[i] - cs[i]);
@@ -284,13 +285,14 @@ int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_fl
                 stop = 1;
             u[i] = fmin(fmax(u[i], 0.0), 100.0);
         }
-        in->collective_pct = u[0], in->long_pct = u[1], in->lat_pct = u[2], in->pedal_pct = u[3];
+        in->ctl.collective_pct = u[0], in->ctl.long_cyclic_pct = u[1];
+        in->ctl.lat_cyclic_pct = u[2], in->ctl.pedal_pct = u[3];
         in->hold = 0;
     }
     if (stop)
         r->stop_steps++;
-    p->last_u[0] = in->collective_pct, p->last_u[1] = in->long_pct;
-    p->last_u[2] = in->lat_pct, p->last_u[3] = in->pedal_pct;
+    p->last_u[0] = in->ctl.collective_pct, p->last_u[1] = in->ctl.long_cyclic_pct;
+    p->last_u[2] = in->ctl.lat_cyclic_pct, p->last_u[3] = in->ctl.pedal_pct;
     return stop;
 }
 

@@ -201,10 +201,10 @@ int sim_pilots_inputs(sim_pilots *p, double t_s, sim_flight_inputs *in)
     }
     if (p->active >= 0 && live(p, p->active, t_s)) {
         const station *s = &p->st[p->active];
-        in->collective_pct = s->in[0];
-        in->long_pct = s->in[1];
-        in->lat_pct = s->in[2];
-        in->pedal_pct = s->in[3];
+        in->ctl.collective_pct = s->in[0];
+        in->ctl.long_cyclic_pct = s->in[1];
+        in->ctl.lat_cyclic_pct = s->in[2];
+        in->ctl.pedal_pct = s->in[3];
         return 0;
     }
     in->hold = 1;

@@ -71,11 +71,11 @@ struct sim_sas {
 /* The pilot's control of axis i (roll, pitch, yaw) and its slot in hfm_controls. */
 static double *axis_ctl(hfm_controls *u, int i)
 {
-    return i == 0 ? &u->lat_pct : i == 1 ? &u->long_pct : &u->pedal_pct;
+    return i == 0 ? &u->lat_cyclic_pct : i == 1 ? &u->long_cyclic_pct : &u->pedal_pct;
 }
 static double axis_ctl_c(const hfm_controls *u, int i)
 {
-    return i == 0 ? u->lat_pct : i == 1 ? u->long_pct : u->pedal_pct;
+    return i == 0 ? u->lat_cyclic_pct : i == 1 ? u->long_cyclic_pct : u->pedal_pct;
 }
 
 sim_sas *sim_sas_create(const hfm_sas_gains *g, core_err *err)

@@ -144,7 +144,7 @@ void sim_flight_opts_default(sim_flight_opts *o);
 /* The pilot's input to one step: the controls (percent of travel), or
  * hold = 1 to keep the last ones (e.g. a silent station). */
 typedef struct sim_flight_inputs {
-    double collective_pct, long_pct, lat_pct, pedal_pct;
+    hfm_controls ctl;
     int hold;
 } sim_flight_inputs;
 
@@ -155,7 +155,7 @@ typedef struct sim_flight_out {
     double pos_E_m[3], vel_E_mps[3], euler_E_rad[3], rate_B_radps[3];
     double pos_S_m[3];       /* the CG in the ship frame */
     double vel_S_mps[3];     /* relative to the ship's mean motion, in S */
-    double collective_pct, long_pct, lat_pct, pedal_pct;
+    hfm_controls ctl;        /* the pilot's (the rotor's add the SAS's) */
     double airspeed_mps;     /* at the fuselage reference */
     sim_ship_frame ship;
     unsigned air_flags;      /* SIM_AIR_* */

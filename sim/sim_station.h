@@ -23,7 +23,7 @@ extern "C" {
 #include <signal.h>
 #include <stdint.h>
 typedef struct sim_station_controls {
-    double collective_pct, long_cyclic_pct, lat_cyclic_pct, pedal_pct;
+    hfm_controls ctl;
     int trim_button, trim_release; /* held (evdev buttons) */
     int take_over;                 /* this station takes the controls (sim/pilots.c) */
 } sim_station_controls;

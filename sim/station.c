@@ -55,7 +55,7 @@ static double clamp_pct(double v) { return v < 0.0 ? 0.0 : v > 100.0 ? 100.0 : v
 void sim_station_controls_centre(sim_station_controls *c)
 {
     memset(c, 0, sizeof *c);
-    c->collective_pct = c->long_cyclic_pct = c->lat_cyclic_pct = c->pedal_pct = 50.0;
+    c->ctl.collective_pct = c->ctl.long_cyclic_pct = c->ctl.lat_cyclic_pct = c->ctl.pedal_pct = 50.0;
 }
 
 /* ------------------------------------------------------------- the script */
@@ -70,10 +70,10 @@ struct sim_station_script {
 
 static void script_set(sim_station_controls *c, const double v[4])
 {
-    c->collective_pct = v[0];
-    c->long_cyclic_pct = v[1];
-    c->lat_cyclic_pct = v[2];
-    c->pedal_pct = v[3];
+    c->ctl.collective_pct = v[0];
+    c->ctl.long_cyclic_pct = v[1];
+    c->ctl.lat_cyclic_pct = v[2];
+    c->ctl.pedal_pct = v[3];
 }
 
 /* Up to 5 comma-separated numbers of a line: how many parsed, -1 when a
@@ -240,10 +240,10 @@ int sim_station_keys_feed(sim_station_keys *k, unsigned char b, sim_station_cont
     } else if (k->esc == 2) {
         k->esc = 0;
         switch (b) {
-        case 'A': return key_move(k, &c->long_cyclic_pct, -1.0); /* up: stick forward */
-        case 'B': return key_move(k, &c->long_cyclic_pct, +1.0);
-        case 'C': return key_move(k, &c->lat_cyclic_pct, +1.0); /* right */
-        case 'D': return key_move(k, &c->lat_cyclic_pct, -1.0);
+        case 'A': return key_move(k, &c->ctl.long_cyclic_pct, -1.0); /* up: stick forward */
+        case 'B': return key_move(k, &c->ctl.long_cyclic_pct, +1.0);
+        case 'C': return key_move(k, &c->ctl.lat_cyclic_pct, +1.0); /* right */
+        case 'D': return key_move(k, &c->ctl.lat_cyclic_pct, -1.0);
         default:
             /* another sequence (a function key: ESC [ 1 5 ~): its
              * parameter bytes 0x30-0x3F run until a final byte */
@@ -254,15 +254,15 @@ int sim_station_keys_feed(sim_station_keys *k, unsigned char b, sim_station_cont
     }
     switch (b) {
     case 0x1b: k->esc = 1; return SIM_KEY_NONE;
-    case 'w': case 'W': return key_move(k, &c->collective_pct, +1.0);
-    case 's': case 'S': return key_move(k, &c->collective_pct, -1.0);
-    case 'a': case 'A': return key_move(k, &c->pedal_pct, -1.0);
-    case 'd': case 'D': return key_move(k, &c->pedal_pct, +1.0);
+    case 'w': case 'W': return key_move(k, &c->ctl.collective_pct, +1.0);
+    case 's': case 'S': return key_move(k, &c->ctl.collective_pct, -1.0);
+    case 'a': case 'A': return key_move(k, &c->ctl.pedal_pct, -1.0);
+    case 'd': case 'D': return key_move(k, &c->ctl.pedal_pct, +1.0);
     case 't': case 'T':
         c->take_over = 1; /* cleared once published */
         return SIM_KEY_MOVED;
     case ' ':
-        c->long_cyclic_pct = c->lat_cyclic_pct = c->pedal_pct = 50.0;
+        c->ctl.long_cyclic_pct = c->ctl.lat_cyclic_pct = c->ctl.pedal_pct = 50.0;
         k->presses++;
         return SIM_KEY_MOVED;
     case 'q': case 'Q': case 0x03: return SIM_KEY_QUIT;
@@ -357,7 +357,8 @@ double sim_station_axis_pct(const sim_station_axis *ax, int value)
 int sim_station_axes_apply(const sim_station_axes *a, int type, int code, int value, sim_station_controls *c)
 {
     if (type == EV_ABS) {
-        double *dst[SIM_AXES] = {&c->collective_pct, &c->long_cyclic_pct, &c->lat_cyclic_pct, &c->pedal_pct};
+        double *dst[SIM_AXES] = {&c->ctl.collective_pct, &c->ctl.long_cyclic_pct, &c->ctl.lat_cyclic_pct,
+                                 &c->ctl.pedal_pct};
         int hit = 0;
         for (int k = 0; k < SIM_AXES; k++)
             if (a->axis[k].code == code) {
@@ -776,10 +777,10 @@ int sim_station_publish(sim_station *st, int64_t utime, const sim_station_contro
     m.utime = utime;
     m.station_id = st->id;
     m.seq = st->seq;
-    m.collective_pct = clamp_pct(c->collective_pct);
-    m.long_cyclic_pct = clamp_pct(c->long_cyclic_pct);
-    m.lat_cyclic_pct = clamp_pct(c->lat_cyclic_pct);
-    m.pedal_pct = clamp_pct(c->pedal_pct);
+    m.collective_pct = clamp_pct(c->ctl.collective_pct);
+    m.long_cyclic_pct = clamp_pct(c->ctl.long_cyclic_pct);
+    m.lat_cyclic_pct = clamp_pct(c->ctl.lat_cyclic_pct);
+    m.pedal_pct = clamp_pct(c->ctl.pedal_pct);
     m.trim_button = c->trim_button != 0;
     m.trim_release = c->trim_release != 0;
     m.take_over = c->take_over != 0;
@@ -847,8 +848,8 @@ void sim_station_format(const sim_station_view *v, const char *source, int tty, 
     const sim_station_controls *c = &v->sent;
     if (!tty) {
         out(&o, "t %.1f s sent %ld seq %lld late %ld | ctl %.1f %.1f %.1f %.1f", v->t_s, v->published,
-            (long long)v->last_seq, v->late, c->collective_pct, c->long_cyclic_pct, c->lat_cyclic_pct,
-            c->pedal_pct);
+            (long long)v->last_seq, v->late, c->ctl.collective_pct, c->ctl.long_cyclic_pct, c->ctl.lat_cyclic_pct,
+            c->ctl.pedal_pct);
         if (v->have_heli)
             out(&o, " | heli h %.2f m x %.2f y %.2f roll %.1f pitch %.1f yaw %.1f deg", -v->heli_pos_S_m[2],
                 v->heli_pos_S_m[0], v->heli_pos_S_m[1], v->roll_rad * R, v->pitch_rad * R, v->yaw_rad * R);
@@ -870,7 +871,7 @@ void sim_station_format(const sim_station_view *v, const char *source, int tty, 
     out(&o, "\033[H\033[1mdisim station %s\033[0m (%s)   t %.1f s   sent %ld (seq %lld)   late %ld%s", v->id,
         source, v->t_s, v->published, (long long)v->last_seq, v->late, E);
     out(&o, "  sending     collective %5.1f %%   long cyclic %5.1f %%   lat cyclic %5.1f %%   pedal %5.1f %%%s%s",
-        c->collective_pct, c->long_cyclic_pct, c->lat_cyclic_pct, c->pedal_pct,
+        c->ctl.collective_pct, c->ctl.long_cyclic_pct, c->ctl.lat_cyclic_pct, c->ctl.pedal_pct,
         c->trim_button ? "   TRIM" : c->trim_release ? "   TRIM RELEASE" : c->take_over ? "   TAKE OVER" : "", E);
     if (v->have_heli) {
         out(&o, "  helicopter  height over deck %6.2f m   from the spot x %+7.2f m (fwd)  y %+7.2f m (stbd)%s%s",
@@ -935,10 +936,10 @@ int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *er
             if (o->script)
                 sim_station_script_at(o->script, t, &c);
             if (o->keys && !synced && o->keys->presses == 0 && v->have_heli) {
-                c.collective_pct = v->heli_ctl_pct[0];
-                c.long_cyclic_pct = v->heli_ctl_pct[1];
-                c.lat_cyclic_pct = v->heli_ctl_pct[2];
-                c.pedal_pct = v->heli_ctl_pct[3];
+                c.ctl.collective_pct = v->heli_ctl_pct[0];
+                c.ctl.long_cyclic_pct = v->heli_ctl_pct[1];
+                c.ctl.lat_cyclic_pct = v->heli_ctl_pct[2];
+                c.ctl.pedal_pct = v->heli_ctl_pct[3];
                 synced = 1;
             }
             if (o->take_over)

@@ -52,13 +52,14 @@ int sim_traj_row(sim_traj *t, const sim_flight_out *o, int always, core_err *err
     double gear_N = 0.0; /* the legs' loads along the deck normal, summed */
     for (int i = 0; i < o->nlegs; i++)
         gear_N += o->gear_load_N[i];
-    if (fprintf(t->f, "%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%u,%.1f,%.1f,"
-                      "%d,%.1f,%u\n",
+    if (fprintf(t->f,
+                "%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%u,%.1f,%.1f,"
+                "%d,%.1f,%u\n",
                 o->t_s, o->pos_S_m[0], o->pos_S_m[1], o->pos_S_m[2], o->euler_E_rad[0] * CORE_RAD_TO_DEG,
                 o->euler_E_rad[1] * CORE_RAD_TO_DEG, o->euler_E_rad[2] * CORE_RAD_TO_DEG, o->vel_S_mps[0],
-                o->vel_S_mps[1], o->vel_S_mps[2], o->pos_E_m[0], o->pos_E_m[1], o->pos_E_m[2], o->collective_pct,
-                o->long_pct, o->lat_pct, o->pedal_pct, o->air_flags, o->rotor_thrust_N, o->rotor_power_W, o->on_deck,
-                gear_N, o->contact_flags) < 0)
+                o->vel_S_mps[1], o->vel_S_mps[2], o->pos_E_m[0], o->pos_E_m[1], o->pos_E_m[2], o->ctl.collective_pct,
+                o->ctl.long_cyclic_pct, o->ctl.lat_cyclic_pct, o->ctl.pedal_pct, o->air_flags, o->rotor_thrust_N,
+                o->rotor_power_W, o->on_deck, gear_N, o->contact_flags) < 0)
         return core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", t->path);
     return 0;
 }

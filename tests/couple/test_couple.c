@@ -143,8 +143,8 @@ static int free_air_trim(void *user, double v, double dir, shol_trim_point *out)
     out->phi_rad = r.body.euler_rad[0];
     out->theta_rad = r.body.euler_rad[1];
     out->collective_pct = r.u.collective_pct;
-    out->long_cyclic_pct = r.u.long_pct;
-    out->lat_cyclic_pct = r.u.lat_pct;
+    out->long_cyclic_pct = r.u.long_cyclic_pct;
+    out->lat_cyclic_pct = r.u.lat_cyclic_pct;
     out->pedal_pct = r.u.pedal_pct;
     return 0;
 }
@@ -283,8 +283,9 @@ static int case_envelopes(void)
  * travel) and attitudes (deg). */
 static void trim_diff(const hfm_trim_result *a, const hfm_trim_result *b, double *ctl_pct, double *att_deg)
 {
-    *ctl_pct = fmax(fmax(fabs(a->u.collective_pct - b->u.collective_pct), fabs(a->u.long_pct - b->u.long_pct)),
-                    fmax(fabs(a->u.lat_pct - b->u.lat_pct), fabs(a->u.pedal_pct - b->u.pedal_pct)));
+    *ctl_pct =
+        fmax(fmax(fabs(a->u.collective_pct - b->u.collective_pct), fabs(a->u.long_cyclic_pct - b->u.long_cyclic_pct)),
+             fmax(fabs(a->u.lat_cyclic_pct - b->u.lat_cyclic_pct), fabs(a->u.pedal_pct - b->u.pedal_pct)));
     *att_deg = fmax(fabs(a->body.euler_rad[0] - b->body.euler_rad[0]),
                     fabs(a->body.euler_rad[1] - b->body.euler_rad[1])) * CORE_RAD_TO_DEG;
 }
@@ -300,8 +301,8 @@ static void check_same_trim(const char *what, const hfm_trim_result *a, const hf
     printf("%s: controls within %.2f %% of travel (tolerance %.1f %%), attitudes within %.2f deg (tolerance %.1f "
            "deg)\n", what, dc, tol_pct, da, tol_deg);
     CHECK_NEAR(a->u.collective_pct, b->u.collective_pct, tol_pct);
-    CHECK_NEAR(a->u.long_pct, b->u.long_pct, tol_pct);
-    CHECK_NEAR(a->u.lat_pct, b->u.lat_pct, tol_pct);
+    CHECK_NEAR(a->u.long_cyclic_pct, b->u.long_cyclic_pct, tol_pct);
+    CHECK_NEAR(a->u.lat_cyclic_pct, b->u.lat_cyclic_pct, tol_pct);
     CHECK_NEAR(a->u.pedal_pct, b->u.pedal_pct, tol_pct);
     CHECK_NEAR(a->body.euler_rad[1], b->body.euler_rad[1], tol_deg * CORE_DEG_TO_RAD);
     CHECK_NEAR(a->body.euler_rad[0], b->body.euler_rad[0], tol_deg * CORE_DEG_TO_RAD);
@@ -546,21 +547,22 @@ static int head_wind_point(fixture *fx, couple_point *p2)
     for (int i = 0; i < p2->n_iter; i++)
         printf("two-way iteration %d: T %.0f N coll %.2f %% long %.2f %% lat %.2f %% pedal %.2f %% "
                "pitch %.2f deg roll %.2f deg change %.4f\n",
-               i, p2->iter[i].thrust_N, p2->iter[i].collective_pct, p2->iter[i].long_pct, p2->iter[i].lat_pct,
-               p2->iter[i].pedal_pct, p2->iter[i].theta_rad * CORE_RAD_TO_DEG, p2->iter[i].phi_rad * CORE_RAD_TO_DEG,
-               p2->iter[i].change_frac);
+               i, p2->iter[i].thrust_N, p2->iter[i].ctl.collective_pct, p2->iter[i].ctl.long_cyclic_pct,
+               p2->iter[i].ctl.lat_cyclic_pct, p2->iter[i].ctl.pedal_pct, p2->iter[i].theta_rad * CORE_RAD_TO_DEG,
+               p2->iter[i].phi_rad * CORE_RAD_TO_DEG, p2->iter[i].change_frac);
     CHECK(p2->iter[p2->n_iter - 1].change_frac < 0.05);
     /* the interaction moves the trim from free air: box40's airwake at the
      * spot takes about 5 % of travel more lateral cyclic */
-    CHECK(fabs(p2->trim.u.lat_pct - p2->iter[0].lat_pct) > 2.0);
+    CHECK(fabs(p2->trim.u.lat_cyclic_pct - p2->iter[0].ctl.lat_cyclic_pct) > 2.0);
     return 0;
 }
 
 static void print_trim(const char *what, const couple_point *p)
 {
     printf("%s: %d coupled iteration(s), coll %.2f long %.2f lat %.2f pedal %.2f %% pitch %.2f roll %.2f deg\n", what,
-           p->n_iter - 1, p->trim.u.collective_pct, p->trim.u.long_pct, p->trim.u.lat_pct, p->trim.u.pedal_pct,
-           p->trim.body.euler_rad[1] * CORE_RAD_TO_DEG, p->trim.body.euler_rad[0] * CORE_RAD_TO_DEG);
+           p->n_iter - 1, p->trim.u.collective_pct, p->trim.u.long_cyclic_pct, p->trim.u.lat_cyclic_pct,
+           p->trim.u.pedal_pct, p->trim.body.euler_rad[1] * CORE_RAD_TO_DEG,
+           p->trim.body.euler_rad[0] * CORE_RAD_TO_DEG);
 }
 
 /* ------------------------------------------------------------ engine */
@@ -832,7 +834,7 @@ static int part_twoway(fixture *fx, const couple_point *p2_)
     if (rc < 0)
         fprintf(stderr, "direct: %s\n", err.msg);
     printf("collective: interaction %.2f %%, direct %.2f %%, free air %.2f %%\n", p2.trim.u.collective_pct,
-           pd.trim.u.collective_pct, p2.iter[0].collective_pct);
+           pd.trim.u.collective_pct, p2.iter[0].ctl.collective_pct);
     CHECK(pd.trim.u.collective_pct > p2.trim.u.collective_pct + 2.0);
     couple_destroy(c);
     /* The interaction velocity at the hub against the induced velocity, in
@@ -914,8 +916,8 @@ static int part_nextspeed(fixture *fx, const couple_point *p2)
     CHECK(ps.converged && ps.coupling_converged && pn.converged && pn.coupling_converged);
     CHECK(ps.n_iter <= pn.n_iter && nseeded <= nfree);
     /* the seed is nearer the coupled trim than the free-air trim is */
-    CHECK(fabs(ps.iter[0].collective_pct - pn.trim.u.collective_pct) <
-          fabs(pn.iter[0].collective_pct - pn.trim.u.collective_pct));
+    CHECK(fabs(ps.iter[0].ctl.collective_pct - pn.trim.u.collective_pct) <
+          fabs(pn.iter[0].ctl.collective_pct - pn.trim.u.collective_pct));
     check_same_trim("11 m/s seeded against free air", &ps.trim, &pn.trim, 0.6, 0.3);
 
     return 0;
@@ -945,7 +947,7 @@ static int part_seeds(fixture *fx, const couple_point *p2_)
         int nfields = count_fields(fx->dbdir, "_loaded_coarse_") - before;
         couple_destroy(c);
         printf("10 m/s from the one-way trim: %d new fields, seed coll %.2f; from free air: seed coll %.2f\n", nfields,
-               po.iter[0].collective_pct, p2.iter[0].collective_pct);
+               po.iter[0].ctl.collective_pct, p2.iter[0].ctl.collective_pct);
         print_trim("10 m/s from the one-way trim", &po);
         print_trim("10 m/s from free air", &p2);
         CHECK(po.seed == COUPLE_SEED_ONE_WAY);
@@ -1049,7 +1051,7 @@ static int case_calm(fixture *fx)
         fprintf(stderr, "calm air: %s\n", err.msg);
     for (int i = 0; i < ph.n_iter; i++)
         printf("calm air iteration %d: T %.0f N coll %.2f %% pitch %.2f deg roll %.2f deg change %.4f\n", i,
-               ph.iter[i].thrust_N, ph.iter[i].collective_pct, ph.iter[i].theta_rad * CORE_RAD_TO_DEG,
+               ph.iter[i].thrust_N, ph.iter[i].ctl.collective_pct, ph.iter[i].theta_rad * CORE_RAD_TO_DEG,
                ph.iter[i].phi_rad * CORE_RAD_TO_DEG, ph.iter[i].change_frac);
     CHECK(ph.seed == COUPLE_SEED_FREE_AIR);
     CHECK(ph.converged && ph.coupling_converged);

@@ -183,8 +183,8 @@ static void test_genhel(hfm_trim *tr)
         CHECK(r.converged);
         const double tc = GENHEL_TOL_CONTROL_PCT, ta = GENHEL_TOL_ATTITUDE_DEG;
         CHECK(genhel_cmp(v, "collective %", r.u.collective_pct, pct_coll(c), tc));
-        CHECK(genhel_cmp(v, "longitudinal %", r.u.long_pct, pct_long(lo), tc));
-        CHECK(genhel_cmp(v, "lateral %", r.u.lat_pct, pct_lat(la), tc));
+        CHECK(genhel_cmp(v, "longitudinal %", r.u.long_cyclic_pct, pct_long(lo), tc));
+        CHECK(genhel_cmp(v, "lateral %", r.u.lat_cyclic_pct, pct_lat(la), tc));
         CHECK(genhel_cmp(v, "pedal %", r.u.pedal_pct, pct_ped(pe), tc));
         CHECK(genhel_cmp(v, "pitch deg", r.body.euler_rad[1] * CORE_RAD_TO_DEG, th, ta));
         double beta_deg = r.sideslip_rad * CORE_RAD_TO_DEG, phi_deg = r.body.euler_rad[0] * CORE_RAD_TO_DEG;
@@ -504,7 +504,7 @@ static void test_sa365n(hfm_trim *tr)
     double P = r.loads.mr_power_W + r.loads.tr_power_W;
     printf("SA365N hover: coll %.1f%% long %.1f%% lat %.1f%% ped %.1f%% pitch %.2f roll %.2f "
            "deg, power %.0f kW (main %.0f, fenestron %.0f)\n",
-           r.u.collective_pct, r.u.long_pct, r.u.lat_pct, r.u.pedal_pct,
+           r.u.collective_pct, r.u.long_cyclic_pct, r.u.lat_cyclic_pct, r.u.pedal_pct,
            r.body.euler_rad[1] * CORE_RAD_TO_DEG, r.body.euler_rad[0] * CORE_RAD_TO_DEG, P / 1e3,
            r.loads.mr_power_W / 1e3, r.loads.tr_power_W / 1e3);
     CHECK(r.u.collective_pct >= 40.0 && r.u.collective_pct <= 75.0);
@@ -539,8 +539,8 @@ static void wake_continuity(hfm_trim *tr, const char *name)
     for (int i = 0; i < NV; i++) {
         fails += !res[i].converged;
         y[0][i] = res[i].u.collective_pct;
-        y[1][i] = res[i].u.long_pct;
-        y[2][i] = res[i].u.lat_pct;
+        y[1][i] = res[i].u.long_cyclic_pct;
+        y[2][i] = res[i].u.lat_cyclic_pct;
         y[3][i] = res[i].u.pedal_pct;
         y[4][i] = res[i].body.euler_rad[1] * CORE_RAD_TO_DEG;
         y[5][i] = res[i].body.euler_rad[0] * CORE_RAD_TO_DEG;

@@ -261,11 +261,12 @@ static void test_luh25(void)
     printf("LUH-25 hover: collective %.1f %%, long %.1f %%, lat %.1f %%, pedal %.1f %%, pitch %.2f deg, roll "
            "%.2f deg; thrust %.0f N = %.3f W (download %.0f N); power %.0f kW, momentum theory %.0f kW, figure of "
            "merit %.3f; root pitch %.2f deg (%.2f at 0.75 R, estimate %.1f)\n",
-           h.u.collective_pct, h.u.long_pct, h.u.lat_pct, h.u.pedal_pct, h.body.euler_rad[1] * CORE_RAD_TO_DEG,
-           h.body.euler_rad[0] * CORE_RAD_TO_DEG, T, T / W, weight_down_S(&h.body, L->fus.F_B_N), L->mr_power_W / 1e3,
-           P_ideal / 1e3, fm, theta0 * CORE_RAD_TO_DEG, theta0 * CORE_RAD_TO_DEG - 7.5, f.hover_pitch75_deg);
+           h.u.collective_pct, h.u.long_cyclic_pct, h.u.lat_cyclic_pct, h.u.pedal_pct,
+           h.body.euler_rad[1] * CORE_RAD_TO_DEG, h.body.euler_rad[0] * CORE_RAD_TO_DEG, T, T / W,
+           weight_down_S(&h.body, L->fus.F_B_N), L->mr_power_W / 1e3, P_ideal / 1e3, fm, theta0 * CORE_RAD_TO_DEG,
+           theta0 * CORE_RAD_TO_DEG - 7.5, f.hover_pitch75_deg);
     CHECK(h.u.collective_pct > 35.0 && h.u.collective_pct < 75.0);
-    CHECK(fabs(h.u.long_pct - 50.0) < 25.0 && fabs(h.u.lat_pct - 50.0) < 25.0);
+    CHECK(fabs(h.u.long_cyclic_pct - 50.0) < 25.0 && fabs(h.u.lat_cyclic_pct - 50.0) < 25.0);
     CHECK(h.u.pedal_pct > 20.0 && h.u.pedal_pct < 80.0);
     CHECK(h.body.euler_rad[1] * CORE_RAD_TO_DEG > -2.0 && h.body.euler_rad[1] * CORE_RAD_TO_DEG < 8.0); /* nose up a little */
     CHECK(fabs(h.body.euler_rad[0] * CORE_RAD_TO_DEG) < 5.0);
@@ -279,12 +280,14 @@ static void test_luh25(void)
     CHECK(hfm_trim_solve(tr, &cd, NULL, &c) == 0 && c.converged);
     printf("LUH-25 60 kt: collective %.1f %%, long %.1f %%, lat %.1f %%, pedal %.1f %%, pitch %.2f deg, roll %.2f "
            "deg, power %.0f kW (%.2f of hover)\n",
-           c.u.collective_pct, c.u.long_pct, c.u.lat_pct, c.u.pedal_pct, c.body.euler_rad[1] * CORE_RAD_TO_DEG,
-           c.body.euler_rad[0] * CORE_RAD_TO_DEG, c.loads.mr_power_W / 1e3, c.loads.mr_power_W / L->mr_power_W);
+           c.u.collective_pct, c.u.long_cyclic_pct, c.u.lat_cyclic_pct, c.u.pedal_pct,
+           c.body.euler_rad[1] * CORE_RAD_TO_DEG, c.body.euler_rad[0] * CORE_RAD_TO_DEG, c.loads.mr_power_W / 1e3,
+           c.loads.mr_power_W / L->mr_power_W);
     CHECK(c.u.collective_pct < h.u.collective_pct);
     CHECK(c.loads.mr_power_W < 0.8 * L->mr_power_W && c.loads.mr_power_W > 0.3 * L->mr_power_W);
     CHECK(fabs(c.body.euler_rad[1] * CORE_RAD_TO_DEG) < 8.0 && fabs(c.body.euler_rad[0] * CORE_RAD_TO_DEG) < 5.0);
-    CHECK(c.u.long_pct > 15.0 && c.u.long_pct < 85.0 && c.u.lat_pct > 15.0 && c.u.lat_pct < 85.0);
+    CHECK(c.u.long_cyclic_pct > 15.0 && c.u.long_cyclic_pct < 85.0 && c.u.lat_cyclic_pct > 15.0 &&
+          c.u.lat_cyclic_pct < 85.0);
     CHECK(c.u.pedal_pct > 20.0 && c.u.pedal_pct < 80.0);
     hfm_trim_destroy(tr);
     hfm_aircraft_destroy(ac);

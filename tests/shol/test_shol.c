@@ -1618,8 +1618,8 @@ static void hfm_sample(hfm_trim *tr, double v, double dir, shol_sample *sm)
     int rc = hfm_trim_solve(tr, &c, NULL, &t);
     CHECK(rc == 0 && t.converged);
     sm->trim_status = rc == 0 && t.converged ? 0 : 1;
-    sm->trim = (shol_trim_point){t.body.euler_rad[0], t.body.euler_rad[1], t.u.long_pct,
-                                 t.u.lat_pct,        t.u.collective_pct, t.u.pedal_pct};
+    sm->trim = (shol_trim_point){t.body.euler_rad[0], t.body.euler_rad[1], t.u.long_cyclic_pct,
+                                 t.u.lat_cyclic_pct,  t.u.collective_pct,  t.u.pedal_pct};
     const hfm_loads *L = &t.loads;
     const double *F[5] = {L->mr.F_B_N, L->tr.F_B_N, L->fus.F_B_N, L->stab.F_B_N, L->fin.F_B_N};
     const double *M[5] = {L->mr.M_B_Nm, L->tr.M_B_Nm, L->fus.M_B_Nm, L->stab.M_B_Nm, L->fin.M_B_Nm};

@@ -211,7 +211,7 @@ static int park_run(const hfm_aircraft *ac, const core_ship *ship, sim_ship_fram
     sim_flight_set_external(f, gear_ext_fn, &ge);
     sim_flight_inputs in;
     sim_flight_trim_inputs(f, &in);
-    double coll_trim = in.collective_pct;
+    double coll_trim = in.ctl.collective_pct;
     memset(p, 0, sizeof *p);
     p->finite = 1;
     p->min_N = INFINITY;
@@ -221,7 +221,7 @@ static int park_run(const hfm_aircraft *ac, const core_ship *ship, sim_ship_fram
     for (long i = 0; i < n; i++) {
         /* the collective lowered to full down over ramp_s, as a pilot does */
         double tr = i / o.rate_hz / ramp_s;
-        in.collective_pct = tr < 1 ? coll_trim * (1 - tr) : 0.0;
+        in.ctl.collective_pct = tr < 1 ? coll_trim * (1 - tr) : 0.0;
         if (sim_flight_step(f, &in, &out, &err) != 0) {
             fprintf(stderr, "park: step %ld: %s\n", i, err.msg);
             p->finite = 0;
@@ -261,9 +261,9 @@ static int park_run(const hfm_aircraft *ac, const core_ship *ship, sim_ship_fram
             break;
     }
     if (getenv("DISIM_CONTACT_DEBUG")) {
-        printf("  t %.2f pos_S %.3f %.3f %.3f euler %.2f %.2f %.2f deg, pedal %.1f tilt %.1f deg\n", out.t_s, out.pos_S_m[0],
-               out.pos_S_m[1], out.pos_S_m[2], out.euler_E_rad[0] * 57.3, out.euler_E_rad[1] * 57.3,
-               out.euler_E_rad[2] * 57.3, in.pedal_pct, p->rep.tilt_rad * 57.3);
+        printf("  t %.2f pos_S %.3f %.3f %.3f euler %.2f %.2f %.2f deg, pedal %.1f tilt %.1f deg\n", out.t_s,
+               out.pos_S_m[0], out.pos_S_m[1], out.pos_S_m[2], out.euler_E_rad[0] * 57.3, out.euler_E_rad[1] * 57.3,
+               out.euler_E_rad[2] * 57.3, in.ctl.pedal_pct, p->rep.tilt_rad * 57.3);
         for (int l = 0; l < p->rep.nlegs; l++)
             printf("  leg %d on %d x %.3f N %.0f Ft %.0f %.0f slip %.3f\n", l, p->rep.leg[l].on_deck,
                    p->rep.leg[l].compression_m, p->rep.leg[l].normal_N, p->rep.leg[l].friction_N[0],

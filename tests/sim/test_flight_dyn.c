@@ -328,14 +328,14 @@ static int lin_fly(const hfm_aircraft *ac, const core_ship *ship, double wod_mps
     sim_flight_inputs in;
     sim_flight_trim_inputs(f, &in);
     /* the flight starts from the trim the linear model is taken at */
-    CHECK_NEAR(in.long_pct, r->u.long_pct, 1e-6);
-    CHECK_NEAR(in.lat_pct, r->u.lat_pct, 1e-6);
-    CHECK_NEAR(in.collective_pct, r->u.collective_pct, 1e-6);
-    CHECK_NEAR(in.pedal_pct, r->u.pedal_pct, 1e-6);
+    CHECK_NEAR(in.ctl.long_cyclic_pct, r->u.long_cyclic_pct, 1e-6);
+    CHECK_NEAR(in.ctl.lat_cyclic_pct, r->u.lat_cyclic_pct, 1e-6);
+    CHECK_NEAR(in.ctl.collective_pct, r->u.collective_pct, 1e-6);
+    CHECK_NEAR(in.ctl.pedal_pct, r->u.pedal_pct, 1e-6);
     double du[NU] = {0.0, 0.0, 0.0, 0.0}, acc[6] = {0.0};
     if (lc->control > 0) {
         du[lc->control] = 2.0;
-        *(lc->control == 1 ? &in.long_pct : &in.lat_pct) += 2.0;
+        *(lc->control == 1 ? &in.ctl.long_cyclic_pct : &in.ctl.lat_cyclic_pct) += 2.0;
     }
     sim_flight_out o;
     sim_flight_state(f, &o);
@@ -679,7 +679,7 @@ static void test_authority(const hfm_aircraft *ac, const core_ship *ship, const 
         double want = -(g.rate_pct_per_radps[i] * 0.01 + g.att_pct_per_rad[i] * 0.005);
         CHECK(fabs(want) < g.authority_pct[i]);
         CHECK_NEAR(so.delta_pct[i], want, 1e-12);
-        double *c = i == 0 ? &rot.lat_pct : i == 1 ? &rot.long_pct : &rot.pedal_pct;
+        double *c = i == 0 ? &rot.lat_cyclic_pct : i == 1 ? &rot.long_cyclic_pct : &rot.pedal_pct;
         CHECK_NEAR(*c, 50.0 + want, 1e-12);
         /* a large one: the limit, with the sign that opposes */
         b.rate_B_radps[i] = -3.0 * g.authority_pct[i] / g.rate_pct_per_radps[i];
@@ -693,7 +693,7 @@ static void test_authority(const hfm_aircraft *ac, const core_ship *ship, const 
     memset(&b, 0, sizeof b);
     b.euler_rad[0] = 0.1;
     hfm_controls moved = pilot;
-    moved.lat_pct += g.detent_pct + 0.5;
+    moved.lat_cyclic_pct += g.detent_pct + 0.5;
     sim_sas_step(s, &b, &moved, &rot);
     sim_sas_last(s, &so);
     CHECK_NEAR(so.att_err_rad[0], 0.0, 1e-15);

@@ -508,13 +508,14 @@ static void test_couple_trim(const hfm_aircraft *ac, const core_ship *ship, int 
         sim_flight_inputs i0, il;
         sim_flight_trim_inputs(f0, &i0);
         sim_flight_trim_inputs(fl, &il);
-        double dc = (il.collective_pct - rc.u.collective_pct) / rc.u.collective_pct;
-        double dw = (rc.u.collective_pct - i0.collective_pct) / i0.collective_pct;
-        printf("%s: trimmed hover, %.0f m/s, the disk's %.0f N: collective the loop %.3f %%, the coupling %.3f %% (%+.3f %%), "
-               "ship-only alone %.3f %% (the interaction moves it %+.2f %%); long %.2f / %.2f, lat %.2f / %.2f, pedal "
-               "%.2f / %.2f %%\n", zone ? "deck-zone pair" : "whole-domain pair", WOD_MPS, disk->thrust_N, il.collective_pct, rc.u.collective_pct, 100.0 * dc,
-               i0.collective_pct, 100.0 * dw, il.long_pct, rc.u.long_pct, il.lat_pct, rc.u.lat_pct, il.pedal_pct,
-               rc.u.pedal_pct);
+        double dc = (il.ctl.collective_pct - rc.u.collective_pct) / rc.u.collective_pct;
+        double dw = (rc.u.collective_pct - i0.ctl.collective_pct) / i0.ctl.collective_pct;
+        printf("%s: trimmed hover, %.0f m/s, the disk's %.0f N: collective the loop %.3f %%, the coupling %.3f %% "
+               "(%+.3f %%), ship-only alone %.3f %% (the interaction moves it %+.2f %%); long %.2f / %.2f, "
+               "lat %.2f / %.2f, pedal %.2f / %.2f %%\n",
+               zone ? "deck-zone pair" : "whole-domain pair", WOD_MPS, disk->thrust_N, il.ctl.collective_pct,
+               rc.u.collective_pct, 100.0 * dc, i0.ctl.collective_pct, 100.0 * dw, il.ctl.long_cyclic_pct,
+               rc.u.long_cyclic_pct, il.ctl.lat_cyclic_pct, rc.u.lat_cyclic_pct, il.ctl.pedal_pct, rc.u.pedal_pct);
         /* the airs differ only by the fit's disk plane (level; the
          * coupling's tilted with the trimmed shaft) and the wake's skew
          * (the loop's from the air at the hub, the coupling's from the
@@ -536,7 +537,7 @@ static void test_couple_trim(const hfm_aircraft *ac, const core_ship *ship, int 
         /* 2 % more collective for 1 s: the flight model's thrust reaches
          * the interaction through the lag (tau 0.59 s here) */
         sim_flight_inputs up = il;
-        up.collective_pct += 2.0;
+        up.ctl.collective_pct += 2.0;
         double T_late = 0.0;
         for (int i = 0; i < 200; i++) {
             CHECK(sim_flight_step(fl, &up, &out, &err) == 0);

@@ -75,7 +75,7 @@ static void test_rules(void)
     CHECK(sim_pilots_inputs(p, 0.0, &in) == 1 && in.hold == 1);
     int n = enc(b, "A", 0, 60, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 0.0, why, sizeof why) == 0);
-    CHECK(sim_pilots_inputs(p, 0.0, &in) == 0 && in.hold == 0 && in.collective_pct == 60.0);
+    CHECK(sim_pilots_inputs(p, 0.0, &in) == 0 && in.hold == 0 && in.ctl.collective_pct == 60.0);
     /* refused: truncated (the id is whole: A's), NaN, out of range, garbage */
     n = enc(b, "A", 1, 61, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n - 3, 0.01, why, sizeof why) == 1);
@@ -90,7 +90,7 @@ static void test_rules(void)
     CHECK(s.refused == 3 && s.received == 1 && s.last_seq == 0 && s.gaps == 0);
     CHECK(sim_pilots_refused_unknown(p) == 1);
     /* ... and changed nothing */
-    CHECK(sim_pilots_inputs(p, 0.01, &in) == 0 && in.collective_pct == 60.0 && in.long_pct == 50.0);
+    CHECK(sim_pilots_inputs(p, 0.01, &in) == 0 && in.ctl.collective_pct == 60.0 && in.ctl.long_cyclic_pct == 50.0);
     /* a gap of 3 (seq 1-3 missing), then a stale seq refused */
     n = enc(b, "A", 4, 62, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 0.02, NULL, 0) == 0);
@@ -98,7 +98,7 @@ static void test_rules(void)
     CHECK(sim_pilots_offer(p, b, n, 0.03, why, sizeof why) == 1 && strstr(why, "stale") != NULL);
     st_of(p, "A", &s);
     CHECK(s.gaps == 3 && s.last_seq == 4 && s.refused == 4);
-    CHECK(sim_pilots_inputs(p, 0.03, &in) == 0 && in.collective_pct == 62.0);
+    CHECK(sim_pilots_inputs(p, 0.03, &in) == 0 && in.ctl.collective_pct == 62.0);
     /* silent: live at 0.5 s after the last message, held after */
     CHECK(sim_pilots_inputs(p, 0.02 + 0.5, &in) == 0);
     CHECK(sim_pilots_inputs(p, 0.02 + 0.505, &in) == 1 && in.hold == 1);
@@ -109,16 +109,18 @@ static void test_rules(void)
     /* B takes over */
     n = enc(b, "B", 1, 41, 50, 50, 50, 1);
     CHECK(sim_pilots_offer(p, b, n, 0.61, NULL, 0) == 0);
-    CHECK(sim_pilots_inputs(p, 0.61, &in) == 0 && in.collective_pct == 41.0 && sim_pilots_active(p) == idx_of(p, "B"));
+    CHECK(sim_pilots_inputs(p, 0.61, &in) == 0 && in.ctl.collective_pct == 41.0 &&
+          sim_pilots_active(p) == idx_of(p, "B"));
     /* A, first to connect (higher priority), speaks again (its restart:
      * seq back at 0 after its silence is taken): the take-over holds */
     n = enc(b, "A", 0, 63, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 0.62, NULL, 0) == 0);
-    CHECK(sim_pilots_inputs(p, 0.62, &in) == 0 && in.collective_pct == 41.0);
+    CHECK(sim_pilots_inputs(p, 0.62, &in) == 0 && in.ctl.collective_pct == 41.0);
     /* B falls silent: A (live, higher priority) takes the controls back */
     n = enc(b, "A", 1, 64, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 1.2, NULL, 0) == 0);
-    CHECK(sim_pilots_inputs(p, 1.2, &in) == 0 && in.collective_pct == 64.0 && sim_pilots_active(p) == idx_of(p, "A"));
+    CHECK(sim_pilots_inputs(p, 1.2, &in) == 0 && in.ctl.collective_pct == 64.0 &&
+          sim_pilots_active(p) == idx_of(p, "A"));
     sim_pilots_destroy(p);
 
     /* a priority list: B first; C not on it is refused; B preempts A */
@@ -129,17 +131,17 @@ static void test_rules(void)
     p = sim_pilots_create(&o, &err);
     n = enc(b, "A", 0, 30, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 0.0, NULL, 0) == 0);
-    CHECK(sim_pilots_inputs(p, 0.0, &in) == 0 && in.collective_pct == 30.0);
+    CHECK(sim_pilots_inputs(p, 0.0, &in) == 0 && in.ctl.collective_pct == 30.0);
     n = enc(b, "C", 0, 20, 50, 50, 50, 1);
     CHECK(sim_pilots_offer(p, b, n, 0.0, why, sizeof why) == 1 && strstr(why, "not on the station list") != NULL);
-    CHECK(sim_pilots_inputs(p, 0.0, &in) == 0 && in.collective_pct == 30.0);
+    CHECK(sim_pilots_inputs(p, 0.0, &in) == 0 && in.ctl.collective_pct == 30.0);
     n = enc(b, "B", 0, 35, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 0.01, NULL, 0) == 0);
-    CHECK(sim_pilots_inputs(p, 0.01, &in) == 0 && in.collective_pct == 35.0 && sim_pilots_active(p) == 0);
+    CHECK(sim_pilots_inputs(p, 0.01, &in) == 0 && in.ctl.collective_pct == 35.0 && sim_pilots_active(p) == 0);
     /* A takes over from B explicitly */
     n = enc(b, "A", 1, 31, 50, 50, 50, 1);
     CHECK(sim_pilots_offer(p, b, n, 0.02, NULL, 0) == 0);
-    CHECK(sim_pilots_inputs(p, 0.02, &in) == 0 && in.collective_pct == 31.0 && sim_pilots_active(p) == 1);
+    CHECK(sim_pilots_inputs(p, 0.02, &in) == 0 && in.ctl.collective_pct == 31.0 && sim_pilots_active(p) == 1);
     sim_pilots_destroy(p);
     o.hold_after_s = 0.0;
     CHECK(sim_pilots_create(&o, &err) == NULL && strstr(err.msg, "hold after") != NULL);
@@ -270,15 +272,15 @@ static int fly_station(const char *log, const char *replay, int bad, int n, doub
     for (int k = 0; k < n; k++) {
         if (lc && k % 4 == 0 && k < n - 200) { /* silent for the last second */
             unsigned char b[512];
-            double c = trim.collective_pct + (k >= 40 ? 3.0 : 0.0);
-            int len = enc(b, "A", seq++, c, trim.long_pct, trim.lat_pct, trim.pedal_pct, 0);
+            double c = trim.ctl.collective_pct + (k >= 40 ? 3.0 : 0.0);
+            int len = enc(b, "A", seq++, c, trim.ctl.long_cyclic_pct, trim.ctl.lat_cyclic_pct, trim.ctl.pedal_pct, 0);
             if (bad && k % 40 == 8) {
                 lcm_publish(lc, DISIM_CH_PILOT_INPUT, b, (unsigned)len - 5); /* truncated */
                 len = enc(b, "A", seq, NAN, 50, 50, 50, 0);
                 lcm_publish(lc, DISIM_CH_PILOT_INPUT, b, (unsigned)len);
                 len = enc(b, "A", seq, 20, 50, -1, 50, 0);
                 lcm_publish(lc, DISIM_CH_PILOT_INPUT, b, (unsigned)len);
-                len = enc(b, "A", seq++, c, trim.long_pct, trim.lat_pct, trim.pedal_pct, 0);
+                len = enc(b, "A", seq++, c, trim.ctl.long_cyclic_pct, trim.ctl.lat_cyclic_pct, trim.ctl.pedal_pct, 0);
             }
             lcm_publish(lc, DISIM_CH_PILOT_INPUT, b, (unsigned)len);
         }

@@ -109,7 +109,7 @@ static void fly(const hfm_aircraft *ac, const core_ship *ship, const sim_task *t
         }
         h = fnv(h, o.pos_E_m, sizeof o.pos_E_m);
         h = fnv(h, o.euler_E_rad, sizeof o.euler_E_rad);
-        h = fnv(h, &in, sizeof in.collective_pct * 4);
+        h = fnv(h, &in.ctl, sizeof in.ctl);
         sim_task_result tr;
         sim_pilot_auto_result(p, &tr);
         if (tr.touched) /* a landing ends at touchdown */
@@ -518,12 +518,13 @@ static void fly_deck(const hfm_aircraft *ac, const core_ship *ship, const char *
                 dv += (ref.vel_S_mps[k] - ref_prev.vel_S_mps[k]) * (ref.vel_S_mps[k] - ref_prev.vel_S_mps[k]);
             out->ref_acc_max_mps2 = fmax(out->ref_acc_max_mps2, sqrt(dv) * RATE_HZ);
             out->move_roll_max_rad = fmax(out->move_roll_max_rad, fabs(o.euler_E_rad[0] - s0.euler_E_rad[0]));
-            out->move_ped_min_pct = fmin(out->move_ped_min_pct, in.pedal_pct);
-            out->move_ped_max_pct = fmax(out->move_ped_max_pct, in.pedal_pct);
+            out->move_ped_min_pct = fmin(out->move_ped_min_pct, in.ctl.pedal_pct);
+            out->move_ped_max_pct = fmax(out->move_ped_max_pct, in.ctl.pedal_pct);
         }
         ref_prev = ref;
         if (!out->r.touched && out->u) {
-            const double v[4] = {in.collective_pct, in.long_pct, in.lat_pct, in.pedal_pct};
+            const double v[4] = {in.ctl.collective_pct, in.ctl.long_cyclic_pct, in.ctl.lat_cyclic_pct,
+                                 in.ctl.pedal_pct};
             for (int i = 0; i < 4; i++)
                 out->u[out->nu][i] = (float)v[i];
             out->nu++;
@@ -801,17 +802,17 @@ static void test_deck(const hfm_aircraft *uh60, const hfm_aircraft *sa365)
         if (f)
             sim_flight_trim_inputs(f, &trim_in);
         else
-            trim_in.pedal_pct = NAN;
+            trim_in.ctl.pedal_pct = NAN;
         sim_flight_destroy(f);
     }
     printf("UH-60A on the CG-47, %s, calm, still deck: the traverse's reference accelerates at most %.3f m/s^2; the "
            "helicopter banks %.2f deg from its trim, pedal %.2f-%.2f %% (hover trim %.2f %%); task %s\n",
            PORT, d.ref_acc_max_mps2, d.move_roll_max_rad * CORE_RAD_TO_DEG, d.move_ped_min_pct, d.move_ped_max_pct,
-           trim_in.pedal_pct, grade_name(d.r.grade));
+           trim_in.ctl.pedal_pct, grade_name(d.r.grade));
     CHECK(!d.failed && !d.crashed && d.r.grade >= 1);
     CHECK(d.ref_acc_max_mps2 > 0.1 && d.ref_acc_max_mps2 <= 0.2 + 1e-6);
     CHECK(d.move_roll_max_rad <= 2.5 * CORE_DEG_TO_RAD);
-    CHECK(d.move_ped_min_pct >= trim_in.pedal_pct - 1.0 && d.move_ped_max_pct <= trim_in.pedal_pct + 1.0);
+    CHECK(d.move_ped_min_pct >= trim_in.ctl.pedal_pct - 1.0 && d.move_ped_max_pct <= trim_in.ctl.pedal_pct + 1.0);
     CHECK(d.move_ped_min_pct > 20.0);
     free(d.u);
 }

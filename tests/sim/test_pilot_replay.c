@@ -164,10 +164,10 @@ static int record(const hfm_aircraft *ac, const core_ship *ship, const conds *c,
         m.utime = (int64_t)llround(o.t_s * 1e6);
         m.station_id = "auto";
         m.seq = k;
-        m.collective_pct = in.collective_pct;
-        m.long_cyclic_pct = in.long_pct;
-        m.lat_cyclic_pct = in.lat_pct;
-        m.pedal_pct = in.pedal_pct;
+        m.collective_pct = in.ctl.collective_pct;
+        m.long_cyclic_pct = in.ctl.long_cyclic_pct;
+        m.lat_cyclic_pct = in.ctl.lat_cyclic_pct;
+        m.pedal_pct = in.ctl.pedal_pct;
         if (disim_pilot_input_t_publish(lc, DISIM_CH_PILOT_INPUT, &m) != 0 || sim_loop_iterate(l, &o, &err) != 0) {
             fprintf(stderr, "record: step %ld: %s\n", k, err.msg);
             goto out;
@@ -241,7 +241,7 @@ static void replay(const hfm_aircraft *ac, const core_ship *ship, const sim_log 
     long n = llround(info.t1_s * RATE_HZ);
     for (long k = 0; k < n; k++) {
         sim_pilot_replay_step(p, &o, &in);
-        const double u[4] = {in.collective_pct, in.long_pct, in.lat_pct, in.pedal_pct};
+        const double u[4] = {in.ctl.collective_pct, in.ctl.long_cyclic_pct, in.ctl.lat_cyclic_pct, in.ctl.pedal_pct};
         for (int i = 0; i < 4; i++)
             out->min_pct[i] = fmin(out->min_pct[i], u[i]), out->max_pct[i] = fmax(out->max_pct[i], u[i]);
         if (sim_flight_step(f, &in, &o, &err) != 0) {
@@ -259,7 +259,7 @@ static void replay(const hfm_aircraft *ac, const core_ship *ship, const sim_log 
     sim_pilot_replay_step(p, &o, &in); /* counts the last state */
     sim_pilot_replay_result(p, &out->r);
     out->end_on_deck = o.on_deck;
-    out->end_coll_pct = o.collective_pct;
+    out->end_coll_pct = o.ctl.collective_pct;
 done:
     sim_pilot_replay_destroy(p);
     sim_flight_destroy(f);

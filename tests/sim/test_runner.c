@@ -32,7 +32,7 @@ static int pilot_step(void *self, const sim_flight_out *out, sim_flight_inputs *
         s->seen_ok = 0;
     s->seen_step = out->step;
     memset(in, 0, sizeof *in);
-    in->collective_pct = 50.0;
+    in->ctl.collective_pct = 50.0;
     s->calls++;
     return s->done_after >= 0 && s->calls > s->done_after ? 1 : 0;
 }
@@ -50,7 +50,7 @@ static int wrap_before(void *user, core_err *err)
 static int wrap_step(void *user, const sim_flight_inputs *in, sim_flight_out *out, core_err *err)
 {
     stub *s = user;
-    if (in->collective_pct != 50.0)
+    if (in->ctl.collective_pct != 50.0)
         return core_err_set(err, -1, "not the pilot's inputs");
     s->steps++;
     out->step = s->steps;

@@ -45,21 +45,21 @@ static void test_script(const char *dir)
     }
     sim_station_controls c;
     sim_station_script_at(s, 0.0, &c); /* before the first row: the first row */
-    CHECK_NEAR(c.collective_pct, 40.0, 1e-12);
+    CHECK_NEAR(c.ctl.collective_pct, 40.0, 1e-12);
     sim_station_script_at(s, 1.0, &c); /* half way along the ramp */
-    CHECK_NEAR(c.collective_pct, 50.0, 1e-12);
-    CHECK_NEAR(c.long_cyclic_pct, 40.0, 1e-12);
-    CHECK_NEAR(c.lat_cyclic_pct, 60.0, 1e-12);
-    CHECK_NEAR(c.pedal_pct, 30.0, 1e-12);
+    CHECK_NEAR(c.ctl.collective_pct, 50.0, 1e-12);
+    CHECK_NEAR(c.ctl.long_cyclic_pct, 40.0, 1e-12);
+    CHECK_NEAR(c.ctl.lat_cyclic_pct, 60.0, 1e-12);
+    CHECK_NEAR(c.ctl.pedal_pct, 30.0, 1e-12);
     sim_station_script_at(s, 1.25, &c);
-    CHECK_NEAR(c.collective_pct, 55.0, 1e-12);
+    CHECK_NEAR(c.ctl.collective_pct, 55.0, 1e-12);
     sim_station_script_at(s, 1.4999, &c); /* just before the step */
-    CHECK_NEAR(c.collective_pct, 60.0, 1e-2);
+    CHECK_NEAR(c.ctl.collective_pct, 60.0, 1e-2);
     sim_station_script_at(s, 1.5, &c); /* at the step: the later row */
-    CHECK_NEAR(c.collective_pct, 20.0, 1e-12);
+    CHECK_NEAR(c.ctl.collective_pct, 20.0, 1e-12);
     sim_station_script_at(s, 100.0, &c); /* after the last row: held */
-    CHECK_NEAR(c.collective_pct, 20.0, 1e-12);
-    CHECK_NEAR(c.pedal_pct, 10.0, 1e-12);
+    CHECK_NEAR(c.ctl.collective_pct, 20.0, 1e-12);
+    CHECK_NEAR(c.ctl.pedal_pct, 10.0, 1e-12);
     sim_station_script_destroy(s);
 
     static const struct {
@@ -102,41 +102,41 @@ static void test_keys(void)
     sim_station_keys_init(&k, 2.5);
     sim_station_controls_centre(&c);
     CHECK(feed(&k, "ww", &c) == SIM_KEY_MOVED);
-    CHECK_NEAR(c.collective_pct, 55.0, 1e-12);
+    CHECK_NEAR(c.ctl.collective_pct, 55.0, 1e-12);
     feed(&k, "s", &c);
-    CHECK_NEAR(c.collective_pct, 52.5, 1e-12);
+    CHECK_NEAR(c.ctl.collective_pct, 52.5, 1e-12);
     feed(&k, "\033[A\033[A", &c); /* up twice: forward */
-    CHECK_NEAR(c.long_cyclic_pct, 45.0, 1e-12);
+    CHECK_NEAR(c.ctl.long_cyclic_pct, 45.0, 1e-12);
     feed(&k, "\033OB", &c); /* down, application mode */
-    CHECK_NEAR(c.long_cyclic_pct, 47.5, 1e-12);
+    CHECK_NEAR(c.ctl.long_cyclic_pct, 47.5, 1e-12);
     /* a sequence split across reads: the parser keeps its state */
     CHECK(feed(&k, "\033", &c) == SIM_KEY_NONE);
     CHECK(feed(&k, "[", &c) == SIM_KEY_NONE);
     CHECK(feed(&k, "C", &c) == SIM_KEY_MOVED);
-    CHECK_NEAR(c.lat_cyclic_pct, 52.5, 1e-12);
+    CHECK_NEAR(c.ctl.lat_cyclic_pct, 52.5, 1e-12);
     feed(&k, "\033[D\033[D\033[D", &c);
-    CHECK_NEAR(c.lat_cyclic_pct, 45.0, 1e-12);
+    CHECK_NEAR(c.ctl.lat_cyclic_pct, 45.0, 1e-12);
     feed(&k, "a", &c);
-    CHECK_NEAR(c.pedal_pct, 47.5, 1e-12);
+    CHECK_NEAR(c.ctl.pedal_pct, 47.5, 1e-12);
     feed(&k, "ddd", &c);
-    CHECK_NEAR(c.pedal_pct, 55.0, 1e-12);
+    CHECK_NEAR(c.ctl.pedal_pct, 55.0, 1e-12);
     /* a function key (ESC [ 1 5 ~) moves nothing, and the key after it counts */
     sim_station_controls before = c;
     CHECK(feed(&k, "\033[15~", &c) == SIM_KEY_NONE);
     CHECK(memcmp(&before, &c, sizeof c) == 0);
     feed(&k, "w", &c);
-    CHECK_NEAR(c.collective_pct, 55.0, 1e-12);
+    CHECK_NEAR(c.ctl.collective_pct, 55.0, 1e-12);
     /* space centres the cyclic and the pedals; the collective stays */
     CHECK(feed(&k, " ", &c) == SIM_KEY_MOVED);
-    CHECK_NEAR(c.long_cyclic_pct, 50.0, 1e-12);
-    CHECK_NEAR(c.lat_cyclic_pct, 50.0, 1e-12);
-    CHECK_NEAR(c.pedal_pct, 50.0, 1e-12);
-    CHECK_NEAR(c.collective_pct, 55.0, 1e-12);
+    CHECK_NEAR(c.ctl.long_cyclic_pct, 50.0, 1e-12);
+    CHECK_NEAR(c.ctl.lat_cyclic_pct, 50.0, 1e-12);
+    CHECK_NEAR(c.ctl.pedal_pct, 50.0, 1e-12);
+    CHECK_NEAR(c.ctl.collective_pct, 55.0, 1e-12);
     /* clamped at the stops */
     for (int i = 0; i < 40; i++)
         feed(&k, "w\033[A", &c);
-    CHECK_NEAR(c.collective_pct, 100.0, 1e-12);
-    CHECK_NEAR(c.long_cyclic_pct, 0.0, 1e-12);
+    CHECK_NEAR(c.ctl.collective_pct, 100.0, 1e-12);
+    CHECK_NEAR(c.ctl.long_cyclic_pct, 0.0, 1e-12);
     CHECK(feed(&k, "x", &c) == SIM_KEY_NONE);
     CHECK(feed(&k, "q", &c) == SIM_KEY_QUIT);
     CHECK(feed(&k, "\003", &c) == SIM_KEY_QUIT);
@@ -221,10 +221,10 @@ static void test_evdev_pipe(void)
     put_ev(p[1], EV_KEY, BTN_TL, 1);
     put_ev(p[1], EV_SYN, SYN_REPORT, 0);
     CHECK(sim_station_evdev_read(d, &c, &err) == 0);
-    CHECK_NEAR(c.collective_pct, 100.0, 1e-12);
-    CHECK_NEAR(c.long_cyclic_pct, 0.0, 1e-12);
-    CHECK_NEAR(c.lat_cyclic_pct, 100.0, 1e-12);
-    CHECK_NEAR(c.pedal_pct, 0.0, 1e-12);
+    CHECK_NEAR(c.ctl.collective_pct, 100.0, 1e-12);
+    CHECK_NEAR(c.ctl.long_cyclic_pct, 0.0, 1e-12);
+    CHECK_NEAR(c.ctl.lat_cyclic_pct, 100.0, 1e-12);
+    CHECK_NEAR(c.ctl.pedal_pct, 0.0, 1e-12);
     CHECK(c.trim_button == 1 && c.trim_release == 0);
     /* half an event, then the rest: no event lost or garbled */
     struct input_event e;
@@ -234,17 +234,17 @@ static void test_evdev_pipe(void)
     e.value = 32767;
     CHECK(write(p[1], &e, 7) == 7);
     CHECK(sim_station_evdev_read(d, &c, &err) == 0);
-    CHECK_NEAR(c.long_cyclic_pct, 0.0, 1e-12);
+    CHECK_NEAR(c.ctl.long_cyclic_pct, 0.0, 1e-12);
     CHECK(write(p[1], (char *)&e + 7, sizeof e - 7) == (ssize_t)(sizeof e - 7));
     CHECK(sim_station_evdev_read(d, &c, &err) == 0);
-    CHECK_NEAR(c.long_cyclic_pct, 100.0, 1e-12);
+    CHECK_NEAR(c.ctl.long_cyclic_pct, 100.0, 1e-12);
     /* after SYN_DROPPED the events up to the next SYN_REPORT are dropped */
     put_ev(p[1], EV_SYN, SYN_DROPPED, 0);
     put_ev(p[1], EV_ABS, ABS_RX, -32768);
     put_ev(p[1], EV_SYN, SYN_REPORT, 0);
     put_ev(p[1], EV_KEY, BTN_TL, 0);
     CHECK(sim_station_evdev_read(d, &c, &err) == 0);
-    CHECK_NEAR(c.lat_cyclic_pct, 100.0, 1e-12);
+    CHECK_NEAR(c.ctl.lat_cyclic_pct, 100.0, 1e-12);
     CHECK(c.trim_button == 0);
     close(p[1]);
     CHECK(sim_station_evdev_read(d, &c, &err) == -1 && strstr(err.msg, "end of input"));
@@ -280,10 +280,10 @@ static void test_station_rx(void)
     CHECK(v->last_seq == -1 && v->published == 0);
     sim_station_controls c;
     sim_station_controls_centre(&c);
-    c.collective_pct = 61.0;
+    c.ctl.collective_pct = 61.0;
     CHECK(sim_station_publish(st, 20000, &c, &err) == 0);
     CHECK(sim_station_publish(st, 40000, &c, &err) == 0);
-    CHECK(v->last_seq == 1 && v->published == 2 && v->sent.collective_pct == 61.0);
+    CHECK(v->last_seq == 1 && v->published == 2 && v->sent.ctl.collective_pct == 61.0);
 
     double gear[3] = {1, 2, 3};
     disim_heli_state_t h;
