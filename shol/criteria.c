@@ -3,24 +3,30 @@
  *
  * Model: a trimmed hover over the spot is rejected when an attitude or a
  * control position is beyond its limit (seed paper section 2.7, Table 4;
- * docs/conventions.md "Rejection criteria"):
- *   abs(phi) > roll limit, abs(theta) > pitch limit, and for each control
- *   c (percent of travel) with limit L: c > L or c < 100 - L.
- * That band is not the convention's reading of a control limit (a cyclic
- * or pedal limit from neutral, 50 +- L/2 %; the collective from full
- * down, above L %): docs/conventions.md gives both.
- * Margins are signed distances to the nearest limit (negative beyond it):
- *   attitude  m = limit - abs(angle)           [rad]
- *   control   m = min(L - c, c - (100 - L))    [percentage points]
+ * docs/conventions.md "Rejection criteria"). The seed paper's section
+ * 3.4.1 gives Table 4's control limits as "the percentage of each control
+ * variable to the design maximum", a displacement; read as the convention
+ * reads it, with each control c in percent of full travel:
+ *   roll and pitch      abs(phi) > roll limit, abs(theta) > pitch limit;
+ *   cyclic and pedal    a displacement from neutral (50 %) of L % of the
+ *                       travel to the stop: c < 50 - L/2 or c > 50 + L/2
+ *                       (pedal 80 %: below 10 % or above 90 %);
+ *   collective          a displacement from full down: c > L.
+ * Margins are signed distances to the limit (negative beyond it):
+ *   attitude            m = limit - abs(angle)       [rad]
+ *   cyclic and pedal    m = L/2 - abs(c - 50)        [percentage points]
+ *   collective          m = L - c                    [percentage points]
  * The limiting criterion compares margins as fractions of each allowed
- * half-band (limit for an attitude, L - 50 for a control), so that
- * degrees and percent can be ranked together.
+ * displacement (the limit for an attitude, L/2 for a cyclic or the pedal,
+ * L for the collective: shol_criteria_half_band), so that degrees and
+ * percent can be ranked together.
  * Assumptions: only objective, steady-trim criteria (no pilot workload, no
  * transient response), as in the seed paper.
  */
 #include "shol.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #define SECTION "rejection"
@@ -85,7 +91,8 @@ int shol_criteria_read(core_ini *ini, shol_criteria *c, core_err *err)
     }
 
     /* The getters name file:line:key and the expected range. A control limit
-     * below 50 % would reject mid-travel; 50 % rejects all but mid-travel. */
+     * is 50 to 100 %: a cyclic or the pedal then keeps at least a quarter of
+     * full travel either side of neutral, the collective half its travel. */
     if (core_ini_get_double(ini, SECTION, keys[0], 0, 0.0, 90.0, &roll_deg, err) < 0 ||
         core_ini_get_double(ini, SECTION, keys[1], 0, 0.0, 90.0, &pitch_deg, err) < 0 ||
         core_ini_get_double(ini, SECTION, keys[2], 0, 50.0, 100.0, &d.long_cyclic_pct, err) < 0 ||
@@ -109,12 +116,51 @@ int shol_criteria_load(const char *path, shol_criteria *c, core_err *err)
     return rc;
 }
 
-static double control_margin(double c_pct, double limit_pct)
+double shol_criteria_half_band(const shol_criteria *c, int i)
 {
-    double hi = limit_pct - c_pct;
-    double lo = c_pct - (100.0 - limit_pct);
-    return hi < lo ? hi : lo;
+    switch (i) {
+    case SHOL_CRIT_ROLL: return c->roll_max_rad;
+    case SHOL_CRIT_PITCH: return c->pitch_max_rad;
+    case SHOL_CRIT_LONG: return 0.5 * c->long_cyclic_pct;
+    case SHOL_CRIT_LAT: return 0.5 * c->lat_cyclic_pct;
+    case SHOL_CRIT_COLL: return c->collective_pct;
+    case SHOL_CRIT_PEDAL: return 0.5 * c->pedal_pct;
+    default: return NAN;
+    }
 }
+
+void shol_criteria_control_bounds(const shol_criteria *c, int i, double *lo_pct, double *hi_pct)
+{
+    if (i == SHOL_CRIT_COLL) {
+        *lo_pct = -INFINITY;
+        *hi_pct = c->collective_pct;
+        return;
+    }
+    double h = i >= SHOL_CRIT_LONG && i <= SHOL_CRIT_PEDAL ? shol_criteria_half_band(c, i) : NAN;
+    *lo_pct = 50.0 - h;
+    *hi_pct = 50.0 + h;
+}
+
+void shol_criteria_reading(const shol_criteria *c, char *buf, size_t n)
+{
+    char cyc[160];
+    if (c->long_cyclic_pct == c->lat_cyclic_pct)
+        snprintf(cyc, sizeof cyc, "cyclic %g %% = %g-%g %%", c->long_cyclic_pct, 50 - 0.5 * c->long_cyclic_pct,
+                 50 + 0.5 * c->long_cyclic_pct);
+    else
+        snprintf(cyc, sizeof cyc, "long cyclic %g %% = %g-%g %%, lat cyclic %g %% = %g-%g %%", c->long_cyclic_pct,
+                 50 - 0.5 * c->long_cyclic_pct, 50 + 0.5 * c->long_cyclic_pct, c->lat_cyclic_pct,
+                 50 - 0.5 * c->lat_cyclic_pct, 50 + 0.5 * c->lat_cyclic_pct);
+    snprintf(buf, n,
+             "cyclic and pedal limits are displacements from neutral: pedal %g %% = %g-%g %% of travel, %s; "
+             "collective %g %% = above %g %% of travel",
+             c->pedal_pct, 50 - 0.5 * c->pedal_pct, 50 + 0.5 * c->pedal_pct, cyc, c->collective_pct,
+             c->collective_pct);
+}
+
+/* A cyclic's or the pedal's margin: half_pct (L/2) less the displacement
+ * from neutral. */
+static double neutral_margin(double c_pct, double half_pct) { return half_pct - fabs(c_pct - 50.0); }
 
 int shol_criteria_eval(const shol_criteria *c, const shol_trim_point *p, shol_eval *out)
 {
@@ -128,15 +174,12 @@ int shol_criteria_eval(const shol_criteria *c, const shol_trim_point *p, shol_ev
             out->limit = SHOL_LIMIT_TRIM;
             return -1;
         }
-    const double band[SHOL_NCRIT] = {c->roll_max_rad,         c->pitch_max_rad,
-                                     c->long_cyclic_pct - 50, c->lat_cyclic_pct - 50,
-                                     c->collective_pct - 50,  c->pedal_pct - 50};
     out->margin[SHOL_CRIT_ROLL] = c->roll_max_rad - fabs(p->phi_rad);
     out->margin[SHOL_CRIT_PITCH] = c->pitch_max_rad - fabs(p->theta_rad);
-    out->margin[SHOL_CRIT_LONG] = control_margin(p->long_cyclic_pct, c->long_cyclic_pct);
-    out->margin[SHOL_CRIT_LAT] = control_margin(p->lat_cyclic_pct, c->lat_cyclic_pct);
-    out->margin[SHOL_CRIT_COLL] = control_margin(p->collective_pct, c->collective_pct);
-    out->margin[SHOL_CRIT_PEDAL] = control_margin(p->pedal_pct, c->pedal_pct);
+    out->margin[SHOL_CRIT_LONG] = neutral_margin(p->long_cyclic_pct, shol_criteria_half_band(c, SHOL_CRIT_LONG));
+    out->margin[SHOL_CRIT_LAT] = neutral_margin(p->lat_cyclic_pct, shol_criteria_half_band(c, SHOL_CRIT_LAT));
+    out->margin[SHOL_CRIT_COLL] = c->collective_pct - p->collective_pct;
+    out->margin[SHOL_CRIT_PEDAL] = neutral_margin(p->pedal_pct, shol_criteria_half_band(c, SHOL_CRIT_PEDAL));
 
     double best = INFINITY;
     out->limit = 0;
@@ -146,8 +189,9 @@ int shol_criteria_eval(const shol_criteria *c, const shol_trim_point *p, shol_ev
     for (int i = 0; i < SHOL_NCRIT; i++) {
         if (out->n_exceeded && out->margin[i] >= 0)
             continue;
-        /* A zero-width band (limit 0 deg or 50 %) leaves only the sign. */
-        double f = band[i] > 0 ? out->margin[i] / band[i] : (out->margin[i] < 0 ? -INFINITY : 0);
+        /* A zero-width band (a limit of 0) leaves only the sign. */
+        double b = shol_criteria_half_band(c, i);
+        double f = b > 0 ? out->margin[i] / b : (out->margin[i] < 0 ? -INFINITY : 0);
         if (f < best) {
             best = f;
             out->limit = i;

@@ -24,14 +24,18 @@
  * direction the envelope is crossed once.
  *
  * The tracker (shol_flown_track). Table 4's limits are the trim's, steady
- * values; a flown history also holds gusts' peaks lasting fractions of a
+ * values, read as shol_criteria_eval reads them (a cyclic's or the
+ * pedal's limit a displacement from neutral, the collective's from full
+ * down); a flown history also holds gusts' peaks lasting fractions of a
  * second, which a steady limit does not judge. So the steady limits judge
  * the running mean of each quantity over the last window_s seconds of the
  * task's phase (bins of window_s / SHOL_FLOWN_BINS; from the time the
  * phase has lasted window_s, a shorter phase on its whole mean as it
  * ends; a new phase starts a new mean, so a manoeuvre's steady state is
  * not averaged with the last one's), and transient criteria judge every
- * step: a control at its stop, an attitude past the steady limit times
+ * step: a control at its stop (0 or 100 % of full travel, the collective
+ * full down included: a pilot there has no control left that way, which
+ * no reading of Table 4 covers), an attitude past the steady limit times
  * 1 + transient_frac. window_s = 0 judges the steady limits at every step,
  * as the trim-based criteria applied to each instant.
  */
@@ -81,21 +85,15 @@ void shol_flown_track_init(shol_flown_track *t, const shol_criteria *c, const sh
     t->bin = -1; /* no phase yet */
 }
 
-/* A criterion's allowed half-band: the angle limit, or L - 50 for a control. */
-static double half_band(const shol_criteria *c, int i)
-{
-    const double band[SHOL_NCRIT] = {c->roll_max_rad,         c->pitch_max_rad,        c->long_cyclic_pct - 50,
-                                     c->lat_cyclic_pct - 50, c->collective_pct - 50, c->pedal_pct - 50};
-    return band[i];
-}
-
+/* A margin as a fraction of its criterion's allowed displacement
+ * (shol_criteria_half_band). */
 static double frac_of(const shol_criteria *c, int i, double margin)
 {
-    double b = half_band(c, i);
+    double b = shol_criteria_half_band(c, i);
     return b > 0 ? margin / b : (margin < 0 ? -INFINITY : 0.0);
 }
 
-/* The most exceeded of e's criteria (as a fraction of its half-band), -1 if none. */
+/* The most exceeded of e's criteria (as a fraction of its allowed displacement), -1 if none. */
 static int worst_exceeded(const shol_criteria *c, const shol_eval *e)
 {
     int worst = -1;

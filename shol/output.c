@@ -1,6 +1,7 @@
 /*
  * output.c -- the envelope as data files: shol.csv (one row per direction:
- * limit speed, limiting criterion, margins, band) and shol.json (settings, criteria, results and the
+ * limit speed, limiting criterion, margins, band) and shol.json (settings, criteria and how their
+ * control limits read, results and the
  * whole trim-versus-speed history), and the CSV reader for comparisons.
  * Units are in the names: deg, kt, km/h, pct. Non-finite values are written
  * as nan (CSV) or null (JSON).
@@ -413,7 +414,11 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
         fprintf(f, "%s\"%s\": ", k ? ", " : "", ckey[k]);
         json_num(f, cval[k]);
     }
-    fputs("},\n", f);
+    char reading[256];
+    shol_criteria_reading(c, reading, sizeof reading);
+    fputs("},\n  \"criteria_reading\": ", f);
+    json_str(f, reading);
+    fputs(",\n", f);
     /* how the bands were made */
     const shol_band_rule br = shol_band_rule_of(r);
     fputs("  \"band_rule\": {\"low_confidence_width_kmh\": ", f);

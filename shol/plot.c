@@ -674,6 +674,9 @@ static void polar_legend(cairo_t *cr, double W, double H, const shol_result *r, 
     cairo_stroke(cr);
     snprintf(buf, sizeof buf, "LOW: wider than %g km/h and %g %% of V", br.width_mps / CORE_KMH_TO_MPS, 100 * br.frac);
     text(cr, lx + 602, y3, 13, 1, -1, 0, buf);
+    set_col(cr, ink);
+    shol_criteria_reading(&r->settings.criteria, buf, sizeof buf);
+    text(cr, lx, y3 + 22, 12, 0, -1, 0, buf);
     if (open) {
         set_col(cr, ink);
         text(cr, W - 20, H - 16, 12, 0, 1, 1,
@@ -915,7 +918,8 @@ static void draw_panel(cairo_t *cr, panel *p, int q, const char *title, double l
                        double lim_hi, const shol_dir_result *d, const shol_dir_result *dc)
 {
     char buf[64];
-    /* Rejected zones shaded, limits dashed red. */
+    /* Rejected zones shaded, limits dashed red; a limit of -INFINITY (the
+     * collective's lower) is none. */
     set_col(cr, reject_fill);
     if (lim_hi < p->ymax) {
         cairo_rectangle(cr, p->x0, p->y0, p->w, py(p, lim_hi) - p->y0);
@@ -952,6 +956,8 @@ static void draw_panel(cairo_t *cr, panel *p, int q, const char *title, double l
     cairo_set_source_rgb(cr, 0.84, 0.15, 0.16);
     double lims[2] = {lim_lo, lim_hi};
     for (int i = 0; i < 2; i++) {
+        if (!isfinite(lims[i]))
+            continue;
         cairo_move_to(cr, p->x0, py(p, lims[i]));
         cairo_line_to(cr, p->x0 + p->w, py(p, lims[i]));
         cairo_stroke(cr);
@@ -1100,6 +1106,8 @@ static void draw_trim(cairo_t *cr, double W, double H, const shol_result *r,
                  "no criterion exceeded up to %.1f kt (%.0f km/h, highest searched)",
                  d->max_speed_mps / CORE_KT_TO_MPS, d->max_speed_mps / CORE_KMH_TO_MPS);
     text(cr, W / 2, 58, 14, 0, 0, 0, buf);
+    shol_criteria_reading(k, buf, sizeof buf);
+    text(cr, W / 2, 82, 12, 0, 0, 0, buf);
 
     /* Data range: speeds up to the last sample (at least one step). */
     double xmax = r->settings.speed_step_mps / CORE_KT_TO_MPS;
@@ -1114,7 +1122,6 @@ static void draw_trim(cairo_t *cr, double W, double H, const shol_result *r,
         "Longitudinal cyclic (%, 0 = full fwd)", "Lateral cyclic (%, 0 = full left)",
         "Collective (%, 0 = full down)",         "Pedal (%, 0 = full left)"};
     double att[2] = {k->roll_max_rad * CORE_RAD_TO_DEG, k->pitch_max_rad * CORE_RAD_TO_DEG};
-    double ctl[4] = {k->long_cyclic_pct, k->lat_cyclic_pct, k->collective_pct, k->pedal_pct};
     double pw = (W - 3 * 90) / 2 + 15, ph = (H - 150 - 3 * 95) / 3;
     for (int q = 0; q < 6; q++) {
         panel p;
@@ -1137,8 +1144,7 @@ static void draw_trim(cairo_t *cr, double W, double H, const shol_result *r,
         } else {
             p.ymin = 0;
             p.ymax = 100;
-            lo = 100 - ctl[q - 2];
-            hi = ctl[q - 2];
+            shol_criteria_control_bounds(k, q, &lo, &hi);
         }
         draw_panel(cr, &p, q, titles[q], lo, hi, d, dc);
     }

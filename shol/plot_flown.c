@@ -154,6 +154,10 @@ static void draw(cairo_t *cr, double W, double H, const shol_flown_result *f, co
     snprintf(s, sizeof s, "%d seed%s per point, a point passes at a pass rate >= %.2f; %d flights", f->flown.n_seeds,
              f->flown.n_seeds == 1 ? "" : "s", f->flown.pass_rate_min, f->n_flights);
     text(cr, W / 2, 62, 15, 0, 0, s);
+    if (t) {
+        shol_criteria_reading(&t->settings.criteria, s, sizeof s);
+        text(cr, W / 2, 86, 12, 0, 0, s);
+    }
     /* rings and spokes */
     cairo_set_line_width(cr, 1);
     for (double kt = step; kt <= p.rmax_kt + 1e-9; kt += step) {

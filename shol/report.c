@@ -201,19 +201,21 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
     else
         fprintf(f, "| bisection | off |\n");
     fprintf(f, "| trims | %d in %.1f s |\n\n", r->n_trims, r->wall_s);
+    char reading[256];
+    shol_criteria_reading(k, reading, sizeof reading);
     fprintf(f,
-            "Rejection criteria (aircraft data file `[rejection]`; a control limit L %% "
-            "rejects above L %% or below 100 - L %%): |roll| > %g deg, |pitch| > %g deg, "
-            "longitudinal cyclic %g %%, lateral cyclic %g %%, collective %g %%, pedal %g %%.\n\n",
+            "Rejection criteria (aircraft data file `[rejection]`): |roll| > %g deg, |pitch| > %g deg, "
+            "longitudinal cyclic %g %%, lateral cyclic %g %%, collective %g %%, pedal %g %%. Controls in %% of "
+            "full travel; %s (docs/conventions.md).\n\n",
             k->roll_max_rad * CORE_RAD_TO_DEG, k->pitch_max_rad * CORE_RAD_TO_DEG,
-            k->long_cyclic_pct, k->lat_cyclic_pct, k->collective_pct, k->pedal_pct);
+            k->long_cyclic_pct, k->lat_cyclic_pct, k->collective_pct, k->pedal_pct, reading);
 
     fprintf(f, "## Envelope\n\n![Candidate SHOL polar plot](shol_polar.png)\n\n"
                "Vector version: [shol_polar.svg](shol_polar.svg); data: [shol.csv](shol.csv), "
                "[shol.json](shol.json).\n\n");
     fprintf(f,
             "| WOD | max speed (%s) | limit | margins at the last pass: roll deg, pitch deg, "
-            "long %%, lat %%, coll %%, pedal %% | limit moves by | driven by | trim plot |\n|---|---|---|---|---|---|---|\n",
+            "long %%, lat %%, coll %%, pedal %% (points of travel to the limit) | limit moves by | driven by | trim plot |\n|---|---|---|---|---|---|---|\n",
             label);
     for (int i = 0; i < r->n_dirs; i++) {
         const shol_dir_result *d = &r->dirs[i];

@@ -250,6 +250,14 @@ int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const 
                 fr->flown.judge.window_s, 1.0 + fr->flown.judge.transient_frac);
     else
         fprintf(f, "Criteria: the steady limits judge every step's values (no running mean).\n\n");
+    if (trim) {
+        const shol_criteria *k = &trim->settings.criteria;
+        char reading[256];
+        shol_criteria_reading(k, reading, sizeof reading);
+        fprintf(f, "Rejection limits: |roll| > %g deg, |pitch| > %g deg; controls in %% of full travel, %s "
+                   "(docs/conventions.md).\n\n",
+                k->roll_max_rad * CORE_RAD_TO_DEG, k->pitch_max_rad * CORE_RAD_TO_DEG, reading);
+    }
     if (info) {
         if (info->scenario_path)
             fprintf(f, "- scenario: `%s`\n", info->scenario_path);

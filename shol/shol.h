@@ -54,15 +54,18 @@ const char *shol_limit_name(int limit);
 /* Inverse of shol_limit_name; returns 0 and sets *limit, or -1. */
 int shol_limit_parse(const char *name, int *limit);
 
-/* The control limits here are bounds on the pilot controls, not controls:
- * L rejects a control above L or below 100 - L. */
+/* The control limits here are bounds on the pilot controls, not controls,
+ * read as displacements (docs/conventions.md): a cyclic's or the pedal's L
+ * is a displacement from neutral of L % of the travel to the stop, so it
+ * rejects the control below 50 - L/2 or above 50 + L/2 % of full travel;
+ * the collective's L rejects it above L % (from full down). */
 typedef struct shol_criteria {
     double roll_max_rad;    /* reject abs(phi) > roll_max_rad */
     double pitch_max_rad;   /* reject abs(theta) > pitch_max_rad */
-    double long_cyclic_pct; /* reject above L or below 100 - L */
-    double lat_cyclic_pct;
-    double collective_pct;
-    double pedal_pct;
+    double long_cyclic_pct; /* reject below 50 - L/2 or above 50 + L/2 */
+    double lat_cyclic_pct;  /* the same */
+    double collective_pct;  /* reject above L */
+    double pedal_pct;       /* reject below 50 - L/2 or above 50 + L/2 */
 } shol_criteria;
 
 /* The defaults of docs/conventions.md (seed paper Table 4): 5 deg, 8 deg, 85 %,
@@ -78,6 +81,19 @@ void shol_criteria_default(shol_criteria *c);
 int shol_criteria_read(core_ini *ini, shol_criteria *c, core_err *err);
 /* Load path and read its [rejection] section (see shol_criteria_read). */
 int shol_criteria_load(const char *path, shol_criteria *c, core_err *err);
+/* Criterion i's allowed displacement, a margin's denominator when
+ * criteria are ranked: the angle limit (rad) for roll and pitch, L/2 for
+ * a cyclic or the pedal, L for the collective (percentage points); NaN
+ * for an i out of range. */
+double shol_criteria_half_band(const shol_criteria *c, int i);
+/* Control i's (SHOL_CRIT_LONG .. SHOL_CRIT_PEDAL) passing range in percent
+ * of full travel: 50 -+ L/2 for a cyclic or the pedal; -INFINITY (no lower
+ * limit) and L for the collective. */
+void shol_criteria_control_bounds(const shol_criteria *c, int i, double *lo_pct, double *hi_pct);
+/* How c's control limits read, for reports and plots: "cyclic and pedal
+ * limits are displacements from neutral: pedal 80 % = 10-90 % of travel,
+ * cyclic 85 % = 7.5-92.5 %; collective 85 % = above 85 % of travel". */
+void shol_criteria_reading(const shol_criteria *c, char *buf, size_t n);
 
 /* The airframe's components whose loads a trim may report:
  * main rotor, tail rotor (or fenestron), fuselage, horizontal stabiliser
@@ -126,14 +142,15 @@ typedef struct shol_trim_point {
 /* A trim point judged against the criteria. */
 typedef struct shol_eval {
     /* Signed margins, >= 0 inside the limits, < 0 when exceeded: roll and
-     * pitch in rad (limit - abs(angle)), controls in percentage points
-     * (min(L - c, c - (100 - L))). Indexed by shol_crit. */
+     * pitch in rad (limit - abs(angle)), controls in percentage points of
+     * full travel (a cyclic or the pedal L/2 - abs(c - 50), the collective
+     * L - c). Indexed by shol_crit. */
     double margin[SHOL_NCRIT];
     int n_exceeded; /* criteria with margin < 0 */
     /* The limiting criterion: among the exceeded ones (or, if none, among
      * all) the one with the smallest margin as a fraction of its allowed
-     * half-band (the angle limit, or L - 50 for a control); ties go to the
-     * first in shol_crit order. */
+     * displacement (shol_criteria_half_band); ties go to the first in
+     * shol_crit order. */
     int limit;
 } shol_eval;
 
@@ -568,7 +585,8 @@ typedef struct shol_flown_track {
     shol_criteria criteria;
     shol_flown_judge judge;
     double min_frac[SHOL_NCRIT]; /* smallest margin of the step's values over the history as a
-                                    fraction of its half-band (1 at the centre, < 0 exceeded) */
+                                    fraction of its allowed displacement (shol_criteria_half_band: 1
+                                    at neutral, the collective full down; < 0 exceeded) */
     double min_t_s[SHOL_NCRIT];  /* when */
     double min_mean_frac[SHOL_NCRIT]; /* the same for the running means judged (INFINITY: none) */
     int first_crit;              /* the first criterion exceeded (SHOL_LIMIT_NONE: none) */

@@ -265,19 +265,26 @@ static void test_track(void)
     CHECK(strcmp(tr.first_phase, "descent") == 0);
     CHECK(tr.min_frac[SHOL_CRIT_ROLL] < 0);
     CHECK_NEAR(tr.min_t_s[SHOL_CRIT_ROLL], 2.0, 0);
-    /* a later exceedance of another criterion leaves the first one */
-    shol_trim_point ped = {0, 0, 50, 50, 60, 19};
+    /* a later exceedance of another criterion leaves the first one: pedal
+     * 9 %, below the 10 % that a limit of 80 % from neutral leaves */
+    shol_trim_point ped = {0, 0, 50, 50, 60, 9};
     CHECK(shol_flown_track_step(&tr, 3.0, "descent", &ped) == 1);
     CHECK(tr.first_crit == SHOL_CRIT_ROLL);
     CHECK(tr.min_frac[SHOL_CRIT_PEDAL] < 0);
-    /* the low side of a control alone */
+    /* the low side of a control alone; pedal 15 % and the collective at
+     * 15 % pass (the pedal 5 points of full travel inside, 5/40 of its
+     * allowed displacement; the collective has no lower limit) */
     shol_flown_track t2;
     shol_flown_track_init(&t2, &c, &j0);
+    shol_trim_point low = {0, 0, 50, 50, 15, 15};
+    CHECK(shol_flown_track_step(&t2, 0.5, "hover", &low) == 0 && t2.first_crit == SHOL_LIMIT_NONE);
+    CHECK_NEAR(t2.min_frac[SHOL_CRIT_PEDAL], 5.0 / 40.0, 1e-12);
+    CHECK_NEAR(t2.min_frac[SHOL_CRIT_COLL], 70.0 / 85.0, 1e-12);
     CHECK(shol_flown_track_step(&t2, 1.0, "hover", &ped) == 1 && t2.first_crit == SHOL_CRIT_PEDAL);
     /* not finite: counted, not an exceedance */
     shol_trim_point nan = {NAN, 0, 50, 50, 50, 50};
     CHECK(shol_flown_track_step(&t2, 1.5, "hover", &nan) == -1);
-    CHECK(t2.n_bad == 1 && t2.n_steps == 2);
+    CHECK(t2.n_bad == 1 && t2.n_steps == 3);
     char cause[SHOL_CAUSE_MAX];
     shol_flown_track_cause(&tr, cause, sizeof cause);
     CHECK(strcmp(cause, "roll in descent") == 0);

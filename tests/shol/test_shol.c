@@ -34,21 +34,23 @@ static void test_criteria_eval(void)
     CHECK(c.long_cyclic_pct == 85 && c.lat_cyclic_pct == 85 && c.collective_pct == 85);
     CHECK(c.pedal_pct == 80);
 
-    /* Four exceeded: pitch -1/8, long -5/35, lat -5/35, pedal -1/30 of the
-     * half-band; long and lat tie and long comes first. */
-    shol_trim_point p = {3 * CORE_DEG_TO_RAD, -9 * CORE_DEG_TO_RAD, 90, 10, 50, 19};
+    /* Four exceeded: pitch -0.5/8, long -4.5/42.5, lat -4.5/42.5, pedal
+     * -1/40 of the allowed displacement (the limit, or L/2 from neutral for
+     * a cyclic or the pedal); long and lat tie and long comes first. */
+    shol_trim_point p = {3 * CORE_DEG_TO_RAD, -8.5 * CORE_DEG_TO_RAD, 97, 3, 50, 9};
     shol_eval e;
     CHECK(shol_criteria_eval(&c, &p, &e) == 0);
     CHECK_NEAR(e.margin[SHOL_CRIT_ROLL] / CORE_DEG_TO_RAD, 2.0, 1e-12);
-    CHECK_NEAR(e.margin[SHOL_CRIT_PITCH] / CORE_DEG_TO_RAD, -1.0, 1e-12);
-    CHECK_NEAR(e.margin[SHOL_CRIT_LONG], -5.0, 1e-12);
-    CHECK_NEAR(e.margin[SHOL_CRIT_LAT], -5.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_PITCH] / CORE_DEG_TO_RAD, -0.5, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_LONG], -4.5, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_LAT], -4.5, 1e-12);
     CHECK_NEAR(e.margin[SHOL_CRIT_COLL], 35.0, 1e-12);
     CHECK_NEAR(e.margin[SHOL_CRIT_PEDAL], -1.0, 1e-12);
     CHECK(e.n_exceeded == 4);
     CHECK(e.limit == SHOL_CRIT_LONG);
 
-    /* Passing: the closest is collective (5/35 = 0.143 < pedal 5/30, roll 1/5 = 0.2). */
+    /* Passing: the closest is collective (5/85 = 0.059 < roll 1/5 = 0.2,
+     * pedal 15/40). */
     shol_trim_point q = {-4 * CORE_DEG_TO_RAD, 0, 50, 50, 80, 75};
     CHECK(shol_criteria_eval(&c, &q, &e) == 0);
     CHECK(e.n_exceeded == 0);
@@ -56,16 +58,61 @@ static void test_criteria_eval(void)
     CHECK_NEAR(e.margin[SHOL_CRIT_ROLL] / CORE_DEG_TO_RAD, 1.0, 1e-12);
     CHECK_NEAR(e.margin[SHOL_CRIT_PITCH] / CORE_DEG_TO_RAD, 8.0, 1e-12);
     CHECK_NEAR(e.margin[SHOL_CRIT_COLL], 5.0, 1e-12);
-    CHECK_NEAR(e.margin[SHOL_CRIT_PEDAL], 5.0, 1e-12);
+    CHECK_NEAR(e.margin[SHOL_CRIT_PEDAL], 15.0, 1e-12);
 
-    /* Low side of a control: pedal 22 % with limit 80 -> 2 points above 20. */
-    shol_trim_point lo = {0, 0, 50, 50, 50, 22};
+    /* A limit is a displacement from neutral for a cyclic or the pedal:
+     * pedal 80 % rejects below 10 % or above 90 % of full travel. Pedal 15 %
+     * passes 5 points above 10 (the band about mid-travel of 20-80 % would
+     * reject it); 9 % fails 1 point beyond; 91 % too. */
+    shol_trim_point lo = {0, 0, 50, 50, 50, 15};
     CHECK(shol_criteria_eval(&c, &lo, &e) == 0);
-    CHECK_NEAR(e.margin[SHOL_CRIT_PEDAL], 2.0, 1e-12);
+    CHECK(e.n_exceeded == 0);
+    CHECK_NEAR(e.margin[SHOL_CRIT_PEDAL], 5.0, 1e-12);
     CHECK(e.limit == SHOL_CRIT_PEDAL);
+    lo.pedal_pct = 9;
+    CHECK(shol_criteria_eval(&c, &lo, &e) == 0);
+    CHECK(e.n_exceeded == 1 && e.limit == SHOL_CRIT_PEDAL);
+    CHECK_NEAR(e.margin[SHOL_CRIT_PEDAL], -1.0, 1e-12);
+    lo.pedal_pct = 91;
+    CHECK(shol_criteria_eval(&c, &lo, &e) == 0);
+    CHECK(e.n_exceeded == 1 && e.limit == SHOL_CRIT_PEDAL);
+    /* Cyclic 85 %: 7.5-92.5 % of travel; 8 % passes, 7 % fails. */
+    shol_trim_point cy = {0, 0, 8, 50, 50, 50};
+    CHECK(shol_criteria_eval(&c, &cy, &e) == 0);
+    CHECK(e.n_exceeded == 0);
+    CHECK_NEAR(e.margin[SHOL_CRIT_LONG], 0.5, 1e-12);
+    cy.long_cyclic_pct = 7;
+    CHECK(shol_criteria_eval(&c, &cy, &e) == 0);
+    CHECK(e.n_exceeded == 1 && e.limit == SHOL_CRIT_LONG);
+    /* The collective is a displacement from full down: no lower limit
+     * (15 % and 0 % pass, with 70 and 85 points to the limit), rejected
+     * above 85 %. */
+    shol_trim_point co = {0, 0, 50, 50, 15, 50};
+    CHECK(shol_criteria_eval(&c, &co, &e) == 0);
+    CHECK(e.n_exceeded == 0);
+    CHECK_NEAR(e.margin[SHOL_CRIT_COLL], 70.0, 1e-12);
+    co.collective_pct = 0;
+    CHECK(shol_criteria_eval(&c, &co, &e) == 0);
+    CHECK(e.n_exceeded == 0);
+    CHECK_NEAR(e.margin[SHOL_CRIT_COLL], 85.0, 1e-12);
+    co.collective_pct = 86;
+    CHECK(shol_criteria_eval(&c, &co, &e) == 0);
+    CHECK(e.n_exceeded == 1 && e.limit == SHOL_CRIT_COLL);
+    CHECK_NEAR(e.margin[SHOL_CRIT_COLL], -1.0, 1e-12);
+    /* The reading as reports state it. */
+    char rd[256];
+    shol_criteria_reading(&c, rd, sizeof rd);
+    CHECK(strstr(rd, "cyclic and pedal limits are displacements from neutral: pedal 80 % = 10-90 % of travel") == rd);
+    CHECK(strstr(rd, "cyclic 85 % = 7.5-92.5 %") != NULL);
+    CHECK(strstr(rd, "collective 85 % = above 85 % of travel") != NULL);
+    double blo, bhi;
+    shol_criteria_control_bounds(&c, SHOL_CRIT_PEDAL, &blo, &bhi);
+    CHECK(blo == 10 && bhi == 90);
+    shol_criteria_control_bounds(&c, SHOL_CRIT_COLL, &blo, &bhi);
+    CHECK(isinf(blo) && blo < 0 && bhi == 85);
 
     /* Exactly at a limit is not "exceeded" (Table 4: rejected when > limit). */
-    shol_trim_point at = {-5 * CORE_DEG_TO_RAD, 8 * CORE_DEG_TO_RAD, 85, 15, 50, 80};
+    shol_trim_point at = {-5 * CORE_DEG_TO_RAD, 8 * CORE_DEG_TO_RAD, 92.5, 7.5, 85, 90};
     CHECK(shol_criteria_eval(&c, &at, &e) == 0);
     CHECK(e.n_exceeded == 0);
     CHECK_NEAR(e.margin[SHOL_CRIT_ROLL], 0.0, 1e-15);
@@ -149,12 +196,19 @@ static void test_criteria_files(void)
  * starboard) and headwind h = V cos(dir) components, m/s:
  *   roll  = sign(c) 5/15^2 c^2 deg  -> |roll| > 5 deg when |c| > 15
  *   pitch = 2 - 0.01 h^2 deg        -> < -8 deg when |h| > sqrt(1000)
- *   long  = 50 + 1.25 h %           -> out of 15..85 when |h| > 28
- *   lat   = 50 + 0.8 c %            -> out when |c| > 43.75
- *   coll  = 60 - 0.1 V %            -> never below 15 in range
- *   pedal = 60 + pedal_gain c %     -> > 80 when c > 20/gain, < 20 when c < -40/gain
+ *   long  = 50 + LONG_K h %         -> out of 7.5..92.5 when |h| > 28
+ *   lat   = 50 + LAT_K c %          -> out when |c| > 43.75
+ *   coll  = 60 - 0.1 V %            -> never above 85 in range
+ *   pedal = 50 + PEDAL_K (10 + pedal_gain c) %
+ *                                   -> > 90 when c > 20/gain, < 10 when c < -40/gain
+ * (the cyclic and pedal limits, 85 % and 80 % from neutral, allow 42.5 and
+ * 40 points either side of 50 %: the gains put the crossings where the
+ * constants above say).
  *   no trim (return 1) when h < -20 (tailwind over 20 m/s)
  * The pedal asymmetry is a tail rotor that likes one side. */
+#define LONG_K (42.5 / 28)
+#define LAT_K (42.5 / 43.75)
+#define PEDAL_K (40.0 / 30)
 typedef struct model {
     double pedal_gain;
     int calls;
@@ -174,10 +228,10 @@ static int model_trim(void *user, double v, double dir, shol_trim_point *out)
         return 1;
     out->phi_rad = (c < 0 ? -1 : 1) * 5.0 / 225.0 * c * c * CORE_DEG_TO_RAD;
     out->theta_rad = (2 - 0.01 * h * h) * CORE_DEG_TO_RAD;
-    out->long_cyclic_pct = 50 + 1.25 * h;
-    out->lat_cyclic_pct = 50 + 0.8 * c;
+    out->long_cyclic_pct = 50 + LONG_K * h;
+    out->lat_cyclic_pct = 50 + LAT_K * c;
     out->collective_pct = 60 - 0.1 * v;
-    out->pedal_pct = 60 + m->pedal_gain * c;
+    out->pedal_pct = 50 + PEDAL_K * (10 + m->pedal_gain * c);
     if (m->nan_dir_deg_set && fabs(dir / CORE_DEG_TO_RAD - m->nan_dir_deg) < 1e-9 && v > 10)
         out->pedal_pct = NAN;
     return 0;
@@ -308,10 +362,10 @@ static void test_envelope_steps(void)
         CHECK(!d->samples[d->n_samples - 1].pass);
         /* Margins at the last pass, recomputed from the model by hand. */
         double c = d->max_speed_mps * sin(d->dir_rad), h = d->max_speed_mps * cos(d->dir_rad);
-        double pedal = 60 + 1.5 * c;
-        CHECK_NEAR(d->margins.margin[SHOL_CRIT_PEDAL], fmin(80 - pedal, pedal - 20), 1e-9);
+        double pedal = 50 + PEDAL_K * (10 + 1.5 * c);
+        CHECK_NEAR(d->margins.margin[SHOL_CRIT_PEDAL], 40 - fabs(pedal - 50), 1e-9);
         CHECK_NEAR(d->margins.margin[SHOL_CRIT_ROLL] / CORE_DEG_TO_RAD, 5 - 5.0 / 225 * c * c, 1e-9);
-        CHECK_NEAR(d->margins.margin[SHOL_CRIT_LONG], fmin(35 - 1.25 * h, 35 + 1.25 * h), 1e-9);
+        CHECK_NEAR(d->margins.margin[SHOL_CRIT_LONG], 42.5 - LONG_K * fabs(h), 1e-9);
         CHECK(d->margins.n_exceeded == 0);
         /* The limit's sensitivity: the margin's secant slope between the
          * last pass v1 and the failure v2, by hand from the model. */
@@ -322,13 +376,13 @@ static void test_envelope_steps(void)
             CHECK(srs == 0 && se.crit == SHOL_CRIT_ROLL);
             CHECK_NEAR(se.slope_per_mps / CORE_DEG_TO_RAD, 5.0 / 225 * sn * sn * (v1 + v2), 1e-9);
             CHECK_NEAR(se.shift_mps, 0.25 / (5.0 / 225 * sn * sn * (v1 + v2)), 1e-9);
-        } else if (d->limit == SHOL_CRIT_PEDAL) { /* 80 - (60 + 1.5 c) or (60 + 1.5 c) - 20 */
+        } else if (d->limit == SHOL_CRIT_PEDAL) { /* 40 - PEDAL_K abs(10 + 1.5 c) */
             CHECK(srs == 0);
-            CHECK_NEAR(se.slope_per_mps, 1.5 * fabs(sn), 1e-9);
-            CHECK_NEAR(se.shift_mps, 1.0 / (1.5 * fabs(sn)), 1e-9);
-        } else if (d->limit == SHOL_CRIT_LONG) { /* 35 - 1.25 h */
+            CHECK_NEAR(se.slope_per_mps, PEDAL_K * 1.5 * fabs(sn), 1e-9);
+            CHECK_NEAR(se.shift_mps, 1.0 / (PEDAL_K * 1.5 * fabs(sn)), 1e-9);
+        } else if (d->limit == SHOL_CRIT_LONG) { /* 42.5 - LONG_K abs(h) */
             CHECK(srs == 0);
-            CHECK_NEAR(se.slope_per_mps, 1.25 * fabs(cs), 1e-9);
+            CHECK_NEAR(se.slope_per_mps, LONG_K * fabs(cs), 1e-9);
         } else { /* no trim at the failure: undefined */
             CHECK(srs == 1 && se.crit == SHOL_LIMIT_NONE && isnan(se.shift_mps));
         }
@@ -1099,9 +1153,9 @@ static void test_bands(void)
         if (d->limit == SHOL_CRIT_ROLL)
             sens = 0.25 / (5.0 / 225 * sn * sn * (v + v2));
         else if (d->limit == SHOL_CRIT_PEDAL)
-            sens = 1.0 / (1.5 * fabs(sn));
+            sens = 1.0 / (PEDAL_K * 1.5 * fabs(sn));
         else if (d->limit == SHOL_CRIT_LONG)
-            sens = 1.0 / (1.25 * fabs(cs));
+            sens = 1.0 / (LONG_K * fabs(cs));
         if (isnan(sens))
             CHECK(isnan(b->sens_mps));
         else
@@ -1117,19 +1171,20 @@ static void test_bands(void)
     }
     /* By hand. Green 90: pedal at 13.3 m/s (48 km/h -> 45) here, 10 m/s
      * (36 -> 35) on the other grid: grid -10 km/h; converged (window 0);
-     * 1 % of pedal is 1/1.5 m/s = 2.4 km/h: band 35-47.4 km/h, 12.4 wide,
-     * wider than 10 km/h and 25 % of 45: low confidence, widest the grid.
+     * 1 % of pedal is 1/(PEDAL_K 1.5) = 0.5 m/s = 1.8 km/h: band 35-46.8
+     * km/h, 11.8 wide, wider than 10 km/h and 25 % of 45: low confidence,
+     * widest the grid.
      * Red 90: roll at 15 m/s on both (50 km/h), window 4 % of 50 = 2 km/h,
      * roll 0.25 deg 1.39 km/h: band 48-52, confident, widest the window.
      * Head: long cyclic at 28 m/s on both (100 km/h), window not known,
-     * 1 % = 0.8 m/s = 2.88 km/h: band 97.12-102.88. */
+     * 1 % = 1/LONG_K m/s = 2.37 km/h: band 97.63-102.37. */
     for (int i = 0; i < r.n_dirs; i++) {
         const shol_band *b = &r.dirs[i].band;
         double deg = r.dirs[i].dir_rad / CORE_DEG_TO_RAD;
         if (fabs(deg - 90) < 1e-9) {
             CHECK_NEAR(b->grid_mps / KMH, -10, 1e-9);
             CHECK_NEAR(b->lo_mps / KMH, 35, 1e-9);
-            CHECK_NEAR(b->hi_mps / KMH, 45 + 2.4, 1e-9);
+            CHECK_NEAR(b->hi_mps / KMH, 45 + 1.8, 1e-9);
             CHECK(b->low_confidence && b->widest == SHOL_BAND_GRID);
         }
         if (fabs(deg + 90) < 1e-9) {
@@ -1138,8 +1193,8 @@ static void test_bands(void)
             CHECK(!b->low_confidence && b->widest == SHOL_BAND_WINDOW);
         }
         if (fabs(deg) < 1e-9) {
-            CHECK_NEAR(b->lo_mps / KMH, 100 - 2.88, 1e-9);
-            CHECK_NEAR(b->hi_mps / KMH, 100 + 2.88, 1e-9);
+            CHECK_NEAR(b->lo_mps / KMH, 100 - 3.6 / LONG_K, 1e-9);
+            CHECK_NEAR(b->hi_mps / KMH, 100 + 3.6 / LONG_K, 1e-9);
             CHECK(!b->low_confidence && b->widest == SHOL_BAND_SENS);
         }
     }
@@ -1149,8 +1204,8 @@ static void test_bands(void)
     CHECK(n_low >= 1 && n_low < r.n_dirs); /* the rule tells them apart */
     char what[256];
     shol_band_format(&r.dirs[6].band, r.band_grid_label, r.dirs[6].limit, what, sizeof what);
-    CHECK(strcmp(what, "grid -10.0 (gain-2 grid), window +-0.0, 1 % +-2.4") == 0);
-    if (strcmp(what, "grid -10.0 (gain-2 grid), window +-0.0, 1 % +-2.4") != 0)
+    CHECK(strcmp(what, "grid -10.0 (gain-2 grid), window +-0.0, 1 % +-1.8") == 0);
+    if (strcmp(what, "grid -10.0 (gain-2 grid), window +-0.0, 1 % +-1.8") != 0)
         fprintf(stderr, "  band format: %s\n", what);
 
     /* The outputs carry it. */
@@ -1179,19 +1234,19 @@ static void test_bands(void)
     char *js = read_all(path);
     CHECK(js && strstr(js, "\"band_rule\": {\"low_confidence_width_kmh\": 10, \"low_confidence_frac\": 0.25, "
                            "\"grid\": \"gain-2 grid\"}"));
-    CHECK(js && strstr(js, "\"band\": {\"lo_kmh\": 35, \"hi_kmh\": 47.4, \"grid_kmh\": -10, \"window_kmh\": 0, "
-                           "\"sens_kmh\": 2.4, \"open_above\": false, \"widest\": \"grid\", "
+    CHECK(js && strstr(js, "\"band\": {\"lo_kmh\": 35, \"hi_kmh\": 46.8, \"grid_kmh\": -10, \"window_kmh\": 0, "
+                           "\"sens_kmh\": 1.8, \"open_above\": false, \"widest\": \"grid\", "
                            "\"low_confidence\": true}"));
     CHECK(js && strstr(js, "\"window_kmh\": null") && !strstr(js, "nan"));
     free(js);
     snprintf(path, sizeof path, "%s/report.md", dir);
     char *md = read_all(path);
     CHECK(md && strstr(md, "## Uncertainty bands"));
-    CHECK(md && strstr(md, "| green 90 | 45.0 | 35.0-47.4 | grid -10.0 (gain-2 grid), window +-0.0, 1 % +-2.4 | "
+    CHECK(md && strstr(md, "| green 90 | 45.0 | 35.0-46.8 | grid -10.0 (gain-2 grid), window +-0.0, 1 % +-1.8 | "
                            "grid | **low** |"));
     CHECK(md && strstr(md, "| red 90 | 50.0 | 48.0-52.0 |") && strstr(md, "| window | ok |"));
     CHECK(md && strstr(md, "**Low confidence, where an at-sea test is most needed:** ") &&
-          strstr(md, "green 90 (35.0-47.4 km/h, widest: grid)"));
+          strstr(md, "green 90 (35.0-46.8 km/h, widest: grid)"));
     CHECK(md && !strstr(md, "No second grid level"));
     /* beams below the head wind's 100 km/h and limited: no beam note */
     CHECK(md && !strstr(md, "beam winds resting on the steady mean"));
@@ -1489,7 +1544,7 @@ static void test_attribution_model(void)
     model_loads ml = {40e3, 0.004, 30, 10, 1e5};
     model_fill_loads(&ml, &r);
 
-    /* green 90: pedal (60 + 1.5 c > 80 first at 50 km/h); the yaw budget,
+    /* green 90: pedal (50 + PEDAL_K (10 + 1.5 c) > 90 first at 50 km/h); the yaw budget,
      * tail rotor the effector, the fin's weathercock the driver */
     const shol_dir_result *g = dir_of(&r, 90);
     CHECK(g && g->limit == SHOL_CRIT_PEDAL);
@@ -1511,15 +1566,15 @@ static void test_attribution_model(void)
         CHECK_NEAR(a.share[SHOL_COMP_FUS], -dfus / dtr, 1e-9);
         CHECK(isnan(a.share[SHOL_COMP_TR]));
         CHECK(a.closure < 1e-12);
-        CHECK_NEAR(a.control_ref, 60, 1e-9);
-        CHECK_NEAR(a.control_at, 60 + 1.5 * v, 1e-9);
+        CHECK_NEAR(a.control_ref, 50 + PEDAL_K * 10, 1e-9);
+        CHECK_NEAR(a.control_at, 50 + PEDAL_K * (10 + 1.5 * v), 1e-9);
         CHECK_NEAR(a.mr_power_change_W, -2000 * v, 1e-6);
         CHECK_NEAR(a.tr_power_change_W, 0, 1e-9);
         shol_attribution_format(&a, txt, sizeof txt);
         CHECK(strstr(txt, "yaw_moment: fin ") == txt);
         CHECK(strstr(txt, "of the tail rotor's change") != NULL);
-        CHECK(strstr(txt, "pedal 60.0 to 80.8 %") != NULL);
-        if (!strstr(txt, "pedal 60.0 to 80.8 %"))
+        CHECK(strstr(txt, "pedal 63.3 to 91.1 %") != NULL);
+        if (!strstr(txt, "pedal 63.3 to 91.1 %"))
             fprintf(stderr, "  attribution text: %s\n", txt);
     }
     int sec = 0;
@@ -1527,7 +1582,7 @@ static void test_attribution_model(void)
     CHECK(shol_crit_budget(SHOL_CRIT_ROLL, &sec) == SHOL_BUDGET_L && sec == SHOL_BUDGET_Y);
     CHECK(shol_crit_budget(SHOL_LIMIT_TRIM, &sec) == -1 && sec == -1);
 
-    /* head: longitudinal cyclic (50 + 1.25 h > 85 first at 105 km/h); the
+    /* head: longitudinal cyclic (50 + LONG_K h > 92.5 first at 105 km/h); the
      * pitch budget, the stabilator 20 of the 25 h|h| */
     const shol_dir_result *hd = dir_of(&r, 0);
     CHECK(hd && hd->limit == SHOL_CRIT_LONG);
