@@ -153,7 +153,7 @@ void shol_criteria_reading(const shol_criteria *c, char *buf, size_t n)
                  50 - 0.5 * c->lat_cyclic_pct, 50 + 0.5 * c->lat_cyclic_pct);
     snprintf(buf, n,
              "cyclic and pedal limits are displacements from neutral: pedal %g %% = %g-%g %% of travel, %s; "
-             "collective %g %% = above %g %% of travel",
+             "collective %g %% from full down, rejected above %g %%",
              c->pedal_pct, 50 - 0.5 * c->pedal_pct, 50 + 0.5 * c->pedal_pct, cyc, c->collective_pct,
              c->collective_pct);
 }

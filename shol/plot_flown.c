@@ -41,6 +41,16 @@ static void text(cairo_t *cr, double x, double y, double size, int bold, int ha,
     cairo_show_text(cr, s);
 }
 
+/* size, or less so that s fits in width (normal weight). */
+static double fit_size(cairo_t *cr, const char *s, double size, double width)
+{
+    cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, size);
+    cairo_text_extents_t te;
+    cairo_text_extents(cr, s, &te);
+    return te.width > width ? size * width / te.width : size;
+}
+
 static int by_dir(const void *a, const void *b)
 {
     double x = ((const double *)a)[0], y = ((const double *)b)[0];
@@ -156,7 +166,7 @@ static void draw(cairo_t *cr, double W, double H, const shol_flown_result *f, co
     text(cr, W / 2, 62, 15, 0, 0, s);
     if (t) {
         shol_criteria_reading(&t->settings.criteria, s, sizeof s);
-        text(cr, W / 2, 86, 12, 0, 0, s);
+        text(cr, W / 2, 86, fit_size(cr, s, 12, W - 40), 0, 0, s);
     }
     /* rings and spokes */
     cairo_set_line_width(cr, 1);

@@ -215,7 +215,8 @@ int shol_write_report(const char *dir, const shol_result *r, const shol_report_i
                "[shol.json](shol.json).\n\n");
     fprintf(f,
             "| WOD | max speed (%s) | limit | margins at the last pass: roll deg, pitch deg, "
-            "long %%, lat %%, coll %%, pedal %% (points of travel to the limit) | limit moves by | driven by | trim plot |\n|---|---|---|---|---|---|---|\n",
+            "long %%, lat %%, coll %%, pedal %% (points of travel to the limit) | limit moves by | driven by | "
+            "trim plot |\n|---|---|---|---|---|---|---|\n",
             label);
     for (int i = 0; i < r->n_dirs; i++) {
         const shol_dir_result *d = &r->dirs[i];

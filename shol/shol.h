@@ -92,7 +92,8 @@ double shol_criteria_half_band(const shol_criteria *c, int i);
 void shol_criteria_control_bounds(const shol_criteria *c, int i, double *lo_pct, double *hi_pct);
 /* How c's control limits read, for reports and plots: "cyclic and pedal
  * limits are displacements from neutral: pedal 80 % = 10-90 % of travel,
- * cyclic 85 % = 7.5-92.5 %; collective 85 % = above 85 % of travel". */
+ * cyclic 85 % = 7.5-92.5 %; collective 85 % from full down, rejected
+ * above 85 %". */
 void shol_criteria_reading(const shol_criteria *c, char *buf, size_t n);
 
 /* The airframe's components whose loads a trim may report:

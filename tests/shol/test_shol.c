@@ -104,7 +104,7 @@ static void test_criteria_eval(void)
     shol_criteria_reading(&c, rd, sizeof rd);
     CHECK(strstr(rd, "cyclic and pedal limits are displacements from neutral: pedal 80 % = 10-90 % of travel") == rd);
     CHECK(strstr(rd, "cyclic 85 % = 7.5-92.5 %") != NULL);
-    CHECK(strstr(rd, "collective 85 % = above 85 % of travel") != NULL);
+    CHECK(strstr(rd, "collective 85 % from full down, rejected above 85 %") != NULL);
     double blo, bhi;
     shol_criteria_control_bounds(&c, SHOL_CRIT_PEDAL, &blo, &bhi);
     CHECK(blo == 10 && bhi == 90);
