@@ -111,11 +111,10 @@ void couple_destroy(couple_ctx *c)
     free(c->fields);
     free(c);
 }
-/* The relative change of a control or attitude, against at least `floor`.
- * The floors are the smallest margins the rejection criteria leave as
- * shol/criteria.c applies them (docs/conventions.md): 20 % of travel (the
- * pedal's) for a control, 5 deg (the roll limit) for an attitude, so 5 % is
- * 1 % of travel or 0.25 deg near zero. Why not less: a control's percentage
+/* The relative change of a control or attitude, against at least `floor`:
+ * 20 % of travel for a control, 5 deg (the roll limit) for an attitude, so
+ * 5 % is 1 % of travel or 0.25 deg near zero. Why not less (the pedal's
+ * limit leaves 10 % of travel to a stop): a control's percentage
  * has an arbitrary origin (pedal 9.7 % is 90.3 % from the other stop), and
  * with floors of 10 % and 1 deg a point near a stop keeps iterating on
  * changes of 0.6 % of travel and 0.09 deg, below what the averaged fields
