@@ -77,6 +77,7 @@ typedef struct fly_args {
     char sc_task[SIM_PATH_MAX], sc_log[SIM_PATH_MAX], sc_stations[SIM_PATH_MAX];
     const char *replay_log;   /* --pilot replay LOG: the replay pilot re-flies LOG (sim/pilot_replay.c) */
     int feed_controls;        /* --feed-controls: LOG's controls fed forward too */
+    int replay_sas;           /* LOG's SAS (sim_log_summary.sas): 1 on, 0 off, -1 the log does not say */
     int has_start;            /* the flight starts at start_S_m (the replayed run's start) */
     double start_S_m[3];
     /* --render DIR: live frames beside the loop (render_live): their rate
@@ -498,8 +499,9 @@ static void world_overrides(const fly_args *o, const fly_world *w, sim_world_ove
     ov->ship_speed_mps = isnan(o->ship_speed_kt) ? NAN : o->ship_speed_kt * CORE_KT_TO_MPS;
     ov->gear = o->gear;
     ov->start = o->start_deck ? SIM_START_DECK : SIM_START_HOVER;
-    /* the replay pilot's gains are the bare airframe's; the automated pilot flies the SAS */
-    ov->sas = o->pilot && strcmp(o->pilot, "auto") ? 0 : o->sas;
+    /* the replay pilot flies the SAS as the log's run had it (off where the
+     * log does not say), unless --sas; the others as --sas or the aircraft file */
+    ov->sas = o->replay_log && o->sas < 0 ? o->replay_sas > 0 : o->sas;
     ov->field = w->fld;
     ov->interaction = w->inter;
 }
@@ -820,6 +822,7 @@ static int fly_replay(fly_ctx *c, const sim_log *ref, core_err *err)
     po.pilot.wod_speed_mps = w->sw.info.wod_speed_mps;
     po.pilot.wod_dir_rad = w->sw.info.wod_dir_rad;
     po.feed_controls = o->feed_controls;
+    po.pilot.sas = sim_sas_engaged(sim_flight_sas(w->sw.flight)); /* the gains scheduled with it */
     sim_flight_inputs in;
     sim_flight_trim_inputs(w->sw.flight, &in);
     sim_pilot_replay *p = sim_pilot_replay_create(w->ac, ref, &po, &in, c->log, err);
@@ -835,6 +838,8 @@ static int fly_replay(fly_ctx *c, const sim_log *ref, core_err *err)
             w->sc->ship.name, hfm_aircraft_name(w->ac), w->sw.info.wod_speed_mps / CORE_KT_TO_MPS,
             w->sw.info.wod_dir_rad * CORE_RAD_TO_DEG, w->sw.info.sea.state, o->replay_log, info.n_states, info.t1_s,
             info.n_inputs ? "the station's inputs" : "the flown states", o->feed_controls ? ", fed forward" : "", T);
+    fprintf(stderr, "fly: the SAS %s; the log's run flew it %s\n", po.pilot.sas ? "on" : "off",
+            info.sas > 0 ? "on" : info.sas == 0 ? "off" : "unknown (the log does not say: flown off)");
     fly_obs ob = {.row_at_end = 0, .say_ready = 0}; /* a crash ends the run (its row at the rate alone) */
     sim_pilot pilot = sim_pilot_replay_pilot(p);
     int rc = -1;
@@ -988,6 +993,9 @@ int cmd_fly(int argc, char **argv)
             goto done;
         sim_log_sample_at(replay_ref, 0.0, &s0);
         memcpy(o.start_S_m, s0.pos_S_m, sizeof o.start_S_m);
+        sim_log_summary li;
+        sim_log_info(replay_ref, &li);
+        o.replay_sas = li.sas;
         o.has_start = 1;
     }
     if (world_build(&ctx, o.scen, &ctx.w, &err) != 0 ||

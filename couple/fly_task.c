@@ -170,10 +170,11 @@ static const char *phase_name(const couple_fly_task *t, const sim_task_result *r
 
 /* The world of one run (sim_world_build): the ship's motion in the
  * options' sea and the trimmed hover at station_S_m in field at the WOD,
- * with the options' turbulence and the gear; bare: the SAS off. 0; 1
- * when the hover does not trim (a rejection); < 0 with err. */
+ * with the options' turbulence and the gear; sas: 1 on, 0 off, -1 as the
+ * aircraft file engages it. 0; 1 when the hover does not trim (a
+ * rejection); < 0 with err. */
 static int world_start(const couple_fly_task *t, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
-                       const struct cfd_field *field, const double station_S_m[3], int bare, sim_world *w,
+                       const struct cfd_field *field, const double station_S_m[3], int sas, sim_world *w,
                        core_err *err)
 {
     sim_world_overrides ov;
@@ -185,8 +186,7 @@ static int world_start(const couple_fly_task *t, double wod_speed_mps, double wo
     ov.turbulence = t->o.turbulence;
     ov.sea = &t->o.sea;
     ov.gear = t->has_gear;
-    if (bare)
-        ov.sas = 0;
+    ov.sas = sas;
     ov.has_station = 1;
     memcpy(ov.station_S_m, station_S_m, sizeof ov.station_S_m);
     ov.field = field;
@@ -290,7 +290,8 @@ static void fly_judged(const couple_fly_task *t, sim_world *w, const sim_pilot *
 
 /* The replay pilot re-flies a recorded run (sim/pilot_replay.c) as
  * `disim fly --pilot replay` does: from the log's first state, the SAS
- * off, for the log's length. Judged in the same order as a task, with the
+ * as the log says it was (off where it does not say), for the log's
+ * length. Judged in the same order as a task, with the
  * recorded run as the task: a crash; a criterion exceeded before the
  * wheels touch ("CRITERION in PHASE", the reference's phase: hover,
  * translate, descend); a touchdown sink above replay_sink_mps; the flown
@@ -307,8 +308,8 @@ static int run_replay(couple_fly_task *t, double wod_speed_mps, double wod_dir_r
     sim_log_sample_at(ref, info.t0_s, &s0);
     sim_log_sample_at(ref, info.t1_s, &s1);
     sim_world w;
-    /* the replay pilot's gains are the bare airframe's: the SAS off */
-    int rc = world_start(t, wod_speed_mps, wod_dir_rad, seed, field, s0.pos_S_m, 1, &w, err);
+    /* the SAS as the recorded run had it (a log that does not say: off) */
+    int rc = world_start(t, wod_speed_mps, wod_dir_rad, seed, field, s0.pos_S_m, info.sas > 0, &w, err);
     if (rc != 0)
         return rc;
     sim_pilot_replay_opts po;
@@ -316,6 +317,7 @@ static int run_replay(couple_fly_task *t, double wod_speed_mps, double wod_dir_r
     po.pilot.rate_hz = t->o.rate_hz;
     po.pilot.wod_speed_mps = wod_speed_mps;
     po.pilot.wod_dir_rad = wod_dir_rad;
+    po.pilot.sas = sim_sas_engaged(sim_flight_sas(w.flight)); /* the gains scheduled with it */
     po.feed_controls = t->o.replay_feed_controls;
     sim_flight_inputs in;
     sim_flight_trim_inputs(w.flight, &in);
@@ -367,7 +369,7 @@ static int run_auto(couple_fly_task *t, double wod_speed_mps, double wod_dir_rad
     /* the start: a phase task's first point (alongside, astern), else the station */
     sim_world w;
     int rc = world_start(t, wod_speed_mps, wod_dir_rad, seed, field,
-                         t->task.has_start ? t->task.start_S_m : t->o.station_S_m, 0, &w, err);
+                         t->task.has_start ? t->task.start_S_m : t->o.station_S_m, -1, &w, err);
     if (rc != 0)
         return rc;
     /* the pilot as `disim fly --pilot auto` has it: the aircraft's SAS as

@@ -11,7 +11,10 @@
  * clock as the timestamp: every 1 / state_rate_hz a heli_state_t and a
  * ship_state_t of the same utime (the flight's time), every pilot_input_t
  * received, stamped with the run step it was taken at, the sim_status_t
- * and the run_info_t of what the run is flown from.
+ * and the run_info_t of what the run is flown from. The status's flags
+ * say whether the SAS was engaged (FLAG_SAS, FLAG_SAS_OFF); the reader
+ * keeps the first status's (a log whose statuses say neither, of an older
+ * disim, reads as unknown).
  *
  * The writer writes through lcm_eventlog_write_event (the same bytes) to
  * a new file beside the log's path (PATH.tmpPID.N, created exclusively);
@@ -303,6 +306,8 @@ static int open_log(loader *ld, const char *path, core_err *err)
         return core_err_set(err, -1, "%s: not a file: expected an LCM event log (disim fly --log)", path);
     ld->size = (long long)st.st_size;
     ld->L = calloc(1, sizeof *ld->L);
+    if (ld->L)
+        ld->L->info.sas = -1; /* until a status says */
     ld->el = lcm_eventlog_create(path, "r");
     if (!ld->L || !ld->el)
         return core_err_set(err, -1, ld->L ? "%s: cannot read the LCM log" : "%s: out of memory", path);
@@ -484,22 +489,37 @@ static int take_input(loader *ld, const lcm_eventlog_event_t *ev)
     return bad;
 }
 
+/* A sim_status_t checked (a bad one is a corrupt log); the SAS state of
+ * the first that says it kept: 0, or -1 with the error. */
+static int take_status(loader *ld, const lcm_eventlog_event_t *ev)
+{
+    char e[256];
+    if (disim_lcm_check_raw("sim_status_t", ev->data, ev->datalen, e, sizeof e) != 0)
+        return ev_err(&ld->R, e);
+    if (ld->L->info.sas >= 0)
+        return 0;
+    disim_sim_status_t m;
+    if (disim_sim_status_t_decode(ev->data, 0, ev->datalen, &m) != ev->datalen)
+        return ev_err(&ld->R, "sim_status_t: not decoded");
+    if (m.flags & DISIM_SIM_STATUS_T_FLAG_SAS)
+        ld->L->info.sas = 1;
+    else if (m.flags & DISIM_SIM_STATUS_T_FLAG_SAS_OFF)
+        ld->L->info.sas = 0;
+    disim_sim_status_t_decode_cleanup(&m);
+    return 0;
+}
+
 /* One event by its channel (others are passed over): 0, or -1 with the error. */
 static int take_event(loader *ld, const lcm_eventlog_event_t *ev)
 {
-    char e[256];
     if (!strcmp(ev->channel, DISIM_CH_HELI_STATE))
         return take_heli(ld, ev);
     if (!strcmp(ev->channel, DISIM_CH_SHIP_STATE))
         return take_ship(ld, ev);
     if (!strcmp(ev->channel, DISIM_CH_RUN_INFO)) /* what the run was flown from */
         return take_run_info(ld, ev);
-    if (!strcmp(ev->channel, DISIM_CH_SIM_STATUS)) {
-        /* written by the loop, as the states: not used, but a bad one is a corrupt log */
-        if (disim_lcm_check_raw("sim_status_t", ev->data, ev->datalen, e, sizeof e) != 0)
-            return ev_err(&ld->R, e);
-        return 0;
-    }
+    if (!strcmp(ev->channel, DISIM_CH_SIM_STATUS)) /* written by the loop, as the states */
+        return take_status(ld, ev);
     if (!strcmp(ev->channel, DISIM_CH_PILOT_INPUT)) /* received: a message the loop refused is in the log too */
         return take_input(ld, ev);
     return 0;

@@ -445,6 +445,8 @@ static unsigned loop_flags(const sim_loop *l)
         f |= DISIM_SIM_STATUS_T_FLAG_PAUSED;
     if (l->replay)
         f |= DISIM_SIM_STATUS_T_FLAG_REPLAY;
+    /* the SAS, so that a log says how it was flown (the replay pilot flies it alike) */
+    f |= sim_sas_engaged(sim_flight_sas(l->w.flight)) ? DISIM_SIM_STATUS_T_FLAG_SAS : DISIM_SIM_STATUS_T_FLAG_SAS_OFF;
     return f;
 }
 

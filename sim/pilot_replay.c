@@ -39,13 +39,45 @@
  * recorded states: their delays match, and the correction is 0 while the
  * flight is on the recorded trajectory). In the recorded conditions that
  * reproduces the run to the samples' precision; in other conditions the
- * loops' correction carries what the recorded controls get wrong, with the
- * position error it needs (the loops have no integrator).
+ * loops' correction carries what the recorded controls get wrong.
+ *
+ * Integral action. A steady force the gains were not scheduled for (the
+ * airwake's mean downwash and deficit over the deck, the SAS's attitude
+ * hold) leaves a proportional loop a standing error: the velocity loop
+ * needs a velocity error a / w_v for an acceleration a, and the position
+ * loop a position error a / (w_v w_p) for that. The replay pilot
+ * integrates the errors from the reference now (position x, y in S,
+ * height, heading) and adds each integral over its time constant to the
+ * reference the loops are given:
+ *     r' = r + (1 / T_i) int (r - x) dt,
+ * a PI law about each outer loop (with the shadow of feed_controls flying
+ * the reference without it, so that the correction carries it). The rule
+ * for T_i: the integral's corner 1 / T_i a quarter of the loop's
+ * crossover w_c (T_i = 4 / w_c, INT_CORNER), where it costs the loop
+ * atan(1/4) = 14 deg of phase margin: the position loop at pos_bw (0.3
+ * rad/s: T_i = 13.3 s), the height loop at hgt_crossover (2 rad/s: 2 s),
+ * the heading loop at yaw_crossover (1.5 rad/s: 2.7 s); not fitted to a
+ * run. Anti-windup: each integral is clamped so that its share of the
+ * reference asks the loops for at most what the automated pilot's trim
+ * may (opts.trim_s): 1 m/s of commanded speed (INT_SPEED_MPS, 3.3 m of
+ * position at pos_bw 0.3 rad/s), 10 % of collective or pedal travel
+ * through the crossover pilot's lead (INT_CTL_PCT: 10 |K| / (w_c a_L) of
+ * height or heading); all are frozen while a control is at its stop and
+ * while the pilot's hand holds the controls on the deck. The automated
+ * pilot's own trim is off in the replay (sim_pilot_replay_opts_default):
+ * these integrals replace it. What they cost: in the free stream the
+ * reference's slow swings of height (about +-0.3 m over some 8 s) are
+ * followed with the integral's lag, and the errors grow (25 kt, sea
+ * state 4, the port landing: rms 0.25 to 0.32 m, max 0.51 to 0.73 m);
+ * in the CG-47's coarse airwake the steady sidewash and downdraft over the
+ * deck no longer push the replay into the hangar (without them it struck
+ * it at 19 s).
  *
  * Assumptions: the log is of one flight from its start at the scenario's
  * station (the replay's flight starts where the reference starts); the
- * pilot's gains are the bare airframe's (fly with the SAS off, as the
- * automated pilot); the recorded pilot's inputs go through the loop's
+ * flight has the SAS as the recorded run had it (the log's sim_status_t
+ * say: sim_log_summary.sas) and the pilot's gains are scheduled for it
+ * (opts.pilot.sas, as the automated pilot's); the recorded pilot's inputs go through the loop's
  * stations unchanged (one station, never held long enough to matter).
  *
  * Errors reported: the 3-D distance of the flown CG from the reference at
@@ -69,6 +101,10 @@
 #include <string.h>
 
 
+#define INT_CORNER 4.0                       /* T_i = INT_CORNER / w_c */
+#define INT_SPEED_MPS 1.0                    /* the integrals' largest share: of the commanded speed */
+#define INT_CTL_PCT 10.0                     /* of the collective and the pedals */
+
 struct sim_pilot_replay {
     const sim_log *ref;
     sim_pilot_replay_opts o;
@@ -81,6 +117,10 @@ struct sim_pilot_replay {
     double last_u[4];       /* the last controls given */
     double t1_s;            /* the reference's last state's time */
     double ctl0_pct[4];     /* the controls of its first state (the recorded run's trim) */
+    double Ti_pos_s, Ti_hgt_s, Ti_psi_s; /* the integral time constants */
+    double lim_pos_m, lim_hgt_m, lim_psi_rad; /* the integrals' largest share of the reference */
+    double i_pos_S[2], i_hgt, i_psi; /* the integrals of the errors from the reference (m s, rad s) */
+    int stop;               /* the last step had a control at its stop */
     double sum2[SIM_REPLAY_NPHASE + 1];
     sim_replay_result r;
 };
@@ -89,6 +129,7 @@ void sim_pilot_replay_opts_default(sim_pilot_replay_opts *o)
 {
     memset(o, 0, sizeof *o);
     sim_pilot_auto_opts_default(&o->pilot);
+    o->pilot.trim_s = 0.0; /* the replay's own integrals instead */
     o->preview_s = -1.0;
     o->acc_lead_s = -1.0;
 }
@@ -165,6 +206,16 @@ sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_log 
     p->trim_pct[2] = trim->ctl.lat_cyclic_pct, p->trim_pct[3] = trim->ctl.pedal_pct;
     if (o->feed_controls && !(p->shadow = sim_pilot_auto_create(ac, &t, &o->pilot, trim, log, err)))
         goto fail;
+    p->Ti_pos_s = INT_CORNER / o->pilot.pos_bw_radps;
+    p->Ti_hgt_s = INT_CORNER / o->pilot.hgt_crossover_radps;
+    p->Ti_psi_s = INT_CORNER / o->pilot.yaw_crossover_radps;
+    /* the shares: 1 m/s of commanded speed through the position loop; 10 %
+     * of travel through the crossover pilot's lead a_L on the height and
+     * heading errors (w_c / K) a_L e, a_L = max(-a, 0.3 w_c) */
+    double aL_h = fmax(-g.Z_w, 0.3 * o->pilot.hgt_crossover_radps), aL_r = fmax(-g.N_r, 0.3 * o->pilot.yaw_crossover_radps);
+    p->lim_pos_m = INT_SPEED_MPS / o->pilot.pos_bw_radps;
+    p->lim_hgt_m = INT_CTL_PCT * fabs(g.Z_col) / (o->pilot.hgt_crossover_radps * aL_h);
+    p->lim_psi_rad = INT_CTL_PCT * fabs(g.N_ped) / (o->pilot.yaw_crossover_radps * aL_r);
     p->r.t_s = -1.0;
     return p;
 fail:
@@ -201,6 +252,22 @@ static void add_err(sim_replay_err *e, double *sum2, double d, double t_s, doubl
         e->t_max_s = t_s;
     }
     e->duration_s += h_s;
+}
+
+/* The integrals of the errors of out from the reference now, over h:
+ * clamped to their share of the reference, frozen while a control was at
+ * its stop. */
+static void integrate(sim_pilot_replay *p, const sim_flight_out *out, const sim_log_sample *now, double h)
+{
+    if (p->stop)
+        return;
+    double psi_ship = atan2(out->ship.C_ES[3], out->ship.C_ES[0]);
+    double e_psi = core_wrap_pi(now->heading_rad - (out->euler_E_rad[2] - psi_ship));
+    double lp = p->lim_pos_m * p->Ti_pos_s, lh = p->lim_hgt_m * p->Ti_hgt_s, ls = p->lim_psi_rad * p->Ti_psi_s;
+    for (int k = 0; k < 2; k++)
+        p->i_pos_S[k] = fmin(fmax(p->i_pos_S[k] + (now->pos_S_m[k] - out->pos_S_m[k]) * h, -lp), lp);
+    p->i_hgt = fmin(fmax(p->i_hgt + (now->pos_S_m[2] - out->pos_S_m[2]) * h, -lh), lh);
+    p->i_psi = fmin(fmax(p->i_psi + e_psi * h, -ls), ls);
 }
 
 int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_flight_inputs *in)
@@ -241,6 +308,7 @@ int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_fl
         return 0;
     }
     p->deck = 0;
+    integrate(p, out, &now, h);
     /* the loops act on the error from the reference now; what is fed
      * forward is the reference's motion preview_s ahead (the pilot's
      * delay), through the velocity loop (acceleration) and the height
@@ -254,9 +322,14 @@ int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_fl
     for (int i = 0; i < 2; i++)
         ref.vel_S_mps[i] = ahead.vel_S_mps[i] + acc_ahead.acc_S_mps2[i] / p->o.pilot.vel_bw_radps;
     ref.vel_S_mps[2] = ahead.vel_S_mps[2] + (ahead.acc_S_mps2[2] - p->Z_w * ahead.vel_S_mps[2]) / p->o.pilot.hgt_crossover_radps;
-    ref.heading_rad = ahead.heading_rad;
+    ref.heading_rad = core_wrap_pi(ahead.heading_rad);
     ref.mode = SIM_PHASE_HOLD;
-    if (sim_pilot_auto_set_reference(p->pilot, &ref) != 0)
+    sim_pilot_ref ref_i = ref; /* with the integrals */
+    for (int k = 0; k < 2; k++)
+        ref_i.pos_S_m[k] += p->i_pos_S[k] / p->Ti_pos_s;
+    ref_i.pos_S_m[2] += p->i_hgt / p->Ti_hgt_s;
+    ref_i.heading_rad = core_wrap_pi(ref.heading_rad + p->i_psi / p->Ti_psi_s);
+    if (sim_pilot_auto_set_reference(p->pilot, &ref_i) != 0)
         return -1; /* not reached: the log's values were checked finite */
     int stop = sim_pilot_auto_step(p->pilot, out, in);
     if (p->shadow) {
@@ -291,6 +364,7 @@ int sim_pilot_replay_step(sim_pilot_replay *p, const sim_flight_out *out, sim_fl
     }
     if (stop)
         r->stop_steps++;
+    p->stop = stop;
     p->last_u[0] = in->ctl.collective_pct, p->last_u[1] = in->ctl.long_cyclic_pct;
     p->last_u[2] = in->ctl.lat_cyclic_pct, p->last_u[3] = in->ctl.pedal_pct;
     return stop;

@@ -51,6 +51,8 @@ typedef struct sim_log_summary {
     int n_stations;     /* stations heard (2: two or more) */
     char station[SIM_STATION_ID_MAX]; /* the one station's id ("" otherwise) */
     double t0_s, t1_s;  /* the first and the last state's time */
+    int sas;            /* the flight's SAS as its sim_status_t say: 1 engaged, 0 off, -1 unknown
+                           (no status says: a log of an older disim) */
 } sim_log_summary;
 enum { SIM_REPLAY_HOVER = 0, SIM_REPLAY_TRANSLATE = 1, SIM_REPLAY_DESCEND = 2, SIM_REPLAY_ON_DECK = 3,
        SIM_REPLAY_NPHASE = 4 };

@@ -110,7 +110,9 @@ sim_pilot sim_pilot_auto_pilot(sim_pilot_auto *p);
 const char *sim_replay_phase_name(int phase);
 typedef struct sim_pilot_replay sim_pilot_replay;
 typedef struct sim_pilot_replay_opts {
-    sim_pilot_auto_opts pilot; /* the automated pilot's loops (rate, delay, the WOD of the gains) */
+    sim_pilot_auto_opts pilot; /* the automated pilot's loops (rate, delay, the WOD of the gains,
+                                  sas: the flight's SAS; trim_s 0 by default: the replay's own
+                                  integrals on position, height and heading instead) */
     double preview_s;          /* the reference is taken this far ahead (< 0, the default: the pilot's delay) */
     double acc_lead_s;         /* its acceleration this much further (< 0, the default: the attitude
                                   loops' lag, 1 / att_crossover_radps) */
@@ -134,7 +136,9 @@ typedef struct sim_replay_result {
 } sim_replay_result;
 /* A replay pilot for ref (kept by the caller) on aircraft ac, from the
  * flight's trimmed inputs; the flight should start at the reference's
- * start (its first sample's pos_S_m) with the SAS off. NULL with err. */
+ * start (its first sample's pos_S_m) with the SAS as the log says the
+ * recorded run had it (sim_log_summary.sas; off where it does not say),
+ * o->pilot.sas saying the same. NULL with err. */
 sim_pilot_replay *sim_pilot_replay_create(const hfm_aircraft *ac, const sim_log *ref,
                                           const sim_pilot_replay_opts *o, const sim_flight_inputs *trim,
                                           const core_log *log, core_err *err);

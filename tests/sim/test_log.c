@@ -7,7 +7,9 @@
  *    file beside it; after the commit the log and no temporary file.
  * 3. Read back (sim_log_load): the events, states, ship states and the
  *    one station's inputs counted, the states' times and positions as
- *    written (exactly at a sample), the run information as written.
+ *    written (exactly at a sample), the run information as written, the
+ *    SAS engaged as the status's flags say (FLAG_SAS, FLAG_SAS_OFF, and
+ *    unknown for a status with neither, a log of an older disim).
  * 4. The committed log truncated (its last 10 bytes cut) and corrupted
  *    (the third event's sync word overwritten) is refused with an error
  *    naming the file, the event and what is wrong.
@@ -42,7 +44,7 @@ typedef struct event {
 /* The events of a short run: its run_info_t, a status, ten states 20 ms
  * apart (the helicopter sinking 0.1 m a state), an input of one station
  * after the third. */
-static int make_events(event *ev)
+static int make_events(event *ev, int32_t status_flags)
 {
     int n = 0;
     disim_run_info_t ri;
@@ -64,6 +66,7 @@ static int make_events(event *ev)
     st.active_station = -1;
     st.message = (char *)"";
     st.scenario = (char *)"cg47_uh60a";
+    st.flags = status_flags;
     ev[n] = (event){DISIM_CH_SIM_STATUS, 0, 0, {0}};
     ev[n].n = disim_sim_status_t_encode(ev[n].buf, 0, sizeof ev[n].buf, &st);
     n++;
@@ -231,6 +234,7 @@ static void test_read(const char *path, int nev)
     CHECK(s.n_events == nev && s.n_states == NSTATES && s.n_ship == NSTATES);
     CHECK(s.n_inputs == 1 && s.n_stations == 1 && !strcmp(s.station, "seat1") && s.n_inputs_bad == 0);
     CHECK(s.t0_s == 0.0 && s.t1_s == (double)(20000 * (NSTATES - 1)) * 1e-6);
+    CHECK(s.sas == 1); /* the status's FLAG_SAS */
     sim_log_sample x;
     CHECK(sim_log_sample_at(L, (double)60000 * 1e-6, &x) == 0); /* the fourth state's time */
     CHECK(x.pos_S_m[0] == 1.0 && x.pos_S_m[2] == -6.0 + 0.1 * 3);
@@ -243,6 +247,38 @@ static void test_read(const char *path, int nev)
     CHECK(sim_log_run_info(L, &ri) == 0);
     CHECK(!strcmp(ri.scenario, "cg47_uh60a") && ri.seed == 7 && ri.sea.state == 3 && ri.rate_hz == 200.0);
     sim_log_destroy(L);
+}
+
+/* The SAS state of the status read back: engaged, off, and unknown for a
+ * status that says neither (a log of an older disim). */
+static void test_sas(const char *path)
+{
+    static const int32_t flags[3] = {DISIM_SIM_STATUS_T_FLAG_SAS | DISIM_SIM_STATUS_T_FLAG_ON_DECK,
+                                     DISIM_SIM_STATUS_T_FLAG_SAS_OFF, DISIM_SIM_STATUS_T_FLAG_FREE_STREAM};
+    static const int want[3] = {1, 0, -1};
+    static event ev[MAXEV];
+    for (int c = 0; c < 3; c++) {
+        int nev = make_events(ev, flags[c]);
+        core_err err = {0};
+        sim_log_writer *w = sim_log_writer_create(path, &err);
+        CHECK(w != NULL);
+        if (!w)
+            return;
+        for (int i = 0; i < nev; i++)
+            CHECK(sim_log_writer_write(w, ev[i].ch, ev[i].ts, ev[i].buf, ev[i].n, &err) == 0);
+        CHECK(sim_log_writer_commit(w, &err) == 0);
+        sim_log_writer_destroy(w);
+        sim_log *L = sim_log_load(path, &err);
+        CHECK(L != NULL);
+        if (!L)
+            continue;
+        sim_log_summary s;
+        sim_log_info(L, &s);
+        printf("status flags %d: the SAS read back as %d (want %d)\n", (int)flags[c], s.sas, want[c]);
+        CHECK(s.sas == want[c]);
+        sim_log_destroy(L);
+        unlink(path);
+    }
 }
 
 static void expect_refused(const char *what, const char *path, const char *want1, const char *want2)
@@ -337,7 +373,7 @@ int main(void)
     }
     snprintf(path, sizeof path, "%s/run.log", dir);
     static event ev[MAXEV];
-    int nev = make_events(ev);
+    int nev = make_events(ev, DISIM_SIM_STATUS_T_FLAG_SAS);
     CHECK(nev == 2 + 2 * NSTATES + 1);
     for (int i = 0; i < nev; i++)
         CHECK(ev[i].n > 0);
@@ -346,6 +382,7 @@ int main(void)
     test_bad(dir, path);
     unlink(path);
     test_uncommitted(dir, ev);
+    test_sas(path);
     CHECK(rmdir(dir) == 0);
     return check_done("test_log");
 }
