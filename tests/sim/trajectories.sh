@@ -53,5 +53,6 @@ if ! diff "$sums" "$tmp/now.sha256" > "$tmp/diff"; then
     fail=1
 fi
 n=$(wc -l < "$sums")
-[ $fail -eq 0 ] && echo "$n passed, 0 failed" || echo "0 passed, $n failed"
+same=$(sort "$sums" "$tmp/now.sha256" | uniq -d | wc -l)
+echo "$same passed, $((n - same)) failed"
 exit $fail
