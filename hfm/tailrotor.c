@@ -17,11 +17,8 @@
  * Torque CQ = lambda CT_fan + sigma cd0/8 (1 + 4.6 mu^2).
  * Inflow: the air at the hub (hfm_air callback) plus the main-rotor wake,
  * its velocity along the shaft averaged over the tail-rotor disk
- * (body.c); fin blockage scales the thrust (not the inflow, which is solved
- * without it) by b + (1 - b) (V/V_b)^2 below V_b = blockage_below_kt, 1 above,
- * V the air's speed at the hub in the body's x-z plane (GenHel's schedule,
- * b = 0.9 and V_b = 30 kt, as in J-GenHel, U. Saetti, Auburn University, 2022:
- * sideward flow does not lift the blockage).
+ * (body.c); fin blockage scales the thrust below
+ * blockage_below_kt (GenHel: 0.9 below 30 kt), blended over 10 kt.
  * The inflow equation is solved by Newton's method from a momentum first
  * guess (in fixed-step time simulation, from the last evaluation's value).
  * Assumptions: the tail-rotor torque reaction and H-force are neglected.
@@ -35,7 +32,6 @@ int hfm_tailrotor(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, d
     double rel[3];
     if (hfm_air_rel_B(k, t->hub_B, rel))
         return -1;
-    double vxz_kt = sqrt(rel[0] * rel[0] + rel[2] * rel[2]) / CORE_KT_TO_MPS;
     double imm = hfm_wake_speed_disk(ac, w, t->hub_B, t->dir_B, t->R);
     for (int i = 0; i < 3; i++)
         rel[i] += imm * ac->mr.C_BH[i][2];
@@ -79,10 +75,10 @@ int hfm_tailrotor(const hfm_aircraft *ac, const hfm_kin *k, const hfm_wake *w, d
     double l = lc + li, ctf = a0 + a1 * l;
     double q = ac->mr.rho * CORE_PI * t->R * t->R * OR * OR;
     double bf = 1.0;
-    if (vxz_kt < t->blockage_kt) {
-        double f = vxz_kt / t->blockage_kt;
-        bf = t->blockage + (1.0 - t->blockage) * f * f;
-    }
+    if (w->airspeed_kt < t->blockage_kt)
+        bf = t->blockage;
+    else if (w->airspeed_kt < t->blockage_kt + 10.0)
+        bf = t->blockage + (1.0 - t->blockage) * (w->airspeed_kt - t->blockage_kt) / 10.0;
     double T = ctf / ff * q * bf;
     double cq = l * ctf + t->sigma * t->cd0 / 8.0 * (1.0 + 4.6 * mu2);
     for (int i = 0; i < 3; i++)
