@@ -436,7 +436,7 @@ int couple_fly_task_run(couple_fly_task *t, double wod_speed_mps, double wod_dir
     memset(out, 0, sizeof *out);
     memset(&t->last, 0, sizeof t->last);
     t->err[0] = '\0';
-    out->sink_mps = out->dist_m = NAN;
+    out->sink_mps = out->dist_m = out->track_rms_m = out->track_max_m = NAN;
     shol_flown_judge j = {t->o.window_s, t->o.transient_frac};
     shol_flown_track_init(&out->track, &t->crit, &j);
     core_err err = {0};
