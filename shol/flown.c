@@ -385,11 +385,13 @@ static int fly_point(search *w, shol_flown_dir *d, int *cap, double v, shol_flow
     int n_fail = 0, n_track = 0;
     double track_ss = 0.0;
     pt->track_max_m = NAN;
+    pt->n_tracked = -1;
     for (int k = 0; k < w->s->n_seeds; k++) {
         unsigned long long seed = w->s->seed0 + (unsigned long long)k;
         shol_flight f;
         memset(&f, 0, sizeof f);
         f.track_rms_m = f.track_max_m = NAN;
+        f.tracked = -1;
         int rc = w->fly(w->fly_user, v, d->dir_rad, seed, &f);
         w->n_flights++;
         if (rc < 0) {
@@ -412,6 +414,8 @@ static int fly_point(search *w, shol_flown_dir *d, int *cap, double v, shol_flow
         }
         if (isfinite(f.track_max_m) && !(f.track_max_m <= pt->track_max_m))
             pt->track_max_m = f.track_max_m;
+        if (f.tracked >= 0)
+            pt->n_tracked = (pt->n_tracked < 0 ? 0 : pt->n_tracked) + (f.tracked > 0);
         if (f.pass)
             pt->n_pass++;
         else

@@ -102,7 +102,7 @@ int shol_flown_write_csv(const char *dir, const shol_flown_result *fr, core_err 
     if (shol_io_paths(dir, "shol_flown_points.csv", final, tmp, err) < 0 || !(f = shol_io_open(tmp, err)))
         return -1;
     fprintf(f, "wod_dir_deg,speed_kt,speed_kmh,flights,passed,pass_rate,pass,cause,pass_rate_lo,pass_rate_hi,verdict,"
-               "track_rms_m,track_max_m\n");
+               "track_rms_m,track_max_m,tracked\n");
     for (int i = 0; i < fr->n_dirs; i++)
         for (int k = 0; k < fr->dirs[i].n_points; k++) {
             const shol_flown_point *q = &fr->dirs[i].points[k];
@@ -113,6 +113,9 @@ int shol_flown_write_csv(const char *dir, const shol_flown_result *fr, core_err 
             shol_io_num(f, "%.3f", q->track_rms_m);
             fputc(',', f);
             shol_io_num(f, "%.3f", q->track_max_m);
+            fputc(',', f);
+            if (q->n_tracked >= 0)
+                fprintf(f, "%d", q->n_tracked);
             fputc('\n', f);
         }
     return shol_io_commit(f, tmp, final, err);
@@ -172,7 +175,10 @@ int shol_flown_write_json(const char *dir, const shol_flown_result *fr, const sh
             json_num(f, q->track_rms_m);
             fputs(", \"track_max_m\": ", f);
             json_num(f, q->track_max_m);
-            fputc('}', f);
+            if (q->n_tracked >= 0)
+                fprintf(f, ", \"tracked\": %d}", q->n_tracked);
+            else
+                fputs(", \"tracked\": null}", f);
         }
         fprintf(f, "%s]}", d->n_points ? "\n    " : "");
     }
@@ -383,22 +389,27 @@ int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const 
         }
     }
     fprintf(f, "\n## Every point flown\n\nThe criteria's result (the pass rate, its interval and verdict, the most "
-               "frequent cause) and, for the replay pilot, its tracking: the flown CG's distance from the recorded "
-               "run (rms over the flights' rms, the largest max). The tracking is not a rejection criterion: a "
-               "flight fails on \"could not track\" only where that distance exceeded the replay's tolerance and "
-               "nothing came first.\n\n| WOD | speed (kt) | flights | passed | pass rate | 90 %% interval | point | "
-               "verdict | most frequent cause | tracking rms / max (m) |\n|---|---|---|---|---|---|---|---|---|---|\n");
+               "frequent cause) and, for the replay pilot, its tracking beside it: the flown CG's distance from the "
+               "recorded run (rms over the flights' rms, the largest max) and the flights that stayed within the "
+               "replay's tolerance, whatever failed them. The tracking is not a rejection criterion: it is the "
+               "replay's distance from its recording, and a flight fails on \"could not track\" only where that "
+               "distance exceeded the tolerance and no crash, criterion or touchdown sink came first.\n\n| WOD | "
+               "speed (kt) | flights | passed | pass rate | 90 %% interval | point | verdict | most frequent cause "
+               "| tracking rms / max (m) | tracked |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int i = 0; i < fr->n_dirs; i++)
         for (int k = 0; k < fr->dirs[i].n_points; k++) {
             const shol_flown_point *q = &fr->dirs[i].points[k];
             char name[32];
             core_wod_name(fr->dirs[i].dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
-            char tr[48] = "-";
+            char tr[48] = "-", tk[24] = "-";
             if (isfinite(q->track_rms_m))
                 snprintf(tr, sizeof tr, "%.2f / %.2f", q->track_rms_m, q->track_max_m);
-            fprintf(f, "| %s | %.1f | %d | %d | %.2f | %.2f-%.2f | %s | %s | %s | %s |\n", name, kt(q->speed_mps),
-                    q->n_flights, q->n_pass, q->pass_rate, q->rate_lo, q->rate_hi, q->pass ? "pass" : "fail",
-                    shol_flown_verdict_name(q->verdict), q->cause[0] ? q->cause : "-", tr);
+            if (q->n_tracked >= 0)
+                snprintf(tk, sizeof tk, "%d of %d", q->n_tracked, q->n_flights);
+            fprintf(f, "| %s | %.1f | %d | %d | %.2f | %.2f-%.2f | %s | %s | %s | %s | %s |\n", name,
+                    kt(q->speed_mps), q->n_flights, q->n_pass, q->pass_rate, q->rate_lo, q->rate_hi,
+                    q->pass ? "pass" : "fail", shol_flown_verdict_name(q->verdict), q->cause[0] ? q->cause : "-", tr,
+                    tk);
         }
     fprintf(f, "\nFiles: `shol_flown.csv` (per direction), `shol_flown_points.csv` (per point), `shol_flown.json`, "
                "`shol_polar_flown.png`/`.svg`; the trim-based envelope beside them as `shol.csv` and `shol.json`.\n");

@@ -639,6 +639,7 @@ typedef struct shol_flight {
      * criteria: "could not track" is the cause only where the max exceeds
      * the replay's tolerance and nothing came first. */
     double track_rms_m, track_max_m;
+    int tracked;                 /* 1: track_max_m within the replay's tolerance, 0: not, -1: no recording */
     shol_flown_track track;
 } shol_flight;
 
@@ -693,6 +694,8 @@ typedef struct shol_flown_point {
     int verdict;                 /* SHOL_VERDICT_* of [rate_lo, rate_hi] against pass_rate_min */
     double track_rms_m, track_max_m; /* the flights' tracking error (shol_flight): the rms of their
                                         rms, the largest max; NAN where no flight has one */
+    int n_tracked;               /* flights whose tracking stayed within the replay's tolerance,
+                                    whatever their cause (-1: no flight has a recording) */
 } shol_flown_point;
 
 typedef struct shol_flown_dir {
@@ -751,7 +754,8 @@ int shol_flown_as_result(const shol_flown_result *f, const shol_result *trim, sh
  * rate_band_hi_kmh, rate_band_open_above (the pass rate's band);
  * shol_flown_points.csv, one row per flown point: wod_dir_deg, speed_kt,
  * speed_kmh, flights, passed, pass_rate, pass, cause, pass_rate_lo,
- * pass_rate_hi, verdict, track_rms_m, track_max_m (nan where none);
+ * pass_rate_hi, verdict, track_rms_m, track_max_m (nan where none),
+ * tracked (flights within the replay's tolerance; empty without one);
  * shol_flown.json (the settings and every point). */
 int shol_flown_write_csv(const char *dir, const shol_flown_result *f, core_err *err);
 int shol_flown_write_json(const char *dir, const shol_flown_result *f, const shol_report_info *info, core_err *err);

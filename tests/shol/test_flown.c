@@ -500,13 +500,13 @@ static void test_outputs(void)
     for (int i = 0; i < fr.n_dirs; i++)
         npts += fr.dirs[i].n_points;
     const char *phdr = "wod_dir_deg,speed_kt,speed_kmh,flights,passed,pass_rate,pass,cause,pass_rate_lo,"
-                       "pass_rate_hi,verdict,track_rms_m,track_max_m\n";
+                       "pass_rate_hi,verdict,track_rms_m,track_max_m,tracked\n";
     CHECK(pts && !strncmp(pts, phdr, strlen(phdr)));
     /* a point's row ends with its interval, verdict and (no replay) no tracking */
     {
         const shol_flown_point *q = &fr.dirs[1].points[0];
         char tail[128];
-        snprintf(tail, sizeof tail, ",%.3f,%.3f,%s,nan,nan\n", q->rate_lo, q->rate_hi,
+        snprintf(tail, sizeof tail, ",%.3f,%.3f,%s,nan,nan,\n", q->rate_lo, q->rate_hi,
                  shol_flown_verdict_name(q->verdict));
         CHECK(pts && strstr(pts, tail) != NULL);
     }
@@ -759,6 +759,7 @@ static int track_fly(void *user, double v, double d, unsigned long long seed, sh
     snprintf(out->cause, sizeof out->cause, "%s", out->pass ? "" : "could not track");
     out->track_rms_m = seed == 1 ? 0.3 : 0.4;
     out->track_max_m = seed == 1 ? 1.0 : 2.5;
+    out->tracked = seed == 1;
     out->flown_s = 1.0;
     return 0;
 }
@@ -777,7 +778,26 @@ static void test_track_error(void)
     const shol_flown_point *q = &fr.dirs[0].points[0];
     CHECK_NEAR(q->track_rms_m, sqrt((0.09 + 0.16) / 2), 1e-12);
     CHECK_NEAR(q->track_max_m, 2.5, 1e-12);
-    CHECK(q->n_pass == 1 && !strcmp(q->cause, "could not track"));
+    CHECK(q->n_pass == 1 && !strcmp(q->cause, "could not track") && q->n_tracked == 1);
+    CHECK(fr.dirs[0].points[0].n_tracked == 1);
+    /* both in the points file and the report */
+    char dir[] = "/tmp/disim_test_flowntrk_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    CHECK(shol_flown_write_csv(dir, &fr, &err) == 0 && shol_flown_write_report(dir, &fr, &t, NULL, &err) == 0);
+    char path[700];
+    snprintf(path, sizeof path, "%s/shol_flown_points.csv", dir);
+    char *pts = slurp(path);
+    CHECK(pts && strstr(pts, ",\"could not track\",0.121,0.879,undecided,0.354,2.500,1\n"));
+    free(pts);
+    unlink(path);
+    snprintf(path, sizeof path, "%s/shol_flown.csv", dir);
+    unlink(path);
+    snprintf(path, sizeof path, "%s/report.md", dir);
+    char *md = slurp(path);
+    CHECK(md && strstr(md, "| could not track | 0.35 / 2.50 | 1 of 2 |") && strstr(md, "not a rejection criterion"));
+    free(md);
+    unlink(path);
+    rmdir(dir);
     shol_flown_result_free(&fr);
     shol_result_free(&t);
 }
