@@ -14,6 +14,7 @@
  * task tasks/land_<aircraft>.ini beside the scenario) with the automated
  * pilot at each WOD point (--task LOG, a file not named *.ini: the replay
  * pilot re-flies that disim fly --log recording), --seeds N flights per point
+ * (default 11: the fewest at which a point's 90 % Wilson interval can clear 0.8)
  * (--criteria-window-s S: the steady criteria's running mean, else the
  * scenario's [flown] window_s, else 3 s; 0: every step), in the scenario's
  * [sea] state and turbulence, over the one-way airwake, and writes the

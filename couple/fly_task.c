@@ -32,7 +32,8 @@
  * "touchdown position"); the task's adequate tolerances not met
  * ("adequate tolerance: position", height, heading, or time when none is
  * exceeded at the end but the helicopter was not within them by the
- * adequate time); a landing with no touchdown ("no touchdown").
+ * adequate time); a landing with no touchdown ("no touchdown"). The replay pilot's
+ * flights carry their tracking error apart from the criteria (below).
  */
 #include "couple.h"
 
@@ -295,9 +296,13 @@ static void fly_judged(const couple_fly_task *t, sim_world *w, const sim_pilot *
  * recorded run as the task: a crash; a criterion exceeded before the
  * wheels touch ("CRITERION in PHASE", the reference's phase: hover,
  * translate, descend); a touchdown sink above replay_sink_mps; the flown
- * CG farther than replay_pos_m from the reference at any step ("replay
- * tolerance: position"); no touchdown where the recorded run ended on the
- * deck. 0 flown, 1 no trim, < 0 with err. */
+ * CG farther than replay_pos_m from the reference at any step ("could not
+ * track": the replay's distance from its recording, not a rejection
+ * criterion); no touchdown where the recorded run ended on the deck.
+ * The tracking error (the distance's rms and max over the steps flown)
+ * and whether it stayed within replay_pos_m are kept whatever the cause,
+ * so the criteria's result and the tracking are seen apart. 0 flown, 1
+ * no trim, < 0 with err. */
 static int run_replay(couple_fly_task *t, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
                       const struct cfd_field *field, struct shol_flight *out, core_err *err)
 {
@@ -345,6 +350,11 @@ static int run_replay(couple_fly_task *t, double wod_speed_mps, double wod_dir_r
     out->flown_s = o.t_s;
     t->last.end = o;
     t->last.replay = r;
+    if (r.all.n > 0) {
+        out->track_rms_m = r.all.rms_m;
+        out->track_max_m = r.all.max_m;
+        out->tracked = r.all.max_m <= t->o.replay_pos_m;
+    }
     if (b.crashed) {
         /* cause set by the judge */
     } else if (b.exceeded)
@@ -352,7 +362,7 @@ static int run_replay(couple_fly_task *t, double wod_speed_mps, double wod_dir_r
     else if (b.touched && out->sink_mps > t->o.replay_sink_mps)
         snprintf(out->cause, sizeof out->cause, "touchdown sink");
     else if (r.all.max_m > t->o.replay_pos_m)
-        snprintf(out->cause, sizeof out->cause, "replay tolerance: position");
+        snprintf(out->cause, sizeof out->cause, "could not track");
     else if (s1.on_deck && !b.touched)
         snprintf(out->cause, sizeof out->cause, "no touchdown");
     out->grade = out->cause[0] ? 0 : 1;
@@ -436,7 +446,8 @@ int couple_fly_task_run(couple_fly_task *t, double wod_speed_mps, double wod_dir
     memset(out, 0, sizeof *out);
     memset(&t->last, 0, sizeof t->last);
     t->err[0] = '\0';
-    out->sink_mps = out->dist_m = NAN;
+    out->sink_mps = out->dist_m = out->track_rms_m = out->track_max_m = NAN;
+    out->tracked = -1;
     shol_flown_judge j = {t->o.window_s, t->o.transient_frac};
     shol_flown_track_init(&out->track, &t->crit, &j);
     core_err err = {0};

@@ -11,7 +11,27 @@
  * are not met, when the aircraft strikes the ship, or when it cannot be
  * trimmed at the start. Turbulence and waves make a flight random, so a
  * point is judged by its pass rate over n_seeds seeds: it passes when the
- * rate reaches pass_rate_min (0.8 by default: 4 of the default 5 seeds).
+ * rate reaches pass_rate_min (0.8 by default: 9 of the default 11 seeds).
+ *
+ * The pass rate's interval. n seeds sample the pass probability p; the
+ * point's 90 % interval is Wilson's score interval (Wilson 1927, JASA
+ * 22(158), 209-212), which keeps its coverage at rates near 0 and 1 where
+ * the normal interval collapses: with p^ = k/n and z = 1.6449,
+ *     centre = (p^ + z^2/(2n)) / (1 + z^2/n)
+ *     half   = z / (1 + z^2/n) sqrt(p^(1 - p^)/n + z^2/(4n^2))
+ * (9 of 10: 0.652 to 0.977). The rule, a flight-test engineer's: a point
+ * CLEARLY PASSES when the interval's lower bound reaches the threshold,
+ * CLEARLY FAILS when its upper bound is below it, and is UNDECIDED
+ * between (more seeds would decide it). The flown limit is the highest
+ * speed whose pass rate reaches the threshold (the search's verdict, as
+ * before); its band runs from the highest speed flown whose lower bound
+ * clears the threshold to the highest whose upper bound does, open above
+ * where the highest point flown is not a clear failure. The default
+ * number of seeds: with none failing, the lower bound is n/(n + z^2); it
+ * clears 0.8 from n >= 4 z^2 = 10.8, so 11 seeds (at least 10) are the
+ * fewest at which any point can clearly pass; at 11, 9 passes (0.82) give
+ * 0.57 to 0.94 and 7 (0.64) 0.39 to 0.83, an interval wide
+ * near the threshold (about 0.36). More seeds narrow it as 1/sqrt(n).
  *
  * The search per direction (its cost is the point): flights cost about a
  * second each where a one-way trim costs milliseconds, so the flown
@@ -47,6 +67,34 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+
+void shol_wilson(int n_pass, int n, double z, double *lo, double *hi)
+{
+    if (n < 1) {
+        *lo = 0.0;
+        *hi = 1.0;
+        return;
+    }
+    double p = (double)n_pass / n, z2n = z * z / n;
+    double c = (p + 0.5 * z2n) / (1.0 + z2n);
+    double h = z / (1.0 + z2n) * sqrt(p * (1.0 - p) / n + z2n / (4.0 * n));
+    *lo = fmax(0.0, c - h);
+    *hi = fmin(1.0, c + h);
+}
+
+int shol_flown_verdict(double lo, double hi, double thr)
+{
+    if (lo >= thr - 1e-12)
+        return SHOL_VERDICT_PASS;
+    if (hi < thr - 1e-12)
+        return SHOL_VERDICT_FAIL;
+    return SHOL_VERDICT_UNDECIDED;
+}
+
+const char *shol_flown_verdict_name(int verdict)
+{
+    return verdict == SHOL_VERDICT_PASS ? "clear_pass" : verdict == SHOL_VERDICT_FAIL ? "clear_fail" : "undecided";
+}
 
 static const char *const crit_names[SHOL_NCRIT] = {"roll", "pitch", "long_cyclic", "lat_cyclic", "collective", "pedal"};
 
@@ -252,7 +300,7 @@ void shol_flown_track_cause(const shol_flown_track *t, char *buf, size_t n)
 void shol_flown_settings_default(shol_flown_settings *s)
 {
     memset(s, 0, sizeof *s);
-    s->n_seeds = 5;
+    s->n_seeds = 11; /* the fewest (>= 10) at which a point can clearly pass 0.8 (above) */
     s->seed0 = 1;
     s->pass_rate_min = 0.8;
     s->start_steps_below = 2;
@@ -334,11 +382,16 @@ static int fly_point(search *w, shol_flown_dir *d, int *cap, double v, shol_flow
     memset(pt, 0, sizeof *pt);
     pt->speed_mps = v;
     char causes[SHOL_FLOWN_MAX_SEEDS][SHOL_CAUSE_MAX];
-    int n_fail = 0;
+    int n_fail = 0, n_track = 0;
+    double track_ss = 0.0;
+    pt->track_max_m = NAN;
+    pt->n_tracked = -1;
     for (int k = 0; k < w->s->n_seeds; k++) {
         unsigned long long seed = w->s->seed0 + (unsigned long long)k;
         shol_flight f;
         memset(&f, 0, sizeof f);
+        f.track_rms_m = f.track_max_m = NAN;
+        f.tracked = -1;
         int rc = w->fly(w->fly_user, v, d->dir_rad, seed, &f);
         w->n_flights++;
         if (rc < 0) {
@@ -355,6 +408,14 @@ static int fly_point(search *w, shol_flown_dir *d, int *cap, double v, shol_flow
         pt->n_flights++;
         pt->flown_s += f.flown_s;
         w->flown_s += f.flown_s;
+        if (isfinite(f.track_rms_m)) {
+            track_ss += f.track_rms_m * f.track_rms_m;
+            n_track++;
+        }
+        if (isfinite(f.track_max_m) && !(f.track_max_m <= pt->track_max_m))
+            pt->track_max_m = f.track_max_m;
+        if (f.tracked >= 0)
+            pt->n_tracked = (pt->n_tracked < 0 ? 0 : pt->n_tracked) + (f.tracked > 0);
         if (f.pass)
             pt->n_pass++;
         else
@@ -367,6 +428,9 @@ static int fly_point(search *w, shol_flown_dir *d, int *cap, double v, shol_flow
     }
     pt->pass_rate = (double)pt->n_pass / pt->n_flights;
     pt->pass = pt->pass_rate >= w->s->pass_rate_min - 1e-12;
+    shol_wilson(pt->n_pass, pt->n_flights, SHOL_WILSON_Z90, &pt->rate_lo, &pt->rate_hi);
+    pt->verdict = shol_flown_verdict(pt->rate_lo, pt->rate_hi, w->s->pass_rate_min);
+    pt->track_rms_m = n_track ? sqrt(track_ss / n_track) : NAN;
     /* the most frequent cause (ties: the first seen) */
     for (int i = 0; i < n_fail; i++) {
         int n = 0;
@@ -457,6 +521,16 @@ static int run_dir(search *w, int idir, shol_flown_dir *d, core_err *err)
     d->max_speed_mps = d->has_pass ? v_pass : 0.0;
     d->fail_speed_mps = v_fail;
     snprintf(d->cause, sizeof d->cause, "none");
+    /* the band from the pass rate's interval (the model above) */
+    d->rate_band_lo_mps = d->rate_band_hi_mps = NAN;
+    for (int i = 0; i < d->n_points; i++) {
+        const shol_flown_point *q = &d->points[i];
+        if (q->verdict == SHOL_VERDICT_PASS)
+            d->rate_band_lo_mps = q->speed_mps;
+        if (q->verdict != SHOL_VERDICT_FAIL)
+            d->rate_band_hi_mps = q->speed_mps;
+    }
+    d->rate_band_open_above = d->n_points > 0 && d->points[d->n_points - 1].verdict != SHOL_VERDICT_FAIL;
     for (int i = 0; i < d->n_points; i++) {
         const shol_flown_point *q = &d->points[i];
         if (d->has_pass && q->speed_mps == v_pass)

@@ -41,6 +41,15 @@ static void json_str(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* A number, null where not finite. */
+static void json_num(FILE *f, double v)
+{
+    if (isfinite(v))
+        fprintf(f, "%.4f", v);
+    else
+        fputs("null", f);
+}
+
 /* A direction's band: the one shol_flown_run (or shol_flown_bands_update)
  * filled, else one without sources. */
 static void band_of(const shol_flown_result *fr, int i, shol_band *b)
@@ -61,7 +70,7 @@ int shol_flown_write_csv(const char *dir, const shol_flown_result *fr, core_err 
     /* the band's columns after the first nine, as in shol.csv */
     fprintf(f, "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,pass_rate_at_fail,cause,"
                "trim_max_speed_kt,trim_limit,band_lo_kmh,band_hi_kmh,band_grid_kmh,band_window_kmh,band_sens_kmh,"
-               "band_open_above,low_confidence\n");
+               "band_open_above,low_confidence,rate_band_lo_kmh,rate_band_hi_kmh,rate_band_open_above\n");
     for (int i = 0; i < fr->n_dirs; i++) {
         const shol_flown_dir *d = &fr->dirs[i];
         fprintf(f, "%.1f,", d->dir_rad * CORE_RAD_TO_DEG);
@@ -82,19 +91,31 @@ int shol_flown_write_csv(const char *dir, const shol_flown_result *fr, core_err 
         shol_band b;
         band_of(fr, i, &b);
         shol_io_band_csv(f, &b, "%.3f");
-        fputc('\n', f);
+        fputc(',', f);
+        shol_io_num(f, "%.1f", d->rate_band_lo_mps / CORE_KMH_TO_MPS);
+        fputc(',', f);
+        shol_io_num(f, "%.1f", d->rate_band_hi_mps / CORE_KMH_TO_MPS);
+        fprintf(f, ",%d\n", d->rate_band_open_above);
     }
     if (shol_io_commit(f, tmp, final, err) < 0)
         return -1;
     if (shol_io_paths(dir, "shol_flown_points.csv", final, tmp, err) < 0 || !(f = shol_io_open(tmp, err)))
         return -1;
-    fprintf(f, "wod_dir_deg,speed_kt,speed_kmh,flights,passed,pass_rate,pass,cause\n");
+    fprintf(f, "wod_dir_deg,speed_kt,speed_kmh,flights,passed,pass_rate,pass,cause,pass_rate_lo,pass_rate_hi,verdict,"
+               "track_rms_m,track_max_m,tracked\n");
     for (int i = 0; i < fr->n_dirs; i++)
         for (int k = 0; k < fr->dirs[i].n_points; k++) {
             const shol_flown_point *q = &fr->dirs[i].points[k];
             fprintf(f, "%.1f,%.2f,%.1f,%d,%d,%.3f,%d,", fr->dirs[i].dir_rad * CORE_RAD_TO_DEG, kt(q->speed_mps),
                     q->speed_mps / CORE_KMH_TO_MPS, q->n_flights, q->n_pass, q->pass_rate, q->pass);
             csv_str(f, q->cause);
+            fprintf(f, ",%.3f,%.3f,%s,", q->rate_lo, q->rate_hi, shol_flown_verdict_name(q->verdict));
+            shol_io_num(f, "%.3f", q->track_rms_m);
+            fputc(',', f);
+            shol_io_num(f, "%.3f", q->track_max_m);
+            fputc(',', f);
+            if (q->n_tracked >= 0)
+                fprintf(f, "%d", q->n_tracked);
             fputc('\n', f);
         }
     return shol_io_commit(f, tmp, final, err);
@@ -112,10 +133,12 @@ int shol_flown_write_json(const char *dir, const shol_flown_result *fr, const sh
     json_str(f, info && info->title ? info->title : "Candidate SHOL");
     fprintf(f, ",\n  \"method\": \"pilot\",\n  \"settings\": {\"seeds\": %d, \"seed0\": %llu, \"pass_rate_min\": %.3f, "
                "\"start_steps_below\": %d, \"bisect_tol_kmh\": %.2f, \"speed_step_kmh\": %.2f, "
-               "\"speed_max_kmh\": %.2f, \"criteria_window_s\": %.3f, \"transient_frac\": %.3f},\n",
+               "\"speed_max_kmh\": %.2f, \"criteria_window_s\": %.3f, \"transient_frac\": %.3f, "
+               "\"rate_interval\": \"Wilson 90 %%\", \"wilson_z\": %.4f},\n",
             fr->flown.n_seeds, fr->flown.seed0, fr->flown.pass_rate_min, fr->flown.start_steps_below,
             fr->flown.bisect_tol_mps / CORE_KMH_TO_MPS, fr->speed_step_mps / CORE_KMH_TO_MPS,
-            fr->speed_max_mps / CORE_KMH_TO_MPS, fr->flown.judge.window_s, fr->flown.judge.transient_frac);
+            fr->speed_max_mps / CORE_KMH_TO_MPS, fr->flown.judge.window_s, fr->flown.judge.transient_frac,
+            SHOL_WILSON_Z90);
     fprintf(f, "  \"flights\": %d,\n  \"flown_s\": %.1f,\n  \"wall_s\": %.1f,\n  \"directions\": [", fr->n_flights,
             fr->flown_s, fr->wall_s);
     for (int i = 0; i < fr->n_dirs; i++) {
@@ -128,6 +151,11 @@ int shol_flown_write_json(const char *dir, const shol_flown_result *fr, const sh
             fprintf(f, "%.3f", kt(d->fail_speed_mps));
         fprintf(f, ", \"cause\": ");
         json_str(f, d->cause);
+        fputs(", \"rate_band_lo_kt\": ", f);
+        json_num(f, kt(d->rate_band_lo_mps));
+        fputs(", \"rate_band_hi_kt\": ", f);
+        json_num(f, kt(d->rate_band_hi_mps));
+        fprintf(f, ", \"rate_band_open_above\": %d", d->rate_band_open_above);
         shol_band b;
         band_of(fr, i, &b);
         fputs(", \"band\": ", f);
@@ -141,7 +169,16 @@ int shol_flown_write_json(const char *dir, const shol_flown_result *fr, const sh
                        "\"pass\": %d, \"cause\": ",
                     k ? "," : "", kt(q->speed_mps), q->n_flights, q->n_pass, q->pass_rate, q->pass);
             json_str(f, q->cause);
-            fprintf(f, ", \"cause_flights\": %d, \"flown_s\": %.1f}", q->n_cause, q->flown_s);
+            fprintf(f, ", \"cause_flights\": %d, \"flown_s\": %.1f, \"pass_rate_lo\": %.4f, \"pass_rate_hi\": %.4f, "
+                       "\"verdict\": \"%s\", \"track_rms_m\": ",
+                    q->n_cause, q->flown_s, q->rate_lo, q->rate_hi, shol_flown_verdict_name(q->verdict));
+            json_num(f, q->track_rms_m);
+            fputs(", \"track_max_m\": ", f);
+            json_num(f, q->track_max_m);
+            if (q->n_tracked >= 0)
+                fprintf(f, ", \"tracked\": %d}", q->n_tracked);
+            else
+                fputs(", \"tracked\": null}", f);
         }
         fprintf(f, "%s]}", d->n_points ? "\n    " : "");
     }
@@ -195,8 +232,8 @@ static void write_flown_bands(FILE *f, const shol_flown_result *fr, const shol_r
     fprintf(f, "\nThe trim-based band is the hull of its grid, averaging-window and 0.25 deg / 1 %% sources "
                "(docs/shol.md, \"Uncertainty bands\"). The flown band carries the same measured sources to the "
                "flown radius V_f: the trim's grid shift, its window spread s as +- s V_f, its 0.25 deg / 1 %% "
-               "shift; it does not hold the pass rate's sampling over the seeds (the table below has every point's "
-               "rate). Low confidence: a band wider than the larger of %g km/h and %g %% of the limit.\n\n",
+               "shift; it does not hold the pass rate's sampling over the seeds (that is the band from the pass rate's "
+               "interval, above). Low confidence: a band wider than the larger of %g km/h and %g %% of the limit.\n\n",
             trim ? shol_band_rule_of(trim).width_mps / K : 10.0, trim ? 100 * shol_band_rule_of(trim).frac : 25.0);
     if (n_low) {
         fprintf(f, "**Low confidence, where an at-sea test is most needed:** ");
@@ -225,6 +262,30 @@ static void write_flown_bands(FILE *f, const shol_flown_result *fr, const shol_r
     }
 }
 
+/* The limit's band from the pass rate's interval, direction by direction. */
+static void write_rate_bands(FILE *f, const shol_flown_result *fr)
+{
+    fprintf(f, "\n## The limit's band from the pass rate\n\n| WOD | flown limit (kt) | pass rate there (90 %% "
+               "interval) | clearly passes up to (kt) | may pass up to (kt) |\n|---|---|---|---|---|\n");
+    for (int i = 0; i < fr->n_dirs; i++) {
+        const shol_flown_dir *d = &fr->dirs[i];
+        char name[32], lim[16], at[48] = "-", lo[16], hi[48];
+        core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
+        fmt_kt(lim, sizeof lim, d->has_pass, d->max_speed_mps);
+        for (int k = 0; k < d->n_points; k++)
+            if (d->has_pass && d->points[k].speed_mps == d->max_speed_mps)
+                snprintf(at, sizeof at, "%.2f (%.2f-%.2f)", d->points[k].pass_rate, d->points[k].rate_lo,
+                         d->points[k].rate_hi);
+        fmt_kt(lo, sizeof lo, !isnan(d->rate_band_lo_mps), d->rate_band_lo_mps);
+        fmt_kt(hi, sizeof hi, !isnan(d->rate_band_hi_mps), d->rate_band_hi_mps);
+        if (d->rate_band_open_above)
+            snprintf(hi + strlen(hi), sizeof hi - strlen(hi), " (open above: no clear failure flown)");
+        fprintf(f, "| %s | %s | %s | %s | %s |\n", name, lim, at, lo, hi);
+    }
+    fprintf(f, "\n\"none\" in the first band column: no point flown clearly passes (the points below the lowest "
+               "flown are taken as passing, not flown); in the second: every point flown clearly fails.\n");
+}
+
 int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const shol_result *trim,
                             const shol_report_info *info, core_err *err)
 {
@@ -243,6 +304,16 @@ int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const 
             fr->flown.n_seeds, fr->flown.n_seeds == 1 ? "" : "s", fr->flown.seed0,
             fr->flown.seed0 + (unsigned long long)fr->flown.n_seeds - 1, fr->flown.pass_rate_min,
             fr->flown.start_steps_below, fr->flown.start_steps_below == 1 ? "" : "s");
+    fprintf(f, "Pass rate's interval: each point's 90 %% Wilson score interval (Wilson 1927, JASA 22(158); z = "
+               "%.4f). A point **clearly passes** when the interval's lower bound reaches %.2f, **clearly fails** "
+               "when its upper bound is below it, and is **undecided** between (more seeds would decide it). The "
+               "flown limit is the highest speed whose pass rate reaches %.2f; its band runs from the highest speed "
+               "flown whose lower bound clears %.2f to the highest whose upper bound does.\n\n",
+            SHOL_WILSON_Z90, fr->flown.pass_rate_min, fr->flown.pass_rate_min, fr->flown.pass_rate_min);
+    fprintf(f, "Turbulence: where the scenario has it (`[wod] turbulence`, on unless set false; the `flown` line "
+               "below says), every flight flies its own frozen gust field (seeded by the flight's seed) whose "
+               "intensity and length scale come from the airwake field's k and epsilon at the aircraft's CG, "
+               "sampled at every step where the aircraft is (sim/turbulence.c); calm air (0 kt) has none.\n\n");
     if (fr->flown.judge.window_s > 0)
         fprintf(f, "Criteria: the steady limits judge each quantity's running mean over the last %.3g s of the "
                    "task's phase; at every step a control at its stop and a roll or pitch beyond %.3g times its "
@@ -307,6 +378,7 @@ int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const 
                 kt(fr->dirs[ibest].max_speed_mps), tbest >= 0 ? n2 : "none",
                 tbest >= 0 ? kt(fr->dirs[tbest].trim_max_speed_mps) : 0.0);
     }
+    write_rate_bands(f, fr);
     write_flown_bands(f, fr, trim);
     if (info && info->checks) {
         fprintf(f, "\n## Physics checks of the flown envelope\n\n| check | result | detail |\n|---|---|---|\n");
@@ -316,15 +388,28 @@ int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const 
                     c->detail);
         }
     }
-    fprintf(f, "\n## Every point flown\n\n| WOD | speed (kt) | flights | passed | pass rate | point | most frequent "
-               "cause |\n|---|---|---|---|---|---|---|\n");
+    fprintf(f, "\n## Every point flown\n\nThe criteria's result (the pass rate, its interval and verdict, the most "
+               "frequent cause) and, for the replay pilot, its tracking beside it: the flown CG's distance from the "
+               "recorded run (rms over the flights' rms, the largest max) and the flights that stayed within the "
+               "replay's tolerance, whatever failed them. The tracking is not a rejection criterion: it is the "
+               "replay's distance from its recording, and a flight fails on \"could not track\" only where that "
+               "distance exceeded the tolerance and no crash, criterion or touchdown sink came first.\n\n| WOD | "
+               "speed (kt) | flights | passed | pass rate | 90 %% interval | point | verdict | most frequent cause "
+               "| tracking rms / max (m) | tracked |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int i = 0; i < fr->n_dirs; i++)
         for (int k = 0; k < fr->dirs[i].n_points; k++) {
             const shol_flown_point *q = &fr->dirs[i].points[k];
             char name[32];
             core_wod_name(fr->dirs[i].dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
-            fprintf(f, "| %s | %.1f | %d | %d | %.2f | %s | %s |\n", name, kt(q->speed_mps), q->n_flights, q->n_pass,
-                    q->pass_rate, q->pass ? "pass" : "fail", q->cause[0] ? q->cause : "-");
+            char tr[48] = "-", tk[24] = "-";
+            if (isfinite(q->track_rms_m))
+                snprintf(tr, sizeof tr, "%.2f / %.2f", q->track_rms_m, q->track_max_m);
+            if (q->n_tracked >= 0)
+                snprintf(tk, sizeof tk, "%d of %d", q->n_tracked, q->n_flights);
+            fprintf(f, "| %s | %.1f | %d | %d | %.2f | %.2f-%.2f | %s | %s | %s | %s | %s |\n", name,
+                    kt(q->speed_mps), q->n_flights, q->n_pass, q->pass_rate, q->rate_lo, q->rate_hi,
+                    q->pass ? "pass" : "fail", shol_flown_verdict_name(q->verdict), q->cause[0] ? q->cause : "-", tr,
+                    tk);
         }
     fprintf(f, "\nFiles: `shol_flown.csv` (per direction), `shol_flown_points.csv` (per point), `shol_flown.json`, "
                "`shol_polar_flown.png`/`.svg`; the trim-based envelope beside them as `shol.csv` and `shol.json`.\n");

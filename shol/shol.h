@@ -627,11 +627,19 @@ typedef struct shol_flight {
      * "pitch (transient) in hover", "pedal at stop in hover"; "roll in
      * descent" with window_s 0), "touchdown sink", "touchdown position",
      * "adequate tolerance: position|height|heading|time", "no touchdown",
+     * "could not track" (the replay pilot's distance from its recording),
      * "crash: <what hit what>", "no trim". */
     char cause[SHOL_CAUSE_MAX];
     double flown_s;              /* simulated time flown */
     double sink_mps, dist_m;     /* at touchdown (NAN: none) */
     int grade;                   /* the task's grade: 2 desired, 1 adequate, 0 not met */
+    /* The replay pilot's tracking error: the flown CG's distance from the
+     * recorded run at the same time, rms and max over the flight (m);
+     * NAN for a pilot without a recording. It is judged apart from the
+     * criteria: "could not track" is the cause only where the max exceeds
+     * the replay's tolerance and nothing came first. */
+    double track_rms_m, track_max_m;
+    int tracked;                 /* 1: track_max_m within the replay's tolerance, 0: not, -1: no recording */
     shol_flown_track track;
 } shol_flight;
 
@@ -642,10 +650,27 @@ typedef int (*shol_fly_fn)(void *user, double wod_speed_mps, double wod_dir_rad,
                            shol_flight *out);
 
 #define SHOL_FLOWN_MAX_SEEDS 64
+/* The pass rate's interval: the Wilson score interval (Wilson 1927, JASA
+ * 22(158)) at 90 % two-sided, z the normal's 95th percentile. */
+#define SHOL_WILSON_Z90 1.6448536269514722
+/* The Wilson score interval of n_pass passes in n flights at z: *lo, *hi
+ * in [0, 1] (0, 1 when n < 1). */
+void shol_wilson(int n_pass, int n, double z, double *lo, double *hi);
+/* A point's verdict from its interval (shol_flown_point.verdict). */
+enum {
+    SHOL_VERDICT_FAIL = -1,      /* clearly fails: the interval's upper bound is below the threshold */
+    SHOL_VERDICT_UNDECIDED = 0,  /* the interval holds the threshold */
+    SHOL_VERDICT_PASS = 1        /* clearly passes: its lower bound clears the threshold */
+};
+/* The verdict of an interval [lo, hi] against threshold thr. */
+int shol_flown_verdict(double lo, double hi, double thr);
+/* "clear_pass", "undecided", "clear_fail". */
+const char *shol_flown_verdict_name(int verdict);
 typedef struct shol_flown_settings {
-    int n_seeds;                 /* flights per point, seeds seed0 .. seed0 + n - 1 (1..64; default 5) */
+    int n_seeds;                 /* flights per point, seeds seed0 .. seed0 + n - 1 (1..64; default 11:
+                                    the fewest of at least 10 at which a point can clearly pass) */
     unsigned long long seed0;    /* 1 */
-    double pass_rate_min;        /* a point passes when its pass rate is >= this (0.8: 4 of 5) */
+    double pass_rate_min;        /* a point passes when its pass rate is >= this (0.8: 9 of 11) */
     int start_steps_below;       /* the search starts this many speed steps below the trim
                                     envelope's radius (2) */
     double bisect_tol_mps;       /* > 0: bisect [last pass, first failure] to this width; 0 off */
@@ -665,6 +690,12 @@ typedef struct shol_flown_point {
     char cause[SHOL_CAUSE_MAX];  /* the most frequent cause of the failed flights ("" none) */
     int n_cause;                 /* flights that failed with it */
     double flown_s;
+    double rate_lo, rate_hi;     /* the pass rate's 90 % Wilson interval (shol_wilson) */
+    int verdict;                 /* SHOL_VERDICT_* of [rate_lo, rate_hi] against pass_rate_min */
+    double track_rms_m, track_max_m; /* the flights' tracking error (shol_flight): the rms of their
+                                        rms, the largest max; NAN where no flight has one */
+    int n_tracked;               /* flights whose tracking stayed within the replay's tolerance,
+                                    whatever their cause (-1: no flight has a recording) */
 } shol_flown_point;
 
 typedef struct shol_flown_dir {
@@ -676,6 +707,12 @@ typedef struct shol_flown_dir {
     double fail_speed_mps;       /* the lowest failing speed flown, NAN if none */
     double pass_rate_max, pass_rate_fail; /* at those two (NAN when absent) */
     char cause[SHOL_CAUSE_MAX];  /* at fail_speed_mps ("none" when nothing failed) */
+    /* The limit's band from the pass rate's interval: the highest flown
+     * speed whose Wilson lower bound clears pass_rate_min (NAN: none) to
+     * the highest whose upper bound does (NAN: none); open above when the
+     * highest point flown is not a clear failure. */
+    double rate_band_lo_mps, rate_band_hi_mps;
+    int rate_band_open_above;
     int n_points;                /* flown points, by speed */
     shol_flown_point *points;
     shol_band band;              /* shol_flown_band, filled by shol_flown_run and shol_flown_bands_update */
@@ -713,10 +750,13 @@ int shol_flown_as_result(const shol_flown_result *f, const shol_result *trim, sh
  * shol_flown.csv, one row per direction, columns exactly: wod_dir_deg,
  * max_speed_kt, max_speed_kmh, pass_rate_at_max, fail_speed_kt,
  * pass_rate_at_fail, cause, trim_max_speed_kt, trim_limit, then the
- * flown band's seven columns as in shol.csv;
+ * flown band's seven columns as in shol.csv, then rate_band_lo_kmh,
+ * rate_band_hi_kmh, rate_band_open_above (the pass rate's band);
  * shol_flown_points.csv, one row per flown point: wod_dir_deg, speed_kt,
- * speed_kmh, flights, passed, pass_rate, pass, cause; shol_flown.json (the
- * settings and every point). */
+ * speed_kmh, flights, passed, pass_rate, pass, cause, pass_rate_lo,
+ * pass_rate_hi, verdict, track_rms_m, track_max_m (nan where none),
+ * tracked (flights within the replay's tolerance; empty without one);
+ * shol_flown.json (the settings and every point). */
 int shol_flown_write_csv(const char *dir, const shol_flown_result *f, core_err *err);
 int shol_flown_write_json(const char *dir, const shol_flown_result *f, const shol_report_info *info, core_err *err);
 /* DIR/shol_polar_flown.png and .svg: the trim envelope (dashed) and the

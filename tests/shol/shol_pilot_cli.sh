@@ -20,8 +20,13 @@ for f in shol_flown.csv shol_flown_points.csv shol_flown.json shol_polar_flown.p
     [ -s "$tmp/out/$f" ] || { echo "missing output $f"; fail=1; }
 done
 [ -d "$tmp/db/fields" ] && [ -n "$(ls "$tmp/db/fields" 2>/dev/null)" ] && { echo "calm air built a field"; fail=1; }
-head -1 "$tmp/out/shol_flown.csv" | grep -qx "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,pass_rate_at_fail,cause,trim_max_speed_kt,trim_limit,band_lo_kmh,band_hi_kmh,band_grid_kmh,band_window_kmh,band_sens_kmh,band_open_above,low_confidence" \
+head -1 "$tmp/out/shol_flown.csv" | grep -qx "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,pass_rate_at_fail,cause,trim_max_speed_kt,trim_limit,band_lo_kmh,band_hi_kmh,band_grid_kmh,band_window_kmh,band_sens_kmh,band_open_above,low_confidence,rate_band_lo_kmh,rate_band_hi_kmh,rate_band_open_above" \
     || { echo "bad shol_flown.csv header"; head -1 "$tmp/out/shol_flown.csv"; fail=1; }
+head -1 "$tmp/out/shol_flown_points.csv" | grep -qx "wod_dir_deg,speed_kt,speed_kmh,flights,passed,pass_rate,pass,cause,pass_rate_lo,pass_rate_hi,verdict,track_rms_m,track_max_m,tracked" \
+    || { echo "bad shol_flown_points.csv header"; head -1 "$tmp/out/shol_flown_points.csv"; fail=1; }
+# each point's 90 % Wilson interval and verdict; no tracking error for the automated pilot
+[ "$(grep -c ',0\.[0-9]*,[01]\.[0-9]*,\(clear_pass\|undecided\|clear_fail\),nan,nan,$' "$tmp/out/shol_flown_points.csv")" -eq 3 ] \
+    || { echo "shol_flown_points.csv: expected each point's interval and verdict"; cat "$tmp/out/shol_flown_points.csv"; fail=1; }
 [ "$(wc -l < "$tmp/out/shol_flown.csv")" -eq 4 ] || { echo "shol_flown.csv: expected 3 directions"; fail=1; }
 # one point per direction (0 km/h), three flights each
 [ "$(grep -c '^[-0-9.]*,0.00,0.0,3,[0-3],' "$tmp/out/shol_flown_points.csv")" -eq 3 ] \
@@ -41,6 +46,9 @@ grep -q '^| red 30 | 0.0 | none |' "$tmp/out/report.md" || { echo "report.md: no
 grep -q "the replay pilot re-flies .*rec.log, 2 seeds per point" "$tmp/rep.log" && grep -q "replay pilot, recorded run" "$tmp/rep/report.md" \
     && grep -q '"flights": 6,' "$tmp/rep/shol_flown.json" && grep -q '"flown_s": 30.0,' "$tmp/rep/shol_flown.json" \
     || { echo "the replay pilot did not fly the log's 5 s at each point"; cat "$tmp/rep.log"; fail=1; }
+# the replay's tracking error beside the criteria's result: rms and max from the recording, flights within 2 m
+[ "$(grep -c ',[0-9]*\.[0-9]*,[0-9]*\.[0-9]*,[0-2]$' "$tmp/rep/shol_flown_points.csv")" -eq 3 ] && grep -q "could not track" "$tmp/rep/report.md" \
+    || { echo "the replay's tracking error is not in the points"; cat "$tmp/rep/shol_flown_points.csv"; fail=1; }
 # --feed-controls: the recorded controls fed forward too, said in the report; refused with a task file
 "$disim" shol "$scen" --method pilot --task "$tmp/rec.log" --feed-controls --seeds 1 --speed-max-kmh 0 -o "$tmp/repf" \
     --db "$tmp/db" > /dev/null 2> "$tmp/repf.log" && grep -q "rec.log (its controls fed forward)" "$tmp/repf/report.md" \

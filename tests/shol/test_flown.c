@@ -482,7 +482,8 @@ static void test_outputs(void)
     char *csv = slurp(path);
     const char *hdr = "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,"
                       "pass_rate_at_fail,cause,trim_max_speed_kt,trim_limit,band_lo_kmh,band_hi_kmh,band_grid_kmh,"
-                      "band_window_kmh,band_sens_kmh,band_open_above,low_confidence\n";
+                      "band_window_kmh,band_sens_kmh,band_open_above,low_confidence,rate_band_lo_kmh,"
+                      "rate_band_hi_kmh,rate_band_open_above\n";
     CHECK(csv && !strncmp(csv, hdr, strlen(hdr)));
     CHECK(count_lines(csv) == 1 + fr.n_dirs);
     /* head's row: its radius in kt and km/h, its cause quoted, the trim's 40 km/h */
@@ -498,7 +499,17 @@ static void test_outputs(void)
     int npts = 0;
     for (int i = 0; i < fr.n_dirs; i++)
         npts += fr.dirs[i].n_points;
-    CHECK(pts && !strncmp(pts, "wod_dir_deg,speed_kt,speed_kmh,flights,passed,pass_rate,pass,cause\n", 66));
+    const char *phdr = "wod_dir_deg,speed_kt,speed_kmh,flights,passed,pass_rate,pass,cause,pass_rate_lo,"
+                       "pass_rate_hi,verdict,track_rms_m,track_max_m,tracked\n";
+    CHECK(pts && !strncmp(pts, phdr, strlen(phdr)));
+    /* a point's row ends with its interval, verdict and (no replay) no tracking */
+    {
+        const shol_flown_point *q = &fr.dirs[1].points[0];
+        char tail[128];
+        snprintf(tail, sizeof tail, ",%.3f,%.3f,%s,nan,nan,\n", q->rate_lo, q->rate_hi,
+                 shol_flown_verdict_name(q->verdict));
+        CHECK(pts && strstr(pts, tail) != NULL);
+    }
     CHECK(count_lines(pts) == 1 + npts);
     free(pts);
     snprintf(path, sizeof path, "%s/report.md", dir);
@@ -507,11 +518,15 @@ static void test_outputs(void)
     snprintf(row, sizeof row, "| head | %.1f | pedal | %.1f |", 40 * KMH / CORE_KT_TO_MPS,
              h->max_speed_mps / CORE_KT_TO_MPS);
     CHECK(md && strstr(md, row) != NULL);
+    CHECK(md && strstr(md, "Wilson 1927") && strstr(md, "## The limit's band from the pass rate") &&
+          strstr(md, "90 % interval") && strstr(md, "k and epsilon"));
     free(md);
     snprintf(path, sizeof path, "%s/shol_flown.json", dir);
     char *js = slurp(path);
     CHECK(js && strstr(js, "\"method\": \"pilot\"") && strstr(js, "\"seeds\": 5"));
     CHECK(js && strstr(js, "\"criteria_window_s\": 3.000, \"transient_frac\": 0.500"));
+    CHECK(js && strstr(js, "\"wilson_z\": 1.6449") && strstr(js, "\"verdict\": ") && strstr(js, "\"track_max_m\": null") &&
+          strstr(js, "\"rate_band_lo_kt\": "));
     free(js);
     /* the PNG: a valid image of the plot's size */
     snprintf(path, sizeof path, "%s/shol_polar_flown.png", dir);
@@ -598,8 +613,15 @@ static void test_bands(void)
     snprintf(path, sizeof path, "%s/shol_flown.csv", dir);
     char *csv = slurp(path);
     const shol_band *b0 = &fr.dirs[0].band;
-    snprintf(row, sizeof row, ",%.3f,%.3f,-20.000,%.3f,nan,%d,1\n", b0->lo_mps / KMH, b0->hi_mps / KMH,
+    snprintf(row, sizeof row, ",%.3f,%.3f,-20.000,%.3f,nan,%d,1,", b0->lo_mps / KMH, b0->hi_mps / KMH,
              b0->window_mps / KMH, b0->open_above);
+    CHECK(csv && strstr(csv, row));
+    /* then the pass rate's band */
+    const shol_flown_dir *d0 = &fr.dirs[0];
+    char rb[64];
+    snprintf(rb, sizeof rb, "%.1f", d0->rate_band_lo_mps / KMH);
+    snprintf(row + strlen(row), sizeof row - strlen(row), "%s,%.1f,%d\n", isnan(d0->rate_band_lo_mps) ? "nan" : rb,
+             d0->rate_band_hi_mps / KMH, d0->rate_band_open_above);
     CHECK(csv && strstr(csv, row));
     free(csv);
     snprintf(path, sizeof path, "%s/report.md", dir);
@@ -629,8 +651,162 @@ static void test_bands(void)
     shol_result_free(&t);
 }
 
+/* The Wilson score interval (Wilson 1927, JASA 22(158)) at 90 %: with
+ * p = k/n and z = 1.6448536 (z^2 = 2.7055435),
+ *   centre = (p + z^2/(2n)) / (1 + z^2/n), half = z/(1 + z^2/n) sqrt(p(1-p)/n + z^2/(4n^2)).
+ * 9 of 10: z^2/n = 0.27055435, centre = 1.03527717 / 1.27055435 = 0.81482321,
+ * half = 1.29459823 * sqrt(0.009 + 0.00676386) = 0.16254188: 0.65228133 to 0.97736509. */
+static void test_wilson(void)
+{
+    double lo, hi;
+    shol_wilson(9, 10, SHOL_WILSON_Z90, &lo, &hi);
+    CHECK_NEAR(lo, 0.65228133, 1e-7);
+    CHECK_NEAR(hi, 0.97736509, 1e-7);
+    /* none or all passing: the bound at 0 or 1, the other n/(n + z^2) from it */
+    shol_wilson(0, 10, SHOL_WILSON_Z90, &lo, &hi);
+    CHECK_NEAR(lo, 0.0, 1e-12);
+    CHECK_NEAR(hi, 2.7055435 / 12.7055435, 1e-7);
+    shol_wilson(10, 10, SHOL_WILSON_Z90, &lo, &hi);
+    CHECK_NEAR(hi, 1.0, 1e-12);
+    CHECK_NEAR(lo, 10 / 12.7055435, 1e-7); /* 0.787: 10 of 10 is not a clear pass at 0.8 */
+    CHECK(shol_flown_verdict(lo, hi, 0.8) == SHOL_VERDICT_UNDECIDED);
+    shol_wilson(11, 11, SHOL_WILSON_Z90, &lo, &hi);
+    CHECK_NEAR(lo, 11 / 13.7055435, 1e-7); /* 0.803: 11 of 11 is */
+    CHECK(shol_flown_verdict(lo, hi, 0.8) == SHOL_VERDICT_PASS);
+    /* the default seeds: the fewest of at least 10 at which a point can clearly pass 0.8 */
+    shol_flown_settings fs;
+    shol_flown_settings_default(&fs);
+    CHECK(fs.n_seeds == 11 && fs.pass_rate_min == 0.8);
+    /* 11 seeds: 7 passes undecided (0.39-0.83), 6 a clear failure (hi 0.758) */
+    shol_wilson(7, 11, SHOL_WILSON_Z90, &lo, &hi);
+    CHECK(shol_flown_verdict(lo, hi, 0.8) == SHOL_VERDICT_UNDECIDED && hi > 0.82 && hi < 0.83);
+    shol_wilson(6, 11, SHOL_WILSON_Z90, &lo, &hi);
+    CHECK(shol_flown_verdict(lo, hi, 0.8) == SHOL_VERDICT_FAIL && hi > 0.75 && hi < 0.76);
+    CHECK(!strcmp(shol_flown_verdict_name(SHOL_VERDICT_PASS), "clear_pass") &&
+          !strcmp(shol_flown_verdict_name(SHOL_VERDICT_UNDECIDED), "undecided") &&
+          !strcmp(shol_flown_verdict_name(SHOL_VERDICT_FAIL), "clear_fail"));
+}
+
+/* Passes per speed step (11 seeds): seed s passes at step j when s <= npass[j]. */
+static int counts_fly(void *user, double v, double d, unsigned long long seed, shol_flight *out)
+{
+    const int *npass = user;
+    (void)d;
+    long j = lround(v / (5 * KMH));
+    out->pass = (int)seed <= npass[j < 7 ? j : 6];
+    snprintf(out->cause, sizeof out->cause, "%s", out->pass ? "" : "roll in hover");
+    out->flown_s = 1.0;
+    return 0;
+}
+
+/* The limit and its band from synthetic pass counts: 11, 10, 9, 8, ...
+ * passes of 11 at 0, 5, 10, 15 km/h: the limit is 10 km/h (9 of 11 =
+ * 0.82), the clear passes end at 0 (11 of 11, lo 0.803; 10 of 11 has lo
+ * 0.677), 15 km/h (8 of 11, 0.48-0.885) may still pass: the band 0 to
+ * 15 km/h, open above (the search stopped at a failure that is not clear).
+ * With 6 of 11 at 15 km/h (hi 0.758) the band ends at 10 km/h, closed. */
+static void test_rate_band(void)
+{
+    shol_result t;
+    make_trim(&t);
+    for (int i = 0; i < t.n_dirs; i++) {
+        t.dirs[i].has_pass = 1;
+        t.dirs[i].max_speed_mps = 10 * KMH; /* the search starts two steps below: at 0 */
+    }
+    shol_flown_settings fs;
+    shol_flown_settings_default(&fs);
+    int npass[7] = {11, 10, 9, 8, 0, 0, 0};
+    shol_flown_result fr;
+    core_err err = {0};
+    CHECK(shol_flown_run(&fs, &t, counts_fly, npass, NULL, NULL, NULL, &fr, &err) == 0);
+    const shol_flown_dir *d = &fr.dirs[1];
+    CHECK(d->n_points == 4 && d->points[0].n_flights == 11);
+    CHECK_NEAR(d->max_speed_mps, 10 * KMH, 1e-9);
+    CHECK_NEAR(d->fail_speed_mps, 15 * KMH, 1e-9);
+    CHECK(d->points[0].verdict == SHOL_VERDICT_PASS && d->points[1].verdict == SHOL_VERDICT_UNDECIDED &&
+          d->points[2].verdict == SHOL_VERDICT_UNDECIDED && d->points[3].verdict == SHOL_VERDICT_UNDECIDED);
+    CHECK(d->points[2].pass && !d->points[3].pass);
+    CHECK_NEAR(d->rate_band_lo_mps, 0.0, 1e-12);
+    CHECK_NEAR(d->rate_band_hi_mps, 15 * KMH, 1e-9);
+    CHECK(d->rate_band_open_above == 1);
+    double lo, hi;
+    shol_wilson(8, 11, SHOL_WILSON_Z90, &lo, &hi);
+    CHECK_NEAR(d->points[3].rate_lo, lo, 1e-15);
+    CHECK_NEAR(d->points[3].rate_hi, hi, 1e-15);
+    CHECK(isnan(d->points[3].track_rms_m) && isnan(d->points[3].track_max_m));
+    shol_flown_result_free(&fr);
+    npass[3] = 6;
+    CHECK(shol_flown_run(&fs, &t, counts_fly, npass, NULL, NULL, NULL, &fr, &err) == 0);
+    d = &fr.dirs[1];
+    CHECK(d->points[3].verdict == SHOL_VERDICT_FAIL);
+    CHECK_NEAR(d->rate_band_hi_mps, 10 * KMH, 1e-9);
+    CHECK(d->rate_band_open_above == 0);
+    shol_flown_result_free(&fr);
+    /* no clear pass anywhere: the band's lower end is none */
+    int few[7] = {10, 10, 10, 0, 0, 0, 0};
+    CHECK(shol_flown_run(&fs, &t, counts_fly, few, NULL, NULL, NULL, &fr, &err) == 0);
+    CHECK(isnan(fr.dirs[1].rate_band_lo_mps) && fr.dirs[1].has_pass);
+    CHECK_NEAR(fr.dirs[1].rate_band_hi_mps, 10 * KMH, 1e-9);
+    shol_flown_result_free(&fr);
+    shol_result_free(&t);
+}
+
+/* The tracking error: the rms of the flights' rms and the largest max. */
+static int track_fly(void *user, double v, double d, unsigned long long seed, shol_flight *out)
+{
+    (void)user, (void)v, (void)d;
+    out->pass = seed != 2;
+    snprintf(out->cause, sizeof out->cause, "%s", out->pass ? "" : "could not track");
+    out->track_rms_m = seed == 1 ? 0.3 : 0.4;
+    out->track_max_m = seed == 1 ? 1.0 : 2.5;
+    out->tracked = seed == 1;
+    out->flown_s = 1.0;
+    return 0;
+}
+
+static void test_track_error(void)
+{
+    shol_result t;
+    make_trim(&t);
+    t.settings.speed_max_mps = 0;
+    shol_flown_settings fs;
+    shol_flown_settings_default(&fs);
+    fs.n_seeds = 2;
+    shol_flown_result fr;
+    core_err err = {0};
+    CHECK(shol_flown_run(&fs, &t, track_fly, NULL, NULL, NULL, NULL, &fr, &err) == 0);
+    const shol_flown_point *q = &fr.dirs[0].points[0];
+    CHECK_NEAR(q->track_rms_m, sqrt((0.09 + 0.16) / 2), 1e-12);
+    CHECK_NEAR(q->track_max_m, 2.5, 1e-12);
+    CHECK(q->n_pass == 1 && !strcmp(q->cause, "could not track") && q->n_tracked == 1);
+    CHECK(fr.dirs[0].points[0].n_tracked == 1);
+    /* both in the points file and the report */
+    char dir[] = "/tmp/disim_test_flowntrk_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    CHECK(shol_flown_write_csv(dir, &fr, &err) == 0 && shol_flown_write_report(dir, &fr, &t, NULL, &err) == 0);
+    char path[700];
+    snprintf(path, sizeof path, "%s/shol_flown_points.csv", dir);
+    char *pts = slurp(path);
+    CHECK(pts && strstr(pts, ",\"could not track\",0.121,0.879,undecided,0.354,2.500,1\n"));
+    free(pts);
+    unlink(path);
+    snprintf(path, sizeof path, "%s/shol_flown.csv", dir);
+    unlink(path);
+    snprintf(path, sizeof path, "%s/report.md", dir);
+    char *md = slurp(path);
+    CHECK(md && strstr(md, "| could not track | 0.35 / 2.50 | 1 of 2 |") && strstr(md, "not a rejection criterion"));
+    free(md);
+    unlink(path);
+    rmdir(dir);
+    shol_flown_result_free(&fr);
+    shol_result_free(&t);
+}
+
 int main(void)
 {
+    test_wilson();
+    test_rate_band();
+    test_track_error();
     test_track();
     test_track_window();
     test_point_tally();

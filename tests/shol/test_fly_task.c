@@ -336,7 +336,7 @@ int main(void)
      * passes, flying the log's 5 s; with 1 mm allowed from the recorded
      * run, in 5 m/s over a ship in sea state 3 (the reference moves with
      * the deck; the pilot's references are the flight's trim, so the wind
-     * alone would leave it on the reference), it fails the replay tolerance; with a pitch limit below the
+     * alone would leave it on the reference), it could not track (its tracking error, not a criterion); with a pitch limit below the
      * hover's trim it fails at once, in the reference's hover phase. */
     char logp[] = "/tmp/disim_test_fly_task_log_XXXXXX";
     int lfd = mkstemp(logp);
@@ -351,13 +351,18 @@ int main(void)
         rc = replay(ref, &crit, 2.0, 0.0, 0, &rp);
         show("replay, calm", rc, &rp);
         CHECK(rc == 0 && rp.pass && fabs(rp.flown_s - 5.0) < 0.01 && rp.track.n_steps > 900);
+        /* the tracking error kept beside the criteria: within the 2 m */
+        CHECK(rp.tracked == 1 && isfinite(rp.track_rms_m) && rp.track_rms_m <= rp.track_max_m && rp.track_max_m <= 2.0);
         rc = replay(ref, &crit, 0.001, 5.0, 3, &rp);
         show("replay, 5 m/s, sea state 3, 1 mm allowed", rc, &rp);
-        CHECK(rc == 0 && !rp.pass && strcmp(rp.cause, "replay tolerance: position") == 0);
+        CHECK(rc == 0 && !rp.pass && strcmp(rp.cause, "could not track") == 0);
+        CHECK(rp.tracked == 0 && rp.track_max_m > 0.001 && rp.track_rms_m > 0.0 && rp.track_rms_m <= rp.track_max_m);
         rc = replay(ref, &tight, 2.0, 0.0, 0, &rp);
         show("replay, pitch limit below the trim", rc, &rp);
         CHECK(rc == 0 && !rp.pass && strcmp(rp.cause, "pitch (3 s mean) in hover") == 0 &&
               fabs(rp.flown_s - 3.0) < 0.01);
+        /* a criterion failed it: its tracking still reported, apart */
+        CHECK(rp.tracked == 1 && isfinite(rp.track_max_m));
         sim_log_destroy(ref);
     }
     unlink(logp);
