@@ -23,6 +23,9 @@ fi
 src=$1
 out=$2
 tag=${3:-cfd-baseline}
+# The tag's commit, for a clone that did not fetch the tag.
+baseline_commit=e1bd79d38eec47f45296bc22457ab49298302023
+[ $# -lt 3 ] && ! git -C "$src" rev-parse --verify --quiet "$tag^{commit}" > /dev/null && tag=$baseline_commit
 
 if ! commit=$(git -C "$src" rev-parse --verify --quiet "$tag^{commit}"); then
     echo "baseline.sh: no tag or commit '$tag' in $src: the baseline is built from a git checkout" \
