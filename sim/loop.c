@@ -70,10 +70,10 @@ struct sim_loop {
     void *user;
     const core_log *log;
     char scenario_path[SIM_PATH_MAX];
-    char log_path[SIM_PATH_MAX + 32], log_tmp[SIM_PATH_MAX + 64], replay_path[SIM_PATH_MAX];
+    char log_path[SIM_PATH_MAX + 32], replay_path[SIM_PATH_MAX];
     lcm_t *lc;
     lcm_subscription_t *sub_pilot, *sub_ctl;
-    lcm_eventlog_t *elog;
+    sim_log_writer *elog; /* the run's log (sim/log.c), NULL: none */
     lcm_eventlog_t *replay;
     lcm_eventlog_event_t *pending; /* the next replayed event, not yet due */
     int replay_done;
@@ -126,16 +126,8 @@ static void log_event(sim_loop *l, const char *channel, const void *data, int si
 {
     if (!l->elog || l->fatal)
         return;
-    lcm_eventlog_event_t ev;
-    memset(&ev, 0, sizeof ev);
-    ev.timestamp = run_us(l);
-    ev.channellen = (int32_t)strlen(channel);
-    ev.datalen = size;
-    ev.channel = (char *)channel;
-    ev.data = (void *)data;
-    if (lcm_eventlog_write_event(l->elog, &ev) != 0 || ferror(l->elog->f)) {
+    if (sim_log_writer_write(l->elog, channel, run_us(l), data, size, &l->ferr) != 0) {
         l->fatal = 1;
-        core_err_set(&l->ferr, -1, "%s: cannot write the LCM log", l->log_tmp);
         return;
     }
     l->logged++;
@@ -521,11 +513,8 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
     if (o->log_path) {
         snprintf(l->log_path, sizeof l->log_path, "%s", o->log_path);
         l->o.log_path = l->log_path;
-        snprintf(l->log_tmp, sizeof l->log_tmp, "%s.tmp%ld", o->log_path, (long)getpid());
-        if (!(l->elog = lcm_eventlog_create(l->log_tmp, "w"))) {
-            core_err_set(err, -1, "%s: cannot write the LCM log", l->log_tmp);
+        if (!(l->elog = sim_log_writer_create(o->log_path, err)))
             goto fail;
-        }
     }
     if (o->lcm) {
         if (!(l->lc = lcm_create(o->lcm_url))) {
@@ -568,10 +557,7 @@ void sim_loop_destroy(sim_loop *l)
             lcm_unsubscribe(l->lc, l->sub_ctl);
         lcm_destroy(l->lc);
     }
-    if (l->elog) {
-        lcm_eventlog_destroy(l->elog);
-        unlink(l->log_tmp);
-    }
+    sim_log_writer_destroy(l->elog); /* an uncommitted log's temporary file removed */
     if (l->pending)
         lcm_eventlog_free_event(l->pending);
     if (l->replay)
@@ -747,15 +733,10 @@ int sim_loop_finish(sim_loop *l, core_err *err)
         return core_err_set(err, -1, "%s", l->ferr.msg);
     if (!l->elog)
         return 0;
-    FILE *f = l->elog->f;
-    int bad = fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0;
-    lcm_eventlog_destroy(l->elog);
+    int rc = sim_log_writer_commit(l->elog, err);
+    sim_log_writer_destroy(l->elog);
     l->elog = NULL;
-    if (bad || rename(l->log_tmp, l->log_path) != 0) {
-        unlink(l->log_tmp);
-        return core_err_set(err, -1, "%s: cannot write the LCM log (nothing written)", l->log_path);
-    }
-    return 0;
+    return rc;
 }
 
 void sim_loop_report_get(const sim_loop *l, sim_loop_report *r)
