@@ -13,6 +13,7 @@
  * fontconfig); nothing is drawn pixel by pixel.
  */
 #include "io.h"
+#include "plot.h"
 #include "shol.h"
 
 #include <cairo-svg.h>
@@ -21,7 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FONT "DejaVu Sans"
+#define FONT SHOL_PLOT_FONT
 
 typedef struct rgb {
     double r, g, b;
@@ -77,8 +78,8 @@ static double text(cairo_t *cr, double x, double y, double size, int bold, int h
     return te.x_advance;
 }
 
-/* size, or less so that s fits in width (normal weight). */
-static double fit_size(cairo_t *cr, const char *s, double size, double width)
+/* plot.h: size, or less so that s fits in width (normal weight). */
+double shol_plot_fit_size(cairo_t *cr, const char *s, double size, double width)
 {
     cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, size);
@@ -686,7 +687,7 @@ static void polar_legend(cairo_t *cr, double W, double H, const shol_result *r, 
     text(cr, lx + 602, y3, 13, 1, -1, 0, buf);
     set_col(cr, ink);
     shol_criteria_reading(&r->settings.criteria, buf, sizeof buf);
-    text(cr, lx, y3 + 22, fit_size(cr, buf, 12, W - 2 * lx), 0, -1, 0, buf);
+    text(cr, lx, y3 + 22, shol_plot_fit_size(cr, buf, 12, W - 2 * lx), 0, -1, 0, buf);
     if (open) {
         set_col(cr, ink);
         text(cr, W - 20, H - 16, 12, 0, 1, 1,
@@ -1117,7 +1118,7 @@ static void draw_trim(cairo_t *cr, double W, double H, const shol_result *r,
                  d->max_speed_mps / CORE_KT_TO_MPS, d->max_speed_mps / CORE_KMH_TO_MPS);
     text(cr, W / 2, 58, 14, 0, 0, 0, buf);
     shol_criteria_reading(k, buf, sizeof buf);
-    text(cr, W / 2, 82, fit_size(cr, buf, 12, W - 40), 0, 0, 0, buf);
+    text(cr, W / 2, 82, shol_plot_fit_size(cr, buf, 12, W - 40), 0, 0, 0, buf);
 
     /* Data range: speeds up to the last sample (at least one step). */
     double xmax = r->settings.speed_step_mps / CORE_KT_TO_MPS;

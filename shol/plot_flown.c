@@ -9,6 +9,7 @@
  * each direction's flown cause is written beside its first failing point.
  */
 #include "io.h"
+#include "plot.h"
 #include "shol.h"
 
 #include <cairo-svg.h>
@@ -17,7 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FONT "DejaVu Sans"
+#define FONT SHOL_PLOT_FONT
 
 typedef struct fpolar {
     double cx, cy, R, rmax_kt;
@@ -39,16 +40,6 @@ static void text(cairo_t *cr, double x, double y, double size, int bold, int ha,
     double dx = ha < 0 ? -te.x_bearing : ha == 0 ? -(te.x_bearing + te.width / 2) : -(te.x_bearing + te.width);
     cairo_move_to(cr, x + dx, y - (te.y_bearing + te.height / 2));
     cairo_show_text(cr, s);
-}
-
-/* size, or less so that s fits in width (normal weight). */
-static double fit_size(cairo_t *cr, const char *s, double size, double width)
-{
-    cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-    cairo_set_font_size(cr, size);
-    cairo_text_extents_t te;
-    cairo_text_extents(cr, s, &te);
-    return te.width > width ? size * width / te.width : size;
 }
 
 static int by_dir(const void *a, const void *b)
@@ -166,7 +157,7 @@ static void draw(cairo_t *cr, double W, double H, const shol_flown_result *f, co
     text(cr, W / 2, 62, 15, 0, 0, s);
     if (t) {
         shol_criteria_reading(&t->settings.criteria, s, sizeof s);
-        text(cr, W / 2, 86, fit_size(cr, s, 12, W - 40), 0, 0, s);
+        text(cr, W / 2, 86, shol_plot_fit_size(cr, s, 12, W - 40), 0, 0, s);
     }
     /* rings and spokes */
     cairo_set_line_width(cr, 1);
