@@ -88,7 +88,6 @@ struct sim_loop {
     int nq;
     long long seq_heli, seq_ship, seq_status, seq_info, seq_source;
     char source_id[SIM_STATION_ID_MAX]; /* opts.pilot_source_id ("" the stations fly) */
-    sim_flight_inputs source_in;        /* its inputs of the next step */
     long long sent, received, logged, control_refused;
     char message[256];
     double status_wall_s;
@@ -364,7 +363,6 @@ static void publish_source(sim_loop *l, const sim_flight_inputs *in)
     SEND(l, pilot_input_t, DISIM_CH_PILOT_INPUT, &m);
 }
 
-void sim_loop_set_inputs(sim_loop *l, const sim_flight_inputs *in) { l->source_in = *in; }
 
 static void publish_status(sim_loop *l, int state)
 {
@@ -493,7 +491,6 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
         }
         snprintf(l->source_id, sizeof l->source_id, "%s", o->pilot_source_id);
         l->o.pilot_source_id = l->source_id;
-        sim_flight_trim_inputs(w->flight, &l->source_in); /* until the pilot says */
     }
     l->nsteps = llround(o->duration_s * o->rate_hz);
     l->state_every = llround(o->rate_hz / o->state_rate_hz);
@@ -690,18 +687,10 @@ static int stations_step(void *self, const sim_flight_out *out, sim_flight_input
     return 0;
 }
 
-static int inputs_step(void *self, const sim_flight_out *out, sim_flight_inputs *in)
-{
-    const sim_loop *l = self;
-    (void)out;
-    *in = l->source_in;
-    return 0;
-}
-
 sim_pilot sim_loop_own_pilot(sim_loop *l)
 {
-    static const sim_pilot_ops stations = {"stations", stations_step}, inputs = {"inputs", inputs_step};
-    sim_pilot p = {l->source_id[0] ? &inputs : &stations, l};
+    static const sim_pilot_ops stations = {"stations", stations_step};
+    sim_pilot p = {&stations, l};
     return p;
 }
 

@@ -142,10 +142,10 @@ typedef struct sim_loop_opts {
     const char *replay_path; /* NULL; else the pilot inputs and controls of this log, not LCM's */
     const char *scenario_path;
     sim_pilots_opts pilots;
-    /* NULL: the stations fly. Else a pilot in the caller's thread flies
-     * (the automated pilot of disim fly --pilot auto): its inputs, given
-     * by sim_loop_set_inputs before each step, go out on LCM and into the
-     * log as pilot_input_t of this station id at the step they fly, as a
+    /* NULL: the stations fly. Else the caller's pilot, given to sim_run
+     * with the loop's wrap (the automated pilot of disim fly --pilot
+     * auto), flies: its inputs go out on LCM and into the log as
+     * pilot_input_t of this station id at the step they fly, as a
      * station's would, and live pilot inputs are not listened to. */
     const char *pilot_source_id;
 } sim_loop_opts;
@@ -165,9 +165,6 @@ enum { SIM_LOOP_STEPPED = 0, SIM_LOOP_PAUSED = 1, SIM_LOOP_DONE = 2, SIM_LOOP_CR
  * end), or < 0 with err (the integrator, a log write, a publish that
  * failed). */
 int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err);
-/* With opts.pilot_source_id: the inputs of the next step (kept for the
- * steps after until set again) that the loop's own pilot gives. */
-void sim_loop_set_inputs(sim_loop *l, const sim_flight_inputs *in);
 /* The loop as the runner's wrap (o's wrap set, the rest kept): sim_run
  * with it (a NULL flight: the loop steps the world it flies) passes as
  * sim_loop_iterate does, with the pilot the caller gives; the run ends
@@ -176,9 +173,9 @@ void sim_loop_set_inputs(sim_loop *l, const sim_flight_inputs *in);
 void sim_loop_run_opts(sim_loop *l, sim_run_opts *o);
 /* The loop's own pilot: the stations by their rules at the run clock (the
  * messages LCM brought, or with opts.replay_path the replayed log's at
- * their logged steps), or with opts.pilot_source_id the inputs of
- * sim_loop_set_inputs. A pilot of the caller's given to sim_run instead
- * flies as pilot_source_id. */
+ * their logged steps; with none live, the flight holds). With
+ * opts.pilot_source_id the caller gives its own pilot to sim_run instead,
+ * and it flies as that station. */
 sim_pilot sim_loop_own_pilot(sim_loop *l);
 /* The end: a last status (STOPPED), the log flushed, synced and renamed.
  * 0, or < 0 with err (the log is then removed). */
