@@ -183,6 +183,24 @@ out:
     return rc;
 }
 
+/* The air over the spot at the hub, per direction of fr (the report's
+ * evidence for a sheltered but turbulent beam wind), from the fields the
+ * flights flew. 0, or < 0 with err. */
+static int hub_air(couple_fly_task *ft, const couple_fly_task_user *fu, shol_flown_result *fr, core_err *err)
+{
+    for (int i = 0; i < fr->n_dirs; i++) {
+        const shol_flown_dir *d = &fr->dirs[i];
+        if (d->n_points < 1 || !(d->points[d->n_points - 1].speed_mps > 0.0))
+            continue; /* flown in calm air only: no field was asked for, none is built for this */
+        const struct cfd_field *f = NULL;
+        if (fu->field(fu->field_user, fr->dirs[i].dir_rad, &f, err) != 0)
+            return -1;
+        if (f && couple_fly_task_air_at_hub(ft, f, &fr->dirs[i].hub_speed_frac, &fr->dirs[i].hub_ti_frac, err) != 0)
+            return -1;
+    }
+    return 0;
+}
+
 /* Fly the flown envelope over the trim-based one (trim) and write it. */
 static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, const couple_settings *cs,
                      const shol_settings *set, const shol_result *trim, const char *task_path, int seeds,
@@ -252,6 +270,8 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
         }
         goto out;
     }
+    if (hub_air(ft, &fu, &fr, err) != 0)
+        goto out;
     pilot_run pr = {task_path, replay, feed_controls, fo.sea.state, fo.turbulence};
     if (pilot_write(sc, ac, cs, trim, &fr, &pr, outdir, scen, err) != 0)
         goto out;

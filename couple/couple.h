@@ -292,6 +292,14 @@ void couple_fly_task_destroy(couple_fly_task *t);
 int couple_fly_task_run(couple_fly_task *t, double wod_speed_mps, double wod_dir_rad, unsigned long long seed,
                         const struct cfd_field *field, struct shol_flight *out);
 const char *couple_fly_task_last_error(const couple_fly_task *t);
+/* The air the flights meet over the spot: field (a ship-only field)
+ * sampled at the main-rotor hub of the hover station (o.station_S_m plus
+ * the hub's height above the CG), its mean speed and its turbulence
+ * intensity sqrt(2k/3) as fractions of the field's WOD speed (both scale
+ * with the WOD speed, so one number holds at every speed). 0, or < 0 with
+ * err (a field without a WOD speed). */
+int couple_fly_task_air_at_hub(const couple_fly_task *t, const struct cfd_field *field, double *speed_frac,
+                               double *ti_frac, core_err *err);
 /* The last flight's task result and final state. */
 typedef struct couple_fly_task_last {
     sim_task_result result;        /* the automated pilot's */

@@ -36,6 +36,7 @@
  * flights carry their tracking error apart from the criteria (below).
  */
 #include "couple.h"
+#include "cfd.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -120,6 +121,24 @@ couple_fly_task *couple_fly_task_create(const hfm_aircraft *ac, const core_ship 
     hfm_gear g;
     t->has_gear = hfm_aircraft_gear(ac, &g) == 0 && g.nlegs >= 3;
     return t;
+}
+
+int couple_fly_task_air_at_hub(const couple_fly_task *t, const struct cfd_field *field, double *speed_frac,
+                               double *ti_frac, core_err *err)
+{
+    const cfd_meta *m = cfd_field_meta(field);
+    if (!(m->wod_speed_mps > 0.0))
+        return core_err_set(err, -1, "fly_task: a field with WOD speed %g m/s: expected > 0", m->wod_speed_mps);
+    hfm_geometry g;
+    hfm_aircraft_geometry(t->ac, &g);
+    double pos_S_m[3] = {t->o.station_S_m[0], t->o.station_S_m[1], t->o.station_S_m[2] + g.hub_B_m[2]};
+    double v[CFD_NVARS];
+    cfd_field_sample(field, pos_S_m, v);
+    double k = v[CFD_VAR_K] > 0.0 ? v[CFD_VAR_K] : 0.0;
+    *speed_frac = sqrt(v[CFD_VAR_U] * v[CFD_VAR_U] + v[CFD_VAR_V] * v[CFD_VAR_V] + v[CFD_VAR_W] * v[CFD_VAR_W]) /
+                  m->wod_speed_mps;
+    *ti_frac = sqrt(2.0 * k / 3.0) / m->wod_speed_mps;
+    return 0;
 }
 
 void couple_fly_task_destroy(couple_fly_task *t)

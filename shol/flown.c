@@ -36,12 +36,18 @@
  * The search per direction (its cost is the point): flights cost about a
  * second each where a one-way trim costs milliseconds, so the flown
  * search starts near the trim envelope's boundary instead of at 0: at the
- * grid speed start_steps_below steps below the trim radius; from a pass
- * it steps up until a point fails, from a failure it steps down until a
- * point passes (or 0 fails). The bracket may then be bisected. The points
- * below the lowest speed flown are taken as passing without being flown:
- * the assumption, as in the trim-based procedure, is that along a
- * direction the envelope is crossed once.
+ * grid speed start_steps_below steps below the trim radius. Unless that
+ * point clearly passes, it steps down until one does (or 0 is flown;
+ * with too few seeds for any point to pass clearly, until one passes);
+ * unless it clearly fails, it steps up until one does (or the top of the
+ * search), past points that fail narrowly (undecided), since the limit is
+ * the highest speed whose pass rate clears the threshold below the lowest
+ * clear failure, and the band needs both of its ends flown. The bracket
+ * between that limit and the lowest failing speed above it may then be
+ * bisected. The points below the lowest speed flown are taken as passing
+ * without being flown: the assumption, as in the trim-based procedure, is
+ * that along a direction the envelope is crossed once; where a clear
+ * failure sits below it, the clear failure ends the search.
  *
  * The tracker (shol_flown_track). Table 4's limits are the trim's, steady
  * values, read as shol_criteria_eval reads them (a cyclic's or the
@@ -456,6 +462,52 @@ static int by_speed(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* The lowest speed flown that clearly fails (INFINITY: none). */
+static double clear_fail_speed(const shol_flown_dir *d)
+{
+    double v = INFINITY;
+    for (int i = 0; i < d->n_points; i++)
+        if (d->points[i].verdict == SHOL_VERDICT_FAIL && d->points[i].speed_mps < v)
+            v = d->points[i].speed_mps;
+    return v;
+}
+
+/* The limit: the highest passing speed below the lowest clear failure
+ * (NAN: none); the failure it is bisected against: the lowest failing
+ * speed above it (NAN: none). */
+static void bracket(const shol_flown_dir *d, double *v_pass, double *v_fail)
+{
+    double v_clear = clear_fail_speed(d);
+    *v_pass = *v_fail = NAN;
+    for (int i = 0; i < d->n_points; i++) {
+        const shol_flown_point *q = &d->points[i];
+        if (q->pass && q->speed_mps < v_clear && !(q->speed_mps <= *v_pass))
+            *v_pass = q->speed_mps;
+    }
+    for (int i = 0; i < d->n_points; i++) {
+        const shol_flown_point *q = &d->points[i];
+        if (!q->pass && (isnan(*v_pass) || q->speed_mps > *v_pass) && !(q->speed_mps >= *v_fail))
+            *v_fail = q->speed_mps;
+    }
+}
+
+/* The band from the pass rate's interval (the model above), over the
+ * points below the lowest clear failure; d->points sorted by speed. */
+static void rate_band(shol_flown_dir *d)
+{
+    double v_clear = clear_fail_speed(d);
+    d->rate_band_lo_mps = d->rate_band_hi_mps = NAN;
+    for (int i = 0; i < d->n_points; i++) {
+        const shol_flown_point *q = &d->points[i];
+        if (q->speed_mps >= v_clear)
+            break;
+        if (q->verdict == SHOL_VERDICT_PASS)
+            d->rate_band_lo_mps = q->speed_mps;
+        d->rate_band_hi_mps = q->speed_mps;
+    }
+    d->rate_band_open_above = d->n_points > 0 && isinf(v_clear);
+}
+
 static int run_dir(search *w, int idir, shol_flown_dir *d, core_err *err)
 {
     const shol_dir_result *td = &w->trim->dirs[idir];
@@ -465,6 +517,7 @@ static int run_dir(search *w, int idir, shol_flown_dir *d, core_err *err)
     d->trim_max_speed_mps = td->has_pass ? td->max_speed_mps : 0.0;
     d->trim_limit = td->limit;
     d->fail_speed_mps = d->pass_rate_max = d->pass_rate_fail = NAN;
+    d->hub_speed_frac = d->hub_ti_frac = NAN;
     int cap = 0;
     long k_top = (long)floor(vmax / step + 1e-9);
     long k = (long)floor(d->trim_max_speed_mps / step + 1e-9) - w->s->start_steps_below;
@@ -477,33 +530,34 @@ static int run_dir(search *w, int idir, shol_flown_dir *d, core_err *err)
     report(w, idir, k * step, 0.0, 0);
     if (fly_point(w, d, &cap, k * step, &pt, err) != 0)
         return -1;
-    /* speeds, not pointers: the points move when the array grows */
-    double v_pass = NAN, v_fail = NAN;
-    if (pt->pass) {
-        v_pass = pt->speed_mps;
+    /* speeds, not pointers: the points move when the array grows. Down
+     * from a failure until a point clearly passes (or 0); up from the
+     * start until a point clearly fails (or the top): the band's ends are
+     * then both flown (the model above). */
+    int start_clear_fail = pt->verdict == SHOL_VERDICT_FAIL;
+    /* below 11 seeds (at the default threshold) no point can clearly
+     * pass: down then only to a pass */
+    double all_lo, all_hi;
+    shol_wilson(w->s->n_seeds, w->s->n_seeds, SHOL_WILSON_Z90, &all_lo, &all_hi);
+    int can_clear = all_lo >= w->s->pass_rate_min - 1e-12;
+    if (pt->verdict != SHOL_VERDICT_PASS && (can_clear || !pt->pass)) {
+        for (long j = k - 1; j >= 0 && pt->verdict != SHOL_VERDICT_PASS && (can_clear || !pt->pass); j--) {
+            report(w, idir, j * step, (k - j) / (k + 1.0), 0);
+            if (fly_point(w, d, &cap, j * step, &pt, err) != 0)
+                return -1;
+        }
+    }
+    if (!start_clear_fail) {
         for (long j = k + 1; j <= k_top; j++) {
             report(w, idir, j * step, (j - k) / (frac_den - k), 0);
             if (fly_point(w, d, &cap, j * step, &pt, err) != 0)
                 return -1;
-            if (!pt->pass) {
-                v_fail = pt->speed_mps;
+            if (pt->verdict == SHOL_VERDICT_FAIL)
                 break;
-            }
-            v_pass = pt->speed_mps;
-        }
-    } else {
-        v_fail = pt->speed_mps;
-        for (long j = k - 1; j >= 0; j--) {
-            report(w, idir, j * step, (k - j) / (k + 1.0), 0);
-            if (fly_point(w, d, &cap, j * step, &pt, err) != 0)
-                return -1;
-            if (pt->pass) {
-                v_pass = pt->speed_mps;
-                break;
-            }
-            v_fail = pt->speed_mps;
         }
     }
+    double v_pass, v_fail;
+    bracket(d, &v_pass, &v_fail);
     if (w->s->bisect_tol_mps > 0 && !isnan(v_pass) && !isnan(v_fail)) {
         while (v_fail - v_pass > w->s->bisect_tol_mps) {
             double v = 0.5 * (v_pass + v_fail);
@@ -521,16 +575,7 @@ static int run_dir(search *w, int idir, shol_flown_dir *d, core_err *err)
     d->max_speed_mps = d->has_pass ? v_pass : 0.0;
     d->fail_speed_mps = v_fail;
     snprintf(d->cause, sizeof d->cause, "none");
-    /* the band from the pass rate's interval (the model above) */
-    d->rate_band_lo_mps = d->rate_band_hi_mps = NAN;
-    for (int i = 0; i < d->n_points; i++) {
-        const shol_flown_point *q = &d->points[i];
-        if (q->verdict == SHOL_VERDICT_PASS)
-            d->rate_band_lo_mps = q->speed_mps;
-        if (q->verdict != SHOL_VERDICT_FAIL)
-            d->rate_band_hi_mps = q->speed_mps;
-    }
-    d->rate_band_open_above = d->n_points > 0 && d->points[d->n_points - 1].verdict != SHOL_VERDICT_FAIL;
+    rate_band(d);
     for (int i = 0; i < d->n_points; i++) {
         const shol_flown_point *q = &d->points[i];
         if (d->has_pass && q->speed_mps == v_pass)

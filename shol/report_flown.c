@@ -156,6 +156,10 @@ int shol_flown_write_json(const char *dir, const shol_flown_result *fr, const sh
         fputs(", \"rate_band_hi_kt\": ", f);
         json_num(f, kt(d->rate_band_hi_mps));
         fprintf(f, ", \"rate_band_open_above\": %d", d->rate_band_open_above);
+        fputs(", \"hub_speed_frac\": ", f);
+        json_num(f, d->hub_speed_frac);
+        fputs(", \"hub_ti_frac\": ", f);
+        json_num(f, d->hub_ti_frac);
         shol_band b;
         band_of(fr, i, &b);
         fputs(", \"band\": ", f);
@@ -266,7 +270,8 @@ static void write_flown_bands(FILE *f, const shol_flown_result *fr, const shol_r
 static void write_rate_bands(FILE *f, const shol_flown_result *fr)
 {
     fprintf(f, "\n## The limit's band from the pass rate\n\n| WOD | flown limit (kt) | pass rate there (90 %% "
-               "interval) | clearly passes up to (kt) | may pass up to (kt) |\n|---|---|---|---|---|\n");
+               "interval) | clearly passes up to (kt) | may pass up to (kt) | air at the hub over the spot: mean "
+               "speed, turbulence intensity (%% of WOD) |\n|---|---|---|---|---|---|\n");
     for (int i = 0; i < fr->n_dirs; i++) {
         const shol_flown_dir *d = &fr->dirs[i];
         char name[32], lim[16], at[48] = "-", lo[16], hi[48];
@@ -280,10 +285,17 @@ static void write_rate_bands(FILE *f, const shol_flown_result *fr)
         fmt_kt(hi, sizeof hi, !isnan(d->rate_band_hi_mps), d->rate_band_hi_mps);
         if (d->rate_band_open_above)
             snprintf(hi + strlen(hi), sizeof hi - strlen(hi), " (open above: no clear failure flown)");
-        fprintf(f, "| %s | %s | %s | %s | %s |\n", name, lim, at, lo, hi);
+        char air[48] = "not known";
+        if (isfinite(d->hub_speed_frac) && isfinite(d->hub_ti_frac))
+            snprintf(air, sizeof air, "%.0f %%, %.1f %%", 100.0 * d->hub_speed_frac, 100.0 * d->hub_ti_frac);
+        fprintf(f, "| %s | %s | %s | %s | %s | %s |\n", name, lim, at, lo, hi, air);
     }
     fprintf(f, "\n\"none\" in the first band column: no point flown clearly passes (the points below the lowest "
-               "flown are taken as passing, not flown); in the second: every point flown clearly fails.\n");
+               "flown are taken as passing, not flown); in the second: every point flown clearly fails. The air at the "
+               "hub: the direction's ship-only field at the main-rotor hub of the hover over the spot, its mean "
+               "speed and sqrt(2k/3), each over the WOD speed: where the mean is sheltered (well under 100 %%) "
+               "the intensity says how much of the wind comes as turbulence, which the flights fly and a trim "
+               "cannot see.\n");
 }
 
 int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const shol_result *trim,
@@ -307,8 +319,9 @@ int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const 
     fprintf(f, "Pass rate's interval: each point's 90 %% Wilson score interval (Wilson 1927, JASA 22(158); z = "
                "%.4f). A point **clearly passes** when the interval's lower bound reaches %.2f, **clearly fails** "
                "when its upper bound is below it, and is **undecided** between (more seeds would decide it). The "
-               "flown limit is the highest speed whose pass rate reaches %.2f; its band runs from the highest speed "
-               "flown whose lower bound clears %.2f to the highest whose upper bound does.\n\n",
+               "flown limit is the highest speed whose pass rate reaches %.2f below the lowest speed that clearly "
+               "fails (the search flies up to that failure); its band runs from the highest speed flown whose "
+               "lower bound clears %.2f to the highest whose upper bound does.\n\n",
             SHOL_WILSON_Z90, fr->flown.pass_rate_min, fr->flown.pass_rate_min, fr->flown.pass_rate_min);
     fprintf(f, "Turbulence: where the scenario has it (`[wod] turbulence`, on unless set false; the `flown` line "
                "below says), every flight flies its own frozen gust field (seeded by the flight's seed) whose "

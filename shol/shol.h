@@ -707,12 +707,17 @@ typedef struct shol_flown_dir {
     double fail_speed_mps;       /* the lowest failing speed flown, NAN if none */
     double pass_rate_max, pass_rate_fail; /* at those two (NAN when absent) */
     char cause[SHOL_CAUSE_MAX];  /* at fail_speed_mps ("none" when nothing failed) */
-    /* The limit's band from the pass rate's interval: the highest flown
-     * speed whose Wilson lower bound clears pass_rate_min (NAN: none) to
-     * the highest whose upper bound does (NAN: none); open above when the
-     * highest point flown is not a clear failure. */
+    /* The limit's band from the pass rate's interval, below the lowest
+     * speed that clearly fails: the highest flown speed whose Wilson lower
+     * bound clears pass_rate_min (NAN: none) to the highest whose upper
+     * bound does (NAN: none); open above when no point flown clearly
+     * fails. */
     double rate_band_lo_mps, rate_band_hi_mps;
     int rate_band_open_above;
+    /* The air over the spot at the rotor hub, from the direction's field
+     * (the caller fills them; NAN: not known): mean speed and turbulence
+     * intensity sqrt(2k/3), each a fraction of the WOD speed. */
+    double hub_speed_frac, hub_ti_frac;
     int n_points;                /* flown points, by speed */
     shol_flown_point *points;
     shol_band band;              /* shol_flown_band, filled by shol_flown_run and shol_flown_bands_update */
@@ -731,9 +736,11 @@ void shol_flown_result_free(shol_flown_result *r);
 /* The flown procedure, per direction of trim (the trim-based envelope,
  * whose settings give the speed step and maximum): start at the speed
  * grid point start_steps_below steps below the trim radius (at least 0);
- * if that point passes, step up by the speed step until a point fails or
- * speed_max is passed; if it fails, step down until a point passes or 0
- * has failed; then optionally bisect. Points below the lowest flown speed
+ * unless that point clearly passes, step down until one does or 0 is
+ * flown; unless it clearly fails, step up by the speed step until one
+ * does or speed_max is passed; the limit is the highest passing speed
+ * below the lowest clear failure; then optionally bisect between it and
+ * the lowest failing speed above it. Points below the lowest flown speed
  * are taken as passing (not flown). progress (n_trims counts flights) and
  * log may be NULL. 0 and out filled, or < 0 with err (a fatal callback
  * error names the direction, speed and seed). */

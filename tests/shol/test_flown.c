@@ -702,9 +702,13 @@ static int counts_fly(void *user, double v, double d, unsigned long long seed, s
 /* The limit and its band from synthetic pass counts: 11, 10, 9, 8, ...
  * passes of 11 at 0, 5, 10, 15 km/h: the limit is 10 km/h (9 of 11 =
  * 0.82), the clear passes end at 0 (11 of 11, lo 0.803; 10 of 11 has lo
- * 0.677), 15 km/h (8 of 11, 0.48-0.885) may still pass: the band 0 to
- * 15 km/h, open above (the search stopped at a failure that is not clear).
- * With 6 of 11 at 15 km/h (hi 0.758) the band ends at 10 km/h, closed. */
+ * 0.677), 15 km/h (8 of 11, 0.48-0.885) may still pass: the search flies
+ * on to the clear failure at 20 km/h (0 of 11), and the band is 0 to
+ * 15 km/h, closed. With 6 of 11 at 15 km/h (hi 0.758) the search stops
+ * there and the band ends at 10 km/h. A narrow failure below a pass
+ * (7 of 11 at 10 km/h, 9 of 11 at 15) does not end the search: the limit
+ * is 15 km/h. With every point up to the top undecided the band is open
+ * above. */
 static void test_rate_band(void)
 {
     shol_result t;
@@ -720,15 +724,16 @@ static void test_rate_band(void)
     core_err err = {0};
     CHECK(shol_flown_run(&fs, &t, counts_fly, npass, NULL, NULL, NULL, &fr, &err) == 0);
     const shol_flown_dir *d = &fr.dirs[1];
-    CHECK(d->n_points == 4 && d->points[0].n_flights == 11);
+    CHECK(d->n_points == 5 && d->points[0].n_flights == 11);
     CHECK_NEAR(d->max_speed_mps, 10 * KMH, 1e-9);
     CHECK_NEAR(d->fail_speed_mps, 15 * KMH, 1e-9);
     CHECK(d->points[0].verdict == SHOL_VERDICT_PASS && d->points[1].verdict == SHOL_VERDICT_UNDECIDED &&
-          d->points[2].verdict == SHOL_VERDICT_UNDECIDED && d->points[3].verdict == SHOL_VERDICT_UNDECIDED);
+          d->points[2].verdict == SHOL_VERDICT_UNDECIDED && d->points[3].verdict == SHOL_VERDICT_UNDECIDED &&
+          d->points[4].verdict == SHOL_VERDICT_FAIL);
     CHECK(d->points[2].pass && !d->points[3].pass);
     CHECK_NEAR(d->rate_band_lo_mps, 0.0, 1e-12);
     CHECK_NEAR(d->rate_band_hi_mps, 15 * KMH, 1e-9);
-    CHECK(d->rate_band_open_above == 1);
+    CHECK(d->rate_band_open_above == 0);
     double lo, hi;
     shol_wilson(8, 11, SHOL_WILSON_Z90, &lo, &hi);
     CHECK_NEAR(d->points[3].rate_lo, lo, 1e-15);
@@ -738,9 +743,29 @@ static void test_rate_band(void)
     npass[3] = 6;
     CHECK(shol_flown_run(&fs, &t, counts_fly, npass, NULL, NULL, NULL, &fr, &err) == 0);
     d = &fr.dirs[1];
-    CHECK(d->points[3].verdict == SHOL_VERDICT_FAIL);
+    CHECK(d->n_points == 4 && d->points[3].verdict == SHOL_VERDICT_FAIL);
     CHECK_NEAR(d->rate_band_hi_mps, 10 * KMH, 1e-9);
     CHECK(d->rate_band_open_above == 0);
+    shol_flown_result_free(&fr);
+    /* a narrow failure below a pass: the limit is the pass above it */
+    int dip[7] = {11, 11, 7, 9, 0, 0, 0};
+    CHECK(shol_flown_run(&fs, &t, counts_fly, dip, NULL, NULL, NULL, &fr, &err) == 0);
+    d = &fr.dirs[1];
+    CHECK(d->n_points == 5 && !d->points[2].pass && d->points[3].pass);
+    CHECK_NEAR(d->max_speed_mps, 15 * KMH, 1e-9);
+    CHECK_NEAR(d->fail_speed_mps, 20 * KMH, 1e-9);
+    CHECK_NEAR(d->rate_band_lo_mps, 5 * KMH, 1e-9);
+    CHECK_NEAR(d->rate_band_hi_mps, 15 * KMH, 1e-9);
+    shol_flown_result_free(&fr);
+    /* undecided to the top of the search: open above */
+    int top[7] = {11, 9, 9, 9, 9, 9, 9};
+    double smax = t.settings.speed_max_mps;
+    t.settings.speed_max_mps = 30 * KMH;
+    CHECK(shol_flown_run(&fs, &t, counts_fly, top, NULL, NULL, NULL, &fr, &err) == 0);
+    t.settings.speed_max_mps = smax;
+    d = &fr.dirs[1];
+    CHECK(d->rate_band_open_above == 1 && d->has_pass);
+    CHECK_NEAR(d->max_speed_mps, 30 * KMH, 1e-9);
     shol_flown_result_free(&fr);
     /* no clear pass anywhere: the band's lower end is none */
     int few[7] = {10, 10, 10, 0, 0, 0, 0};
