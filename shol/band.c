@@ -266,6 +266,7 @@ int shol_band_compute(shol_result *r, const shol_band_inputs *in, core_err *err)
     }
     r->band_rule = *k;
     snprintf(r->band_grid_label, sizeof r->band_grid_label, "%s", in->grid && in->grid_label ? in->grid_label : in->grid ? "second grid" : "");
+    snprintf(r->band_model_label, sizeof r->band_model_label, "%s", me->valid ? me->reference : "");
     return 0;
 }
 

@@ -442,6 +442,8 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
     json_num(f, br.frac);
     fputs(", \"grid\": ", f);
     json_str(f, r->band_grid_label);
+    fputs(", \"model_reference\": ", f);
+    json_str(f, r->band_model_label);
     fputs("},\n", f);
     fprintf(f, "  \"n_trims\": %d,\n  \"wall_s\": ", r->n_trims);
     json_num(f, r->wall_s);

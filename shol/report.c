@@ -101,7 +101,7 @@ static void write_bands(FILE *f, const shol_result *r)
     fprintf(f, "## Uncertainty bands\n\n");
     fprintf(f, "| WOD | limit (km/h) | band (km/h) | what makes it (km/h) | dominant | confidence |\n"
                "|---|---|---|---|---|---|\n");
-    int n_low = 0, n_grid = 0, n_model = 0;
+    int n_low = 0, n_grid = 0;
     for (int i = 0; i < r->n_dirs; i++) {
         const shol_dir_result *d = &r->dirs[i];
         shol_band b;
@@ -119,7 +119,6 @@ static void write_bands(FILE *f, const shol_result *r)
         fprintf(f, " | %s |\n", b.low_confidence ? "**low**" : "ok");
         n_low += b.low_confidence;
         n_grid += isfinite(b.grid_mps);
-        n_model += isfinite(b.model_err);
     }
     fprintf(f,
             "\nEach source is a speed interval round the limit and the band is their hull (shol/band.c, "
@@ -138,9 +137,10 @@ static void write_bands(FILE *f, const shol_result *r)
                    : " No second grid level was available for this envelope: its bands hold the window and "
                      "sensitivity sources only, and a grid's spread can be larger than both "
                      "(docs/validation.md, \"Grid sensitivity\").",
-            n_model ? ""
-                    : " The flight model states no validated error in any limiting quantity here (model: not "
-                      "validated): its bands hold nothing of the model's own error.");
+            r->band_model_label[0] ? ""
+                                   : " The aircraft states no validated error (its file has no `[model_error]`: "
+                                     "model: not validated): these bands hold nothing of the flight model's own "
+                                     "error.");
     if (n_low) {
         fprintf(f, "**Low confidence, where an at-sea test is most needed:** ");
         int j = 0;

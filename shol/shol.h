@@ -276,6 +276,9 @@ typedef struct shol_result {
     double wall_s;         /* wall-clock time of the sweep */
     shol_band_rule band_rule;  /* the bands' rule (zero: none computed yet) */
     char band_grid_label[96];  /* the second grid's name in the bands ("" none) */
+    /* the model error's reference in the bands, "GenHel at 1 kt" (""
+     * not validated, or no bands computed) */
+    char band_model_label[SHOL_MODEL_REF_MAX];
 } shol_result;
 
 void shol_result_free(shol_result *r);
@@ -479,8 +482,8 @@ void shol_band_inputs_default(shol_band_inputs *in);
  * before the window, mean_drift alone); NAN otherwise (the last iterate
  * of an unconverged run: its spread was not measured). */
 double shol_band_window_frac(int converged, int averaged, double mean_drift, double mean_change);
-/* Fill every direction's band (r->dirs[i].band), r->band_rule and
- * r->band_grid_label. Returns 0, or < 0 with err naming the direction and
+/* Fill every direction's band (r->dirs[i].band), r->band_rule,
+ * r->band_grid_label and r->band_model_label. Returns 0, or < 0 with err naming the direction and
  * the bad value (a window spread that is negative or infinite, a second
  * grid's (or grid_base's) radius that is not finite or negative, a rule
  * that is not > 0, a grid_base without grid,

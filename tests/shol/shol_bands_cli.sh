@@ -7,7 +7,8 @@
 # reaches the band's grid column at the direction it differs, and the
 # report names it; the second grid found in the database (--band-grid
 # auto), built (--band-grid default) or left out (none); bad --band-grid
-# values and a missing CSV are refused.
+# values and a missing CSV are refused; the aircraft's [model_error]
+# reaches the bands.
 # Usage: shol_bands_cli.sh DISIM SOURCE_DIR
 set -u
 disim=$1 src=$2
@@ -30,6 +31,9 @@ grep -q '"band": {"lo_kmh": 0, "hi_kmh": 0, "grid_kmh": null' "$tmp/out/shol.jso
     || { echo "shol.json: no band"; fail=1; }
 grep -q '^| head | 0.0 | 0.0-0.0 (nothing failed: open above) | .*, model: not defined | - | ok |$' "$tmp/out/report.md" \
     || { echo "report.md: head's band does not say the model's source is not defined"; grep '^| head' "$tmp/out/report.md"; fail=1; }
+# the UH-60A's validated error reaches the bands from its file's [model_error] (GenHel's 1 kt row)
+grep -q '"model_reference": "GenHel at 1 kt"}' "$tmp/out/shol.json" && ! grep -q 'states no validated error' "$tmp/out/report.md" \
+    || { echo "the UH-60A's [model_error] did not reach the bands"; grep band_rule "$tmp/out/shol.json"; fail=1; }
 # a second grid from a CSV of the first ten columns (as runs before the
 # bands wrote it): red 60 at 10 km/h there
 awk -F, -v OFS=, '$1 + 0 == -60 && NR > 1 { $2 = sprintf("%.6f", 10 / 3.6 / 0.514444); $3 = 10 } { NF = 10; print }' \

@@ -1234,7 +1234,7 @@ static void test_bands(void)
     snprintf(path, sizeof path, "%s/shol.json", dir);
     char *js = read_all(path);
     CHECK(js && strstr(js, "\"band_rule\": {\"low_confidence_width_kmh\": 10, \"low_confidence_frac\": 0.25, "
-                           "\"grid\": \"gain-2 grid\"}"));
+                           "\"grid\": \"gain-2 grid\", \"model_reference\": \"\"}"));
     CHECK(js && strstr(js, "\"band\": {\"lo_kmh\": 35, \"hi_kmh\": 46.8, \"grid_kmh\": -10, \"window_kmh\": 0, "
                            "\"sens_kmh\": 1.8, \"model_kmh\": null, \"model_quantity\": \"pedal\", "
                            "\"model_error\": null, \"model_reference\": \"\", \"open_above\": false, "
@@ -1596,6 +1596,7 @@ static void test_band_model(void)
           strstr(md, "model -3.8 (pedal -4.27 % vs GenHel at 1 kt) | model (pedal -4.27 % vs GenHel at 1 kt) |"));
     CHECK(md && strstr(md, "| red 90 | 45.0 | 44.1-48.8 | ") && strstr(md, "**Dominant**"));
     CHECK(md && !strstr(md, "states no validated error"));
+    CHECK(!strcmp(r.band_model_label, "GenHel at 1 kt"));
     free(md);
 
     /* A shol.csv of the seventeen columns before the model's: read, the
@@ -1645,6 +1646,7 @@ static void test_band_model(void)
     snprintf(path, sizeof path, "%s/report.md", dir);
     md = read_all(path);
     CHECK(md && strstr(md, "model: not validated | sensitivity | ok |") && strstr(md, "states no validated error"));
+    CHECK(r.band_model_label[0] == '\0');
     free(md);
     /* a limit of none (nothing failed) or a failed trim: not defined */
     for (int i = 0; i < r.n_dirs; i++)
