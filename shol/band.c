@@ -34,9 +34,10 @@
  *     the limit moves by side e / slope. The interval runs from V to that
  *     shifted limit, as the grid's does: the error is measured with its
  *     sign, so the side the truth lies on is known. It is the error at
- *     one condition (the validated trim nearest the speeds the limits
- *     are reached at) carried to the limit unchanged: the error of a
- *     trim in the free air, not of the airwake's effect on it.
+ *     one condition (the validated trim of the hover the limits are
+ *     reached in: the UH-60A's 1 kt row) carried to the limit unchanged:
+ *     the error of a trim in the free air, not of the airwake's effect
+ *     on it, and not measured at the limit's own speed.
  * The band is the hull of the four intervals, not a sum: 1-3 are not
  * independent (2 and 3 are both errors in the air at the rotor, and 1 is
  * one too), and the hull is what any one of them alone already allows.
