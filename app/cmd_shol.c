@@ -9,7 +9,8 @@
  * the window spreads of its fields, the limit on a second grid (auto: the
  * one-way envelope on another level over the fields the database already
  * has; LEVEL: on that level, its fields built; --band-grid-csv: an earlier
- * run's shol.csv), and the 0.25 deg / 1 % sensitivity.
+ * run's shol.csv), the 0.25 deg / 1 % sensitivity, and the flight model's
+ * validated error (the aircraft file's [model_error]).
  * --method pilot flies the task (--task, default the landing
  * task tasks/land_<aircraft>.ini beside the scenario) with the automated
  * pilot at each WOD point (--task LOG, a file not named *.ini: the replay

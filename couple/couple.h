@@ -225,9 +225,11 @@ int couple_band_grid_parse(const char *s);
  * envelope (o->grid_csv, or a second one-way sweep on the level o->grid
  * names, auto: the directions whose ship-only field the database already
  * has at the first level of finer-then-coarser that has any), and the
- * sensitivity. With r2 (the two-way envelope over r1), r2's bands too:
- * the same window spreads, and the one-way grid spread (second grid minus
- * r1) applied to r2. 0, or < 0 with err. */
+ * sensitivity, and the model's validated error (ac's [model_error],
+ * hfm_aircraft_model_error; none: not validated). With r2 (the two-way
+ * envelope over r1), r2's bands too: the same window spreads and model
+ * error, and the one-way grid spread (second grid minus r1) applied to
+ * r2. 0, or < 0 with err. */
 int couple_shol_bands(const couple_band_opts *o, const hfm_aircraft *ac, const core_ship *ship, awdb *db,
                       const couple_settings *cs, couple_ctx *one, const shol_settings *set, shol_result *r1,
                       shol_result *r2, const core_log *log, core_err *err);

@@ -7,7 +7,8 @@
  * grid spread is the same one-way procedure on another grid level, and
  * in auto mode only over fields the database already holds, so that a
  * band never costs a field build nobody asked for (a default-grid field
- * of the CG-47 takes tens of minutes on 2 cores). */
+ * of the CG-47 takes tens of minutes on 2 cores); the model's error is the
+ * aircraft's validation as its file states it ([model_error]). */
 #include "couple.h"
 
 #include <math.h>
@@ -23,6 +24,24 @@ int couple_band_grid_parse(const char *s)
         return COUPLE_BAND_GRID_NONE;
     int g = core_grid_parse(s);
     return g >= 0 ? g : -3;
+}
+
+/* The flight model's validated error (the aircraft file's [model_error])
+ * in shol's terms: per criterion, NAN where the file states none. */
+static void model_error_of(const hfm_aircraft *ac, shol_model_error *m)
+{
+    shol_model_error_none(m);
+    hfm_model_error he;
+    if (hfm_aircraft_model_error(ac, &he) != 0)
+        return;
+    m->valid = 1;
+    m->err[SHOL_CRIT_ROLL] = he.roll_rad;
+    m->err[SHOL_CRIT_PITCH] = he.pitch_rad;
+    m->err[SHOL_CRIT_LONG] = he.long_cyclic_pct;
+    m->err[SHOL_CRIT_LAT] = he.lat_cyclic_pct;
+    m->err[SHOL_CRIT_COLL] = he.collective_pct;
+    m->err[SHOL_CRIT_PEDAL] = he.pedal_pct;
+    snprintf(m->reference, sizeof m->reference, "%.31s at %g kt", he.reference, he.airspeed_mps / CORE_KT_TO_MPS);
 }
 
 /* The window spread s of each direction's ship-only field that one loaded. */
@@ -70,6 +89,7 @@ int couple_shol_bands(const couple_band_opts *o, const hfm_aircraft *ac, const c
         return core_err_set(err, -1, "shol: bands: out of memory");
     shol_band_inputs_default(in);
     window_spreads(one, set, in);
+    model_error_of(ac, &in->model);
     shol_result g;
     memset(&g, 0, sizeof g);
     couple_ctx *c2 = NULL;

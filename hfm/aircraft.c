@@ -11,7 +11,9 @@
  * airfoil table spanning -180..180 deg, mass properties some body has)
  * follow its keys; the checks across sections that catch unit slips
  * (hfm_aircraft_check, aircraft_check.c) run on the whole aircraft. The
- * [rejection] section belongs to shol and is skipped. Tables are resampled
+ * [rejection] section belongs to shol and is skipped; [model_error] is
+ * read here (the validation's numbers belong to the aircraft) and handed
+ * to shol by couple. Tables are resampled
  * here so that the evaluation never searches: the airfoil on a 1 deg grid.
  */
 #include "hfm_priv.h"
@@ -125,7 +127,7 @@ static const char *const known_sections[] = {"aircraft", "main_rotor", "main_rot
                                              "tail_rotor", "fuselage",   "stabilator",
                                              "fin",      "controls",   "sas",
                                              "rejection", "gear",      "cockpit",
-                                             "power"};
+                                             "power",    "model_error"};
 
 static int check_sections(const rd *r)
 {
@@ -138,7 +140,7 @@ static int check_sections(const rd *r)
             return core_err_set(r->err, -1,
                                 "%s:%d: unknown section [%s] (an aircraft file has [aircraft], [main_rotor], "
                                 "[main_rotor_airfoil], [tail_rotor], [fuselage], [stabilator], [fin], "
-                                "[controls], [sas], [gear], [cockpit], [power] and [rejection])",
+                                "[controls], [sas], [gear], [cockpit], [power], [rejection] and [model_error])",
                                 r->path, e->line, e->section);
     }
     return 0;
@@ -279,6 +281,56 @@ static int load_power(rd *r, hfm_aircraft *ac)
         return -1;
     ac->acc_W = kw * 1e3;
     return 0;
+}
+
+/* [model_error] (optional): the model's trim minus a reference's at one
+ * airspeed, as the validation measured it (docs/aircraft-format.md).
+ * reference and airspeed_kt are required once the section is there, and
+ * at least one error; an error key absent is a quantity not validated.
+ * The ranges: attitudes within 10 deg, controls within 50 % of travel
+ * (an error beyond them is no validated model's). */
+static int load_model_error(rd *r, hfm_aircraft *ac)
+{
+    const char *E = "model_error";
+    hfm_model_error *m = &ac->model_error;
+    memset(m, 0, sizeof *m);
+    m->roll_rad = m->pitch_rad = NAN;
+    m->collective_pct = m->long_cyclic_pct = m->lat_cyclic_pct = m->pedal_pct = NAN;
+    ac->has_model_error = core_ini_has_section(r->ini, E);
+    if (!ac->has_model_error)
+        return 0;
+    double kt;
+    if (core_ini_get_string(r->ini, E, "reference", 1, m->reference, sizeof m->reference, r->err) ||
+        rd_num(r, E, "airspeed_kt", 0.0, 250.0, &kt))
+        return -1;
+    m->airspeed_mps = kt * CORE_KT_TO_MPS;
+    static const char *const key[6] = {"roll_deg",        "pitch_deg",      "collective_pct",
+                                       "long_cyclic_pct", "lat_cyclic_pct", "pedal_pct"};
+    double *dst[6] = {&m->roll_rad,        &m->pitch_rad,      &m->collective_pct,
+                      &m->long_cyclic_pct, &m->lat_cyclic_pct, &m->pedal_pct};
+    int n = 0;
+    for (int k = 0; k < 6; k++) {
+        const double lim = k < 2 ? 10.0 : 50.0;
+        int rc = core_ini_get_double(r->ini, E, key[k], 0, -lim, lim, dst[k], r->err);
+        if (rc < 0)
+            return -1;
+        if (rc == 0) {
+            n++;
+            if (k < 2)
+                *dst[k] *= CORE_DEG_TO_RAD;
+        }
+    }
+    if (!n)
+        return rd_fail(r, E, "reference", "the section states no error: give at least one of roll_deg, pitch_deg, "
+                                          "collective_pct, long_cyclic_pct, lat_cyclic_pct, pedal_pct (or leave "
+                                          "the section out: not validated)");
+    return 0;
+}
+
+int hfm_aircraft_model_error(const hfm_aircraft *ac, hfm_model_error *out)
+{
+    *out = ac->model_error;
+    return ac->has_model_error ? 0 : 1;
 }
 
 /* What the blade-element loop uses, derived once from the main rotor's data. */
@@ -659,7 +711,7 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
     if (load_tail_rotor(&r, &ac->tr) || load_fuselage(&r, &ac->fus) ||
         load_surface(&r, "stabilator", &ac->stab, 0) || load_surface(&r, "fin", &ac->fin, 1) ||
         load_controls(&r, &ac->rig) || load_sas(&r, ac) || load_gear(&r, ac) ||
-        load_cockpit(&r, ac) || load_power(&r, ac))
+        load_cockpit(&r, ac) || load_power(&r, ac) || load_model_error(&r, ac))
         goto fail;
     hfm_fuselage_cells(ac);
     core_ini_skip_section(ini, "rejection");

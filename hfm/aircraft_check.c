@@ -34,7 +34,12 @@
  *   geometry signs: the main-rotor hub above the CG (z < 0 in B, z down),
  *     the tail rotor behind it (x < 0);
  *   fuselage drag area at alpha = 0 below 0.05 of the disk area (real
- *     helicopters 0.005-0.02; ft^2 typed into m^2 keys give 0.06-0.2).
+ *     helicopters 0.005-0.02; ft^2 typed into m^2 keys give 0.06-0.2);
+ *   the validated error ([model_error]) measured at an airspeed above
+ *     45 kt: a warning, since the SHOL's limits are reached at 0-45 kt of
+ *     wind over deck and an error from a cruise trim need not be the
+ *     hover's (the UH-60A's pedal error is -4.27 % at 1 kt, -1.66 % at
+ *     60 kt, docs/validation/hfm.md).
  */
 #include "hfm_priv.h"
 
@@ -57,6 +62,7 @@
 #define CTS_WARN_HI 0.13
 #define DRAG_AREA_MAX 0.05
 #define KAPPA_HOVER 1.15
+#define MODEL_ERROR_MAX_KT 45.0
 
 void hfm_aircraft_get_figures(const hfm_aircraft *ac, hfm_aircraft_figures *f)
 {
@@ -228,5 +234,12 @@ int hfm_aircraft_check(const hfm_aircraft *ac, const core_ini *ini, const core_l
                             "helicopters have 0.005-0.02 and none above %.2f: is the table in ft^2 (x 0.0929 m^2)?",
                             path, hfm_aircraft_key_line(ini, "fuselage", "drag_m2"), f.drag_area_m2,
                             f.drag_area_m2 / mr->area, mr->area, DRAG_AREA_MAX);
+
+    /* the validated error's condition against the speeds the SHOL needs it at */
+    if (ac->has_model_error && ac->model_error.airspeed_mps > MODEL_ERROR_MAX_KT * CORE_KT_TO_MPS + 1e-9)
+        WARN("model_error", "airspeed_kt", ac->model_error.airspeed_mps / CORE_KT_TO_MPS,
+             "the SHOL's limits are reached at 0-%.0f kt of wind over deck; an error measured in a faster trim "
+             "need not be the one at the limits (use the validated trim nearest the hover)",
+             MODEL_ERROR_MAX_KT);
     return 0;
 }

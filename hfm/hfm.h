@@ -88,6 +88,22 @@ typedef struct hfm_sas_gains {
  * when it has none (the aircraft flies bare). */
 int hfm_aircraft_sas(const hfm_aircraft *ac, hfm_sas_gains *g);
 
+/* ------------------------------------- the validated error [model_error] */
+/* The optional [model_error] section (docs/aircraft-format.md): the
+ * model's trim minus a reference's (a validated model's or flight test's)
+ * at one airspeed, as the aircraft's validation measured it, in the
+ * quantities the SHOL's criteria judge; shol's bands carry it into each
+ * limit (shol/band.c). Plain data. */
+typedef struct hfm_model_error {
+    char reference[32];   /* what the trim was compared with, "GenHel" */
+    double airspeed_mps;  /* the airspeed of the trim compared */
+    double roll_rad, pitch_rad; /* model minus reference; NAN: not validated */
+    double collective_pct, long_cyclic_pct, lat_cyclic_pct, pedal_pct; /* percentage points of travel */
+} hfm_model_error;
+/* 0 and out filled when the file has a [model_error] section; 1 (every
+ * error NAN, reference "") when it has none: the model is not validated. */
+int hfm_aircraft_model_error(const hfm_aircraft *ac, hfm_model_error *out);
+
 /* ------------------------------------------------ the landing gear [gear] */
 /* The optional [gear] section (docs/aircraft-format.md): the legs (an oleo
  * strut along the body z axis in series with a tyre) and the body points

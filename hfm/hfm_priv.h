@@ -103,6 +103,8 @@ struct hfm_aircraft {
     double eye_B[3];
     double xmsn_eff;   /* the optional [power] section: transmission efficiency (1 if absent) */
     double acc_W;      /* accessory power (0 if absent) */
+    int has_model_error; /* the optional [model_error] section (aircraft.c) */
+    hfm_model_error model_error;
 };
 
 /* Kinematics shared by the components of one evaluation. */

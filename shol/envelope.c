@@ -445,6 +445,7 @@ static const shol_sample *sample_at(const shol_dir_result *d, double v)
 int shol_envelope_sensitivity(const shol_dir_result *d, shol_sensitivity *out)
 {
     out->crit = SHOL_LIMIT_NONE;
+    out->side = 0;
     out->slope_per_mps = out->ref_error = out->shift_mps = NAN;
     if (!d->has_pass || !isfinite(d->fail_speed_mps) || d->limit < SHOL_CRIT_ROLL || d->limit >= SHOL_NCRIT)
         return 1;
@@ -457,7 +458,14 @@ int shol_envelope_sensitivity(const shol_dir_result *d, shol_sensitivity *out)
     double slope = (p->eval.margin[c] - q->eval.margin[c]) / (q->speed_mps - p->speed_mps);
     if (!(slope > 0.0))
         return 1;
+    /* the side of its limit the quantity crossed: its value at the failure
+     * against neutral (0 for an attitude, 50 % for a cyclic or the pedal;
+     * the collective has only its upper limit) */
+    const shol_trim_point *t = &q->trim;
+    const double beyond[SHOL_NCRIT] = {t->phi_rad,          t->theta_rad,          t->long_cyclic_pct - 50.0,
+                                       t->lat_cyclic_pct - 50.0, 1.0, t->pedal_pct - 50.0};
     out->crit = c;
+    out->side = beyond[c] < 0 ? -1 : 1;
     out->slope_per_mps = slope;
     out->ref_error = c <= SHOL_CRIT_PITCH ? 0.25 * CORE_DEG_TO_RAD : 1.0;
     out->shift_mps = out->ref_error / slope;

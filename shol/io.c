@@ -94,20 +94,37 @@ void shol_io_band_csv(FILE *f, const shol_band *b, const char *fmt)
         fputc(',', f);
         shol_io_num(f, fmt, bv[k] / CORE_KMH_TO_MPS);
     }
-    fprintf(f, ",%d,%d", b->open_above, b->low_confidence);
+    fprintf(f, ",%d,%d,", b->open_above, b->low_confidence);
+    shol_io_num(f, fmt, b->model_mps / CORE_KMH_TO_MPS);
 }
 
 void shol_io_band_json(FILE *f, const shol_band *b, const char *fmt)
 {
-    static const char *const key[5] = {"lo_kmh", "hi_kmh", "grid_kmh", "window_kmh", "sens_kmh"};
-    const double bv[5] = {b->lo_mps, b->hi_mps, b->grid_mps, b->window_mps, b->sens_mps};
-    for (int k = 0; k < 5; k++) {
+    static const char *const key[6] = {"lo_kmh", "hi_kmh", "grid_kmh", "window_kmh", "sens_kmh", "model_kmh"};
+    const double bv[6] = {b->lo_mps, b->hi_mps, b->grid_mps, b->window_mps, b->sens_mps, b->model_mps};
+    for (int k = 0; k < 6; k++) {
         fprintf(f, "%s\"%s\": ", k ? ", " : "{", key[k]);
         if (isfinite(bv[k]))
             fprintf(f, fmt, bv[k] / CORE_KMH_TO_MPS);
         else
             fputs("null", f);
     }
-    fprintf(f, ", \"open_above\": %s, \"widest\": \"%s\", \"low_confidence\": %s}", b->open_above ? "true" : "false",
+    /* the model's error behind model_kmh: its quantity, value (deg or % of
+     * travel) and reference; null where not validated */
+    fprintf(f, ", \"model_quantity\": ");
+    if (b->model_crit >= 0 && b->model_crit < SHOL_NCRIT)
+        fprintf(f, "\"%s\"", shol_limit_name(b->model_crit));
+    else
+        fputs("null", f);
+    fputs(", \"model_error\": ", f);
+    if (isfinite(b->model_err) && b->model_crit >= 0)
+        fprintf(f, fmt, b->model_err * (b->model_crit <= SHOL_CRIT_PITCH ? CORE_RAD_TO_DEG : 1.0));
+    else
+        fputs("null", f);
+    fputs(", \"model_reference\": \"", f);
+    for (const char *c = b->model_ref; *c; c++)
+        if ((unsigned char)*c >= 0x20 && *c != '"' && *c != '\\')
+            fputc(*c, f);
+    fprintf(f, "\", \"open_above\": %s, \"widest\": \"%s\", \"low_confidence\": %s}", b->open_above ? "true" : "false",
             shol_band_source_name(b->widest), b->low_confidence ? "true" : "false");
 }

@@ -26,10 +26,11 @@ void shol_io_abort(FILE *f, const char *tmp);
 void shol_io_num(FILE *f, const char *fmt, double v);
 /* A direction's band as CSV columns (each preceded by its comma):
  * lo, hi, grid, window, sens in km/h (fmt, "nan" where absent), then
- * open_above and low_confidence. */
+ * open_above and low_confidence, then model in km/h. */
 void shol_io_band_csv(FILE *f, const shol_band *b, const char *fmt);
-/* The same as a JSON object {"lo_kmh": ..., "low_confidence": ...}, the
- * numbers by fmt, null where absent. */
+/* The same as a JSON object {"lo_kmh": ..., "model_kmh": ...,
+ * "model_quantity": ..., "model_error": ..., "model_reference": ...,
+ * "low_confidence": ...}, the numbers by fmt, null where absent. */
 void shol_io_band_json(FILE *f, const shol_band *b, const char *fmt);
 
 #endif

@@ -16,14 +16,17 @@
 #define CSV_HEADER_V1                                                                              \
     "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,margin_pitch_deg,"               \
     "margin_long_pct,margin_lat_pct,margin_coll_pct,margin_pedal_pct"
-/* The band's columns follow the first ten, so that a reader of
- * the first ten reads on unchanged; shol_read_csv takes both headers. */
+/* The band's columns follow the first ten, and the model's source the
+ * band's first seven, so that a reader of the first ten (or seventeen)
+ * reads on unchanged; shol_read_csv takes all three headers. */
 #define CSV_BAND_COLS                                                                              \
     ",band_lo_kmh,band_hi_kmh,band_grid_kmh,band_window_kmh,band_sens_kmh,band_open_above,"        \
     "low_confidence"
-#define CSV_HEADER CSV_HEADER_V1 CSV_BAND_COLS
+#define CSV_HEADER_V2 CSV_HEADER_V1 CSV_BAND_COLS
+#define CSV_HEADER CSV_HEADER_V2 ",band_model_kmh"
 #define CSV_NCOL_V1 10
-#define CSV_NCOL 17
+#define CSV_NCOL_V2 17
+#define CSV_NCOL 18
 
 static double margin_out(const shol_eval *e, int k)
 {
@@ -90,15 +93,18 @@ static int parse_num(const char *s, double *v)
     return end == s || *end ? -1 : 0;
 }
 
-/* The band's seven columns of a row (fld) into d->band: lo and hi finite,
- * lo <= the radius <= hi, the sources nan or finite (window and
- * sensitivity >= 0), the flags 0 or 1. */
-static int read_band(const char *path, int lineno, char **fld, shol_dir_result *d, core_err *err)
+/* The band's seven columns of a row (fld) into d->band, and with
+ * ncol 8 the model's: lo and hi finite, lo <= the radius <= hi, the
+ * sources nan or finite (window and sensitivity >= 0), the flags 0 or 1.
+ * The model's error behind band_model_kmh is not in the file: the band
+ * read keeps its quantity (the limit) and its shift. */
+static int read_band(const char *path, int lineno, char **fld, int ncol, shol_dir_result *d, core_err *err)
 {
-    static const char *const names[7] = {"band_lo_kmh",   "band_hi_kmh",     "band_grid_kmh", "band_window_kmh",
-                                         "band_sens_kmh", "band_open_above", "low_confidence"};
-    double v[7];
-    for (int k = 0; k < 7; k++)
+    static const char *const names[8] = {"band_lo_kmh",     "band_hi_kmh",    "band_grid_kmh", "band_window_kmh",
+                                         "band_sens_kmh",   "band_open_above", "low_confidence", "band_model_kmh"};
+    double v[8];
+    v[7] = NAN;
+    for (int k = 0; k < ncol; k++)
         if (parse_num(fld[k], &v[k]) < 0)
             return core_err_set(err, -1, "%s:%d: %s '%s': expected a number", path, lineno, names[k], fld[k]);
     const double rad_kmh = d->has_pass ? d->max_speed_mps / CORE_KMH_TO_MPS : 0.0;
@@ -113,6 +119,8 @@ static int read_band(const char *path, int lineno, char **fld, shol_dir_result *
     for (int k = 5; k < 7; k++)
         if (v[k] != 0 && v[k] != 1)
             return core_err_set(err, -1, "%s:%d: %s %g: expected 0 or 1", path, lineno, names[k], v[k]);
+    if (isinf(v[7]))
+        return core_err_set(err, -1, "%s:%d: %s %g: expected nan or a finite value", path, lineno, names[7], v[7]);
     shol_band *b = &d->band;
     memset(b, 0, sizeof *b);
     b->valid = 1;
@@ -124,10 +132,14 @@ static int read_band(const char *path, int lineno, char **fld, shol_dir_result *
     b->sens_mps = v[4] * CORE_KMH_TO_MPS;
     b->open_above = (int)v[5];
     b->low_confidence = (int)v[6];
+    b->model_mps = v[7] * CORE_KMH_TO_MPS;
+    b->model_crit = d->limit >= SHOL_CRIT_ROLL && d->limit < SHOL_NCRIT ? d->limit : -1;
+    b->model_err = NAN;
     /* the source that reaches furthest (before the clipping at 0 and at
      * an open top, which the file does not say) */
     double reach[SHOL_NBAND] = {isfinite(b->grid_mps) ? fabs(b->grid_mps) : 0,
-                                isfinite(b->window_mps) ? b->window_mps : 0, isfinite(b->sens_mps) ? b->sens_mps : 0};
+                                isfinite(b->window_mps) ? b->window_mps : 0, isfinite(b->sens_mps) ? b->sens_mps : 0,
+                                isfinite(b->model_mps) ? fabs(b->model_mps) : 0};
     double best = 0;
     b->widest = -1;
     for (int s = 0; s < SHOL_NBAND; s++)
@@ -165,9 +177,12 @@ int shol_read_csv(const char *path, shol_result *r, core_err *err)
         while (len && (line[len - 1] == '\n' || line[len - 1] == '\r'))
             line[--len] = '\0';
         if (lineno == 1) {
-            /* the header with the band's columns, or the one before them */
+            /* the header with the band's and the model's columns, or one
+             * before them */
             if (strcmp(line, CSV_HEADER) == 0)
                 ncol = CSV_NCOL;
+            else if (strcmp(line, CSV_HEADER_V2) == 0)
+                ncol = CSV_NCOL_V2;
             else if (strcmp(line, CSV_HEADER_V1) == 0)
                 ncol = CSV_NCOL_V1;
             else {
@@ -235,7 +250,7 @@ int shol_read_csv(const char *path, shol_result *r, core_err *err)
         d->margins.limit = d->limit;
         for (int k = 0; k < SHOL_NCRIT; k++)
             d->margins.n_exceeded += d->margins.margin[k] < 0;
-        if (ncol == CSV_NCOL && (rc = read_band(path, lineno, fld + CSV_NCOL_V1, d, err)) != 0)
+        if (ncol > CSV_NCOL_V1 && (rc = read_band(path, lineno, fld + CSV_NCOL_V1, ncol - CSV_NCOL_V1, d, err)) != 0)
             break;
         r->settings.dirs_rad[r->n_dirs] = d->dir_rad;
         r->n_dirs++;
@@ -427,6 +442,8 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
     json_num(f, br.frac);
     fputs(", \"grid\": ", f);
     json_str(f, r->band_grid_label);
+    fputs(", \"model_reference\": ", f);
+    json_str(f, r->band_model_label);
     fputs("},\n", f);
     fprintf(f, "  \"n_trims\": %d,\n  \"wall_s\": ", r->n_trims);
     json_num(f, r->wall_s);

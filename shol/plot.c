@@ -675,7 +675,7 @@ static void polar_legend(cairo_t *cr, double W, double H, const shol_result *r, 
     cairo_line_to(cr, lx + 20, y3 + 7);
     cairo_stroke(cr);
     set_col(cr, ink);
-    snprintf(buf, sizeof buf, "band (kt in brackets): grid%s, averaging window, 0.25 deg / 1 %% of travel",
+    snprintf(buf, sizeof buf, "band (kt in brackets): grid%s, window, 0.25 deg / 1 %%, model error",
              r->band_grid_label[0] ? "" : " (no second grid)");
     text(cr, lx + 50, y3, 13, 0, -1, 0, buf);
     set_col(cr, low_col);

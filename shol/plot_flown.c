@@ -304,7 +304,7 @@ static void draw(cairo_t *cr, double W, double H, const shol_flown_result *f, co
     cairo_line_to(cr, 80, ly + 63);
     cairo_stroke(cr);
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-    snprintf(s, sizeof s, "bands: flown amber, trim thin blue (grid, window, 0.25 deg / 1 %%); red: low, wider than %g "
+    snprintf(s, sizeof s, "bands: flown amber, trim thin blue (grid, window, 0.25 deg / 1 %%, model); red: low, wider than %g "
                           "km/h and %g %% of the limit",
              br.width_mps / CORE_KMH_TO_MPS, 100 * br.frac);
     text(cr, 100, ly + 56, 13, 0, -1, s);

@@ -99,7 +99,7 @@ static void write_bands(FILE *f, const shol_result *r)
     const shol_band_rule k = shol_band_rule_of(r);
     const double K = CORE_KMH_TO_MPS;
     fprintf(f, "## Uncertainty bands\n\n");
-    fprintf(f, "| WOD | limit (km/h) | band (km/h) | what makes it (km/h) | widest | confidence |\n"
+    fprintf(f, "| WOD | limit (km/h) | band (km/h) | what makes it (km/h) | dominant | confidence |\n"
                "|---|---|---|---|---|---|\n");
     int n_low = 0, n_grid = 0;
     for (int i = 0; i < r->n_dirs; i++) {
@@ -112,7 +112,11 @@ static void write_bands(FILE *f, const shol_result *r)
         fprintf(f, "| %s | %.1f | %.1f-%.1f%s | ", n, d->has_pass ? d->max_speed_mps / K : 0.0, b.lo_mps / K,
                 b.hi_mps / K, b.open_above ? " (nothing failed: open above)" : "");
         md_cell(f, what);
-        fprintf(f, " | %s | %s |\n", shol_band_source_name(b.widest), b.low_confidence ? "**low**" : "ok");
+        char dom[192];
+        shol_band_dominant(&b, dom, sizeof dom);
+        fputs(" | ", f);
+        md_cell(f, dom);
+        fprintf(f, " | %s |\n", b.low_confidence ? "**low**" : "ok");
         n_low += b.low_confidence;
         n_grid += isfinite(b.grid_mps);
     }
@@ -122,13 +126,21 @@ static void write_bands(FILE *f, const shol_result *r)
             "to that one (signed: the other grid's limit minus this one); **window**, the field's averaging-window "
             "spread s (the monitors' mean drift or mean change, / WOD speed) as +- s V at the limit V; "
             "**0.25 deg / 1 %%**, +- how far the limit moves for 0.25 deg of attitude or 1 %% of control travel in "
-            "the limiting quantity (\"limit moves by\" above). A band is **low** confidence when it is wider than "
-            "%g km/h or %g %% of the limit, whichever is larger.%s\n\n",
+            "the limiting quantity (\"limit moves by\" above); **model**, the flight model's validated error in "
+            "the limiting quantity (model minus reference, the aircraft file's `[model_error]`) turned into speed "
+            "through the same slope, from the limit to where the truth (the model less its error) reaches the "
+            "limit (signed: + where the truth is further from the limit). **Dominant**: the source that reaches "
+            "furthest from the limit. A band is **low** confidence when it is wider than "
+            "%g km/h or %g %% of the limit, whichever is larger.%s%s\n\n",
             k.width_mps / K, 100 * k.frac,
             n_grid ? ""
                    : " No second grid level was available for this envelope: its bands hold the window and "
                      "sensitivity sources only, and a grid's spread can be larger than both "
-                     "(docs/validation.md, \"Grid sensitivity\").");
+                     "(docs/validation.md, \"Grid sensitivity\").",
+            r->band_model_label[0] ? ""
+                                   : " The aircraft states no validated error (its file has no `[model_error]`: "
+                                     "model: not validated): these bands hold nothing of the flight model's own "
+                                     "error.");
     if (n_low) {
         fprintf(f, "**Low confidence, where an at-sea test is most needed:** ");
         int j = 0;
@@ -139,8 +151,11 @@ static void write_bands(FILE *f, const shol_result *r)
                 continue;
             char n[32];
             core_wod_name(r->dirs[i].dir_rad * CORE_RAD_TO_DEG, n, sizeof n);
-            fprintf(f, "%s%s (%.1f-%.1f km/h, widest: %s)", j++ ? ", " : "", n, b.lo_mps / K, b.hi_mps / K,
-                    shol_band_source_name(b.widest));
+            char dom[192];
+            shol_band_dominant(&b, dom, sizeof dom);
+            fprintf(f, "%s%s (%.1f-%.1f km/h, dominant: ", j++ ? ", " : "", n, b.lo_mps / K, b.hi_mps / K);
+            md_cell(f, dom);
+            fputc(')', f);
         }
         fprintf(f, ". The seed paper (section 2.8) uses a candidate SHOL so that \"only the regions with low "
                    "confidence in the candidate SHOL and/or small safety margins need to be tested\" at sea: "

@@ -70,7 +70,7 @@ int shol_flown_write_csv(const char *dir, const shol_flown_result *fr, core_err 
     /* the band's columns after the first nine, as in shol.csv */
     fprintf(f, "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,pass_rate_at_fail,cause,"
                "trim_max_speed_kt,trim_limit,band_lo_kmh,band_hi_kmh,band_grid_kmh,band_window_kmh,band_sens_kmh,"
-               "band_open_above,low_confidence,rate_band_lo_kmh,rate_band_hi_kmh,rate_band_open_above\n");
+               "band_open_above,low_confidence,band_model_kmh,rate_band_lo_kmh,rate_band_hi_kmh,rate_band_open_above\n");
     for (int i = 0; i < fr->n_dirs; i++) {
         const shol_flown_dir *d = &fr->dirs[i];
         fprintf(f, "%.1f,", d->dir_rad * CORE_RAD_TO_DEG);
@@ -233,10 +233,10 @@ static void write_flown_bands(FILE *f, const shol_flown_result *fr, const shol_r
                 tlow ? "**low**" : "ok");
         n_low += b.low_confidence || tlow;
     }
-    fprintf(f, "\nThe trim-based band is the hull of its grid, averaging-window and 0.25 deg / 1 %% sources "
-               "(docs/shol.md, \"Uncertainty bands\"). The flown band carries the same measured sources to the "
+    fprintf(f, "\nThe trim-based band is the hull of its grid, averaging-window, 0.25 deg / 1 %% and model "
+               "sources (docs/shol.md, \"Uncertainty bands\"). The flown band carries the same sources to the "
                "flown radius V_f: the trim's grid shift, its window spread s as +- s V_f, its 0.25 deg / 1 %% "
-               "shift; it does not hold the pass rate's sampling over the seeds (that is the band from the pass rate's "
+               "shift, the model's shift; it does not hold the pass rate's sampling over the seeds (that is the band from the pass rate's "
                "interval, above). Low confidence: a band wider than the larger of %g km/h and %g %% of the limit.\n\n",
             trim ? shol_band_rule_of(trim).width_mps / K : 10.0, trim ? 100 * shol_band_rule_of(trim).frac : 25.0);
     if (n_low) {
@@ -266,12 +266,39 @@ static void write_flown_bands(FILE *f, const shol_flown_result *fr, const shol_r
     }
 }
 
-/* The limit's band from the pass rate's interval, direction by direction. */
+/* Which of the pass rate's interval and the model's error moves the
+ * flown limit of d further (band b, shol_flown_band): each one's reach
+ * from the flown limit V_f, the interval's from its two ends (no clear
+ * pass: down to 0; open above: without end), the model's its shift
+ * clipped as the band clips it. "interval", "model (pedal -4.27 % vs
+ * ...)", or "-" where neither reaches. */
+static void rate_dominant(const shol_flown_dir *d, const shol_band *b, char *buf, size_t n)
+{
+    const double v = d->has_pass ? d->max_speed_mps : 0.0;
+    double interval = d->rate_band_open_above ? INFINITY : 0.0;
+    interval = fmax(interval, v - (isnan(d->rate_band_lo_mps) ? 0.0 : d->rate_band_lo_mps));
+    if (!isnan(d->rate_band_hi_mps))
+        interval = fmax(interval, d->rate_band_hi_mps - v);
+    double model = 0.0;
+    if (isfinite(b->model_mps))
+        model = b->model_mps < 0 ? fmin(-b->model_mps, v) : b->open_above ? 0.0 : b->model_mps;
+    char mt[128];
+    shol_band_model_text(b, mt, sizeof mt);
+    if (model > interval + 1e-12 && mt[0])
+        snprintf(buf, n, "model (%s)", mt);
+    else if (model > interval + 1e-12)
+        snprintf(buf, n, "model");
+    else
+        snprintf(buf, n, interval > 1e-12 ? "interval" : "-");
+}
+
+/* The limit's band from the pass rate's interval, direction by direction,
+ * beside the model's error carried from the trim-based envelope. */
 static void write_rate_bands(FILE *f, const shol_flown_result *fr)
 {
     fprintf(f, "\n## The limit's band from the pass rate\n\n| WOD | flown limit (kt) | pass rate there (90 %% "
-               "interval) | clearly passes up to (kt) | may pass up to (kt) | air at the hub over the spot: mean "
-               "speed, turbulence intensity (%% of WOD) |\n|---|---|---|---|---|---|\n");
+               "interval) | clearly passes up to (kt) | may pass up to (kt) | model (kt) | dominant | air at the "
+               "hub over the spot: mean speed, turbulence intensity (%% of WOD) |\n|---|---|---|---|---|---|---|---|\n");
     for (int i = 0; i < fr->n_dirs; i++) {
         const shol_flown_dir *d = &fr->dirs[i];
         char name[32], lim[16], at[48] = "-", lo[16], hi[48];
@@ -285,17 +312,32 @@ static void write_rate_bands(FILE *f, const shol_flown_result *fr)
         fmt_kt(hi, sizeof hi, !isnan(d->rate_band_hi_mps), d->rate_band_hi_mps);
         if (d->rate_band_open_above)
             snprintf(hi + strlen(hi), sizeof hi - strlen(hi), " (open above: no clear failure flown)");
+        shol_band b;
+        band_of(fr, i, &b);
+        char model[160], dom[192];
+        if (isfinite(b.model_mps)) {
+            char mt[128];
+            shol_band_model_text(&b, mt, sizeof mt);
+            snprintf(model, sizeof model, "%+.1f%s%s%s", kt(b.model_mps), mt[0] ? " (" : "", mt, mt[0] ? ")" : "");
+        } else
+            snprintf(model, sizeof model, b.model_crit >= 0 && isnan(b.model_err) ? "not validated" : "not defined");
+        rate_dominant(d, &b, dom, sizeof dom);
         char air[48] = "not known";
         if (isfinite(d->hub_speed_frac) && isfinite(d->hub_ti_frac))
             snprintf(air, sizeof air, "%.0f %%, %.1f %%", 100.0 * d->hub_speed_frac, 100.0 * d->hub_ti_frac);
-        fprintf(f, "| %s | %s | %s | %s | %s | %s |\n", name, lim, at, lo, hi, air);
+        fprintf(f, "| %s | %s | %s | %s | %s | %s | %s | %s |\n", name, lim, at, lo, hi, model, dom, air);
     }
     fprintf(f, "\n\"none\" in the first band column: no point flown clearly passes (the points below the lowest "
-               "flown are taken as passing, not flown); in the second: every point flown clearly fails. The air at the "
-               "hub: the direction's ship-only field at the main-rotor hub of the hover over the spot, its mean "
-               "speed and sqrt(2k/3), each over the WOD speed: where the mean is sheltered (well under 100 %%) "
-               "the intensity says how much of the wind comes as turbulence, which the flights fly and a trim "
-               "cannot see.\n");
+               "flown are taken as passing, not flown); in the second: every point flown clearly fails. "
+               "\"Model\": the flight model's validated error in the trim-based envelope's limiting quantity at "
+               "this direction, as the limit's move (shol/band.c, the trim-based band's model source, carried to "
+               "the flown limit); \"not validated\" where the aircraft states no error in it, \"not defined\" where "
+               "the trim-based limit has no criterion or slope. \"Dominant\": which of the pass rate's interval and "
+               "the model's error reaches further from the flown limit. The air at the hub: the "
+               "direction's ship-only field at the main-rotor hub of the hover over the spot, its mean speed and "
+               "sqrt(2k/3), each over the WOD speed: where the mean is sheltered (well under 100 %%) the "
+               "intensity says how much of the wind comes as turbulence, which the flights fly and a trim cannot "
+               "see.\n");
 }
 
 int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const shol_result *trim,

@@ -217,11 +217,17 @@ typedef struct shol_sample {
  *    the limiting quantity's own slope with speed the limit by
  *    window_mps = s V (the slope cancels): V +- s V;
  *  - sensitivity: V +- shol_envelope_sensitivity's shift for 0.25 deg of
- *    attitude or 1 % of travel.
+ *    attitude or 1 % of travel;
+ *  - model: the flight model's validated error e (model minus reference,
+ *    shol_model_error) in the limiting quantity, turned into speed through
+ *    the limit's measured slope: the interval from V to V + model_mps
+ *    (signed: out where the truth is further from the limit than the
+ *    model, shol_band_model_shift).
  * The band is their hull, clipped at 0 (and at the radius where nothing
  * failed up to the highest speed searched: the search says nothing above
  * it). */
-enum { SHOL_BAND_GRID = 0, SHOL_BAND_WINDOW = 1, SHOL_BAND_SENS = 2, SHOL_NBAND = 3 };
+enum { SHOL_BAND_GRID = 0, SHOL_BAND_WINDOW = 1, SHOL_BAND_SENS = 2, SHOL_BAND_MODEL = 3, SHOL_NBAND = 4 };
+#define SHOL_MODEL_REF_MAX 64
 typedef struct shol_band {
     int valid;             /* 1: filled (shol_band_compute, shol_band_get, shol_read_csv) */
     double lo_mps, hi_mps; /* lo <= the radius <= hi */
@@ -230,8 +236,14 @@ typedef struct shol_band {
     double window_mps;     /* s V >= 0; NAN: the window spread not known */
     double window_frac;    /* s; NAN: not known */
     double sens_mps;       /* >= 0; NAN: the sensitivity is not defined here */
+    double model_mps;      /* the limit's signed move for the model's error; NAN: not validated in
+                              the limiting quantity, or no slope to turn it into speed */
+    int model_crit;        /* the quantity model_err is in (SHOL_CRIT_*); -1: none limits */
+    double model_err;      /* model minus reference in it (rad or % of travel); NAN: not validated */
+    char model_ref[SHOL_MODEL_REF_MAX]; /* where it was measured, "GenHel at 1 kt" ("" none) */
     int low_confidence;    /* 1: wider than the rule (shol_band_rule) */
-    int widest;            /* SHOL_BAND_* that reaches furthest from V; -1: a band of width 0 */
+    int widest;            /* SHOL_BAND_* that reaches furthest from V, the band's dominant source;
+                              -1: a band of width 0 */
 } shol_band;
 
 /* Low confidence: a band wider than the larger of width_mps and frac times
@@ -264,6 +276,9 @@ typedef struct shol_result {
     double wall_s;         /* wall-clock time of the sweep */
     shol_band_rule band_rule;  /* the bands' rule (zero: none computed yet) */
     char band_grid_label[96];  /* the second grid's name in the bands ("" none) */
+    /* the model error's reference in the bands, "GenHel at 1 kt" (""
+     * not validated, or no bands computed) */
+    char band_model_label[SHOL_MODEL_REF_MAX];
 } shol_result;
 
 void shol_result_free(shol_result *r);
@@ -326,6 +341,8 @@ int shol_envelope_run_near(const shol_settings *s, const shol_result *cheap_resu
  * and the airwake behind it. */
 typedef struct shol_sensitivity {
     int crit;             /* the limiting criterion (SHOL_CRIT_*) */
+    int side;             /* +1: the quantity crossed its upper limit (above neutral: the
+                             collective always), -1: its lower one (0: not defined) */
     double slope_per_mps; /* margin lost per m/s of wind, > 0 */
     double ref_error;     /* rad or percentage points */
     double shift_mps;     /* ref_error / slope_per_mps */
@@ -410,6 +427,31 @@ int shol_envelope_attribution(const shol_dir_result *d, int budget, shol_attribu
 void shol_attribution_format(const shol_attribution *a, char *buf, size_t n);
 
 /* ---------------------------------------------------- uncertainty bands */
+/* The flight model's validated error, model minus reference, in each
+ * criterion's quantity at one condition (the aircraft file's
+ * [model_error], docs/aircraft-format.md; couple fills it from
+ * hfm_aircraft_model_error). */
+typedef struct shol_model_error {
+    int valid;               /* 1: the aircraft states one; 0: not validated (err ignored) */
+    double err[SHOL_NCRIT];  /* by shol_crit: rad for roll and pitch, percentage points of
+                                travel for a control; NAN: that quantity not validated */
+    char reference[SHOL_MODEL_REF_MAX]; /* what it was measured against and where, for the
+                                           reports: "GenHel at 1 kt" */
+} shol_model_error;
+/* Not validated: valid 0, every error NAN, no reference. */
+void shol_model_error_none(shol_model_error *m);
+/* The limit's move for the model's error e in d's limiting quantity q
+ * (m NULL or not valid: none): the truth is q - e, so where q crosses its
+ * upper limit the truth's margin is the model's plus e, at a lower limit
+ * the model's minus e, and the limit moves by side e / slope
+ * (shol_envelope_sensitivity's secant slope and side): out (> 0) where the
+ * truth is further from the limit. *crit_out: the limiting criterion
+ * (-1 when the limit is none or trim), *err_out: its error (NAN: not
+ * validated); either may be NULL. NAN when the error or the slope is not
+ * there. */
+double shol_band_model_shift(const shol_dir_result *d, const shol_model_error *m, int *crit_out,
+                             double *err_out);
+
 /* What the bands are made of. grid: the same envelope on another grid
  * level (its directions matched to r's within 1e-6 rad; a direction it
  * lacks has no second grid; one with no passing speed has V_g = 0), NULL
@@ -428,9 +470,11 @@ typedef struct shol_band_inputs {
     int n_window;
     double window_dir_rad[SHOL_MAX_DIRS];
     double window_frac[SHOL_MAX_DIRS];
+    /* the flight model's validated error (shol_model_error_none: not validated) */
+    shol_model_error model;
     shol_band_rule rule;
 } shol_band_inputs;
-/* No grid, no window, the default rule. */
+/* No grid, no window, the model not validated, the default rule. */
 void shol_band_inputs_default(shol_band_inputs *in);
 /* A field's window spread s from its solver state (cfd_result): 0 when it
  * converged; when it is the mean of its last iterations (averaged > 0),
@@ -438,8 +482,8 @@ void shol_band_inputs_default(shol_band_inputs *in);
  * before the window, mean_drift alone); NAN otherwise (the last iterate
  * of an unconverged run: its spread was not measured). */
 double shol_band_window_frac(int converged, int averaged, double mean_drift, double mean_change);
-/* Fill every direction's band (r->dirs[i].band), r->band_rule and
- * r->band_grid_label. Returns 0, or < 0 with err naming the direction and
+/* Fill every direction's band (r->dirs[i].band), r->band_rule,
+ * r->band_grid_label and r->band_model_label. Returns 0, or < 0 with err naming the direction and
  * the bad value (a window spread that is negative or infinite, a second
  * grid's (or grid_base's) radius that is not finite or negative, a rule
  * that is not > 0, a grid_base without grid,
@@ -451,10 +495,22 @@ void shol_band_get(const shol_result *r, int i, shol_band *out);
 /* r's rule, the default where none was set. */
 shol_band_rule shol_band_rule_of(const shol_result *r);
 /* What makes a band, e.g. "grid +15.0 (default grid), window +-2.1,
- * 0.25 deg +-9.0" (km/h); limit (the direction's) names the
- * sensitivity's unit (0.25 deg for an attitude, 1 % for a control). */
+ * 0.25 deg +-9.0, model +6.2 (pedal -4.27 % vs GenHel at 1 kt)" (km/h);
+ * limit (the direction's) names the sensitivity's unit (0.25 deg for an
+ * attitude, 1 % for a control). The model source reads "model: not
+ * validated" where the aircraft states no error in the limiting quantity,
+ * "model: not defined" where no criterion limits or the slope is not
+ * there. */
 void shol_band_format(const shol_band *b, const char *grid_label, int limit, char *buf, size_t n);
-/* The name of a band source: "grid", "window", "sensitivity"; "-" for -1. */
+/* The model's error in words: "pedal -4.27 % vs GenHel at 1 kt" (without
+ * " vs ..." where the band has no reference); "" when there is none. */
+void shol_band_model_text(const shol_band *b, char *buf, size_t n);
+/* The band's dominant source (widest) in words: "model (pedal -4.27 % vs
+ * GenHel at 1 kt)" when it is the model, else its name ("grid", "window",
+ * "sensitivity"; "-" for a band of width 0). */
+void shol_band_dominant(const shol_band *b, char *buf, size_t n);
+/* The name of a band source: "grid", "window", "sensitivity", "model";
+ * "-" for -1. */
 const char *shol_band_source_name(int src);
 
 /* -------------------------------------------------------------- outputs */
@@ -509,12 +565,15 @@ typedef struct shol_report_info {
  * margin_pitch_deg, margin_long_pct, margin_lat_pct, margin_coll_pct,
  * margin_pedal_pct, then the band (shol_band_get): band_lo_kmh,
  * band_hi_kmh, band_grid_kmh, band_window_kmh, band_sens_kmh (nan: not
- * measured), band_open_above, low_confidence (0 or 1). A direction with
- * no passing speed has "nan" speeds and the margins at 0 m/s. */
+ * measured), band_open_above, low_confidence (0 or 1), band_model_kmh
+ * (signed; nan: not validated or not defined). A direction with no passing
+ * speed has "nan" speeds and the margins at 0 m/s. */
 int shol_write_csv(const char *dir, const shol_result *r, core_err *err);
 /* Read a shol.csv back (directions, speeds, limits, margins, and the band
- * where the file has its columns: the first ten columns alone are read
- * too; no history, settings default apart from the directions). */
+ * where the file has its columns: the first ten columns alone, and the
+ * first seventeen (without band_model_kmh), are read too; no history,
+ * settings default apart from the directions; the model's error behind
+ * band_model_kmh is not in the file, model_err NAN). */
 int shol_read_csv(const char *path, shol_result *r, core_err *err);
 /* DIR/shol.json: settings, criteria and per direction the result and the
  * whole trim-versus-speed history. */
@@ -757,7 +816,7 @@ int shol_flown_as_result(const shol_flown_result *f, const shol_result *trim, sh
  * shol_flown.csv, one row per direction, columns exactly: wod_dir_deg,
  * max_speed_kt, max_speed_kmh, pass_rate_at_max, fail_speed_kt,
  * pass_rate_at_fail, cause, trim_max_speed_kt, trim_limit, then the
- * flown band's seven columns as in shol.csv, then rate_band_lo_kmh,
+ * flown band's eight columns as in shol.csv, then rate_band_lo_kmh,
  * rate_band_hi_kmh, rate_band_open_above (the pass rate's band);
  * shol_flown_points.csv, one row per flown point: wod_dir_deg, speed_kt,
  * speed_kmh, flights, passed, pass_rate, pass, cause, pass_rate_lo,
@@ -779,7 +838,8 @@ int shol_flown_write_report(const char *dir, const shol_flown_result *f, const s
  * trim envelope's sources carried to the flown radius V_f, as what the
  * project measures of the air the flights fly: the trim's grid spread
  * (grid_mps, the same signed shift), its window spread s (window_frac)
- * as +- s V_f, and its 0.25 deg / 1 % shift. Open
+ * as +- s V_f, its 0.25 deg / 1 % shift, and its model shift (model_mps,
+ * the same signed shift, with its quantity and error). Open
  * above where no flown point failed; the rule is the trim result's.
  * Without a trim direction (or trim NULL) every source is absent. */
 void shol_flown_band(const shol_flown_result *f, const shol_result *trim, int i, shol_band *out);

@@ -9,11 +9,14 @@
  *  - the shipped aircraft load without a warning;
  *  - each consistency check fires on a copy of a good file with the unit slip
  *    it is meant to catch (an error naming file, line, key and why, or a
- *    warning through core_log), and an unknown section is named.
+ *    warning through core_log), and an unknown section is named;
+ *  - the validated error ([model_error]) read as the files state it, and
+ *    its bad keys refused.
  */
 #include "check.h"
 #include "hfm.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -200,6 +203,59 @@ static void test_checks(void)
     expect_refused(p, NEEDLES("sec.ini:135: unknown section [fin_extra]"), "unknown section");
 }
 
+/* ---------------------------------------------------- [model_error] */
+/* The validated error: the UH-60A's GenHel hover row as its file states
+ * it, the SA365N not validated, the Bo105 its pitch alone; an unknown,
+ * malformed or out-of-range key refused naming file, line and key; a
+ * section without an error refused; an error from a cruise trim warned. */
+static void test_model_error(void)
+{
+    core_err err = {0};
+    hfm_model_error m;
+    hfm_aircraft *ac = hfm_aircraft_load(UH60, NULL, &err);
+    CHECK(ac && hfm_aircraft_model_error(ac, &m) == 0);
+    if (ac) {
+        CHECK(strcmp(m.reference, "GenHel") == 0);
+        CHECK_NEAR(m.airspeed_mps, 1.0 * CORE_KT_TO_MPS, 1e-12);
+        CHECK_NEAR(m.pedal_pct, -4.27, 1e-12);
+        CHECK_NEAR(m.long_cyclic_pct, -5.94, 1e-12);
+        CHECK_NEAR(m.collective_pct, 1.56, 1e-12);
+        CHECK_NEAR(m.lat_cyclic_pct, 0.92, 1e-12);
+        CHECK_NEAR(m.pitch_rad, 1.20 * CORE_DEG_TO_RAD, 1e-12);
+        CHECK_NEAR(m.roll_rad, 0.42 * CORE_DEG_TO_RAD, 1e-12);
+        printf("UH-60A model error vs %s at %.0f kt: pedal %+.2f %%, pitch %+.2f deg\n", m.reference,
+               m.airspeed_mps / CORE_KT_TO_MPS, m.pedal_pct, m.pitch_rad * CORE_RAD_TO_DEG);
+    }
+    hfm_aircraft_destroy(ac);
+    ac = hfm_aircraft_load(SA365, NULL, &err);
+    CHECK(ac && hfm_aircraft_model_error(ac, &m) == 1);
+    CHECK(isnan(m.pedal_pct) && isnan(m.pitch_rad) && isnan(m.roll_rad) && isnan(m.collective_pct) &&
+          m.reference[0] == '\0');
+    hfm_aircraft_destroy(ac);
+    ac = hfm_aircraft_load("scenarios/aircraft/bo105.ini", NULL, &err);
+    CHECK(ac && hfm_aircraft_model_error(ac, &m) == 0);
+    CHECK(ac && fabs(m.pitch_rad - (-0.18 * CORE_DEG_TO_RAD)) < 1e-12 && isnan(m.pedal_pct) && isnan(m.roll_rad));
+    hfm_aircraft_destroy(ac);
+
+    expect_refused(variant(UH60, (edit[]){{"model_error", "pedal_pct", "pedal_pct = -4.27\npedal_pc = 1"}}, 1,
+                           "me_unknown.ini"),
+                   NEEDLES("me_unknown.ini:", "[model_error] pedal_pc", "unknown key"), "model_error unknown key");
+    expect_refused(variant(UH60, (edit[]){{"model_error", "pedal_pct", "pedal_pct = -4.27 %"}}, 1, "me_bad.ini"),
+                   NEEDLES("me_bad.ini:", "[model_error] pedal_pct"), "model_error malformed");
+    expect_refused(variant(UH60, (edit[]){{"model_error", "pitch_deg", "pitch_deg = 12"}}, 1, "me_range.ini"),
+                   NEEDLES("me_range.ini:", "[model_error] pitch_deg"), "model_error out of range");
+    expect_refused(variant(UH60, (edit[]){{"model_error", "reference", NULL}}, 1, "me_noref.ini"),
+                   NEEDLES("me_noref.ini", "[model_error] reference"), "model_error without reference");
+    const edit none[6] = {{"model_error", "roll_deg", NULL},        {"model_error", "pitch_deg", NULL},
+                          {"model_error", "collective_pct", NULL},  {"model_error", "long_cyclic_pct", NULL},
+                          {"model_error", "lat_cyclic_pct", NULL},  {"model_error", "pedal_pct", NULL}};
+    expect_refused(variant(UH60, none, 6, "me_none.ini"), NEEDLES("me_none.ini:", "[model_error] reference", "no error"),
+                   "model_error without an error");
+    sink s;
+    expect_warned(variant(UH60, (edit[]){{"model_error", "airspeed_kt", "airspeed_kt = 60"}}, 1, "me_60.ini"),
+                  NEEDLES("me_60.ini:", "[model_error] airspeed_kt = 60", "0-45 kt"), "model_error at 60 kt", &s);
+}
+
 /* ------------------------------------------------------------- LUH-25 */
 static void test_shipped(void)
 {
@@ -302,6 +358,7 @@ int main(void)
     test_shipped();
     test_luh25();
     test_checks();
+    test_model_error();
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
     if (system(cmd) != 0)

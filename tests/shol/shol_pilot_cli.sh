@@ -20,7 +20,7 @@ for f in shol_flown.csv shol_flown_points.csv shol_flown.json shol_polar_flown.p
     [ -s "$tmp/out/$f" ] || { echo "missing output $f"; fail=1; }
 done
 [ -d "$tmp/db/fields" ] && [ -n "$(ls "$tmp/db/fields" 2>/dev/null)" ] && { echo "calm air built a field"; fail=1; }
-head -1 "$tmp/out/shol_flown.csv" | grep -qx "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,pass_rate_at_fail,cause,trim_max_speed_kt,trim_limit,band_lo_kmh,band_hi_kmh,band_grid_kmh,band_window_kmh,band_sens_kmh,band_open_above,low_confidence,rate_band_lo_kmh,rate_band_hi_kmh,rate_band_open_above" \
+head -1 "$tmp/out/shol_flown.csv" | grep -qx "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,pass_rate_at_fail,cause,trim_max_speed_kt,trim_limit,band_lo_kmh,band_hi_kmh,band_grid_kmh,band_window_kmh,band_sens_kmh,band_open_above,low_confidence,band_model_kmh,rate_band_lo_kmh,rate_band_hi_kmh,rate_band_open_above" \
     || { echo "bad shol_flown.csv header"; head -1 "$tmp/out/shol_flown.csv"; fail=1; }
 head -1 "$tmp/out/shol_flown_points.csv" | grep -qx "wod_dir_deg,speed_kt,speed_kmh,flights,passed,pass_rate,pass,cause,pass_rate_lo,pass_rate_hi,verdict,track_rms_m,track_max_m,tracked" \
     || { echo "bad shol_flown_points.csv header"; head -1 "$tmp/out/shol_flown_points.csv"; fail=1; }

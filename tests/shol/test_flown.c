@@ -482,8 +482,8 @@ static void test_outputs(void)
     char *csv = slurp(path);
     const char *hdr = "wod_dir_deg,max_speed_kt,max_speed_kmh,pass_rate_at_max,fail_speed_kt,"
                       "pass_rate_at_fail,cause,trim_max_speed_kt,trim_limit,band_lo_kmh,band_hi_kmh,band_grid_kmh,"
-                      "band_window_kmh,band_sens_kmh,band_open_above,low_confidence,rate_band_lo_kmh,"
-                      "rate_band_hi_kmh,rate_band_open_above\n";
+                      "band_window_kmh,band_sens_kmh,band_open_above,low_confidence,band_model_kmh,"
+                      "rate_band_lo_kmh,rate_band_hi_kmh,rate_band_open_above\n";
     CHECK(csv && !strncmp(csv, hdr, strlen(hdr)));
     CHECK(count_lines(csv) == 1 + fr.n_dirs);
     /* head's row: its radius in kt and km/h, its cause quoted, the trim's 40 km/h */
@@ -546,6 +546,97 @@ static void test_outputs(void)
     }
     rmdir(dir2);
     rmdir(dir);
+    shol_flown_result_free(&fr);
+    shol_result_free(&t);
+}
+
+/* The model's error carried to the flown envelope: the trim-based bands
+ * of the synthetic trim given a model source by hand (red 90: the pedal's
+ * -4.27 % vs GenHel moving the limit in by 30 km/h; head: +1 km/h; green
+ * 90: not validated), the flown bands carry each one's shift, quantity,
+ * error and reference; the report's pass-rate table names the dominant
+ * source, the model at red 90 (30 km/h against an interval of a few
+ * steps), the interval at head (1 km/h), neither at green 90 (not
+ * validated, and every point flown there clearly passes or fails: an
+ * interval of width 0); the CSV and JSON carry the shift. */
+static void test_band_model(void)
+{
+    shol_result t;
+    make_trim(&t);
+    core_err err = {0};
+    CHECK(shol_band_compute(&t, NULL, &err) == 0);
+    const double shift_kmh[3] = {-30, 1, NAN};
+    for (int i = 0; i < 3; i++) {
+        shol_band *b = &t.dirs[i].band;
+        CHECK(b->valid && isnan(b->model_mps) && b->model_crit == SHOL_CRIT_PEDAL && isnan(b->model_err));
+        if (i < 2) {
+            b->model_mps = shift_kmh[i] * KMH;
+            b->model_err = -4.27;
+            /* the band as shol_band_compute would make it with this shift */
+            if (b->model_mps < 0)
+                b->lo_mps = t.dirs[i].max_speed_mps + b->model_mps;
+            else
+                b->hi_mps = t.dirs[i].max_speed_mps + b->model_mps;
+            b->widest = SHOL_BAND_MODEL;
+            snprintf(b->model_ref, sizeof b->model_ref, "GenHel at 1 kt");
+        }
+    }
+    shol_flown_settings fs;
+    shol_flown_settings_default(&fs);
+    synth sy = {0, 0, INFINITY};
+    shol_flown_result fr;
+    CHECK(shol_flown_run(&fs, &t, synth_fly, &sy, NULL, NULL, NULL, &fr, &err) == 0);
+    for (int i = 0; i < 3; i++) {
+        const shol_band *b = &fr.dirs[i].band;
+        const double v = fr.dirs[i].has_pass ? fr.dirs[i].max_speed_mps : 0;
+        CHECK(b->model_crit == SHOL_CRIT_PEDAL);
+        if (i < 2) {
+            CHECK_NEAR(b->model_mps, shift_kmh[i] * KMH, 1e-12);
+            CHECK(b->model_err == -4.27 && !strcmp(b->model_ref, "GenHel at 1 kt"));
+        } else
+            CHECK(isnan(b->model_mps) && isnan(b->model_err) && b->model_ref[0] == '\0');
+        if (i == 0) {
+            CHECK(v > 30 * KMH);
+            CHECK_NEAR(b->lo_mps, v - 30 * KMH, 1e-9);
+            CHECK(b->widest == SHOL_BAND_MODEL);
+        }
+    }
+    /* without the trim envelope: no model source */
+    shol_band nb;
+    shol_flown_band(&fr, NULL, 0, &nb);
+    CHECK(isnan(nb.model_mps) && nb.model_crit == -1);
+    char dir[] = "/tmp/disim_test_flownmodel_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    shol_report_info info;
+    memset(&info, 0, sizeof info);
+    CHECK(shol_flown_write_all(dir, &fr, &t, &info, &err) == 0);
+    char path[700];
+    snprintf(path, sizeof path, "%s/report.md", dir);
+    char *md = slurp(path);
+    CHECK(md && strstr(md, "| model (kt) | dominant |"));
+    CHECK(md && strstr(md, " | -16.2 (pedal -4.27 % vs GenHel at 1 kt) | model (pedal -4.27 % vs GenHel at 1 kt) |\n"));
+    CHECK(md && strstr(md, " | +0.5 (pedal -4.27 % vs GenHel at 1 kt) | interval |\n"));
+    CHECK(md && strstr(md, "| green 90 | ") && strstr(md, " | not validated | - |\n")); /* an interval of width 0 */
+    CHECK(md && strstr(md, "model -30.0 (pedal -4.27 % vs GenHel at 1 kt)"));
+    if (md && !strstr(md, " | -16.2 (pedal -4.27 % vs GenHel at 1 kt) | model (pedal"))
+        fprintf(stderr, "%s\n", md);
+    free(md);
+    snprintf(path, sizeof path, "%s/shol_flown.csv", dir);
+    char *csv = slurp(path);
+    CHECK(csv && strstr(csv, ",0,1,-30.000,") && strstr(csv, ",1.000,"));
+    free(csv);
+    snprintf(path, sizeof path, "%s/shol_flown.json", dir);
+    char *js = slurp(path);
+    CHECK(js && strstr(js, "\"model_kmh\": -30, \"model_quantity\": \"pedal\", \"model_error\": -4.27, "
+                           "\"model_reference\": \"GenHel at 1 kt\"") && !strstr(js, "nan"));
+    free(js);
+    if (getenv("SHOL_TEST_KEEP"))
+        printf("flown model outputs kept in %s\n", dir);
+    else {
+        char cmd[760];
+        snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+        CHECK(system(cmd) == 0);
+    }
     shol_flown_result_free(&fr);
     shol_result_free(&t);
 }
@@ -620,7 +711,7 @@ static void test_bands(void)
     const shol_flown_dir *d0 = &fr.dirs[0];
     char rb[64];
     snprintf(rb, sizeof rb, "%.1f", d0->rate_band_lo_mps / KMH);
-    snprintf(row + strlen(row), sizeof row - strlen(row), "%s,%.1f,%d\n", isnan(d0->rate_band_lo_mps) ? "nan" : rb,
+    snprintf(row + strlen(row), sizeof row - strlen(row), "nan,%s,%.1f,%d\n", isnan(d0->rate_band_lo_mps) ? "nan" : rb,
              d0->rate_band_hi_mps / KMH, d0->rate_band_open_above);
     CHECK(csv && strstr(csv, row));
     free(csv);
@@ -838,6 +929,7 @@ int main(void)
     test_search();
     test_outputs();
     test_bands();
+    test_band_model();
     cairo_debug_reset_static_data();
     FcFini();
     return check_done("test_flown");

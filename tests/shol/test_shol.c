@@ -721,13 +721,13 @@ static void test_outputs(void)
         fprintf(stderr, "  write_all: %s\n", err.msg);
 
     /* CSV: the header exactly, then a round trip. */
-    char head[256];
+    char head[512];
     snprintf(path, sizeof path, "%s/shol.csv", out);
     CHECK(read_head(path, head, sizeof head) > 0);
     const char *hdr = "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,"
                       "margin_pitch_deg,margin_long_pct,margin_lat_pct,margin_coll_pct,"
                       "margin_pedal_pct,band_lo_kmh,band_hi_kmh,band_grid_kmh,band_window_kmh,"
-                      "band_sens_kmh,band_open_above,low_confidence\n";
+                      "band_sens_kmh,band_open_above,low_confidence,band_model_kmh\n";
     CHECK(strncmp(head, hdr, strlen(hdr)) == 0);
     shol_result back;
     CHECK(shol_read_csv(path, &back, &err) == 0);
@@ -1204,8 +1204,8 @@ static void test_bands(void)
     CHECK(n_low >= 1 && n_low < r.n_dirs); /* the rule tells them apart */
     char what[256];
     shol_band_format(&r.dirs[6].band, r.band_grid_label, r.dirs[6].limit, what, sizeof what);
-    CHECK(strcmp(what, "grid -10.0 (gain-2 grid), window +-0.0, 1 % +-1.8") == 0);
-    if (strcmp(what, "grid -10.0 (gain-2 grid), window +-0.0, 1 % +-1.8") != 0)
+    CHECK(strcmp(what, "grid -10.0 (gain-2 grid), window +-0.0, 1 % +-1.8, model: not validated") == 0);
+    if (strcmp(what, "grid -10.0 (gain-2 grid), window +-0.0, 1 % +-1.8, model: not validated") != 0)
         fprintf(stderr, "  band format: %s\n", what);
 
     /* The outputs carry it. */
@@ -1227,26 +1227,28 @@ static void test_bands(void)
         CHECK_NEAR(b->grid_mps, a->grid_mps, 1e-5);
         CHECK(isnan(a->window_mps) ? isnan(b->window_mps) : fabs(b->window_mps - a->window_mps) < 1e-5);
         CHECK(isnan(a->sens_mps) ? isnan(b->sens_mps) : fabs(b->sens_mps - a->sens_mps) < 1e-5);
+        CHECK(isnan(a->model_mps) && isnan(b->model_mps)); /* not validated */
         CHECK(b->low_confidence == a->low_confidence && b->open_above == a->open_above);
     }
     shol_result_free(&back);
     snprintf(path, sizeof path, "%s/shol.json", dir);
     char *js = read_all(path);
     CHECK(js && strstr(js, "\"band_rule\": {\"low_confidence_width_kmh\": 10, \"low_confidence_frac\": 0.25, "
-                           "\"grid\": \"gain-2 grid\"}"));
+                           "\"grid\": \"gain-2 grid\", \"model_reference\": \"\"}"));
     CHECK(js && strstr(js, "\"band\": {\"lo_kmh\": 35, \"hi_kmh\": 46.8, \"grid_kmh\": -10, \"window_kmh\": 0, "
-                           "\"sens_kmh\": 1.8, \"open_above\": false, \"widest\": \"grid\", "
-                           "\"low_confidence\": true}"));
+                           "\"sens_kmh\": 1.8, \"model_kmh\": null, \"model_quantity\": \"pedal\", "
+                           "\"model_error\": null, \"model_reference\": \"\", \"open_above\": false, "
+                           "\"widest\": \"grid\", \"low_confidence\": true}"));
     CHECK(js && strstr(js, "\"window_kmh\": null") && !strstr(js, "nan"));
     free(js);
     snprintf(path, sizeof path, "%s/report.md", dir);
     char *md = read_all(path);
     CHECK(md && strstr(md, "## Uncertainty bands"));
-    CHECK(md && strstr(md, "| green 90 | 45.0 | 35.0-46.8 | grid -10.0 (gain-2 grid), window +-0.0, 1 % +-1.8 | "
-                           "grid | **low** |"));
+    CHECK(md && strstr(md, "| green 90 | 45.0 | 35.0-46.8 | grid -10.0 (gain-2 grid), window +-0.0, 1 % +-1.8, "
+                           "model: not validated | grid | **low** |"));
     CHECK(md && strstr(md, "| red 90 | 50.0 | 48.0-52.0 |") && strstr(md, "| window | ok |"));
     CHECK(md && strstr(md, "**Low confidence, where an at-sea test is most needed:** ") &&
-          strstr(md, "green 90 (35.0-46.8 km/h, widest: grid)"));
+          strstr(md, "green 90 (35.0-46.8 km/h, dominant: grid)"));
     CHECK(md && !strstr(md, "No second grid level"));
     /* beams below the head wind's 100 km/h and limited: no beam note */
     CHECK(md && !strstr(md, "beam winds resting on the steady mean"));
@@ -1450,6 +1452,217 @@ static void test_bands(void)
     shol_result_free(&g);
     if (getenv("SHOL_TEST_KEEP"))
         printf("band outputs kept in %s\n", dir);
+    else {
+        char cmd[760];
+        snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+        CHECK(system(cmd) == 0);
+    }
+}
+
+/* The model source (shol_band_model_shift): the analytic model with pedal
+ * gain 3 is limited by the pedal at both beams, its margin falling by
+ * PEDAL_K 3 = 4 % of travel per m/s: at green 90 the pedal rises to its
+ * ceiling (90 %: c = 20/3 m/s = 24 km/h, radius 20 km/h), at red 90 it
+ * falls to its floor (10 %: c = -40/3 m/s = 48 km/h, radius 45). The
+ * UH-60A's error, pedal -4.27 % (model below GenHel): the truth's pedal
+ * is 4.27 % above the model's, so at the ceiling the truth is nearer its
+ * limit and the limit moves in by 4.27 / 4 = 1.0675 m/s (3.843 km/h), at
+ * the floor further from it and the limit moves out by as much. With
+ * e = +2 % both signs turn. Then the dominant source (the model's 3.84
+ * km/h against the 1 % sensitivity's 0.9), the outputs (CSV round trip,
+ * JSON, the report's "dominant" naming the pedal's error and reference), a
+ * CSV without the model's column read, an aircraft not validated (NAN,
+ * "not validated"), and an infinite error refused. */
+static void test_band_model(void)
+{
+    shol_settings s;
+    shol_settings_default(&s);
+    core_err err = {0};
+    model m = {3.0, 0, 0, 0, 0};
+    shol_result r;
+    CHECK(shol_envelope_run(&s, model_trim, &m, NULL, NULL, NULL, &r, &err) == 0);
+    int ig = -1, ir = -1;
+    for (int i = 0; i < r.n_dirs; i++) {
+        double deg = r.dirs[i].dir_rad / CORE_DEG_TO_RAD;
+        if (fabs(deg - 90) < 1e-9)
+            ig = i;
+        if (fabs(deg + 90) < 1e-9)
+            ir = i;
+    }
+    CHECK(ig >= 0 && ir >= 0);
+    if (ig < 0 || ir < 0)
+        return;
+    const shol_dir_result *dg = &r.dirs[ig], *dr = &r.dirs[ir];
+    CHECK(dg->limit == SHOL_CRIT_PEDAL && dr->limit == SHOL_CRIT_PEDAL);
+    CHECK_NEAR(dg->max_speed_mps / KMH, 20, 1e-9);
+    CHECK_NEAR(dr->max_speed_mps / KMH, 45, 1e-9);
+    shol_sensitivity se;
+    CHECK(shol_envelope_sensitivity(dg, &se) == 0 && se.side == 1);
+    CHECK_NEAR(se.slope_per_mps, PEDAL_K * 3.0, 1e-9);
+    CHECK(shol_envelope_sensitivity(dr, &se) == 0 && se.side == -1);
+    CHECK_NEAR(se.slope_per_mps, PEDAL_K * 3.0, 1e-9);
+
+    shol_model_error me;
+    shol_model_error_none(&me);
+    me.valid = 1;
+    me.err[SHOL_CRIT_PEDAL] = -4.27;
+    me.err[SHOL_CRIT_PITCH] = 1.20 * CORE_DEG_TO_RAD;
+    snprintf(me.reference, sizeof me.reference, "GenHel at 1 kt");
+    const double shift = 4.27 / (PEDAL_K * 3.0); /* 1.0675 m/s */
+    int crit = -2;
+    double e = 0;
+    CHECK_NEAR(shol_band_model_shift(dg, &me, &crit, &e), -shift, 1e-12); /* ceiling: in */
+    CHECK(crit == SHOL_CRIT_PEDAL && e == -4.27);
+    CHECK_NEAR(shol_band_model_shift(dr, &me, NULL, NULL), shift, 1e-12); /* floor: out */
+    me.err[SHOL_CRIT_PEDAL] = 2.0;
+    CHECK_NEAR(shol_band_model_shift(dg, &me, NULL, NULL), 0.5, 1e-12);
+    CHECK_NEAR(shol_band_model_shift(dr, &me, NULL, NULL), -0.5, 1e-12);
+    /* the shift is where the truth (the model less its error) crosses the
+     * limit, by the closed form: the pedal is linear in c */
+    {
+        const double truth_c_ceiling = ((90.0 - 50.0 + 2.0) / PEDAL_K - 10.0) / 3.0;
+        const double model_c_ceiling = 20.0 / 3.0;
+        CHECK_NEAR(truth_c_ceiling - model_c_ceiling, shol_band_model_shift(dg, &me, NULL, NULL), 1e-9);
+    }
+    me.err[SHOL_CRIT_PEDAL] = -4.27;
+    /* no error in the limiting quantity, or none at all: NAN */
+    shol_model_error part = me;
+    part.err[SHOL_CRIT_PEDAL] = NAN;
+    CHECK(isnan(shol_band_model_shift(dg, &part, &crit, &e)) && crit == SHOL_CRIT_PEDAL && isnan(e));
+    CHECK(isnan(shol_band_model_shift(dg, NULL, NULL, NULL)));
+
+    shol_band_inputs in;
+    shol_band_inputs_default(&in);
+    CHECK(!in.model.valid && isnan(in.model.err[SHOL_CRIT_PEDAL]));
+    in.model = me;
+    CHECK(shol_band_compute(&r, &in, &err) == 0);
+    const double sens = 1.0 / (PEDAL_K * 3.0); /* 1 % of travel: 0.25 m/s, 0.9 km/h */
+    {
+        const shol_band *b = &dg->band;
+        CHECK_NEAR(b->model_mps, -shift, 1e-12);
+        CHECK(b->model_crit == SHOL_CRIT_PEDAL && b->model_err == -4.27 && !strcmp(b->model_ref, "GenHel at 1 kt"));
+        CHECK_NEAR(b->lo_mps, dg->max_speed_mps - shift, 1e-12);
+        CHECK_NEAR(b->hi_mps, dg->max_speed_mps + sens, 1e-12);
+        CHECK(b->widest == SHOL_BAND_MODEL);
+        b = &dr->band;
+        CHECK_NEAR(b->model_mps, shift, 1e-12);
+        CHECK_NEAR(b->lo_mps, dr->max_speed_mps - sens, 1e-12);
+        CHECK_NEAR(b->hi_mps, dr->max_speed_mps + shift, 1e-12);
+        CHECK(b->widest == SHOL_BAND_MODEL);
+    }
+    char what[256], dom[192];
+    shol_band_format(&dg->band, r.band_grid_label, dg->limit, what, sizeof what);
+    CHECK(strstr(what, ", model -3.8 (pedal -4.27 % vs GenHel at 1 kt)") != NULL);
+    shol_band_dominant(&dr->band, dom, sizeof dom);
+    CHECK(strcmp(dom, "model (pedal -4.27 % vs GenHel at 1 kt)") == 0);
+    printf("band model: green 90 %s; red 90 dominant %s\n", what, dom);
+    /* the head wind is limited by the longitudinal cyclic, not validated
+     * here: the sensitivity dominates */
+    for (int i = 0; i < r.n_dirs; i++)
+        if (fabs(r.dirs[i].dir_rad) < 1e-9) {
+            CHECK(r.dirs[i].limit == SHOL_CRIT_LONG && isnan(r.dirs[i].band.model_mps));
+            CHECK(r.dirs[i].band.widest == SHOL_BAND_SENS);
+            shol_band_format(&r.dirs[i].band, NULL, r.dirs[i].limit, what, sizeof what);
+            CHECK(strstr(what, "model: not validated") != NULL);
+        }
+
+    /* The outputs. */
+    char dir[] = "/tmp/disim_test_bandmodel_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[800];
+    shol_report_info info = {0};
+    info.title = "band model test";
+    CHECK(shol_write_all(dir, &r, &info, &err) == 0);
+    snprintf(path, sizeof path, "%s/shol.csv", dir);
+    shol_result back;
+    CHECK(shol_read_csv(path, &back, &err) == 0);
+    CHECK(back.n_dirs == r.n_dirs);
+    for (int i = 0; i < r.n_dirs && i < back.n_dirs; i++) {
+        const shol_band *a = &r.dirs[i].band, *b = &back.dirs[i].band;
+        CHECK(isnan(a->model_mps) ? isnan(b->model_mps) : fabs(b->model_mps - a->model_mps) < 1e-5);
+        CHECK(b->widest == a->widest);
+    }
+    CHECK(back.n_dirs > ig && back.dirs[ig].band.model_crit == SHOL_CRIT_PEDAL);
+    shol_result_free(&back);
+    snprintf(path, sizeof path, "%s/shol.json", dir);
+    char *js = read_all(path);
+    CHECK(js && strstr(js, "\"model_kmh\": -3.843, \"model_quantity\": \"pedal\", \"model_error\": -4.27, "
+                           "\"model_reference\": \"GenHel at 1 kt\", \"open_above\": false, \"widest\": \"model\""));
+    CHECK(js && strstr(js, "\"model_kmh\": 3.843,"));
+    free(js);
+    snprintf(path, sizeof path, "%s/report.md", dir);
+    char *md = read_all(path);
+    CHECK(md && strstr(md, "| green 90 | 20.0 | 16.2-20.9 | ") &&
+          strstr(md, "model -3.8 (pedal -4.27 % vs GenHel at 1 kt) | model (pedal -4.27 % vs GenHel at 1 kt) |"));
+    CHECK(md && strstr(md, "| red 90 | 45.0 | 44.1-48.8 | ") && strstr(md, "**Dominant**"));
+    CHECK(md && !strstr(md, "states no validated error"));
+    CHECK(!strcmp(r.band_model_label, "GenHel at 1 kt"));
+    free(md);
+
+    /* A shol.csv of the seventeen columns before the model's: read, the
+     * model's shift not known. */
+    snprintf(path, sizeof path, "%s/v2.csv", dir);
+    FILE *f = fopen(path, "w");
+    CHECK(f != NULL);
+    if (f) {
+        fprintf(f, "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,margin_pitch_deg,"
+                   "margin_long_pct,margin_lat_pct,margin_coll_pct,margin_pedal_pct,band_lo_kmh,band_hi_kmh,"
+                   "band_grid_kmh,band_window_kmh,band_sens_kmh,band_open_above,low_confidence\n"
+                   "90,10.79914,20,pedal,1,1,1,1,1,1,19.1,20.9,nan,nan,0.9,0,0\n");
+        fclose(f);
+    }
+    CHECK(shol_read_csv(path, &back, &err) == 0);
+    CHECK(back.n_dirs == 1 && back.dirs[0].band.valid && isnan(back.dirs[0].band.model_mps));
+    CHECK(back.n_dirs == 1 && back.dirs[0].band.widest == SHOL_BAND_SENS);
+    shol_result_free(&back);
+    /* and an infinite model column refused, naming it */
+    f = fopen(path, "w");
+    if (f) {
+        fprintf(f, "wod_dir_deg,max_speed_kt,max_speed_kmh,limit,margin_roll_deg,margin_pitch_deg,"
+                   "margin_long_pct,margin_lat_pct,margin_coll_pct,margin_pedal_pct,band_lo_kmh,band_hi_kmh,"
+                   "band_grid_kmh,band_window_kmh,band_sens_kmh,band_open_above,low_confidence,band_model_kmh\n"
+                   "90,10.79914,20,pedal,1,1,1,1,1,1,19.1,20.9,nan,nan,0.9,0,0,inf\n");
+        fclose(f);
+    }
+    CHECK(shol_read_csv(path, &back, &err) < 0 && strstr(err.msg, "v2.csv:2:") && strstr(err.msg, "band_model_kmh"));
+
+    /* Not validated (the SA365N: no [model_error]): NAN everywhere, the
+     * format and the report say so. */
+    shol_model_error_none(&in.model);
+    CHECK(shol_band_compute(&r, &in, &err) == 0);
+    for (int i = 0; i < r.n_dirs; i++)
+        CHECK(isnan(r.dirs[i].band.model_mps) && r.dirs[i].band.widest != SHOL_BAND_MODEL);
+    shol_band_format(&dg->band, NULL, dg->limit, what, sizeof what);
+    CHECK(strstr(what, "model: not validated") != NULL);
+    shol_band_dominant(&dg->band, dom, sizeof dom);
+    CHECK(strcmp(dom, "sensitivity") == 0);
+    CHECK(shol_write_all(dir, &r, &info, &err) == 0);
+    snprintf(path, sizeof path, "%s/shol.csv", dir);
+    char head[512];
+    CHECK(read_head(path, head, sizeof head) > 0 && strstr(head, ",low_confidence,band_model_kmh"));
+    char *csv = read_all(path);
+    CHECK(csv && strstr(csv, "90.000000,10.799145,20.000000,pedal,") && strstr(csv, ",0,0,nan\n"));
+    free(csv);
+    snprintf(path, sizeof path, "%s/report.md", dir);
+    md = read_all(path);
+    CHECK(md && strstr(md, "model: not validated | sensitivity | ok |") && strstr(md, "states no validated error"));
+    CHECK(r.band_model_label[0] == '\0');
+    free(md);
+    /* a limit of none (nothing failed) or a failed trim: not defined */
+    for (int i = 0; i < r.n_dirs; i++)
+        if (r.dirs[i].limit == SHOL_LIMIT_TRIM) {
+            shol_band_format(&r.dirs[i].band, NULL, r.dirs[i].limit, what, sizeof what);
+            CHECK(strstr(what, "model: not defined") != NULL);
+        }
+    /* an infinite error: refused, the bands unchanged */
+    in.model = me;
+    in.model.err[SHOL_CRIT_ROLL] = INFINITY;
+    CHECK(shol_band_compute(&r, &in, &err) < 0 && strstr(err.msg, "model error in roll"));
+    CHECK(isnan(dg->band.model_mps));
+
+    shol_result_free(&r);
+    if (getenv("SHOL_TEST_KEEP"))
+        printf("band model outputs kept in %s\n", dir);
     else {
         char cmd[760];
         snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
@@ -1758,6 +1971,7 @@ int main(void)
     test_envelope_edges();
     test_outputs();
     test_bands();
+    test_band_model();
     test_physics_checks();
     test_attribution_model();
     test_attribution_uh60a();
