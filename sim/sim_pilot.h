@@ -43,6 +43,9 @@ typedef struct sim_pilot_auto_opts {
                                   variance below it (0.5) */
     double trim_s;             /* the pilot's trim: integral action on the position and height
                                   errors with this time constant (8 s; 0: none) */
+    double moment_s;           /* the steady roll and pitch moments the linear model lacks, estimated
+                                  over this time constant and taken out with the cyclic (0, default:
+                                  none; the replay pilot's 4 / att_crossover) */
 } sim_pilot_auto_opts;
 void sim_pilot_auto_opts_default(sim_pilot_auto_opts *o);
 /* The derivatives the gains come from (hfm_linearise at the task's hover;
