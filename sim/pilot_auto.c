@@ -67,7 +67,7 @@
  *     m = dp/dt - a p - K (delta - delta_trim)   (and so for q),
  * averages it over moment_s (first order) and takes it out with the
  * cyclic, delta -= m / K (at most 10 % of travel; held while a control is
- * at its stop). A manoeuvre's own attitude lag is the controls' doing and
+ * at its stop or a wheel on the deck). A manoeuvre's own attitude lag is the controls' doing and
  * does not enter m; an integral of the attitude error would wind up on it
  * (the replay's roll-in in test_pilot_replay, SAS off: 3 deg past the
  * reference's 6 deg with one at 1.6 s).
@@ -1004,8 +1004,10 @@ static void outer_loops(sim_pilot_auto *p, const sim_flight_out *out, double psi
  * (the rates' change, the augmented rate damping a, the cyclic then
  * applied), averaged over moment_s (first order), each at most MOMENT_PCT
  * of the cyclic's travel through K and held while the last command had a
- * control at its stop or steps were missed (h not one step: the replay's
- * hand on the deck); the cyclic commands cmd take them out (- m / K). */
+ * control at its stop, while a wheel is on the deck (the deck's moments
+ * are not the air's) or when steps were missed (h not one step: the
+ * replay's hand on the deck); the cyclic commands cmd take them out
+ * (- m / K). */
 static void moment_trim(sim_pilot_auto *p, const sim_flight_out *out, double h, double cmd[4])
 {
     const sim_pilot_gains *g = &p->g;
@@ -1013,7 +1015,7 @@ static void moment_trim(sim_pilot_auto *p, const sim_flight_out *out, double h, 
     static const int ch[2] = {2, 1}; /* roll: lat, pitch: long */
     int one_step = p->m_have && h > 0.5 / p->o.rate_hz && h < 1.5 / p->o.rate_hz;
     for (int i = 0; i < 2; i++) {
-        if (one_step && !p->stopped) {
+        if (one_step && !p->stopped && !out->on_deck) {
             double m = (out->rate_B_radps[i] - p->m_rate[i]) / h - a[i] * p->m_rate[i] -
                        K[i] * (p->m_u[i] - g->trim_pct[ch[i]]);
             double lim = MOMENT_PCT * fabs(K[i]);
