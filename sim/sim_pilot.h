@@ -46,6 +46,8 @@ typedef struct sim_pilot_auto_opts {
     double moment_s;           /* the steady roll and pitch moments the linear model lacks, estimated
                                   over this time constant and taken out with the cyclic (0, default:
                                   none; the replay pilot's 4 / att_crossover) */
+    double heave_s;            /* the same for the steady vertical force, with the collective (0,
+                                  default: none; the replay pilot's 4 / hgt_crossover) */
 } sim_pilot_auto_opts;
 void sim_pilot_auto_opts_default(sim_pilot_auto_opts *o);
 /* The derivatives the gains come from (hfm_linearise at the task's hover;
