@@ -117,7 +117,9 @@ typedef struct sim_pilot_replay sim_pilot_replay;
 typedef struct sim_pilot_replay_opts {
     sim_pilot_auto_opts pilot; /* the automated pilot's loops (rate, delay, the WOD of the gains,
                                   sas: the flight's SAS; trim_s 0 by default: the replay's own
-                                  integrals on position, height and heading instead) */
+                                  integrals on position and heading and its steady trims instead,
+                                  moment_s and heave_s set from the crossovers, the height's
+                                  integral for them with feed_controls) */
     double preview_s;          /* the reference is taken this far ahead (< 0, the default: the pilot's delay) */
     double acc_lead_s;         /* its acceleration this much further (< 0, the default: the attitude
                                   loops' lag, 1 / att_crossover_radps) */
