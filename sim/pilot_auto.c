@@ -56,6 +56,25 @@
  * lies well below the loops' bandwidths (0.3 and 2 rad/s), so it costs
  * them little phase. The height's is held during a descent.
  *
+ * The steady trims (opts.moment_s and heave_s; 0 by default, the replay
+ * pilot's 4 / att_crossover and 4 / hgt_crossover): a steady roll or
+ * pitch moment that the linear model does not have (an airwake's over a
+ * deck) leaves each attitude loop, a proportional law, standing off its
+ * command by m / (w_c a_L) (m the moment as an angular acceleration),
+ * which the velocity loop then meets as a steady force; a steady vertical
+ * force (the downdraft past a deck edge) leaves the height loop off by
+ * as much. The pilot takes each as the part of the rate's change over a
+ * step that the rate damping and the control applied do not explain,
+ *     m = dx/dt - a x - K (delta - delta_trim)
+ * (x = p, q with L_p, M_q and the cyclic; x = w, the vertical speed, with
+ * Z_w and the collective), averages it over its time constant and takes
+ * it out with the control, delta -= m / K (at most 10 % of travel; held
+ * while a control is at its stop or a wheel on the deck). A manoeuvre's
+ * own lag is the controls' doing and does not enter m; an integral of
+ * the attitude error would wind up on it (the replay's roll-in in
+ * test_pilot_replay, SAS off: 3 deg past the reference's 6 deg with one
+ * at 1.6 s).
+ *
  * With the SAS (opts.sas = 1, the flight's SAS engaged, sim/sas.c) the
  * pilot flies the augmented aircraft, as a pilot does: the plant of each
  * attitude loop is the linear model with the SAS's rate feedback closed,
@@ -178,6 +197,7 @@
 #define MOVE_ACC_MPS2 0.2 /* a move's reference speeds up and slows down at this */
 #define GATE_FRAC 0.5     /* descend: within this fraction of the desired position and drift */
 #define COMMIT_M 0.5      /* descend: the wheels' clearance below which the descent goes on regardless */
+#define STEADY_PCT 10.0   /* opts.moment_s, heave_s: the estimates' largest share of their control (% of travel) */
 
 struct sim_pilot_auto {
     sim_task task;
@@ -209,6 +229,12 @@ struct sim_pilot_auto {
     double coll_pct, hold_u[4];
     double still_since_s;
     double i_pos_S[2], i_hgt;  /* the trim's integrals of the position and height errors (m s) */
+    /* opts.moment_s, heave_s: the steady moments' and vertical force's estimates (roll,
+     * pitch: rad/s^2; heave: m/s^2), and the rates and controls (lat, long, collective)
+     * of the last step they come from */
+    double m_est[3], m_rate[3], m_u[3];
+    int m_have;
+    int stopped;             /* the last command had a control at its stop */
     /* the heave's running statistics (spot, up) */
     double h_prev_m, hd_last_mps;
     long hn;
@@ -465,10 +491,11 @@ sim_pilot_auto *sim_pilot_auto_create(const hfm_aircraft *ac, const sim_task *t,
         !pos_fin(o->yaw_crossover_radps) || !pos_fin(o->hgt_crossover_radps) || !pos_fin(o->vel_bw_radps) ||
         !pos_fin(o->pos_bw_radps) || !pos_fin(o->max_speed_mps) || !pos_fin(o->max_att_rad) ||
         !(o->wod_speed_mps >= 0.0) || (o->sas != 0 && o->sas != 1) || (o->gear != 0 && o->gear != 1) ||
-        !(o->cutoff_fraction > 0.0 && o->cutoff_fraction < 1.0) || !(o->trim_s >= 0.0 && o->trim_s <= 1000.0)) {
+        !(o->cutoff_fraction > 0.0 && o->cutoff_fraction < 1.0) || !(o->trim_s >= 0.0 && o->trim_s <= 1000.0) ||
+        !(o->moment_s >= 0.0 && o->moment_s <= 1000.0) || !(o->heave_s >= 0.0 && o->heave_s <= 1000.0)) {
         core_err_set(err, -1, "pilot_auto: expected an aircraft, a task, the trim, a rate of 10 to 10000 Hz, a delay "
                               "of 0 to 10 s, positive crossover frequencies, bandwidths and limits, sas and gear 0 "
-                              "or 1, a cut-off fraction in (0, 1) and a trim time of 0 to 1000 s");
+                              "or 1, a cut-off fraction in (0, 1) and trim, moment and heave times of 0 to 1000 s");
         return NULL;
     }
     sim_task tl;
@@ -976,6 +1003,40 @@ static void outer_loops(sim_pilot_auto *p, const sim_flight_out *out, double psi
     *ph_c = g->trim_att_rad[0] + clampd((ac[1] - g->Y_v * vH[1]) / g->Y_phi, -o->max_att_rad, o->max_att_rad);
 }
 
+/* opts.moment_s, heave_s: the roll and pitch moments and the vertical
+ * force that the linear model does not explain over the last step,
+ *     m = dx/dt - a x - K (delta - delta_trim),
+ * x the roll and pitch rates and the vertical speed (down, relative to
+ * the ship's mean motion), a the (SAS-augmented) rate damping L_p, M_q
+ * or Z_w, delta the control then applied (lat, long, collective),
+ * averaged over moment_s (roll, pitch)
+ * or heave_s (first order), each at most STEADY_PCT of its control's
+ * travel through K and held while the last command had a control at its
+ * stop, while a wheel is on the deck (the deck's forces are not the
+ * air's) or when steps were missed (h not one step: the replay's hand on
+ * the deck); the commands cmd take them out (- m / K). */
+static void steady_trim(sim_pilot_auto *p, const sim_flight_out *out, double h, double cmd[4])
+{
+    const sim_pilot_gains *g = &p->g;
+    const double K[3] = {g->L_lat, g->M_long, g->Z_col}, a[3] = {g->L_p, g->M_q, g->Z_w};
+    const double T[3] = {p->o.moment_s, p->o.moment_s, p->o.heave_s};
+    const double x[3] = {out->rate_B_radps[0], out->rate_B_radps[1], out->vel_S_mps[2]};
+    static const int ch[3] = {2, 1, 0}; /* roll: lat, pitch: long, heave: collective */
+    int one_step = p->m_have && h > 0.5 / p->o.rate_hz && h < 1.5 / p->o.rate_hz;
+    for (int i = 0; i < 3; i++) {
+        if (!(T[i] > 0.0))
+            continue;
+        if (one_step && !p->stopped && !out->on_deck) {
+            double m = (x[i] - p->m_rate[i]) / h - a[i] * p->m_rate[i] - K[i] * (p->m_u[i] - g->trim_pct[ch[i]]);
+            double lim = STEADY_PCT * fabs(K[i]);
+            p->m_est[i] = clampd(p->m_est[i] + h / T[i] * (m - p->m_est[i]), -lim, lim);
+        }
+        p->m_rate[i] = x[i];
+        cmd[ch[i]] -= p->m_est[i] / K[i];
+    }
+    p->m_have = 1;
+}
+
 int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight_inputs *in)
 {
     const sim_pilot_auto_opts *o = &p->o;
@@ -1020,6 +1081,8 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     static const int ch[4] = {2, 1, 3, 0}; /* axis -> control: lat, long, pedal, collective */
     for (int i = 0; i < 4; i++)
         cmd[ch[i]] = g->trim_pct[ch[i]] + wc[i] / K[i] * (p->a_lead[i] * e_att[i] - rate[i]);
+    if (o->moment_s > 0.0 || o->heave_s > 0.0)
+        steady_trim(p, out, h, cmd);
     int stop = 0;
     for (int i = 0; i < 4; i++) {
         if (!isfinite(cmd[i]))
@@ -1044,6 +1107,8 @@ int sim_pilot_auto_step(sim_pilot_auto *p, const sim_flight_out *out, sim_flight
     }
     if (stop)
         p->r.stop_steps++;
+    p->stopped = stop;
+    p->m_u[0] = u[2], p->m_u[1] = u[1], p->m_u[2] = u[0];
     return stop;
 }
 

@@ -43,6 +43,11 @@ typedef struct sim_pilot_auto_opts {
                                   variance below it (0.5) */
     double trim_s;             /* the pilot's trim: integral action on the position and height
                                   errors with this time constant (8 s; 0: none) */
+    double moment_s;           /* the steady roll and pitch moments the linear model lacks, estimated
+                                  over this time constant and taken out with the cyclic (0, default:
+                                  none; the replay pilot's 4 / att_crossover) */
+    double heave_s;            /* the same for the steady vertical force, with the collective (0,
+                                  default: none; the replay pilot's 4 / hgt_crossover) */
 } sim_pilot_auto_opts;
 void sim_pilot_auto_opts_default(sim_pilot_auto_opts *o);
 /* The derivatives the gains come from (hfm_linearise at the task's hover;
@@ -112,7 +117,9 @@ typedef struct sim_pilot_replay sim_pilot_replay;
 typedef struct sim_pilot_replay_opts {
     sim_pilot_auto_opts pilot; /* the automated pilot's loops (rate, delay, the WOD of the gains,
                                   sas: the flight's SAS; trim_s 0 by default: the replay's own
-                                  integrals on position, height and heading instead) */
+                                  integrals on position and heading and its steady trims instead,
+                                  moment_s and heave_s set from the crossovers, the height's
+                                  integral for them with feed_controls) */
     double preview_s;          /* the reference is taken this far ahead (< 0, the default: the pilot's delay) */
     double acc_lead_s;         /* its acceleration this much further (< 0, the default: the attitude
                                   loops' lag, 1 / att_crossover_radps) */

@@ -14,9 +14,10 @@
  *    reference's phases include a hover, a translation and a descent.
  * 3. Replayed in the same conditions: the replay's trajectory stays
  *    within 0.5 m of the recorded one at every recorded step (the
- *    acceptance; measured 0.234 m) with the loops alone (and their
- *    integrals), its descent within 0.3 m and rms 0.15 m (the height
- *    loop's feed-forward; measured 0.234 m, 0.139 m), its rms below that of a replay without
+ *    acceptance; measured 0.309 m) with the loops alone (and their
+ *    integrals and steady trims), its descent within 0.3 m and rms
+ *    0.15 m (the height loop's feed-forward; measured 0.229 m, 0.094 m),
+ *    its rms below that of a replay without
  *    the preview and of one without the acceleration's lead; with the
  *    recorded controls fed forward within 0.001 m.
  * 4. Replayed in another WOD and sea: 25 kt from green 30 (10 kt more,
@@ -31,8 +32,8 @@
  * 7. The SAS through the log: the SAS-off run reads back off; the
  *    landing flown with the SAS engaged (the automated pilot's gains
  *    scheduled with it) reads back on, and its replay flying the SAS as
- *    logged stays within 0.5 m of the recorded steps (measured 0.398 m,
- *    rms 0.217 m).
+ *    logged stays within 0.5 m of the recorded steps (measured 0.300 m,
+ *    rms 0.175 m).
  * 5. Bad logs are refused naming the file and the event: missing, a
  *    folder, empty, not an event log, truncated, a heli_state_t that is
  *    not one, a NaN in a state, no heli_state_t, a state without its
