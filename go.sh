@@ -94,12 +94,12 @@ main_job() {
         --overlay hud --frames off
     stage "4/7: CG-47 + UH-60A: the candidate SHOL, trim-based and flown by the replay pilot"
     $disim shol scenarios/cg47_uh60a_flown.ini --db "$db" --cfd-max-iter 600 -o "$out/cg47_uh60a" \
-        --method pilot --task "$out/landing_cg47_uh60a.lcm" --feed-controls > "$out/cg47_uh60a.csv"
+        --method pilot --task "$out/landing_cg47_uh60a.lcm" > "$out/cg47_uh60a.csv"
     stage "5/7: LPD-17 + SA365N: the port-side landing in 20 kt from green 30, sea state 3, in real time"
     fly_landing lpd17_sa365n_flown 20 30 landing_lpd17_sa365n
     stage "6/7: LPD-17 + SA365N: the candidate SHOL, trim-based and flown by the replay pilot"
     $disim shol scenarios/lpd17_sa365n_flown.ini --db "$db" --cfd-max-iter 600 -o "$out/lpd17_sa365n" \
-        --method pilot --task "$out/landing_lpd17_sa365n.lcm" --feed-controls > "$out/lpd17_sa365n.csv"
+        --method pilot --task "$out/landing_lpd17_sa365n.lcm" > "$out/lpd17_sa365n.csv"
     stage "7/7: done in $(elapsed)"
     cat << EOF2
 go.sh run: what went where (out/run/):

@@ -613,10 +613,21 @@ static void test_band_model(void)
     char path[700];
     snprintf(path, sizeof path, "%s/report.md", dir);
     char *md = slurp(path);
-    CHECK(md && strstr(md, "| model (kt) | dominant |"));
-    CHECK(md && strstr(md, " | -16.2 (pedal -4.27 % vs GenHel at 1 kt) | model (pedal -4.27 % vs GenHel at 1 kt) |\n"));
-    CHECK(md && strstr(md, " | +0.5 (pedal -4.27 % vs GenHel at 1 kt) | interval |\n"));
-    CHECK(md && strstr(md, "| green 90 | ") && strstr(md, " | not validated | - |\n")); /* an interval of width 0 */
+    CHECK(md && strstr(md, "| model (kt) | dominant | air at the hub"));
+    /* the air at the hub, where the caller gave it */
+    fr.dirs[0].hub_speed_frac = 0.42;
+    fr.dirs[0].hub_ti_frac = 0.125;
+    CHECK(shol_flown_write_all(dir, &fr, &t, &info, &err) == 0);
+    free(md);
+    md = slurp(path);
+    CHECK(md && strstr(md, " | 42 %, 12.5 % |\n"));
+    fr.dirs[0].hub_speed_frac = fr.dirs[0].hub_ti_frac = NAN;
+    CHECK(shol_flown_write_all(dir, &fr, &t, &info, &err) == 0);
+    free(md);
+    md = slurp(path);
+    CHECK(md && strstr(md, " | -16.2 (pedal -4.27 % vs GenHel at 1 kt) | model (pedal -4.27 % vs GenHel at 1 kt) | not known |\n"));
+    CHECK(md && strstr(md, " | +0.5 (pedal -4.27 % vs GenHel at 1 kt) | interval | not known |\n"));
+    CHECK(md && strstr(md, "| green 90 | ") && strstr(md, " | not validated | - | not known |\n")); /* an interval of width 0 */
     CHECK(md && strstr(md, "model -30.0 (pedal -4.27 % vs GenHel at 1 kt)"));
     if (md && !strstr(md, " | -16.2 (pedal -4.27 % vs GenHel at 1 kt) | model (pedal"))
         fprintf(stderr, "%s\n", md);
