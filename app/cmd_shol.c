@@ -132,6 +132,7 @@ static awdb_fields *pilot_fields_open(awdb *db, const couple_settings *cs, const
 typedef struct pilot_run {
     const char *task_path;
     int replay, feed_controls, sea_state, turbulence;
+    const char *notes_md; /* for the report, or NULL */
 } pilot_run;
 
 /* The flown envelope fr over the trim-based one (trim): its checks (one
@@ -155,6 +156,7 @@ static int pilot_write(const sim_scenario *sc, const hfm_aircraft *ac, const cou
     info.coupling = what;
     info.compare = trim;
     info.compare_label = "one-way trim (ship-only airwake)";
+    info.notes_md = pr->notes_md;
     shol_checks checks;
     shol_result as;
     memset(&as, 0, sizeof as);
@@ -200,6 +202,31 @@ static int hub_air(couple_fly_task *ft, const couple_fly_task_user *fu, shol_flo
             return -1;
     }
     return 0;
+}
+
+/* The replay's recording judged by the criteria, as a report note (and a
+ * line on stderr): 1 with buf filled, 0 when nothing to say. */
+static int recording_note(const couple_fly_task *ft, char *buf, size_t n)
+{
+    char cause[SHOL_CAUSE_MAX];
+    double t_s;
+    core_err e = {0};
+    int rc = couple_fly_task_judge_recording(ft, cause, sizeof cause, &t_s, &e);
+    if (rc < 0)
+        return 0;
+    if (rc == 0)
+        snprintf(buf, n, "The recording itself, judged by the same criteria up to its touchdown: within every "
+                         "limit.");
+    else
+        snprintf(buf, n, "The recording itself, judged by the same criteria up to its touchdown: **%s at %.2f s**. "
+                         "A replay that tracks it meets the same limit wherever the WOD leaves the attitude or "
+                         "control it exceeds where it was, so directions that fail on that cause at every speed "
+                         "say so of the recording, not of the airwake.", cause, t_s);
+    if (rc)
+        fprintf(stderr, "shol: the recording judged by the criteria: %s at %.2f s\n", cause, t_s);
+    else
+        fprintf(stderr, "shol: the recording judged by the criteria: within every limit\n");
+    return 1;
 }
 
 /* Fly the flown envelope over the trim-based one (trim) and write it. */
@@ -273,7 +300,9 @@ static int run_pilot(const sim_scenario *sc, const hfm_aircraft *ac, awdb *db, c
     }
     if (hub_air(ft, &fu, &fr, err) != 0)
         goto out;
-    pilot_run pr = {task_path, replay, feed_controls, fo.sea.state, fo.turbulence};
+    char notes[512];
+    pilot_run pr = {task_path, replay, feed_controls, fo.sea.state, fo.turbulence,
+                    replay && recording_note(ft, notes, sizeof notes) ? notes : NULL};
     if (pilot_write(sc, ac, cs, trim, &fr, &pr, outdir, scen, err) != 0)
         goto out;
     rc = 0;

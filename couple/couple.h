@@ -302,6 +302,13 @@ const char *couple_fly_task_last_error(const couple_fly_task *t);
  * err (a field without a WOD speed). */
 int couple_fly_task_air_at_hub(const couple_fly_task *t, const struct cfd_field *field, double *speed_frac,
                                double *ti_frac, core_err *err);
+/* The replay pilot's recording judged as its flights are (the criteria
+ * of t, the reference's phases, up to its first wheel on the deck), at
+ * the log's own samples: 1 when a criterion is exceeded (cause as
+ * shol_flown_track_cause names it, *t_s when), 0 when it holds, < 0 with
+ * err (t flies no recording). A recording that itself exceeds a criterion
+ * is one that no replay tracking it can pass. */
+int couple_fly_task_judge_recording(const couple_fly_task *t, char *cause, size_t n, double *t_s, core_err *err);
 /* The last flight's task result and final state. */
 typedef struct couple_fly_task_last {
     sim_task_result result;        /* the automated pilot's */

@@ -141,6 +141,38 @@ int couple_fly_task_air_at_hub(const couple_fly_task *t, const struct cfd_field 
     return 0;
 }
 
+int couple_fly_task_judge_recording(const couple_fly_task *t, char *cause, size_t n, double *t_s, core_err *err)
+{
+    if (!t->replay || !t->o.replay)
+        return core_err_set(err, -1, "fly_task: no recording to judge");
+    sim_log_summary info;
+    sim_log_info(t->o.replay, &info);
+    shol_flown_track tr;
+    shol_flown_judge j = {t->o.window_s, t->o.transient_frac};
+    shol_flown_track_init(&tr, &t->crit, &j);
+    int exceeded = 0;
+    double dt = 1.0 / t->o.rate_hz, tt = info.t0_s;
+    cause[0] = '\0';
+    *t_s = NAN;
+    for (long i = 0; !exceeded && tt <= info.t1_s + 1e-9; i++, tt = info.t0_s + i * dt) {
+        sim_log_sample sm;
+        if (sim_log_sample_at(t->o.replay, tt, &sm) != 0 || sm.on_deck)
+            break;
+        shol_trim_point p = {sm.euler_E_rad[0], sm.euler_E_rad[1], sm.controls_pct[1],
+                             sm.controls_pct[2], sm.controls_pct[0], sm.controls_pct[3]};
+        exceeded = shol_flown_track_step(&tr, tt, sim_replay_phase_name(sm.phase), &p) != 0;
+        if (exceeded)
+            *t_s = tt;
+    }
+    if (!exceeded && shol_flown_track_end(&tr)) {
+        exceeded = 1;
+        *t_s = tt;
+    }
+    if (exceeded)
+        shol_flown_track_cause(&tr, cause, n);
+    return exceeded;
+}
+
 void couple_fly_task_destroy(couple_fly_task *t)
 {
     if (t)

@@ -398,6 +398,8 @@ int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const 
     }
     fprintf(f, "- %d flights, %.0f s flown in %.0f s of wall time (%.2f s of wall time per minute flown)\n\n",
             fr->n_flights, fr->flown_s, fr->wall_s, fr->flown_s > 0 ? 60.0 * fr->wall_s / fr->flown_s : 0.0);
+    if (info && info->notes_md)
+        fprintf(f, "%s\n\n", info->notes_md);
     fprintf(f, "![flown over trim-based](shol_polar_flown.png)\n\n");
     fprintf(f, "## Direction by direction\n\n");
     fprintf(f, "| WOD | trim-based (kt) | its limit | flown (kt) | pass rate there | first failure (kt) | pass rate | "

@@ -552,6 +552,9 @@ typedef struct shol_report_info {
     const char *fields_md;
     /* Physics checks of the main envelope to list in the report; NULL: none. */
     const shol_checks *checks;
+    /* Markdown the caller adds after the settings (e.g. the replay's
+     * recording judged by the criteria); NULL: none. */
+    const char *notes_md;
 } shol_report_info;
 
 /* Each writer creates DIR if needed and writes through a temporary file

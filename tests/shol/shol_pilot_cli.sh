@@ -46,6 +46,17 @@ grep -q '^| red 30 | 0.0 | none |' "$tmp/out/report.md" || { echo "report.md: no
 grep -q "the replay pilot re-flies .*rec.log, 2 seeds per point" "$tmp/rep.log" && grep -q "replay pilot, recorded run" "$tmp/rep/report.md" \
     && grep -q '"flights": 6,' "$tmp/rep/shol_flown.json" && grep -q '"flown_s": 30.0,' "$tmp/rep/shol_flown.json" \
     || { echo "the replay pilot did not fly the log's 5 s at each point"; cat "$tmp/rep.log"; fail=1; }
+# the recording judged by the criteria: the calm hover is within every limit;
+# with the pitch limit at 5 deg (the UH-60A hovers at about 6 deg) it is not
+grep -q "The recording itself, judged by the same criteria up to its touchdown: within every limit." "$tmp/rep/report.md" \
+    || { echo "the report does not judge the recording"; fail=1; }
+sed 's/^pitch_deg = .*/pitch_deg = 5/' "$src/scenarios/aircraft/uh60a.ini" > "$tmp/uh60a_p5.ini"
+sed "s|^aircraft = .*|aircraft = $tmp/uh60a_p5.ini|; s|^ship = .*|ship = $src/scenarios/ships/cg47.ini|" "$scen" > "$tmp/p5.ini"
+"$disim" shol "$tmp/p5.ini" --method pilot --task "$tmp/rec.log" --seeds 1 --speed-max-kmh 0 -o "$tmp/rep5" --db "$tmp/db" \
+    > /dev/null 2> "$tmp/rep5.log" || { echo "the replay run with pitch 5 deg failed"; cat "$tmp/rep5.log"; fail=1; }
+grep -q "shol: the recording judged by the criteria: pitch (3 s mean) in hover at 3.02 s" "$tmp/rep5.log" \
+    && grep -q "The recording itself, judged by the same criteria up to its touchdown: \*\*pitch (3 s mean) in hover at 3.02 s\*\*" "$tmp/rep5/report.md" \
+    || { echo "a recording beyond the pitch limit is not named"; cat "$tmp/rep5.log"; fail=1; }
 # the replay's tracking error beside the criteria's result: rms and max from the recording, flights within 2 m
 [ "$(grep -c ',[0-9]*\.[0-9]*,[0-9]*\.[0-9]*,[0-2]$' "$tmp/rep/shol_flown_points.csv")" -eq 3 ] && grep -q "could not track" "$tmp/rep/report.md" \
     || { echo "the replay's tracking error is not in the points"; cat "$tmp/rep/shol_flown_points.csv"; fail=1; }
