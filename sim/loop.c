@@ -695,7 +695,8 @@ static int stations_step(void *self, const sim_flight_out *out, sim_flight_input
     if (b.started != b0.started) {
         sim_pilot_station s;
         sim_pilots_station(l->pilots, b.station, &s);
-        core_log_msg(l->log, CORE_LOG_INFO,
+        /* WARN: what the operator sees (disim fly shows warnings) */
+        core_log_msg(l->log, CORE_LOG_WARN,
                      "t %.2f s: station '%s' takes the controls: blending over %g s from the flown %.1f %.1f %.1f %.1f "
                      "to its %.1f %.1f %.1f %.1f %% (collective, long, lat, pedal)",
                      run_t(l), s.id, l->o.pilots.blend_s, b.from_pct[0], b.from_pct[1], b.from_pct[2], b.from_pct[3],
