@@ -320,7 +320,8 @@ static int station_run(const station_args *o, const char *id, const char *source
             fputs("\033[2J\033[H\033[?25l", stdout); /* clear, home, cursor hidden */
             fflush(stdout);
         } else {
-            fprintf(stderr, "%s: %s publishing on %s at %g Hz (%s)\n", P, id, DISIM_CH_PILOT_INPUT, o->rate_hz, source);
+            fprintf(stderr, "%s: %s waits for the flown controls on %s, then publishes on %s at %g Hz (%s)\n", P, id,
+                    DISIM_CH_HELI_STATE, DISIM_CH_PILOT_INPUT, o->rate_hz, source);
         }
         rc = sim_station_run(st, &ro, &err) != 0 ? 1 : 0;
         sim_station_format(sim_station_get_view(st), source, sc.tty, sc.buf, sizeof sc.buf);

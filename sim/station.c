@@ -964,11 +964,12 @@ void sim_station_format(const sim_station_view *v, const char *source, int tty, 
     const double R = CORE_RAD_TO_DEG;
     const sim_station_controls *c = &v->sent;
     if (!tty) {
+        out(&o, "t %.1f s sent %ld seq %lld late %ld", v->t_s, v->published, (long long)v->last_seq, v->late);
         if (v->waiting)
-            out(&o, "waiting for the flown controls on %s | ", DISIM_CH_HELI_STATE);
-        out(&o, "t %.1f s sent %ld seq %lld late %ld | ctl %.1f %.1f %.1f %.1f", v->t_s, v->published,
-            (long long)v->last_seq, v->late, c->ctl.collective_pct, c->ctl.long_cyclic_pct, c->ctl.lat_cyclic_pct,
-            c->ctl.pedal_pct);
+            out(&o, " | waiting for the flown controls on %s", DISIM_CH_HELI_STATE);
+        else
+            out(&o, " | ctl %.1f %.1f %.1f %.1f", c->ctl.collective_pct, c->ctl.long_cyclic_pct,
+                c->ctl.lat_cyclic_pct, c->ctl.pedal_pct);
         if (v->have_ref)
             out(&o, " ref %.1f %.1f %.1f %.1f", v->ref_pct[0], v->ref_pct[1], v->ref_pct[2], v->ref_pct[3]);
         if (v->have_heli)
