@@ -59,23 +59,30 @@ static void usage_station(FILE *f)
 {
     fprintf(f,
             "usage: disim station [--keyboard | --device /dev/input/eventN | --script FILE.csv]\n"
-            "                     [--id NAME] [--lcm URL] [--rate-hz N] [--duration S] [--step-pct P]\n"
+            "                     [--id NAME] [--lcm URL] [--rate-hz N] [--duration S] [--wait-s S]\n"
+            "                     [--rate-pct-s R] [--authority-pct A]\n"
             "                     [--axis-collective AX] [--axis-long AX] [--axis-lat AX] [--axis-pedal AX]\n"
             "                     [--take-over]\n"
             "       disim station --list\n"
+            "  Sends nothing until a heli_state_t brings the controls the loop flies (--wait-s, 10,\n"
+            "  then exit 1): they are the reference the controls start from.\n"
             "  --keyboard   (the default) keys in this terminal: w/s collective, arrows cyclic,\n"
-            "               a/d pedal, space centres cyclic and pedal, t takes the controls over,\n"
-            "               q quits; --step-pct per press (2)\n"
-            "  --device     an evdev joystick or gamepad; AX is an axis name or number, ':invert'\n"
-            "               to reverse it; defaults: collective ABS_Y:invert, long ABS_RY, lat ABS_RX,\n"
-            "               pedal ABS_X (a common gamepad); BTN_TL / BTN_TR force-trim set / release,\n"
-            "               BTN_START (held) takes the controls over\n"
+            "               a/d pedal, each moving while held at --rate-pct-s %% of travel a second\n"
+            "               (10); space brings cyclic and pedal back to the reference; t takes the\n"
+            "               controls over; q quits\n"
+            "  --device     an evdev joystick or gamepad: a spring-centred stick's deflection moves\n"
+            "               its control up to +-A (--authority-pct, 50) %% about the force-trim\n"
+            "               reference; BTN_TL sets the reference to the present controls, BTN_TR\n"
+            "               (held) frees it and sets it where let go; BTN_START (held) takes the\n"
+            "               controls over. AX is an axis name or number, ':invert' to reverse it,\n"
+            "               ':lever' for a lever that stays put (picked up at the reference);\n"
+            "               defaults: collective ABS_Y:invert, long ABS_RY, lat ABS_RX, pedal ABS_X\n"
             "  --script     rows time_s,collective,long,lat,pedal (percent), interpolated linearly,\n"
-            "               the last row held\n"
+            "               the last row held (the loop blends them in from the flown controls)\n"
             "  --list       the evdev devices and their axes\n"
             "  publishes pilot_input_t on DISIM_PILOT_INPUT at --rate-hz (50); --lcm defaults to\n"
-            "  the LCM library's default URL; --duration ends it after S seconds; --take-over\n"
-            "  sets take_over in every message (this station flies, whoever was flying)\n");
+            "  the LCM library's default URL; --duration ends it S seconds after its first message;\n"
+            "  --take-over sets take_over in every message (this station flies, whoever was flying)\n");
 }
 
 static void list_one(void *user, const sim_station_devinfo *d)
@@ -112,7 +119,7 @@ static void show(void *user, const sim_station_view *v)
 typedef struct station_args {
     const char *id, *url, *device, *script_path;
     int keyboard, list, take_over;
-    double rate_hz, duration_s, step_pct;
+    double rate_hz, duration_s, wait_s, rate_pct_s, authority_pct;
     sim_station_axes axes;
 } station_args;
 
@@ -123,7 +130,9 @@ static int station_parse(int argc, char **argv, station_args *o)
     const char *P = "disim station";
     memset(o, 0, sizeof *o);
     o->rate_hz = 50.0;
-    o->step_pct = 2.0;
+    o->wait_s = 10.0;
+    o->rate_pct_s = 10.0;
+    o->authority_pct = SIM_STATION_AUTHORITY_PCT;
     sim_station_axes_default(&o->axes);
     static const char *axis_flag[SIM_AXES] = {"--axis-collective", "--axis-long", "--axis-lat", "--axis-pedal"};
     const struct {
@@ -139,7 +148,9 @@ static int station_parse(int argc, char **argv, station_args *o)
         double lo, hi, *out;
     } num[] = {{"--rate-hz", 1.0, 1000.0, &o->rate_hz},
                {"--duration", 0.001, 1e7, &o->duration_s},
-               {"--step-pct", 0.1, 50.0, &o->step_pct}};
+               {"--wait-s", 0.1, 1e6, &o->wait_s},
+               {"--rate-pct-s", 0.5, 200.0, &o->rate_pct_s},
+               {"--authority-pct", 1.0, 100.0, &o->authority_pct}};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int is_switch = 0, valued = 0, bad = 0;
@@ -259,6 +270,8 @@ static int station_run(const station_args *o, const char *id, const char *source
     memset(&ro, 0, sizeof ro);
     ro.rate_hz = o->rate_hz;
     ro.duration_s = o->duration_s;
+    ro.wait_s = o->wait_s;
+    ro.authority_pct = o->authority_pct;
     ro.key_fd = -1;
     ro.take_over = o->take_over;
     ro.stop = &station_stop;
@@ -289,7 +302,7 @@ static int station_run(const station_args *o, const char *id, const char *source
     ro.script = script;
     ro.dev = dev;
     if (o->keyboard) {
-        sim_station_keys_init(&keys, o->step_pct);
+        sim_station_keys_init(&keys, o->rate_pct_s, NULL, 0.0);
         ro.keys = &keys;
         ro.key_fd = STDIN_FILENO;
     }
@@ -307,7 +320,8 @@ static int station_run(const station_args *o, const char *id, const char *source
             fputs("\033[2J\033[H\033[?25l", stdout); /* clear, home, cursor hidden */
             fflush(stdout);
         } else {
-            fprintf(stderr, "%s: %s publishing on %s at %g Hz (%s)\n", P, id, DISIM_CH_PILOT_INPUT, o->rate_hz, source);
+            fprintf(stderr, "%s: %s waits for the flown controls on %s, then publishes on %s at %g Hz (%s)\n", P, id,
+                    DISIM_CH_HELI_STATE, DISIM_CH_PILOT_INPUT, o->rate_hz, source);
         }
         rc = sim_station_run(st, &ro, &err) != 0 ? 1 : 0;
         sim_station_format(sim_station_get_view(st), source, sc.tty, sc.buf, sizeof sc.buf);

@@ -417,6 +417,10 @@ static unsigned loop_flags(const sim_loop *l)
     unsigned f = 0;
     if (l->held)
         f |= DISIM_SIM_STATUS_T_FLAG_INPUT_HELD;
+    sim_pilots_blend_info b;
+    sim_pilots_blend(l->pilots, &b);
+    if (b.blending)
+        f |= DISIM_SIM_STATUS_T_FLAG_CONTROLS_BLENDING;
     if (l->out.air_flags & SIM_AIR_FREE_STREAM)
         f |= DISIM_SIM_STATUS_T_FLAG_FREE_STREAM;
     if (l->out.air_flags & SIM_AIR_BLENDING)
@@ -590,6 +594,7 @@ static int do_controls(sim_loop *l, core_err *err)
             if (c->command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO)
                 snprintf(l->scenario_path, sizeof l->scenario_path, "%s", c->path);
             sim_flight_state(l->w.flight, &l->out);
+            sim_pilots_reblend(l->pilots); /* the station's controls blend in from the new start's */
             publish_run_info(l); /* the new run's, before its first state */
             core_log_msg(l->log, CORE_LOG_INFO, "%s: %s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "loaded",
                          l->scenario_path);
@@ -683,7 +688,20 @@ static int stations_step(void *self, const sim_flight_out *out, sim_flight_input
 {
     sim_loop *l = self;
     (void)out;
-    l->held = sim_pilots_inputs(l->pilots, run_t(l), in);
+    sim_pilots_blend_info b0, b;
+    sim_pilots_blend(l->pilots, &b0);
+    l->held = sim_pilots_inputs(l->pilots, run_t(l), &l->out.ctl, in);
+    sim_pilots_blend(l->pilots, &b);
+    if (b.started != b0.started) {
+        sim_pilot_station s;
+        sim_pilots_station(l->pilots, b.station, &s);
+        /* WARN: what the operator sees (disim fly shows warnings) */
+        core_log_msg(l->log, CORE_LOG_WARN,
+                     "t %.2f s: station '%s' takes the controls: blending over %g s from the flown %.1f %.1f %.1f %.1f "
+                     "to its %.1f %.1f %.1f %.1f %% (collective, long, lat, pedal)",
+                     run_t(l), s.id, l->o.pilots.blend_s, b.from_pct[0], b.from_pct[1], b.from_pct[2], b.from_pct[3],
+                     s.in_pct[0], s.in_pct[1], s.in_pct[2], s.in_pct[3]);
+    }
     return 0;
 }
 

@@ -8,7 +8,25 @@
  * decoder sees it (lcm 1.3.1 decodes strings without checking their NUL),
  * then through disim_lcm_check_pilot_input (NaN, range):
  * lcm_types/lcm_types.c. A buffer whose raw check fails is counted
- * against the station whose id can still be read from it. */
+ * against the station whose id can still be read from it.
+ *
+ * Hand-over. When the controls pass to a station (its first message, a
+ * take-over, priority, its return after a silence, a reset) they blend
+ * from the controls flown at that step to the station's, linearly over
+ * SIM_PILOTS_BLEND_S, the station's own movements followed throughout:
+ *   u(t) = u_flown(t0) + w (u_station(t) - u_flown(t0)),  w = (t - t0) / T.
+ * A blend rather than a refusal until matched: in the aircraft the two
+ * pilots' controls are linked, so "you have control" never moves them; a
+ * simulator whose station controls are not back-driven fades the incoming
+ * controls in instead (as it does when it leaves a freeze or a reposition)
+ * and must never leave the aircraft with nobody flying, which a refusal
+ * does for as long as a station (a script, a lever it cannot see) fails
+ * to match. The stations of disim station start at the flown controls
+ * (they read heli_state_t first), so for them the blend only smooths what
+ * moved in the messages' flight; for any other it turns a step into a
+ * ramp. T = 1 s: several times the attitude response's time constant (a
+ * few tenths of a second), so the aircraft feels a control movement, not
+ * an impulse, yet a station flies within a second of taking over. */
 #include "sim.h"
 #include "disim_lcm.h"
 
@@ -27,12 +45,15 @@ struct sim_pilots {
     station st[SIM_PILOTS_MAX];
     int n, active, locked, next_order;
     long long refused_unknown;
+    int flying;                /* the station whose controls flew the last step, -1: held */
+    sim_pilots_blend_info b;   /* the blend */
 };
 
 void sim_pilots_opts_default(sim_pilots_opts *o)
 {
     memset(o, 0, sizeof *o);
     o->hold_after_s = 0.5;
+    o->blend_s = SIM_PILOTS_BLEND_S;
 }
 
 int sim_pilots_opts_parse(sim_pilots_opts *o, const char *list, core_err *err)
@@ -65,6 +86,10 @@ sim_pilots *sim_pilots_create(const sim_pilots_opts *o, core_err *err)
         core_err_set(err, -1, "pilot stations: hold after %g s: expected more than 0 and at most 60 s", o->hold_after_s);
         return NULL;
     }
+    if (!(o->blend_s >= 0.0 && o->blend_s <= 10.0)) {
+        core_err_set(err, -1, "pilot stations: blend over %g s: expected 0 to 10 s", o->blend_s);
+        return NULL;
+    }
     sim_pilots *p = calloc(1, sizeof *p);
     if (!p) {
         core_err_set(err, -1, "pilot stations: out of memory");
@@ -72,6 +97,8 @@ sim_pilots *sim_pilots_create(const sim_pilots_opts *o, core_err *err)
     }
     p->o = *o;
     p->active = -1;
+    p->flying = -1;
+    p->b.station = -1;
     /* the listed stations exist from the start, in the list's order */
     for (int i = 0; i < o->n_priority; i++) {
         station *s = &p->st[p->n++];
@@ -186,7 +213,38 @@ int sim_pilots_offer(sim_pilots *p, const void *buf, int size, double t_s, char 
     return rc;
 }
 
-int sim_pilots_inputs(sim_pilots *p, double t_s, sim_flight_inputs *in)
+/* The active station's controls into in, blended from the flown ones
+ * when the controls have just passed to it or a blend runs. */
+static void fly_station(sim_pilots *p, double t_s, const hfm_controls *flown, sim_flight_inputs *in)
+{
+    const station *s = &p->st[p->active];
+    sim_pilots_blend_info *b = &p->b;
+    if (p->flying != p->active && p->o.blend_s > 0.0) {
+        b->blending = 1;
+        b->station = p->active;
+        b->t0_s = t_s;
+        b->from_pct[0] = flown->collective_pct;
+        b->from_pct[1] = flown->long_cyclic_pct;
+        b->from_pct[2] = flown->lat_cyclic_pct;
+        b->from_pct[3] = flown->pedal_pct;
+        b->started++;
+    }
+    p->flying = p->active;
+    double w = b->blending ? (t_s - b->t0_s) / p->o.blend_s : 1.0;
+    if (w >= 1.0 - 1e-9) {
+        w = 1.0;
+        b->blending = 0;
+    }
+    double u[4];
+    for (int k = 0; k < 4; k++)
+        u[k] = w >= 1.0 ? s->in[k] : b->from_pct[k] + w * (s->in[k] - b->from_pct[k]);
+    in->ctl.collective_pct = u[0];
+    in->ctl.long_cyclic_pct = u[1];
+    in->ctl.lat_cyclic_pct = u[2];
+    in->ctl.pedal_pct = u[3];
+}
+
+int sim_pilots_inputs(sim_pilots *p, double t_s, const hfm_controls *flown, sim_flight_inputs *in)
 {
     memset(in, 0, sizeof *in);
     if (p->locked && (p->active < 0 || !live(p, p->active, t_s)))
@@ -200,18 +258,22 @@ int sim_pilots_inputs(sim_pilots *p, double t_s, sim_flight_inputs *in)
             p->active = best;
     }
     if (p->active >= 0 && live(p, p->active, t_s)) {
-        const station *s = &p->st[p->active];
-        in->ctl.collective_pct = s->in[0];
-        in->ctl.long_cyclic_pct = s->in[1];
-        in->ctl.lat_cyclic_pct = s->in[2];
-        in->ctl.pedal_pct = s->in[3];
+        fly_station(p, t_s, flown, in);
         return 0;
     }
+    p->flying = -1; /* held: the next station to fly blends in */
+    p->b.blending = 0;
     in->hold = 1;
     return 1;
 }
 
+void sim_pilots_reblend(sim_pilots *p) { p->flying = -1; }
+void sim_pilots_blend(const sim_pilots *p, sim_pilots_blend_info *b) { *b = p->b; }
 int sim_pilots_count(const sim_pilots *p) { return p->n; }
-void sim_pilots_station(const sim_pilots *p, int i, sim_pilot_station *s) { *s = p->st[i].s; }
+void sim_pilots_station(const sim_pilots *p, int i, sim_pilot_station *s)
+{
+    *s = p->st[i].s;
+    memcpy(s->in_pct, p->st[i].in, sizeof s->in_pct);
+}
 int sim_pilots_active(const sim_pilots *p) { return p->active; }
 long long sim_pilots_refused_unknown(const sim_pilots *p) { return p->refused_unknown; }

@@ -84,10 +84,16 @@ int sim_pacer_os_realtime(int priority, char *what, size_t n);
  *   lower one; a message with take_over set gives its station the controls
  *   at once, and priority does not take them back until it falls silent;
  * - while the active station is silent the input is held (and the flag
- *   raised) until it speaks again or another station takes over. */
+ *   raised) until it speaks again or another station takes over;
+ * - whenever the controls pass to a station (its first message, a
+ *   take-over, priority, its return after a silence, a reset or a load)
+ *   they blend from the controls flown at that step to the station's,
+ *   linearly over blend_s (SIM_PILOTS_BLEND_S): never a step. */
+#define SIM_PILOTS_BLEND_S 1.0
 typedef struct sim_pilots sim_pilots;
 typedef struct sim_pilots_opts {
     double hold_after_s; /* 0.5 */
+    double blend_s;      /* SIM_PILOTS_BLEND_S; 0: the station's controls at once (the rules' tests) */
     int n_priority;      /* 0: the first to connect flies */
     char priority[SIM_PILOTS_MAX][SIM_STATION_ID_MAX];
 } sim_pilots_opts;
@@ -95,20 +101,35 @@ void sim_pilots_opts_default(sim_pilots_opts *o);
 /* A comma-separated list "A,B,C" as the priority list: 0, or -1 with err
  * (an empty or too long id, a repeated one, too many). */
 int sim_pilots_opts_parse(sim_pilots_opts *o, const char *list, core_err *err);
-/* NULL with err for hold_after_s not in (0, 60]. */
+/* NULL with err for hold_after_s not in (0, 60] or blend_s not in [0, 10]. */
 sim_pilots *sim_pilots_create(const sim_pilots_opts *o, core_err *err);
 void sim_pilots_destroy(sim_pilots *p);
 /* Offer one received DISIM_PILOT_INPUT buffer (encoded, its fingerprint
  * first) at run time t_s: 0 taken, 1 refused (why, if not NULL, says
  * why). */
 int sim_pilots_offer(sim_pilots *p, const void *buf, int size, double t_s, char *why, size_t n);
-/* The step's inputs at t_s: the active station's last controls, or hold.
- * Returns 1 when the input is held (no live active station), else 0. */
-int sim_pilots_inputs(sim_pilots *p, double t_s, sim_flight_inputs *in);
+/* The step's inputs at t_s: the active station's last controls (while a
+ * blend runs, flown's at its start blended into them), or hold; flown:
+ * the controls the flight flies now (its last step's). Returns 1 when the
+ * input is held (no live active station), else 0. */
+int sim_pilots_inputs(sim_pilots *p, double t_s, const hfm_controls *flown, sim_flight_inputs *in);
+/* The controls blend in afresh at the next step a station flies (a reset
+ * or a load has moved the flown controls to the new start's). */
+void sim_pilots_reblend(sim_pilots *p);
+/* The blend (plain data): running now (the last sim_pilots_inputs), the
+ * station it blends to, its start (run time), the controls it blends
+ * from (collective, long, lat, pedal), and how many blends have started. */
+typedef struct sim_pilots_blend_info {
+    int blending, station;
+    double t0_s, from_pct[4];
+    long long started;
+} sim_pilots_blend_info;
+void sim_pilots_blend(const sim_pilots *p, sim_pilots_blend_info *b);
 typedef struct sim_pilot_station {
     char id[SIM_STATION_ID_MAX];
     long long last_seq, received, refused, gaps;
     double heard_t_s; /* run time of the last message taken (-1: none) */
+    double in_pct[4]; /* its last controls taken: collective, long, lat, pedal */
 } sim_pilot_station;
 int sim_pilots_count(const sim_pilots *p);
 void sim_pilots_station(const sim_pilots *p, int i, sim_pilot_station *s);

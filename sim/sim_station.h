@@ -42,21 +42,40 @@ void sim_station_script_destroy(sim_station_script *s);
 void sim_station_script_at(const sim_station_script *s, double t_s, sim_station_controls *c);
 
 /* The keyboard in a terminal (raw bytes): w / s collective up / down, the
- * arrows the cyclic (up = forward, left = left), a / d the pedals, each by
- * step_pct per press (clamped to 0..100); space centres the cyclic and the
- * pedals (the collective is a lever and stays); t takes the controls over
- * (take_over in the next message); q or ctrl-C quits. Escape
- * sequences (ESC [ A, ESC O A) may arrive split across reads. */
+ * arrows the cyclic (up = forward, left = left), a / d the pedals; t takes
+ * the controls over (take_over in the next message); q or ctrl-C quits.
+ * A terminal sends no key-up, only the bytes of a key and then its
+ * autorepeat: a byte holds its control's key down for
+ * SIM_STATION_KEY_HOLD_S, renewed by every repeat, and a held key moves
+ * its control at rate_pct_s (percent of travel per second, clamped to
+ * 0..100), so a tap moves it rate_pct_s x SIM_STATION_KEY_HOLD_S. Space
+ * brings the cyclic and the pedals back to the reference (the controls
+ * flown at take-over) at the same rate; the collective is a lever and
+ * stays. Escape sequences (ESC [ A, ESC O A) may arrive split across
+ * reads. Times are the caller's clock (s). */
+#define SIM_STATION_KEY_HOLD_S 0.1 /* longer than terminals' autorepeat interval, 30-40 ms */
 typedef struct sim_station_keys {
-    double step_pct;
+    double rate_pct_s;
+    double ref_pct[4];     /* the reference space returns to */
+    double until_s[4];     /* each control's key held until then */
+    int sign[4];           /* its direction (+1, -1) */
+    int centring;          /* space: cyclic and pedals back to the reference */
+    double t_s;            /* the time moved up to (advance) */
     int esc;     /* 0, 1 after ESC, 2 after ESC [ or ESC O */
     long presses; /* keys that moved a control */
 } sim_station_keys;
 enum { SIM_KEY_NONE = 0, SIM_KEY_MOVED = 1, SIM_KEY_QUIT = 2 };
-void sim_station_keys_init(sim_station_keys *k, double step_pct);
-/* One byte from the terminal: SIM_KEY_NONE, SIM_KEY_MOVED (c changed or
- * centred) or SIM_KEY_QUIT. */
-int sim_station_keys_feed(sim_station_keys *k, unsigned char byte, sim_station_controls *c);
+/* Keys at rate_pct_s, nothing held, at time t_s; the reference ref (NULL:
+ * 50 % each). */
+void sim_station_keys_init(sim_station_keys *k, double rate_pct_s, const hfm_controls *ref, double t_s);
+/* One byte from the terminal at t_s: SIM_KEY_NONE, SIM_KEY_MOVED (a
+ * control's key held, space or t) or SIM_KEY_QUIT. c is first moved up to
+ * t_s as the keys held before it say; the key's own movement comes in the
+ * later advances (t sets c's take_over). */
+int sim_station_keys_feed(sim_station_keys *k, unsigned char byte, double t_s, sim_station_controls *c);
+/* Move c's controls from the last advance (or init) to t_s as the held
+ * keys and space say. */
+void sim_station_keys_advance(sim_station_keys *k, double t_s, sim_station_controls *c);
 
 /* A joystick or gamepad through evdev (/dev/input/event*). Each control
  * reads one EV_ABS axis: code (ABS_X = 0 ...), invert (1: the axis's
@@ -71,21 +90,59 @@ enum { SIM_AXIS_COLLECTIVE = 0, SIM_AXIS_LONG = 1, SIM_AXIS_LAT = 2, SIM_AXIS_PE
 typedef struct sim_station_axis {
     int code, invert;
     int min, max, flat;
+    int lever; /* 1: a lever that stays where it is put (a throttle); 0: spring-centred */
 } sim_station_axis;
 typedef struct sim_station_axes {
     sim_station_axis axis[SIM_AXES];
     int trim_button_code, trim_release_code, take_over_code; /* EV_KEY codes, -1: none */
 } sim_station_axes;
 void sim_station_axes_default(sim_station_axes *a);
-/* "ABS_RY", "ABS_RY:invert" or a number ("4", "4:invert"): 0, or -1 with err. */
+/* "ABS_RY", "ABS_RY:invert", "ABS_THROTTLE:lever", "ABS_Z:invert:lever"
+ * or a number ("4", "4:invert"): 0, or -1 with err. */
 int sim_station_axis_parse(const char *s, sim_station_axis *ax, core_err *err);
 /* "ABS_X" ... for an axis code, "ABS_0x.." style for others (static). */
 const char *sim_station_axis_name(int code, char *buf, size_t n);
-/* Percent of travel for a value of the axis (dead band, clamp, invert). */
+/* Percent of the axis's travel for a value (dead band, clamp, invert):
+ * 50 its centre. */
 double sim_station_axis_pct(const sim_station_axis *ax, int value);
-/* Apply one input event (type, code, value) to c: 1 if it was one of the
+/* Apply one input event (type, code, value) to c, the device's positions
+ * (percent of each axis's travel) and buttons: 1 if it was one of the
  * mapped axes or buttons, else 0. */
 int sim_station_axes_apply(const sim_station_axes *a, int type, int code, int value, sim_station_controls *c);
+
+/* Force trim: what a stick's position means. The controls fly about a
+ * reference, the controls flown at take-over to begin with. A
+ * spring-centred axis's deflection from its centre, d in -1..1, moves its
+ * control to reference + authority_pct x d (clamped to 0..100): released,
+ * the stick flies the reference. The trim button (trim_button) sets the
+ * reference to the present controls, as the aircraft's force-trim does;
+ * the trim release (trim_release) frees the stick while held, its
+ * deflection flying about the old reference, and sets the reference to
+ * the controls where it is let go (the aircraft's trim release: hold, fly
+ * to the new attitude, let go). A stick deflected when the reference is
+ * set flies the reference until it comes back within SIM_STATION_TRIM_CENTRE
+ * of its centre, so that neither setting nor letting go steps a control.
+ * A lever (sim_station_axis.lever) stays where it is put: its control is
+ * held at the reference until the lever is brought to it (within 1 % of
+ * travel, or across it), and then follows the lever. */
+#define SIM_STATION_TRIM_CENTRE 0.02 /* of a half-travel: a released stick's rest, within a dead band */
+#define SIM_STATION_AUTHORITY_PCT 50.0 /* a full deflection about a centred reference reaches either stop */
+typedef struct sim_station_trim {
+    double authority_pct;
+    int lever[SIM_AXES];
+    double ref_pct[SIM_AXES];
+    int wait[SIM_AXES];  /* a stick: back to centre first (1); a lever: not yet brought to the reference (+-1) */
+    int button, release; /* the buttons as last seen */
+    long sets;           /* references set (button or release) */
+} sim_station_trim;
+/* The reference ref (collective, long, lat, pedal, percent), the levers
+ * from axes, pos the device's positions now. */
+void sim_station_trim_init(sim_station_trim *t, double authority_pct, const sim_station_axes *axes,
+                           const double ref_pct[SIM_AXES], const sim_station_controls *pos);
+/* The controls c (its buttons and take_over copied) for the device's
+ * positions pos; a trim button pressed or a release let go sets the
+ * reference. */
+void sim_station_trim_apply(sim_station_trim *t, const sim_station_controls *pos, sim_station_controls *c);
 
 typedef struct sim_station_evdev sim_station_evdev;
 /* Open the device read-only, non-blocking, read each mapped axis's range
@@ -99,6 +156,7 @@ sim_station_evdev *sim_station_evdev_open(const char *path, const sim_station_ax
 sim_station_evdev *sim_station_evdev_wrap(int fd, const sim_station_axes *axes, core_err *err);
 void sim_station_evdev_destroy(sim_station_evdev *d);
 int sim_station_evdev_fd(const sim_station_evdev *d);
+const sim_station_axes *sim_station_evdev_axes(const sim_station_evdev *d);
 /* Read every pending event (read(2) of struct input_event) into c: 0 (none
  * or some), or -1 with err when the device is gone or failed. After
  * SYN_DROPPED the axes are read again with EVIOCGABS. */
@@ -135,6 +193,9 @@ typedef struct sim_station_view {
     long heli_rx, status_rx, bad_rx;
     char bad_last[256]; /* why the last bad message was refused */
     int have_heli;
+    int waiting;            /* nothing sent yet: waiting for the flown controls on DISIM_HELI_STATE */
+    int have_ref;
+    double ref_pct[4];      /* the reference the controls fly about (the take-over's, a trim's) */
     double heli_t_s, heli_pos_S_m[3], heli_vel_S_mps[3], roll_rad, pitch_rad, yaw_rad;
     double heli_ctl_pct[4]; /* collective, long, lat, pedal as the loop flies them */
     int on_deck;
@@ -174,24 +235,29 @@ const sim_station_view *sim_station_get_view(const sim_station *st);
  * cursor home, each line cleared); tty 0, one line without escapes. */
 void sim_station_format(const sim_station_view *v, const char *source, int tty, char *buf, size_t n);
 
-/* The station's loop: publish every 1 / rate_hz on absolute deadlines
- * (a deadline already missed is skipped and counted as late, never
- * published in a burst), the controls from exactly one source, received
- * messages handled between deadlines, show called show_hz times a second.
+/* The station's loop. It sends nothing until it has received a
+ * heli_state_t, the controls the loop flies (waiting wait_s at most, then
+ * an error); those are the reference: the keys start at them, a device's
+ * sticks fly about them (sim_station_trim); a script's rows are its own
+ * and the loop blends them in (sim/pilots.c). Then it publishes every
+ * 1 / rate_hz on absolute deadlines from the first message (a deadline
+ * already missed is skipped and counted as late, never published in a
+ * burst), the controls from exactly one source, received messages handled
+ * between deadlines, show called show_hz times a second (waiting too).
  * take_over 1: every message carries take_over (a keyboard's t, a
- * device's button: the next message, or while held).
- * With keys, the controls start at 50 % and take the first received
- * heli_state_t's controls while no key has been pressed (no jump when the
- * station joins a flight). Ends at duration_s (> 0), when *stop is set, on
- * a quit key or the end of the key input: 0; < 0 with err (a device gone,
- * a failed publish). */
+ * device's button: the next message, or while held). Ends at duration_s
+ * (> 0) after the first message, when *stop is set, on a quit key or the
+ * end of the key input: 0; < 0 with err (no state within wait_s, a device
+ * gone, a failed publish). */
 typedef struct sim_station_run_opts {
     double rate_hz, duration_s; /* duration_s <= 0: until stopped */
+    double wait_s;              /* for the first heli_state_t (> 0) */
     const sim_station_script *script;
     sim_station_evdev *dev;
     int key_fd; /* >= 0: read keys from it, with keys */
-    sim_station_keys *keys;
-    sim_station_controls start; /* the controls of a device (from its open) */
+    sim_station_keys *keys;     /* rate_pct_s set; started at the reference */
+    sim_station_controls start; /* the device's positions (from its open) */
+    double authority_pct;       /* a device's sticks (sim_station_trim) */
     int take_over;
     const volatile sig_atomic_t *stop; /* set (by a signal handler): stop */
     void (*show)(void *user, const sim_station_view *v);

@@ -14,9 +14,10 @@
  * Sources (controls in percent of full travel, docs/conventions.md):
  * - a script: rows time,collective,long,lat,pedal interpolated linearly in
  *   time and held after the last row (the flight-loop tests' known inputs);
- * - the keyboard: raw terminal bytes, each press a step of the control,
- *   arrows as the ANSI/VT100 cursor sequences ESC [ A..D or ESC O A..D
- *   (ECMA-48; xterm's "application cursor" mode sends the latter);
+ * - the keyboard: raw terminal bytes, a key held (its autorepeat) moving
+ *   its control at a rate, arrows as the ANSI/VT100 cursor sequences
+ *   ESC [ A..D or ESC O A..D (ECMA-48; xterm's "application cursor" mode
+ *   sends the latter);
  * - evdev: the Linux input event interface (Documentation/input/input.rst
  *   and event-codes.rst of the kernel): read(2) returns whole struct
  *   input_event records; EV_ABS events carry an axis's absolute position,
@@ -24,7 +25,11 @@
  *   SYN_DROPPED says the kernel's buffer overflowed, the events up to the
  *   next SYN_REPORT are to be dropped and the state read again.
  *
- * Received messages (DISIM_HELI_STATE, DISIM_SIM_STATUS) are only shown.
+ * Take-over: the station sends nothing until a heli_state_t has brought
+ * the controls the loop flies; those are the reference the keys start at
+ * and a device's sticks fly about (force trim), so that a station joining
+ * a trimmed flight holds it with its hands off. Otherwise the received
+ * messages (DISIM_HELI_STATE, DISIM_SIM_STATUS) are only shown.
  * Each buffer goes through disim_lcm_check_raw before lcm-gen's decoder
  * sees it (lcm 1.3.1 decodes strings without checking their NUL), and a
  * message with a non-finite value the display would show is refused too:
@@ -217,21 +222,66 @@ void sim_station_script_at(const sim_station_script *s, double t_s, sim_station_
 }
 
 /* ----------------------------------------------------------- the keyboard */
-void sim_station_keys_init(sim_station_keys *k, double step_pct)
+void sim_station_keys_init(sim_station_keys *k, double rate_pct_s, const hfm_controls *ref, double t_s)
 {
     memset(k, 0, sizeof *k);
-    k->step_pct = step_pct;
+    k->rate_pct_s = rate_pct_s;
+    k->t_s = t_s;
+    k->ref_pct[0] = ref ? ref->collective_pct : 50.0;
+    k->ref_pct[1] = ref ? ref->long_cyclic_pct : 50.0;
+    k->ref_pct[2] = ref ? ref->lat_cyclic_pct : 50.0;
+    k->ref_pct[3] = ref ? ref->pedal_pct : 50.0;
+    for (int i = 0; i < 4; i++)
+        k->until_s[i] = -INFINITY;
 }
 
-static int key_move(sim_station_keys *k, double *v, double sign)
+/* Control i's key held from t_s, in direction sign. */
+static int key_hold(sim_station_keys *k, int i, int sign, double t_s)
 {
-    *v = clamp_pct(*v + sign * k->step_pct);
+    k->sign[i] = sign;
+    k->until_s[i] = t_s + SIM_STATION_KEY_HOLD_S;
+    if (i > 0)
+        k->centring = 0; /* a cyclic or pedal key ends the return to the reference */
     k->presses++;
     return SIM_KEY_MOVED;
 }
 
-int sim_station_keys_feed(sim_station_keys *k, unsigned char b, sim_station_controls *c)
+static double *ctl_of(sim_station_controls *c, int i)
 {
+    return i == 0 ? &c->ctl.collective_pct : i == 1 ? &c->ctl.long_cyclic_pct : i == 2 ? &c->ctl.lat_cyclic_pct
+                                                                                     : &c->ctl.pedal_pct;
+}
+
+static double ctl_get(const sim_station_controls *c, int i)
+{
+    return i == 0 ? c->ctl.collective_pct : i == 1 ? c->ctl.long_cyclic_pct : i == 2 ? c->ctl.lat_cyclic_pct
+                                                                                   : c->ctl.pedal_pct;
+}
+
+void sim_station_keys_advance(sim_station_keys *k, double t_s, sim_station_controls *c)
+{
+    double t0 = k->t_s;
+    if (!(t_s > t0))
+        return;
+    k->t_s = t_s;
+    for (int i = 0; i < 4; i++) {
+        double *v = ctl_of(c, i);
+        double held = fmin(t_s, k->until_s[i]) - t0;
+        if (held > 0.0)
+            *v = clamp_pct(*v + k->sign[i] * k->rate_pct_s * held);
+        else if (k->centring && i > 0) {
+            double step = k->rate_pct_s * (t_s - t0), e = k->ref_pct[i] - *v;
+            *v = fabs(e) <= step ? k->ref_pct[i] : *v + copysign(step, e);
+        }
+    }
+    if (k->centring && ctl_get(c, 1) == k->ref_pct[1] && ctl_get(c, 2) == k->ref_pct[2] &&
+        ctl_get(c, 3) == k->ref_pct[3])
+        k->centring = 0;
+}
+
+int sim_station_keys_feed(sim_station_keys *k, unsigned char b, double t_s, sim_station_controls *c)
+{
+    sim_station_keys_advance(k, t_s, c); /* up to the key, as held before it */
     if (k->esc == 1) {
         k->esc = (b == '[' || b == 'O') ? 2 : 0;
         if (k->esc)
@@ -240,10 +290,10 @@ int sim_station_keys_feed(sim_station_keys *k, unsigned char b, sim_station_cont
     } else if (k->esc == 2) {
         k->esc = 0;
         switch (b) {
-        case 'A': return key_move(k, &c->ctl.long_cyclic_pct, -1.0); /* up: stick forward */
-        case 'B': return key_move(k, &c->ctl.long_cyclic_pct, +1.0);
-        case 'C': return key_move(k, &c->ctl.lat_cyclic_pct, +1.0); /* right */
-        case 'D': return key_move(k, &c->ctl.lat_cyclic_pct, -1.0);
+        case 'A': return key_hold(k, 1, -1, t_s); /* up: stick forward */
+        case 'B': return key_hold(k, 1, +1, t_s);
+        case 'C': return key_hold(k, 2, +1, t_s); /* right */
+        case 'D': return key_hold(k, 2, -1, t_s);
         default:
             /* another sequence (a function key: ESC [ 1 5 ~): its
              * parameter bytes 0x30-0x3F run until a final byte */
@@ -254,20 +304,78 @@ int sim_station_keys_feed(sim_station_keys *k, unsigned char b, sim_station_cont
     }
     switch (b) {
     case 0x1b: k->esc = 1; return SIM_KEY_NONE;
-    case 'w': case 'W': return key_move(k, &c->ctl.collective_pct, +1.0);
-    case 's': case 'S': return key_move(k, &c->ctl.collective_pct, -1.0);
-    case 'a': case 'A': return key_move(k, &c->ctl.pedal_pct, -1.0);
-    case 'd': case 'D': return key_move(k, &c->ctl.pedal_pct, +1.0);
+    case 'w': case 'W': return key_hold(k, 0, +1, t_s);
+    case 's': case 'S': return key_hold(k, 0, -1, t_s);
+    case 'a': case 'A': return key_hold(k, 3, -1, t_s);
+    case 'd': case 'D': return key_hold(k, 3, +1, t_s);
     case 't': case 'T':
         c->take_over = 1; /* cleared once published */
         return SIM_KEY_MOVED;
     case ' ':
-        c->ctl.long_cyclic_pct = c->ctl.lat_cyclic_pct = c->ctl.pedal_pct = 50.0;
+        for (int i = 1; i < 4; i++)
+            k->until_s[i] = -INFINITY;
+        k->centring = 1;
         k->presses++;
         return SIM_KEY_MOVED;
     case 'q': case 'Q': case 0x03: return SIM_KEY_QUIT;
     default: return SIM_KEY_NONE;
     }
+}
+
+/* ------------------------------------------------------------ force trim */
+void sim_station_trim_init(sim_station_trim *t, double authority_pct, const sim_station_axes *axes,
+                           const double ref_pct[SIM_AXES], const sim_station_controls *pos)
+{
+    memset(t, 0, sizeof *t);
+    t->authority_pct = authority_pct;
+    for (int k = 0; k < SIM_AXES; k++) {
+        t->lever[k] = axes ? axes->axis[k].lever != 0 : 0;
+        t->ref_pct[k] = ref_pct[k];
+    }
+    t->button = pos->trim_button != 0;
+    t->release = pos->trim_release != 0;
+    for (int k = 0; k < SIM_AXES; k++) {
+        double p = ctl_get(pos, k), e = p - ref_pct[k];
+        if (t->lever[k])
+            t->wait[k] = fabs(e) <= 1.0 ? 0 : e > 0.0 ? 1 : -1;
+        else
+            t->wait[k] = fabs(p - 50.0) / 50.0 > SIM_STATION_TRIM_CENTRE;
+    }
+}
+
+void sim_station_trim_apply(sim_station_trim *t, const sim_station_controls *pos, sim_station_controls *c)
+{
+    for (int k = 0; k < SIM_AXES; k++) {
+        double p = ctl_get(pos, k), out;
+        if (t->lever[k]) {
+            double e = p - t->ref_pct[k];
+            if (t->wait[k] && (fabs(e) <= 1.0 || (e > 0.0 ? 1 : -1) != t->wait[k]))
+                t->wait[k] = 0; /* brought to the reference */
+            out = t->wait[k] ? t->ref_pct[k] : p;
+        } else {
+            double d = (p - 50.0) / 50.0;
+            if (t->wait[k] && fabs(d) <= SIM_STATION_TRIM_CENTRE)
+                t->wait[k] = 0;
+            out = t->wait[k] ? t->ref_pct[k] : clamp_pct(t->ref_pct[k] + t->authority_pct * d);
+        }
+        *ctl_of(c, k) = out;
+    }
+    int button = pos->trim_button != 0, release = pos->trim_release != 0;
+    if ((button && !t->button) || (!release && t->release)) {
+        /* the reference where the controls are; a deflected stick back to
+         * its centre before it flies again */
+        for (int k = 0; k < SIM_AXES; k++) {
+            t->ref_pct[k] = *ctl_of(c, k);
+            if (!t->lever[k])
+                t->wait[k] = fabs(ctl_get(pos, k) - 50.0) / 50.0 > SIM_STATION_TRIM_CENTRE;
+        }
+        t->sets++;
+    }
+    t->button = button;
+    t->release = release;
+    c->trim_button = button;
+    c->trim_release = release;
+    c->take_over = pos->take_over;
 }
 
 /* --------------------------------------------------------------- evdev */
@@ -296,10 +404,10 @@ const char *sim_station_axis_name(int code, char *buf, size_t n)
 void sim_station_axes_default(sim_station_axes *a)
 {
     memset(a, 0, sizeof *a);
-    a->axis[SIM_AXIS_COLLECTIVE] = (sim_station_axis){ABS_Y, 1, -32768, 32767, 0};
-    a->axis[SIM_AXIS_LONG] = (sim_station_axis){ABS_RY, 0, -32768, 32767, 0};
-    a->axis[SIM_AXIS_LAT] = (sim_station_axis){ABS_RX, 0, -32768, 32767, 0};
-    a->axis[SIM_AXIS_PEDAL] = (sim_station_axis){ABS_X, 0, -32768, 32767, 0};
+    a->axis[SIM_AXIS_COLLECTIVE] = (sim_station_axis){ABS_Y, 1, -32768, 32767, 0, 0};
+    a->axis[SIM_AXIS_LONG] = (sim_station_axis){ABS_RY, 0, -32768, 32767, 0, 0};
+    a->axis[SIM_AXIS_LAT] = (sim_station_axis){ABS_RX, 0, -32768, 32767, 0, 0};
+    a->axis[SIM_AXIS_PEDAL] = (sim_station_axis){ABS_X, 0, -32768, 32767, 0, 0};
     a->trim_button_code = BTN_TL;
     a->trim_release_code = BTN_TR;
     a->take_over_code = BTN_START;
@@ -310,12 +418,17 @@ int sim_station_axis_parse(const char *s, sim_station_axis *ax, core_err *err)
     char name[64];
     const char *colon = strchr(s, ':');
     size_t len = colon ? (size_t)(colon - s) : strlen(s);
-    int invert = 0, code = -1;
-    if (colon) {
-        if (strcmp(colon + 1, "invert"))
-            return core_err_set(err, -1, "axis '%s': expected NAME or NAME:invert after the name, got ':%s'", s,
-                                colon + 1);
-        invert = 1;
+    int invert = 0, lever = 0, code = -1;
+    for (const char *o = colon; o; o = strchr(o + 1, ':')) {
+        const char *e = strchr(o + 1, ':');
+        size_t ol = e ? (size_t)(e - o - 1) : strlen(o + 1);
+        if (ol == 6 && !strncmp(o + 1, "invert", 6))
+            invert = 1;
+        else if (ol == 5 && !strncmp(o + 1, "lever", 5))
+            lever = 1;
+        else
+            return core_err_set(err, -1, "axis '%s': expected NAME, then :invert or :lever, got ':%.*s'", s, (int)ol,
+                                o + 1);
     }
     if (len == 0 || len >= sizeof name)
         return core_err_set(err, -1, "axis '%s': expected an axis name (ABS_X, ABS_RY ...) or number", s);
@@ -334,6 +447,7 @@ int sim_station_axis_parse(const char *s, sim_station_axis *ax, core_err *err)
     }
     ax->code = code;
     ax->invert = invert;
+    ax->lever = lever;
     return 0;
 }
 
@@ -472,6 +586,8 @@ void sim_station_evdev_destroy(sim_station_evdev *d)
         close(d->fd);
     free(d);
 }
+
+const sim_station_axes *sim_station_evdev_axes(const sim_station_evdev *d) { return &d->axes; }
 
 int sim_station_evdev_fd(const sim_station_evdev *d) { return d->fd; }
 
@@ -830,7 +946,8 @@ static const char *state_name(int s)
 /* The loop's flags in words ("" none). */
 static void flag_words(int32_t f, char *b, size_t n)
 {
-    snprintf(b, n, "%s%s%s%s%s%s", f & DISIM_SIM_STATUS_T_FLAG_INPUT_HELD ? " INPUT-HELD" : "",
+    snprintf(b, n, "%s%s%s%s%s%s%s", f & DISIM_SIM_STATUS_T_FLAG_INPUT_HELD ? " INPUT-HELD" : "",
+             f & DISIM_SIM_STATUS_T_FLAG_CONTROLS_BLENDING ? " CONTROLS-BLENDING" : "",
              f & DISIM_SIM_STATUS_T_FLAG_FREE_STREAM ? " FREE-STREAM" : "",
              f & DISIM_SIM_STATUS_T_FLAG_FIELD_BLENDING ? " FIELD-BLENDING" : "",
              f & DISIM_SIM_STATUS_T_FLAG_PAUSED ? " PAUSED" : "", f & DISIM_SIM_STATUS_T_FLAG_REPLAY ? " REPLAY" : "",
@@ -839,7 +956,7 @@ static void flag_words(int32_t f, char *b, size_t n)
 
 void sim_station_format(const sim_station_view *v, const char *source, int tty, char *buf, size_t n)
 {
-    char flags[96];
+    char flags[128];
     flag_words(v->flags, flags, sizeof flags);
     outbuf o = {buf, n, 0};
     if (n)
@@ -847,9 +964,14 @@ void sim_station_format(const sim_station_view *v, const char *source, int tty, 
     const double R = CORE_RAD_TO_DEG;
     const sim_station_controls *c = &v->sent;
     if (!tty) {
-        out(&o, "t %.1f s sent %ld seq %lld late %ld | ctl %.1f %.1f %.1f %.1f", v->t_s, v->published,
-            (long long)v->last_seq, v->late, c->ctl.collective_pct, c->ctl.long_cyclic_pct, c->ctl.lat_cyclic_pct,
-            c->ctl.pedal_pct);
+        out(&o, "t %.1f s sent %ld seq %lld late %ld", v->t_s, v->published, (long long)v->last_seq, v->late);
+        if (v->waiting)
+            out(&o, " | waiting for the flown controls on %s", DISIM_CH_HELI_STATE);
+        else
+            out(&o, " | ctl %.1f %.1f %.1f %.1f", c->ctl.collective_pct, c->ctl.long_cyclic_pct,
+                c->ctl.lat_cyclic_pct, c->ctl.pedal_pct);
+        if (v->have_ref)
+            out(&o, " ref %.1f %.1f %.1f %.1f", v->ref_pct[0], v->ref_pct[1], v->ref_pct[2], v->ref_pct[3]);
         if (v->have_heli)
             out(&o, " | heli h %.2f m x %.2f y %.2f roll %.1f pitch %.1f yaw %.1f deg", -v->heli_pos_S_m[2],
                 v->heli_pos_S_m[0], v->heli_pos_S_m[1], v->roll_rad * R, v->pitch_rad * R, v->yaw_rad * R);
@@ -870,9 +992,16 @@ void sim_station_format(const sim_station_view *v, const char *source, int tty, 
     const char *E = "\033[K\n";
     out(&o, "\033[H\033[1mdisim station %s\033[0m (%s)   t %.1f s   sent %ld (seq %lld)   late %ld%s", v->id,
         source, v->t_s, v->published, (long long)v->last_seq, v->late, E);
-    out(&o, "  sending     collective %5.1f %%   long cyclic %5.1f %%   lat cyclic %5.1f %%   pedal %5.1f %%%s%s",
-        c->ctl.collective_pct, c->ctl.long_cyclic_pct, c->ctl.lat_cyclic_pct, c->ctl.pedal_pct,
-        c->trim_button ? "   TRIM" : c->trim_release ? "   TRIM RELEASE" : c->take_over ? "   TAKE OVER" : "", E);
+    if (v->waiting)
+        out(&o, "  \033[1mwaiting for the flown controls on %s: nothing sent until they arrive\033[0m%s",
+            DISIM_CH_HELI_STATE, E);
+    else
+        out(&o, "  sending     collective %5.1f %%   long cyclic %5.1f %%   lat cyclic %5.1f %%   pedal %5.1f %%%s%s",
+            c->ctl.collective_pct, c->ctl.long_cyclic_pct, c->ctl.lat_cyclic_pct, c->ctl.pedal_pct,
+            c->trim_button ? "   TRIM" : c->trim_release ? "   TRIM RELEASE" : c->take_over ? "   TAKE OVER" : "", E);
+    if (v->have_ref)
+        out(&o, "  reference   collective %5.1f %%   long cyclic %5.1f %%   lat cyclic %5.1f %%   pedal %5.1f %%%s",
+            v->ref_pct[0], v->ref_pct[1], v->ref_pct[2], v->ref_pct[3], E);
     if (v->have_heli) {
         out(&o, "  helicopter  height over deck %6.2f m   from the spot x %+7.2f m (fwd)  y %+7.2f m (stbd)%s%s",
             -v->heli_pos_S_m[2], v->heli_pos_S_m[0], v->heli_pos_S_m[1], v->on_deck ? "   ON DECK" : "", E);
@@ -902,29 +1031,141 @@ void sim_station_format(const sim_station_view *v, const char *source, int tty, 
     out(&o, "  received    heli %ld   status %ld   bad %ld%s%s%s", v->heli_rx, v->status_rx, v->bad_rx,
         v->bad_rx ? "   last: " : "", v->bad_rx ? v->bad_last : "", E);
     if (!strcmp(source, "keyboard"))
-        out(&o, "  keys        w/s collective   arrows cyclic   a/d pedal   space centre cyclic and pedal   t take over   q quit%s", E);
+        out(&o, "  keys        w/s collective   arrows cyclic   a/d pedal (held: they move)   space cyclic and pedal back "
+                "to the reference   t take over   q quit%s", E);
     out(&o, "\033[J");
 }
 
 /* --------------------------------------------------------------- the loop */
+/* Wait for the pollable descriptors until wake (monotonic s): LCM handled,
+ * pf[1] (a device or the keys, fd -1: none) returned ready in *ready. */
+static int station_poll(sim_station *st, int fd2, double wake, int *ready, core_err *err)
+{
+    struct pollfd pf[2] = {{sim_station_fd(st), POLLIN, 0}, {fd2, POLLIN, 0}};
+    double dt = wake - core_monotonic_s();
+    if (dt < 0.0)
+        dt = 0.0;
+    struct timespec ts = {(time_t)dt, (long)((dt - floor(dt)) * 1e9)};
+    *ready = 0;
+    int r = ppoll(pf, fd2 >= 0 ? 2 : 1, &ts, NULL);
+    if (r < 0 && errno != EINTR)
+        return core_err_set(err, -1, "station: poll: %s", strerror(errno));
+    if (r <= 0)
+        return 0;
+    if (pf[0].revents & POLLIN)
+        sim_station_handle(st);
+    *ready = fd2 >= 0 && (pf[1].revents & (POLLIN | POLLHUP | POLLERR));
+    return 0;
+}
+
+/* The keys pending on fd at t_s into c: 1 on a quit key or the end of the
+ * input, 0, or -1 with err. */
+static int read_keys(int fd, sim_station_keys *keys, double t_s, sim_station_controls *c, core_err *err)
+{
+    unsigned char kb[64];
+    ssize_t n = read(fd, kb, sizeof kb);
+    if (n == 0 || (n < 0 && errno == EIO)) /* the terminal hung up */
+        return 1;
+    if (n < 0 && errno != EINTR && errno != EAGAIN)
+        return core_err_set(err, -1, "station: reading keys: %s", strerror(errno));
+    for (ssize_t i = 0; i < n; i++)
+        if (sim_station_keys_feed(keys, kb[i], t_s, c) == SIM_KEY_QUIT)
+            return 1;
+    return 0;
+}
+
+/* Before the first message: until a heli_state_t brings the flown
+ * controls: 0 (have them), 1 (stopped, or q), or -1 with err (none within
+ * wait_s). The keys are read only for q. */
+static int wait_flown(sim_station *st, const sim_station_run_opts *o, core_err *err)
+{
+    sim_station_view *v = &st->v;
+    const double t0 = core_monotonic_s(), end = t0 + o->wait_s;
+    const double show_period = o->show_hz > 0.0 ? 1.0 / o->show_hz : INFINITY;
+    double next_show = t0;
+    v->waiting = 1;
+    while (!v->have_heli) {
+        if (o->stop && *o->stop)
+            return 1;
+        double now = core_monotonic_s();
+        if (now >= end)
+            return core_err_set(err, -1,
+                                "no %s on %s within %g s: the station sends nothing before it has the controls the "
+                                "loop flies (is disim fly running, with --lcm the same URL?)",
+                                "heli_state_t", DISIM_CH_HELI_STATE, o->wait_s);
+        if (o->show && now >= next_show) {
+            o->show(o->user, v);
+            next_show = now + show_period;
+        }
+        int ready;
+        if (station_poll(st, o->key_fd, fmin(end, next_show), &ready, err) != 0)
+            return -1;
+        if (ready) {
+            sim_station_keys k0;
+            sim_station_controls c0;
+            sim_station_keys_init(&k0, 0.0, NULL, 0.0);
+            sim_station_controls_centre(&c0);
+            int r = read_keys(o->key_fd, &k0, 0.0, &c0, err);
+            if (r != 0)
+                return r;
+        }
+    }
+    v->waiting = 0;
+    return 0;
+}
+
+/* The sources at the reference (the flown controls): c, and the view's
+ * reference. */
+static void start_sources(sim_station *st, const sim_station_run_opts *o, const sim_station_controls *pos,
+                          sim_station_trim *trim, sim_station_controls *c)
+{
+    sim_station_view *v = &st->v;
+    hfm_controls ref = {.collective_pct = v->heli_ctl_pct[0],
+                        .long_cyclic_pct = v->heli_ctl_pct[1],
+                        .lat_cyclic_pct = v->heli_ctl_pct[2],
+                        .pedal_pct = v->heli_ctl_pct[3]};
+    *c = *pos;
+    c->ctl = ref;
+    c->take_over = 0;
+    if (o->keys)
+        sim_station_keys_init(o->keys, o->keys->rate_pct_s, &ref, 0.0);
+    if (o->dev) {
+        sim_station_trim_init(trim, o->authority_pct, sim_station_evdev_axes(o->dev), v->heli_ctl_pct, pos);
+        sim_station_trim_apply(trim, pos, c);
+    }
+    if (o->keys || o->dev) {
+        v->have_ref = 1;
+        memcpy(v->ref_pct, v->heli_ctl_pct, sizeof v->ref_pct);
+    }
+}
+
 int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *err)
 {
     if (!(o->rate_hz >= 1.0 && o->rate_hz <= 1000.0))
         return core_err_set(err, -1, "station: rate %g Hz: expected 1 to 1000", o->rate_hz);
+    if (!(o->wait_s > 0.0))
+        return core_err_set(err, -1, "station: wait %g s for the flown controls: expected more than 0", o->wait_s);
     int nsrc = (o->script != NULL) + (o->dev != NULL) + (o->key_fd >= 0);
     if (nsrc != 1 || (o->key_fd >= 0 && !o->keys))
         return core_err_set(err, -1, "station: expected exactly one source (script, device or keys)");
-    sim_station_controls c = o->start;
-    if (o->keys)
-        sim_station_controls_centre(&c);
+    if (o->dev && !(o->authority_pct > 0.0 && o->authority_pct <= 100.0))
+        return core_err_set(err, -1, "station: authority %g %%: expected more than 0, at most 100", o->authority_pct);
+    int w = wait_flown(st, o, err);
+    if (w != 0)
+        return w > 0 ? 0 : -1;
+    sim_station_controls c, pos = o->start;
+    sim_station_trim trim;
+    if (o->dev && sim_station_evdev_read(o->dev, &pos, err) != 0) /* where the sticks are now */
+        return -1;
+    start_sources(st, o, &pos, &trim, &c);
     const double period = 1.0 / o->rate_hz;
     const double t0 = core_monotonic_s();
     const double end = o->duration_s > 0.0 ? t0 + o->duration_s : INFINITY;
     const double show_period = o->show_hz > 0.0 ? 1.0 / o->show_hz : INFINITY;
     double next_show = t0 + show_period;
     long k = 0; /* the next deadline is t0 + k period */
-    int synced = 0;
     sim_station_view *v = &st->v;
+    int fd2 = o->dev ? sim_station_evdev_fd(o->dev) : o->key_fd;
     for (;;) {
         if (o->stop && *o->stop)
             return 0;
@@ -935,13 +1176,8 @@ int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *er
             double t = now - t0;
             if (o->script)
                 sim_station_script_at(o->script, t, &c);
-            if (o->keys && !synced && o->keys->presses == 0 && v->have_heli) {
-                c.ctl.collective_pct = v->heli_ctl_pct[0];
-                c.ctl.long_cyclic_pct = v->heli_ctl_pct[1];
-                c.ctl.lat_cyclic_pct = v->heli_ctl_pct[2];
-                c.ctl.pedal_pct = v->heli_ctl_pct[3];
-                synced = 1;
-            }
+            if (o->keys)
+                sim_station_keys_advance(o->keys, t, &c);
             if (o->take_over)
                 c.take_over = 1;
             if (sim_station_publish(st, (int64_t)llround(t * 1e6), &c, err) != 0)
@@ -958,40 +1194,20 @@ int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *er
             o->show(o->user, v);
             next_show += show_period * floor((now - next_show) / show_period + 1.0);
         }
-        double wake = t0 + (double)k * period;
-        if (next_show < wake)
-            wake = next_show;
-        if (end < wake)
-            wake = end;
-        struct pollfd pf[2] = {{sim_station_fd(st), POLLIN, 0}, {-1, POLLIN, 0}};
-        if (o->dev)
-            pf[1].fd = sim_station_evdev_fd(o->dev);
-        else if (o->key_fd >= 0)
-            pf[1].fd = o->key_fd;
-        double dt = wake - core_monotonic_s();
-        if (dt < 0.0)
-            dt = 0.0;
-        struct timespec ts = {(time_t)dt, (long)((dt - floor(dt)) * 1e9)};
-        int r = ppoll(pf, pf[1].fd >= 0 ? 2 : 1, &ts, NULL);
-        if (r < 0 && errno != EINTR)
-            return core_err_set(err, -1, "station: poll: %s", strerror(errno));
-        if (r <= 0)
-            continue;
-        if (pf[0].revents & POLLIN)
-            sim_station_handle(st);
-        if (o->dev && (pf[1].revents & (POLLIN | POLLHUP | POLLERR)))
-            if (sim_station_evdev_read(o->dev, &c, err) != 0)
+        double wake = fmin(fmin(t0 + (double)k * period, next_show), end);
+        int ready;
+        if (station_poll(st, fd2, wake, &ready, err) != 0)
+            return -1;
+        if (ready && o->dev) {
+            if (sim_station_evdev_read(o->dev, &pos, err) != 0)
                 return -1;
-        if (o->key_fd >= 0 && (pf[1].revents & (POLLIN | POLLHUP | POLLERR))) {
-            unsigned char kb[64];
-            ssize_t n = read(o->key_fd, kb, sizeof kb);
-            if (n == 0 || (n < 0 && errno == EIO)) /* the terminal hung up */
-                return 0;
-            if (n < 0 && errno != EINTR && errno != EAGAIN)
-                return core_err_set(err, -1, "station: reading keys: %s", strerror(errno));
-            for (ssize_t i = 0; i < n; i++)
-                if (sim_station_keys_feed(o->keys, kb[i], &c) == SIM_KEY_QUIT)
-                    return 0;
+            sim_station_trim_apply(&trim, &pos, &c);
+            memcpy(v->ref_pct, trim.ref_pct, sizeof v->ref_pct);
+        }
+        if (ready && o->keys) {
+            int r = read_keys(o->key_fd, o->keys, core_monotonic_s() - t0, &c, err);
+            if (r != 0)
+                return r > 0 ? 0 : -1;
         }
     }
 }

@@ -1,7 +1,8 @@
 #!/bin/sh
 # disim fly across processes, inside a private network namespace so that
 # nothing leaves loopback (docs/conventions.md): a station process (fly_lcm_peer
-# pilot) flies the helicopter, its collective step climbs; killed, the
+# pilot) flies the helicopter, blended in over 1 s with the status's flag
+# raised meanwhile, its collective step climbs; killed, the
 # input is held and the flag raised within --hold-after-s (from the run's
 # LCM log); the log replayed by lcm-logplayer reaches a listener that
 # receives and decodes every message; --fast and --realtime fed the log's
@@ -40,6 +41,8 @@ cat "$tmp/live.log"
 awk "\$1 == \"climb_m\" { exit !(\$2 > 0.5) }" "$tmp/climb.txt" && ok || bad "the collective step did not climb 0.5 m"
 "$peer" held "$tmp/run.lcmlog" 0.5 > "$tmp/held.txt" && ok || bad "the input not held, or the flag not within 0.5 s + 2 steps"
 cat "$tmp/held.txt"
+"$peer" blend "$tmp/run.lcmlog" > "$tmp/blend.txt" && ok || bad "the first station message not blended in over 1 s, FLAG_CONTROLS_BLENDING"
+cat "$tmp/blend.txt"
 # the log played back to a listener: every message, decoded
 "$peer" logcount "$tmp/run.lcmlog" > "$tmp/logcount.txt"
 "$peer" listen 30 > "$tmp/listen.txt" & ls=$!

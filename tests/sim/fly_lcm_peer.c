@@ -13,6 +13,9 @@
  *                            it: 0 when within HOLD_S + 2 steps of 200 Hz,
  *                            and the controls held constant after it
  *   climb LOG                z in S at 1 s and at the last pilot input
+ *   blend LOG                the first pilot input, the first status with
+ *                            the blending flag and the first after it
+ *                            without: 0 when it lasts 1 s to a step
  * Output lines are "name value" for the script to compare. */
 #include "disim_lcm.h"
 
@@ -210,6 +213,41 @@ static int climb(const char *path)
     return 0;
 }
 
+/* The hand-over blend in a log: the first pilot input's time, the first
+ * status with FLAG_CONTROLS_BLENDING and the first after it without; 0
+ * when it starts within a step of the input and lasts 1 s (to a step). */
+static int blend(const char *path, double rate_hz)
+{
+    lcm_eventlog_t *el = lcm_eventlog_create(path, "r");
+    if (!el)
+        return 2;
+    long long first_in = -1, on = -1, off = -1;
+    for (lcm_eventlog_event_t *ev; (ev = lcm_eventlog_read_next_event(el)); lcm_eventlog_free_event(ev)) {
+        if (!strcmp(ev->channel, DISIM_CH_PILOT_INPUT) && first_in < 0)
+            first_in = ev->timestamp;
+        if (strcmp(ev->channel, DISIM_CH_SIM_STATUS) || first_in < 0 || off >= 0)
+            continue;
+        disim_sim_status_t m;
+        memset(&m, 0, sizeof m);
+        if (disim_lcm_check_raw("sim_status_t", ev->data, ev->datalen, NULL, 0) == 0 &&
+            disim_sim_status_t_decode(ev->data, 0, ev->datalen, &m) == ev->datalen) {
+            int f = (m.flags & DISIM_SIM_STATUS_T_FLAG_CONTROLS_BLENDING) != 0;
+            if (f && on < 0)
+                on = ev->timestamp;
+            else if (!f && on >= 0)
+                off = ev->timestamp;
+        }
+        disim_sim_status_t_decode_cleanup(&m);
+    }
+    lcm_eventlog_destroy(el);
+    double t_in = 1e-6 * (double)first_in, t_on = 1e-6 * (double)on, t_off = 1e-6 * (double)off, step = 1.0 / rate_hz;
+    printf("first_input_s %.3f\nblend_on_s %.3f\nblend_off_s %.3f\n", t_in, t_on, t_off);
+    return first_in >= 0 && on >= 0 && off >= 0 && t_on - t_in <= step + 1e-6 && t_on >= t_in &&
+                   fabs(t_off - t_on - 1.0) <= step + 1e-6
+               ? 0
+               : 1;
+}
+
 int main(int argc, char **argv)
 {
     if (argc >= 3 && !strcmp(argv[1], "logcount")) {
@@ -228,6 +266,8 @@ int main(int argc, char **argv)
         return held(argv[2], atof(argv[3]));
     if (argc >= 3 && !strcmp(argv[1], "climb"))
         return climb(argv[2]);
+    if (argc >= 3 && !strcmp(argv[1], "blend"))
+        return blend(argv[2], 200.0);
     lcm_t *lc = lcm_create(NULL);
     if (!lc) {
         fprintf(stderr, "fly_lcm_peer: lcm_create failed\n");
@@ -256,7 +296,7 @@ int main(int argc, char **argv)
         rc = 0;
     } else
         fprintf(stderr, "usage: fly_lcm_peer pilot ID SECONDS DCOLL | control CMD [PATH] | listen SECONDS | "
-                        "logcount LOG | held LOG HOLD_S | climb LOG\n");
+                        "logcount LOG | held LOG HOLD_S | climb LOG | blend LOG\n");
     lcm_destroy(lc);
     return rc;
 }

@@ -59,12 +59,15 @@ static int idx_of(const sim_pilots *p, const char *id)
     return -2;
 }
 
-/* The rules alone, on buffers. */
+/* The rules alone, on buffers (no blend: the station's controls at once). */
 static void test_rules(void)
 {
     core_err err = {0};
     sim_pilots_opts o;
     sim_pilots_opts_default(&o);
+    CHECK(o.blend_s == SIM_PILOTS_BLEND_S);
+    o.blend_s = 0.0;
+    const hfm_controls flown = {50.0, 50.0, 50.0, 50.0};
     sim_pilots *p = sim_pilots_create(&o, &err);
     CHECK(p != NULL);
     unsigned char b[512];
@@ -72,10 +75,10 @@ static void test_rules(void)
     sim_flight_inputs in;
     sim_pilot_station s;
     /* before any station: held */
-    CHECK(sim_pilots_inputs(p, 0.0, &in) == 1 && in.hold == 1);
+    CHECK(sim_pilots_inputs(p, 0.0, &flown, &in) == 1 && in.hold == 1);
     int n = enc(b, "A", 0, 60, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 0.0, why, sizeof why) == 0);
-    CHECK(sim_pilots_inputs(p, 0.0, &in) == 0 && in.hold == 0 && in.ctl.collective_pct == 60.0);
+    CHECK(sim_pilots_inputs(p, 0.0, &flown, &in) == 0 && in.hold == 0 && in.ctl.collective_pct == 60.0);
     /* refused: truncated (the id is whole: A's), NaN, out of range, garbage */
     n = enc(b, "A", 1, 61, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n - 3, 0.01, why, sizeof why) == 1);
@@ -90,7 +93,7 @@ static void test_rules(void)
     CHECK(s.refused == 3 && s.received == 1 && s.last_seq == 0 && s.gaps == 0);
     CHECK(sim_pilots_refused_unknown(p) == 1);
     /* ... and changed nothing */
-    CHECK(sim_pilots_inputs(p, 0.01, &in) == 0 && in.ctl.collective_pct == 60.0 && in.ctl.long_cyclic_pct == 50.0);
+    CHECK(sim_pilots_inputs(p, 0.01, &flown, &in) == 0 && in.ctl.collective_pct == 60.0 && in.ctl.long_cyclic_pct == 50.0);
     /* a gap of 3 (seq 1-3 missing), then a stale seq refused */
     n = enc(b, "A", 4, 62, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 0.02, NULL, 0) == 0);
@@ -98,28 +101,28 @@ static void test_rules(void)
     CHECK(sim_pilots_offer(p, b, n, 0.03, why, sizeof why) == 1 && strstr(why, "stale") != NULL);
     st_of(p, "A", &s);
     CHECK(s.gaps == 3 && s.last_seq == 4 && s.refused == 4);
-    CHECK(sim_pilots_inputs(p, 0.03, &in) == 0 && in.ctl.collective_pct == 62.0);
+    CHECK(sim_pilots_inputs(p, 0.03, &flown, &in) == 0 && in.ctl.collective_pct == 62.0);
     /* silent: live at 0.5 s after the last message, held after */
-    CHECK(sim_pilots_inputs(p, 0.02 + 0.5, &in) == 0);
-    CHECK(sim_pilots_inputs(p, 0.02 + 0.505, &in) == 1 && in.hold == 1);
+    CHECK(sim_pilots_inputs(p, 0.02 + 0.5, &flown, &in) == 0);
+    CHECK(sim_pilots_inputs(p, 0.02 + 0.505, &flown, &in) == 1 && in.hold == 1);
     /* a second station B connects: A stays active (silent, held) */
     n = enc(b, "B", 0, 40, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 0.6, NULL, 0) == 0);
-    CHECK(sim_pilots_inputs(p, 0.6, &in) == 1 && sim_pilots_active(p) == idx_of(p, "A"));
+    CHECK(sim_pilots_inputs(p, 0.6, &flown, &in) == 1 && sim_pilots_active(p) == idx_of(p, "A"));
     /* B takes over */
     n = enc(b, "B", 1, 41, 50, 50, 50, 1);
     CHECK(sim_pilots_offer(p, b, n, 0.61, NULL, 0) == 0);
-    CHECK(sim_pilots_inputs(p, 0.61, &in) == 0 && in.ctl.collective_pct == 41.0 &&
+    CHECK(sim_pilots_inputs(p, 0.61, &flown, &in) == 0 && in.ctl.collective_pct == 41.0 &&
           sim_pilots_active(p) == idx_of(p, "B"));
     /* A, first to connect (higher priority), speaks again (its restart:
      * seq back at 0 after its silence is taken): the take-over holds */
     n = enc(b, "A", 0, 63, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 0.62, NULL, 0) == 0);
-    CHECK(sim_pilots_inputs(p, 0.62, &in) == 0 && in.ctl.collective_pct == 41.0);
+    CHECK(sim_pilots_inputs(p, 0.62, &flown, &in) == 0 && in.ctl.collective_pct == 41.0);
     /* B falls silent: A (live, higher priority) takes the controls back */
     n = enc(b, "A", 1, 64, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 1.2, NULL, 0) == 0);
-    CHECK(sim_pilots_inputs(p, 1.2, &in) == 0 && in.ctl.collective_pct == 64.0 &&
+    CHECK(sim_pilots_inputs(p, 1.2, &flown, &in) == 0 && in.ctl.collective_pct == 64.0 &&
           sim_pilots_active(p) == idx_of(p, "A"));
     sim_pilots_destroy(p);
 
@@ -131,20 +134,117 @@ static void test_rules(void)
     p = sim_pilots_create(&o, &err);
     n = enc(b, "A", 0, 30, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 0.0, NULL, 0) == 0);
-    CHECK(sim_pilots_inputs(p, 0.0, &in) == 0 && in.ctl.collective_pct == 30.0);
+    CHECK(sim_pilots_inputs(p, 0.0, &flown, &in) == 0 && in.ctl.collective_pct == 30.0);
     n = enc(b, "C", 0, 20, 50, 50, 50, 1);
     CHECK(sim_pilots_offer(p, b, n, 0.0, why, sizeof why) == 1 && strstr(why, "not on the station list") != NULL);
-    CHECK(sim_pilots_inputs(p, 0.0, &in) == 0 && in.ctl.collective_pct == 30.0);
+    CHECK(sim_pilots_inputs(p, 0.0, &flown, &in) == 0 && in.ctl.collective_pct == 30.0);
     n = enc(b, "B", 0, 35, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 0.01, NULL, 0) == 0);
-    CHECK(sim_pilots_inputs(p, 0.01, &in) == 0 && in.ctl.collective_pct == 35.0 && sim_pilots_active(p) == 0);
+    CHECK(sim_pilots_inputs(p, 0.01, &flown, &in) == 0 && in.ctl.collective_pct == 35.0 && sim_pilots_active(p) == 0);
     /* A takes over from B explicitly */
     n = enc(b, "A", 1, 31, 50, 50, 50, 1);
     CHECK(sim_pilots_offer(p, b, n, 0.02, NULL, 0) == 0);
-    CHECK(sim_pilots_inputs(p, 0.02, &in) == 0 && in.ctl.collective_pct == 31.0 && sim_pilots_active(p) == 1);
+    CHECK(sim_pilots_inputs(p, 0.02, &flown, &in) == 0 && in.ctl.collective_pct == 31.0 && sim_pilots_active(p) == 1);
     sim_pilots_destroy(p);
     o.hold_after_s = 0.0;
     CHECK(sim_pilots_create(&o, &err) == NULL && strstr(err.msg, "hold after") != NULL);
+    o.hold_after_s = 0.5;
+    o.blend_s = -1.0;
+    CHECK(sim_pilots_create(&o, &err) == NULL && strstr(err.msg, "blend over") != NULL);
+}
+
+/* u at a blend's fraction w from a to b */
+static double lerp(double a, double b, double w) { return a + w * (b - a); }
+
+/* The hand-over blend: a station's first message, a take-over, a return
+ * after a silence and a reset each blend the flown controls into the
+ * station's over blend_s, linearly, the station's own movement followed;
+ * held in between; the blend's state for the status. */
+static void test_blend(void)
+{
+    core_err err = {0};
+    sim_pilots_opts o;
+    sim_pilots_opts_default(&o);
+    sim_pilots *p = sim_pilots_create(&o, &err);
+    CHECK(p != NULL);
+    const double T = SIM_PILOTS_BLEND_S;
+    unsigned char b[512];
+    sim_flight_inputs in;
+    sim_pilots_blend_info bi;
+    /* the trimmed hover the loop flies; station A sends 50 % everywhere */
+    hfm_controls flown = {55.0, 48.0, 52.0, 33.0};
+    int n = enc(b, "A", 0, 50, 50, 50, 50, 0);
+    CHECK(sim_pilots_offer(p, b, n, 1.0, NULL, 0) == 0);
+    CHECK(sim_pilots_inputs(p, 1.0, &flown, &in) == 0 && in.hold == 0);
+    /* its first step flies the flown controls: no step */
+    CHECK(in.ctl.collective_pct == 55.0 && in.ctl.long_cyclic_pct == 48.0 && in.ctl.lat_cyclic_pct == 52.0 &&
+          in.ctl.pedal_pct == 33.0);
+    sim_pilots_blend(p, &bi);
+    CHECK(bi.blending == 1 && bi.station == idx_of(p, "A") && bi.t0_s == 1.0 && bi.started == 1 &&
+          bi.from_pct[3] == 33.0);
+    /* a quarter through; the station moves its collective meanwhile and
+     * the blend follows it (the start's controls stay the blend's) */
+    flown = in.ctl;
+    n = enc(b, "A", 1, 60, 50, 50, 50, 0);
+    CHECK(sim_pilots_offer(p, b, n, 1.0 + 0.25 * T, NULL, 0) == 0);
+    CHECK(sim_pilots_inputs(p, 1.0 + 0.25 * T, &flown, &in) == 0);
+    CHECK_NEAR(in.ctl.collective_pct, lerp(55.0, 60.0, 0.25), 1e-12);
+    CHECK_NEAR(in.ctl.pedal_pct, lerp(33.0, 50.0, 0.25), 1e-12);
+    /* the largest change of a control per 5 ms step: the step shared out */
+    double prev = in.ctl.pedal_pct, worst = 0.0;
+    long long seq = 2;
+    for (int k = 1; k <= 200; k++) {
+        double t = 1.0 + 0.25 * T + 0.005 * k;
+        n = enc(b, "A", seq++, 60, 50, 50, 50, 0);
+        CHECK(sim_pilots_offer(p, b, n, t, NULL, 0) == 0);
+        flown = in.ctl;
+        CHECK(sim_pilots_inputs(p, t, &flown, &in) == 0);
+        worst = fmax(worst, fabs(in.ctl.pedal_pct - prev));
+        prev = in.ctl.pedal_pct;
+    }
+    CHECK(worst <= 17.0 * 0.005 / T + 1e-9);
+    /* done: the station's own, the blend no more */
+    CHECK(in.ctl.collective_pct == 60.0 && in.ctl.pedal_pct == 50.0);
+    sim_pilots_blend(p, &bi);
+    CHECK(bi.blending == 0 && bi.started == 1);
+    /* B takes over with other controls: blended from A's */
+    flown = in.ctl;
+    n = enc(b, "B", 0, 40, 50, 50, 70, 1);
+    CHECK(sim_pilots_offer(p, b, n, 2.5, NULL, 0) == 0);
+    CHECK(sim_pilots_inputs(p, 2.5, &flown, &in) == 0 && in.ctl.collective_pct == 60.0 && in.ctl.pedal_pct == 50.0);
+    CHECK(sim_pilots_inputs(p, 2.5 + 0.5 * T, &flown, &in) == 0);
+    CHECK_NEAR(in.ctl.collective_pct, 50.0, 1e-12);
+    CHECK_NEAR(in.ctl.pedal_pct, 60.0, 1e-12);
+    sim_pilots_blend(p, &bi);
+    CHECK(bi.blending == 1 && bi.station == idx_of(p, "B") && bi.started == 2);
+    /* B falls silent mid-blend: held, the blend dropped; A (live, first)
+     * then flies, blended in from what was flown */
+    flown = in.ctl;
+    n = enc(b, "A", seq++, 61, 50, 50, 50, 0);
+    CHECK(sim_pilots_offer(p, b, n, 3.1, NULL, 0) == 0);
+    CHECK(sim_pilots_inputs(p, 3.1, &flown, &in) == 0 && sim_pilots_active(p) == idx_of(p, "A"));
+    CHECK(in.ctl.collective_pct == 50.0 && in.ctl.pedal_pct == 60.0);
+    sim_pilots_blend(p, &bi);
+    CHECK(bi.blending == 1 && bi.started == 3);
+    /* silence: held; A back after it blends in again */
+    CHECK(sim_pilots_inputs(p, 3.7, &flown, &in) == 1 && in.hold == 1);
+    sim_pilots_blend(p, &bi);
+    CHECK(bi.blending == 0);
+    n = enc(b, "A", seq++, 70, 50, 50, 50, 0);
+    CHECK(sim_pilots_offer(p, b, n, 4.0, NULL, 0) == 0);
+    CHECK(sim_pilots_inputs(p, 4.0, &flown, &in) == 0 && in.ctl.collective_pct == 50.0);
+    n = enc(b, "A", seq++, 70, 50, 50, 50, 0);
+    CHECK(sim_pilots_offer(p, b, n, 4.0 + T, NULL, 0) == 0);
+    CHECK(sim_pilots_inputs(p, 4.0 + T, &flown, &in) == 0 && in.ctl.collective_pct == 70.0);
+    /* a reset moves the flown controls: the station blends in from them */
+    hfm_controls start = {52.0, 50.0, 50.0, 40.0};
+    sim_pilots_reblend(p);
+    n = enc(b, "A", seq++, 70, 50, 50, 50, 0);
+    CHECK(sim_pilots_offer(p, b, n, 5.2, NULL, 0) == 0);
+    CHECK(sim_pilots_inputs(p, 5.2, &start, &in) == 0 && in.ctl.collective_pct == 52.0 && in.ctl.pedal_pct == 40.0);
+    sim_pilots_blend(p, &bi);
+    CHECK(bi.blending == 1 && bi.started == 5);
+    sim_pilots_destroy(p);
 }
 
 /* ---- a world built from a scenario: calm air, the ship still */
@@ -186,6 +286,7 @@ typedef struct seen {
     char scenario[64], message[256];
     long long refused_A;
     int held_seen, paused_seen;
+    double blend_on_s, blend_off_s; /* sim time of the first status with the blend's flag, the first after it without */
 } seen;
 
 static void on_status(const lcm_recv_buf_t *rb, const char *ch, const disim_sim_status_t *m, void *u)
@@ -201,6 +302,10 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const disim_sim_
             s->refused_A = m->station_refused[i];
     if (m->flags & DISIM_SIM_STATUS_T_FLAG_INPUT_HELD)
         s->held_seen = 1;
+    if ((m->flags & DISIM_SIM_STATUS_T_FLAG_CONTROLS_BLENDING) && s->blend_on_s < 0.0)
+        s->blend_on_s = m->sim_time_s;
+    if (!(m->flags & DISIM_SIM_STATUS_T_FLAG_CONTROLS_BLENDING) && s->blend_on_s >= 0.0 && s->blend_off_s < 0.0)
+        s->blend_off_s = m->sim_time_s;
     if (m->state == DISIM_SIM_STATUS_T_PAUSED && (m->flags & DISIM_SIM_STATUS_T_FLAG_PAUSED))
         s->paused_seen = 1;
 }
@@ -312,6 +417,7 @@ static void test_station_flight(void)
     enum { N = 600 };
     static double z0[N], z1[N], z2[N];
     seen s0 = {0}, s1 = {0}, s2 = {0};
+    s0.blend_on_s = s0.blend_off_s = -1.0;
     char log[64];
     snprintf(log, sizeof log, "/tmp/test_loop_%ld.lcmlog", (long)getpid());
     CHECK(fly_station(NULL, NULL, 0, N, z0, &s0) == 0);
@@ -324,6 +430,10 @@ static void test_station_flight(void)
     CHECK(memcmp(z0, z1, sizeof z0) == 0);
     /* silent for the last second: held, the flag published */
     CHECK(s0.held_seen && s0.last.flags & DISIM_SIM_STATUS_T_FLAG_INPUT_HELD);
+    /* the station's first message blended in: the flag raised at its first
+     * step, lowered SIM_PILOTS_BLEND_S later (to a step, 5 ms) */
+    CHECK(s0.blend_on_s >= 0.0 && s0.blend_on_s <= 0.0051);
+    CHECK(fabs(s0.blend_off_s - s0.blend_on_s - SIM_PILOTS_BLEND_S) <= 0.0051);
     CHECK(s0.last.state == DISIM_SIM_STATUS_T_STOPPED);
     /* the log's inputs replayed (no LCM): the same trajectory bit for bit */
     CHECK(access(log, R_OK) == 0);
@@ -437,6 +547,7 @@ static void test_control(void)
 int main(void)
 {
     test_rules();
+    test_blend();
     test_station_flight();
     test_control();
     printf("test_loop: %d checks, %d failed\n", check_count, check_failures);

@@ -87,59 +87,182 @@ static void test_script(const char *dir)
     CHECK(sim_station_script_load(path, &err) == NULL && strstr(err.msg, "none.csv: No such file") != NULL);
 }
 
-static int feed(sim_station_keys *k, const char *bytes, sim_station_controls *c)
+static int feed(sim_station_keys *k, const char *bytes, double t_s, sim_station_controls *c)
 {
     int last = SIM_KEY_NONE;
     for (const char *p = bytes; *p; p++)
-        last = sim_station_keys_feed(k, (unsigned char)*p, c);
+        last = sim_station_keys_feed(k, (unsigned char)*p, t_s, c);
     return last;
 }
 
+/* The keyboard: from the flown controls, a key held moves its control at
+ * the rate (a tap: rate x SIM_STATION_KEY_HOLD_S; autorepeat: steadily),
+ * escape sequences whole or split, space back to the reference at the
+ * rate, the stops. */
 static void test_keys(void)
 {
+    const double R = 10.0, H = SIM_STATION_KEY_HOLD_S;
+    const hfm_controls ref = {55.0, 48.0, 52.0, 33.0};
     sim_station_keys k;
     sim_station_controls c;
-    sim_station_keys_init(&k, 2.5);
     sim_station_controls_centre(&c);
-    CHECK(feed(&k, "ww", &c) == SIM_KEY_MOVED);
+    c.ctl = ref;
+    sim_station_keys_init(&k, R, &ref, 0.0);
+    /* nothing pressed: nothing moves */
+    sim_station_keys_advance(&k, 0.9, &c);
+    CHECK(memcmp(&c.ctl, &ref, sizeof ref) == 0);
+    /* a tap at 1 s: the collective rises at R for H */
+    CHECK(feed(&k, "w", 1.0, &c) == SIM_KEY_MOVED);
     CHECK_NEAR(c.ctl.collective_pct, 55.0, 1e-12);
-    feed(&k, "s", &c);
-    CHECK_NEAR(c.ctl.collective_pct, 52.5, 1e-12);
-    feed(&k, "\033[A\033[A", &c); /* up twice: forward */
-    CHECK_NEAR(c.ctl.long_cyclic_pct, 45.0, 1e-12);
-    feed(&k, "\033OB", &c); /* down, application mode */
-    CHECK_NEAR(c.ctl.long_cyclic_pct, 47.5, 1e-12);
-    /* a sequence split across reads: the parser keeps its state */
-    CHECK(feed(&k, "\033", &c) == SIM_KEY_NONE);
-    CHECK(feed(&k, "[", &c) == SIM_KEY_NONE);
-    CHECK(feed(&k, "C", &c) == SIM_KEY_MOVED);
-    CHECK_NEAR(c.ctl.lat_cyclic_pct, 52.5, 1e-12);
-    feed(&k, "\033[D\033[D\033[D", &c);
-    CHECK_NEAR(c.ctl.lat_cyclic_pct, 45.0, 1e-12);
-    feed(&k, "a", &c);
-    CHECK_NEAR(c.ctl.pedal_pct, 47.5, 1e-12);
-    feed(&k, "ddd", &c);
-    CHECK_NEAR(c.ctl.pedal_pct, 55.0, 1e-12);
+    sim_station_keys_advance(&k, 1.0 + 0.5 * H, &c);
+    CHECK_NEAR(c.ctl.collective_pct, 55.0 + R * 0.5 * H, 1e-9);
+    sim_station_keys_advance(&k, 1.5, &c);
+    CHECK_NEAR(c.ctl.collective_pct, 55.0 + R * H, 1e-9);
+    /* held: autorepeat every 40 ms from 2 s for 1 s moves it steadily */
+    double c0 = c.ctl.collective_pct;
+    for (int i = 0; i <= 25; i++) {
+        feed(&k, "w", 2.0 + 0.04 * i, &c);
+        CHECK_NEAR(c.ctl.collective_pct, c0 + R * 0.04 * i, 1e-9);
+    }
+    sim_station_keys_advance(&k, 3.5, &c);
+    CHECK_NEAR(c.ctl.collective_pct, c0 + R * (1.0 + H), 1e-9);
+    feed(&k, "s", 4.0, &c);
+    sim_station_keys_advance(&k, 4.5, &c);
+    CHECK_NEAR(c.ctl.collective_pct, c0 + R * 1.0, 1e-9);
+    /* the arrows: up forward, ESC O B (application mode) back, a sequence
+     * split across reads */
+    feed(&k, "\033[A", 5.0, &c);
+    sim_station_keys_advance(&k, 5.5, &c);
+    CHECK_NEAR(c.ctl.long_cyclic_pct, 48.0 - R * H, 1e-9);
+    feed(&k, "\033OB", 6.0, &c);
+    sim_station_keys_advance(&k, 6.5, &c);
+    CHECK_NEAR(c.ctl.long_cyclic_pct, 48.0, 1e-9);
+    CHECK(feed(&k, "\033", 7.0, &c) == SIM_KEY_NONE);
+    CHECK(feed(&k, "[", 7.0, &c) == SIM_KEY_NONE);
+    CHECK(feed(&k, "C", 7.0, &c) == SIM_KEY_MOVED);
+    sim_station_keys_advance(&k, 7.5, &c);
+    CHECK_NEAR(c.ctl.lat_cyclic_pct, 52.0 + R * H, 1e-9);
+    /* a and d the pedals; bytes at once hold the key once */
+    feed(&k, "ddd", 8.0, &c);
+    sim_station_keys_advance(&k, 8.5, &c);
+    CHECK_NEAR(c.ctl.pedal_pct, 33.0 + R * H, 1e-9);
     /* a function key (ESC [ 1 5 ~) moves nothing, and the key after it counts */
     sim_station_controls before = c;
-    CHECK(feed(&k, "\033[15~", &c) == SIM_KEY_NONE);
+    CHECK(feed(&k, "\033[15~", 9.0, &c) == SIM_KEY_NONE);
+    sim_station_keys_advance(&k, 9.5, &c);
     CHECK(memcmp(&before, &c, sizeof c) == 0);
-    feed(&k, "w", &c);
-    CHECK_NEAR(c.ctl.collective_pct, 55.0, 1e-12);
-    /* space centres the cyclic and the pedals; the collective stays */
-    CHECK(feed(&k, " ", &c) == SIM_KEY_MOVED);
-    CHECK_NEAR(c.ctl.long_cyclic_pct, 50.0, 1e-12);
-    CHECK_NEAR(c.ctl.lat_cyclic_pct, 50.0, 1e-12);
-    CHECK_NEAR(c.ctl.pedal_pct, 50.0, 1e-12);
-    CHECK_NEAR(c.ctl.collective_pct, 55.0, 1e-12);
-    /* clamped at the stops */
-    for (int i = 0; i < 40; i++)
-        feed(&k, "w\033[A", &c);
+    /* space: cyclic and pedals back to the reference at R, the collective stays */
+    c.ctl.long_cyclic_pct = 45.0, c.ctl.lat_cyclic_pct = 53.0, c.ctl.pedal_pct = 43.0;
+    double coll = c.ctl.collective_pct;
+    CHECK(feed(&k, " ", 10.0, &c) == SIM_KEY_MOVED);
+    sim_station_keys_advance(&k, 10.5, &c);
+    CHECK_NEAR(c.ctl.long_cyclic_pct, 48.0, 1e-12);
+    CHECK_NEAR(c.ctl.lat_cyclic_pct, 52.0, 1e-12);
+    CHECK_NEAR(c.ctl.pedal_pct, 38.0, 1e-9);
+    CHECK(k.centring == 1);
+    sim_station_keys_advance(&k, 11.5, &c);
+    CHECK_NEAR(c.ctl.pedal_pct, 33.0, 1e-12);
+    CHECK(c.ctl.collective_pct == coll && k.centring == 0);
+    /* t asks for the controls once; clamped at the stops */
+    CHECK(feed(&k, "t", 12.0, &c) == SIM_KEY_MOVED && c.take_over == 1);
+    c.ctl.collective_pct = 99.5;
+    feed(&k, "w", 13.0, &c);
+    sim_station_keys_advance(&k, 14.0, &c);
     CHECK_NEAR(c.ctl.collective_pct, 100.0, 1e-12);
+    CHECK(feed(&k, "x", 15.0, &c) == SIM_KEY_NONE);
+    CHECK(feed(&k, "q", 15.0, &c) == SIM_KEY_QUIT);
+    CHECK(feed(&k, "\003", 15.0, &c) == SIM_KEY_QUIT);
+}
+
+/* Force trim: sticks fly about the reference (the take-over's), the trim
+ * button sets it where the controls are, the release frees it and sets it
+ * where let go, a lever is picked up at the reference; never a step. */
+static void test_trim(void)
+{
+    sim_station_axes a;
+    sim_station_axes_default(&a);
+    const double ref[SIM_AXES] = {55.0, 48.0, 52.0, 33.0}, A = SIM_STATION_AUTHORITY_PCT;
+    sim_station_controls pos, c;
+    sim_station_controls_centre(&pos); /* the sticks at rest */
+    sim_station_controls_centre(&c);
+    sim_station_trim t;
+    sim_station_trim_init(&t, A, &a, ref, &pos);
+    sim_station_trim_apply(&t, &pos, &c);
+    /* hands off: the flown controls */
+    CHECK(c.ctl.collective_pct == 55.0 && c.ctl.long_cyclic_pct == 48.0 && c.ctl.lat_cyclic_pct == 52.0 &&
+          c.ctl.pedal_pct == 33.0);
+    /* deflections about the reference, +-A at full, clamped */
+    pos.ctl.long_cyclic_pct = 25.0; /* half forward */
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK_NEAR(c.ctl.long_cyclic_pct, 48.0 - 0.5 * A, 1e-12);
+    pos.ctl.long_cyclic_pct = 0.0;
+    sim_station_trim_apply(&t, &pos, &c);
     CHECK_NEAR(c.ctl.long_cyclic_pct, 0.0, 1e-12);
-    CHECK(feed(&k, "x", &c) == SIM_KEY_NONE);
-    CHECK(feed(&k, "q", &c) == SIM_KEY_QUIT);
-    CHECK(feed(&k, "\003", &c) == SIM_KEY_QUIT);
+    pos.ctl.long_cyclic_pct = 50.0;
+    /* the trim button with the stick right: the reference where the
+     * control is, no step; the stick flies the reference until back at
+     * its centre, then about the new reference */
+    pos.ctl.lat_cyclic_pct = 75.0;
+    sim_station_trim_apply(&t, &pos, &c);
+    double lat = c.ctl.lat_cyclic_pct;
+    CHECK_NEAR(lat, 52.0 + 0.5 * A, 1e-12);
+    pos.trim_button = 1;
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK(c.ctl.lat_cyclic_pct == lat && t.ref_pct[SIM_AXIS_LAT] == lat && t.sets == 1 && c.trim_button == 1);
+    pos.trim_button = 0;
+    pos.ctl.lat_cyclic_pct = 62.0; /* springing back */
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK(c.ctl.lat_cyclic_pct == lat);
+    pos.ctl.lat_cyclic_pct = 50.0;
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK(c.ctl.lat_cyclic_pct == lat);
+    pos.ctl.lat_cyclic_pct = 60.0;
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK_NEAR(c.ctl.lat_cyclic_pct, lat + 0.2 * A, 1e-12);
+    pos.ctl.lat_cyclic_pct = 50.0;
+    /* the trim release: held, the stick flies about the old reference;
+     * let go with the stick left, the reference there */
+    pos.trim_release = 1;
+    pos.ctl.pedal_pct = 40.0;
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK_NEAR(c.ctl.pedal_pct, 33.0 - 0.2 * A, 1e-12);
+    CHECK(t.sets == 1);
+    pos.trim_release = 0;
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK_NEAR(c.ctl.pedal_pct, 33.0 - 0.2 * A, 1e-12);
+    CHECK(t.sets == 2);
+    pos.ctl.pedal_pct = 50.0;
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK_NEAR(c.ctl.pedal_pct, 33.0 - 0.2 * A, 1e-12);
+    /* a stick off centre at take-over flies the reference until centred */
+    pos.ctl.long_cyclic_pct = 90.0;
+    sim_station_trim_init(&t, A, &a, ref, &pos);
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK(c.ctl.long_cyclic_pct == 48.0);
+    pos.ctl.long_cyclic_pct = 50.5; /* within SIM_STATION_TRIM_CENTRE */
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK_NEAR(c.ctl.long_cyclic_pct, 48.0 + 0.01 * A, 1e-12);
+    /* a lever (the collective on a throttle) at 20 %: held at the
+     * reference until brought to it, then it follows */
+    a.axis[SIM_AXIS_COLLECTIVE].lever = 1;
+    sim_station_controls_centre(&pos);
+    pos.ctl.collective_pct = 20.0;
+    sim_station_trim_init(&t, A, &a, ref, &pos);
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK(c.ctl.collective_pct == 55.0);
+    pos.ctl.collective_pct = 50.0;
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK(c.ctl.collective_pct == 55.0);
+    pos.ctl.collective_pct = 56.5; /* across it */
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK(c.ctl.collective_pct == 56.5);
+    pos.ctl.collective_pct = 70.0;
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK(c.ctl.collective_pct == 70.0);
+    /* the take-over button passes through */
+    pos.take_over = 1;
+    sim_station_trim_apply(&t, &pos, &c);
+    CHECK(c.take_over == 1);
 }
 
 static void test_axes(void)
@@ -149,9 +272,13 @@ static void test_axes(void)
     CHECK(a.axis[SIM_AXIS_COLLECTIVE].code == ABS_Y && a.axis[SIM_AXIS_COLLECTIVE].invert == 1);
     CHECK(a.axis[SIM_AXIS_LONG].code == ABS_RY && a.axis[SIM_AXIS_LONG].invert == 0);
     core_err err;
-    sim_station_axis ax = {0, 0, 0, 255, 0};
+    sim_station_axis ax = {0, 0, 0, 255, 0, 0};
     CHECK(sim_station_axis_parse("ABS_THROTTLE:invert", &ax, &err) == 0 && ax.code == ABS_THROTTLE && ax.invert);
-    CHECK(sim_station_axis_parse("abs_rz", &ax, &err) == 0 && ax.code == ABS_RZ && !ax.invert);
+    CHECK(!ax.lever);
+    CHECK(sim_station_axis_parse("ABS_THROTTLE:lever", &ax, &err) == 0 && ax.code == ABS_THROTTLE && ax.lever &&
+          !ax.invert);
+    CHECK(sim_station_axis_parse("ABS_Z:invert:lever", &ax, &err) == 0 && ax.code == ABS_Z && ax.lever && ax.invert);
+    CHECK(sim_station_axis_parse("abs_rz", &ax, &err) == 0 && ax.code == ABS_RZ && !ax.invert && !ax.lever);
     CHECK(sim_station_axis_parse("7", &ax, &err) == 0 && ax.code == 7);
     CHECK(sim_station_axis_parse("ABS_NOPE", &ax, &err) == -1 && strstr(err.msg, "ABS_NOPE"));
     CHECK(sim_station_axis_parse("ABS_X:backwards", &ax, &err) == -1 && strstr(err.msg, ":backwards"));
@@ -160,7 +287,7 @@ static void test_axes(void)
     CHECK(!strcmp(sim_station_axis_name(ABS_RX, nb, sizeof nb), "ABS_RX"));
 
     /* a 0..255 axis: ends and middle, inverted, clamped */
-    sim_station_axis t = {ABS_THROTTLE, 0, 0, 255, 0};
+    sim_station_axis t = {ABS_THROTTLE, 0, 0, 255, 0, 0};
     CHECK_NEAR(sim_station_axis_pct(&t, 0), 0.0, 1e-12);
     CHECK_NEAR(sim_station_axis_pct(&t, 255), 100.0, 1e-12);
     CHECK_NEAR(sim_station_axis_pct(&t, 51), 20.0, 1e-12);
@@ -169,14 +296,14 @@ static void test_axes(void)
     CHECK_NEAR(sim_station_axis_pct(&t, 51), 80.0, 1e-12);
     /* a centred stick with a dead band: 50 % inside it, no step at its edge,
      * the stops still 0 and 100 */
-    sim_station_axis s = {ABS_X, 0, -1000, 1000, 100};
+    sim_station_axis s = {ABS_X, 0, -1000, 1000, 100, 0};
     CHECK_NEAR(sim_station_axis_pct(&s, 80), 50.0, 1e-12);
     CHECK_NEAR(sim_station_axis_pct(&s, -100), 50.0, 1e-12);
     CHECK_NEAR(sim_station_axis_pct(&s, 101), 50.0 + 50.0 / 900.0, 1e-9);
     CHECK_NEAR(sim_station_axis_pct(&s, 1000), 100.0, 1e-12);
     CHECK_NEAR(sim_station_axis_pct(&s, -1000), 0.0, 1e-12);
     CHECK_NEAR(sim_station_axis_pct(&s, 550), 75.0, 1e-9);
-    sim_station_axis z = {ABS_X, 0, 5, 5, 0}; /* no range: the middle */
+    sim_station_axis z = {ABS_X, 0, 5, 5, 0, 0}; /* no range: the middle */
     CHECK_NEAR(sim_station_axis_pct(&z, 5), 50.0, 1e-12);
 }
 
@@ -393,6 +520,7 @@ int main(int argc, char **argv)
     }
     test_script(dir);
     test_keys();
+    test_trim();
     test_axes();
     test_evdev_pipe();
     test_station_rx();
