@@ -45,7 +45,7 @@ static void take_run_info(otw *w)
 
 /* Draw s from camera cam into img: 0, or < 0 with err. */
 static int draw_one(otw *w, render_ctx *rc, render_state *s, render_camera_kind cam, const char *stats,
-                    uint8_t *img, double *draw_s, core_err *err)
+                    uint8_t *img, double t[2], core_err *err)
 {
     otw_scene *sc = &w->scene;
     s->rotor_azimuth_rad = azimuth(&sc->geom, s->t_s);
@@ -54,9 +54,9 @@ static int draw_one(otw *w, render_ctx *rc, render_state *s, render_camera_kind 
     render_view v;
     if (render_camera_place(cam, &sc->sc, s, &v, err) != 0)
         return -1;
-    double t0 = core_monotonic_s();
+    t[0] = core_monotonic_s();
     int rc_ = render_frame(rc, &sc->sc, s, &v, img, err);
-    *draw_s = core_monotonic_s() - t0;
+    t[1] = core_monotonic_s();
     return rc_;
 }
 
@@ -64,7 +64,7 @@ void *otw_draw_main(void *arg)
 {
     otw *w = arg;
     core_err e = {0};
-    render_ctx *rc = render_create(w->o.width, w->o.height, &e);
+    render_ctx *rc = render_create(w->o.image_width, w->o.image_height, &e);
     long done_seq = 0, seen_ri = 0, done_redraw = 0;
     pthread_mutex_lock(&w->mu);
     if (!rc) {
@@ -94,8 +94,8 @@ void *otw_draw_main(void *arg)
         memcpy(stats, w->hud_stats, sizeof stats);
         int back = 1 - w->front;
         pthread_mutex_unlock(&w->mu);
-        double dt = 0.0;
-        int r = draw_one(w, rc, &s, cam, stats, w->img[back], &dt, &e);
+        double t[2] = {0.0, 0.0};
+        int r = draw_one(w, rc, &s, cam, stats, w->img[back], t, &e);
         pthread_mutex_lock(&w->mu);
         if (r != 0) {
             w->draw_failed = 1;
@@ -106,10 +106,11 @@ void *otw_draw_main(void *arg)
         w->fresh = 1;
         w->front_seq = seq;
         w->front_arrival_s = arrival;
-        w->front_draw_s = dt;
+        w->front_draw0_s = t[0];
+        w->front_draw1_s = t[1];
         w->front_t_s = s.t_s;
         w->frames_drawn++;
-        otw_samples_add(&w->draw_s, dt);
+        otw_samples_add(&w->draw_s, t[1] - t[0]);
         SDL_Event ev;
         memset(&ev, 0, sizeof ev);
         ev.type = w->ev_frame;

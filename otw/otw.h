@@ -92,12 +92,16 @@ typedef struct otw_opts {
     const char *scenario_path;  /* the scene before the loop's run_info_t (NULL: wait for it) */
     const char *lcm_url;        /* NULL: the LCM library's default */
     render_camera_kind camera;  /* RENDER_CAM_PILOT */
-    int width, height;          /* the window and the image (1280 x 720) */
+    int width, height;          /* the window (1280 x 720) */
+    int image_width, image_height; /* the image drawn, scaled to the window (linear); 0: the window's */
     unsigned overlays;          /* RENDER_OVERLAY_HUD */
     int inputs;                 /* 1: the window's keys and game controllers fly (otw_input_fd) */
     double step_pct;            /* a key press (2) */
     const char *pad_mappings;   /* a gamecontrollerdb.txt added to SDL's own, or NULL */
-    const char *stats_path;     /* a CSV of every frame shown, or NULL */
+    const char *stats_path;     /* a CSV of every frame shown, or NULL: frame, t_s (the state's
+                                   simulation time), then seconds since the view started: the
+                                   state's arrival, the drawing's start and end, the texture's
+                                   upload, SDL_RenderPresent's call and return (shown); latency_s */
     void (*quit)(void *user);   /* the window asks the station to stop (closed, q) */
     void *quit_user;
 } otw_opts;

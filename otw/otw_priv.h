@@ -73,7 +73,7 @@ struct otw {
     uint8_t *img[2];             /* the window shows img[front]; the drawing thread draws the other */
     int front, fresh;            /* fresh: img[front] not yet shown */
     long front_seq, drawn_seq;
-    double front_arrival_s, front_draw_s, front_t_s;
+    double front_arrival_s, front_draw0_s, front_draw1_s, front_t_s; /* the state's arrival, the drawing's start and end */
     atomic_int camera;
     long redraw;                 /* +1: draw the newest state again (the camera changed) */
     uint32_t ev_frame;           /* the SDL user event of a frame ready */

@@ -32,9 +32,12 @@ void otw_opts_default(otw_opts *o)
 
 otw *otw_create(const otw_opts *o, core_err *err)
 {
+    int iw = o->image_width > 0 ? o->image_width : o->width, ih = o->image_height > 0 ? o->image_height : o->height;
     if (o->width < RENDER_SIZE_MIN || o->height < RENDER_SIZE_MIN || o->width > RENDER_SIZE_MAX ||
-        o->height > RENDER_SIZE_MAX || (int)o->camera < 0 || o->camera >= RENDER_CAM_COUNT) {
-        core_err_set(err, -1, "view: size %dx%d or camera %d out of range", o->width, o->height, (int)o->camera);
+        o->height > RENDER_SIZE_MAX || iw < RENDER_SIZE_MIN || ih < RENDER_SIZE_MIN || iw > RENDER_SIZE_MAX ||
+        ih > RENDER_SIZE_MAX || (int)o->camera < 0 || o->camera >= RENDER_CAM_COUNT) {
+        core_err_set(err, -1, "view: size %dx%d, image %dx%d or camera %d out of range", o->width, o->height, iw, ih,
+                     (int)o->camera);
         return NULL;
     }
     otw *w = calloc(1, sizeof *w);
@@ -43,12 +46,14 @@ otw *otw_create(const otw_opts *o, core_err *err)
         return NULL;
     }
     w->o = *o;
+    w->o.image_width = iw;
+    w->o.image_height = ih;
     w->in_pipe[0] = w->in_pipe[1] = -1;
     pthread_mutex_init(&w->mu, NULL);
     pthread_cond_init(&w->cv, NULL);
     atomic_init(&w->stop, 0);
     atomic_init(&w->camera, (int)o->camera);
-    size_t bytes = (size_t)4 * (size_t)o->width * (size_t)o->height;
+    size_t bytes = (size_t)4 * (size_t)iw * (size_t)ih;
     if (!(w->img[0] = calloc(1, bytes)) || !(w->img[1] = calloc(1, bytes))) {
         core_err_set(err, -1, "view: out of memory");
         otw_destroy(w);
@@ -82,7 +87,7 @@ otw *otw_create(const otw_opts *o, core_err *err)
         return NULL;
     }
     if (w->stats)
-        fprintf(w->stats, "frame,t_s,arrival_s,draw_s,present_s,latency_s\n");
+        fprintf(w->stats, "frame,t_s,arrival_s,draw_start_s,draw_end_s,upload_s,present_s,shown_s,latency_s\n");
     if (otw_rx_start(w, err) != 0) {
         otw_destroy(w);
         return NULL;
@@ -254,17 +259,19 @@ static void hud_update(win *x, double now)
 static int show_frame(win *x, core_err *err)
 {
     otw *w = x->w;
+    double t_up = core_monotonic_s();
     pthread_mutex_lock(&w->mu);
     if (!w->fresh) {
         pthread_mutex_unlock(&w->mu);
         return 1;
     }
-    int r = SDL_UpdateTexture(x->tex, NULL, w->img[w->front], 4 * w->o.width);
+    int r = SDL_UpdateTexture(x->tex, NULL, w->img[w->front], 4 * w->o.image_width);
     w->fresh = 0;
-    double arrival = w->front_arrival_s, draw = w->front_draw_s, t_s = w->front_t_s;
+    double arrival = w->front_arrival_s, d0 = w->front_draw0_s, d1 = w->front_draw1_s, t_s = w->front_t_s;
     pthread_mutex_unlock(&w->mu);
     if (r != 0 || SDL_RenderCopy(x->ren, x->tex, NULL, NULL) != 0)
         return core_err_set(err, -1, "view: SDL: %s", SDL_GetError());
+    double t_pr = core_monotonic_s();
     SDL_RenderPresent(x->ren);
     double now = core_monotonic_s();
     if (w->frames_shown++ == 0)
@@ -272,9 +279,11 @@ static int show_frame(win *x, core_err *err)
     w->last_shown_s = now;
     if (isfinite(arrival))
         otw_samples_add(&w->latency_s, now - arrival);
-    if (w->stats)
-        fprintf(w->stats, "%ld,%.6f,%.6f,%.6f,%.6f,%.6f\n", w->frames_shown, t_s, arrival - x->t0, draw, now - x->t0,
-                isfinite(arrival) ? now - arrival : NAN);
+    if (w->stats) {
+        double z = x->t0;
+        fprintf(w->stats, "%ld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", w->frames_shown, t_s, arrival - z, d0 - z,
+                d1 - z, t_up - z, t_pr - z, now - z, isfinite(arrival) ? now - arrival : NAN);
+    }
     hud_update(x, now);
     return 0;
 }
@@ -300,7 +309,9 @@ static int window_open(win *x, core_err *err)
     SDL_RendererInfo ri;
     if (SDL_GetRendererInfo(x->ren, &ri) == 0)
         snprintf(w->renderer, sizeof w->renderer, "%s", ri.name);
-    x->tex = SDL_CreateTexture(x->ren, SDL_PIXELFORMAT_RGBA32, SDL_TEXTUREACCESS_STREAMING, w->o.width, w->o.height);
+    SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "linear"); /* an image smaller than the window */
+    x->tex = SDL_CreateTexture(x->ren, SDL_PIXELFORMAT_RGBA32, SDL_TEXTUREACCESS_STREAMING, w->o.image_width,
+                               w->o.image_height);
     if (!x->tex)
         return core_err_set(err, -1, "view: SDL texture: %s", SDL_GetError());
     uint32_t ev = SDL_RegisterEvents(2);
@@ -335,7 +346,7 @@ static int window_loop(win *x, core_err *err)
     int rc = 0;
     while (!atomic_load(&x->body_done)) {
         double now = core_monotonic_s();
-        int wait_ms = 100;
+        int wait_ms = w->o.inputs && !x->synced && !x->moved ? 10 : 100; /* the first state soon taken */
         if (x->take_over_until > 0.0)
             wait_ms = (int)fmax(1.0, fmin(100.0, 1e3 * (x->take_over_until - now)));
         SDL_Event e;

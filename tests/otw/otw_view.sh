@@ -53,7 +53,7 @@ disim=$1 peer=$2 tmp=$3 W=$4 H=$5
 i=0
 while [ ! -e "$tmp/ready" ] && [ $i -lt 100 ]; do sleep 0.05; i=$((i + 1)); done
 xvfb-run -a -s "-screen 0 ${W}x${H}x24" sh -c "
-\"$disim\" station --view pilot --view-size ${W}x${H} --script \"$tmp/hold.csv\" --id view-test \
+\"$disim\" station --view pilot --view-size ${W}x${H} --view-image ${W}x${H} --script \"$tmp/hold.csv\" --id view-test \
     --scenario scenarios/cg47_uh60a.ini --view-stats \"$tmp/frames.csv\" > \"$tmp/st.out\" 2> \"$tmp/st.err\" & s=\$!
 i=0
 n=0
@@ -76,7 +76,7 @@ grep -q "frames/s.*latency from a state's arrival to the frame on screen p50 [0-
     bad "no frame rate and latency report: $(tail -2 "$tmp/st.err")"
 n=$(($(wc -l < "$tmp/frames.csv") - 1))
 [ "$n" -ge 6 ] || bad "the frames CSV has $n frames, expected at least 6"
-head -1 "$tmp/frames.csv" | grep -q "^frame,t_s,arrival_s,draw_s,present_s,latency_s$" || bad "frames CSV header: $(head -1 "$tmp/frames.csv")"
+head -1 "$tmp/frames.csv" | grep -q "^frame,t_s,arrival_s,draw_start_s,draw_end_s,upload_s,present_s,shown_s,latency_s$" || bad "frames CSV header: $(head -1 "$tmp/frames.csv")"
 cat "$tmp/peer.out"
 sed -n 2,4p "$tmp/frames.csv"
 inputs=$(sed -n 's/^inputs //p' "$tmp/peer.out")
