@@ -65,7 +65,7 @@ void *otw_draw_main(void *arg)
     otw *w = arg;
     core_err e = {0};
     render_ctx *rc = render_create(w->o.image_width, w->o.image_height, &e);
-    long done_seq = 0, seen_ri = 0, done_redraw = 0;
+    long done_seq = 0, drawn_seq = 0, seen_ri = 0, done_redraw = 0;
     pthread_mutex_lock(&w->mu);
     if (!rc) {
         w->draw_failed = 1;
@@ -85,9 +85,9 @@ void *otw_draw_main(void *arg)
         }
         render_state s = w->slot;
         long seq = w->slot_seq;
-        /* a frame redrawn for a camera changed: its state's age is not this frame's latency */
-        double arrival = seq == done_seq ? NAN : w->slot_arrival_s;
-        done_seq = seq;
+        /* a state drawn again (the camera changed, a new scene): its age is not a latency */
+        double arrival = seq == drawn_seq ? NAN : w->slot_arrival_s;
+        done_seq = drawn_seq = seq;
         done_redraw = w->redraw;
         render_camera_kind cam = (render_camera_kind)atomic_load(&w->camera);
         char stats[sizeof w->hud_stats];

@@ -107,7 +107,10 @@ static int peer(double seconds, const char *ready, const char *stop)
         h.quat_EB[0] = s.heli.q_EF.w, h.quat_EB[1] = s.heli.q_EF.x;
         h.quat_EB[2] = s.heli.q_EF.y, h.quat_EB[3] = s.heli.q_EF.z;
         h.roll_rad = s.roll_rad, h.pitch_rad = s.pitch_rad, h.yaw_rad = s.yaw_rad;
-        h.collective_pct = h.long_cyclic_pct = h.lat_cyclic_pct = h.pedal_pct = 50.0;
+        /* the flight's controls: a station whose window flies starts from these */
+        h.collective_pct = 57.5;
+        h.long_cyclic_pct = 46.25;
+        h.lat_cyclic_pct = h.pedal_pct = 50.0;
         disim_heli_state_t_publish(lc, DISIM_CH_HELI_STATE, &h);
         disim_ship_state_t sh;
         memset(&sh, 0, sizeof sh);
