@@ -34,6 +34,7 @@ wait \$s
 "
 ' sh "$disim" "$secs" "$size" "$cam" "$tmp" "${FLY_FLAGS:---sas on --no-turbulence}" "$image"
 grep "view:" "$tmp/station.err" || tail -3 "$tmp/station.err"
+grep "^end:" "$tmp/station.out" | cut -c1-200
 grep -v "^\r" "$tmp/fly.out" | tail -4
 # where a frame's time goes, the frames after the first second of the run
 # (--view-stats columns: arrival 3, drawing 4-5, upload 6, present 7, shown 8)

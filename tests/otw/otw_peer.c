@@ -90,7 +90,7 @@ static int peer(double seconds, const char *ready, const char *stop)
     if (!lc)
         return 1;
     inputs in = {0, 0, -1, 0.0};
-    disim_pilot_input_t_subscribe(lc, DISIM_CH_PILOT_INPUT, on_input, &in);
+    disim_pilot_input_t_subscription_t *sub = disim_pilot_input_t_subscribe(lc, DISIM_CH_PILOT_INPUT, on_input, &in);
     render_state s;
     make_state(&s);
     FILE *f = fopen(ready, "w");
@@ -129,6 +129,7 @@ static int peer(double seconds, const char *ready, const char *stop)
             lcm_handle_timeout(lc, (int)(wait * 1e3) + 1);
     }
     printf("inputs %ld\ngaps %ld\nlast_coll %.3f\n", in.n, in.gaps, in.last_coll);
+    disim_pilot_input_t_unsubscribe(lc, sub);
     lcm_destroy(lc);
     return 0;
 }
