@@ -13,7 +13,9 @@
 # Usage, from the source root, as root (unshare -n):
 #   bench/otw/view_rate.sh [DISIM] [SECONDS] [WxH] [CAMERA] [IMAGE_WxH]
 # (./build/app/disim, 30, 1280x720, pilot, the station's default image:
-# 3/4 of the window's sides, scaled to it). SDL_RENDER_DRIVER (software,
+# 3/4 of the window's sides, scaled to it). CAMERA none: the station
+# without --view, the baseline of its late deadlines and the loop's
+# overruns. SDL_RENDER_DRIVER (software,
 # opengl) and LP_NUM_THREADS are passed through.
 set -u
 disim=${1:-./build/app/disim} secs=${2:-30} size=${3:-1280x720} cam=${4:-pilot} image=${5:-}
@@ -26,7 +28,9 @@ unshare -n sh -c '
 ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo || exit 1
 disim=$1 secs=$2 size=$3 cam=$4 tmp=$5 FLY_FLAGS=$6 image=$7
 xvfb-run -a -s "-screen 0 ${size}x24" sh -c "
-\"$disim\" station --view $cam --view-size $size \${image:+--view-image \$image} --id pilot1 --view-stats \"$tmp/frames.csv\" --script \"$tmp/trim.csv\" \
+view=\"--view $cam --view-size $size \${image:+--view-image \$image} --view-stats $tmp/frames.csv\"
+[ $cam = none ] && view=
+\"$disim\" station \$view --id pilot1 --script \"$tmp/trim.csv\" \
     --duration $((secs + 6)) > \"$tmp/station.out\" 2> \"$tmp/station.err\" & s=\$!
 sleep 2
 \"$disim\" fly scenarios/cg47_uh60a.ini --realtime --stations pilot1 --duration $secs --wod-speed-kt 20 --wod-dir-deg -30 ${FLY_FLAGS:---sas on --no-turbulence} > \"$tmp/fly.out\" 2>&1
@@ -42,6 +46,7 @@ pct() { # EXPRESSION: its p50 and p99 over the frames, ms
     awk -F, "NR > 1 && \$2 > 1.0 && \$9 == \$9 + 0 { print ($1) * 1e3 }" "$tmp/frames.csv" | sort -g |
         awk '{ v[NR] = $1 } END { if (NR) printf "p50 %.1f p99 %.1f ms", v[int(NR * 0.5 + 0.5)], v[int(NR * 0.99 + 0.5)] }'
 }
+[ -e "$tmp/frames.csv" ] || exit 0
 n=$(awk -F, 'NR > 1 && $2 > 1.0 && $9 == $9 + 0' "$tmp/frames.csv" | wc -l)
 echo "view_rate: $n frames: latency $(pct '$9')"
 echo "  waiting for the drawing thread (arrival to drawing) $(pct '$4 - $3')"
