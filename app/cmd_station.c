@@ -92,8 +92,8 @@ static void usage_station(FILE *f)
             "               database; --pad-mappings adds a gamecontrollerdb.txt) fly; --view-size\n"
             "               the window (1280x720), --view-image the image drawn and scaled to it\n"
             "               (3/4 of the window's sides: 960x540); --scenario the scene before the\n"
-            "               loop's run_info_t;\n"
-            "               --view-stats a CSV of every frame; frame rate and latency at the end\n");
+            "               loop's run_info_t; --view-stats a CSV of every frame; the frame rate\n"
+            "               and the latency (p50, p99) in the strip and on stderr at the end\n");
 }
 
 static void list_one(void *user, const sim_station_devinfo *d)
@@ -182,10 +182,15 @@ static int station_parse(int argc, char **argv, station_args *o)
     const struct {
         const char *flag;
         const char **out;
-    } str[] = {{"--id", &o->id},         {"--lcm", &o->url},           {"--device", &o->device},
-               {"--script", &o->script_path}, {"--view-size", &o->view_size}, {"--view-stats", &o->view_stats},
+    } str[] = {{"--id", &o->id},
+               {"--lcm", &o->url},
+               {"--device", &o->device},
+               {"--script", &o->script_path},
+               {"--view-size", &o->view_size},
                {"--view-image", &o->view_image},
-               {"--scenario", &o->scenario},  {"--pad-mappings", &o->pad_mappings}};
+               {"--view-stats", &o->view_stats},
+               {"--scenario", &o->scenario},
+               {"--pad-mappings", &o->pad_mappings}};
     const struct {
         const char *flag;
         double lo, hi, *out;
