@@ -1,11 +1,13 @@
 /* otw_peer.c -- the other side of otw_view.sh, on the library's default LCM
  * URL (run only inside a private network namespace):
- *   peer SECONDS READY STOP
+ *   peer SECONDS READY STOP [SCENARIO]
  *                        publishes one fixed state (the one below) as the
  *                        loop does, heli_state_t then ship_state_t of the
  *                        same utime, at 50 Hz, and counts the station's
  *                        pilot_input_t, for SECONDS or until the file STOP
- *                        exists; READY is created once it listens;
+ *                        exists, and with SCENARIO its run_info_t (as
+ *                        the loop builds it) once a second; READY is
+ *                        created once it listens;
  *                        prints "inputs N", "gaps G", "last_coll C"
  *   check SCENARIO PNG CAMERA
  *                        the screenshot PNG (the window at its top-left
@@ -84,8 +86,42 @@ static void on_input(const lcm_recv_buf_t *rb, const char *ch, const disim_pilot
     in->last_coll = m->collective_pct;
 }
 
-static int peer(double seconds, const char *ready, const char *stop)
+/* The run information of scenario path as the loop publishes it: 0, or 1. */
+static int run_info(const char *path, disim_run_info_t *m, sim_run_info *ri)
 {
+    sim_scenario *sc = calloc(1, sizeof *sc);
+    core_err err;
+    if (!sc || sim_scenario_load(path, sc, &err) != 0) {
+        fprintf(stderr, "otw_peer: %s\n", sc ? err.msg : "out of memory");
+        free(sc);
+        return 1;
+    }
+    sim_world_overrides ov;
+    sim_world_overrides_default(&ov);
+    sim_world_run_info(sc, &ov, ri);
+    free(sc);
+    memset(m, 0, sizeof *m);
+    m->scenario_path = ri->scenario_path;
+    m->scenario = ri->scenario;
+    m->aircraft_path = ri->aircraft_path;
+    m->ship_path = ri->ship_path;
+    m->seed = (int64_t)ri->seed;
+    m->sea_state = (int8_t)ri->sea.state;
+    m->ship_speed_mps = ri->sea.ship_speed_mps;
+    m->wave_dir_rad = ri->sea.wave_dir_rad;
+    m->course_rad = ri->sea.course_rad;
+    m->n_waves = ri->sea.n_waves;
+    m->rate_hz = 200.0;
+    m->state_rate_hz = 50.0;
+    return 0;
+}
+
+static int peer(double seconds, const char *ready, const char *stop, const char *scenario)
+{
+    disim_run_info_t ri_msg;
+    sim_run_info ri;
+    if (scenario && run_info(scenario, &ri_msg, &ri) != 0)
+        return 1;
     lcm_t *lc = lcm_create(NULL);
     if (!lc)
         return 1;
@@ -98,6 +134,11 @@ static int peer(double seconds, const char *ready, const char *stop)
         fclose(f);
     double t0 = now_s(), next = t0;
     for (int64_t k = 0; now_s() - t0 < seconds && access(stop, F_OK) != 0; k++) {
+        if (scenario && k % 50 == 0) {
+            ri_msg.utime = 3000000 + 20000 * k;
+            ri_msg.seq = k / 50;
+            disim_run_info_t_publish(lc, DISIM_CH_RUN_INFO, &ri_msg);
+        }
         disim_heli_state_t h;
         memset(&h, 0, sizeof h);
         h.utime = 3000000 + 20000 * k;
@@ -271,10 +312,10 @@ static int check(const char *scenario, const char *png, const char *camera, int 
 
 int main(int argc, char **argv)
 {
-    if (argc == 5 && !strcmp(argv[1], "peer"))
-        return peer(atof(argv[2]), argv[3], argv[4]);
+    if ((argc == 5 || argc == 6) && !strcmp(argv[1], "peer"))
+        return peer(atof(argv[2]), argv[3], argv[4], argc == 6 ? argv[5] : NULL);
     if (argc == 7 && !strcmp(argv[1], "check"))
         return check(argv[2], argv[3], argv[4], atoi(argv[5]), atoi(argv[6]));
-    fprintf(stderr, "usage: otw_peer peer SECONDS READY STOP | check SCENARIO PNG CAMERA VIEW_W VIEW_H\n");
+    fprintf(stderr, "usage: otw_peer peer SECONDS READY STOP [SCENARIO] | check SCENARIO PNG CAMERA VIEW_W VIEW_H\n");
     return 2;
 }

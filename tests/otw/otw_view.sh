@@ -10,8 +10,9 @@
 # station is stopped with SIGTERM: it exits 0, reports its frames, frame
 # rate and latency (p50, p99) on stderr, wrote a CSV of its frames, and
 # published its controls all along (the peer counts them, no gap in seq).
-# Then the window as the station's source (no --script): its controls start
-# at the flight's and reach the peer through the input pipe.
+# Then the window as the station's source (no --script, no --scenario): it
+# draws the scene of the peer's run_info_t, its controls start at the
+# flight's and reach the peer through the input pipe.
 # Skipped (exit 77; a failure with CI set, tests/skip.sh) without Xvfb,
 # ImageMagick's import, a network namespace or a disim built with SDL2.
 # usage: otw_view.sh DISIM OTW_PEER SRC_DIR
@@ -94,22 +95,26 @@ fi
 
 # the window as the source (no --script): its controls start at the
 # flight's (57.5 % collective in the peer's states) and reach the station
-# through the input pipe; --duration ends it
+# through the input pipe; no --scenario: the scene from the peer's
+# run_info_t; --duration ends it
 rm -f "$tmp/ready" "$tmp/stop"
 unshare -n sh -c '
 ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo || exit 1
 disim=$1 peer=$2 tmp=$3
-"$peer" peer 60 "$tmp/ready" "$tmp/stop" > "$tmp/peer2.out" 2>&1 & p=$!
+"$peer" peer 60 "$tmp/ready" "$tmp/stop" scenarios/cg47_uh60a.ini > "$tmp/peer2.out" 2>&1 & p=$!
 i=0
 while [ ! -e "$tmp/ready" ] && [ $i -lt 100 ]; do sleep 0.05; i=$((i + 1)); done
 xvfb-run -a -s "-screen 0 320x180x24" "$disim" station --view chase --view-size 320x180 --id view-window \
-    --scenario scenarios/cg47_uh60a.ini --duration 4 > "$tmp/st2.out" 2> "$tmp/st2.err"
+    --duration 4 > "$tmp/st2.out" 2> "$tmp/st2.err"
 echo $? > "$tmp/st2.rc"
 touch "$tmp/stop"
 wait $p
 ' sh "$disim" "$peer" "$tmp"
 [ "$(cat "$tmp/st2.rc" 2> /dev/null)" = 0 ] || bad "disim station --view (window source): exit $(cat "$tmp/st2.rc" 2> /dev/null): $(tail -3 "$tmp/st2.err")"
 grep -q "(window)" "$tmp/st2.err" || bad "the window is not the station's source: $(head -2 "$tmp/st2.err")"
+grep "view:" "$tmp/st2.err"
+grep -q "view: [1-9][0-9]* states received, [0-9]* frames drawn, [1-9][0-9]* shown" "$tmp/st2.err" ||
+    bad "no frames shown from the scene of the peer's run_info_t: $(grep "view:" "$tmp/st2.err")"
 cat "$tmp/peer2.out"
 [ "$(sed -n 's/^last_coll //p' "$tmp/peer2.out")" = 57.500 ] ||
     bad "the window's collective did not start at the flight's 57.5 %: $(cat "$tmp/peer2.out")"
