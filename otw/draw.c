@@ -32,6 +32,7 @@ static void take_run_info(otw *w)
     if (rc == 0) {
         otw_scene_close(&w->scene);
         w->scene = fresh;
+        otw_scene_moved(&w->scene);
     } else {
         otw_scene_close(&fresh);
     }

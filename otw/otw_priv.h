@@ -25,6 +25,9 @@ typedef struct otw_scene {
     char title[256];  /* the strip's first line: the frame rate, the latency, the name */
 } otw_scene;
 int otw_scene_open(otw_scene *s, const sim_run_info *ri, unsigned overlays, core_err *err);
+/* The scene's render_scene points into it: after copying a scene, point
+ * the copy's at the copy. */
+void otw_scene_moved(otw_scene *s);
 void otw_scene_close(otw_scene *s);
 
 /* The newest message of one kind and when it arrived. */

@@ -31,16 +31,20 @@ int otw_scene_open(otw_scene *s, const sim_run_info *ri, unsigned overlays, core
     snprintf(s->name, sizeof s->name, "%s + %s, %s, sea %d", s->ship.name, hfm_aircraft_name(s->ac), wod,
              ri->sea.state);
     snprintf(s->title, sizeof s->title, "%s", s->name);
-    render_scene *sc = &s->sc;
-    sc->ship = &s->ship;
-    sc->heli = &s->geom;
-    sc->sea = sim_ship_motion_elevation;
-    sc->sea_user = s->sea;
-    sc->overlays = overlays;
-    sc->title = s->title;
-    sc->air_ref_mps = 1.0;
+    s->sc.sea = sim_ship_motion_elevation;
+    s->sc.overlays = overlays;
+    s->sc.air_ref_mps = 1.0;
+    otw_scene_moved(s);
     s->open = 1;
     return 0;
+}
+
+void otw_scene_moved(otw_scene *s)
+{
+    s->sc.ship = &s->ship;
+    s->sc.heli = &s->geom;
+    s->sc.sea_user = s->sea;
+    s->sc.title = s->title;
 }
 
 void otw_scene_close(otw_scene *s)
