@@ -91,7 +91,7 @@ static void usage_station(FILE *f)
             "               1-4 the camera, q or Escape quits) and a game controller (SDL's mapping\n"
             "               database; --pad-mappings adds a gamecontrollerdb.txt) fly; --view-size\n"
             "               the window (1280x720), --view-image the image drawn and scaled to it\n"
-            "               (3/4 of the window's sides: 960x540); --scenario the scene before the\n"
+            "               (the window's size; smaller draws faster); --scenario the scene before the\n"
             "               loop's run_info_t; --view-stats a CSV of every frame; the frame rate\n"
             "               and the latency (p50, p99) in the strip and on stderr at the end\n");
 }
@@ -154,10 +154,10 @@ static int station_parse_view(station_args *o)
         fprintf(stderr, "%s: --view-size %s\n", P, err.msg);
         return 2;
     }
-    /* the image: 3/4 of the window's sides unless given (what reaches 30 frames/s at
-     * 1280 x 720 beside the loop on 2 cores: docs/benchmarks.md) */
-    o->view_iw = (o->view_w * 3 + 2) / 4 < RENDER_SIZE_MIN ? o->view_w : (o->view_w * 3 + 2) / 4;
-    o->view_ih = (o->view_h * 3 + 2) / 4 < RENDER_SIZE_MIN ? o->view_h : (o->view_h * 3 + 2) / 4;
+    /* the image: the window's size unless given (smaller for a busy machine:
+     * docs/benchmarks.md) */
+    o->view_iw = o->view_w;
+    o->view_ih = o->view_h;
     if (o->view_image && render_size_parse(o->view_image, &o->view_iw, &o->view_ih, &err) != 0) {
         fprintf(stderr, "%s: --view-image %s\n", P, err.msg);
         return 2;

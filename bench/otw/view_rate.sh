@@ -13,7 +13,7 @@
 # Usage, from the source root, as root (unshare -n):
 #   bench/otw/view_rate.sh [DISIM] [SECONDS] [WxH] [CAMERA] [IMAGE_WxH]
 # (./build/app/disim, 30, 1280x720, pilot, the station's default image:
-# 3/4 of the window's sides, scaled to it). CAMERA none: the station
+# the window's size). CAMERA none: the station
 # without --view, the baseline of its late deadlines and the loop's
 # overruns. SDL_RENDER_DRIVER (software,
 # opengl) and LP_NUM_THREADS are passed through.
@@ -23,7 +23,7 @@ tmp=$(mktemp -d /tmp/disim_view_XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 # the hover's trim (disim fly --csv's first row), held by the station
 printf '0,55.126,45.486,43.267,31.573\n' > "$tmp/trim.csv"
-echo "view_rate: $cam camera, window $size, image ${image:-3/4 of it}, beside disim fly --realtime for $secs s on $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "view_rate: $cam camera, window $size, image ${image:-the same}, beside disim fly --realtime for $secs s on $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
 unshare -n sh -c '
 ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo || exit 1
 disim=$1 secs=$2 size=$3 cam=$4 tmp=$5 FLY_FLAGS=$6 image=$7
