@@ -50,11 +50,18 @@ static int draw_one(otw *w, render_ctx *rc, render_state *s, render_camera_kind 
 {
     otw_scene *sc = &w->scene;
     s->rotor_azimuth_rad = azimuth(&sc->geom, s->t_s);
+    render_view v;
+    if (render_camera_place(cam, &sc->sc, s, &v, err) != 0) {
+        if (cam != RENDER_CAM_PILOT || sc->geom.has_eye)
+            return -1;
+        /* an aircraft file without the pilot's eye: the chase camera */
+        cam = RENDER_CAM_CHASE;
+        atomic_store(&w->camera, (int)cam);
+        if (render_camera_place(cam, &sc->sc, s, &v, err) != 0)
+            return -1;
+    }
     snprintf(sc->title, sizeof sc->title, "%s%s%s  %s", stats, stats[0] ? "  " : "", render_camera_name(cam),
              sc->name);
-    render_view v;
-    if (render_camera_place(cam, &sc->sc, s, &v, err) != 0)
-        return -1;
     t[0] = core_monotonic_s();
     int rc_ = render_frame(rc, &sc->sc, s, &v, img, err);
     t[1] = core_monotonic_s();

@@ -91,7 +91,7 @@ int otw_input_write(int fd, const sim_station_controls *c);
 typedef struct otw_opts {
     const char *scenario_path;  /* the scene before the loop's run_info_t (NULL: wait for it) */
     const char *lcm_url;        /* NULL: the LCM library's default */
-    render_camera_kind camera;  /* RENDER_CAM_PILOT */
+    render_camera_kind camera;  /* RENDER_CAM_PILOT (the chase camera for an aircraft file without the pilot's eye) */
     int width, height;          /* the window (1280 x 720) */
     int image_width, image_height; /* the image drawn, scaled to the window (linear); 0: the window's */
     unsigned overlays;          /* RENDER_OVERLAY_HUD */
