@@ -6,10 +6,17 @@
  * the terminal in raw mode for the keyboard (and gives it back on every
  * way out: normal exit, SIGINT / SIGTERM / SIGHUP / SIGQUIT, and the fatal
  * signals, whose handler restores it before the default action) and writes
- * the display. */
+ * the display. With --view the out-the-window view (otw/) runs beside the
+ * station: its window on this thread, the station's loop in a thread of
+ * its own, and the window's keys and game controllers as the station's
+ * source unless another is chosen. */
 #include "cmds.h"
 #include "disim_lcm.h"
+#include "render.h"
 #include "sim.h"
+#ifdef DISIM_HAVE_OTW
+#include "otw.h"
+#endif
 
 #include <errno.h>
 #include <signal.h>
@@ -63,6 +70,8 @@ static void usage_station(FILE *f)
             "                     [--rate-pct-s R] [--authority-pct A]\n"
             "                     [--axis-collective AX] [--axis-long AX] [--axis-lat AX] [--axis-pedal AX]\n"
             "                     [--take-over]\n"
+            "                     [--view [pilot|deck|chase|overhead]] [--view-size WxH] [--view-image WxH]\n"
+            "                     [--scenario FILE] [--view-stats FILE.csv] [--pad-mappings FILE]\n"
             "       disim station --list\n"
             "  Sends nothing until a heli_state_t brings the controls the loop flies (--wait-s, 10,\n"
             "  then exit 1): they are the reference the controls start from.\n"
@@ -82,7 +91,16 @@ static void usage_station(FILE *f)
             "  --list       the evdev devices and their axes\n"
             "  publishes pilot_input_t on DISIM_PILOT_INPUT at --rate-hz (50); --lcm defaults to\n"
             "  the LCM library's default URL; --duration ends it S seconds after its first message;\n"
-            "  --take-over sets take_over in every message (this station flies, whoever was flying)\n");
+            "  --take-over sets take_over in every message (this station flies, whoever was flying)\n"
+            "  --view       a window with the camera's view (pilot, the default, deck, chase,\n"
+            "               overhead) and the head-up strip, drawn from the states received;\n"
+            "               without --keyboard, --device or --script its keys (those above; c or\n"
+            "               1-4 the camera, q or Escape quits) and a game controller (SDL's mapping\n"
+            "               database; --pad-mappings adds a gamecontrollerdb.txt) fly; --view-size\n"
+            "               the window (1280x720), --view-image the image drawn and scaled to it\n"
+            "               (the window's size; smaller draws faster); --scenario the scene before the\n"
+            "               loop's run_info_t; --view-stats a CSV of every frame; the frame rate\n"
+            "               and the latency (p50, p99) in the strip and on stderr at the end\n");
 }
 
 static void list_one(void *user, const sim_station_devinfo *d)
@@ -119,9 +137,40 @@ static void show(void *user, const sim_station_view *v)
 typedef struct station_args {
     const char *id, *url, *device, *script_path;
     int keyboard, list, take_over;
+    int view, view_w, view_h;   /* --view: the window, its size */
+    int view_iw, view_ih;       /* the image drawn */
+    render_camera_kind view_cam;
+    const char *view_size, *view_image, *view_stats, *scenario, *pad_mappings;
     double rate_hz, duration_s, wait_s, rate_pct_s, authority_pct;
     sim_station_axes axes;
 } station_args;
+
+/* The view's flags checked: -1 to go on, 2 after a message. */
+static int station_parse_view(station_args *o)
+{
+    const char *P = "disim station";
+    o->view_w = 1280;
+    o->view_h = 720;
+    if (!o->view && (o->view_size || o->view_image || o->view_stats || o->scenario || o->pad_mappings)) {
+        fprintf(stderr, "%s: --view-size, --view-image, --view-stats, --scenario and --pad-mappings need --view\n",
+                P);
+        return 2;
+    }
+    core_err err;
+    if (o->view_size && render_size_parse(o->view_size, &o->view_w, &o->view_h, &err) != 0) {
+        fprintf(stderr, "%s: --view-size %s\n", P, err.msg);
+        return 2;
+    }
+    /* the image: the window's size unless given (smaller for a busy machine:
+     * docs/benchmarks.md) */
+    o->view_iw = o->view_w;
+    o->view_ih = o->view_h;
+    if (o->view_image && render_size_parse(o->view_image, &o->view_iw, &o->view_ih, &err) != 0) {
+        fprintf(stderr, "%s: --view-image %s\n", P, err.msg);
+        return 2;
+    }
+    return -1;
+}
 
 /* The flags into o: -1 to go on, else the exit status (0 after --help,
  * 2 after a message). */
@@ -142,7 +191,15 @@ static int station_parse(int argc, char **argv, station_args *o)
     const struct {
         const char *flag;
         const char **out;
-    } str[] = {{"--id", &o->id}, {"--lcm", &o->url}, {"--device", &o->device}, {"--script", &o->script_path}};
+    } str[] = {{"--id", &o->id},
+               {"--lcm", &o->url},
+               {"--device", &o->device},
+               {"--script", &o->script_path},
+               {"--view-size", &o->view_size},
+               {"--view-image", &o->view_image},
+               {"--view-stats", &o->view_stats},
+               {"--scenario", &o->scenario},
+               {"--pad-mappings", &o->pad_mappings}};
     const struct {
         const char *flag;
         double lo, hi, *out;
@@ -163,6 +220,18 @@ static int station_parse(int argc, char **argv, station_args *o)
                 *sw[k].out = is_switch = 1;
         if (is_switch)
             continue;
+        if (!strcmp(a, "--view")) {
+            core_err err;
+            o->view = 1;
+            if (v && v[0] != '-') { /* the camera, optional */
+                if (render_camera_parse(v, &o->view_cam, &err) != 0) {
+                    fprintf(stderr, "%s: --view: %s\n", P, err.msg);
+                    return 2;
+                }
+                i++;
+            }
+            continue;
+        }
         for (size_t k = 0; k < sizeof str / sizeof str[0] && v; k++)
             if (!strcmp(a, str[k].flag))
                 *str[k].out = v, valued = 1;
@@ -200,7 +269,7 @@ static int station_parse(int argc, char **argv, station_args *o)
         fprintf(stderr, "%s: --keyboard, --device and --script exclude each other: choose one\n", P);
         return 2;
     }
-    return -1;
+    return station_parse_view(o);
 }
 
 /* --list: the evdev devices and their axes on stdout. */
@@ -260,6 +329,109 @@ static int station_raw_tty(void)
     return 0;
 }
 
+/* ------------------------------------------------------------- the view */
+#ifdef DISIM_HAVE_OTW
+static void view_quit(void *user)
+{
+    (void)user;
+    station_stop = 1; /* as a stop signal: the station's loop ends at its next wake */
+}
+
+/* --view: the view (its scene, receive thread, input pipe) and, when the
+ * window is the source, its pipe as the station's device: 0, or 1 after
+ * a message. */
+static int station_view_open(const station_args *o, struct otw **view, sim_station_evdev **dev,
+                             sim_station_controls *start)
+{
+    core_err err;
+    otw_opts vo;
+    otw_opts_default(&vo);
+    vo.scenario_path = o->scenario;
+    vo.lcm_url = o->url;
+    vo.camera = o->view_cam;
+    vo.width = o->view_w;
+    vo.height = o->view_h;
+    vo.image_width = o->view_iw;
+    vo.image_height = o->view_ih;
+    vo.inputs = !o->keyboard && !o->device && !o->script_path;
+    vo.step_pct = 0.1 * o->rate_pct_s; /* a key event moves what the terminal's does: 0.1 s at the rate */
+    vo.pad_mappings = o->pad_mappings;
+    vo.stats_path = o->view_stats;
+    vo.quit = view_quit;
+    if (!(*view = otw_create(&vo, &err))) {
+        fprintf(stderr, "disim station: --view: %s\n", err.msg);
+        return 1;
+    }
+    if (vo.inputs) {
+        sim_station_axes axes;
+        otw_input_axes(&axes);
+        int fd = dup(otw_input_fd(*view));
+        if (fd < 0 || !(*dev = sim_station_evdev_wrap(fd, &axes, &err))) {
+            fprintf(stderr, "disim station: --view: the window's input: %s\n", fd < 0 ? strerror(errno) : err.msg);
+            otw_destroy(*view);
+            *view = NULL;
+            return 1;
+        }
+        sim_station_controls_centre(start);
+    }
+    return 0;
+}
+
+static void station_view_close(struct otw *view) { otw_destroy(view); }
+
+typedef struct loop_ctx {
+    sim_station *st;
+    const sim_station_run_opts *ro;
+    core_err err;
+} loop_ctx;
+
+static int loop_body(void *arg)
+{
+    loop_ctx *c = arg;
+    return sim_station_run(c->st, c->ro, &c->err) != 0 ? 1 : 0;
+}
+
+/* The window on this thread, the station's loop beside it; the view's
+ * figures on stderr at the end. */
+static int station_loop(sim_station *st, const sim_station_run_opts *ro, struct otw *view, core_err *err)
+{
+    if (!view)
+        return sim_station_run(st, ro, err) != 0 ? 1 : 0;
+    loop_ctx c = {st, ro, {{0}, 0}};
+    int body_rc = 1;
+    if (otw_run(view, loop_body, &c, &body_rc, err) != 0)
+        return 1;
+    otw_report r;
+    otw_get_report(view, &r);
+    fprintf(stderr,
+            "disim station: view: %ld states received, %ld frames drawn, %ld shown in %.1f s (%.1f frames/s, "
+            "SDL renderer %s); latency from a state's arrival to the frame on screen p50 %.1f ms, p99 %.1f ms, "
+            "max %.1f ms; drawing p50 %.1f ms, p99 %.1f ms%s%s\n",
+            r.states, r.frames_drawn, r.frames_shown, r.seconds, r.fps, r.renderer, 1e3 * r.latency_p50_s,
+            1e3 * r.latency_p99_s, 1e3 * r.latency_max_s, 1e3 * r.draw_p50_s, 1e3 * r.draw_p99_s,
+            r.bad_rx ? "; refused: " : "", r.bad_rx ? r.bad_last : "");
+    if (body_rc != 0)
+        *err = c.err;
+    return body_rc;
+}
+#else
+static int station_view_open(const station_args *o, struct otw **view, sim_station_evdev **dev,
+                             sim_station_controls *start)
+{
+    (void)o, (void)view, (void)dev, (void)start;
+    fprintf(stderr, "disim station: --view: this disim was built without SDL2 (install libsdl2-dev and build again)\n");
+    return 1;
+}
+
+static void station_view_close(struct otw *view) { (void)view; }
+
+static int station_loop(sim_station *st, const sim_station_run_opts *ro, struct otw *view, core_err *err)
+{
+    (void)view;
+    return sim_station_run(st, ro, err) != 0 ? 1 : 0;
+}
+#endif
+
 /* The station's inputs (script, device or keyboard) and its LCM side,
  * the loop with the display, the last view: the exit status. */
 static int station_run(const station_args *o, const char *id, const char *source)
@@ -291,12 +463,19 @@ static int station_run(const station_args *o, const char *id, const char *source
         fprintf(stderr, "%s: --keyboard: standard input is not a terminal (use --script or --device)\n", P);
         return 1;
     }
+    struct otw *view = NULL;
+    if (o->view && station_view_open(o, &view, &dev, &ro.start) != 0) {
+        sim_station_script_destroy(script);
+        sim_station_evdev_destroy(dev);
+        return 1;
+    }
     sim_station_opts so = {id, o->url};
     sim_station *st = sim_station_create(&so, &err);
     if (!st) {
         fprintf(stderr, "%s: %s\n", P, err.msg);
         sim_station_script_destroy(script);
         sim_station_evdev_destroy(dev);
+        station_view_close(view);
         return 1;
     }
     ro.script = script;
@@ -323,7 +502,7 @@ static int station_run(const station_args *o, const char *id, const char *source
             fprintf(stderr, "%s: %s waits for the flown controls on %s, then publishes on %s at %g Hz (%s)\n", P, id,
                     DISIM_CH_HELI_STATE, DISIM_CH_PILOT_INPUT, o->rate_hz, source);
         }
-        rc = sim_station_run(st, &ro, &err) != 0 ? 1 : 0;
+        rc = station_loop(st, &ro, view, &err);
         sim_station_format(sim_station_get_view(st), source, sc.tty, sc.buf, sizeof sc.buf);
         if (sc.tty)
             printf("%s\n", sc.buf);
@@ -337,6 +516,7 @@ static int station_run(const station_args *o, const char *id, const char *source
         sim_station_evdev_destroy(dev);
     }
     sim_station_destroy(st);
+    station_view_close(view);
     return rc;
 }
 
@@ -353,15 +533,20 @@ int cmd_station(int argc, char **argv)
         fprintf(stderr, "disim station: --id: %s\n", err.msg);
         return 2;
     }
-    int keyboard = o.keyboard || (!o.device && !o.script_path);
+    int keyboard = o.keyboard || (!o.device && !o.script_path && !o.view);
+    int window = !keyboard && !o.device && !o.script_path; /* --view alone: the window's keys and controllers */
     o.keyboard = keyboard;
-    const char *source = keyboard ? "keyboard" : o.script_path ? "script" : o.device;
+    const char *source = window ? "window" : keyboard ? "keyboard" : o.script_path ? "script" : o.device;
     const char *dev_base = o.device ? strrchr(o.device, '/') : NULL;
     char idbuf[80];
     const char *id = o.id;
     if (!id) {
         sim_station_default_id(idbuf, sizeof idbuf,
-                               keyboard ? "keyboard" : o.script_path ? "script" : dev_base ? dev_base + 1 : o.device);
+                               window     ? "window"
+                               : keyboard ? "keyboard"
+                               : o.script_path ? "script"
+                               : dev_base      ? dev_base + 1
+                                               : o.device);
         id = idbuf;
     }
     return station_run(&o, id, source);
