@@ -528,7 +528,25 @@ static int world_fields(fly_ctx *c, fly_world *w, double speed, double dir, core
     return 0;
 }
 
-static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err)
+/* The instructor's setup (disim ios) over the flags. */
+static void world_setup(const sim_loop_setup *s, sim_world_overrides *ov)
+{
+    if (!s)
+        return;
+    if (s->start >= 0)
+        ov->start = s->start;
+    ov->start_heading_rad = s->heading_rad;
+    if (!isnan(s->wod_speed_mps)) {
+        ov->wod_speed_mps = s->wod_speed_mps;
+        ov->wod_dir_rad = s->wod_dir_rad;
+    }
+    if (s->sea_state >= 0)
+        ov->sea_state = s->sea_state;
+    if (s->turbulence >= 0)
+        ov->turbulence = s->turbulence;
+}
+
+static int world_build(fly_ctx *c, const char *path, const sim_loop_setup *setup, fly_world *w, core_err *err)
 {
     const fly_args *o = c->o;
     memset(w, 0, sizeof *w);
@@ -543,6 +561,7 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
         goto fail;
     sim_world_overrides ov;
     world_overrides(o, w, &ov);
+    world_setup(setup, &ov);
     sim_run_info ri; /* the WOD flown */
     sim_world_run_info(sc, &ov, &ri);
     if (sc->wod_mode == SIM_WOD_SWEEP && (isnan(o->speed_kt) || isnan(o->dir_deg))) {
@@ -552,11 +571,12 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
     if (world_fields(c, w, ri.wod_speed_mps, ri.wod_dir_rad, err) != 0)
         goto fail;
     hfm_gear gear;
-    if (o->start_deck && !(o->gear && hfm_aircraft_gear(w->ac, &gear) == 0)) {
+    if (ov.start == SIM_START_DECK && !(o->gear && hfm_aircraft_gear(w->ac, &gear) == 0)) {
         core_err_set(err, -1, "--start deck: %s", o->gear ? "the aircraft file has no [gear] section" : "not with --no-gear");
         goto fail;
     }
     world_overrides(o, w, &ov); /* with the fields */
+    world_setup(setup, &ov);
     if (o->has_start) { /* --pilot replay: where the replayed run starts */
         ov.has_station = 1;
         memcpy(ov.station_S_m, o->start_S_m, sizeof ov.station_S_m);
@@ -566,6 +586,10 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
         memcpy(ov.station_S_m, sc->station_S_m, sizeof ov.station_S_m);
         if (sim_task_start_S(o->task, &sc->ship, ov.station_S_m, err) != 0)
             goto fail;
+    }
+    if (setup && setup->has_station) { /* a reposition */
+        ov.has_station = 1;
+        memcpy(ov.station_S_m, setup->station_S_m, sizeof ov.station_S_m);
     }
     if (sim_world_build(sc, w->ac, &ov, c->log, &w->sw, err) != 0)
         goto fail;
@@ -584,17 +608,24 @@ static void loop_world(const fly_world *w, sim_loop_world *lw)
     lw->info = w->sw.info;
 }
 
-/* sim_loop's build: a new world, the old one freed only once it stands. */
-static int loop_build(void *user, const char *path, sim_loop_world *lw, core_err *err)
+/* sim_loop's build (setup NULL: the flags alone) and rebuild: a new
+ * world, the old one freed only once it stands. */
+static int loop_rebuild(void *user, const char *path, const sim_loop_setup *setup, sim_loop_world *lw,
+                        core_err *err)
 {
     fly_ctx *c = user;
     fly_world nw;
-    if (world_build(c, path, &nw, err) != 0)
+    if (world_build(c, path, setup, &nw, err) != 0)
         return -1;
     world_free(&c->w);
     c->w = nw;
     loop_world(&c->w, lw);
     return 0;
+}
+
+static int loop_build(void *user, const char *path, sim_loop_world *lw, core_err *err)
+{
+    return loop_rebuild(user, path, NULL, lw, err);
 }
 
 /* What every flight of disim fly does after each step (the runner's
@@ -689,6 +720,7 @@ static int fly_loop_opts(const fly_args *o, double duration_s, const char *sourc
     lo->scenario_path = o->scen;
     lo->pilot_source_id = source_id;
     lo->pilots.hold_after_s = o->hold_after_s;
+    lo->rebuild = loop_rebuild;
     return o->stations ? sim_pilots_opts_parse(&lo->pilots, o->stations, err) : 0;
 }
 
@@ -998,7 +1030,7 @@ int cmd_fly(int argc, char **argv)
         o.replay_sas = li.sas;
         o.has_start = 1;
     }
-    if (world_build(&ctx, o.scen, &ctx.w, &err) != 0 ||
+    if (world_build(&ctx, o.scen, NULL, &ctx.w, &err) != 0 ||
         (o.csv && !(ctx.csv = sim_traj_create(o.csv, o.rate_hz, o.csv_rate_hz, &err))))
         goto done;
     rc = o.replay_log ? fly_replay(&ctx, replay_ref, &err) : o.pilot ? fly_auto(&ctx, &err) : fly_station(&ctx, &err);

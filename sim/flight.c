@@ -485,6 +485,7 @@ void sim_flight_trim_inputs(const sim_flight *f, sim_flight_inputs *in)
 }
 
 sim_sas *sim_flight_sas(sim_flight *f) { return f->sas; }
+const core_ship *sim_flight_ship(const sim_flight *f) { return &f->ship; }
 
 void sim_flight_set_external(sim_flight *f, hfm_ext_fn fn, void *user)
 {

@@ -191,6 +191,8 @@ int sim_flight_set_field(sim_flight *f, const struct cfd_field *field, core_err 
 int sim_flight_step(sim_flight *f, const sim_flight_inputs *in, sim_flight_out *out, core_err *err);
 /* The state at the current time without stepping. */
 void sim_flight_state(const sim_flight *f, sim_flight_out *out);
+/* The ship the flight flies over (its blocks, deck height). */
+const core_ship *sim_flight_ship(const sim_flight *f);
 
 /* ------------------------------------ turbulence (sim/turbulence.c) */
 /* Seeded Dryden turbulence (MIL-F-8785C / MIL-HDBK-1797 Dryden form) from

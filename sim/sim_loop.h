@@ -130,6 +130,24 @@ typedef struct sim_loop_world {
  * freed the old) and filled w; < 0 with err and the old world untouched
  * (the loop keeps flying it and publishes err in the status). */
 typedef int (*sim_loop_build_fn)(void *user, const char *path, sim_loop_world *w, core_err *err);
+/* What the instructor's controls (sim_control_t RESET_HOVER, RESET_DECK,
+ * REPOSITION, SET_WOD, SET_SEA, SET_TURBULENCE) set over the scenario and
+ * the caller's own settings (its command line) when a world is built
+ * again; each field at its default leaves the caller's. */
+typedef struct sim_loop_setup {
+    int start;                         /* -1 (default): the caller's; SIM_START_HOVER, SIM_START_DECK */
+    int has_station;                   /* 1: the hover's CG at station_S_m (a reposition), else the scenario's */
+    double station_S_m[3];
+    double heading_rad;                /* the deck start's heading from the bow (0) */
+    double wod_speed_mps, wod_dir_rad; /* NAN (default): the caller's */
+    int sea_state;                     /* -1 (default): the caller's; 0-6 */
+    int turbulence;                    /* -1 (default): the caller's; 0 off, 1 on */
+} sim_loop_setup;
+void sim_loop_setup_default(sim_loop_setup *s);
+/* Build the world of the scenario at path under s, as sim_loop_build_fn
+ * (the build of a default s is the build_fn's). */
+typedef int (*sim_loop_rebuild_fn)(void *user, const char *path, const sim_loop_setup *s, sim_loop_world *w,
+                                   core_err *err);
 typedef struct sim_loop_opts {
     double rate_hz;          /* the step rate (200) */
     int realtime;            /* 1: paced (sim_pacer), 0: as fast as it can */
@@ -148,6 +166,16 @@ typedef struct sim_loop_opts {
      * pilot_input_t of this station id at the step they fly, as a
      * station's would, and live pilot inputs are not listened to. */
     const char *pilot_source_id;
+    /* NULL: the instructor's controls that build the world again (the
+     * resets to the hover and the deck, a reposition, the WOD, sea state
+     * and turbulence, a restore) are refused; else they build with it
+     * (the same user as build). */
+    sim_loop_rebuild_fn rebuild;
+    /* The longest flight a snapshot is taken of (600 s): a restore builds
+     * the world of the snapshot's flight again and flies its inputs from
+     * its start (the same inputs, the same state bit for bit), which takes
+     * up to about this flight time over the step's speed. */
+    double snapshot_max_s;
 } sim_loop_opts;
 void sim_loop_opts_default(sim_loop_opts *o);
 /* A loop flying w (built by the caller from o->scenario_path). NULL with
@@ -188,6 +216,14 @@ typedef struct sim_loop_report {
     long long sent, received, logged, control_refused;
     char scenario[64];
     char message[256];     /* why the last control was refused ("" none) */
+    /* the last control answered: its seq (-1 none), command, result
+     * (sim_status_t CONTROL_*), what was done or why not, and the wall
+     * time its application took */
+    long long control_seq;
+    int control_command, control_result;
+    char control_message[256];
+    double control_apply_s;
+    int snapshots;         /* snapshots held */
 } sim_loop_report;
 void sim_loop_report_get(const sim_loop *l, sim_loop_report *r);
 const sim_pilots *sim_loop_pilots(const sim_loop *l);

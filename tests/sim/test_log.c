@@ -65,6 +65,7 @@ static int make_events(event *ev, int32_t status_flags)
     st.state = DISIM_SIM_STATUS_T_RUNNING;
     st.active_station = -1;
     st.message = (char *)"";
+    st.control_message = (char *)"";
     st.scenario = (char *)"cg47_uh60a";
     st.flags = status_flags;
     ev[n] = (event){DISIM_CH_SIM_STATUS, 0, 0, {0}};
