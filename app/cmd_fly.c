@@ -54,7 +54,7 @@ static void usage_fly(void)
                     "                  [--csv OUT.csv] [--csv-rate-hz N] [--sea-state N] [--wave-dir-deg D]\n"
                     "                  [--ship-speed-kt U] [--seed N] [--no-turbulence] [--sas on|off] [--start hover|deck] [--no-gear]\n"
                     "                  [--lcm URL | --no-lcm] [--log FILE] [--replay-inputs LOG]\n"
-                    "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N]\n"
+                    "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N] [--snapshot-max-s S]\n"
                     "                  [--pilot auto --task FILE [--task-result PREFIX]]  (headless, as fast as it can)\n"
                     "                  [--pilot replay LOG [--feed-controls]]  (headless: LOG's run re-flown)\n"
                     "                  [--render DIR [--render-rate HZ] [--render-size WxH]\n"
@@ -66,6 +66,7 @@ typedef struct fly_args {
     int realtime, sea_state, turbulence, lcm; /* lcm: -1 as the mode says, 0 off, 1 on */
     double duration_s, rate_hz, csv_rate_hz, speed_kt, dir_deg, wave_dir_deg, ship_speed_kt, seed;
     double hold_after_s, state_rate_hz;
+    double snapshot_max_s;    /* the longest flight disim ios takes a snapshot of */
     const char *pilot, *task; /* --pilot auto --task FILE: the automated pilot flies */
     const char *task_result;  /* --task-result PREFIX: PREFIX.csv and PREFIX.json (sim_task_result_write) */
     int duration_set;
@@ -145,6 +146,7 @@ static const fly_flag fly_flags[] = {
     {.name = "--csv-rate-hz", F_DOUBLE, FA(csv_rate_hz), 0.1, 10000.0},
     {.name = "--state-rate-hz", F_DOUBLE, FA(state_rate_hz), 1.0, 10000.0},
     {.name = "--hold-after-s", F_DOUBLE, FA(hold_after_s), 0.01, 60.0, .given = FA(hold_set)},
+    {.name = "--snapshot-max-s", F_DOUBLE, FA(snapshot_max_s), 0.0, 86400.0},
     {.name = "--wod-speed-kt", F_DOUBLE, FA(speed_kt), 0.0, 100.0},
     {.name = "--wod-dir-deg", F_DOUBLE, FA(dir_deg), -360.0, 360.0},
     {.name = "--sea-state", F_INT, FA(sea_state), 0, 6},
@@ -233,6 +235,7 @@ static void fly_defaults(fly_args *o)
     o->sas = -1;
     o->lcm = -1;
     o->hold_after_s = 0.5;
+    o->snapshot_max_s = 600.0;
     o->state_rate_hz = 50.0;
     o->render_rate_hz = 10.0;
     o->render_w = 640;
@@ -467,6 +470,7 @@ typedef struct fly_ctx {
     fly_world w;
     sim_traj *csv;
     sim_loop *loop;
+    core_log loop_log; /* the loop's: its controls said (info) */
     fly_render fr;
 } fly_ctx;
 
@@ -721,6 +725,7 @@ static int fly_loop_opts(const fly_args *o, double duration_s, const char *sourc
     lo->pilot_source_id = source_id;
     lo->pilots.hold_after_s = o->hold_after_s;
     lo->rebuild = loop_rebuild;
+    lo->snapshot_max_s = o->snapshot_max_s;
     return o->stations ? sim_pilots_opts_parse(&lo->pilots, o->stations, err) : 0;
 }
 
@@ -728,7 +733,10 @@ static int fly_loop_create(fly_ctx *c, const sim_loop_opts *lo, core_err *err)
 {
     sim_loop_world lw;
     loop_world(&c->w, &lw);
-    return (c->loop = sim_loop_create(lo, &lw, loop_build, c, c->log, err)) ? 0 : -1;
+    c->loop_log = *c->log;
+    if (c->loop_log.max_level < CORE_LOG_INFO)
+        c->loop_log.max_level = CORE_LOG_INFO;
+    return (c->loop = sim_loop_create(lo, &lw, loop_build, c, &c->loop_log, err)) ? 0 : -1;
 }
 
 /* The free stream, the field, or the field to come, as the start says. */
