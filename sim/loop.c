@@ -11,7 +11,11 @@
  *      <= k): each pilot_input_t is offered to the stations' rules at run
  *      time k / rate_hz, each sim_control_t queued;
  *   2. carries out the controls in the order received (pause, resume,
- *      reset, load scenario);
+ *      reset, load scenario, and the instructor's: the resets to the
+ *      hover and the deck, a reposition, the WOD, sea state and
+ *      turbulence, snapshots), each checked first and refused with the
+ *      reason, each answered in a status of its own (control_seq,
+ *      control_result, control_message, control_apply_s) and logged;
  *   3. unless paused, takes the step's inputs from the pilot (the
  *      stations' rules, the inputs the caller sets, or a pilot of the
  *      caller's, whose inputs go out as its station's pilot_input_t) and
@@ -32,6 +36,24 @@
  * and a replay applies each received message at the run step it was
  * taken at (the replay must use the logged run's --rate-hz). Messages
  * carry utime = the flight's simulation time and seq.
+ *
+ * The instructor's controls. The world's setup (sim_loop_setup: the
+ * start, hover or deck, the hover's place, the deck's heading, the WOD,
+ * the sea state, the turbulence) is what the instructor set over the
+ * caller's settings; a reset to the hover or the deck, a reposition or a
+ * change of the conditions changes it and builds the world again through
+ * the caller's rebuild (opts.rebuild: the seaway, the field of the WOD,
+ * the trimmed start), which starts the flight again from its start.
+ * A reposition is checked against the ship (inside it, within 2 m above
+ * it, under the sea) and the others against their ranges, before
+ * anything is built. The journal holds the inputs of every step flown
+ * since the world was built (opts.snapshot_max_s of them at most); a
+ * snapshot is the world's setup, its scenario and its journal, and a
+ * restore builds that world again and flies the journal from its start:
+ * the flight step is deterministic, so the state is the snapshot's bit
+ * for bit (the helicopter, the gear, the SAS, the rotor's states, the
+ * turbulence's field and the ship's motion at its time), without a copy
+ * of each stage's internals; its cost is the steps flown again.
  *
  * A received buffer goes through disim_lcm_check_raw before lcm-gen's
  * decoder sees it, then through disim_lcm_check_sim_control (NaN, range):

@@ -61,7 +61,9 @@ int sim_pacer_os_realtime(int priority, char *what, size_t n);
  * loop (sim/loop.c) */
 /* Around the deterministic step, never inside it: pilot stations'
  * pilot_input_t taken by their rules (sim_pilots, sim/pilots.c),
- * sim_control_t (pause, resume, reset, load scenario), heli_state_t,
+ * sim_control_t (pause, resume, reset, load scenario, and the
+ * instructor's resets, reposition, conditions and snapshots, each answered
+ * in the status), heli_state_t,
  * ship_state_t and sim_status_t published, every message sent and
  * received written to an LCM event log, a log's inputs replayed (sim_loop,
  * sim/loop.c, which has the log's clock and its references). */
@@ -185,8 +187,9 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
 /* A log not finished is removed. */
 void sim_loop_destroy(sim_loop *l);
 enum { SIM_LOOP_STEPPED = 0, SIM_LOOP_PAUSED = 1, SIM_LOOP_DONE = 2, SIM_LOOP_CRASHED = 3 };
-/* One pass: SIM_LOOP_STEPPED with out the step's outputs (a reset or a
- * load shows as out->step back to 1), SIM_LOOP_PAUSED (nothing stepped;
+/* One pass: SIM_LOOP_STEPPED with out the step's outputs (a reset, a
+ * load or a world built again shows as out->step back to 1, a restore as
+ * the snapshot's step + 1), SIM_LOOP_PAUSED (nothing stepped;
  * waited up to 100 ms for a message), SIM_LOOP_DONE (duration flown),
  * SIM_LOOP_CRASHED (the step ended the flight: out is its last state, its
  * states published, err says what hit what; finish the loop as at the

@@ -3,7 +3,9 @@
  * and changing nothing, sequence gaps, hold after silence with its flag,
  * priority and take-over), pause, resume, reset and load (a good and a
  * broken scenario), and a log whose inputs, replayed, fly the same
- * trajectory bit for bit. Run from the source root. */
+ * trajectory bit for bit; the instructor's controls (each refused with
+ * its reason and accepted with its effect, a snapshot restored and flown
+ * on bit for bit) and the console's lines. Run from the source root. */
 #include "check.h"
 #include "disim_lcm.h"
 #include "sim.h"
@@ -752,12 +754,51 @@ static void test_ios(void)
     hfm_aircraft_destroy(w.ac);
 }
 
+/* The console's lines (sim/ios.c): each command, its fields in SI, and
+ * what is not one. */
+static void test_ios_parse(void)
+{
+    sim_ios_cmd c;
+    core_err err = {0};
+    CHECK(sim_ios_parse("freeze", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_PAUSE);
+    CHECK(sim_ios_parse("  resume  # go", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_RESUME);
+    CHECK(sim_ios_parse("reset", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_RESET);
+    CHECK(sim_ios_parse("reset hover", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_RESET_HOVER);
+    CHECK(sim_ios_parse("reset deck 90", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_RESET_DECK &&
+          fabs(c.heading_rad - CORE_PI / 2) < 1e-12);
+    CHECK(sim_ios_parse("reposition -20 5.5 -8", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_REPOSITION &&
+          c.pos_S_m[0] == -20.0 && c.pos_S_m[1] == 5.5 && c.pos_S_m[2] == -8.0 && isnan(c.heading_rad));
+    CHECK(sim_ios_parse("wod 20 -30", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_SET_WOD &&
+          fabs(c.wod_speed_mps - 20 * CORE_KT_TO_MPS) < 1e-12 && fabs(c.wod_dir_rad + 30 * CORE_DEG_TO_RAD) < 1e-12);
+    CHECK(sim_ios_parse("sea 4", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_SET_SEA && c.sea_state == 4);
+    CHECK(sim_ios_parse("turb off", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_SET_TURBULENCE &&
+          c.turbulence == 0);
+    CHECK(sim_ios_parse("snap approach_1", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_SNAPSHOT &&
+          !strcmp(c.name, "approach_1"));
+    CHECK(sim_ios_parse("restore approach_1", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_RESTORE);
+    CHECK(sim_ios_parse("load a.ini", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO &&
+          !strcmp(c.path, "a.ini"));
+    CHECK(sim_ios_parse("status", &c, &err) == 0 && c.command == SIM_IOS_STATUS);
+    CHECK(sim_ios_parse("wait 0.5", &c, &err) == 0 && c.command == SIM_IOS_WAIT && c.wait_s == 0.5);
+    CHECK(sim_ios_parse("# nothing", &c, &err) == 0 && c.command == SIM_IOS_NONE);
+    /* NaN passes: the loop says why it refuses it */
+    CHECK(sim_ios_parse("reposition nan 0 -8", &c, &err) == 0 && isnan(c.pos_S_m[0]));
+    CHECK(sim_ios_parse("wod 20", &c, &err) < 0 && strstr(err.msg, "wod KT DIR_DEG") != NULL);
+    CHECK(sim_ios_parse("reposition 1 2 x", &c, &err) < 0 && strstr(err.msg, "'x' is not a number") != NULL);
+    CHECK(sim_ios_parse("turb maybe", &c, &err) < 0 && strstr(err.msg, "turb on") != NULL);
+    CHECK(sim_ios_parse("sea 2.5", &c, &err) < 0 && strstr(err.msg, "whole number") != NULL);
+    CHECK(sim_ios_parse("freeze now", &c, &err) < 0);
+    CHECK(sim_ios_parse("snap aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa", &c, &err) < 0 && strstr(err.msg, "31") != NULL);
+    CHECK(sim_ios_parse("fly away", &c, &err) < 0 && strstr(err.msg, "not a command") != NULL);
+}
+
 int main(void)
 {
     test_rules();
     test_station_flight();
     test_control();
     test_ios();
+    test_ios_parse();
     printf("test_loop: %d checks, %d failed\n", check_count, check_failures);
     return check_failures != 0;
 }
