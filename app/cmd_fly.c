@@ -55,6 +55,7 @@ static void usage_fly(void)
                     "                  [--ship-speed-kt U] [--seed N] [--no-turbulence] [--sas on|off] [--start hover|deck] [--no-gear]\n"
                     "                  [--lcm URL | --no-lcm] [--log FILE] [--replay-inputs LOG]\n"
                     "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N] [--snapshot-max-s S]\n"
+                    "                  [--wait-after-crash]\n"
                     "                  [--pilot auto --task FILE [--task-result PREFIX]]  (headless, as fast as it can)\n"
                     "                  [--pilot replay LOG [--feed-controls]]  (headless: LOG's run re-flown)\n"
                     "                  [--render DIR [--render-rate HZ] [--render-size WxH]\n"
@@ -78,6 +79,7 @@ typedef struct fly_args {
     char sc_task[SIM_PATH_MAX], sc_log[SIM_PATH_MAX], sc_stations[SIM_PATH_MAX];
     const char *replay_log;   /* --pilot replay LOG: the replay pilot re-flies LOG (sim/pilot_replay.c) */
     int feed_controls;        /* --feed-controls: LOG's controls fed forward too */
+    int wait_after_crash;     /* --wait-after-crash: a crash stops the flight for disim ios, not the run */
     int replay_sas;           /* LOG's SAS (sim_log_summary.sas): 1 on, 0 off, -1 the log does not say */
     int has_start;            /* the flight starts at start_S_m (the replayed run's start) */
     double start_S_m[3];
@@ -161,6 +163,7 @@ static const fly_flag fly_flags[] = {
     {.name = "--no-gear", F_SET, FA(gear), 0},
     {.name = "--no-lcm", F_SET, FA(lcm), 0},
     {.name = "--feed-controls", F_SET, FA(feed_controls), 1},
+    {.name = "--wait-after-crash", F_SET, FA(wait_after_crash), 1},
     {.name = "--lcm", F_STR, FA(lcm_url), .given = FA(lcm)},
     {.name = "--field", F_STR, FA(field)},
     {.name = "--db", F_STR, FA(db)},
@@ -726,6 +729,7 @@ static int fly_loop_opts(const fly_args *o, double duration_s, const char *sourc
     lo->pilots.hold_after_s = o->hold_after_s;
     lo->rebuild = loop_rebuild;
     lo->snapshot_max_s = o->snapshot_max_s;
+    lo->wait_after_end = o->wait_after_crash;
     return o->stations ? sim_pilots_opts_parse(&lo->pilots, o->stations, err) : 0;
 }
 

@@ -723,6 +723,8 @@ static int world_started(sim_loop *l, const sim_loop_world *w, const char *path,
     l->setup = *s;
     l->njr = 0;
     l->jr_full = 0;
+    l->crashed = 0; /* a flight that ended flies again */
+    l->crash_msg[0] = '\0';
     sim_flight_state(l->w.flight, &l->out);
     publish_run_info(l);
     return l->paused ? 0 : new_pacer(l, err);
@@ -954,6 +956,11 @@ static int do_control(sim_loop *l, const ctl *c, core_err *err)
     switch (c->command) {
     case DISIM_SIM_CONTROL_T_PAUSE: l->paused = 1; break;
     case DISIM_SIM_CONTROL_T_RESUME:
+        if (l->crashed) {
+            rc = (snprintf(why, sizeof why, "the flight has ended (%.150s): reset, reposition or restore",
+                           l->crash_msg), 1);
+            break;
+        }
         if (l->paused && new_pacer(l, err) != 0) /* deadlines from now, not from before the pause */
             return -1;
         l->paused = 0;
@@ -961,8 +968,12 @@ static int do_control(sim_loop *l, const ctl *c, core_err *err)
     case DISIM_SIM_CONTROL_T_RESET:
     case DISIM_SIM_CONTROL_T_LOAD_SCENARIO: rc = do_load(l, c, why, sizeof why, err); break;
     case DISIM_SIM_CONTROL_T_SNAPSHOT:
-        rc = !l->o.rebuild ? (snprintf(why, sizeof why, "this loop cannot build its world again: no snapshots"), 1)
-                           : take_snapshot(l, c->name, why, sizeof why);
+        if (!l->o.rebuild)
+            rc = (snprintf(why, sizeof why, "this loop cannot build its world again: no snapshots"), 1);
+        else if (l->crashed)
+            rc = (snprintf(why, sizeof why, "the flight has ended (%.150s): no snapshot of it", l->crash_msg), 1);
+        else
+            rc = take_snapshot(l, c->name, why, sizeof why);
         break;
     case DISIM_SIM_CONTROL_T_RESTORE: {
         int i = snap_find(l, c->name);
@@ -1018,7 +1029,9 @@ static int pass_end(sim_loop *l, int stepped, core_err *err)
         unsigned f = loop_flags(l);
         if (l->dirty || f != l->last_flags || sim_pilots_active(l->pilots) != l->last_active ||
             wall_s() - l->status_wall_s >= l->o.status_period_s)
-            publish_status(l, l->paused ? DISIM_SIM_STATUS_T_PAUSED : DISIM_SIM_STATUS_T_RUNNING);
+            publish_status(l, l->crashed && l->o.wait_after_end ? DISIM_SIM_STATUS_T_STOPPED
+                              : l->paused                           ? DISIM_SIM_STATUS_T_PAUSED
+                                                                    : DISIM_SIM_STATUS_T_RUNNING);
     }
     if (l->fatal)
         return core_err_set(err, -1, "%s", l->ferr.msg);
@@ -1034,16 +1047,19 @@ static int pass_before(void *user, core_err *err)
     sim_loop *l = user;
     if (l->fatal)
         return core_err_set(err, -1, "%s", l->ferr.msg);
-    if (l->crashed) {
+    /* a flight that ended waits while a control can still come (LCM, or
+     * the replayed log's events not all read) */
+    if (l->crashed && (!l->o.wait_after_end || (!l->lc && (!l->replay || l->replay_done)))) {
         core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg);
         return SIM_RUN_ENDED;
     }
     if (!l->paused && l->run_step >= l->nsteps)
         return SIM_RUN_LENGTH;
-    take_received(l, l->paused ? 100 : 0);
+    int waiting = l->paused || l->crashed; /* a flight that ended waits for a control that builds it again */
+    take_received(l, waiting ? 100 : 0);
     if (do_controls(l, err) != 0)
         return -1;
-    if (!l->paused)
+    if (!l->paused && !l->crashed)
         return SIM_RUN_STEPPED;
     return pass_end(l, 0, err) != 0 ? -1 : SIM_RUN_SKIPPED;
 }
@@ -1077,6 +1093,10 @@ static int pass_step(void *user, const sim_flight_inputs *in, sim_flight_out *ou
     *out = l->out;
     if (pass_end(l, frc == 0, err) != 0)
         return -1;
+    if (frc > 0 && l->o.wait_after_end) { /* stopped, waiting for the instructor */
+        core_log_msg(l->log, CORE_LOG_WARN, "stopped: a reset, a reposition, a load or a restore flies on");
+        return 0;
+    }
     return frc > 0 ? core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg) : 0;
 }
 

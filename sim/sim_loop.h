@@ -178,6 +178,12 @@ typedef struct sim_loop_opts {
      * its start (the same inputs, the same state bit for bit), which takes
      * up to about this flight time over the step's speed. */
     double snapshot_max_s;
+    /* 0 (default): a flight that ended (a crash, a roll-over) ends the
+     * run (SIM_LOOP_CRASHED). 1: the loop stops it (the status STOPPED,
+     * its passes SIM_LOOP_PAUSED) and waits for a control that builds the
+     * world again (a reset, a reposition, a condition, a load, a restore:
+     * the instructor's), then flies on; the run ends at its duration. */
+    int wait_after_end;
 } sim_loop_opts;
 void sim_loop_opts_default(sim_loop_opts *o);
 /* A loop flying w (built by the caller from o->scenario_path). NULL with

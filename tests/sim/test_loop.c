@@ -708,6 +708,37 @@ static void ios_snapshot(sim_loop *l, lcm_t *lc, seen *s, iworld *w, double *t_a
     t_apply[9] = (double)nl;
 }
 
+/* A flight that ends (into the hangar, the stick forward) waits, stopped,
+ * for the instructor: a restore flies on. */
+static void ios_crash(sim_loop *l, lcm_t *lc, seen *s)
+{
+    sim_flight_out out;
+    int rc, A = DISIM_SIM_STATUS_T_CONTROL_ACCEPTED, R = DISIM_SIM_STATUS_T_CONTROL_REFUSED;
+    ictl hov = {DISIM_SIM_CONTROL_T_RESET_HOVER, {0, 0, 0}, 0, 0, 0, 0, 0, NULL};
+    CHECK(answer(l, lc, s, &hov, A, "in the hover", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    ictl snp = {DISIM_SIM_CONTROL_T_SNAPSHOT, {0, 0, 0}, 0, 0, 0, 0, 0, "before"};
+    CHECK(answer(l, lc, s, &snp, A, "snapshot 'before'", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    unsigned end = DISIM_SIM_STATUS_T_FLAG_CRASH | DISIM_SIM_STATUS_T_FLAG_TIP_OVER;
+    long long seq = 1000000;
+    int k, r = SIM_LOOP_STEPPED;
+    for (k = 0; k < 6000 && r == SIM_LOOP_STEPPED && !(s->last.flags & end); k++) {
+        unsigned char b[512];
+        int n = enc(b, "A", seq++, 55, 25, 50, 50, 0);
+        lcm_publish(lc, DISIM_CH_PILOT_INPUT, b, (unsigned)n);
+        r = iter(l, lc, &out);
+    }
+    CHECK(r == SIM_LOOP_STEPPED && (s->last.flags & end) && s->last.state == DISIM_SIM_STATUS_T_STOPPED);
+    printf("test_loop: the flight ended after %.2f s: %s; stopped, waiting\n", k / 200.0, s->message);
+    CHECK(iter(l, lc, &out) == SIM_LOOP_PAUSED && s->last.state == DISIM_SIM_STATUS_T_STOPPED);
+    ictl res = {DISIM_SIM_CONTROL_T_RESUME, {0, 0, 0}, 0, 0, 0, 0, 0, NULL};
+    CHECK(answer(l, lc, s, &res, R, "has ended", &out, &rc) && rc == SIM_LOOP_PAUSED);
+    ictl sn2 = {DISIM_SIM_CONTROL_T_SNAPSHOT, {0, 0, 0}, 0, 0, 0, 0, 0, "after"};
+    CHECK(answer(l, lc, s, &sn2, R, "has ended", &out, &rc) && rc == SIM_LOOP_PAUSED);
+    ictl rst = {DISIM_SIM_CONTROL_T_RESTORE, {0, 0, 0}, 0, 0, 0, 0, 0, "before"};
+    CHECK(answer(l, lc, s, &rst, A, "restored 'before'", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    CHECK(s->last.state == DISIM_SIM_STATUS_T_RUNNING && !(s->last.flags & end) && out.step == 2);
+}
+
 static void test_ios(void)
 {
     iworld w;
@@ -727,6 +758,7 @@ static void test_ios(void)
     o.lcm_url = "memq://";
     o.scenario_path = SCEN_A;
     o.rebuild = ios_rebuild;
+    o.wait_after_end = 1;
     sim_loop *l = sim_loop_create(&o, &lw, ios_build, &w, NULL, &err);
     CHECK(l != NULL);
     if (!l)
@@ -742,9 +774,10 @@ static void test_ios(void)
     ios_refusals(l, lc, &s, &w);
     ios_accepted(l, lc, &s, &w, t);
     ios_snapshot(l, lc, &s, &w, t);
+    ios_crash(l, lc, &s);
     sim_loop_report r;
     sim_loop_report_get(l, &r);
-    CHECK(r.snapshots == 2 && r.control_result == DISIM_SIM_STATUS_T_CONTROL_ACCEPTED);
+    CHECK(r.snapshots == 3 && r.control_result == DISIM_SIM_STATUS_T_CONTROL_ACCEPTED);
     printf("test_loop: applied in (s): reposition %.4f, WOD %.4f, sea state 4 %.4f, turbulence %.4f, deck %.4f, "
            "hover %.4f, snapshot %.6f, restore (152 steps) %.4f, restore (%.0f steps) %.3f (%.1f us a step)\n", t[0],
            t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[9], t[8], 1e6 * t[8] / t[9]);
