@@ -40,18 +40,21 @@
  * The instructor's controls. The world's setup (sim_loop_setup: the
  * start, hover or deck, the hover's place, the deck's heading, the WOD,
  * the sea state, the turbulence) is what the instructor set over the
- * caller's settings; a reset to the hover or the deck, a reposition or a
- * change of the conditions changes it and builds the world again through
- * the caller's rebuild (opts.rebuild: the seaway, the field of the WOD,
- * the trimmed start), which starts the flight again from its start.
- * A reposition is checked against the ship (inside it, within 2 m above
- * it, under the sea) and the others against their ranges, before
- * anything is built. The journal holds the inputs of every step flown
- * since the world was built (opts.snapshot_max_s of them at most); a
- * snapshot is the world's setup, its scenario and its journal, and a
- * restore builds that world again and flies the journal from its start:
- * the flight step is deterministic, so the state is the snapshot's bit
- * for bit (the helicopter, the gear, the SAS, the rotor's states, the
+ * caller's settings. The WOD's speed and the turbulence change in
+ * flight (sim_flight_set_wod, sim_flight_set_turbulence, between two
+ * steps); a reset to the hover or the deck, a reposition, a new WOD
+ * direction or sea state builds the world again through the caller's
+ * rebuild (opts.rebuild: the seaway, the field of the WOD, the trimmed
+ * start), which starts the flight again from its start. A reposition is
+ * checked against the ship (inside it, within 2 m above it, under the
+ * sea) and the others against their ranges, before anything is changed.
+ * The journal holds the inputs of every step flown since the world was
+ * built (opts.snapshot_max_s of them at most) and the changes made in
+ * flight, each before the step it came before; a snapshot is the setup
+ * the world was built with, its scenario and its journal, and a restore
+ * builds that world again and flies the journal from its start: the
+ * flight step is deterministic, so the state is the snapshot's bit for
+ * bit (the helicopter, the gear, the SAS, the rotor's states, the
  * turbulence's field and the ship's motion at its time), without a copy
  * of each stage's internals; its cost is the steps flown again.
  *
@@ -93,14 +96,25 @@ typedef struct ctl {
     char name[LOOP_SNAP_NAME];
 } ctl;
 
-/* A snapshot: the world it was taken in (its scenario and setup) and the
- * inputs of every step flown in it since it was built. */
+/* A change made in flight (the WOD's speed, the turbulence), before the
+ * journal's step at. */
+typedef struct jev {
+    long long at;
+    int command;
+    double v[2];
+} jev;
+
+/* A snapshot: the world it was taken in (its scenario and the setup it
+ * was built with), the inputs of every step flown in it since it was
+ * built, the changes made in flight, and the setup then. */
 typedef struct snap {
     char name[LOOP_SNAP_NAME];
     char path[SIM_PATH_MAX];
-    sim_loop_setup setup;
+    sim_loop_setup base, setup;
     long long n;
     sim_flight_inputs *in;
+    int nev;
+    jev *ev;
 } snap;
 
 struct sim_loop {
@@ -139,10 +153,13 @@ struct sim_loop {
     /* the world's setup (the instructor's settings it was built with) and
      * the journal: the inputs of every step flown since it was built (full:
      * past opts.snapshot_max_s, no snapshot of it) */
-    sim_loop_setup setup;
+    sim_loop_setup setup, base; /* now, and as the world was built */
     sim_flight_inputs *jr;
     long long njr, capjr, jr_max;
     int jr_full;
+    jev *ev; /* the changes made in flight since the world was built */
+    int nev, capev;
+    int live; /* the last control was carried out in flight */
     snap snaps[LOOP_SNAP_MAX];
     int nsnaps;
     /* the last control answered (sim_status_t control_*) */
@@ -664,9 +681,12 @@ void sim_loop_destroy(sim_loop *l)
         lcm_eventlog_destroy(l->replay);
     sim_pacer_destroy(l->pacer);
     sim_pilots_destroy(l->pilots);
-    for (int i = 0; i < l->nsnaps; i++)
+    for (int i = 0; i < l->nsnaps; i++) {
         free(l->snaps[i].in);
+        free(l->snaps[i].ev);
+    }
     free(l->jr);
+    free(l->ev);
     free(l);
 }
 
@@ -720,9 +740,10 @@ static int world_started(sim_loop *l, const sim_loop_world *w, const char *path,
     l->w = *w;
     if (path != l->scenario_path)
         snprintf(l->scenario_path, sizeof l->scenario_path, "%s", path);
-    l->setup = *s;
+    l->setup = l->base = *s;
     l->njr = 0;
     l->jr_full = 0;
+    l->nev = 0;
     l->crashed = 0; /* a flight that ended flies again */
     l->crash_msg[0] = '\0';
     sim_flight_state(l->w.flight, &l->out);
@@ -832,50 +853,122 @@ static int take_snapshot(sim_loop *l, const char *name, char *why, size_t n)
     if (i < 0 && l->nsnaps == LOOP_SNAP_MAX)
         return snprintf(why, n, "%d snapshots held already: reuse a name", LOOP_SNAP_MAX), 1;
     sim_flight_inputs *in = malloc((size_t)(l->njr ? l->njr : 1) * sizeof *in);
-    if (!in)
+    jev *ev = malloc((size_t)(l->nev ? l->nev : 1) * sizeof *ev);
+    if (!in || !ev) {
+        free(in);
+        free(ev);
         return snprintf(why, n, "out of memory"), 1;
+    }
     if (l->njr)
         memcpy(in, l->jr, (size_t)l->njr * sizeof *in);
+    if (l->nev)
+        memcpy(ev, l->ev, (size_t)l->nev * sizeof *ev);
     if (i < 0)
         i = l->nsnaps++;
-    else
+    else {
         free(l->snaps[i].in);
+        free(l->snaps[i].ev);
+    }
     snap *sn = &l->snaps[i];
     snprintf(sn->name, sizeof sn->name, "%s", name);
     snprintf(sn->path, sizeof sn->path, "%s", l->scenario_path);
+    sn->base = l->base;
     sn->setup = l->setup;
     sn->n = l->njr;
     sn->in = in;
+    sn->nev = l->nev;
+    sn->ev = ev;
+    return 0;
+}
+
+/* A change made in flight, to flight f: 0; 1 with err when it cannot be
+ * in flight; < 0 with err. */
+static int live_apply(sim_flight *f, const jev *e, core_err *err)
+{
+    if (e->command == DISIM_SIM_CONTROL_T_SET_WOD)
+        return sim_flight_set_wod(f, e->v[0], e->v[1], err);
+    return sim_flight_set_turbulence(f, e->v[0] != 0.0, err);
+}
+
+/* Room for n inputs and m changes in the journal: 0, or -1. */
+static int journal_room(sim_loop *l, long long n, int m)
+{
+    if (n > l->capjr) {
+        sim_flight_inputs *p = realloc(l->jr, (size_t)n * sizeof *p);
+        if (!p)
+            return -1;
+        l->jr = p;
+        l->capjr = n;
+    }
+    if (m > l->capev) {
+        jev *p = realloc(l->ev, (size_t)m * sizeof *p);
+        if (!p)
+            return -1;
+        l->ev = p;
+        l->capev = m;
+    }
     return 0;
 }
 
 /* RESTORE: the snapshot's world built again and its inputs flown from its
- * start. 0; 1 with why (the running world kept); < 0 with err (the
+ * start, its changes in flight made before the steps they were made
+ * before. 0; 1 with why (the running world kept); < 0 with err (the
  * re-flight failed: fatal). */
 static int restore_snapshot(sim_loop *l, const snap *sn, char *why, size_t n, core_err *err)
 {
     sim_loop_world w;
     memset(&w, 0, sizeof w);
     core_err e = {0};
-    if (l->o.rebuild(l->user, sn->path, &sn->setup, &w, &e) != 0 || !w.flight)
+    if (l->o.rebuild(l->user, sn->path, &sn->base, &w, &e) != 0 || !w.flight)
         return snprintf(why, n, "%.200s", e.msg[0] ? e.msg : "no flight"), 1;
     l->w = w; /* the old world is gone */
-    if (sn->n > l->capjr) {
-        sim_flight_inputs *p = realloc(l->jr, (size_t)sn->n * sizeof *p);
-        if (!p)
-            return core_err_set(err, -1, "restore: out of memory");
-        l->jr = p;
-        l->capjr = sn->n;
-    }
-    for (long long k = 0; k < sn->n; k++)
-        if (sim_flight_step(w.flight, &sn->in[k], NULL, err) != 0)
+    if (journal_room(l, sn->n, sn->nev) != 0)
+        return core_err_set(err, -1, "restore: out of memory");
+    int j = 0;
+    for (long long k = 0; k <= sn->n; k++) {
+        for (; j < sn->nev && sn->ev[j].at == k; j++)
+            if (live_apply(w.flight, &sn->ev[j], err) != 0)
+                return core_err_set(err, -1, "restore '%s': a change in flight failed again: %s", sn->name,
+                                    err->msg);
+        if (k < sn->n && sim_flight_step(w.flight, &sn->in[k], NULL, err) != 0)
             return core_err_set(err, -1, "restore '%s': the re-flight failed at step %lld: %s", sn->name, k + 1,
                                 err->msg);
-    if (world_started(l, &w, sn->path, &sn->setup, err) != 0)
+    }
+    if (world_started(l, &w, sn->path, &sn->base, err) != 0)
         return -1;
+    l->setup = sn->setup;
     if (sn->n)
         memcpy(l->jr, sn->in, (size_t)sn->n * sizeof *l->jr);
     l->njr = sn->n;
+    if (sn->nev)
+        memcpy(l->ev, sn->ev, (size_t)sn->nev * sizeof *l->ev);
+    l->nev = sn->nev;
+    return 0;
+}
+
+/* SET_WOD (its speed alone) and SET_TURBULENCE in flight, kept in the
+ * journal: 0 done; 1 not in flight (the world to be built again); 1 with
+ * why set: refused; < 0 fatal. */
+static int do_live(sim_loop *l, const ctl *c, const sim_loop_setup *s, char *why, size_t n, core_err *err)
+{
+    jev e = {l->njr, c->command, {0.0, 0.0}};
+    if (c->command == DISIM_SIM_CONTROL_T_SET_WOD)
+        e.v[0] = s->wod_speed_mps, e.v[1] = s->wod_dir_rad;
+    else
+        e.v[0] = s->turbulence;
+    core_err ee = {0};
+    int r = live_apply(l->w.flight, &e, &ee);
+    if (r > 0)
+        return 1;
+    if (r < 0)
+        return snprintf(why, n, "%.200s", ee.msg), 1;
+    l->setup = *s;
+    l->live = 1;
+    if (!l->jr_full) { /* a journal past its length takes no snapshot: no need */
+        if (journal_room(l, l->capjr, l->nev + 1) != 0)
+            return core_err_set(err, -1, "the journal: out of memory");
+        l->ev[l->nev++] = e;
+    }
     return 0;
 }
 
@@ -904,10 +997,16 @@ static int do_load(sim_loop *l, const ctl *c, char *why, size_t n, core_err *err
 static int do_setup(sim_loop *l, const ctl *c, char *why, size_t n, core_err *err)
 {
     sim_loop_setup s;
-    if (!l->o.rebuild)
-        return snprintf(why, n, "this loop cannot build its world again with the instructor's settings"), 1;
+    l->live = 0;
     if (ctl_setup(l, c, &s, why, n))
         return 1;
+    if (c->command == DISIM_SIM_CONTROL_T_SET_WOD || c->command == DISIM_SIM_CONTROL_T_SET_TURBULENCE) {
+        int r = do_live(l, c, &s, why, n, err);
+        if (r <= 0 || why[0])
+            return r;
+    }
+    if (!l->o.rebuild)
+        return snprintf(why, n, "this loop cannot build its world again with the instructor's settings"), 1;
     sim_loop_world w;
     memset(&w, 0, sizeof w);
     core_err e = {0};
@@ -920,6 +1019,15 @@ static int do_setup(sim_loop *l, const ctl *c, char *why, size_t n, core_err *er
 static void said(const sim_loop *l, const ctl *c, char *msg, size_t n)
 {
     const sim_loop_setup *s = &l->setup;
+    if (l->live && c->command == DISIM_SIM_CONTROL_T_SET_WOD) {
+        snprintf(msg, n, "in flight at t = %.3f s: WOD %.1f kt from %.0f deg (the air re-scaled)", l->out.t_s,
+                 s->wod_speed_mps / CORE_KT_TO_MPS, s->wod_dir_rad * CORE_RAD_TO_DEG);
+        return;
+    }
+    if (l->live && c->command == DISIM_SIM_CONTROL_T_SET_TURBULENCE) {
+        snprintf(msg, n, "in flight at t = %.3f s: turbulence %s", l->out.t_s, s->turbulence ? "on" : "off");
+        return;
+    }
     switch (c->command) {
     case DISIM_SIM_CONTROL_T_PAUSE: snprintf(msg, n, "frozen at t = %.3f s", l->out.t_s); break;
     case DISIM_SIM_CONTROL_T_RESUME: snprintf(msg, n, "running from t = %.3f s", l->out.t_s); break;

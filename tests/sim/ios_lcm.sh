@@ -4,7 +4,8 @@
 # (docs/conventions.md): each instructor's command is answered (ok, or
 # refused with its reason, exit 1), its effect is in the flight's CSV
 # (a reposition, the deck), a script runs, and the run's log, its
-# controls replayed --fast, flies the live trajectory byte for byte.
+# controls replayed --fast, flies the live trajectory byte for byte (the
+# WOD's speed and the turbulence changed in flight, a snapshot restored).
 # Skipped (77) without a namespace or ip; a failure with CI set
 # (tests/skip.sh).
 # Usage: ios_lcm.sh DISIM SOURCE_DIR
@@ -57,7 +58,8 @@ ios "snap a" 0 "^ok: snapshot .a. at t = "
 sleep 1
 ios "wod 15 20" 0 "(15.0 kt from 20 deg)"
 ios "sea 3" 0 "(sea state 3)"
-ios "turb on" 0 "turbulence on"
+ios "wod 20 20" 0 "^ok: in flight at t = .*: WOD 20.0 kt from 20 deg (the air re-scaled)"
+ios "turb on" 0 "^ok: in flight at t = .*: turbulence on"
 ios "restore a" 0 "^ok: restored .a.: t = "
 ios "reset deck 10" 0 "on the deck"
 sleep 1

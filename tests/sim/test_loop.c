@@ -633,14 +633,23 @@ static void ios_accepted(sim_loop *l, lcm_t *lc, seen *s, iworld *w, double *t_a
     t_apply[1] = s->last.control_apply_s;
     CHECK(w->sw.info.wod_speed_mps == 10.0 && fabs(w->sw.info.wod_dir_rad - 30.0 * CORE_DEG_TO_RAD) < 1e-12);
     CHECK_NEAR(out.pos_S_m[1], 40, 0.05);
+    CHECK(w->builds == 3 && out.step == 1);
+    /* the speed alone: in flight, the air re-scaled, nothing built */
+    for (int j = 0; j < 10; j++)
+        iter(l, lc, &out);
+    wod.spd = 12.0;
+    CHECK(answer(l, lc, s, &wod, A, "in flight at t = 0.055 s: WOD 23.3 kt from 30 deg", &out, &rc) &&
+          rc == SIM_LOOP_STEPPED);
+    t_apply[10] = s->last.control_apply_s;
+    CHECK(w->builds == 3 && out.step == 12);
     ictl sea = {DISIM_SIM_CONTROL_T_SET_SEA, {0, 0, 0}, 0, 0, 0, 4, 0, NULL};
     CHECK(answer(l, lc, s, &sea, A, "sea state 4", &out, &rc) && rc == SIM_LOOP_STEPPED);
     t_apply[2] = s->last.control_apply_s;
-    CHECK(w->sw.info.sea.state == 4 && w->sw.info.wod_speed_mps == 10.0);
+    CHECK(w->sw.info.sea.state == 4 && w->sw.info.wod_speed_mps == 12.0 && w->builds == 4);
     ictl turb = {DISIM_SIM_CONTROL_T_SET_TURBULENCE, {0, 0, 0}, 0, 0, 0, 0, 1, NULL};
-    CHECK(answer(l, lc, s, &turb, A, "turbulence on", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    CHECK(answer(l, lc, s, &turb, A, "in flight at t = 0.005 s: turbulence on", &out, &rc) && rc == SIM_LOOP_STEPPED);
     t_apply[3] = s->last.control_apply_s;
-    CHECK(w->builds == 5 && w->sw.info.sea.state == 4);
+    CHECK(w->builds == 4 && w->sw.info.sea.state == 4 && out.step == 2);
     /* on the deck, then back in the hover at the scenario's station */
     ictl deck = {DISIM_SIM_CONTROL_T_RESET_DECK, {0, 0, 0}, 0.3, 0, 0, 0, 0, NULL};
     CHECK(answer(l, lc, s, &deck, A, "on the deck", &out, &rc) && rc == SIM_LOOP_STEPPED);
@@ -655,7 +664,7 @@ static void ios_accepted(sim_loop *l, lcm_t *lc, seen *s, iworld *w, double *t_a
     CHECK(answer(l, lc, s, &hov, A, "in the hover", &out, &rc) && rc == SIM_LOOP_STEPPED);
     t_apply[5] = s->last.control_apply_s;
     CHECK_NEAR(out.pos_S_m[2], w->sc.station_S_m[2], 0.05);
-    CHECK(!out.on_deck && w->builds == 7 && w->sw.info.sea.state == 4);
+    CHECK(!out.on_deck && w->builds == 6 && w->sw.info.sea.state == 4 && w->sw.info.wod_speed_mps == 12.0);
 }
 
 /* Snapshot, fly on, restore, fly the same inputs: the same flight bit for
@@ -669,23 +678,42 @@ static void ios_snapshot(sim_loop *l, lcm_t *lc, seen *s, iworld *w, double *t_a
     sim_flight_inputs trim;
     sim_flight_trim_inputs(w->sw.flight, &trim);
     long long seq = 0;
-    CHECK(weave_fly(l, lc, &trim, &seq, 0, 150, a) == 0); /* a flight to take a snapshot of */
+    /* a flight to take a snapshot of, with changes in flight in it */
+    ictl wod = {DISIM_SIM_CONTROL_T_SET_WOD, {0, 0, 0}, 0, 6.0, 30.0 * CORE_DEG_TO_RAD, 0, 0, NULL};
+    ictl toff = {DISIM_SIM_CONTROL_T_SET_TURBULENCE, {0, 0, 0}, 0, 0, 0, 0, 0, NULL};
+    CHECK(weave_fly(l, lc, &trim, &seq, 0, 50, a) == 0);
+    weave(lc, &trim, &seq, 50);
+    CHECK(answer(l, lc, s, &wod, A, "in flight", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    CHECK(weave_fly(l, lc, &trim, &seq, 51, 50, a) == 0);
+    weave(lc, &trim, &seq, 101);
+    CHECK(answer(l, lc, s, &toff, A, "turbulence off", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    CHECK(weave_fly(l, lc, &trim, &seq, 102, 48, a) == 0);
     ictl snp = {DISIM_SIM_CONTROL_T_SNAPSHOT, {0, 0, 0}, 0, 0, 0, 0, 0, "s1"};
     weave(lc, &trim, &seq, 150);
     CHECK(answer(l, lc, s, &snp, A, "snapshot 's1'", &a[0], &rc) && rc == SIM_LOOP_STEPPED);
     t_apply[6] = s->last.control_apply_s;
     long step = a[0].step;
-    CHECK(weave_fly(l, lc, &trim, &seq, 151, N - 1, a + 1) == 0);
+    /* and after it: the WOD up in flight 100 passes on, the same in each flight after a restore */
+    ictl wod2 = {DISIM_SIM_CONTROL_T_SET_WOD, {0, 0, 0}, 0, 14.0, 30.0 * CORE_DEG_TO_RAD, 0, 0, NULL};
+#define AFTER(o)                                                                                                    \
+    do {                                                                                                            \
+        CHECK(weave_fly(l, lc, &trim, &seq, 151, 99, (o) + 1) == 0);                                                \
+        weave(lc, &trim, &seq, 250);                                                                                \
+        CHECK(answer(l, lc, s, &wod2, A, "in flight", &(o)[100], &rc) && rc == SIM_LOOP_STEPPED);                   \
+        CHECK(weave_fly(l, lc, &trim, &seq, 251, N - 101, (o) + 101) == 0);                                         \
+    } while (0)
+    AFTER(a);
     ictl rst = {DISIM_SIM_CONTROL_T_RESTORE, {0, 0, 0}, 0, 0, 0, 0, 0, "s1"};
     weave(lc, &trim, &seq, 150);
     CHECK(answer(l, lc, s, &rst, A, "restored 's1'", &b[0], &rc) && rc == SIM_LOOP_STEPPED);
     t_apply[7] = s->last.control_apply_s;
     CHECK(b[0].step == step);
-    CHECK(weave_fly(l, lc, &trim, &seq, 151, N - 1, b + 1) == 0);
+    AFTER(b);
     CHECK(same_flight(a, b, N));
     weave(lc, &trim, &seq, 150);
     CHECK(answer(l, lc, s, &rst, A, "restored 's1'", &c[0], &rc) && rc == SIM_LOOP_STEPPED);
-    CHECK(weave_fly(l, lc, &trim, &seq, 151, N - 1, c + 1) == 0);
+    AFTER(c);
+#undef AFTER
     CHECK(same_flight(a, c, N));
     /* the weave moved it: the comparison is of a flight, not of a hover */
     CHECK(fabs(a[N - 1].pos_S_m[2] - a[0].pos_S_m[2]) > 0.05 || fabs(a[N - 1].euler_E_rad[0] - a[0].euler_E_rad[0]) > 1e-3);
@@ -696,7 +724,9 @@ static void ios_snapshot(sim_loop *l, lcm_t *lc, seen *s, iworld *w, double *t_a
     CHECK(same_flight(a, &out, 1));
     printf("test_loop: snapshot at step %ld, %d steps flown again bit for bit after each restore (z moved %.3f m)\n",
            step, N, a[N - 1].pos_S_m[2] - a[0].pos_S_m[2]);
-    /* a longer flight's restore: its time per step flown again */
+    /* a longer flight's restore, clear of the ship: its time per step flown again */
+    ictl far = {DISIM_SIM_CONTROL_T_REPOSITION, {0, 80, -20}, NAN, 0, 0, 0, 0, NULL};
+    CHECK(answer(l, lc, s, &far, A, "reposition", &out, &rc) && rc == SIM_LOOP_STEPPED);
     static sim_flight_out lng[4000];
     CHECK(weave_fly(l, lc, &trim, &seq, 0, 4000, lng) == 0);
     ictl snl = {DISIM_SIM_CONTROL_T_SNAPSHOT, {0, 0, 0}, 0, 0, 0, 0, 0, "long"};
@@ -770,7 +800,7 @@ static void test_ios(void)
     for (int k = 0; k < 20; k++)
         CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED);
     CHECK(s.last.control_seq == -1 && s.last.control_result == DISIM_SIM_STATUS_T_CONTROL_NONE);
-    double t[10] = {0};
+    double t[11] = {0};
     ios_refusals(l, lc, &s, &w);
     ios_accepted(l, lc, &s, &w, t);
     ios_snapshot(l, lc, &s, &w, t);
@@ -779,8 +809,8 @@ static void test_ios(void)
     sim_loop_report_get(l, &r);
     CHECK(r.snapshots == 3 && r.control_result == DISIM_SIM_STATUS_T_CONTROL_ACCEPTED);
     printf("test_loop: applied in (s): reposition %.4f, WOD %.4f, sea state 4 %.4f, turbulence %.4f, deck %.4f, "
-           "hover %.4f, snapshot %.6f, restore (152 steps) %.4f, restore (%.0f steps) %.3f (%.1f us a step)\n", t[0],
-           t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[9], t[8], 1e6 * t[8] / t[9]);
+           "hover %.4f, snapshot %.6f, restore (152 steps) %.4f, restore (%.0f steps) %.3f (%.1f us a step), WOD speed "
+           "in flight %.6f\n", t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[9], t[8], 1e6 * t[8] / t[9], t[10]);
     disim_sim_status_t_unsubscribe(lc, ss);
     sim_loop_destroy(l);
     sim_world_free(&w.sw);
