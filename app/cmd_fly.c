@@ -443,6 +443,7 @@ typedef struct fly_world {
     sim_scenario *sc;
     hfm_aircraft *ac;
     cfd_field *fld, *later;
+    int fld_shared; /* fld is the run's --field (fly_ctx.field), not this world's own */
     int waiting; /* the database's field requested, not ready yet */
     cfd_field *cpl[4];      /* the coupled field of the WOD, its isolated rotor's (NULL: none) and, for a
                                deck-zone pair, the whole domain's ship-only field and the zone's own */
@@ -457,7 +458,8 @@ static void world_free(fly_world *w)
     for (int i = 0; i < 4; i++)
         cfd_field_destroy(w->cpl[i]);
     cfd_field_destroy(w->later);
-    cfd_field_destroy(w->fld);
+    if (!w->fld_shared)
+        cfd_field_destroy(w->fld);
     hfm_aircraft_destroy(w->ac);
     free(w->sc);
     memset(w, 0, sizeof *w);
@@ -470,6 +472,7 @@ typedef struct fly_ctx {
     const core_log *log;
     int tty;
     awdb *db;
+    cfd_field *field; /* --field, read once for every world built */
     fly_world w;
     sim_traj *csv;
     sim_loop *loop;
@@ -518,8 +521,13 @@ static void world_overrides(const fly_args *o, const fly_world *w, sim_world_ove
 static int world_fields(fly_ctx *c, fly_world *w, double speed, double dir, core_err *err)
 {
     const fly_args *o = c->o;
-    if (o->field)
-        return (w->fld = cfd_field_load(o->field, err)) ? 0 : -1;
+    if (o->field) { /* read once: a world built again (disim ios) flies the same */
+        if (!c->field && !(c->field = cfd_field_load(o->field, err)))
+            return -1;
+        w->fld = c->field;
+        w->fld_shared = 1;
+        return 0;
+    }
     if (speed > 0.0) {
         if (!c->db && (core_mkdir_p(o->db, err) != 0 || !(c->db = awdb_open(o->db, c->log, err))))
             return -1;
@@ -1057,6 +1065,7 @@ done:
     sim_traj_destroy(ctx.csv);
     sim_loop_destroy(ctx.loop);
     world_free(&ctx.w);
+    cfd_field_destroy(ctx.field);
     awdb_close(ctx.db);
     sim_log_destroy(replay_ref);
     return rc;
