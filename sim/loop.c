@@ -910,10 +910,47 @@ static int journal_room(sim_loop *l, long long n, int m)
     return 0;
 }
 
-/* RESTORE: the snapshot's world built again and its inputs flown from its
- * start, its changes in flight made before the steps they were made
- * before. 0; 1 with why (the running world kept); < 0 with err (the
- * re-flight failed: fatal). */
+/* A snapshot's flight flown again by the one runner (sim_run): its
+ * inputs as the pilot's, each change in flight made before the step it
+ * came before (the observer, after the step before it). */
+typedef struct refly {
+    const snap *sn;
+    sim_flight *f;
+    long long k; /* the steps flown */
+    int j;       /* the changes made */
+} refly;
+
+static int refly_changes(refly *r, core_err *err)
+{
+    for (; r->j < r->sn->nev && r->sn->ev[r->j].at == r->k; r->j++)
+        if (live_apply(r->f, &r->sn->ev[r->j], err) != 0)
+            return -1;
+    return 0;
+}
+
+static int refly_pilot(void *self, const sim_flight_out *out, sim_flight_inputs *in)
+{
+    refly *r = self;
+    (void)out;
+    *in = r->sn->in[r->k];
+    return 0;
+}
+
+static int refly_observe(void *user, const sim_flight_out *out, int st, core_err *err)
+{
+    refly *r = user;
+    (void)out;
+    if (st < 0)
+        return 0; /* the pass fails with err */
+    if (st > 0)
+        return -1; /* the flight ended: it did not the first time */
+    r->k++;
+    return refly_changes(r, err);
+}
+
+/* RESTORE: the snapshot's world built again and its flight flown again.
+ * 0; 1 with why (the running world kept); < 0 with err (the re-flight
+ * failed: fatal). */
 static int restore_snapshot(sim_loop *l, const snap *sn, char *why, size_t n, core_err *err)
 {
     sim_loop_world w;
@@ -924,16 +961,19 @@ static int restore_snapshot(sim_loop *l, const snap *sn, char *why, size_t n, co
     l->w = w; /* the old world is gone */
     if (journal_room(l, sn->n, sn->nev) != 0)
         return core_err_set(err, -1, "restore: out of memory");
-    int j = 0;
-    for (long long k = 0; k <= sn->n; k++) {
-        for (; j < sn->nev && sn->ev[j].at == k; j++)
-            if (live_apply(w.flight, &sn->ev[j], err) != 0)
-                return core_err_set(err, -1, "restore '%s': a change in flight failed again: %s", sn->name,
-                                    err->msg);
-        if (k < sn->n && sim_flight_step(w.flight, &sn->in[k], NULL, err) != 0)
-            return core_err_set(err, -1, "restore '%s': the re-flight failed at step %lld: %s", sn->name, k + 1,
-                                err->msg);
-    }
+    static const sim_pilot_ops journal = {"journal", refly_pilot};
+    refly r = {sn, w.flight, 0, 0};
+    sim_pilot p = {&journal, &r};
+    sim_run_opts ro;
+    sim_run_opts_default(&ro);
+    ro.max_steps = sn->n;
+    ro.observe = refly_observe;
+    ro.observe_user = &r;
+    sim_flight_out out;
+    sim_flight_state(w.flight, &out);
+    if (refly_changes(&r, err) != 0 || (sn->n > 0 && sim_run(w.flight, &p, &ro, &out, err) != SIM_RUN_LENGTH))
+        return core_err_set(err, -1, "restore '%s': flying it again failed at step %lld: %s", sn->name, r.k + 1,
+                            err->msg);
     if (world_started(l, &w, sn->path, &sn->base, err) != 0)
         return -1;
     l->setup = sn->setup;
