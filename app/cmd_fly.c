@@ -54,7 +54,8 @@ static void usage_fly(void)
                     "                  [--csv OUT.csv] [--csv-rate-hz N] [--sea-state N] [--wave-dir-deg D]\n"
                     "                  [--ship-speed-kt U] [--seed N] [--no-turbulence] [--sas on|off] [--start hover|deck] [--no-gear]\n"
                     "                  [--lcm URL | --no-lcm] [--log FILE] [--replay-inputs LOG]\n"
-                    "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N]\n"
+                    "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N] [--snapshot-max-s S]\n"
+                    "                  [--wait-after-crash]\n"
                     "                  [--pilot auto --task FILE [--task-result PREFIX]]  (headless, as fast as it can)\n"
                     "                  [--pilot replay LOG [--feed-controls]]  (headless: LOG's run re-flown)\n"
                     "                  [--render DIR [--render-rate HZ] [--render-size WxH]\n"
@@ -66,6 +67,7 @@ typedef struct fly_args {
     int realtime, sea_state, turbulence, lcm; /* lcm: -1 as the mode says, 0 off, 1 on */
     double duration_s, rate_hz, csv_rate_hz, speed_kt, dir_deg, wave_dir_deg, ship_speed_kt, seed;
     double hold_after_s, state_rate_hz;
+    double snapshot_max_s;    /* the longest flight disim ios takes a snapshot of */
     const char *pilot, *task; /* --pilot auto --task FILE: the automated pilot flies */
     const char *task_result;  /* --task-result PREFIX: PREFIX.csv and PREFIX.json (sim_task_result_write) */
     int duration_set;
@@ -77,6 +79,7 @@ typedef struct fly_args {
     char sc_task[SIM_PATH_MAX], sc_log[SIM_PATH_MAX], sc_stations[SIM_PATH_MAX];
     const char *replay_log;   /* --pilot replay LOG: the replay pilot re-flies LOG (sim/pilot_replay.c) */
     int feed_controls;        /* --feed-controls: LOG's controls fed forward too */
+    int wait_after_crash;     /* --wait-after-crash: a crash stops the flight for disim ios, not the run */
     int replay_sas;           /* LOG's SAS (sim_log_summary.sas): 1 on, 0 off, -1 the log does not say */
     int has_start;            /* the flight starts at start_S_m (the replayed run's start) */
     double start_S_m[3];
@@ -145,6 +148,7 @@ static const fly_flag fly_flags[] = {
     {.name = "--csv-rate-hz", F_DOUBLE, FA(csv_rate_hz), 0.1, 10000.0},
     {.name = "--state-rate-hz", F_DOUBLE, FA(state_rate_hz), 1.0, 10000.0},
     {.name = "--hold-after-s", F_DOUBLE, FA(hold_after_s), 0.01, 60.0, .given = FA(hold_set)},
+    {.name = "--snapshot-max-s", F_DOUBLE, FA(snapshot_max_s), 0.0, 86400.0},
     {.name = "--wod-speed-kt", F_DOUBLE, FA(speed_kt), 0.0, 100.0},
     {.name = "--wod-dir-deg", F_DOUBLE, FA(dir_deg), -360.0, 360.0},
     {.name = "--sea-state", F_INT, FA(sea_state), 0, 6},
@@ -159,6 +163,7 @@ static const fly_flag fly_flags[] = {
     {.name = "--no-gear", F_SET, FA(gear), 0},
     {.name = "--no-lcm", F_SET, FA(lcm), 0},
     {.name = "--feed-controls", F_SET, FA(feed_controls), 1},
+    {.name = "--wait-after-crash", F_SET, FA(wait_after_crash), 1},
     {.name = "--lcm", F_STR, FA(lcm_url), .given = FA(lcm)},
     {.name = "--field", F_STR, FA(field)},
     {.name = "--db", F_STR, FA(db)},
@@ -233,6 +238,7 @@ static void fly_defaults(fly_args *o)
     o->sas = -1;
     o->lcm = -1;
     o->hold_after_s = 0.5;
+    o->snapshot_max_s = 600.0;
     o->state_rate_hz = 50.0;
     o->render_rate_hz = 10.0;
     o->render_w = 640;
@@ -437,6 +443,7 @@ typedef struct fly_world {
     sim_scenario *sc;
     hfm_aircraft *ac;
     cfd_field *fld, *later;
+    int fld_shared; /* fld is the run's --field (fly_ctx.field), not this world's own */
     int waiting; /* the database's field requested, not ready yet */
     cfd_field *cpl[4];      /* the coupled field of the WOD, its isolated rotor's (NULL: none) and, for a
                                deck-zone pair, the whole domain's ship-only field and the zone's own */
@@ -451,7 +458,8 @@ static void world_free(fly_world *w)
     for (int i = 0; i < 4; i++)
         cfd_field_destroy(w->cpl[i]);
     cfd_field_destroy(w->later);
-    cfd_field_destroy(w->fld);
+    if (!w->fld_shared)
+        cfd_field_destroy(w->fld);
     hfm_aircraft_destroy(w->ac);
     free(w->sc);
     memset(w, 0, sizeof *w);
@@ -464,9 +472,11 @@ typedef struct fly_ctx {
     const core_log *log;
     int tty;
     awdb *db;
+    cfd_field *field; /* --field, read once for every world built */
     fly_world w;
     sim_traj *csv;
     sim_loop *loop;
+    core_log loop_log; /* the loop's: its controls said (info) */
     fly_render fr;
 } fly_ctx;
 
@@ -511,8 +521,13 @@ static void world_overrides(const fly_args *o, const fly_world *w, sim_world_ove
 static int world_fields(fly_ctx *c, fly_world *w, double speed, double dir, core_err *err)
 {
     const fly_args *o = c->o;
-    if (o->field)
-        return (w->fld = cfd_field_load(o->field, err)) ? 0 : -1;
+    if (o->field) { /* read once: a world built again (disim ios) flies the same */
+        if (!c->field && !(c->field = cfd_field_load(o->field, err)))
+            return -1;
+        w->fld = c->field;
+        w->fld_shared = 1;
+        return 0;
+    }
     if (speed > 0.0) {
         if (!c->db && (core_mkdir_p(o->db, err) != 0 || !(c->db = awdb_open(o->db, c->log, err))))
             return -1;
@@ -528,7 +543,25 @@ static int world_fields(fly_ctx *c, fly_world *w, double speed, double dir, core
     return 0;
 }
 
-static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err)
+/* The instructor's setup (disim ios) over the flags. */
+static void world_setup(const sim_loop_setup *s, sim_world_overrides *ov)
+{
+    if (!s)
+        return;
+    if (s->start >= 0)
+        ov->start = s->start;
+    ov->start_heading_rad = s->heading_rad;
+    if (!isnan(s->wod_speed_mps)) {
+        ov->wod_speed_mps = s->wod_speed_mps;
+        ov->wod_dir_rad = s->wod_dir_rad;
+    }
+    if (s->sea_state >= 0)
+        ov->sea_state = s->sea_state;
+    if (s->turbulence >= 0)
+        ov->turbulence = s->turbulence;
+}
+
+static int world_build(fly_ctx *c, const char *path, const sim_loop_setup *setup, fly_world *w, core_err *err)
 {
     const fly_args *o = c->o;
     memset(w, 0, sizeof *w);
@@ -543,6 +576,7 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
         goto fail;
     sim_world_overrides ov;
     world_overrides(o, w, &ov);
+    world_setup(setup, &ov);
     sim_run_info ri; /* the WOD flown */
     sim_world_run_info(sc, &ov, &ri);
     if (sc->wod_mode == SIM_WOD_SWEEP && (isnan(o->speed_kt) || isnan(o->dir_deg))) {
@@ -552,11 +586,12 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
     if (world_fields(c, w, ri.wod_speed_mps, ri.wod_dir_rad, err) != 0)
         goto fail;
     hfm_gear gear;
-    if (o->start_deck && !(o->gear && hfm_aircraft_gear(w->ac, &gear) == 0)) {
+    if (ov.start == SIM_START_DECK && !(o->gear && hfm_aircraft_gear(w->ac, &gear) == 0)) {
         core_err_set(err, -1, "--start deck: %s", o->gear ? "the aircraft file has no [gear] section" : "not with --no-gear");
         goto fail;
     }
     world_overrides(o, w, &ov); /* with the fields */
+    world_setup(setup, &ov);
     if (o->has_start) { /* --pilot replay: where the replayed run starts */
         ov.has_station = 1;
         memcpy(ov.station_S_m, o->start_S_m, sizeof ov.station_S_m);
@@ -566,6 +601,10 @@ static int world_build(fly_ctx *c, const char *path, fly_world *w, core_err *err
         memcpy(ov.station_S_m, sc->station_S_m, sizeof ov.station_S_m);
         if (sim_task_start_S(o->task, &sc->ship, ov.station_S_m, err) != 0)
             goto fail;
+    }
+    if (setup && setup->has_station) { /* a reposition */
+        ov.has_station = 1;
+        memcpy(ov.station_S_m, setup->station_S_m, sizeof ov.station_S_m);
     }
     if (sim_world_build(sc, w->ac, &ov, c->log, &w->sw, err) != 0)
         goto fail;
@@ -584,17 +623,24 @@ static void loop_world(const fly_world *w, sim_loop_world *lw)
     lw->info = w->sw.info;
 }
 
-/* sim_loop's build: a new world, the old one freed only once it stands. */
-static int loop_build(void *user, const char *path, sim_loop_world *lw, core_err *err)
+/* sim_loop's build (setup NULL: the flags alone) and rebuild: a new
+ * world, the old one freed only once it stands. */
+static int loop_rebuild(void *user, const char *path, const sim_loop_setup *setup, sim_loop_world *lw,
+                        core_err *err)
 {
     fly_ctx *c = user;
     fly_world nw;
-    if (world_build(c, path, &nw, err) != 0)
+    if (world_build(c, path, setup, &nw, err) != 0)
         return -1;
     world_free(&c->w);
     c->w = nw;
     loop_world(&c->w, lw);
     return 0;
+}
+
+static int loop_build(void *user, const char *path, sim_loop_world *lw, core_err *err)
+{
+    return loop_rebuild(user, path, NULL, lw, err);
 }
 
 /* What every flight of disim fly does after each step (the runner's
@@ -689,6 +735,9 @@ static int fly_loop_opts(const fly_args *o, double duration_s, const char *sourc
     lo->scenario_path = o->scen;
     lo->pilot_source_id = source_id;
     lo->pilots.hold_after_s = o->hold_after_s;
+    lo->rebuild = loop_rebuild;
+    lo->snapshot_max_s = o->snapshot_max_s;
+    lo->wait_after_end = o->wait_after_crash;
     return o->stations ? sim_pilots_opts_parse(&lo->pilots, o->stations, err) : 0;
 }
 
@@ -696,7 +745,10 @@ static int fly_loop_create(fly_ctx *c, const sim_loop_opts *lo, core_err *err)
 {
     sim_loop_world lw;
     loop_world(&c->w, &lw);
-    return (c->loop = sim_loop_create(lo, &lw, loop_build, c, c->log, err)) ? 0 : -1;
+    c->loop_log = *c->log;
+    if (c->loop_log.max_level < CORE_LOG_INFO)
+        c->loop_log.max_level = CORE_LOG_INFO;
+    return (c->loop = sim_loop_create(lo, &lw, loop_build, c, &c->loop_log, err)) ? 0 : -1;
 }
 
 /* The free stream, the field, or the field to come, as the start says. */
@@ -998,7 +1050,7 @@ int cmd_fly(int argc, char **argv)
         o.replay_sas = li.sas;
         o.has_start = 1;
     }
-    if (world_build(&ctx, o.scen, &ctx.w, &err) != 0 ||
+    if (world_build(&ctx, o.scen, NULL, &ctx.w, &err) != 0 ||
         (o.csv && !(ctx.csv = sim_traj_create(o.csv, o.rate_hz, o.csv_rate_hz, &err))))
         goto done;
     rc = o.replay_log ? fly_replay(&ctx, replay_ref, &err) : o.pilot ? fly_auto(&ctx, &err) : fly_station(&ctx, &err);
@@ -1013,6 +1065,7 @@ done:
     sim_traj_destroy(ctx.csv);
     sim_loop_destroy(ctx.loop);
     world_free(&ctx.w);
+    cfd_field_destroy(ctx.field);
     awdb_close(ctx.db);
     sim_log_destroy(replay_ref);
     return rc;

@@ -17,6 +17,7 @@ int cmd_airwaked(int argc, char **argv); /* cmd_airwaked.c */
 int cmd_fly(int argc, char **argv);      /* cmd_fly.c */
 int cmd_shol(int argc, char **argv);     /* cmd_shol.c */
 int cmd_station(int argc, char **argv);  /* cmd_station.c */
+int cmd_ios(int argc, char **argv);      /* cmd_ios.c */
 
 /* ------------------------------------------------------------ log (log.c) */
 /* The libraries' log on standard error: "PREFIX: LEVEL: message", the

@@ -35,6 +35,7 @@ static const struct {
     {"fly", cmd_fly, "fly SCENARIO              the flight loop: a trimmed hover in the airwake (--fast, --duration, --rate-hz, --csv)"},
     {"shol", cmd_shol, "shol SCENARIO             candidate SHOL envelope (--grid, --coupling, -o DIR, --db DIR, --full-circle)"},
 #endif
+    {"ios", cmd_ios, "ios                       instructor's console of disim fly: freeze, reset, reposition, WOD, sea, turbulence, snapshots (--cmd, --script, --lcm)"},
     {"station", cmd_station, "station                   pilot station: keyboard, evdev joystick or --script CSV on LCM (--device, --list, --id, --lcm)"},
 };
 

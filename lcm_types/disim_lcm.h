@@ -45,5 +45,11 @@ int disim_lcm_check_airwake_request(const disim_airwake_request_t *m, char *err,
  * -2 for a type that is not disim's. Subscribe with lcm_subscribe, check,
  * then disim_T_decode. */
 int disim_lcm_check_raw(const char *type, const void *buf, int size, char *err, size_t n);
+/* A message of an older version of TYPE (sim_control_t, sim_status_t:
+ * fields appended since) rewritten as the newest into out (cap bytes), the
+ * fields it lacks at their defaults (as each .lcm says), so that a log of
+ * an older disim reads: the new size; 0 when buf is not of an older
+ * version (use it as it is); -1 when out is too small. */
+int disim_lcm_upgrade(const char *type, const void *buf, int size, void *out, int cap);
 
 #endif

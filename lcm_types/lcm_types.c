@@ -48,10 +48,9 @@ int disim_lcm_check_sim_control(const disim_sim_control_t *m, char *err, size_t 
             snprintf(err, n, "sim_control_t.seq = %lld: expected seq >= 0", (long long)m->seq);
         return -1;
     }
-    if (m->command < DISIM_SIM_CONTROL_T_PAUSE || m->command > DISIM_SIM_CONTROL_T_LOAD_SCENARIO) {
+    if (m->command < DISIM_SIM_CONTROL_T_PAUSE || m->command > DISIM_SIM_CONTROL_T_RESTORE) {
         if (err)
-            snprintf(err, n, "sim_control_t.command = %d: expected 1 (pause) to 4 (load scenario)",
-                     m->command);
+            snprintf(err, n, "sim_control_t.command = %d: expected 1 (pause) to 12 (restore)", m->command);
         return -1;
     }
     if (m->command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO && (!m->scenario_path || !m->scenario_path[0])) {
@@ -123,11 +122,13 @@ static const struct {
                      "q:spot_acc_E_mps2 q:spot_acc_E_mps2"},
     {"pilot_input_t", __disim_pilot_input_t_get_hash, "q:utime s:station_id q:seq q:collective_pct q:long_cyclic_pct q:lat_cyclic_pct "
                       "q:pedal_pct b:trim_button b:trim_release b:take_over"},
-    {"sim_control_t", __disim_sim_control_t_get_hash, "q:utime q:seq b:command s:scenario_path"},
+    {"sim_control_t", __disim_sim_control_t_get_hash, "q:utime q:seq b:command s:scenario_path q:pos_S_m q:pos_S_m "
+                      "q:pos_S_m q:heading_rad q:wod_speed_mps q:wod_dir_rad b:sea_state b:turbulence s:name"},
     {"sim_status_t", __disim_sim_status_t_get_hash, "q:utime q:seq q:sim_time_s q:rate_hz q:real_time_factor q:overruns b:state s:scenario "
                      "I:n_stations S:station_ids Q:station_last_seq Q:station_received Q:station_refused "
                      "Q:station_gaps i:active_station q:refused_unknown q:control_refused i:flags "
-                     "q:step_p50_s q:step_p99_s q:step_max_s s:message"},
+                     "q:step_p50_s q:step_p99_s q:step_max_s s:message q:control_seq b:control_command "
+                     "b:control_result s:control_message q:control_apply_s"},
     {"airwake_request_t", __disim_airwake_request_t_get_hash, "q:utime q:seq s:request_id s:ship s:aircraft q:wod_speed_mps q:wod_dir_rad b:rotor "
                           "q:rotor_thrust_N q:station_S_m q:station_S_m q:station_S_m q:rotor_radius_m "
                           "q:shaft_pitch_rad q:shaft_roll_rad s:grid"},
@@ -140,6 +141,28 @@ static const struct {
                      "s:limit q:roll_rad q:pitch_rad q:collective_pct q:long_cyclic_pct q:lat_cyclic_pct "
                      "q:pedal_pct q:margin_roll_rad q:margin_pitch_rad q:margin_long_pct q:margin_lat_pct "
                      "q:margin_coll_pct q:margin_pedal_pct"},
+};
+
+/* The older versions of a type, read as the newest: their fingerprint,
+ * and the encoded defaults of the fields appended since (a version is the
+ * newest's prefix). */
+static const struct {
+    const char *type;
+    uint64_t hash;
+    const unsigned char *tail;
+    int tail_size;
+} older[] = {
+    /* pos_S_m 0 0 0, heading, WOD speed and direction 0, sea_state 0, turbulence 0, name "" */
+    {"sim_control_t", 0x8dd8480154a70f03ull,
+     (const unsigned char[]){0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+                             0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+                             0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0},
+     55},
+    /* control_seq -1, control_command 0, control_result 0, control_message "", control_apply_s 0 */
+    {"sim_status_t", 0x7be0ef478700cc8eull,
+     (const unsigned char[]){0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0,
+                             0, 0, 0},
+     23},
 };
 
 static int32_t be32(const unsigned char *p)
@@ -221,6 +244,31 @@ int disim_lcm_check_raw(const char *type, const void *buf, int size, char *err, 
         if (err)
             snprintf(err, n, "%s: %d bytes: expected %ld for its fields", type, size, pos);
         return -1;
+    }
+    return 0;
+}
+
+int disim_lcm_upgrade(const char *type, const void *buf, int size, void *out, int cap)
+{
+    const unsigned char *b = buf;
+    if (!buf || size < 8)
+        return 0;
+    uint64_t fp = (uint64_t)(uint32_t)be32(b) << 32 | (uint32_t)be32(b + 4);
+    for (size_t t = 0; t < sizeof older / sizeof older[0]; t++) {
+        if (strcmp(older[t].type, type) || fp != older[t].hash)
+            continue;
+        if (size + older[t].tail_size > cap)
+            return -1;
+        uint64_t now = 0;
+        for (size_t w = 0; w < sizeof wire / sizeof wire[0]; w++)
+            if (!strcmp(wire[w].type, type))
+                now = (uint64_t)wire[w].hash();
+        unsigned char *o = out;
+        for (int i = 0; i < 8; i++)
+            o[i] = (unsigned char)(now >> (56 - 8 * i));
+        memcpy(o + 8, b + 8, (size_t)size - 8);
+        memcpy(o + size, older[t].tail, (size_t)older[t].tail_size);
+        return size + older[t].tail_size;
     }
     return 0;
 }

@@ -107,6 +107,22 @@ int sim_air_set_field(sim_air *a, const cfd_field *f, double t_s, core_err *err)
     return 0;
 }
 
+int sim_air_set_wod(sim_air *a, double speed_mps, double dir_rad, core_err *err)
+{
+    if (!(speed_mps >= 0.0) || !isfinite(dir_rad))
+        return core_err_set(err, -1, "flight air: WOD %g m/s from %g rad: expected a speed >= 0, a finite direction",
+                            speed_mps, dir_rad);
+    a->o.wod_speed_mps = speed_mps;
+    a->o.wod_dir_rad = dir_rad;
+    core_vec3 w = core_wod_vel_S_mps(speed_mps, dir_rad);
+    a->wind_S[0] = w.x, a->wind_S[1] = w.y, a->wind_S[2] = w.z;
+    air_src *src[2] = {&a->cur, &a->old};
+    for (int i = 0; i < 2; i++)
+        if (src[i]->f)
+            src[i]->scale = speed_mps / cfd_field_meta(src[i]->f)->wod_speed_mps;
+    return 0;
+}
+
 /* The free stream at a point of S: the log law over the sea surface (at
  * z_S = deck height above the waterline). */
 static void free_stream_S(const sim_air *a, const double p_S[3], double v_S[3])

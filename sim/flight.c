@@ -485,6 +485,39 @@ void sim_flight_trim_inputs(const sim_flight *f, sim_flight_inputs *in)
 }
 
 sim_sas *sim_flight_sas(sim_flight *f) { return f->sas; }
+const core_ship *sim_flight_ship(const sim_flight *f) { return &f->ship; }
+
+int sim_flight_set_wod(sim_flight *f, double speed_mps, double dir_rad, core_err *err)
+{
+    if (!(speed_mps >= 0.0) || !isfinite(dir_rad))
+        return core_err_set(err, -1, "flight: WOD %g m/s from %g rad: expected a speed >= 0, a finite direction",
+                            speed_mps, dir_rad);
+    if (f->o.interaction)
+        return core_err_set(err, 1, "the coupled rotor interaction is of the WOD it was built for");
+    if (fabs(remainder(dir_rad - f->o.wod_dir_rad, 2.0 * CORE_PI)) > 1e-9)
+        return core_err_set(err, 1, "a new direction needs the airwake field of that direction");
+    if (sim_air_set_wod(f->air, speed_mps, dir_rad, err) != 0)
+        return -1;
+    f->o.wod_speed_mps = speed_mps;
+    f->o.wod_dir_rad = dir_rad;
+    return 0;
+}
+
+int sim_flight_set_turbulence(sim_flight *f, int on, core_err *err)
+{
+    if (on && !f->turb) {
+        sim_turb_opts to;
+        sim_turb_opts_default(&to);
+        if (!(f->turb = sim_turb_create(&to, (uint64_t)f->o.seed, err)))
+            return -1;
+    } else if (!on && f->turb) {
+        sim_turb_destroy(f->turb);
+        f->turb = NULL;
+    }
+    f->air_in.turb = f->turb;
+    f->o.turbulence = on;
+    return 0;
+}
 
 void sim_flight_set_external(sim_flight *f, hfm_ext_fn fn, void *user)
 {

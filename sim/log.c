@@ -494,19 +494,32 @@ static int take_input(loader *ld, const lcm_eventlog_event_t *ev)
 static int take_status(loader *ld, const lcm_eventlog_event_t *ev)
 {
     char e[256];
-    if (disim_lcm_check_raw("sim_status_t", ev->data, ev->datalen, e, sizeof e) != 0)
-        return ev_err(&ld->R, e);
-    if (ld->L->info.sas >= 0)
-        return 0;
+    /* a status of an older disim's log, read as the newest (fields appended since) */
+    unsigned char *up = malloc((size_t)ev->datalen + 64);
+    if (!up)
+        return ev_err(&ld->R, "out of memory");
+    const void *data = ev->data;
+    int size = ev->datalen;
+    int un = disim_lcm_upgrade("sim_status_t", data, size, up, ev->datalen + 64);
+    if (un > 0)
+        data = up, size = un;
+    int rc = 0;
     disim_sim_status_t m;
-    if (disim_sim_status_t_decode(ev->data, 0, ev->datalen, &m) != ev->datalen)
-        return ev_err(&ld->R, "sim_status_t: not decoded");
-    if (m.flags & DISIM_SIM_STATUS_T_FLAG_SAS)
-        ld->L->info.sas = 1;
-    else if (m.flags & DISIM_SIM_STATUS_T_FLAG_SAS_OFF)
-        ld->L->info.sas = 0;
-    disim_sim_status_t_decode_cleanup(&m);
-    return 0;
+    if (disim_lcm_check_raw("sim_status_t", data, size, e, sizeof e) != 0)
+        rc = ev_err(&ld->R, e);
+    else if (ld->L->info.sas >= 0)
+        rc = 0;
+    else if (disim_sim_status_t_decode(data, 0, size, &m) != size)
+        rc = ev_err(&ld->R, "sim_status_t: not decoded");
+    else {
+        if (m.flags & DISIM_SIM_STATUS_T_FLAG_SAS)
+            ld->L->info.sas = 1;
+        else if (m.flags & DISIM_SIM_STATUS_T_FLAG_SAS_OFF)
+            ld->L->info.sas = 0;
+        disim_sim_status_t_decode_cleanup(&m);
+    }
+    free(up);
+    return rc;
 }
 
 /* One event by its channel (others are passed over): 0, or -1 with the error. */

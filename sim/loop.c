@@ -11,7 +11,11 @@
  *      <= k): each pilot_input_t is offered to the stations' rules at run
  *      time k / rate_hz, each sim_control_t queued;
  *   2. carries out the controls in the order received (pause, resume,
- *      reset, load scenario);
+ *      reset, load scenario, and the instructor's: the resets to the
+ *      hover and the deck, a reposition, the WOD, sea state and
+ *      turbulence, snapshots), each checked first and refused with the
+ *      reason, each answered in a status of its own (control_seq,
+ *      control_result, control_message, control_apply_s) and logged;
  *   3. unless paused, takes the step's inputs from the pilot (the
  *      stations' rules, the inputs the caller sets, or a pilot of the
  *      caller's, whose inputs go out as its station's pilot_input_t) and
@@ -33,6 +37,27 @@
  * taken at (the replay must use the logged run's --rate-hz). Messages
  * carry utime = the flight's simulation time and seq.
  *
+ * The instructor's controls. The world's setup (sim_loop_setup: the
+ * start, hover or deck, the hover's place, the deck's heading, the WOD,
+ * the sea state, the turbulence) is what the instructor set over the
+ * caller's settings. The WOD's speed and the turbulence change in
+ * flight (sim_flight_set_wod, sim_flight_set_turbulence, between two
+ * steps); a reset to the hover or the deck, a reposition, a new WOD
+ * direction or sea state builds the world again through the caller's
+ * rebuild (opts.rebuild: the seaway, the field of the WOD, the trimmed
+ * start), which starts the flight again from its start. A reposition is
+ * checked against the ship (inside it, within 2 m above it, under the
+ * sea) and the others against their ranges, before anything is changed.
+ * The journal holds the inputs of every step flown since the world was
+ * built (opts.snapshot_max_s of them at most) and the changes made in
+ * flight, each before the step it came before; a snapshot is the setup
+ * the world was built with, its scenario and its journal, and a restore
+ * builds that world again and flies the journal from its start: the
+ * flight step is deterministic, so the state is the snapshot's bit for
+ * bit (the helicopter, the gear, the SAS, the rotor's states, the
+ * turbulence's field and the ship's motion at its time), without a copy
+ * of each stage's internals; its cost is the steps flown again.
+ *
  * A received buffer goes through disim_lcm_check_raw before lcm-gen's
  * decoder sees it, then through disim_lcm_check_sim_control (NaN, range):
  * lcm_types/lcm_types.c; pilot_input_t goes to the stations' rules
@@ -48,6 +73,7 @@
 #include <lcm/eventlog.h>
 #include <lcm/lcm.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -58,10 +84,38 @@
 #define LOOP_CTL_MAX 64
 #define LOOP_BUF 16384
 
+#define LOOP_SNAP_MAX 16
+#define LOOP_SNAP_NAME 32
+
 typedef struct ctl {
+    long long seq;
     int command;
     char path[SIM_PATH_MAX];
+    double pos_S_m[3], heading_rad, wod_speed_mps, wod_dir_rad;
+    int sea_state, turbulence;
+    char name[LOOP_SNAP_NAME];
 } ctl;
+
+/* A change made in flight (the WOD's speed, the turbulence), before the
+ * journal's step at. */
+typedef struct jev {
+    long long at;
+    int command;
+    double v[2];
+} jev;
+
+/* A snapshot: the world it was taken in (its scenario and the setup it
+ * was built with), the inputs of every step flown in it since it was
+ * built, the changes made in flight, and the setup then. */
+typedef struct snap {
+    char name[LOOP_SNAP_NAME];
+    char path[SIM_PATH_MAX];
+    sim_loop_setup base, setup;
+    long long n;
+    sim_flight_inputs *in;
+    int nev;
+    jev *ev;
+} snap;
 
 struct sim_loop {
     sim_loop_opts o;
@@ -96,6 +150,23 @@ struct sim_loop {
     core_err ferr;
     int crashed;           /* the flight ended (a crash, a roll-over): nothing more steps */
     char crash_msg[256];
+    /* the world's setup (the instructor's settings it was built with) and
+     * the journal: the inputs of every step flown since it was built (full:
+     * past opts.snapshot_max_s, no snapshot of it) */
+    sim_loop_setup setup, base; /* now, and as the world was built */
+    sim_flight_inputs *jr;
+    long long njr, capjr, jr_max;
+    int jr_full;
+    jev *ev; /* the changes made in flight since the world was built */
+    int nev, capev;
+    int live; /* the last control was carried out in flight */
+    snap snaps[LOOP_SNAP_MAX];
+    int nsnaps;
+    /* the last control answered (sim_status_t control_*) */
+    long long ack_seq;
+    int ack_cmd, ack_result;
+    char ack_msg[256];
+    double ack_apply_s;
     unsigned char buf[LOOP_BUF];
 };
 
@@ -107,7 +178,24 @@ void sim_loop_opts_default(sim_loop_opts *o)
     o->duration_s = 60.0;
     o->state_rate_hz = 50.0;
     o->status_period_s = 1.0;
+    o->snapshot_max_s = 600.0;
     sim_pilots_opts_default(&o->pilots);
+}
+
+void sim_loop_setup_default(sim_loop_setup *s)
+{
+    memset(s, 0, sizeof *s);
+    s->start = -1;
+    s->wod_speed_mps = s->wod_dir_rad = NAN;
+    s->sea_state = -1;
+    s->turbulence = -1;
+}
+
+static const char *ctl_name(int command)
+{
+    static const char *names[] = {"?", "pause", "resume", "reset", "load scenario", "reset hover", "reset deck",
+                                  "reposition", "set wod", "set sea", "set turbulence", "snapshot", "restore"};
+    return command >= 1 && command <= DISIM_SIM_CONTROL_T_RESTORE ? names[command] : names[0];
 }
 
 static double wall_s(void)
@@ -164,36 +252,59 @@ static void got_pilot(sim_loop *l, const void *data, int size)
         core_log_msg(l->log, CORE_LOG_DEBUG, "refused: %s", why);
 }
 
-static void refuse_ctl(sim_loop *l, const char *why)
+static void refuse_ctl(sim_loop *l, long long seq, int command, const char *why)
 {
     l->control_refused++;
-    snprintf(l->message, sizeof l->message, "%s", why);
+    snprintf(l->message, sizeof l->message, "%.250s", why);
+    l->ack_seq = seq;
+    l->ack_cmd = command;
+    l->ack_result = DISIM_SIM_STATUS_T_CONTROL_REFUSED;
+    snprintf(l->ack_msg, sizeof l->ack_msg, "%.250s", why);
+    l->ack_apply_s = 0.0;
     l->dirty = 1;
-    core_log_msg(l->log, CORE_LOG_WARN, "sim control refused: %s", why);
+    core_log_msg(l->log, CORE_LOG_WARN, "sim control %s (seq %lld) refused: %s", ctl_name(command), seq, why);
 }
 
 static void got_ctl(sim_loop *l, const void *data, int size)
 {
     l->received++;
     char e[256];
+    unsigned char up[1024]; /* a control of an older disim's log, read as the newest */
+    int un = disim_lcm_upgrade("sim_control_t", data, size, up, (int)sizeof up);
+    if (un > 0) {
+        data = up;
+        size = un;
+    }
     if (disim_lcm_check_raw("sim_control_t", data, size, e, sizeof e) != 0) {
-        refuse_ctl(l, e);
+        refuse_ctl(l, -1, 0, e);
         return;
     }
     disim_sim_control_t m;
     memset(&m, 0, sizeof m);
-    if (disim_sim_control_t_decode(data, 0, size, &m) != size)
-        refuse_ctl(l, "sim_control_t: not decoded");
-    else if (disim_lcm_check_sim_control(&m, e, sizeof e) != 0)
-        refuse_ctl(l, e);
+    if (disim_sim_control_t_decode(data, 0, size, &m) != size) {
+        refuse_ctl(l, -1, 0, "sim_control_t: not decoded");
+        return;
+    }
+    if (disim_lcm_check_sim_control(&m, e, sizeof e) != 0)
+        refuse_ctl(l, m.seq, m.command, e);
     else if (l->nq == LOOP_CTL_MAX)
-        refuse_ctl(l, "sim_control_t: too many controls at once");
+        refuse_ctl(l, m.seq, m.command, "sim_control_t: too many controls at once");
     else if (strlen(m.scenario_path) >= SIM_PATH_MAX)
-        refuse_ctl(l, "sim_control_t.scenario_path: too long");
+        refuse_ctl(l, m.seq, m.command, "sim_control_t.scenario_path: too long");
+    else if (strlen(m.name) >= LOOP_SNAP_NAME)
+        refuse_ctl(l, m.seq, m.command, "sim_control_t.name: longer than 31 characters");
     else {
         ctl *c = &l->q[l->nq++];
+        c->seq = m.seq;
         c->command = m.command;
         snprintf(c->path, sizeof c->path, "%s", m.scenario_path);
+        memcpy(c->pos_S_m, m.pos_S_m, sizeof c->pos_S_m);
+        c->heading_rad = m.heading_rad;
+        c->wod_speed_mps = m.wod_speed_mps;
+        c->wod_dir_rad = m.wod_dir_rad;
+        c->sea_state = m.sea_state;
+        c->turbulence = m.turbulence;
+        snprintf(c->name, sizeof c->name, "%s", m.name);
     }
     disim_sim_control_t_decode_cleanup(&m);
 }
@@ -404,6 +515,11 @@ static void publish_status(sim_loop *l, int state)
     m.step_p99_s = r.pace.step_p99_s;
     m.step_max_s = r.pace.step_max_s;
     m.message = l->message;
+    m.control_seq = l->ack_seq;
+    m.control_command = (int8_t)l->ack_cmd;
+    m.control_result = (int8_t)l->ack_result;
+    m.control_message = l->ack_msg;
+    m.control_apply_s = l->ack_apply_s;
     SEND(l, sim_status_t, DISIM_CH_SIM_STATUS, &m);
     l->status_wall_s = wall_s();
     l->last_flags = r.flags;
@@ -459,10 +575,11 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
                           const core_log *log, core_err *err)
 {
     if (!(o->rate_hz >= 1.0 && o->rate_hz <= 100000.0) || !(o->duration_s >= 0.0) ||
+        !(o->snapshot_max_s >= 0.0 && o->snapshot_max_s <= 86400.0) ||
         !(o->state_rate_hz > 0.0 && o->state_rate_hz <= o->rate_hz) || !(o->status_period_s > 0.0)) {
         core_err_set(err, -1, "flight loop: rate %g Hz, duration %g s, state rate %g Hz, status every %g s: "
                      "expected a rate of 1 to 100000 Hz, a duration >= 0, a state rate above 0 and at most the "
-                     "loop's, a status period above 0", o->rate_hz, o->duration_s, o->state_rate_hz,
+                     "loop's, a status period above 0, a snapshot length of 0 to 86400 s", o->rate_hz, o->duration_s, o->state_rate_hz,
                      o->status_period_s);
         return NULL;
     }
@@ -484,6 +601,9 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
     l->user = user;
     l->log = log;
     l->last_active = -1;
+    l->ack_seq = -1;
+    sim_loop_setup_default(&l->setup);
+    l->jr_max = llround(o->snapshot_max_s * o->rate_hz);
     snprintf(l->scenario_path, sizeof l->scenario_path, "%s", o->scenario_path);
     l->o.scenario_path = l->scenario_path;
     if (o->pilot_source_id) {
@@ -565,41 +685,489 @@ void sim_loop_destroy(sim_loop *l)
         lcm_eventlog_destroy(l->replay);
     sim_pacer_destroy(l->pacer);
     sim_pilots_destroy(l->pilots);
+    for (int i = 0; i < l->nsnaps; i++) {
+        free(l->snaps[i].in);
+        free(l->snaps[i].ev);
+    }
+    free(l->jr);
+    free(l->ev);
     free(l);
 }
 
+/* ---- the controls: carried out between steps, each answered */
+static void accept_ctl(sim_loop *l, const ctl *c, double t0_s, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static void accept_ctl(sim_loop *l, const ctl *c, double t0_s, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(l->ack_msg, sizeof l->ack_msg, fmt, ap);
+    va_end(ap);
+    l->ack_seq = c->seq;
+    l->ack_cmd = c->command;
+    l->ack_result = DISIM_SIM_STATUS_T_CONTROL_ACCEPTED;
+    l->ack_apply_s = wall_s() - t0_s;
+    l->message[0] = '\0';
+    l->dirty = 1;
+    core_log_msg(l->log, CORE_LOG_INFO, "sim control %s (seq %lld): %s (applied in %.3f s)", ctl_name(c->command),
+                 c->seq, l->ack_msg, l->ack_apply_s);
+}
+
+/* The step's inputs into the journal (NULL: held), while it is not full. */
+static void journal_add(sim_loop *l, const sim_flight_inputs *in)
+{
+    if (l->jr_full || l->njr >= l->jr_max) {
+        l->jr_full = 1;
+        return;
+    }
+    if (l->njr == l->capjr) {
+        long long cap = l->capjr ? 2 * l->capjr : 1024;
+        if (cap > l->jr_max)
+            cap = l->jr_max;
+        sim_flight_inputs *p = realloc(l->jr, (size_t)cap * sizeof *p);
+        if (!p) {
+            l->jr_full = 1;
+            return;
+        }
+        l->jr = p;
+        l->capjr = cap;
+    }
+    sim_flight_inputs hold = {.hold = 1};
+    l->jr[l->njr++] = in ? *in : hold;
+}
+
+/* A new world flying: its state, an empty journal, its run information
+ * out (before its first state), the deadlines from now. */
+static int world_started(sim_loop *l, const sim_loop_world *w, const char *path, const sim_loop_setup *s,
+                         core_err *err)
+{
+    l->w = *w;
+    if (path != l->scenario_path)
+        snprintf(l->scenario_path, sizeof l->scenario_path, "%s", path);
+    l->setup = l->base = *s;
+    l->njr = 0;
+    l->jr_full = 0;
+    l->nev = 0;
+    l->crashed = 0; /* a flight that ended flies again */
+    l->crash_msg[0] = '\0';
+    sim_flight_state(l->w.flight, &l->out);
+    sim_pilots_reblend(l->pilots); /* a station's controls blend in from the new start's */
+    publish_run_info(l);
+    return l->paused ? 0 : new_pacer(l, err);
+}
+
+/* Where the hover may be put: finite, within 1000 m of the spot and 300 m
+ * above it, out of the ship and 2 m clear above it, above the sea. 0, or 1
+ * with why. */
+static int check_place(const core_ship *ship, const double p[3], char *why, size_t n)
+{
+    if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
+        return snprintf(why, n, "the position is not finite"), 1;
+    if (fabs(p[0]) > 1000.0 || fabs(p[1]) > 1000.0 || p[2] < -300.0)
+        return snprintf(why, n, "(%.1f, %.1f, %.1f) m: expected x and y within 1000 m of the spot, z above -300 m",
+                        p[0], p[1], p[2]), 1;
+    if (p[2] > ship->deck_height_m - 2.0)
+        return snprintf(why, n, "(%.1f, %.1f, %.1f) m is under the sea or within 2 m of it (the sea is %.1f m "
+                        "below the spot: z down)", p[0], p[1], p[2], ship->deck_height_m), 1;
+    core_vec3 cg = {p[0], p[1], p[2]}, below = {p[0], p[1], p[2] + 2.0};
+    if (core_ship_contains(ship, cg))
+        return snprintf(why, n, "(%.1f, %.1f, %.1f) m is inside the ship", p[0], p[1], p[2]), 1;
+    if (core_ship_contains(ship, below))
+        return snprintf(why, n, "(%.1f, %.1f, %.1f) m is within 2 m above the ship (the wheels would be in it)",
+                         p[0], p[1], p[2]), 1;
+    return 0;
+}
+
+/* The setup a control asks for over the world's: 0, or 1 with why. */
+static int ctl_setup(const sim_loop *l, const ctl *c, sim_loop_setup *s, char *why, size_t n)
+{
+    *s = l->setup;
+    switch (c->command) {
+    case DISIM_SIM_CONTROL_T_RESET_HOVER:
+        s->start = SIM_START_HOVER;
+        s->has_station = 0;
+        return 0;
+    case DISIM_SIM_CONTROL_T_RESET_DECK:
+        if (!isnan(c->heading_rad) && !(fabs(c->heading_rad) <= 2.0 * CORE_PI))
+            return snprintf(why, n, "heading %g rad: expected -2 pi to 2 pi", c->heading_rad), 1;
+        s->start = SIM_START_DECK;
+        s->has_station = 0;
+        s->heading_rad = isnan(c->heading_rad) ? 0.0 : c->heading_rad;
+        return 0;
+    case DISIM_SIM_CONTROL_T_REPOSITION:
+        if (!isnan(c->heading_rad) && c->heading_rad != 0.0)
+            return snprintf(why, n, "heading %g rad: the hover trim holds the heading along the bow (give 0)",
+                            c->heading_rad), 1;
+        if (check_place(sim_flight_ship(l->w.flight), c->pos_S_m, why, n))
+            return 1;
+        s->start = SIM_START_HOVER;
+        s->has_station = 1;
+        memcpy(s->station_S_m, c->pos_S_m, sizeof s->station_S_m);
+        return 0;
+    case DISIM_SIM_CONTROL_T_SET_WOD:
+        if (!(c->wod_speed_mps >= 0.0 && c->wod_speed_mps <= 80.0 * CORE_KT_TO_MPS) || !isfinite(c->wod_dir_rad))
+            return snprintf(why, n, "WOD %g m/s from %g rad: expected 0 to %.1f m/s (80 kt) from a finite direction",
+                            c->wod_speed_mps, c->wod_dir_rad, 80.0 * CORE_KT_TO_MPS), 1;
+        s->wod_speed_mps = c->wod_speed_mps;
+        s->wod_dir_rad = core_wod_wrap_deg(c->wod_dir_rad * CORE_RAD_TO_DEG) * CORE_DEG_TO_RAD;
+        return 0;
+    case DISIM_SIM_CONTROL_T_SET_SEA:
+        if (c->sea_state < 0 || c->sea_state > 6)
+            return snprintf(why, n, "sea state %d: expected 0 to 6", c->sea_state), 1;
+        s->sea_state = c->sea_state;
+        return 0;
+    case DISIM_SIM_CONTROL_T_SET_TURBULENCE:
+        if (c->turbulence != 0 && c->turbulence != 1)
+            return snprintf(why, n, "turbulence %d: expected 0 (off) or 1 (on)", c->turbulence), 1;
+        s->turbulence = c->turbulence;
+        return 0;
+    default:
+        return snprintf(why, n, "not a setup"), 1;
+    }
+}
+
+static int snap_find(const sim_loop *l, const char *name)
+{
+    for (int i = 0; i < l->nsnaps; i++)
+        if (!strcmp(l->snaps[i].name, name))
+            return i;
+    return -1;
+}
+
+static int name_ok(const char *name)
+{
+    if (!name[0])
+        return 0;
+    for (const char *p = name; *p; p++)
+        if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') || *p == '_' ||
+              *p == '-' || *p == '.'))
+            return 0;
+    return 1;
+}
+
+/* SNAPSHOT: the world's setup and journal under the name (one of that name
+ * replaced). 0, or 1 with why. */
+static int take_snapshot(sim_loop *l, const char *name, char *why, size_t n)
+{
+    if (!name_ok(name))
+        return snprintf(why, n, "snapshot name '%s': expected 1 to 31 of A-Z a-z 0-9 _ . -", name), 1;
+    if (l->jr_full)
+        return snprintf(why, n, "the flight is longer than %.0f s since its world was built: "
+                        "a restore would re-fly all of it", l->o.snapshot_max_s), 1;
+    int i = snap_find(l, name);
+    if (i < 0 && l->nsnaps == LOOP_SNAP_MAX)
+        return snprintf(why, n, "%d snapshots held already: reuse a name", LOOP_SNAP_MAX), 1;
+    sim_flight_inputs *in = malloc((size_t)(l->njr ? l->njr : 1) * sizeof *in);
+    jev *ev = malloc((size_t)(l->nev ? l->nev : 1) * sizeof *ev);
+    if (!in || !ev) {
+        free(in);
+        free(ev);
+        return snprintf(why, n, "out of memory"), 1;
+    }
+    if (l->njr)
+        memcpy(in, l->jr, (size_t)l->njr * sizeof *in);
+    if (l->nev)
+        memcpy(ev, l->ev, (size_t)l->nev * sizeof *ev);
+    if (i < 0)
+        i = l->nsnaps++;
+    else {
+        free(l->snaps[i].in);
+        free(l->snaps[i].ev);
+    }
+    snap *sn = &l->snaps[i];
+    snprintf(sn->name, sizeof sn->name, "%s", name);
+    snprintf(sn->path, sizeof sn->path, "%s", l->scenario_path);
+    sn->base = l->base;
+    sn->setup = l->setup;
+    sn->n = l->njr;
+    sn->in = in;
+    sn->nev = l->nev;
+    sn->ev = ev;
+    return 0;
+}
+
+/* A change made in flight, to flight f: 0; 1 with err when it cannot be
+ * in flight; < 0 with err. */
+static int live_apply(sim_flight *f, const jev *e, core_err *err)
+{
+    if (e->command == DISIM_SIM_CONTROL_T_SET_WOD)
+        return sim_flight_set_wod(f, e->v[0], e->v[1], err);
+    return sim_flight_set_turbulence(f, e->v[0] != 0.0, err);
+}
+
+/* Room for n inputs and m changes in the journal: 0, or -1. */
+static int journal_room(sim_loop *l, long long n, int m)
+{
+    if (n > l->capjr) {
+        sim_flight_inputs *p = realloc(l->jr, (size_t)n * sizeof *p);
+        if (!p)
+            return -1;
+        l->jr = p;
+        l->capjr = n;
+    }
+    if (m > l->capev) {
+        jev *p = realloc(l->ev, (size_t)m * sizeof *p);
+        if (!p)
+            return -1;
+        l->ev = p;
+        l->capev = m;
+    }
+    return 0;
+}
+
+/* A snapshot's flight flown again by the one runner (sim_run): its
+ * inputs as the pilot's, each change in flight made before the step it
+ * came before (the observer, after the step before it). */
+typedef struct refly {
+    const snap *sn;
+    sim_flight *f;
+    long long k; /* the steps flown */
+    int j;       /* the changes made */
+} refly;
+
+static int refly_changes(refly *r, core_err *err)
+{
+    for (; r->j < r->sn->nev && r->sn->ev[r->j].at == r->k; r->j++)
+        if (live_apply(r->f, &r->sn->ev[r->j], err) != 0)
+            return -1;
+    return 0;
+}
+
+static int refly_pilot(void *self, const sim_flight_out *out, sim_flight_inputs *in)
+{
+    refly *r = self;
+    (void)out;
+    *in = r->sn->in[r->k];
+    return 0;
+}
+
+static int refly_observe(void *user, const sim_flight_out *out, int st, core_err *err)
+{
+    refly *r = user;
+    (void)out;
+    if (st < 0)
+        return 0; /* the pass fails with err */
+    if (st > 0)
+        return -1; /* the flight ended: it did not the first time */
+    r->k++;
+    return refly_changes(r, err);
+}
+
+/* RESTORE: the snapshot's world built again and its flight flown again.
+ * 0; 1 with why (the running world kept); < 0 with err (the re-flight
+ * failed: fatal). */
+static int restore_snapshot(sim_loop *l, const snap *sn, char *why, size_t n, core_err *err)
+{
+    sim_loop_world w;
+    memset(&w, 0, sizeof w);
+    core_err e = {0};
+    if (l->o.rebuild(l->user, sn->path, &sn->base, &w, &e) != 0 || !w.flight)
+        return snprintf(why, n, "%.200s", e.msg[0] ? e.msg : "no flight"), 1;
+    l->w = w; /* the old world is gone */
+    if (journal_room(l, sn->n, sn->nev) != 0)
+        return core_err_set(err, -1, "restore: out of memory");
+    static const sim_pilot_ops journal = {"journal", refly_pilot};
+    refly r = {sn, w.flight, 0, 0};
+    sim_pilot p = {&journal, &r};
+    sim_run_opts ro;
+    sim_run_opts_default(&ro);
+    ro.max_steps = sn->n;
+    ro.observe = refly_observe;
+    ro.observe_user = &r;
+    sim_flight_out out;
+    sim_flight_state(w.flight, &out);
+    if (refly_changes(&r, err) != 0 || (sn->n > 0 && sim_run(w.flight, &p, &ro, &out, err) != SIM_RUN_LENGTH))
+        return core_err_set(err, -1, "restore '%s': flying it again failed at step %lld: %s", sn->name, r.k + 1,
+                            err->msg);
+    if (world_started(l, &w, sn->path, &sn->base, err) != 0)
+        return -1;
+    l->setup = sn->setup;
+    if (sn->n)
+        memcpy(l->jr, sn->in, (size_t)sn->n * sizeof *l->jr);
+    l->njr = sn->n;
+    if (sn->nev)
+        memcpy(l->ev, sn->ev, (size_t)sn->nev * sizeof *l->ev);
+    l->nev = sn->nev;
+    return 0;
+}
+
+/* SET_WOD (its speed alone) and SET_TURBULENCE in flight, kept in the
+ * journal: 0 done; 1 not in flight (the world to be built again); 1 with
+ * why set: refused; < 0 fatal. */
+static int do_live(sim_loop *l, const ctl *c, const sim_loop_setup *s, char *why, size_t n, core_err *err)
+{
+    jev e = {l->njr, c->command, {0.0, 0.0}};
+    if (c->command == DISIM_SIM_CONTROL_T_SET_WOD)
+        e.v[0] = s->wod_speed_mps, e.v[1] = s->wod_dir_rad;
+    else
+        e.v[0] = s->turbulence;
+    core_err ee = {0};
+    int r = live_apply(l->w.flight, &e, &ee);
+    if (r > 0)
+        return 1;
+    if (r < 0)
+        return snprintf(why, n, "%.200s", ee.msg), 1;
+    l->setup = *s;
+    l->live = 1;
+    if (!l->jr_full) { /* a journal past its length takes no snapshot: no need */
+        if (journal_room(l, l->capjr, l->nev + 1) != 0)
+            return core_err_set(err, -1, "the journal: out of memory");
+        l->ev[l->nev++] = e;
+    }
+    return 0;
+}
+
+/* RESET and LOAD_SCENARIO: the caller's build, the console's setup
+ * dropped. 0, 1 refused (why), < 0 fatal. */
+static int do_load(sim_loop *l, const ctl *c, char *why, size_t n, core_err *err)
+{
+    const char *path = c->command == DISIM_SIM_CONTROL_T_RESET ? l->scenario_path : c->path;
+    sim_loop_world w;
+    memset(&w, 0, sizeof w);
+    core_err e = {0};
+    if (l->build(l->user, path, &w, &e) != 0 || !w.flight)
+        return snprintf(why, n, "%s refused: %.200s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "load",
+                        e.msg[0] ? e.msg : "no flight"), 1;
+    sim_loop_setup s;
+    sim_loop_setup_default(&s);
+    if (world_started(l, &w, path, &s, err) != 0)
+        return -1;
+    core_log_msg(l->log, CORE_LOG_INFO, "%s: %s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "loaded",
+                 l->scenario_path);
+    return 0;
+}
+
+/* The instructor's world controls: the setup checked, the world built
+ * again under it. 0, 1 refused (why), < 0 fatal. */
+static int do_setup(sim_loop *l, const ctl *c, char *why, size_t n, core_err *err)
+{
+    sim_loop_setup s;
+    l->live = 0;
+    if (ctl_setup(l, c, &s, why, n))
+        return 1;
+    if (c->command == DISIM_SIM_CONTROL_T_SET_WOD || c->command == DISIM_SIM_CONTROL_T_SET_TURBULENCE) {
+        int r = do_live(l, c, &s, why, n, err);
+        if (r <= 0 || why[0])
+            return r;
+    }
+    if (!l->o.rebuild)
+        return snprintf(why, n, "this loop cannot build its world again with the instructor's settings"), 1;
+    sim_loop_world w;
+    memset(&w, 0, sizeof w);
+    core_err e = {0};
+    if (l->o.rebuild(l->user, l->scenario_path, &s, &w, &e) != 0 || !w.flight)
+        return snprintf(why, n, "%.200s", e.msg[0] ? e.msg : "no flight"), 1;
+    return world_started(l, &w, l->scenario_path, &s, err) != 0 ? -1 : 0;
+}
+
+/* What an accepted control did, for its answer. */
+static void said(const sim_loop *l, const ctl *c, char *msg, size_t n)
+{
+    const sim_loop_setup *s = &l->setup;
+    if (l->live && c->command == DISIM_SIM_CONTROL_T_SET_WOD) {
+        snprintf(msg, n, "in flight at t = %.3f s: WOD %.1f kt from %.0f deg (the air re-scaled)", l->out.t_s,
+                 s->wod_speed_mps / CORE_KT_TO_MPS, s->wod_dir_rad * CORE_RAD_TO_DEG);
+        return;
+    }
+    if (l->live && c->command == DISIM_SIM_CONTROL_T_SET_TURBULENCE) {
+        snprintf(msg, n, "in flight at t = %.3f s: turbulence %s", l->out.t_s, s->turbulence ? "on" : "off");
+        return;
+    }
+    switch (c->command) {
+    case DISIM_SIM_CONTROL_T_PAUSE: snprintf(msg, n, "frozen at t = %.3f s", l->out.t_s); break;
+    case DISIM_SIM_CONTROL_T_RESUME: snprintf(msg, n, "running from t = %.3f s", l->out.t_s); break;
+    case DISIM_SIM_CONTROL_T_SNAPSHOT:
+        snprintf(msg, n, "snapshot '%s' at t = %.3f s (%lld steps)", c->name, l->out.t_s, l->njr);
+        break;
+    case DISIM_SIM_CONTROL_T_RESTORE:
+        snprintf(msg, n, "restored '%s': t = %.3f s, %lld steps flown again", c->name, l->out.t_s, l->njr);
+        break;
+    default:
+        snprintf(msg, n, "%s: %s %s at (%.2f, %.2f, %.2f) m in S, WOD %s, sea %s, turbulence %s", ctl_name(c->command),
+                 l->w.scenario, s->start == SIM_START_DECK ? "on the deck" : "in the hover", l->out.pos_S_m[0],
+                 l->out.pos_S_m[1], l->out.pos_S_m[2], isnan(s->wod_speed_mps) ? "as started" : "set",
+                 s->sea_state < 0 ? "as started" : "set",
+                 s->turbulence < 0 ? "as started" : s->turbulence ? "on" : "off");
+        if (!isnan(s->wod_speed_mps)) {
+            size_t k = strlen(msg);
+            snprintf(msg + k, n - k, " (%.1f kt from %.0f deg)", s->wod_speed_mps / CORE_KT_TO_MPS,
+                     s->wod_dir_rad * CORE_RAD_TO_DEG);
+        }
+        if (s->sea_state >= 0) {
+            size_t k = strlen(msg);
+            snprintf(msg + k, n - k, " (sea state %d)", s->sea_state);
+        }
+    }
+}
+
+/* One control: 0 (answered: accepted or refused), < 0 with err (fatal). */
+static int do_control(sim_loop *l, const ctl *c, core_err *err)
+{
+    double t0 = wall_s();
+    char why[256] = "";
+    int rc = 0;
+    switch (c->command) {
+    case DISIM_SIM_CONTROL_T_PAUSE: l->paused = 1; break;
+    case DISIM_SIM_CONTROL_T_RESUME:
+        if (l->crashed) {
+            rc = (snprintf(why, sizeof why, "the flight has ended (%.150s): reset, reposition or restore",
+                           l->crash_msg), 1);
+            break;
+        }
+        if (l->paused && new_pacer(l, err) != 0) /* deadlines from now, not from before the pause */
+            return -1;
+        l->paused = 0;
+        break;
+    case DISIM_SIM_CONTROL_T_RESET:
+    case DISIM_SIM_CONTROL_T_LOAD_SCENARIO: rc = do_load(l, c, why, sizeof why, err); break;
+    case DISIM_SIM_CONTROL_T_SNAPSHOT:
+        if (!l->o.rebuild)
+            rc = (snprintf(why, sizeof why, "this loop cannot build its world again: no snapshots"), 1);
+        else if (l->crashed)
+            rc = (snprintf(why, sizeof why, "the flight has ended (%.150s): no snapshot of it", l->crash_msg), 1);
+        else
+            rc = take_snapshot(l, c->name, why, sizeof why);
+        break;
+    case DISIM_SIM_CONTROL_T_RESTORE: {
+        int i = snap_find(l, c->name);
+        if (!l->o.rebuild)
+            rc = (snprintf(why, sizeof why, "this loop cannot build its world again: no restore"), 1);
+        else if (l->source_id[0])
+            rc = (snprintf(why, sizeof why, "a pilot of the caller's flies (%s): its own state is not restored",
+                           l->source_id), 1);
+        else if (i < 0)
+            rc = (snprintf(why, sizeof why, "no snapshot '%s'", c->name), 1);
+        else
+            rc = restore_snapshot(l, &l->snaps[i], why, sizeof why, err);
+        break;
+    }
+    default: rc = do_setup(l, c, why, sizeof why, err); break;
+    }
+    if (rc < 0)
+        return -1;
+    if (rc > 0) {
+        char full[300];
+        snprintf(full, sizeof full, "%s refused: %s", ctl_name(c->command), why);
+        refuse_ctl(l, c->seq, c->command, c->command == DISIM_SIM_CONTROL_T_RESET ||
+                   c->command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO ? why : full);
+        return 0;
+    }
+    char msg[256];
+    said(l, c, msg, sizeof msg);
+    accept_ctl(l, c, t0, "%s", msg);
+    return 0;
+}
+
+/* The controls received, in order, each answered in a status of its own. */
 static int do_controls(sim_loop *l, core_err *err)
 {
     for (int i = 0; i < l->nq; i++) {
-        ctl *c = &l->q[i];
-        l->dirty = 1;
-        if (c->command == DISIM_SIM_CONTROL_T_PAUSE)
-            l->paused = 1;
-        else if (c->command == DISIM_SIM_CONTROL_T_RESUME) {
-            if (l->paused && new_pacer(l, err) != 0) /* deadlines from now, not from before the pause */
-                return -1;
-            l->paused = 0;
-        } else {
-            const char *path = c->command == DISIM_SIM_CONTROL_T_RESET ? l->scenario_path : c->path;
-            sim_loop_world w = {0};
-            core_err e = {0};
-            if (l->build(l->user, path, &w, &e) != 0 || !w.flight) {
-                char why[256];
-                snprintf(why, sizeof why, "%s refused: %.200s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "load",
-                         e.msg[0] ? e.msg : "no flight");
-                refuse_ctl(l, why);
-                continue;
-            }
-            l->w = w;
-            if (c->command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO)
-                snprintf(l->scenario_path, sizeof l->scenario_path, "%s", c->path);
-            sim_flight_state(l->w.flight, &l->out);
-            sim_pilots_reblend(l->pilots); /* the station's controls blend in from the new start's */
-            publish_run_info(l); /* the new run's, before its first state */
-            core_log_msg(l->log, CORE_LOG_INFO, "%s: %s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "loaded",
-                         l->scenario_path);
+        if (do_control(l, &l->q[i], err) != 0) {
+            l->nq = 0;
+            return -1;
         }
-        l->message[0] = '\0';
+        if ((l->lc || l->elog) && i + 1 < l->nq)
+            publish_status(l, l->paused ? DISIM_SIM_STATUS_T_PAUSED : DISIM_SIM_STATUS_T_RUNNING);
     }
     l->nq = 0;
     return 0;
@@ -614,7 +1182,9 @@ static int pass_end(sim_loop *l, int stepped, core_err *err)
         unsigned f = loop_flags(l);
         if (l->dirty || f != l->last_flags || sim_pilots_active(l->pilots) != l->last_active ||
             wall_s() - l->status_wall_s >= l->o.status_period_s)
-            publish_status(l, l->paused ? DISIM_SIM_STATUS_T_PAUSED : DISIM_SIM_STATUS_T_RUNNING);
+            publish_status(l, l->crashed && l->o.wait_after_end ? DISIM_SIM_STATUS_T_STOPPED
+                              : l->paused                           ? DISIM_SIM_STATUS_T_PAUSED
+                                                                    : DISIM_SIM_STATUS_T_RUNNING);
     }
     if (l->fatal)
         return core_err_set(err, -1, "%s", l->ferr.msg);
@@ -630,16 +1200,19 @@ static int pass_before(void *user, core_err *err)
     sim_loop *l = user;
     if (l->fatal)
         return core_err_set(err, -1, "%s", l->ferr.msg);
-    if (l->crashed) {
+    /* a flight that ended waits while a control can still come (LCM, or
+     * the replayed log's events not all read) */
+    if (l->crashed && (!l->o.wait_after_end || (!l->lc && (!l->replay || l->replay_done)))) {
         core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg);
         return SIM_RUN_ENDED;
     }
     if (!l->paused && l->run_step >= l->nsteps)
         return SIM_RUN_LENGTH;
-    take_received(l, l->paused ? 100 : 0);
+    int waiting = l->paused || l->crashed; /* a flight that ended waits for a control that builds it again */
+    take_received(l, waiting ? 100 : 0);
     if (do_controls(l, err) != 0)
         return -1;
-    if (!l->paused)
+    if (!l->paused && !l->crashed)
         return SIM_RUN_STEPPED;
     return pass_end(l, 0, err) != 0 ? -1 : SIM_RUN_SKIPPED;
 }
@@ -656,6 +1229,7 @@ static int pass_step(void *user, const sim_flight_inputs *in, sim_flight_out *ou
         if (l->lc || l->elog)
             publish_source(l, in);
     }
+    journal_add(l, in);
     int frc = sim_flight_step(l->w.flight, in, &l->out, err);
     if (frc < 0)
         return -1;
@@ -672,6 +1246,10 @@ static int pass_step(void *user, const sim_flight_inputs *in, sim_flight_out *ou
     *out = l->out;
     if (pass_end(l, frc == 0, err) != 0)
         return -1;
+    if (frc > 0 && l->o.wait_after_end) { /* stopped, waiting for the instructor */
+        core_log_msg(l->log, CORE_LOG_WARN, "stopped: a reset, a reposition, a load or a restore flies on");
+        return 0;
+    }
     return frc > 0 ? core_err_set(err, SIM_LOOP_CRASHED, "%s", l->crash_msg) : 0;
 }
 
@@ -761,6 +1339,12 @@ void sim_loop_report_get(const sim_loop *l, sim_loop_report *r)
     r->control_refused = l->control_refused;
     snprintf(r->scenario, sizeof r->scenario, "%s", l->w.scenario);
     snprintf(r->message, sizeof r->message, "%s", l->message);
+    r->control_seq = l->ack_seq;
+    r->control_command = l->ack_cmd;
+    r->control_result = l->ack_result;
+    snprintf(r->control_message, sizeof r->control_message, "%s", l->ack_msg);
+    r->control_apply_s = l->ack_apply_s;
+    r->snapshots = l->nsnaps;
 }
 
 const sim_pilots *sim_loop_pilots(const sim_loop *l) { return l->pilots; }

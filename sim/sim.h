@@ -19,5 +19,6 @@
 #include "sim_task.h"
 #include "sim_log.h"
 #include "sim_pilot.h"
+#include "sim_ios.h"
 
 #endif

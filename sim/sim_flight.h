@@ -102,6 +102,9 @@ int sim_air_mean_S(const sim_air *a, const double p_S[3], double t_s, double v_S
  * (sim_air_sample_S carried into E). */
 void sim_air_sample_E(const sim_air *a, const sim_air_in *in, const sim_ship_frame *fr, const double pos_E_m[3],
                       double t_s, double vel_E_mps[3]);
+/* The WOD from now on: the free stream and the fields' scale to the new
+ * speed (a field keeps its own direction). 0, or < 0 with err. */
+int sim_air_set_wod(sim_air *a, double speed_mps, double dir_rad, core_err *err);
 /* The weight of the newest field at t_s, 0 to 1 (1: no blend under way). */
 double sim_air_blend(const sim_air *a, double t_s);
 /* SIM_AIR_INTERACTION: the coupled rotor interaction inter is flown now
@@ -191,6 +194,17 @@ int sim_flight_set_field(sim_flight *f, const struct cfd_field *field, core_err 
 int sim_flight_step(sim_flight *f, const sim_flight_inputs *in, sim_flight_out *out, core_err *err);
 /* The state at the current time without stepping. */
 void sim_flight_state(const sim_flight *f, sim_flight_out *out);
+/* The WOD's speed changed in flight, from the next step on
+ * (sim_air_set_wod: the free stream and the field re-scaled): 0; 1 with
+ * err when it cannot be in flight (a new direction, which needs the field
+ * of that direction, or the coupled interaction flown: the world must be
+ * built again); < 0 with err for a speed < 0 or a direction not finite. */
+int sim_flight_set_wod(sim_flight *f, double speed_mps, double dir_rad, core_err *err);
+/* The turbulence on (1: a new frozen field, seeded by opts.seed) or off
+ * (0) from the next step on. 0, or < 0 with err. */
+int sim_flight_set_turbulence(sim_flight *f, int on, core_err *err);
+/* The ship the flight flies over (its blocks, deck height). */
+const core_ship *sim_flight_ship(const sim_flight *f);
 
 /* ------------------------------------ turbulence (sim/turbulence.c) */
 /* Seeded Dryden turbulence (MIL-F-8785C / MIL-HDBK-1797 Dryden form) from

@@ -61,7 +61,9 @@ int sim_pacer_os_realtime(int priority, char *what, size_t n);
  * loop (sim/loop.c) */
 /* Around the deterministic step, never inside it: pilot stations'
  * pilot_input_t taken by their rules (sim_pilots, sim/pilots.c),
- * sim_control_t (pause, resume, reset, load scenario), heli_state_t,
+ * sim_control_t (pause, resume, reset, load scenario, and the
+ * instructor's resets, reposition, conditions and snapshots, each answered
+ * in the status), heli_state_t,
  * ship_state_t and sim_status_t published, every message sent and
  * received written to an LCM event log, a log's inputs replayed (sim_loop,
  * sim/loop.c, which has the log's clock and its references). */
@@ -151,6 +153,24 @@ typedef struct sim_loop_world {
  * freed the old) and filled w; < 0 with err and the old world untouched
  * (the loop keeps flying it and publishes err in the status). */
 typedef int (*sim_loop_build_fn)(void *user, const char *path, sim_loop_world *w, core_err *err);
+/* What the instructor's controls (sim_control_t RESET_HOVER, RESET_DECK,
+ * REPOSITION, SET_WOD, SET_SEA, SET_TURBULENCE) set over the scenario and
+ * the caller's own settings (its command line) when a world is built
+ * again; each field at its default leaves the caller's. */
+typedef struct sim_loop_setup {
+    int start;                         /* -1 (default): the caller's; SIM_START_HOVER, SIM_START_DECK */
+    int has_station;                   /* 1: the hover's CG at station_S_m (a reposition), else the scenario's */
+    double station_S_m[3];
+    double heading_rad;                /* the deck start's heading from the bow (0) */
+    double wod_speed_mps, wod_dir_rad; /* NAN (default): the caller's */
+    int sea_state;                     /* -1 (default): the caller's; 0-6 */
+    int turbulence;                    /* -1 (default): the caller's; 0 off, 1 on */
+} sim_loop_setup;
+void sim_loop_setup_default(sim_loop_setup *s);
+/* Build the world of the scenario at path under s, as sim_loop_build_fn
+ * (the build of a default s is the build_fn's). */
+typedef int (*sim_loop_rebuild_fn)(void *user, const char *path, const sim_loop_setup *s, sim_loop_world *w,
+                                   core_err *err);
 typedef struct sim_loop_opts {
     double rate_hz;          /* the step rate (200) */
     int realtime;            /* 1: paced (sim_pacer), 0: as fast as it can */
@@ -169,6 +189,22 @@ typedef struct sim_loop_opts {
      * pilot_input_t of this station id at the step they fly, as a
      * station's would, and live pilot inputs are not listened to. */
     const char *pilot_source_id;
+    /* NULL: the instructor's controls that build the world again (the
+     * resets to the hover and the deck, a reposition, the WOD, sea state
+     * and turbulence, a restore) are refused; else they build with it
+     * (the same user as build). */
+    sim_loop_rebuild_fn rebuild;
+    /* The longest flight a snapshot is taken of (600 s): a restore builds
+     * the world of the snapshot's flight again and flies its inputs from
+     * its start (the same inputs, the same state bit for bit), which takes
+     * up to about this flight time over the step's speed. */
+    double snapshot_max_s;
+    /* 0 (default): a flight that ended (a crash, a roll-over) ends the
+     * run (SIM_LOOP_CRASHED). 1: the loop stops it (the status STOPPED,
+     * its passes SIM_LOOP_PAUSED) and waits for a control that builds the
+     * world again (a reset, a reposition, a condition, a load, a restore:
+     * the instructor's), then flies on; the run ends at its duration. */
+    int wait_after_end;
 } sim_loop_opts;
 void sim_loop_opts_default(sim_loop_opts *o);
 /* A loop flying w (built by the caller from o->scenario_path). NULL with
@@ -178,8 +214,9 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
 /* A log not finished is removed. */
 void sim_loop_destroy(sim_loop *l);
 enum { SIM_LOOP_STEPPED = 0, SIM_LOOP_PAUSED = 1, SIM_LOOP_DONE = 2, SIM_LOOP_CRASHED = 3 };
-/* One pass: SIM_LOOP_STEPPED with out the step's outputs (a reset or a
- * load shows as out->step back to 1), SIM_LOOP_PAUSED (nothing stepped;
+/* One pass: SIM_LOOP_STEPPED with out the step's outputs (a reset, a
+ * load or a world built again shows as out->step back to 1, a restore as
+ * the snapshot's step + 1), SIM_LOOP_PAUSED (nothing stepped;
  * waited up to 100 ms for a message), SIM_LOOP_DONE (duration flown),
  * SIM_LOOP_CRASHED (the step ended the flight: out is its last state, its
  * states published, err says what hit what; finish the loop as at the
@@ -209,6 +246,14 @@ typedef struct sim_loop_report {
     long long sent, received, logged, control_refused;
     char scenario[64];
     char message[256];     /* why the last control was refused ("" none) */
+    /* the last control answered: its seq (-1 none), command, result
+     * (sim_status_t CONTROL_*), what was done or why not, and the wall
+     * time its application took */
+    long long control_seq;
+    int control_command, control_result;
+    char control_message[256];
+    double control_apply_s;
+    int snapshots;         /* snapshots held */
 } sim_loop_report;
 void sim_loop_report_get(const sim_loop *l, sim_loop_report *r);
 const sim_pilots *sim_loop_pilots(const sim_loop *l);

@@ -42,6 +42,7 @@ typedef struct sim_world_overrides {
     const sim_sea *sea;                  /* NULL (default); else the whole seaway, the three above unused */
     int gear;                            /* 1 (default): the aircraft file's [gear] where it has one; 0 none */
     int start;                           /* SIM_START_HOVER (default), SIM_START_DECK */
+    double start_heading_rad;            /* SIM_START_DECK: the heading from the bow (0) */
     int sas;                             /* -1 (default): as the aircraft file's [sas]; 0 off, 1 on */
     int has_station;                     /* 1: the start at station_S_m, else the scenario's station */
     double station_S_m[3];

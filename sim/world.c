@@ -79,6 +79,7 @@ int sim_world_build(const sim_scenario *sc, const hfm_aircraft *ac, const sim_wo
     hfm_gear gear; /* the wheels and strike points on the deck and the ship (sim/contact.c) */
     fo.gear = ov->gear && hfm_aircraft_gear(ac, &gear) == 0;
     fo.start = ov->start;
+    fo.start_heading_rad = ov->start_heading_rad;
     if (ov->sas >= 0)
         fo.sas = ov->sas;
     memcpy(fo.station_S_m, ov->has_station ? ov->station_S_m : sc->station_S_m, sizeof fo.station_S_m);

@@ -80,6 +80,43 @@ static void fill(double *a, int n, double base)
         a[i] = base + 0.125 * i;
 }
 
+/* A message of an older sim_control_t or sim_status_t (this one without
+ * the fields appended since, under the older fingerprint) reads as the
+ * newest with those fields at their defaults. */
+static void put_fp(unsigned char *b, uint64_t fp)
+{
+    for (int i = 0; i < 8; i++)
+        b[i] = (unsigned char)(fp >> (56 - 8 * i));
+}
+
+static void test_older(const disim_sim_control_t *c, const disim_sim_status_t *st)
+{
+    static unsigned char nb[4096], old[4096], up[4096];
+    disim_sim_control_t c0 = *c;
+    memset(c0.pos_S_m, 0, sizeof c0.pos_S_m);
+    c0.heading_rad = c0.wod_speed_mps = c0.wod_dir_rad = 0.0;
+    c0.sea_state = c0.turbulence = 0;
+    c0.name = "";
+    int n = disim_sim_control_t_encode(nb, 0, sizeof nb, &c0), tail = 55;
+    memcpy(old, nb, (size_t)(n - tail));
+    put_fp(old, 0x8dd8480154a70f03ull);
+    CHECK(disim_lcm_check_raw("sim_control_t", old, n - tail, NULL, 0) < 0);
+    CHECK(disim_lcm_upgrade("sim_control_t", old, n - tail, up, sizeof up) == n && memcmp(up, nb, (size_t)n) == 0);
+    CHECK(disim_lcm_upgrade("sim_control_t", nb, n, up, sizeof up) == 0);
+    CHECK(disim_lcm_upgrade("sim_control_t", old, n - tail, up, 16) == -1);
+    disim_sim_status_t s0 = *st;
+    s0.control_seq = -1;
+    s0.control_command = s0.control_result = 0;
+    s0.control_message = "";
+    s0.control_apply_s = 0.0;
+    n = disim_sim_status_t_encode(nb, 0, sizeof nb, &s0), tail = 23;
+    memcpy(old, nb, (size_t)(n - tail));
+    put_fp(old, 0x7be0ef478700cc8eull);
+    CHECK(disim_lcm_upgrade("sim_status_t", old, n - tail, up, sizeof up) == n && memcmp(up, nb, (size_t)n) == 0);
+    CHECK(disim_lcm_check_raw("sim_status_t", up, n, NULL, 0) == 0);
+    CHECK(disim_lcm_upgrade("heli_state_t", old, n - tail, up, sizeof up) == 0);
+}
+
 int main(void)
 {
     lcm_t *lc = lcm_create("memq://");
@@ -143,6 +180,13 @@ int main(void)
     c.seq = 2;
     c.command = DISIM_SIM_CONTROL_T_LOAD_SCENARIO;
     c.scenario_path = "scenarios/cg47_uh60a.ini";
+    c.pos_S_m[0] = -3.0, c.pos_S_m[1] = 12.0, c.pos_S_m[2] = -8.0;
+    c.heading_rad = 0.25;
+    c.wod_speed_mps = 10.0;
+    c.wod_dir_rad = -0.5;
+    c.sea_state = 4;
+    c.turbulence = 1;
+    c.name = "approach_1";
     round_trip_sim_control_t(lc, DISIM_CH_SIM_CONTROL, &c);
 
     disim_sim_status_t st = {0};
@@ -166,7 +210,13 @@ int main(void)
     st.active_station = 0;
     st.flags = DISIM_SIM_STATUS_T_FLAG_INPUT_HELD;
     st.message = "";
+    st.control_seq = 77;
+    st.control_command = DISIM_SIM_CONTROL_T_SET_SEA;
+    st.control_result = DISIM_SIM_STATUS_T_CONTROL_ACCEPTED;
+    st.control_message = "set sea: loop_a in the hover (sea state 3)";
+    st.control_apply_s = 0.0123;
     round_trip_sim_status_t(lc, DISIM_CH_SIM_STATUS, &st);
+    test_older(&c, &st);
 
     disim_airwake_request_t rq = {0};
     rq.utime = 8;
@@ -310,9 +360,9 @@ int main(void)
     CHECK(disim_lcm_check_sim_control(&c, err, sizeof err) < 0);
     CHECK(strstr(err, "sim_control_t.seq = -3") != NULL);
     c.seq = 0;
-    c.command = 9;
+    c.command = 13;
     CHECK(disim_lcm_check_sim_control(&c, err, sizeof err) < 0);
-    CHECK(strstr(err, "sim_control_t.command = 9") != NULL);
+    CHECK(strstr(err, "sim_control_t.command = 13") != NULL);
     c.command = DISIM_SIM_CONTROL_T_LOAD_SCENARIO;
     c.scenario_path = "";
     CHECK(disim_lcm_check_sim_control(&c, err, sizeof err) < 0);

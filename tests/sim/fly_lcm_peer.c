@@ -284,6 +284,7 @@ int main(int argc, char **argv)
             if (!strcmp(argv[2], names[i]))
                 m.command = (int8_t)i;
         m.scenario_path = argc >= 4 ? argv[3] : "";
+        m.name = "";
         rc = disim_sim_control_t_publish(lc, DISIM_CH_SIM_CONTROL, &m) == 0 ? 0 : 1;
     } else if (argc >= 3 && !strcmp(argv[1], "listen")) {
         counts c;

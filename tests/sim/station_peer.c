@@ -108,6 +108,7 @@ static void send_bad(lcm_t *lc, int which)
         memset(&s, 0, sizeof s);
         s.scenario = "x";
         s.message = "";
+        s.control_message = "";
         n = disim_sim_status_t_encode(buf, 0, sizeof buf, &s);
         lcm_publish(lc, DISIM_CH_HELI_STATE, buf, (unsigned)n);
     } else if (which == 2) { /* well formed, a NaN roll */
@@ -181,6 +182,7 @@ int main(int argc, char **argv)
             s.active_station = 1;
             s.flags = DISIM_SIM_STATUS_T_FLAG_INPUT_HELD;
             s.message = "";
+            s.control_message = "";
             disim_sim_status_t_publish(lc, DISIM_CH_SIM_STATUS, &s);
             next_pub += 0.1;
         }

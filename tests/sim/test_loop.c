@@ -3,7 +3,9 @@
  * and changing nothing, sequence gaps, hold after silence with its flag,
  * priority and take-over), pause, resume, reset and load (a good and a
  * broken scenario), and a log whose inputs, replayed, fly the same
- * trajectory bit for bit. Run from the source root. */
+ * trajectory bit for bit; the instructor's controls (each refused with
+ * its reason and accepted with its effect, a snapshot restored and flown
+ * on bit for bit) and the console's lines. Run from the source root. */
 #include "check.h"
 #include "disim_lcm.h"
 #include "sim.h"
@@ -283,7 +285,7 @@ static int build(void *user, const char *path, sim_loop_world *lw, core_err *err
 typedef struct seen {
     int status, heli;
     disim_sim_status_t last; /* scalar fields of the last status */
-    char scenario[64], message[256];
+    char scenario[64], message[256], control_message[256];
     long long refused_A;
     int held_seen, paused_seen;
     double blend_on_s, blend_off_s; /* sim time of the first status with the blend's flag, the first after it without */
@@ -297,6 +299,7 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const disim_sim_
     s->last = *m;
     snprintf(s->scenario, sizeof s->scenario, "%s", m->scenario);
     snprintf(s->message, sizeof s->message, "%s", m->message);
+    snprintf(s->control_message, sizeof s->control_message, "%s", m->control_message);
     for (int i = 0; i < m->n_stations; i++)
         if (!strcmp(m->station_ids[i], "A"))
             s->refused_A = m->station_refused[i];
@@ -337,6 +340,7 @@ static void control(lcm_t *lc, int cmd, const char *path)
     memset(&c, 0, sizeof c);
     c.command = (int8_t)cmd;
     c.scenario_path = (char *)(path ? path : "");
+    c.name = (char *)"";
     disim_sim_control_t_publish(lc, DISIM_CH_SIM_CONTROL, &c);
 }
 
@@ -544,12 +548,431 @@ static void test_control(void)
     hfm_aircraft_destroy(w.ac);
 }
 
+
+/* ---- the instructor's controls: a world with its seaway (sim_world_build)
+ * built again under the loop's setup */
+typedef struct iworld {
+    sim_scenario sc;
+    hfm_aircraft *ac;
+    sim_world sw;
+    int builds;
+} iworld;
+
+static int ios_rebuild(void *user, const char *path, const sim_loop_setup *s, sim_loop_world *lw, core_err *err)
+{
+    iworld *w = user, nw;
+    memset(&nw, 0, sizeof nw);
+    if (sim_scenario_load(path, &nw.sc, err) != 0 || !(nw.ac = hfm_aircraft_load(nw.sc.aircraft_path, NULL, err)))
+        return -1;
+    sim_world_overrides ov;
+    sim_world_overrides_default(&ov);
+    if (s) {
+        if (s->start >= 0)
+            ov.start = s->start;
+        ov.start_heading_rad = s->heading_rad;
+        if (!isnan(s->wod_speed_mps)) {
+            ov.wod_speed_mps = s->wod_speed_mps;
+            ov.wod_dir_rad = s->wod_dir_rad;
+        }
+        if (s->sea_state >= 0)
+            ov.sea_state = s->sea_state;
+        if (s->turbulence >= 0)
+            ov.turbulence = s->turbulence;
+        if (s->has_station) {
+            ov.has_station = 1;
+            memcpy(ov.station_S_m, s->station_S_m, sizeof ov.station_S_m);
+        }
+    }
+    if (sim_world_build(&nw.sc, nw.ac, &ov, NULL, &nw.sw, err) != 0) {
+        hfm_aircraft_destroy(nw.ac);
+        return -1;
+    }
+    sim_world_free(&w->sw);
+    hfm_aircraft_destroy(w->ac);
+    nw.builds = w->builds + 1;
+    *w = nw;
+    memset(lw, 0, sizeof *lw);
+    lw->flight = w->sw.flight;
+    lw->motion = w->sw.motion;
+    lw->info = w->sw.info;
+    snprintf(lw->scenario, sizeof lw->scenario, "%s", w->sc.name);
+    return 0;
+}
+
+static int ios_build(void *user, const char *path, sim_loop_world *lw, core_err *err)
+{
+    return ios_rebuild(user, path, NULL, lw, err);
+}
+
+typedef struct ictl {
+    int cmd;
+    double pos[3], hdg, spd, dir;
+    int sea, turb;
+    const char *name;
+} ictl;
+
+/* Publish a control; its seq. */
+static long long send_ctl(lcm_t *lc, const ictl *k)
+{
+    static const long long base = 1000;
+    static long long n = 0; /* the test's own count (a test file, not a library) */
+    disim_sim_control_t c;
+    memset(&c, 0, sizeof c);
+    c.seq = base + ++n;
+    c.command = (int8_t)k->cmd;
+    c.scenario_path = (char *)"";
+    memcpy(c.pos_S_m, k->pos, sizeof c.pos_S_m);
+    c.heading_rad = k->hdg;
+    c.wod_speed_mps = k->spd;
+    c.wod_dir_rad = k->dir;
+    c.sea_state = (int8_t)k->sea;
+    c.turbulence = (int8_t)k->turb;
+    c.name = (char *)(k->name ? k->name : "");
+    disim_sim_control_t_publish(lc, DISIM_CH_SIM_CONTROL, &c);
+    return c.seq;
+}
+
+/* A control sent and the pass that carries it out: 1 when its answer is
+ * result with sub in its message (sub NULL: any); rc the pass's. */
+static int answer(sim_loop *l, lcm_t *lc, seen *s, const ictl *k, int result, const char *sub, sim_flight_out *out,
+                  int *rc)
+{
+    long long seq = send_ctl(lc, k);
+    *rc = iter(l, lc, out);
+    int ok = s->last.control_seq == seq && s->last.control_result == result && s->last.control_command == k->cmd &&
+             (!sub || strstr(s->control_message, sub) != NULL);
+    if (!ok)
+        fprintf(stderr, "control %d: seq %lld result %d: '%s' (expected seq %lld result %d '%s')\n", k->cmd,
+                (long long)s->last.control_seq, s->last.control_result, s->control_message, seq, result,
+                sub ? sub : "");
+    return ok;
+}
+
+/* Station A's controls for pass j of a run: a slow weave about the trim. */
+static void weave(lcm_t *lc, const sim_flight_inputs *trim, long long *seq, int j)
+{
+    unsigned char b[512];
+    double c = trim->ctl.collective_pct + 3.0 * sin(j / 20.0), lat = trim->ctl.lat_cyclic_pct + 2.0 * cos(j / 15.0);
+    int n = enc(b, "A", (*seq)++, c, trim->ctl.long_cyclic_pct, lat, trim->ctl.pedal_pct, 0);
+    lcm_publish(lc, DISIM_CH_PILOT_INPUT, b, (unsigned)n);
+}
+
+/* n passes with the weave from pass j0, every step's output into o. */
+static int weave_fly(sim_loop *l, lcm_t *lc, const sim_flight_inputs *trim, long long *seq, int j0, int n,
+                     sim_flight_out *o)
+{
+    for (int j = 0; j < n; j++) {
+        weave(lc, trim, seq, j0 + j);
+        if (iter(l, lc, &o[j]) != SIM_LOOP_STEPPED)
+            return -1;
+    }
+    return 0;
+}
+
+static int same_flight(const sim_flight_out *a, const sim_flight_out *b, int n)
+{
+    for (int j = 0; j < n; j++)
+        if (a[j].step != b[j].step || memcmp(a[j].pos_E_m, b[j].pos_E_m, sizeof a[j].pos_E_m) ||
+            memcmp(a[j].vel_E_mps, b[j].vel_E_mps, sizeof a[j].vel_E_mps) ||
+            memcmp(a[j].euler_E_rad, b[j].euler_E_rad, sizeof a[j].euler_E_rad) ||
+            memcmp(a[j].rate_B_radps, b[j].rate_B_radps, sizeof a[j].rate_B_radps) ||
+            memcmp(a[j].pos_S_m, b[j].pos_S_m, sizeof a[j].pos_S_m) ||
+            memcmp(&a[j].rotor_thrust_N, &b[j].rotor_thrust_N, sizeof(double)) ||
+            memcmp(a[j].gear_load_N, b[j].gear_load_N, sizeof a[j].gear_load_N))
+            return 0;
+    return 1;
+}
+
+/* Every instructor's control refused with its reason, changing nothing. */
+static void ios_refusals(sim_loop *l, lcm_t *lc, seen *s, iworld *w)
+{
+    sim_flight_out out;
+    int rc, R = DISIM_SIM_STATUS_T_CONTROL_REFUSED, builds = w->builds;
+    long long refused = s->last.control_refused;
+    struct {
+        ictl k;
+        const char *why;
+    } bad[] = {
+        {{DISIM_SIM_CONTROL_T_REPOSITION, {0, 0, 1}, 0, 0, 0, 0, 0, NULL}, "inside the ship"},
+        {{DISIM_SIM_CONTROL_T_REPOSITION, {0, 0, -1}, 0, 0, 0, 0, 0, NULL}, "within 2 m above the ship"},
+        {{DISIM_SIM_CONTROL_T_REPOSITION, {0, 200, 30}, 0, 0, 0, 0, 0, NULL}, "under the sea"},
+        {{DISIM_SIM_CONTROL_T_REPOSITION, {NAN, 0, -10}, 0, 0, 0, 0, 0, NULL}, "not finite"},
+        {{DISIM_SIM_CONTROL_T_REPOSITION, {0, 5000, -10}, 0, 0, 0, 0, 0, NULL}, "within 1000 m"},
+        {{DISIM_SIM_CONTROL_T_REPOSITION, {0, 40, -10}, 0.5, 0, 0, 0, 0, NULL}, "heading"},
+        {{DISIM_SIM_CONTROL_T_RESET_DECK, {0, 0, 0}, INFINITY, 0, 0, 0, 0, NULL}, "heading"},
+        {{DISIM_SIM_CONTROL_T_SET_WOD, {0, 0, 0}, 0, NAN, 0, 0, 0, NULL}, "WOD nan"},
+        {{DISIM_SIM_CONTROL_T_SET_WOD, {0, 0, 0}, 0, 50, 0, 0, 0, NULL}, "WOD 50 m/s"},
+        {{DISIM_SIM_CONTROL_T_SET_WOD, {0, 0, 0}, 0, 10, NAN, 0, 0, NULL}, "finite direction"},
+        {{DISIM_SIM_CONTROL_T_SET_SEA, {0, 0, 0}, 0, 0, 0, 7, 0, NULL}, "sea state 7"},
+        {{DISIM_SIM_CONTROL_T_SET_TURBULENCE, {0, 0, 0}, 0, 0, 0, 0, 2, NULL}, "turbulence 2"},
+        {{DISIM_SIM_CONTROL_T_SNAPSHOT, {0, 0, 0}, 0, 0, 0, 0, 0, "two words"}, "snapshot name"},
+        {{DISIM_SIM_CONTROL_T_SNAPSHOT, {0, 0, 0}, 0, 0, 0, 0, 0, ""}, "snapshot name"},
+        {{DISIM_SIM_CONTROL_T_RESTORE, {0, 0, 0}, 0, 0, 0, 0, 0, "nope"}, "no snapshot 'nope'"},
+        {{13, {0, 0, 0}, 0, 0, 0, 0, 0, NULL}, "command = 13"},
+    };
+    int n = (int)(sizeof bad / sizeof bad[0]);
+    for (int i = 0; i < n; i++) {
+        long long step = s->last.utime;
+        CHECK(answer(l, lc, s, &bad[i].k, R, bad[i].why, &out, &rc) && rc == SIM_LOOP_STEPPED);
+        CHECK(s->last.utime > step && strstr(s->message, bad[i].why) != NULL); /* flying on */
+    }
+    CHECK(w->builds == builds && s->last.control_refused == refused + n);
+}
+
+/* Each instructor's control accepted and its effect; the times taken. */
+static void ios_accepted(sim_loop *l, lcm_t *lc, seen *s, iworld *w, double *t_apply)
+{
+    sim_flight_out out;
+    int rc, A = DISIM_SIM_STATUS_T_CONTROL_ACCEPTED;
+    ictl k = {DISIM_SIM_CONTROL_T_PAUSE, {0, 0, 0}, 0, 0, 0, 0, 0, NULL};
+    CHECK(answer(l, lc, s, &k, A, "frozen", &out, &rc) && rc == SIM_LOOP_PAUSED);
+    CHECK(s->last.state == DISIM_SIM_STATUS_T_PAUSED);
+    k.cmd = DISIM_SIM_CONTROL_T_RESUME;
+    CHECK(answer(l, lc, s, &k, A, "running", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    /* repositioned: a new world, the hover there from step 1 */
+    ictl r = {DISIM_SIM_CONTROL_T_REPOSITION, {0, 40, -10}, NAN, 0, 0, 0, 0, NULL};
+    CHECK(answer(l, lc, s, &r, A, "reposition", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    t_apply[0] = s->last.control_apply_s;
+    CHECK(out.step == 1 && w->builds == 2);
+    CHECK_NEAR(out.pos_S_m[0], 0, 0.05);
+    CHECK_NEAR(out.pos_S_m[1], 40, 0.05);
+    CHECK_NEAR(out.pos_S_m[2], -10, 0.05);
+    /* the WOD, the sea, the turbulence: from the same start, in the new conditions */
+    ictl wod = {DISIM_SIM_CONTROL_T_SET_WOD, {0, 0, 0}, 0, 10.0, 30.0 * CORE_DEG_TO_RAD, 0, 0, NULL};
+    CHECK(answer(l, lc, s, &wod, A, "19.4 kt from 30 deg", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    t_apply[1] = s->last.control_apply_s;
+    CHECK(w->sw.info.wod_speed_mps == 10.0 && fabs(w->sw.info.wod_dir_rad - 30.0 * CORE_DEG_TO_RAD) < 1e-12);
+    CHECK_NEAR(out.pos_S_m[1], 40, 0.05);
+    CHECK(w->builds == 3 && out.step == 1);
+    /* the speed alone: in flight, the air re-scaled, nothing built */
+    for (int j = 0; j < 10; j++)
+        iter(l, lc, &out);
+    wod.spd = 12.0;
+    CHECK(answer(l, lc, s, &wod, A, "in flight at t = 0.055 s: WOD 23.3 kt from 30 deg", &out, &rc) &&
+          rc == SIM_LOOP_STEPPED);
+    t_apply[10] = s->last.control_apply_s;
+    CHECK(w->builds == 3 && out.step == 12);
+    ictl sea = {DISIM_SIM_CONTROL_T_SET_SEA, {0, 0, 0}, 0, 0, 0, 4, 0, NULL};
+    CHECK(answer(l, lc, s, &sea, A, "sea state 4", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    t_apply[2] = s->last.control_apply_s;
+    CHECK(w->sw.info.sea.state == 4 && w->sw.info.wod_speed_mps == 12.0 && w->builds == 4);
+    ictl turb = {DISIM_SIM_CONTROL_T_SET_TURBULENCE, {0, 0, 0}, 0, 0, 0, 0, 1, NULL};
+    CHECK(answer(l, lc, s, &turb, A, "in flight at t = 0.005 s: turbulence on", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    t_apply[3] = s->last.control_apply_s;
+    CHECK(w->builds == 4 && w->sw.info.sea.state == 4 && out.step == 2);
+    /* on the deck, then back in the hover at the scenario's station */
+    ictl deck = {DISIM_SIM_CONTROL_T_RESET_DECK, {0, 0, 0}, 0.3, 0, 0, 0, 0, NULL};
+    CHECK(answer(l, lc, s, &deck, A, "on the deck", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    t_apply[4] = s->last.control_apply_s;
+    CHECK(out.on_deck && out.step == 1);
+    double psi = out.euler_E_rad[2] - atan2(out.ship.C_ES[3], out.ship.C_ES[0]); /* from the bow */
+    CHECK_NEAR(remainder(psi, 2.0 * CORE_PI), 0.3, 0.02);
+    for (int j = 0; j < 100; j++)
+        iter(l, lc, &out);
+    CHECK(out.on_deck && (s->last.flags & DISIM_SIM_STATUS_T_FLAG_ON_DECK));
+    ictl hov = {DISIM_SIM_CONTROL_T_RESET_HOVER, {0, 0, 0}, 0, 0, 0, 0, 0, NULL};
+    CHECK(answer(l, lc, s, &hov, A, "in the hover", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    t_apply[5] = s->last.control_apply_s;
+    CHECK_NEAR(out.pos_S_m[2], w->sc.station_S_m[2], 0.05);
+    CHECK(!out.on_deck && w->builds == 6 && w->sw.info.sea.state == 4 && w->sw.info.wod_speed_mps == 12.0);
+}
+
+/* Snapshot, fly on, restore, fly the same inputs: the same flight bit for
+ * bit, twice. */
+static void ios_snapshot(sim_loop *l, lcm_t *lc, seen *s, iworld *w, double *t_apply)
+{
+    enum { N = 300 };
+    static sim_flight_out a[N], b[N], c[N];
+    sim_flight_out out;
+    int rc, A = DISIM_SIM_STATUS_T_CONTROL_ACCEPTED;
+    sim_flight_inputs trim;
+    sim_flight_trim_inputs(w->sw.flight, &trim);
+    long long seq = 0;
+    /* a flight to take a snapshot of, with changes in flight in it */
+    ictl wod = {DISIM_SIM_CONTROL_T_SET_WOD, {0, 0, 0}, 0, 6.0, 30.0 * CORE_DEG_TO_RAD, 0, 0, NULL};
+    ictl toff = {DISIM_SIM_CONTROL_T_SET_TURBULENCE, {0, 0, 0}, 0, 0, 0, 0, 0, NULL};
+    CHECK(weave_fly(l, lc, &trim, &seq, 0, 50, a) == 0);
+    weave(lc, &trim, &seq, 50);
+    CHECK(answer(l, lc, s, &wod, A, "in flight", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    CHECK(weave_fly(l, lc, &trim, &seq, 51, 50, a) == 0);
+    weave(lc, &trim, &seq, 101);
+    CHECK(answer(l, lc, s, &toff, A, "turbulence off", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    CHECK(weave_fly(l, lc, &trim, &seq, 102, 48, a) == 0);
+    ictl snp = {DISIM_SIM_CONTROL_T_SNAPSHOT, {0, 0, 0}, 0, 0, 0, 0, 0, "s1"};
+    weave(lc, &trim, &seq, 150);
+    CHECK(answer(l, lc, s, &snp, A, "snapshot 's1'", &a[0], &rc) && rc == SIM_LOOP_STEPPED);
+    t_apply[6] = s->last.control_apply_s;
+    long step = a[0].step;
+    /* and after it: the WOD up in flight 100 passes on, the same in each flight after a restore */
+    ictl wod2 = {DISIM_SIM_CONTROL_T_SET_WOD, {0, 0, 0}, 0, 14.0, 30.0 * CORE_DEG_TO_RAD, 0, 0, NULL};
+#define AFTER(o)                                                                                                    \
+    do {                                                                                                            \
+        CHECK(weave_fly(l, lc, &trim, &seq, 151, 99, (o) + 1) == 0);                                                \
+        weave(lc, &trim, &seq, 250);                                                                                \
+        CHECK(answer(l, lc, s, &wod2, A, "in flight", &(o)[100], &rc) && rc == SIM_LOOP_STEPPED);                   \
+        CHECK(weave_fly(l, lc, &trim, &seq, 251, N - 101, (o) + 101) == 0);                                         \
+    } while (0)
+    AFTER(a);
+    ictl rst = {DISIM_SIM_CONTROL_T_RESTORE, {0, 0, 0}, 0, 0, 0, 0, 0, "s1"};
+    weave(lc, &trim, &seq, 150);
+    CHECK(answer(l, lc, s, &rst, A, "restored 's1'", &b[0], &rc) && rc == SIM_LOOP_STEPPED);
+    t_apply[7] = s->last.control_apply_s;
+    CHECK(b[0].step == step);
+    AFTER(b);
+    CHECK(same_flight(a, b, N));
+    weave(lc, &trim, &seq, 150);
+    CHECK(answer(l, lc, s, &rst, A, "restored 's1'", &c[0], &rc) && rc == SIM_LOOP_STEPPED);
+    AFTER(c);
+#undef AFTER
+    CHECK(same_flight(a, c, N));
+    /* the weave moved it: the comparison is of a flight, not of a hover */
+    CHECK(fabs(a[N - 1].pos_S_m[2] - a[0].pos_S_m[2]) > 0.05 || fabs(a[N - 1].euler_E_rad[0] - a[0].euler_E_rad[0]) > 1e-3);
+    /* flown on differently, the restore still takes it back */
+    CHECK(weave_fly(l, lc, &trim, &seq, 1000, 50, c) == 0);
+    weave(lc, &trim, &seq, 150);
+    CHECK(answer(l, lc, s, &rst, A, NULL, &out, &rc) && rc == SIM_LOOP_STEPPED);
+    CHECK(same_flight(a, &out, 1));
+    printf("test_loop: snapshot at step %ld, %d steps flown again bit for bit after each restore (z moved %.3f m)\n",
+           step, N, a[N - 1].pos_S_m[2] - a[0].pos_S_m[2]);
+    /* a longer flight's restore, clear of the ship: its time per step flown again */
+    ictl far = {DISIM_SIM_CONTROL_T_REPOSITION, {0, 80, -20}, NAN, 0, 0, 0, 0, NULL};
+    CHECK(answer(l, lc, s, &far, A, "reposition", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    static sim_flight_out lng[4000];
+    CHECK(weave_fly(l, lc, &trim, &seq, 0, 4000, lng) == 0);
+    ictl snl = {DISIM_SIM_CONTROL_T_SNAPSHOT, {0, 0, 0}, 0, 0, 0, 0, 0, "long"};
+    CHECK(answer(l, lc, s, &snl, A, "snapshot 'long'", &out, &rc));
+    long nl = out.step - 1;
+    ictl rsl = {DISIM_SIM_CONTROL_T_RESTORE, {0, 0, 0}, 0, 0, 0, 0, 0, "long"};
+    CHECK(answer(l, lc, s, &rsl, A, "restored 'long'", &out, &rc) && out.step == nl + 1);
+    t_apply[8] = s->last.control_apply_s;
+    t_apply[9] = (double)nl;
+}
+
+/* A flight that ends (into the hangar, the stick forward) waits, stopped,
+ * for the instructor: a restore flies on. */
+static void ios_crash(sim_loop *l, lcm_t *lc, seen *s)
+{
+    sim_flight_out out;
+    int rc, A = DISIM_SIM_STATUS_T_CONTROL_ACCEPTED, R = DISIM_SIM_STATUS_T_CONTROL_REFUSED;
+    ictl hov = {DISIM_SIM_CONTROL_T_RESET_HOVER, {0, 0, 0}, 0, 0, 0, 0, 0, NULL};
+    CHECK(answer(l, lc, s, &hov, A, "in the hover", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    ictl snp = {DISIM_SIM_CONTROL_T_SNAPSHOT, {0, 0, 0}, 0, 0, 0, 0, 0, "before"};
+    CHECK(answer(l, lc, s, &snp, A, "snapshot 'before'", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    unsigned end = DISIM_SIM_STATUS_T_FLAG_CRASH | DISIM_SIM_STATUS_T_FLAG_TIP_OVER;
+    long long seq = 1000000;
+    int k, r = SIM_LOOP_STEPPED;
+    for (k = 0; k < 6000 && r == SIM_LOOP_STEPPED && !(s->last.flags & end); k++) {
+        unsigned char b[512];
+        int n = enc(b, "A", seq++, 55, 25, 50, 50, 0);
+        lcm_publish(lc, DISIM_CH_PILOT_INPUT, b, (unsigned)n);
+        r = iter(l, lc, &out);
+    }
+    CHECK(r == SIM_LOOP_STEPPED && (s->last.flags & end) && s->last.state == DISIM_SIM_STATUS_T_STOPPED);
+    printf("test_loop: the flight ended after %.2f s: %s; stopped, waiting\n", k / 200.0, s->message);
+    CHECK(iter(l, lc, &out) == SIM_LOOP_PAUSED && s->last.state == DISIM_SIM_STATUS_T_STOPPED);
+    ictl res = {DISIM_SIM_CONTROL_T_RESUME, {0, 0, 0}, 0, 0, 0, 0, 0, NULL};
+    CHECK(answer(l, lc, s, &res, R, "has ended", &out, &rc) && rc == SIM_LOOP_PAUSED);
+    ictl sn2 = {DISIM_SIM_CONTROL_T_SNAPSHOT, {0, 0, 0}, 0, 0, 0, 0, 0, "after"};
+    CHECK(answer(l, lc, s, &sn2, R, "has ended", &out, &rc) && rc == SIM_LOOP_PAUSED);
+    ictl rst = {DISIM_SIM_CONTROL_T_RESTORE, {0, 0, 0}, 0, 0, 0, 0, 0, "before"};
+    CHECK(answer(l, lc, s, &rst, A, "restored 'before'", &out, &rc) && rc == SIM_LOOP_STEPPED);
+    CHECK(s->last.state == DISIM_SIM_STATUS_T_RUNNING && !(s->last.flags & end) && out.step == 2);
+}
+
+static void test_ios(void)
+{
+    iworld w;
+    memset(&w, 0, sizeof w);
+    core_err err = {0};
+    sim_loop_world lw;
+    CHECK(ios_build(&w, SCEN_A, &lw, &err) == 0);
+    if (!w.sw.flight) {
+        fprintf(stderr, "build: %s\n", err.msg);
+        return;
+    }
+    sim_loop_opts o;
+    sim_loop_opts_default(&o);
+    o.realtime = 0;
+    o.duration_s = 1000.0;
+    o.lcm = 1;
+    o.lcm_url = "memq://";
+    o.scenario_path = SCEN_A;
+    o.rebuild = ios_rebuild;
+    o.wait_after_end = 1;
+    sim_loop *l = sim_loop_create(&o, &lw, ios_build, &w, NULL, &err);
+    CHECK(l != NULL);
+    if (!l)
+        return;
+    lcm_t *lc = sim_loop_lcm(l);
+    seen s = {0};
+    disim_sim_status_t_subscription_t *ss = disim_sim_status_t_subscribe(lc, DISIM_CH_SIM_STATUS, on_status, &s);
+    sim_flight_out out;
+    for (int k = 0; k < 20; k++)
+        CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED);
+    CHECK(s.last.control_seq == -1 && s.last.control_result == DISIM_SIM_STATUS_T_CONTROL_NONE);
+    double t[11] = {0};
+    ios_refusals(l, lc, &s, &w);
+    ios_accepted(l, lc, &s, &w, t);
+    ios_snapshot(l, lc, &s, &w, t);
+    ios_crash(l, lc, &s);
+    sim_loop_report r;
+    sim_loop_report_get(l, &r);
+    CHECK(r.snapshots == 3 && r.control_result == DISIM_SIM_STATUS_T_CONTROL_ACCEPTED);
+    printf("test_loop: applied in (s): reposition %.4f, WOD %.4f, sea state 4 %.4f, turbulence %.4f, deck %.4f, "
+           "hover %.4f, snapshot %.6f, restore (152 steps) %.4f, restore (%.0f steps) %.3f (%.1f us a step), WOD speed "
+           "in flight %.6f\n", t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[9], t[8], 1e6 * t[8] / t[9], t[10]);
+    disim_sim_status_t_unsubscribe(lc, ss);
+    sim_loop_destroy(l);
+    sim_world_free(&w.sw);
+    hfm_aircraft_destroy(w.ac);
+}
+
+/* The console's lines (sim/ios.c): each command, its fields in SI, and
+ * what is not one. */
+static void test_ios_parse(void)
+{
+    sim_ios_cmd c;
+    core_err err = {0};
+    CHECK(sim_ios_parse("freeze", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_PAUSE);
+    CHECK(sim_ios_parse("  resume  # go", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_RESUME);
+    CHECK(sim_ios_parse("reset", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_RESET);
+    CHECK(sim_ios_parse("reset hover", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_RESET_HOVER);
+    CHECK(sim_ios_parse("reset deck 90", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_RESET_DECK &&
+          fabs(c.heading_rad - CORE_PI / 2) < 1e-12);
+    CHECK(sim_ios_parse("reposition -20 5.5 -8", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_REPOSITION &&
+          c.pos_S_m[0] == -20.0 && c.pos_S_m[1] == 5.5 && c.pos_S_m[2] == -8.0 && isnan(c.heading_rad));
+    CHECK(sim_ios_parse("wod 20 -30", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_SET_WOD &&
+          fabs(c.wod_speed_mps - 20 * CORE_KT_TO_MPS) < 1e-12 && fabs(c.wod_dir_rad + 30 * CORE_DEG_TO_RAD) < 1e-12);
+    CHECK(sim_ios_parse("sea 4", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_SET_SEA && c.sea_state == 4);
+    CHECK(sim_ios_parse("turb off", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_SET_TURBULENCE &&
+          c.turbulence == 0);
+    CHECK(sim_ios_parse("snap approach_1", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_SNAPSHOT &&
+          !strcmp(c.name, "approach_1"));
+    CHECK(sim_ios_parse("restore approach_1", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_RESTORE);
+    CHECK(sim_ios_parse("load a.ini", &c, &err) == 0 && c.command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO &&
+          !strcmp(c.path, "a.ini"));
+    CHECK(sim_ios_parse("status", &c, &err) == 0 && c.command == SIM_IOS_STATUS);
+    CHECK(sim_ios_parse("wait 0.5", &c, &err) == 0 && c.command == SIM_IOS_WAIT && c.wait_s == 0.5);
+    CHECK(sim_ios_parse("# nothing", &c, &err) == 0 && c.command == SIM_IOS_NONE);
+    /* NaN passes: the loop says why it refuses it */
+    CHECK(sim_ios_parse("reposition nan 0 -8", &c, &err) == 0 && isnan(c.pos_S_m[0]));
+    CHECK(sim_ios_parse("wod 20", &c, &err) < 0 && strstr(err.msg, "wod KT DIR_DEG") != NULL);
+    CHECK(sim_ios_parse("reposition 1 2 x", &c, &err) < 0 && strstr(err.msg, "'x' is not a number") != NULL);
+    CHECK(sim_ios_parse("turb maybe", &c, &err) < 0 && strstr(err.msg, "turb on") != NULL);
+    CHECK(sim_ios_parse("sea 2.5", &c, &err) < 0 && strstr(err.msg, "whole number") != NULL);
+    CHECK(sim_ios_parse("freeze now", &c, &err) < 0);
+    CHECK(sim_ios_parse("snap aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa", &c, &err) < 0 && strstr(err.msg, "31") != NULL);
+    CHECK(sim_ios_parse("fly away", &c, &err) < 0 && strstr(err.msg, "not a command") != NULL);
+}
+
 int main(void)
 {
     test_rules();
     test_blend();
     test_station_flight();
     test_control();
+    test_ios();
+    test_ios_parse();
     printf("test_loop: %d checks, %d failed\n", check_count, check_failures);
     return check_failures != 0;
 }

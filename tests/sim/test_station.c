@@ -463,6 +463,7 @@ static void test_station_rx(void)
     s.active_station = 0;
     s.flags = DISIM_SIM_STATUS_T_FLAG_INPUT_HELD | DISIM_SIM_STATUS_T_FLAG_FREE_STREAM;
     s.message = "";
+    s.control_message = "";
     n = disim_sim_status_t_encode(buf, 0, sizeof buf, &s);
     CHECK(n > 0);
     sim_station_receive(st, DISIM_CH_HELI_STATE, buf, n);
