@@ -751,7 +751,6 @@ static int world_started(sim_loop *l, const sim_loop_world *w, const char *path,
     l->crashed = 0; /* a flight that ended flies again */
     l->crash_msg[0] = '\0';
     sim_flight_state(l->w.flight, &l->out);
-    sim_pilots_reblend(l->pilots); /* a station's controls blend in from the new start's */
     publish_run_info(l);
     return l->paused ? 0 : new_pacer(l, err);
 }
@@ -979,6 +978,7 @@ static int restore_snapshot(sim_loop *l, const snap *sn, char *why, size_t n, co
     if (refly_changes(&r, err) != 0 || (sn->n > 0 && sim_run(w.flight, &p, &ro, &out, err) != SIM_RUN_LENGTH))
         return core_err_set(err, -1, "restore '%s': flying it again failed at step %lld: %s", sn->name, r.k + 1,
                             err->msg);
+    sim_pilots_reblend(l->pilots); /* the stick is where the pilot left it: blended in from the snapshot's */
     if (world_started(l, &w, sn->path, &sn->base, err) != 0)
         return -1;
     l->setup = sn->setup;
@@ -1030,6 +1030,7 @@ static int do_load(sim_loop *l, const ctl *c, char *why, size_t n, core_err *err
                         e.msg[0] ? e.msg : "no flight"), 1;
     sim_loop_setup s;
     sim_loop_setup_default(&s);
+    sim_pilots_reblend(l->pilots); /* a station's controls blend in from the new start's */
     if (world_started(l, &w, path, &s, err) != 0)
         return -1;
     core_log_msg(l->log, CORE_LOG_INFO, "%s: %s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "loaded",
@@ -1057,6 +1058,7 @@ static int do_setup(sim_loop *l, const ctl *c, char *why, size_t n, core_err *er
     core_err e = {0};
     if (l->o.rebuild(l->user, l->scenario_path, &s, &w, &e) != 0 || !w.flight)
         return snprintf(why, n, "%.200s", e.msg[0] ? e.msg : "no flight"), 1;
+    sim_pilots_reblend(l->pilots);
     return world_started(l, &w, l->scenario_path, &s, err) != 0 ? -1 : 0;
 }
 
