@@ -173,7 +173,7 @@ static int airwake_flag(airwake_args *o, const char *a, const char *v)
         int *out;
     } word[] = {
         {"--rotor", "off, uniform or loaded", core_rotor_parse, &o->rotor},
-        {"--grid", "coarse, default or fine", core_grid_parse, &o->level},
+        {"--grid", "coarse, default, fine or quick", core_grid_parse_any, &o->level},
         {"--limiter", "vanleer or minmod", parse_limiter, NULL}, /* grid studies: one convection scheme on every grid */
     };
     const struct {
