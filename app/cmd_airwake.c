@@ -118,7 +118,7 @@ static void usage_airwake(void)
 {
     fprintf(stderr,
             "usage: disim airwake SCENARIO [--wod-speed-kt KT] [--wod-dir-deg DEG] [--rotor off|uniform|loaded]\n"
-            "                      [--grid coarse|default|fine] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
+            "                      [--grid coarse|default|fine|quick] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
             "                      [--thrust-n N] [--radius-m R] [--threads N] [--h-fine-m H]\n"
             "                      [--growth G] [--h-max-m H] [--focus-fwd-m X] [--avg-window N] [--limiter vanleer|minmod]\n"
             "                      [--zone OUTER.h5] -o FIELD.h5\n"
