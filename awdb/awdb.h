@@ -252,7 +252,9 @@ typedef struct awdb_builder_opts {
  *   3. the rest: requests whose requester has ended or does not wait
  *      (`disim airwake --queue`, a flight that has ended).
  * A request the engine makes from a source that is running, or queued
- * ahead of it in this order, is held back until that source is built. */
+ * ahead of it in this order, is held back until that source is built; so
+ * is a whole-domain ship-only request while its own wind's field on a
+ * coarser grid is (it starts from that one: awdb_nearest). */
 int awdb_builder_run(awdb *db, const awdb_engine *engine, const awdb_builder_opts *opts,
                      volatile sig_atomic_t *stop, core_err *err);
 

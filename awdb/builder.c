@@ -319,6 +319,8 @@ typedef struct qent {
     char src[AWDB_NAME_MAX];  /* the engine's source (engine.source), "" none */
     int src_ready;            /* that source is in the database */
     int cls;                  /* 0 made at once, 1 waited for, 2 the rest (awdb_builder_run) */
+    int ncoarser;             /* a whole-domain ship-only key: its own wind's coarser levels */
+    char coarser[3][AWDB_NAME_MAX];
 } qent;
 
 static int cmp_qent(const void *pa, const void *pb)
@@ -394,8 +396,6 @@ static qent *queue_order(builder *b, const char *qdir, char **names, size_t n)
             continue;
         const char *stem = strchr(e->file, '-') + 1;
         awdb_fmt(e->stem, sizeof e->stem, "%.*s", (int)(strlen(stem) - 4), stem);
-        if (!b->engine->source)
-            continue;
         char path[AWDB_PATH + 300];
         awdb_fmt(path, sizeof path, "%s/%s", qdir, e->file);
         core_err err = {0};
@@ -404,7 +404,20 @@ static qent *queue_order(builder *b, const char *qdir, char **names, size_t n)
         int ok = ini && awdb_key_read(ini, &key, &err) == 0;
         core_ini_destroy(ini);
         /* a request that cannot be read is not held (the claim reports it) */
-        if (!ok || !b->engine->source(b->engine->user, &key, &src))
+        if (!ok)
+            continue;
+        /* a whole-domain ship-only field starts from its own wind's
+         * coarser field (awdb_nearest): it waits for one building */
+        if (key.rotor == CORE_ROTOR_OFF && !(key.zone_ref_mps > 0.0)) {
+            static const core_grid_level by_rank[] = {CORE_GRID_QUICK, CORE_GRID_COARSE, CORE_GRID_DEFAULT};
+            for (int r = 0; r < core_grid_rank(key.grid) && r < 3; r++) {
+                awdb_key c = key;
+                c.grid = by_rank[r];
+                if (awdb_key_canon(&c, &err) == 0)
+                    awdb_key_name(&c, e->coarser[e->ncoarser++], AWDB_NAME_MAX);
+            }
+        }
+        if (!b->engine->source || !b->engine->source(b->engine->user, &key, &src))
             continue;
         awdb_key_name(&src, e->src, sizeof e->src);
         e->src_ready = awdb_query(b->db, &src, NULL, 0) == AWDB_READY;
@@ -441,18 +454,30 @@ static qent *queue_order(builder *b, const char *qdir, char **names, size_t n)
     return q;
 }
 
-/* Whether q[i] waits for the field the engine makes it from: while that
- * source runs or is queued ahead of it, building both would solve twice. */
-static int held_back(builder *b, const qent *q, size_t i)
+/* 1 if the request for name runs, or is queued before q[i]. */
+static int ahead(builder *b, const qent *q, size_t i, const char *name)
 {
-    if (!q[i].src[0] || q[i].src_ready)
-        return 0;
     char run[AWDB_PATH + 300];
-    awdb_path(b->db, run, sizeof run, "running", q[i].src, ".req");
+    awdb_path(b->db, run, sizeof run, "running", name, ".req");
     if (access(run, F_OK) == 0)
         return 1;
     for (size_t k = 0; k < i; k++)
-        if (q[k].file && !strcmp(q[k].stem, q[i].src))
+        if (q[k].file && !strcmp(q[k].stem, name))
+            return 1;
+    return 0;
+}
+
+/* Whether q[i] waits for the field the engine makes it from (while that
+ * source runs or is queued ahead of it, building both would solve twice),
+ * or for its own wind's coarser field to start from (a flight's quick,
+ * coarse and default fields: each finer solve then starts from the
+ * coarser one's solution). */
+static int held_back(builder *b, const qent *q, size_t i)
+{
+    if (q[i].src[0] && !q[i].src_ready && ahead(b, q, i, q[i].src))
+        return 1;
+    for (int c = 0; c < q[i].ncoarser; c++)
+        if (ahead(b, q, i, q[i].coarser[c]))
             return 1;
     return 0;
 }

@@ -824,6 +824,37 @@ static void test_priority(const char *dir)
     awdb_close(db);
 }
 
+/* A flight's levels: a coarse ship-only request waits while its own
+ * wind's quick field is building (queued ahead), then starts from it; a
+ * field of another wind is built beside the quick one meanwhile. */
+static void test_levels(const char *dir)
+{
+    core_err err = {0};
+    awdb *db = awdb_open(dir, NULL, &err);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    test_engine te = te_init(0.2);
+    awdb_key q = key(10, 0), c, u = key(11, 0);
+    q.rotor = u.rotor = CORE_ROTOR_OFF;
+    q.grid = CORE_GRID_QUICK;
+    c = q;
+    c.grid = CORE_GRID_COARSE;
+    CHECK(awdb_submit(db, &q, NULL, &err) == 0 && awdb_submit(db, &c, NULL, &err) == 0 &&
+          awdb_submit(db, &u, NULL, &err) == 0);
+    CHECK(run_builder(db, &te, 2, &err) == 0);
+    char nq[200];
+    CHECK(awdb_key_canon(&q, &err) == 0);
+    awdb_key_name(&q, nq, sizeof nq);
+    printf("levels: build order (cm/s) %d %d %d; the last from %s\n", te.order_cmps[0], te.order_cmps[1],
+           te.order_cmps[2], te.last_warm[0] ? te.last_warm : "the inflow");
+    CHECK(te.builds == 3 && te.norder == 3);
+    /* quick and the other wind first (either order), the coarse one last, from the quick field */
+    CHECK(te.order_cmps[0] + te.order_cmps[1] == 2100 && te.order_cmps[2] == 1000);
+    CHECK(strstr(te.last_warm, nq) != NULL);
+    awdb_close(db);
+}
+
 /* The builder's restart clean-up removes temporaries only: not the fields
  * and requests of a ship whose name has ".part" or ".tmp" in it, and not a
  * request a live client is writing (FILE.tmpPID in queue/); a dead
@@ -1352,6 +1383,8 @@ int main(void)
     test_source(d4);
     snprintf(d4, sizeof d4, "%s/db4p", dir);
     test_priority(d4);
+    snprintf(d4, sizeof d4, "%s/db4l", dir);
+    test_levels(d4);
     char d5[64];
     snprintf(d5, sizeof d5, "%s/db5", dir);
     test_recover(d5);
