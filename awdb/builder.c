@@ -378,8 +378,10 @@ static int is_waited(char **w, size_t nw, const char *name)
     return nw > 0 && bsearch(&name, w, nw, sizeof *w, cmp_str) != NULL;
 }
 
-/* The queue in the order it is built (awdb_builder_run): *n entries, the
- * caller's to free (qents_free). */
+/* The queue (names, n of them, taken over) in the order it is built
+ * (awdb_builder_run); entries without a name (a failed strdup) are left
+ * out, their file NULL at the end. The caller frees each file and the
+ * array; NULL when out of memory (names then still the caller's). */
 static qent *queue_order(builder *b, const char *qdir, char **names, size_t n)
 {
     qent *q = calloc(n ? n : 1, sizeof *q);
@@ -439,10 +441,7 @@ static qent *queue_order(builder *b, const char *qdir, char **names, size_t n)
     for (size_t i = 0; i < nw; i++)
         free(w[i]);
     free(w);
-    /* the names' order within a class; entries that could not be read last */
-    for (size_t i = 0; i < n; i++)
-        if (!q[i].file)
-            q[i].cls = 3;
+    /* submission order (the names') within a class */
     size_t m = 0;
     for (size_t i = 0; i < n; i++)
         if (q[i].file)
