@@ -762,7 +762,7 @@ static void fly_air_said(const fly_ctx *c)
         fprintf(stderr, "%s %s %.1f-%.1f s", i ? "," : "", w->span[i].level < 0 ? "free stream"
                 : core_grid_name(w->span[i].level), w->span[i].t_s, t1);
     }
-    fprintf(stderr, "%s\n", w->waiting ? " (a finer field still to come)" : "");
+    fprintf(stderr, "%s\n", !w->waiting ? "" : w->level >= 0 ? " (a finer field still to come)" : " (a field still to come)");
 }
 
 /* The task's result written (--task-result PREFIX, else beside --csv:
