@@ -473,7 +473,9 @@ static int ahead(builder *b, const qent *q, size_t i, const char *name)
  * coarser one's solution). */
 static int held_back(builder *b, const qent *q, size_t i)
 {
-    if (q[i].src[0] && !q[i].src_ready && ahead(b, q, i, q[i].src))
+    if (q[i].src[0] && q[i].src_ready)
+        return 0; /* made at once from its source: nothing to start from */
+    if (q[i].src[0] && ahead(b, q, i, q[i].src))
         return 1;
     for (int c = 0; c < q[i].ncoarser; c++)
         if (ahead(b, q, i, q[i].coarser[c]))

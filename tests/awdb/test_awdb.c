@@ -715,8 +715,8 @@ static int se_build(void *user, const awdb_key *k, const char *warm, const char 
         se->green_saw_source += awdb_query(se->db, &src, NULL, 0) == AWDB_READY;
     }
     if (se->norder < 8)
-        snprintf(se->order[se->norder++], sizeof se->order[0], "%+.0f@%.0f", k->wod_dir_rad * CORE_RAD_TO_DEG,
-                 k->wod_speed_mps);
+        snprintf(se->order[se->norder++], sizeof se->order[0], "%+.0f@%.0f%s", k->wod_dir_rad * CORE_RAD_TO_DEG,
+                 k->wod_speed_mps, k->grid == CORE_GRID_QUICK ? "q" : "");
     return te_build(&se->te, k, warm, out, progress, pu, err);
 }
 
@@ -852,6 +852,26 @@ static void test_levels(const char *dir)
     /* quick and the other wind first (either order), the coarse one last, from the quick field */
     CHECK(te.order_cmps[0] + te.order_cmps[1] == 2100 && te.order_cmps[2] == 1000);
     CHECK(strstr(te.last_warm, nq) != NULL);
+    /* a mirror image whose source is ready does not wait for its own
+     * wind's quick field (it is made, not solved): the green coarse field
+     * before the green quick one queued ahead of it (the builder's first
+     * class) */
+    source_engine se;
+    memset(&se, 0, sizeof se);
+    se.te.fail_speed_cmps = -1;
+    se.db = db;
+    awdb_engine eng = {"test-source", se_build, &se, se_source};
+    awdb_builder_opts o = {1, 1, 0.01, NULL, NULL, NULL, NULL, 0.0};
+    awdb_key r30 = key(12, -30), g30q, g30 = key(12, 30);
+    r30.rotor = g30.rotor = CORE_ROTOR_OFF;
+    g30q = g30;
+    g30q.grid = CORE_GRID_QUICK;
+    CHECK(awdb_submit(db, &r30, NULL, &err) == 0 && awdb_builder_run(db, &eng, &o, &no_stop, &err) == 0);
+    se.norder = 0;
+    CHECK(awdb_submit(db, &g30q, NULL, &err) == 0 && awdb_submit(db, &g30, NULL, &err) == 0);
+    CHECK(awdb_builder_run(db, &eng, &o, &no_stop, &err) == 0);
+    printf("levels: then %s %s\n", se.order[0], se.order[1]);
+    CHECK(se.norder == 2 && !strcmp(se.order[0], "+30@12") && !strcmp(se.order[1], "+30@12q"));
     awdb_close(db);
 }
 
