@@ -1,9 +1,9 @@
 /* flight_fields.c -- the airwake a flight of `disim fly` flies in, from the
  * airwake database: the scenario's ship-only field of the WOD direction
- * (couple_flight_field: the best level ready, quick, coarse up to the
- * scenario's grid; the finer ones requested and marked waited for, the
- * flight in the free stream or the coarser field meanwhile) and the coupled rotor interaction
- * at the WOD (couple_flight_coupled: among the database's whole-domain
+ * (couple_flight_field: the best level ready among quick and coarse up
+ * to the scenario's grid; the finer ones requested and marked waited
+ * for, the flight in the free stream or the coarser field meanwhile) and
+ * the coupled rotor interaction at the WOD (couple_flight_coupled: among the database's whole-domain
  * coupled fields of the scenario's ship, aircraft and grid within
  * 0.25 m/s and 0.5 deg of the WOD (the SHOL's speeds are in km/h steps,
  * the flight's in knots) whose isolated rotor's field (the same key, ship
