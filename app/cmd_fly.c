@@ -654,10 +654,13 @@ static void fly_progress(const fly_obs *b, const sim_flight_out *out)
     sim_loop_report lr;
     sim_loop_report_get(b->c->loop, &lr);
     fprintf(stderr, "\r\033[Kfly: t %.0f s  x %.2f y %.2f z %.2f m (S)  roll %.1f pitch %.1f deg  %.1fx real time  "
-                    "%ld overruns%s%s",
+                    "%ld overruns%s%s%s%s",
             out->t_s, out->pos_S_m[0], out->pos_S_m[1], out->pos_S_m[2], out->euler_E_rad[0] * CORE_RAD_TO_DEG,
             out->euler_E_rad[1] * CORE_RAD_TO_DEG, lr.pace.realtime_factor, lr.pace.overruns,
-            out->air_flags & SIM_AIR_FREE_STREAM ? "  free stream" : "", lr.held && b->lcm_on ? "  input held" : "");
+            out->air_flags & SIM_AIR_FREE_STREAM ? "  free stream" : "", out->air_grid >= 0 ? "  " : "",
+            out->air_grid >= 0 ? core_grid_name(out->air_grid) : "", out->air_grid >= 0 ? " field" : "");
+    if (lr.held && b->lcm_on)
+        fprintf(stderr, "  input held");
 }
 
 static int fly_observe(void *user, const sim_flight_out *out, int st, core_err *err)
