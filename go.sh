@@ -57,7 +57,8 @@ check_scenarios() {
 # The main job: the builder in the background on the database;
 # a port-side deck landing of each combination flown in real time by the
 # automated pilot in the airwake as the builder finishes it (the best field
-# there is, a better one blended in), published on LCM and logged; the
+# there is: the CG-47's quick field from the landing's start, a finer one
+# blended in as it comes), published on LCM and logged; the
 # landing's deck-camera video; the candidate SHOL of CG-47 + UH-60A, then
 # LPD-17 + SA365N, trim-based and flown by the replay pilot re-flying the
 # logged landing at every WOD point; coarse grid, one-way. Progress on a
@@ -71,10 +72,16 @@ main_job() {
     # Red and head winds are solved; green ones are their mirror images
     # (the ships are symmetric), made at once when the SHOL asks for them
     # and their red one is there (queued here, a green taken while its red
-    # was still building would be solved). The CG-47's envelope then waits
-    # for its greens behind the LPD-17's solves: the job's time is the
-    # same, the fields being the work.
+    # was still building would be solved). The builder builds a mirror
+    # whose source is ready at once and what a running flight or SHOL
+    # waits for before the rest (awdb/awdb.h, awdb_builder_run), so the
+    # CG-47's envelope does not wait behind the LPD-17's solves.
     stage "1/7: the coarse ship-only fields queued, the builder started (its log: $db/builder.log)"
+    # The CG-47 landing's quick field (twice the coarse spacing, under a
+    # minute) first: the landing flies in it from its start, and in its
+    # coarse field once that is built (blended in).
+    $disim airwake scenarios/cg47_uh60a_flown.ini --wod-speed-kt 29.16 --wod-dir-deg 0 --rotor off --grid quick \
+        --queue "$db" 2> /dev/null | sed 's/^/   /'
     for spec in "cg47_uh60a_flown 0" "cg47_uh60a_flown -30" "cg47_uh60a_flown -60" "cg47_uh60a_flown -90" \
         "lpd17_sa365n_flown -30" "lpd17_sa365n_flown 0" "lpd17_sa365n_flown -60" "lpd17_sa365n_flown -90"; do
         set -- $spec
@@ -88,6 +95,14 @@ main_job() {
         $disim fly "scenarios/$1.ini" --wod-speed-kt "$2" --wod-dir-deg "$3" --db "$db" --realtime \
             --pilot auto --task scenarios/tasks/land_port.ini --log "$out/$4.lcm" --csv "$out/$4.csv"
     }
+    # wait for the quick field (at most 5 min; the landing flies the free
+    # stream until a field is there if it is not)
+    waited=0
+    until $disim airwake scenarios/cg47_uh60a_flown.ini --wod-speed-kt 29.16 --wod-dir-deg 0 --rotor off \
+        --grid quick --queue "$db" 2> /dev/null | grep -q ': ready$' || [ $waited -ge 300 ]; do
+        sleep 2
+        waited=$((waited + 2))
+    done
     stage "2/7: CG-47 + UH-60A: the port-side landing in 25 kt ahead, sea state 4, flown in real time (about 1 min)"
     fly_landing cg47_uh60a_flown 25 0 landing_cg47_uh60a
     stage "3/7: its deck-camera video"

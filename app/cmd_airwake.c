@@ -118,7 +118,7 @@ static void usage_airwake(void)
 {
     fprintf(stderr,
             "usage: disim airwake SCENARIO [--wod-speed-kt KT] [--wod-dir-deg DEG] [--rotor off|uniform|loaded]\n"
-            "                      [--grid coarse|default|fine] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
+            "                      [--grid coarse|default|fine|quick] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
             "                      [--thrust-n N] [--radius-m R] [--threads N] [--h-fine-m H]\n"
             "                      [--growth G] [--h-max-m H] [--focus-fwd-m X] [--avg-window N] [--limiter vanleer|minmod]\n"
             "                      [--zone OUTER.h5] -o FIELD.h5\n"
@@ -173,7 +173,7 @@ static int airwake_flag(airwake_args *o, const char *a, const char *v)
         int *out;
     } word[] = {
         {"--rotor", "off, uniform or loaded", core_rotor_parse, &o->rotor},
-        {"--grid", "coarse, default or fine", core_grid_parse, &o->level},
+        {"--grid", "coarse, default, fine or quick", core_grid_parse_any, &o->level},
         {"--limiter", "vanleer or minmod", parse_limiter, NULL}, /* grid studies: one convection scheme on every grid */
     };
     const struct {

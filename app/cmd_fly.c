@@ -439,12 +439,26 @@ static int fly_render_close(fly_render *r, const sim_loop_report *lr, core_err *
 /* What one scenario flies: the scenario, the aircraft, the airwake fields,
  * the ship's motion and the flight. A reset or a load builds a new world
  * beside the running one, and replaces it only when the build succeeded. */
+/* The airwake levels a flight flew from the database: from when (its own
+ * time), free stream (-1) or a grid level. */
+#define FLY_AIR_SPANS 6
+typedef struct fly_air_span {
+    int level;
+    double t_s;
+} fly_air_span;
+
 typedef struct fly_world {
     sim_scenario *sc;
     hfm_aircraft *ac;
-    cfd_field *fld, *later;
-    int fld_shared; /* fld is the run's --field (fly_ctx.field), not this world's own */
-    int waiting; /* the database's field requested, not ready yet */
+    cfd_field *fld;         /* the field flown from the start (NULL: the free stream) */
+    int fld_shared;         /* fld is the run's --field (fly_ctx.field), not this world's own */
+    cfd_field *later[4];    /* fields handed over in flight, by the rank of their level (kept while blended) */
+    int waiting;            /* a finer level of the database's field may still come */
+    int level;              /* the level flown (core_grid_level), -1 none */
+    awdb *db;               /* where the marks of the fields waited for are (NULL: none) */
+    double dir_rad;         /* the WOD direction of those fields */
+    fly_air_span span[FLY_AIR_SPANS];
+    int nspan;
     cfd_field *cpl[4];      /* the coupled field of the WOD, its isolated rotor's (NULL: none) and, for a
                                deck-zone pair, the whole domain's ship-only field and the zone's own */
     sim_interaction *inter; /* their interaction near the station (sim/interaction.c) */
@@ -453,11 +467,14 @@ typedef struct fly_world {
 
 static void world_free(fly_world *w)
 {
+    if (w->db && w->sc)
+        couple_flight_field_done(w->db, w->sc, w->dir_rad);
     sim_world_free(&w->sw);
     sim_interaction_destroy(w->inter);
     for (int i = 0; i < 4; i++)
         cfd_field_destroy(w->cpl[i]);
-    cfd_field_destroy(w->later);
+    for (int i = 0; i < 4; i++)
+        cfd_field_destroy(w->later[i]);
     if (!w->fld_shared)
         cfd_field_destroy(w->fld);
     hfm_aircraft_destroy(w->ac);
@@ -478,21 +495,37 @@ typedef struct fly_ctx {
     sim_loop *loop;
     core_log loop_log; /* the loop's: its controls said (info) */
     fly_render fr;
+    double t_end_s; /* the flight's last step's time */
 } fly_ctx;
 
-/* Every poll_every steps while the scenario's field is not ready: ask the
- * database again and hand a field that is now there to the flight (it
- * blends it in). 1 when it was handed over at this step, 0 if not, < 0
- * with err. */
-static int world_poll(awdb *db, fly_world *w, long step, long poll_every, core_err *err)
+/* The level flown from t_s on (the spans said at the end). */
+static void world_span(fly_world *w, int level, double t_s)
+{
+    if (w->nspan < FLY_AIR_SPANS)
+        w->span[w->nspan++] = (fly_air_span){level, t_s};
+}
+
+/* Every poll_every steps while a finer level of the scenario's field may
+ * come: ask the database again and hand a field that is now there to the
+ * flight (it blends it in). 1 when one was handed over at this step, 0 if
+ * not, < 0 with err. */
+static int world_poll(awdb *db, fly_world *w, long step, double t_s, long poll_every, core_err *err)
 {
     if (!w->waiting || step % poll_every != 0)
         return 0;
-    int got = couple_flight_field(db, w->sc, w->sw.info.wod_dir_rad, &w->later, err);
-    if (got < 0 || (got > 0 && sim_flight_set_field(w->sw.flight, w->later, err) != 0))
+    cfd_field *f = NULL;
+    core_grid_level level = CORE_GRID_QUICK;
+    int have = w->level >= 0 ? core_grid_rank(w->level) : -1;
+    int got = couple_flight_field(db, w->sc, w->sw.info.wod_dir_rad, have, &f, &level, &w->waiting, err);
+    if (got <= 0)
+        return got;
+    int r = core_grid_rank(level);
+    w->later[r] = f; /* each level comes once: have < r */
+    if (sim_flight_set_field(w->sw.flight, f, err) != 0)
         return -1;
-    w->waiting = got == 0;
-    return got > 0;
+    w->level = level;
+    world_span(w, level, t_s);
+    return 1;
 }
 
 /* The flags over the scenario's keys (sim_world_build's overrides). */
@@ -531,10 +564,14 @@ static int world_fields(fly_ctx *c, fly_world *w, double speed, double dir, core
     if (speed > 0.0) {
         if (!c->db && (core_mkdir_p(o->db, err) != 0 || !(c->db = awdb_open(o->db, c->log, err))))
             return -1;
-        int got = couple_flight_field(c->db, w->sc, dir, &w->fld, err);
+        core_grid_level level = CORE_GRID_QUICK;
+        int got = couple_flight_field(c->db, w->sc, dir, -1, &w->fld, &level, &w->waiting, err);
         if (got < 0)
             return -1;
-        w->waiting = got == 0;
+        w->db = c->db;
+        w->dir_rad = dir;
+        w->level = got > 0 ? (int)level : -1;
+        world_span(w, w->level, 0.0);
     }
     if (!c->db && access(o->db, F_OK) == 0 && !(c->db = awdb_open(o->db, c->log, err)))
         return -1; /* calm air: coupled fields (ground effect) without a ship-only one */
@@ -565,6 +602,7 @@ static int world_build(fly_ctx *c, const char *path, const sim_loop_setup *setup
 {
     const fly_args *o = c->o;
     memset(w, 0, sizeof *w);
+    w->level = -1;
     if (!(w->sc = calloc(1, sizeof *w->sc))) {
         core_err_set(err, -1, "out of memory");
         goto fail;
@@ -662,10 +700,13 @@ static void fly_progress(const fly_obs *b, const sim_flight_out *out)
     sim_loop_report lr;
     sim_loop_report_get(b->c->loop, &lr);
     fprintf(stderr, "\r\033[Kfly: t %.0f s  x %.2f y %.2f z %.2f m (S)  roll %.1f pitch %.1f deg  %.1fx real time  "
-                    "%ld overruns%s%s",
+                    "%ld overruns%s%s%s%s",
             out->t_s, out->pos_S_m[0], out->pos_S_m[1], out->pos_S_m[2], out->euler_E_rad[0] * CORE_RAD_TO_DEG,
             out->euler_E_rad[1] * CORE_RAD_TO_DEG, lr.pace.realtime_factor, lr.pace.overruns,
-            out->air_flags & SIM_AIR_FREE_STREAM ? "  free stream" : "", lr.held && b->lcm_on ? "  input held" : "");
+            out->air_flags & SIM_AIR_FREE_STREAM ? "  free stream" : "", out->air_grid >= 0 ? "  " : "",
+            out->air_grid >= 0 ? core_grid_name(out->air_grid) : "", out->air_grid >= 0 ? " field" : "");
+    if (lr.held && b->lcm_on)
+        fprintf(stderr, "  input held");
 }
 
 static int fly_observe(void *user, const sim_flight_out *out, int st, core_err *err)
@@ -683,12 +724,14 @@ static int fly_observe(void *user, const sim_flight_out *out, int st, core_err *
         return 1;
     }
     /* the running world (a reset or a load may have replaced it) */
-    int polled = world_poll(c->db, &c->w, out->step, b->poll_every, err);
+    int polled = world_poll(c->db, &c->w, out->step, out->t_s, b->poll_every, err);
     if (polled < 0)
         return -1;
+    c->t_end_s = out->t_s;
     if (polled > 0 && b->say_ready)
-        fprintf(stderr, "%sfly: the airwake field is ready at t = %.1f s: blended in\n", b->progress ? "\r\033[K" : "",
-                out->t_s);
+        fprintf(stderr, "%sfly: the %s airwake field is ready at t = %.1f s: blended in over 3 s%s\n",
+                b->progress ? "\r\033[K" : "", core_grid_name(c->w.level), out->t_s,
+                c->w.waiting ? " (a finer one to come)" : "");
     if (b->progress && b->n_stepped % b->poll_every == 0)
         fly_progress(b, out);
     return 0;
@@ -751,10 +794,30 @@ static int fly_loop_create(fly_ctx *c, const sim_loop_opts *lo, core_err *err)
     return (c->loop = sim_loop_create(lo, &lw, loop_build, c, &c->loop_log, err)) ? 0 : -1;
 }
 
-/* The free stream, the field, or the field to come, as the start says. */
+/* The free stream, the field, or the field to come, as the start says
+ * (the level of a field that stays: fly_air_said at the end). */
 static const char *fly_air(const fly_world *w)
 {
+    if (w->fld && w->waiting)
+        return w->level == CORE_GRID_QUICK ? "quick airwake field until a finer one is built"
+                                           : "airwake field until a finer one is built";
     return w->fld ? "airwake field" : w->waiting ? "free stream until the airwake field is built" : "free stream";
+}
+
+/* The levels flown from the database, said at the end: "free stream
+ * 0.0-17.0 s, quick 17.0-95.0 s, coarse 95.0-120.0 s". */
+static void fly_air_said(const fly_ctx *c)
+{
+    const fly_world *w = &c->w;
+    if (!w->db || w->nspan == 0)
+        return;
+    fprintf(stderr, "fly: the airwake flown:");
+    for (int i = 0; i < w->nspan; i++) {
+        double t1 = i + 1 < w->nspan ? w->span[i + 1].t_s : c->t_end_s;
+        fprintf(stderr, "%s %s %.1f-%.1f s", i ? "," : "", w->span[i].level < 0 ? "free stream"
+                : core_grid_name(w->span[i].level), w->span[i].t_s, t1);
+    }
+    fprintf(stderr, "%s\n", !w->waiting ? "" : w->level >= 0 ? " (a finer field still to come)" : " (a field still to come)");
 }
 
 /* The task's result written (--task-result PREFIX, else beside --csv:
@@ -1054,6 +1117,8 @@ int cmd_fly(int argc, char **argv)
         (o.csv && !(ctx.csv = sim_traj_create(o.csv, o.rate_hz, o.csv_rate_hz, &err))))
         goto done;
     rc = o.replay_log ? fly_replay(&ctx, replay_ref, &err) : o.pilot ? fly_auto(&ctx, &err) : fly_station(&ctx, &err);
+    if (rc >= 0)
+        fly_air_said(&ctx);
     if (o.pilot && rc > 0)
         rc = 3; /* a crash or a roll-over ended the flight (said) */
 done:

@@ -110,7 +110,7 @@ int awdb_key_read(core_ini *ini, awdb_key *k, core_err *err)
         (rc = core_ini_get_double(ini, "key", "radius_m", 1, 0, 50, &k->radius_m, err)) ||
         (rc = core_ini_get_double(ini, "key", "shaft_pitch_rad", 1, -1, 1, &k->shaft_pitch_rad, err)) ||
         (rc = core_ini_get_double(ini, "key", "shaft_roll_rad", 1, -1, 1, &k->shaft_roll_rad, err)) ||
-        (rc = core_ini_get_int(ini, "key", "grid", 1, 0, 2, &grid, err)))
+        (rc = core_ini_get_int(ini, "key", "grid", 1, 0, CORE_GRID_QUICK, &grid, err)))
         return rc < 0 ? rc : -1;
     /* optional: absent in whole-domain keys (1) */
     if ((rc = core_ini_get_double(ini, "key", "zone_ref_mps", 0, 0, 100, &k->zone_ref_mps, err)) < 0)
@@ -161,8 +161,8 @@ awdb *awdb_open(const char *dir, const core_log *log, core_err *err)
     awdb_fmt(db->dir, sizeof db->dir, "%s", dir);
     db->log = log;
     pthread_mutex_init(&db->lock, NULL);
-    static const char *subs[] = {"", "fields", "queue", "running", "failed"};
-    for (int i = 0; i < 5; i++) {
+    static const char *subs[] = {"", "fields", "queue", "running", "failed", "waiting"};
+    for (int i = 0; i < 6; i++) {
         char p[AWDB_PATH];
         awdb_fmt(p, sizeof p, "%s/%s", dir, subs[i]);
         if (mkdir(p, 0777) != 0 && errno != EEXIST) {
@@ -496,7 +496,7 @@ static int warm_cand_cmp(const void *pa, const void *pb)
 {
     const warm_cand *a = pa, *b = pb;
     if (a->grid != b->grid)
-        return a->grid > b->grid ? -1 : 1;
+        return core_grid_rank(a->grid) > core_grid_rank(b->grid) ? -1 : 1;
     if (fabs(a->dist - b->dist) > 1e-9)
         return a->dist < b->dist ? -1 : 1;
     if (a->rotor != b->rotor)
@@ -506,15 +506,16 @@ static int warm_cand_cmp(const void *pa, const void *pb)
 
 int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
 {
-    /* A whole-domain ship-only field starts from the inflow: on the CG-47's
-     * default and fine grids an oblique wind's field keeps the state it
-     * started in (red 30 started from the red 60 field ended 0.33 of U from
-     * red 30 started from the inflow, which is green 30 reflected to 0.005;
-     * docs/validation/cfd.md), so a warm start would make the field depend
-     * on what the database held, not on its key. Its cost: a few hundred
-     * iterations more at most (the fields run to the cap either way). */
-    if (key->rotor == CORE_ROTOR_OFF && !(key->zone_ref_mps > 0.0))
-        return 1;
+    /* A whole-domain ship-only field starts from its own key's field on a
+     * coarser grid (the finest there is), else from the inflow, never from
+     * another wind's: on the CG-47's default and fine grids an oblique
+     * wind's field keeps the state it started in (red 30 started from the
+     * red 60 field ended 0.33 of U from red 30 started from the inflow,
+     * which is green 30 reflected to 0.005; docs/validation/cfd.md). The
+     * same wind's coarser field has its wake where this one's goes
+     * (coarse-to-fine; a flight's quick, coarse and default fields are
+     * solved in that order, docs/usage.md). */
+    const int same_wind_only = key->rotor == CORE_ROTOR_OFF && !(key->zone_ref_mps > 0.0);
     char dirp[AWDB_PATH];
     awdb_fmt(dirp, sizeof dirp, "%s/fields", db->dir);
     DIR *d = opendir(dirp);
@@ -545,7 +546,10 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n)
          * docs/benchmarks/cfd.md). A finer grid's field is never used: the
          * coarse build would pay for resolution it cannot keep. */
         if (strcmp(k.ship, key->ship) || strcmp(k.aircraft, key->aircraft) || k.rotor != key->rotor ||
-            k.grid > key->grid || (k.zone_ref_mps > 0.0) != (key->zone_ref_mps > 0.0))
+            core_grid_rank(k.grid) > core_grid_rank(key->grid) || (k.zone_ref_mps > 0.0) != (key->zone_ref_mps > 0.0))
+            continue;
+        if (same_wind_only && (k.grid == key->grid || k.wod_speed_mps != key->wod_speed_mps ||
+                               k.wod_dir_rad != key->wod_dir_rad || k.zone_ref_mps > 0.0))
             continue;
         /* A wake 60 or 90 deg away sits elsewhere in the grid (other inflow
          * faces, the lee side moved): starting from it was seen to diverge
@@ -614,6 +618,37 @@ static int count_dir(const awdb *db, const char *sub)
     }
     closedir(d);
     return c;
+}
+
+/* waiting/NAME.PID of this process */
+static int wait_path(awdb *db, const awdb_key *key, char *out, size_t n)
+{
+    awdb_key k = *key;
+    core_err e = {0};
+    if (awdb_key_canon(&k, &e) != 0)
+        return -1;
+    char name[AWDB_NAME_MAX];
+    awdb_key_name(&k, name, sizeof name);
+    return awdb_fmt(out, n, "%s/waiting/%s.%ld", db->dir, name, (long)getpid()) < 0 ? -1 : 0;
+}
+
+int awdb_wait_mark(awdb *db, const awdb_key *key, core_err *err)
+{
+    char p[AWDB_PATH + 32];
+    if (wait_path(db, key, p, sizeof p) != 0)
+        return core_err_set(err, -1, "airwake database %s: a wait mark for an invalid key", db->dir);
+    int fd = open(p, O_WRONLY | O_CREAT | O_CLOEXEC, 0666);
+    if (fd < 0)
+        return core_err_set(err, -1, "%s: cannot create: %s", p, strerror(errno));
+    close(fd);
+    return 0;
+}
+
+void awdb_wait_unmark(awdb *db, const awdb_key *key)
+{
+    char p[AWDB_PATH + 32];
+    if (wait_path(db, key, p, sizeof p) == 0)
+        remove(p);
 }
 
 int awdb_builder_alive(awdb *db)

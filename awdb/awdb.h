@@ -10,6 +10,10 @@
  *   running/NAME.prog   the progress of a claimed request's build (about once
  *                       a second; awdb_progress_read), removed when it ends
  *   failed/NAME.txt     requests that failed, with the reason
+ *   waiting/NAME.PID    a running process waits for NAME (awdb_wait_mark);
+ *                       the builder serves those first (awdb_builder_run
+ *                       has the order) and removes the marks of processes
+ *                       that have ended
  *   builder.lock        flock()ed by the one running builder
  * Every file is written to a temporary name and renamed into place, so a
  * crash or kill at any instant leaves the database consistent; a restarted
@@ -118,9 +122,11 @@ int awdb_submit(awdb *db, const awdb_key *key, awdb_state *state, core_err *err)
  * AWDB_WARM_MAX_DIR_RAD, the wind entering and leaving by the same faces of
  * the CFD grid; distance in WOD velocity). The key's own grid level is
  * preferred; without a field there, the finest coarser level's
- * (coarse-to-fine). 0 with path, 1 if none. A whole-domain ship-only key
- * has none: it always starts from the inflow, so that its field depends on
- * its key alone (oblique winds keep the state they start in). */
+ * (coarse-to-fine, by core_grid_rank). 0 with path, 1 if none. A
+ * whole-domain ship-only key starts only from its own wind's field on a
+ * coarser grid (the same key but for the grid), else from the inflow:
+ * oblique winds keep the state they start in, so another wind's field
+ * would make the field depend on what the database held. */
 #define AWDB_WARM_MAX_DIR_RAD (30.5 * CORE_DEG_TO_RAD)
 int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n);
 /* Each field entry's key as its checksum file holds it, not verified (a
@@ -131,6 +137,15 @@ int awdb_nearest(awdb *db, const awdb_key *key, char *path, size_t n);
  * its WOD's coupled fields with it.) */
 typedef int (*awdb_list_fn)(void *user, const awdb_key *key);
 int awdb_list(awdb *db, awdb_list_fn fn, void *user, core_err *err);
+/* Mark key as waited for by this process (waiting/NAME.PID, empty): the
+ * builder builds requests someone waits for before the others. A flight
+ * marks the fields it flies in wait of, a client of awdb_fields the one it
+ * waits on. The mark holds while the process runs: awdb_wait_unmark, or
+ * the process's end (a builder removes the marks of processes gone; a pid
+ * is alive for kill(pid, 0), so the database's clients and builder must
+ * share a machine, as builder.lock's flock does). 0, or < 0 with err. */
+int awdb_wait_mark(awdb *db, const awdb_key *key, core_err *err);
+void awdb_wait_unmark(awdb *db, const awdb_key *key);
 /* 1 if a builder holds the database's lock now, 0 if none does. */
 int awdb_builder_alive(awdb *db);
 /* Number of requests queued and running. */
@@ -227,7 +242,19 @@ typedef struct awdb_builder_opts {
  * with exit_when_idle). Takes builder.lock (a second builder on the same
  * folder fails, after waiting up to 1 s for a client's awdb_builder_alive
  * probe to let go, with an error naming the first one's pid), recovers from a
- * previous crash, then builds requests in submission order. */
+ * previous crash, then builds the queued requests in this order, each class
+ * in submission order:
+ *   1. a field the engine makes from another one without a solve
+ *      (engine.source: a mirror image) whose source is ready: it costs
+ *      nothing, so it never waits behind a solve;
+ *   2. a request a running process waits for (awdb_wait_mark), or the
+ *      source of such a mirror image;
+ *   3. the rest: requests whose requester has ended or does not wait
+ *      (`disim airwake --queue`, a flight that has ended).
+ * A request the engine makes from a source that is running, or queued
+ * ahead of it in this order, is held back until that source is built; so
+ * is a whole-domain ship-only request while its own wind's field on a
+ * coarser grid is (it starts from that one: awdb_nearest). */
 int awdb_builder_run(awdb *db, const awdb_engine *engine, const awdb_builder_opts *opts,
                      volatile sig_atomic_t *stop, core_err *err);
 

@@ -312,37 +312,179 @@ static void recover(awdb *db)
 
 static int cmp_str(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
 
-/* Whether the queued request q (names[i] of the sorted queue) waits for
- * the field the engine makes it from (engine.source): while that one runs
- * or is queued ahead, building both would solve twice. A request that
- * cannot be read is not held (the claim reports it). */
-static int held_back(builder *b, const char *q, char **names, size_t i)
+/* One queued request as the claim orders it. */
+typedef struct qent {
+    char *file;               /* SEQ-NAME.req */
+    char stem[AWDB_NAME_MAX]; /* NAME */
+    char src[AWDB_NAME_MAX];  /* the engine's source (engine.source), "" none */
+    int src_ready;            /* that source is in the database */
+    int cls;                  /* 0 made at once, 1 waited for, 2 the rest (awdb_builder_run) */
+    int ncoarser;             /* a whole-domain ship-only key: its own wind's coarser levels */
+    char coarser[3][AWDB_NAME_MAX];
+} qent;
+
+static int cmp_qent(const void *pa, const void *pb)
 {
-    if (!b->engine->source)
-        return 0;
-    core_err err = {0};
-    core_ini *ini = core_ini_load(q, &err);
-    awdb_key key, src;
-    int ok = ini && awdb_key_read(ini, &key, &err) == 0;
-    core_ini_destroy(ini);
-    if (!ok || !b->engine->source(b->engine->user, &key, &src))
-        return 0;
-    char sname[200], run[AWDB_PATH + 300];
-    awdb_key_name(&src, sname, sizeof sname);
-    awdb_path(b->db, run, sizeof run, "running", sname, ".req");
+    const qent *a = pa, *b = pb;
+    if (a->cls != b->cls)
+        return a->cls < b->cls ? -1 : 1;
+    return strcmp(a->file, b->file);
+}
+
+/* The names some running process waits for (waiting/NAME.PID), sorted;
+ * the marks of processes that have ended are removed. */
+static char **waited_names(awdb *db, size_t *n_out)
+{
+    char dir[AWDB_PATH];
+    awdb_fmt(dir, sizeof dir, "%s/waiting", db->dir);
+    *n_out = 0;
+    DIR *d = opendir(dir);
+    if (!d)
+        return NULL;
+    char **v = NULL;
+    size_t n = 0, cap = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        const char *dot = strrchr(e->d_name, '.');
+        if (e->d_name[0] == '.' || !dot || !dot[1] || strspn(dot + 1, "0123456789") != strlen(dot + 1))
+            continue;
+        long pid = strtol(dot + 1, NULL, 10);
+        if (pid <= 0 || (kill((pid_t)pid, 0) != 0 && errno == ESRCH)) {
+            char f[AWDB_PATH + 300];
+            if (awdb_fmt(f, sizeof f, "%s/%s", dir, e->d_name) >= 0)
+                remove(f);
+            continue;
+        }
+        if (n == cap) {
+            cap = cap ? 2 * cap : 16;
+            char **g = realloc(v, cap * sizeof *g);
+            if (!g)
+                break;
+            v = g;
+        }
+        if (!(v[n] = strndup(e->d_name, (size_t)(dot - e->d_name))))
+            break;
+        n++;
+    }
+    closedir(d);
+    if (n > 1)
+        qsort(v, n, sizeof *v, cmp_str);
+    *n_out = n;
+    return v;
+}
+
+static int is_waited(char **w, size_t nw, const char *name)
+{
+    return nw > 0 && bsearch(&name, w, nw, sizeof *w, cmp_str) != NULL;
+}
+
+/* The queue (names, n of them, taken over) in the order it is built
+ * (awdb_builder_run); entries without a name (a failed strdup) are left
+ * out, their file NULL at the end. The caller frees each file and the
+ * array; NULL when out of memory (names then still the caller's). */
+static qent *queue_order(builder *b, const char *qdir, char **names, size_t n)
+{
+    qent *q = calloc(n ? n : 1, sizeof *q);
+    if (!q)
+        return NULL;
+    size_t nw = 0;
+    char **w = waited_names(b->db, &nw);
+    for (size_t i = 0; i < n; i++) {
+        qent *e = &q[i];
+        e->file = names[i];
+        names[i] = NULL;
+        e->cls = 2;
+        if (!e->file)
+            continue;
+        const char *stem = strchr(e->file, '-') + 1;
+        awdb_fmt(e->stem, sizeof e->stem, "%.*s", (int)(strlen(stem) - 4), stem);
+        char path[AWDB_PATH + 300];
+        awdb_fmt(path, sizeof path, "%s/%s", qdir, e->file);
+        core_err err = {0};
+        core_ini *ini = core_ini_load(path, &err);
+        awdb_key key, src;
+        int ok = ini && awdb_key_read(ini, &key, &err) == 0;
+        core_ini_destroy(ini);
+        /* a request that cannot be read is not held (the claim reports it) */
+        if (!ok)
+            continue;
+        /* a whole-domain ship-only field starts from its own wind's
+         * coarser field (awdb_nearest): it waits for one building */
+        if (key.rotor == CORE_ROTOR_OFF && !(key.zone_ref_mps > 0.0)) {
+            static const core_grid_level by_rank[] = {CORE_GRID_QUICK, CORE_GRID_COARSE, CORE_GRID_DEFAULT};
+            for (int r = 0; r < core_grid_rank(key.grid) && r < 3; r++) {
+                awdb_key c = key;
+                c.grid = by_rank[r];
+                if (awdb_key_canon(&c, &err) == 0)
+                    awdb_key_name(&c, e->coarser[e->ncoarser++], AWDB_NAME_MAX);
+            }
+        }
+        if (!b->engine->source || !b->engine->source(b->engine->user, &key, &src))
+            continue;
+        awdb_key_name(&src, e->src, sizeof e->src);
+        e->src_ready = awdb_query(b->db, &src, NULL, 0) == AWDB_READY;
+    }
+    for (size_t i = 0; i < n; i++) {
+        if (!q[i].file)
+            continue;
+        if (q[i].src[0] && q[i].src_ready)
+            q[i].cls = 0;
+        else if (is_waited(w, nw, q[i].stem))
+            q[i].cls = 1;
+    }
+    /* the source of a mirror someone waits for is waited for too */
+    for (size_t i = 0; i < n; i++)
+        if (q[i].file && q[i].cls == 1 && q[i].src[0])
+            for (size_t k = 0; k < n; k++)
+                if (q[k].file && q[k].cls == 2 && !strcmp(q[k].stem, q[i].src))
+                    q[k].cls = 1;
+    for (size_t i = 0; i < nw; i++)
+        free(w[i]);
+    free(w);
+    /* submission order (the names') within a class */
+    size_t m = 0;
+    for (size_t i = 0; i < n; i++)
+        if (q[i].file)
+            q[m++] = q[i];
+    if (m > 1)
+        qsort(q, m, sizeof *q, cmp_qent);
+    for (size_t i = m; i < n; i++)
+        q[i].file = NULL;
+    return q;
+}
+
+/* 1 if the request for name runs, or is queued before q[i]. */
+static int ahead(builder *b, const qent *q, size_t i, const char *name)
+{
+    char run[AWDB_PATH + 300];
+    awdb_path(b->db, run, sizeof run, "running", name, ".req");
     if (access(run, F_OK) == 0)
         return 1;
-    size_t sl = strlen(sname);
-    for (size_t k = 0; k < i; k++) {
-        const char *stem = names[k] ? strchr(names[k], '-') + 1 : NULL;
-        if (stem && strlen(stem) == sl + 4 && !strncmp(stem, sname, sl))
+    for (size_t k = 0; k < i; k++)
+        if (q[k].file && !strcmp(q[k].stem, name))
             return 1;
-    }
     return 0;
 }
 
-/* Claim the oldest queued request that is not held back: 1 with *j filled,
- * 0 if there is none. */
+/* Whether q[i] waits for the field the engine makes it from (while that
+ * source runs or is queued ahead of it, building both would solve twice),
+ * or for its own wind's coarser field to start from (a flight's quick,
+ * coarse and default fields: each finer solve then starts from the
+ * coarser one's solution). */
+static int held_back(builder *b, const qent *q, size_t i)
+{
+    if (q[i].src[0] && q[i].src_ready)
+        return 0; /* made at once from its source: nothing to start from */
+    if (q[i].src[0] && ahead(b, q, i, q[i].src))
+        return 1;
+    for (int c = 0; c < q[i].ncoarser; c++)
+        if (ahead(b, q, i, q[i].coarser[c]))
+            return 1;
+    return 0;
+}
+
+/* Claim the first queued request in the builder's order (awdb_builder_run)
+ * that is not held back: 1 with *j filled, 0 if there is none. */
 static int claim(builder *b, job *j)
 {
     awdb *db = b->db;
@@ -368,17 +510,23 @@ static int claim(builder *b, job *j)
         names[n++] = strdup(e->d_name);
     }
     closedir(d);
-    if (n > 1)
-        qsort(names, n, sizeof *names, cmp_str);
+    qent *order = queue_order(b, qdir, names, n);
+    if (!order) {
+        for (size_t i = 0; i < n; i++)
+            free(names[i]);
+        free(names);
+        return 0;
+    }
     int got = 0;
     for (size_t i = 0; i < n && !got; i++) {
-        if (!names[i])
+        if (!order[i].file)
             continue;
+        const char *qname = order[i].file;
         char q[AWDB_PATH + 300], run[AWDB_PATH + 300];
-        awdb_fmt(q, sizeof q, "%s/%s", qdir, names[i]);
-        if (held_back(b, q, names, i))
+        awdb_fmt(q, sizeof q, "%s/%s", qdir, qname);
+        if (held_back(b, order, i))
             continue;
-        const char *stem = strchr(names[i], '-') + 1;
+        const char *stem = strchr(qname, '-') + 1;
         awdb_fmt(j->name, sizeof j->name, "%.*s", (int)(strlen(stem) - 4), stem);
         awdb_path(db, run, sizeof run, "running", j->name, ".req");
         core_ini *ini = NULL;
@@ -402,11 +550,11 @@ static int claim(builder *b, job *j)
                 core_err werr = {0};
                 if (write_failure(db, j->name, text, &werr) == 0) /* the reason kept, or the request stays */
                     remove(q);
-                core_log_msg(db->log, CORE_LOG_ERROR, "%s: cannot claim it (link to running/: %s)%s%s", names[i],
+                core_log_msg(db->log, CORE_LOG_ERROR, "%s: cannot claim it (link to running/: %s)%s%s", qname,
                              strerror(e), werr.msg[0] ? "; " : "", werr.msg);
             } else if (e != ENOENT) {
                 core_log_msg(db->log, CORE_LOG_WARN, "%s: cannot claim it now (link to running/: %s); retried",
-                             names[i], strerror(e));
+                             qname, strerror(e));
             }
             continue;
         }
@@ -436,13 +584,14 @@ static int claim(builder *b, job *j)
             awdb_fmt(text, sizeof text, "corrupt request: %s", err.msg);
             write_failure(db, j->name, text, NULL);
             remove(run);
-            core_log_msg(db->log, CORE_LOG_ERROR, "corrupt request %s: %s", names[i], err.msg);
+            core_log_msg(db->log, CORE_LOG_ERROR, "corrupt request %s: %s", qname, err.msg);
             continue;
         }
         got = 1;
     }
     for (size_t i = 0; i < n; i++)
-        free(names[i]);
+        free(order[i].file);
+    free(order);
     free(names);
     return got;
 }

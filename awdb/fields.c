@@ -117,30 +117,38 @@ const cfd_field *awdb_fields_get(awdb_fields *fc, awdb_key *key, core_err *err)
     struct timespec t0, now;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     int announced = 0;
+    const cfd_field *f = NULL;
     for (;;) {
         awdb_state st = awdb_query(fc->db, key, path, sizeof path);
-        if (st == AWDB_READY)
-            return awdb_fields_load(fc, path, err);
+        if (st == AWDB_READY) {
+            f = awdb_fields_load(fc, path, err);
+            break;
+        }
         if (st == AWDB_FAILED) {
             core_err_set(err, -1, "airwake %s failed to build (see %s/failed/%s.txt)", name, awdb_dir(fc->db), name);
-            return NULL;
+            break;
         }
         if (st == AWDB_ABSENT && awdb_submit(fc->db, key, NULL, err) != 0)
-            return NULL;
+            break;
         if (!announced) {
             core_log_msg(fc->log, CORE_LOG_INFO, "waiting for airwake %s", name);
             announced = 1;
+            /* the builder serves a request someone waits for first; without
+             * the mark the wait is only slower */
+            core_err merr = {0};
+            if (awdb_wait_mark(fc->db, key, &merr) != 0)
+                core_log_msg(fc->log, CORE_LOG_WARN, "%s", merr.msg);
         }
         if (!awdb_builder_alive(fc->db)) {
             if (!fc->o.launch) {
                 core_err_set(err, -1, "airwake %s is not in %s and no builder serves it (start `disim airwaked %s`)",
                              name, awdb_dir(fc->db), awdb_dir(fc->db));
-                return NULL;
+                break;
             }
             if (fc->o.launch(fc->o.launch_user, awdb_dir(fc->db)) < 0) {
                 core_err_set(err, -1, "airwake %s: no builder serves %s and none could be started", name,
                              awdb_dir(fc->db));
-                return NULL;
+                break;
             }
         }
         clock_gettime(CLOCK_MONOTONIC, &now);
@@ -149,12 +157,15 @@ const cfd_field *awdb_fields_get(awdb_fields *fc, awdb_key *key, core_err *err)
             fc->o.wait_fn(fc->o.wait_user, key, waited_s);
         if (waited_s > fc->o.wait_timeout_s) {
             core_err_set(err, -1, "airwake %s: still not built after %.0f s", name, fc->o.wait_timeout_s);
-            return NULL;
+            break;
         }
         double s = fc->o.poll_s;
         struct timespec ts = {(time_t)s, (long)((s - (double)(time_t)s) * 1e9)};
         nanosleep(&ts, NULL);
     }
+    if (announced)
+        awdb_wait_unmark(fc->db, key);
+    return f;
 }
 
 void awdb_key_ship_only(awdb_key *k, const char *ship, const char *aircraft, double speed_mps, double dir_rad,

@@ -42,8 +42,9 @@ int awdb_key_canon(awdb_key *k, core_err *err)
         return core_err_set(err, -1, "airwake key: wod_dir_rad: expected a finite angle");
     if ((int)k->rotor < CORE_ROTOR_OFF || (int)k->rotor > CORE_ROTOR_LOADED)
         return core_err_set(err, -1, "airwake key: rotor = %d: expected 0 (off), 1 (uniform) or 2 (loaded)", k->rotor);
-    if ((int)k->grid < CORE_GRID_COARSE || (int)k->grid > CORE_GRID_FINE)
-        return core_err_set(err, -1, "airwake key: grid = %d: expected 0 (coarse), 1 (default) or 2 (fine)", k->grid);
+    if (core_grid_rank((int)k->grid) < 0)
+        return core_err_set(err, -1, "airwake key: grid = %d: expected 0 (coarse), 1 (default), 2 (fine) or 3 (quick)",
+                            k->grid);
     /* the request file's reader takes 0 to 1e7 N: a key it would refuse
      * must be refused here, not queued and failed by the builder */
     if (k->rotor != CORE_ROTOR_OFF && !(isfinite(k->thrust_N) && k->thrust_N > 0.0 && k->thrust_N <= 1e7))

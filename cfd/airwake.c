@@ -91,8 +91,7 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
                      sp->wod_speed_mps);
         return NULL;
     }
-    if (!sh || sh->nblocks < 1 || !(sp->wod_speed_mps > 0.0 || calm) || sp->level < CORE_GRID_COARSE ||
-        sp->level > CORE_GRID_FINE) {
+    if (!sh || sh->nblocks < 1 || !(sp->wod_speed_mps > 0.0 || calm) || core_grid_rank(sp->level) < 0) {
         core_err_set(err, -1,
                      "cfd airwake: expected a ship, a WOD speed > 0 (or 0 with a loaded rotor) and a grid level "
                      "(got %g m/s)",
@@ -112,8 +111,10 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     const int rotor_dominated = !calm && U < vh;
     if (calm) /* the reference speed */
         U = vh;
-    static const double hfine[3] = {1.1, 0.55, 0.43};
-    static const double hmax[3] = {12.0, 6.0, 5.0};
+    /* coarse, default, fine, quick (twice the coarse spacing: the first
+     * look a flight gets, docs/usage.md) */
+    static const double hfine[4] = {1.1, 0.55, 0.43, 2.2};
+    static const double hmax[4] = {12.0, 6.0, 5.0, 24.0};
     double hf = sp->h_fine_m > 0.0 ? sp->h_fine_m : hfine[sp->level];
     double deck = sh->deck_x1_m - sh->deck_x0_m;
     double hh = -b.hangar_top; /* hangar height above the deck */

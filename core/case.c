@@ -8,7 +8,7 @@
 
 #include <string.h>
 
-static const char *const grid_names[CORE_GRID_NLEVELS] = {"coarse", "default", "fine"};
+static const char *const grid_names[CORE_GRID_NLEVELS + 1] = {"coarse", "default", "fine", "quick"};
 static const char *const rotor_names[CORE_ROTOR_NMODES] = {"off", "uniform", "loaded"};
 static const char *const coupling_names[CORE_COUPLING_NMODES] = {"two-way", "one-way"};
 
@@ -25,8 +25,14 @@ static int parse_of(const char *const *names, int n, const char *s)
     return -1;
 }
 
-const char *core_grid_name(int level) { return name_of(grid_names, CORE_GRID_NLEVELS, level); }
+const char *core_grid_name(int level) { return name_of(grid_names, CORE_GRID_NLEVELS + 1, level); }
 int core_grid_parse(const char *s) { return parse_of(grid_names, CORE_GRID_NLEVELS, s); }
+int core_grid_parse_any(const char *s) { return parse_of(grid_names, CORE_GRID_NLEVELS + 1, s); }
+int core_grid_rank(int level)
+{
+    static const int rank[CORE_GRID_NLEVELS + 1] = {1, 2, 3, 0};
+    return level >= 0 && level <= CORE_GRID_QUICK ? rank[level] : -1;
+}
 const char *core_grid_choices(void) { return "coarse|default|fine"; }
 
 const char *core_rotor_name(int mode) { return name_of(rotor_names, CORE_ROTOR_NMODES, mode); }

@@ -241,11 +241,20 @@ char *couple_shol_fields_md(const couple_ctx *one, const couple_ctx *two);
 /* ------------- a flight's airwake from the database (couple/flight_fields.c) */
 struct cfd_field;
 struct sim_interaction;
-/* The ship-only field of sc's ship, aircraft and grid for WOD direction
- * dir_rad: 1 with *out loaded (the caller's), 0 when not ready (requested
- * from the database's builder where absent; a failed build stays failed),
- * -1 with err. */
-int couple_flight_field(awdb *db, const sim_scenario *sc, double dir_rad, struct cfd_field **out, core_err *err);
+/* The ship-only field of sc's ship and aircraft for WOD direction dir_rad
+ * on the finest level ready among the flight's levels: quick (twice the
+ * coarse spacing, about a minute to solve), then coarse up to sc's grid.
+ * 1 with *out loaded (the caller's) and *level set when that level is
+ * finer than have_rank (core_grid_rank; -1: the flight has none); 0 when
+ * none finer is ready; -1 with err. The levels finer than the best ready
+ * (quick only while none is) are requested from the database's builder
+ * where absent and marked waited for by this process (awdb_wait_mark), so
+ * that the builder serves them before requests nobody waits for;
+ * *pending says whether one may still come (a failed build stays failed).
+ * couple_flight_field_done takes the marks back. */
+int couple_flight_field(awdb *db, const sim_scenario *sc, double dir_rad, int have_rank, struct cfd_field **out,
+                        core_grid_level *level, int *pending, core_err *err);
+void couple_flight_field_done(awdb *db, const sim_scenario *sc, double dir_rad);
 /* The coupled rotor interaction at WOD v, dir_rad near sc's station
  * (couple/flight_fields.c says which): 1 with cf[0] the coupled field,
  * cf[1] its isolated rotor's, for a deck-zone pair cf[2], cf[3] the whole

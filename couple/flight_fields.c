@@ -1,8 +1,9 @@
 /* flight_fields.c -- the airwake a flight of `disim fly` flies in, from the
  * airwake database: the scenario's ship-only field of the WOD direction
- * (couple_flight_field: loaded when ready, requested when absent, the
- * flight in the free stream meanwhile) and the coupled rotor interaction
- * at the WOD (couple_flight_coupled: among the database's whole-domain
+ * (couple_flight_field: the best level ready among quick and coarse up
+ * to the scenario's grid; the finer ones requested and marked waited
+ * for, the flight in the free stream or the coarser field meanwhile) and
+ * the coupled rotor interaction at the WOD (couple_flight_coupled: among the database's whole-domain
  * coupled fields of the scenario's ship, aircraft and grid within
  * 0.25 m/s and 0.5 deg of the WOD (the SHOL's speeds are in km/h steps,
  * the flight's in knots) whose isolated rotor's field (the same key, ship
@@ -20,21 +21,69 @@
 #include <string.h>
 #include <sys/stat.h>
 
-int couple_flight_field(awdb *db, const sim_scenario *sc, double dir_rad, cfd_field **out, core_err *err)
+/* The levels a flight flies, coarsest first: quick, then coarse up to the
+ * scenario's grid. Their number. */
+static int flight_levels(const sim_scenario *sc, core_grid_level lv[4])
 {
-    awdb_key k;
-    awdb_key_ship_only(&k, sc->ship.name, sc->aircraft_name, AWDB_SHIP_ONLY_REF_MPS, dir_rad, sc->grid);
-    if (awdb_key_canon(&k, err) != 0)
-        return -1;
+    int n = 0;
+    lv[n++] = CORE_GRID_QUICK;
+    static const core_grid_level by_rank[] = {CORE_GRID_COARSE, CORE_GRID_DEFAULT, CORE_GRID_FINE};
+    for (int r = 1; r <= core_grid_rank(sc->grid) && r <= 3; r++)
+        lv[n++] = by_rank[r - 1];
+    return n;
+}
+
+int couple_flight_field(awdb *db, const sim_scenario *sc, double dir_rad, int have_rank, cfd_field **out,
+                        core_grid_level *level, int *pending, core_err *err)
+{
+    core_grid_level lv[4];
+    int n = flight_levels(sc, lv), best = -1;
+    awdb_key k[4];
+    awdb_state st[4];
     char path[1024];
-    awdb_state st = awdb_query(db, &k, path, sizeof path);
-    if (st == AWDB_READY) {
-        *out = cfd_field_load(path, err);
-        return *out ? 1 : -1;
+    *out = NULL;
+    *pending = 0;
+    for (int i = 0; i < n; i++) {
+        awdb_key_ship_only(&k[i], sc->ship.name, sc->aircraft_name, AWDB_SHIP_ONLY_REF_MPS, dir_rad, lv[i]);
+        if (awdb_key_canon(&k[i], err) != 0)
+            return -1;
+        st[i] = awdb_query(db, &k[i], NULL, 0);
+        if (st[i] == AWDB_READY)
+            best = i;
     }
-    if (st == AWDB_FAILED)
-        return 0; /* flown in the free stream; the failure is in the database */
-    return awdb_submit(db, &k, NULL, err) != 0 ? -1 : 0;
+    /* the levels up to the best there is: no longer waited for (a quick
+     * field still queued goes behind what others wait for) */
+    for (int i = 0; i <= best; i++)
+        awdb_wait_unmark(db, &k[i]);
+    /* the levels finer than the best there is, coarsest first (quick only
+     * while none is ready); a failed one stays failed (its reason is in the
+     * database), the flight in the best field it has meanwhile */
+    for (int i = best + 1; i < n; i++) {
+        if (st[i] == AWDB_FAILED)
+            continue;
+        if (st[i] == AWDB_ABSENT && awdb_submit(db, &k[i], NULL, err) != 0)
+            return -1;
+        *pending = 1;
+        core_err merr = {0}; /* without the mark the builder serves it later, nothing worse */
+        awdb_wait_mark(db, &k[i], &merr);
+    }
+    if (best < 0 || core_grid_rank(lv[best]) <= have_rank)
+        return 0;
+    if (awdb_query(db, &k[best], path, sizeof path) != AWDB_READY) /* removed since: asked again next time */
+        return 0;
+    *level = lv[best];
+    return (*out = cfd_field_load(path, err)) ? 1 : -1;
+}
+
+void couple_flight_field_done(awdb *db, const sim_scenario *sc, double dir_rad)
+{
+    core_grid_level lv[4];
+    int n = flight_levels(sc, lv);
+    for (int i = 0; i < n; i++) {
+        awdb_key k;
+        awdb_key_ship_only(&k, sc->ship.name, sc->aircraft_name, AWDB_SHIP_ONLY_REF_MPS, dir_rad, lv[i]);
+        awdb_wait_unmark(db, &k);
+    }
 }
 
 /* The two passes over the database's entries (couple_flight_coupled). */

@@ -42,6 +42,7 @@
 #include "cfd.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -49,6 +50,7 @@
 typedef struct air_src {
     const cfd_field *f;
     double scale;
+    int grid; /* the field's grid level (core_grid_level), -1 none or not a level's */
 } air_src;
 
 struct sim_air {
@@ -103,6 +105,15 @@ int sim_air_set_field(sim_air *a, const cfd_field *f, double t_s, core_err *err)
     a->old = a->cur;
     a->cur.f = f;
     a->cur.scale = scale;
+    a->cur.grid = -1;
+    if (f) { /* "coarse", "quick-zone": the level's name first */
+        char g[sizeof cfd_field_meta(f)->grid];
+        snprintf(g, sizeof g, "%s", cfd_field_meta(f)->grid);
+        char *dash = strchr(g, '-');
+        if (dash)
+            *dash = '\0';
+        a->cur.grid = core_grid_parse_any(g);
+    }
     a->t_blend0_s = t_s;
     return 0;
 }
@@ -122,6 +133,8 @@ int sim_air_set_wod(sim_air *a, double speed_mps, double dir_rad, core_err *err)
             src[i]->scale = speed_mps / cfd_field_meta(src[i]->f)->wod_speed_mps;
     return 0;
 }
+
+int sim_air_grid(const sim_air *a) { return a->cur.f ? a->cur.grid : -1; }
 
 /* The free stream at a point of S: the log law over the sea surface (at
  * z_S = deck height above the waterline). */

@@ -598,6 +598,7 @@ void sim_flight_state(const sim_flight *f, sim_flight_out *out)
         out->airspeed_mps = sqrt(r2);
     }
     out->air_flags = sim_air_flags(f->air, f->air_in.inter, out->t_s);
+    out->air_grid = sim_air_grid(f->air);
     hfm_tsim_rotor(f->ts, &out->rotor_thrust_N, &out->rotor_power_W);
     if (f->gear) {
         const sim_contact_report *r = &f->rep;

@@ -543,6 +543,10 @@ static unsigned loop_flags(const sim_loop *l)
         f |= DISIM_SIM_STATUS_T_FLAG_FIELD_BLENDING;
     if (l->out.air_flags & SIM_AIR_INTERACTION)
         f |= DISIM_SIM_STATUS_T_FLAG_ROTOR_INTERACTION;
+    static const unsigned grid_flag[] = {DISIM_SIM_STATUS_T_FLAG_FIELD_COARSE, DISIM_SIM_STATUS_T_FLAG_FIELD_DEFAULT,
+                                         DISIM_SIM_STATUS_T_FLAG_FIELD_FINE, DISIM_SIM_STATUS_T_FLAG_FIELD_QUICK};
+    if (l->out.air_grid >= 0 && l->out.air_grid <= CORE_GRID_QUICK)
+        f |= grid_flag[l->out.air_grid];
     if (l->out.on_deck)
         f |= DISIM_SIM_STATUS_T_FLAG_ON_DECK;
     if (l->out.contact_flags & SIM_CONTACT_SLIDE)

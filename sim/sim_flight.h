@@ -105,6 +105,9 @@ void sim_air_sample_E(const sim_air *a, const sim_air_in *in, const sim_ship_fra
 /* The WOD from now on: the free stream and the fields' scale to the new
  * speed (a field keeps its own direction). 0, or < 0 with err. */
 int sim_air_set_wod(sim_air *a, double speed_mps, double dir_rad, core_err *err);
+/* The grid level (core_grid_level) of the newest field offered, from its
+ * metadata; -1 for the free stream or a field of no level (a grid study's). */
+int sim_air_grid(const sim_air *a);
 /* The weight of the newest field at t_s, 0 to 1 (1: no blend under way). */
 double sim_air_blend(const sim_air *a, double t_s);
 /* SIM_AIR_INTERACTION: the coupled rotor interaction inter is flown now
@@ -162,6 +165,7 @@ typedef struct sim_flight_out {
     double airspeed_mps;     /* at the fuselage reference */
     sim_ship_frame ship;
     unsigned air_flags;      /* SIM_AIR_* */
+    int air_grid;            /* sim_air_grid: the level of the field flown, -1 none */
     double rotor_thrust_N, rotor_power_W; /* the main rotor's (hfm_tsim_rotor) */
     /* the gear (opts.gear; all 0 without): each leg's deck loads, the
      * contact's SIM_CONTACT_* flags (kept once set) and what they say */

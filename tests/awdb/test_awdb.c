@@ -4,7 +4,9 @@
  * with their reason, a second builder refused, a builder killed with
  * SIGKILL mid-build leaving a consistent database that a restart finishes,
  * SIGTERM putting the running request back at the front of the queue, and
- * the builder's progress files as a client reads them.
+ * the builder's progress files as a client reads them, the builder's
+ * order (a mirror image at once, waited-for requests first) and the quick
+ * level's warm starts.
  * The engine here is mostly a test engine that writes a small file derived
  * from the key: what is under test is the database's bookkeeping. Once,
  * the embedded CFD engine builds a field through the builder (a coarse
@@ -396,23 +398,38 @@ static void test_flow(const char *dir)
         CHECK(awdb_query(db, &ta, NULL, 0) != AWDB_READY); /* and it is not served */
     }
 
-    /* A whole-domain ship-only field never starts from another one (its
-     * state would follow its start), not even from the coarse field of its
-     * own wind; a deck zone's ship-only field may. */
+    /* A whole-domain ship-only field never starts from another wind's (its
+     * state would follow its start), only from its own wind's on a coarser
+     * grid: quick, then coarse, then default; a deck zone's ship-only
+     * field may start from another wind's. */
     {
         awdb_key s30 = key(10, 30), s60 = key(10, 60);
         s30.rotor = s60.rotor = CORE_ROTOR_OFF;
         s30.thrust_N = s60.thrust_N = 0.0;
+        awdb_key s30q = s30;
+        s30q.grid = CORE_GRID_QUICK;
+        char nq[200], nc[200];
+        CHECK(awdb_key_canon(&s30q, &err) == 0);
+        awdb_key_name(&s30q, nq, sizeof nq);
+        CHECK(strstr(nq, "CG-47_shiponly_v10.00_d+030.00_off_quick_") == nq);
+        CHECK(awdb_submit(db, &s30q, &st, &err) == 0);
+        CHECK(run_builder(db, &te, 1, &err) == 0);
+        CHECK(te.last_warm[0] == '\0'); /* the quick level starts from the inflow */
         CHECK(awdb_submit(db, &s30, &st, &err) == 0);
         CHECK(run_builder(db, &te, 1, &err) == 0);
-        CHECK(te.last_warm[0] == '\0');
+        CHECK(strstr(te.last_warm, nq) != NULL); /* coarse from its own wind's quick field */
         CHECK(awdb_key_canon(&s60, &err) == 0);
         CHECK(awdb_nearest(db, &s60, near, sizeof near) == 1);
         awdb_key s30d = s30;
         s30d.grid = CORE_GRID_DEFAULT;
-        CHECK(awdb_key_canon(&s30d, &err) == 0);
-        CHECK(awdb_nearest(db, &s30d, near, sizeof near) == 1);
-        /* built: from the inflow, with the green 30 field finished */
+        CHECK(awdb_key_canon(&s30d, &err) == 0 && awdb_key_canon(&s30, &err) == 0);
+        awdb_key_name(&s30, nc, sizeof nc);
+        CHECK(awdb_nearest(db, &s30d, near, sizeof near) == 0 && strstr(near, nc) != NULL); /* the finest */
+        /* another speed of the same direction is another wind */
+        awdb_key s30v = s30d;
+        s30v.wod_speed_mps = 12.0;
+        CHECK(awdb_key_canon(&s30v, &err) == 0 && awdb_nearest(db, &s30v, near, sizeof near) == 1);
+        /* built: from the inflow, with the green 30 fields finished */
         CHECK(awdb_submit(db, &s60, &st, &err) == 0);
         CHECK(run_builder(db, &te, 1, &err) == 0);
         CHECK(te.last_warm[0] == '\0');
@@ -442,7 +459,7 @@ static void test_flow(const char *dir)
     CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_ABSENT);
     CHECK(awdb_submit(db3, &k1, &st, &err) == 0 && st == AWDB_ABSENT);
     CHECK(run_builder(db3, &te, 1, &err) == 0);
-    CHECK(te.builds == 11);
+    CHECK(te.builds == 12);
     awdb_close(db3);
     db3 = awdb_open(dir, NULL, &err);
     CHECK(awdb_query(db3, &k1, NULL, 0) == AWDB_READY);
@@ -698,8 +715,8 @@ static int se_build(void *user, const awdb_key *k, const char *warm, const char 
         se->green_saw_source += awdb_query(se->db, &src, NULL, 0) == AWDB_READY;
     }
     if (se->norder < 8)
-        snprintf(se->order[se->norder++], sizeof se->order[0], "%+.0f@%.0f", k->wod_dir_rad * CORE_RAD_TO_DEG,
-                 k->wod_speed_mps);
+        snprintf(se->order[se->norder++], sizeof se->order[0], "%+.0f@%.0f%s", k->wod_dir_rad * CORE_RAD_TO_DEG,
+                 k->wod_speed_mps, k->grid == CORE_GRID_QUICK ? "q" : "");
     return te_build(&se->te, k, warm, out, progress, pu, err);
 }
 
@@ -739,6 +756,122 @@ static void test_source(const char *dir)
     CHECK(se.norder == 5 && ((!strcmp(se.order[0], "-30@10") && !strcmp(se.order[1], "+0@10")) ||
                              (!strcmp(se.order[1], "-30@10") && !strcmp(se.order[0], "+0@10"))));
     CHECK(count(dir, "fields", ".h5") == 5 && count(dir, "queue", ".req") == 0);
+    awdb_close(db);
+}
+
+/* The builder's order (awdb_builder_run): a mirror image whose source is
+ * ready at once, then what a live process waits for (waiting/NAME.PID;
+ * the source of a waited mirror with it), then the rest in submission
+ * order, a dead process's mark counting for nothing (and removed). */
+static void test_priority(const char *dir)
+{
+    core_err err = {0};
+    awdb *db = awdb_open(dir, NULL, &err);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    source_engine se;
+    memset(&se, 0, sizeof se);
+    se.te.fail_speed_cmps = -1;
+    se.db = db;
+    awdb_engine eng = {"test-source", se_build, &se, se_source};
+    awdb_builder_opts o = {1, 1, 0.01, NULL, NULL, NULL, NULL, 0.0};
+    /* red 60 at 14 m/s first: its green image's source is then ready */
+    awdb_key r60 = key(14, -60);
+    CHECK(awdb_submit(db, &r60, NULL, &err) == 0);
+    CHECK(awdb_builder_run(db, &eng, &o, &no_stop, &err) == 0);
+    se.norder = 0;
+    /* the queue in submission order: A (nobody waits), R (the source of G),
+     * C (its waiter has ended), B (waited), G (waited; a mirror of R), D
+     * (a mirror of the ready red 60) */
+    awdb_key a = key(11, -30), r = key(15, -30), c = key(13, 0), b = key(12, 0), g = key(15, 30), d = key(14, 60);
+    awdb_key *all[] = {&a, &r, &c, &b, &g, &d};
+    for (int i = 0; i < 6; i++) {
+        CHECK(awdb_submit(db, all[i], NULL, &err) == 0);
+        struct timespec ts = {0, 2000000}; /* distinct submission times */
+        nanosleep(&ts, NULL);
+    }
+    CHECK(awdb_wait_mark(db, &b, &err) == 0 && awdb_wait_mark(db, &g, &err) == 0);
+    /* C's mark, by a process that has ended */
+    pid_t kid = fork();
+    if (kid == 0)
+        _exit(0);
+    CHECK(kid > 0 && waitpid(kid, NULL, 0) == kid);
+    char cn[200], mark[1400];
+    awdb_key cc = c;
+    CHECK(awdb_key_canon(&cc, &err) == 0);
+    awdb_key_name(&cc, cn, sizeof cn);
+    snprintf(mark, sizeof mark, "%s/waiting/%s.%ld", dir, cn, (long)kid);
+    FILE *f = fopen(mark, "w");
+    CHECK(f != NULL);
+    if (f)
+        fclose(f);
+    CHECK(awdb_builder_run(db, &eng, &o, &no_stop, &err) == 0);
+    printf("priority: build order");
+    for (int i = 0; i < se.norder; i++)
+        printf(" %s", se.order[i]);
+    printf("\n");
+    static const char *want[] = {"+60@14", "-30@15", "+30@15", "+0@12", "-30@11", "+0@13"};
+    CHECK(se.norder == 6);
+    for (int i = 0; i < 6 && i < se.norder; i++)
+        CHECK(!strcmp(se.order[i], want[i]));
+    CHECK(access(mark, F_OK) != 0); /* the dead process's mark removed */
+    /* this process's marks stay until it takes them back */
+    CHECK(count(dir, "waiting", "") == 2);
+    awdb_wait_unmark(db, &b);
+    awdb_wait_unmark(db, &g);
+    CHECK(count(dir, "waiting", "") == 0);
+    awdb_close(db);
+}
+
+/* A flight's levels: a coarse ship-only request waits while its own
+ * wind's quick field is building (queued ahead), then starts from it; a
+ * field of another wind is built beside the quick one meanwhile. */
+static void test_levels(const char *dir)
+{
+    core_err err = {0};
+    awdb *db = awdb_open(dir, NULL, &err);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    test_engine te = te_init(0.2);
+    awdb_key q = key(10, 0), c, u = key(11, 0);
+    q.rotor = u.rotor = CORE_ROTOR_OFF;
+    q.grid = CORE_GRID_QUICK;
+    c = q;
+    c.grid = CORE_GRID_COARSE;
+    CHECK(awdb_submit(db, &q, NULL, &err) == 0 && awdb_submit(db, &c, NULL, &err) == 0 &&
+          awdb_submit(db, &u, NULL, &err) == 0);
+    CHECK(run_builder(db, &te, 2, &err) == 0);
+    char nq[200];
+    CHECK(awdb_key_canon(&q, &err) == 0);
+    awdb_key_name(&q, nq, sizeof nq);
+    printf("levels: build order (cm/s) %d %d %d; the last from %s\n", te.order_cmps[0], te.order_cmps[1],
+           te.order_cmps[2], te.last_warm[0] ? te.last_warm : "the inflow");
+    CHECK(te.builds == 3 && te.norder == 3);
+    /* quick and the other wind first (either order), the coarse one last, from the quick field */
+    CHECK(te.order_cmps[0] + te.order_cmps[1] == 2100 && te.order_cmps[2] == 1000);
+    CHECK(strstr(te.last_warm, nq) != NULL);
+    /* a mirror image whose source is ready does not wait for its own
+     * wind's quick field (it is made, not solved): the green coarse field
+     * before the green quick one queued ahead of it (the builder's first
+     * class) */
+    source_engine se;
+    memset(&se, 0, sizeof se);
+    se.te.fail_speed_cmps = -1;
+    se.db = db;
+    awdb_engine eng = {"test-source", se_build, &se, se_source};
+    awdb_builder_opts o = {1, 1, 0.01, NULL, NULL, NULL, NULL, 0.0};
+    awdb_key r30 = key(12, -30), g30q, g30 = key(12, 30);
+    r30.rotor = g30.rotor = CORE_ROTOR_OFF;
+    g30q = g30;
+    g30q.grid = CORE_GRID_QUICK;
+    CHECK(awdb_submit(db, &r30, NULL, &err) == 0 && awdb_builder_run(db, &eng, &o, &no_stop, &err) == 0);
+    se.norder = 0;
+    CHECK(awdb_submit(db, &g30q, NULL, &err) == 0 && awdb_submit(db, &g30, NULL, &err) == 0);
+    CHECK(awdb_builder_run(db, &eng, &o, &no_stop, &err) == 0);
+    printf("levels: then %s %s\n", se.order[0], se.order[1]);
+    CHECK(se.norder == 2 && !strcmp(se.order[0], "+30@12") && !strcmp(se.order[1], "+30@12q"));
     awdb_close(db);
 }
 
@@ -1268,6 +1401,10 @@ int main(void)
     char d4[64];
     snprintf(d4, sizeof d4, "%s/db4", dir);
     test_source(d4);
+    snprintf(d4, sizeof d4, "%s/db4p", dir);
+    test_priority(d4);
+    snprintf(d4, sizeof d4, "%s/db4l", dir);
+    test_levels(d4);
     char d5[64];
     snprintf(d5, sizeof d5, "%s/db5", dir);
     test_recover(d5);

@@ -180,7 +180,12 @@ static void test_range(void)
     for (int l = 0; l < CORE_GRID_NLEVELS; l++)
         CHECK(core_grid_parse(core_grid_name(l)) == l);
     CHECK(strcmp(core_grid_name(1), "default") == 0);
-    CHECK(strcmp(core_grid_name(3), "?") == 0 && strcmp(core_grid_name(-1), "?") == 0);
+    CHECK(strcmp(core_grid_name(4), "?") == 0 && strcmp(core_grid_name(-1), "?") == 0);
+    /* the quick level: named, parsed by core_grid_parse_any only, coarsest by rank */
+    CHECK(strcmp(core_grid_name(CORE_GRID_QUICK), "quick") == 0 && core_grid_parse("quick") == -1);
+    CHECK(core_grid_parse_any("quick") == CORE_GRID_QUICK && core_grid_parse_any("fine") == CORE_GRID_FINE);
+    CHECK(core_grid_rank(CORE_GRID_QUICK) == 0 && core_grid_rank(CORE_GRID_COARSE) == 1 &&
+          core_grid_rank(CORE_GRID_DEFAULT) == 2 && core_grid_rank(CORE_GRID_FINE) == 3 && core_grid_rank(4) == -1);
     CHECK(core_grid_parse("Fine") == -1 && core_grid_parse("") == -1 && core_grid_parse(NULL) == -1);
     CHECK(core_grid_parse("default") == CORE_GRID_DEFAULT && core_grid_parse("fine") == CORE_GRID_FINE);
     CHECK(core_rotor_parse("loaded") == CORE_ROTOR_LOADED && core_rotor_parse("off") == CORE_ROTOR_OFF);

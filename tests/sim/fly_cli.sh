@@ -44,6 +44,19 @@ for f in "$tmp"/db2/fields/*.h5; do printf 'corrupt' | dd of="$f" bs=1 seek=4096
     && grep -q "free stream until the airwake field is built" "$tmp/f2.log" && ok || { bad "a corrupt field was flown"; cat "$tmp/f2.log"; }
 tail -1 "$tmp/f2.csv" | awk -F, '{exit !($18 == 1)}' && ok || bad "air_flags: expected 1 (free stream) with the field corrupt"
 ls "$tmp"/db2/queue/*.req > /dev/null 2>&1 && ok || bad "the corrupt field was not requested again"
+# the quick level first: with only the quick field in the database the
+# flight flies it, asks for the scenario's coarse one (marked as waited
+# for while it flies, the mark gone after) and says what it flew
+"$disim" airwake "$e2e" --wod-speed-kt 29.16 --wod-dir-deg 0 --rotor off --grid quick --queue "$tmp/db3" > /dev/null 2>&1
+"$disim" airwaked "$tmp/db3" --ships "$src/scenarios/ships" --jobs 1 --no-lcm --exit-when-idle --max-iter 10 > "$tmp/db3.log" 2>&1 \
+    || { bad "the builder could not build the quick field"; cat "$tmp/db3.log"; }
+"$disim" fly "$e2e" --fast --duration 1 --wod-speed-kt 10 --wod-dir-deg 0 --db "$tmp/db3" --csv "$tmp/f3.csv" 2> "$tmp/f3.log" \
+    && grep -q "quick airwake field until a finer one is built" "$tmp/f3.log" \
+    && grep -q "the airwake flown: quick 0.0-1.0 s (a finer field still to come)" "$tmp/f3.log" && ok \
+    || { bad "the quick field was not flown, or not said"; cat "$tmp/f3.log"; }
+ls "$tmp"/db3/queue/*_off_coarse_*.req > /dev/null 2>&1 && ok || bad "the coarse field was not requested"
+ls "$tmp"/db3/queue/*_off_quick_*.req > /dev/null 2>&1 && bad "the quick field was requested again" || ok
+[ -z "$(ls "$tmp/db3/waiting")" ] && ok || bad "a wait mark was left: $(ls "$tmp/db3/waiting")"
 # the gear: standing on the deck in sea state 4, the legs carrying the weight
 "$disim" fly $args --fast --start deck --csv "$tmp/deck.csv" 2> "$tmp/deck.log" \
     && grep -q "gear: on the deck at the end" "$tmp/deck.log" && ok || { bad "--start deck failed"; cat "$tmp/deck.log"; }
