@@ -65,7 +65,7 @@ static void on_fatal_signal(int sig)
 static void usage_station(FILE *f)
 {
     fprintf(f,
-            "usage: disim station [--keyboard | --device /dev/input/eventN | --script FILE.csv]\n"
+            "usage: disim station [--keyboard | --device /dev/input/eventN | --script FILE.csv [--script-absolute]]\n"
             "                     [--id NAME] [--lcm URL] [--rate-hz N] [--duration S] [--wait-s S]\n"
             "                     [--rate-pct-s R] [--authority-pct A]\n"
             "                     [--axis-collective AX] [--axis-long AX] [--axis-lat AX] [--axis-pedal AX]\n"
@@ -87,7 +87,11 @@ static void usage_station(FILE *f)
             "               ':lever' for a lever that stays put (picked up at the reference);\n"
             "               defaults: collective ABS_Y:invert, long ABS_RY, lat ABS_RX, pedal ABS_X\n"
             "  --script     rows time_s,collective,long,lat,pedal (percent), interpolated linearly,\n"
-            "               the last row held (the loop blends them in from the flown controls)\n"
+            "               the last row held: a stick's positions, flown as --device's are (cyclic\n"
+            "               and pedals spring-centred, 50 their centre; the collective a lever picked\n"
+            "               up at the flown controls), so 50 everywhere flies the controls taken\n"
+            "               over; --script-absolute: the rows are the controls themselves (the loop\n"
+            "               blends them in from the flown controls)\n"
             "  --list       the evdev devices and their axes\n"
             "  publishes pilot_input_t on DISIM_PILOT_INPUT at --rate-hz (50); --lcm defaults to\n"
             "  the LCM library's default URL; --duration ends it S seconds after its first message;\n"
@@ -136,7 +140,7 @@ static void show(void *user, const sim_station_view *v)
 /* The command line of disim station. */
 typedef struct station_args {
     const char *id, *url, *device, *script_path;
-    int keyboard, list, take_over;
+    int keyboard, list, take_over, script_absolute;
     int view, view_w, view_h;   /* --view: the window, its size */
     int view_iw, view_ih;       /* the image drawn */
     render_camera_kind view_cam;
@@ -187,7 +191,8 @@ static int station_parse(int argc, char **argv, station_args *o)
     const struct {
         const char *flag;
         int *out;
-    } sw[] = {{"--keyboard", &o->keyboard}, {"--list", &o->list}, {"--take-over", &o->take_over}};
+    } sw[] = {{"--keyboard", &o->keyboard}, {"--list", &o->list}, {"--take-over", &o->take_over},
+                 {"--script-absolute", &o->script_absolute}};
     const struct {
         const char *flag;
         const char **out;
@@ -479,6 +484,7 @@ static int station_run(const station_args *o, const char *id, const char *source
         return 1;
     }
     ro.script = script;
+    ro.script_absolute = o->script_absolute;
     ro.dev = dev;
     if (o->keyboard) {
         sim_station_keys_init(&keys, o->rate_pct_s, NULL, 0.0);

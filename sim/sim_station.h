@@ -253,6 +253,12 @@ typedef struct sim_station_run_opts {
     double rate_hz, duration_s; /* duration_s <= 0: until stopped */
     double wait_s;              /* for the first heli_state_t (> 0) */
     const sim_station_script *script;
+    /* 0 (the default): the script's rows are a stick's positions, flown
+     * through the force trim as a device's are (cyclic and pedals
+     * spring-centred, 50 % their centre; the collective a lever picked up
+     * at the reference), so a script holding 50 % flies the controls taken
+     * over; 1: its rows are the controls themselves. */
+    int script_absolute;
     sim_station_evdev *dev;
     int key_fd; /* >= 0: read keys from it, with keys */
     sim_station_keys *keys;     /* rate_pct_s set; started at the reference */

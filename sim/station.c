@@ -1116,6 +1116,15 @@ static int wait_flown(sim_station *st, const sim_station_run_opts *o, core_err *
 
 /* The sources at the reference (the flown controls): c, and the view's
  * reference. */
+/* A script flown as a stick: the collective a lever, the rest
+ * spring-centred (sim_station_trim). */
+static void script_axes(sim_station_axes *a)
+{
+    memset(a, 0, sizeof *a);
+    a->axis[SIM_AXIS_COLLECTIVE].lever = 1;
+    a->trim_button_code = a->trim_release_code = a->take_over_code = -1;
+}
+
 static void start_sources(sim_station *st, const sim_station_run_opts *o, const sim_station_controls *pos,
                           sim_station_trim *trim, sim_station_controls *c)
 {
@@ -1133,7 +1142,16 @@ static void start_sources(sim_station *st, const sim_station_run_opts *o, const 
         sim_station_trim_init(trim, o->authority_pct, sim_station_evdev_axes(o->dev), v->heli_ctl_pct, pos);
         sim_station_trim_apply(trim, pos, c);
     }
-    if (o->keys || o->dev) {
+    if (o->script && !o->script_absolute) {
+        sim_station_axes axes;
+        script_axes(&axes);
+        sim_station_controls sp;
+        memset(&sp, 0, sizeof sp);
+        sim_station_script_at(o->script, 0.0, &sp);
+        sim_station_trim_init(trim, o->authority_pct, &axes, v->heli_ctl_pct, &sp);
+        sim_station_trim_apply(trim, &sp, c);
+    }
+    if (o->keys || o->dev || (o->script && !o->script_absolute)) {
         v->have_ref = 1;
         memcpy(v->ref_pct, v->heli_ctl_pct, sizeof v->ref_pct);
     }
@@ -1148,7 +1166,7 @@ int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *er
     int nsrc = (o->script != NULL) + (o->dev != NULL) + (o->key_fd >= 0);
     if (nsrc != 1 || (o->key_fd >= 0 && !o->keys))
         return core_err_set(err, -1, "station: expected exactly one source (script, device or keys)");
-    if (o->dev && !(o->authority_pct > 0.0 && o->authority_pct <= 100.0))
+    if ((o->dev || (o->script && !o->script_absolute)) && !(o->authority_pct > 0.0 && o->authority_pct <= 100.0))
         return core_err_set(err, -1, "station: authority %g %%: expected more than 0, at most 100", o->authority_pct);
     int w = wait_flown(st, o, err);
     if (w != 0)
@@ -1174,8 +1192,15 @@ int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *er
             return 0;
         if (now >= t0 + (double)k * period) {
             double t = now - t0;
-            if (o->script)
+            if (o->script && o->script_absolute)
                 sim_station_script_at(o->script, t, &c);
+            else if (o->script) {
+                sim_station_controls sp;
+                memset(&sp, 0, sizeof sp);
+                sim_station_script_at(o->script, t, &sp);
+                sim_station_trim_apply(&trim, &sp, &c);
+                memcpy(v->ref_pct, trim.ref_pct, sizeof v->ref_pct);
+            }
             if (o->keys)
                 sim_station_keys_advance(o->keys, t, &c);
             if (o->take_over)

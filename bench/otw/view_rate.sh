@@ -30,7 +30,7 @@ disim=$1 secs=$2 size=$3 cam=$4 tmp=$5 FLY_FLAGS=$6 image=$7
 xvfb-run -a -s "-screen 0 ${size}x24" sh -c "
 view=\"--view $cam --view-size $size \${image:+--view-image \$image} --view-stats $tmp/frames.csv\"
 [ $cam = none ] && view=
-\"$disim\" station \$view --id pilot1 --script \"$tmp/trim.csv\" \
+\"$disim\" station \$view --id pilot1 --script \"$tmp/trim.csv\" --script-absolute \
     --duration $((secs + 6)) > \"$tmp/station.out\" 2> \"$tmp/station.err\" & s=\$!
 sleep 2
 \"$disim\" fly scenarios/cg47_uh60a.ini --realtime --stations pilot1 --duration $secs --wod-speed-kt 20 --wod-dir-deg -30 ${FLY_FLAGS:---sas on --no-turbulence} > \"$tmp/fly.out\" 2>&1

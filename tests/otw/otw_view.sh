@@ -56,7 +56,7 @@ disim=$1 peer=$2 tmp=$3 W=$4 H=$5
 i=0
 while [ ! -e "$tmp/ready" ] && [ $i -lt 100 ]; do sleep 0.05; i=$((i + 1)); done
 xvfb-run -a -s "-screen 0 ${W}x${H}x24" sh -c "
-\"$disim\" station --view pilot --view-size ${W}x${H} --view-image ${W}x${H} --script \"$tmp/hold.csv\" --id view-test \
+\"$disim\" station --view pilot --view-size ${W}x${H} --view-image ${W}x${H} --script \"$tmp/hold.csv\" --script-absolute --id view-test \
     --scenario scenarios/cg47_uh60a.ini --view-stats \"$tmp/frames.csv\" > \"$tmp/st.out\" 2> \"$tmp/st.err\" & s=\$!
 i=0
 n=0

@@ -102,7 +102,7 @@ time_s,collective,long,lat,pedal
 1.0, 30, 35, 62, 20
 1.6, 30, 65, 40, 70
 EOF
-in_ns 3.5 script "$disim" station --script "$tmp/s.csv" --id scripted-1 --duration 2
+in_ns 3.5 script "$disim" station --script "$tmp/s.csv" --script-absolute --id scripted-1 --duration 2
 rc=$(cat "$tmp/script.rc" 2>/dev/null || echo none)
 [ "$rc" = 0 ] || bad "scripted station: exit $rc: $(cat "$tmp/script.err")"
 n=$(wc -l < "$tmp/script.csv")
@@ -244,8 +244,21 @@ set -- $(excursion hover 10)
 echo "take-over, keyboard: at t ${1:-?} s; over ${4:-?} s hands off: attitude within ${2:-?} deg, controls moving at most ${3:-?} %/s"
 [ -n "${4:-}" ] && awk -v a="$2" -v d="$4" 'BEGIN { exit !(a <= 1.0 && d >= 9.9) }' ||
     bad "take-over, keyboard: the hover did not hold for 10 s within 1 deg"
-# a scripted station at 50 % everywhere (the hover needs 55 % collective, 32 % pedal): blended in over 1 s
-fly_to script50 6 "$disim" station --script "$tmp/one.csv" --id pilot1 --duration 3.5
+# a scripted station holding 50 % everywhere: a centred stick (and a collective
+# lever below the flown 55 %, not picked up): the hover holds for 10 s, within
+# 2 deg and 1 m of where it was taken over
+fly_to stick50 13.5 "$disim" station --script "$tmp/one.csv" --id pilot1 --duration 11.5
+[ "$(cat "$tmp/stick50.rc" 2>/dev/null)" = 0 ] || bad "take-over, script at 50 %: disim fly exit $(cat "$tmp/stick50.rc" 2>/dev/null): $(tail -3 "$tmp/stick50.fly")"
+set -- $(excursion stick50 10)
+t0=${1:-0}
+dpos=$(awk -F, -v t0="$t0" 'NR > 1 && $1 >= t0 && $1 <= t0 + 10 { if (!n++) { x0 = $2; y0 = $3; z0 = $4 }
+    d = sqrt(($2 - x0)^2 + ($3 - y0)^2 + ($4 - z0)^2); if (d > m) m = d } END { printf "%.3f\n", m }' "$tmp/stick50.csv")
+echo "take-over, script at 50 % (a centred stick): at t ${1:-?} s; over ${4:-?} s: attitude within ${2:-?} deg, position within ${dpos:-?} m"
+[ -n "${4:-}" ] && awk -v a="$2" -v d="$4" -v p="$dpos" 'BEGIN { exit !(a <= 2.0 && p <= 1.0 && d >= 9.9) }' ||
+    bad "take-over, script at 50 %: the hover did not hold for 10 s within 2 deg and 1 m"
+# the same rows as the controls themselves (--script-absolute: the hover needs 55 %
+# collective, 32 % pedal): blended in over 1 s
+fly_to script50 6 "$disim" station --script "$tmp/one.csv" --script-absolute --id pilot1 --duration 3.5
 set -- $(excursion script50 1.5)
 echo "take-over, script at 50 %: at t ${1:-?} s; the controls moved at most ${3:-?} %/s"
 grep -q "takes the controls: blending over 1 s from the flown .* to its 50.0 50.0 50.0 50.0 %" "$tmp/script50.fly" ||
