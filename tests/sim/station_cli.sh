@@ -224,7 +224,7 @@ echo $? > "$base.rc"
 # change of roll, pitch and yaw (deg), and of a control between CSV rows
 # (percent per second), over WINDOW_S
 excursion() {
-    t0=$(sed -n "s/.*t \([0-9.]*\) s: station 'pilot1' takes the controls.*/\1/p" "$tmp/$1.fly" | head -1)
+    t0=$(sed -n "s/.*t \([0-9.]*\) s: station '${3:-pilot1}' takes the controls.*/\1/p" "$tmp/$1.fly" | head -1)
     [ -n "$t0" ] || { bad "$1: the loop did not say the station took the controls: $(cat "$tmp/$1.fly")"; return; }
     awk -F, -v t0="$t0" -v w="$2" '
 function ab(x) { return x < 0 ? -x : x }
@@ -256,6 +256,28 @@ dpos=$(awk -F, -v t0="$t0" 'NR > 1 && $1 >= t0 && $1 <= t0 + 10 { if (!n++) { x0
 echo "take-over, script at 50 % (a centred stick): at t ${1:-?} s; over ${4:-?} s: attitude within ${2:-?} deg, position within ${dpos:-?} m"
 [ -n "${4:-}" ] && awk -v a="$2" -v d="$4" -v p="$dpos" 'BEGIN { exit !(a <= 2.0 && p <= 1.0 && d >= 9.9) }' ||
     bad "take-over, script at 50 %: the hover did not hold for 10 s within 2 deg and 1 m"
+# a second station takes over from the first (both scripts holding 50 %, the
+# second started 4 s later with --take-over): the hover holds 10 s after it
+unshare -n sh -c '
+ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo || exit 1
+disim=$1 src=$2 base=$3 one=$4
+"$disim" fly "$src/scenarios/cg47_uh60a.ini" --realtime --duration 17.5 --wod-speed-kt 20 --wod-dir-deg -30 \
+    --sea-state 4 --db "$base.db" --stations pilot1,pilot2 --csv "$base.csv" 2> "$base.fly" & fly=$!
+sleep 2
+"$disim" station --script "$one" --id pilot1 --duration 15 > /dev/null 2> "$base.err1" &
+sleep 4
+"$disim" station --script "$one" --id pilot2 --take-over --duration 11 > /dev/null 2> "$base.err2"
+wait $fly
+echo $? > "$base.rc"
+' sh "$disim" "$src" "$tmp/second" "$tmp/one.csv" || bad "second: the namespace could not be set up"
+[ "$(cat "$tmp/second.rc" 2>/dev/null)" = 0 ] || bad "second take-over: disim fly exit $(cat "$tmp/second.rc" 2>/dev/null): $(tail -3 "$tmp/second.fly")"
+set -- $(excursion second 10 pilot2)
+t0=${1:-0}
+dpos=$(awk -F, -v t0="$t0" 'NR > 1 && $1 >= t0 && $1 <= t0 + 10 { if (!n++) { x0 = $2; y0 = $3; z0 = $4 }
+    d = sqrt(($2 - x0)^2 + ($3 - y0)^2 + ($4 - z0)^2); if (d > m) m = d } END { printf "%.3f\n", m }' "$tmp/second.csv")
+echo "take-over by a second station: at t ${1:-?} s; over ${4:-?} s: attitude within ${2:-?} deg, position within ${dpos:-?} m"
+[ -n "${4:-}" ] && awk -v a="$2" -v d="$4" -v p="$dpos" 'BEGIN { exit !(a <= 2.0 && p <= 1.0 && d >= 9.9) }' ||
+    bad "take-over by a second station: the hover did not hold for 10 s within 2 deg and 1 m"
 # the same rows as the controls themselves (--script-absolute: the hover needs 55 %
 # collective, 32 % pedal): blended in over 1 s
 fly_to script50 6 "$disim" station --script "$tmp/one.csv" --script-absolute --id pilot1 --duration 3.5
