@@ -141,6 +141,12 @@ static int record(const hfm_aircraft *ac, const core_ship *ship, const conds *c,
     lo.lcm_url = "memq://";
     lo.log_path = log;
     lo.scenario_path = SCEN;
+    /* the automated pilot's controls flown as it sends them from the first
+     * step (it starts from the trim it was given): the log's inputs are
+     * then the flown controls, which feeding them forward must reproduce;
+     * with the take-over's 1 s blend the first second's flown controls
+     * differ from the inputs logged */
+    lo.pilots.blend_s = 0.0;
     sim_loop_world w = {.flight = f, .motion = motion, .scenario = "replay-test"};
     /* what the run was flown from: logged as run_info_t, read back in test_read */
     snprintf(w.info.scenario_path, sizeof w.info.scenario_path, "%s", SCEN);
