@@ -67,6 +67,7 @@ typedef struct auto_st {
     sim_task task;
     double start_S_m[3];
     long info_at_reposition;      /* info_rx when the REPOSITION went (-1: none sent) */
+    double t_reposition_s;        /* its wall time */
     /* the flight */
     hfm_aircraft *ac;
     sim_pilot_auto *p;
@@ -258,6 +259,14 @@ static void rx_status(auto_st *a, const void *buf, int size)
         a->have_status = 1;
         a->sas = (m.flags & DISIM_SIM_STATUS_T_FLAG_SAS) != 0;
     }
+    /* the REPOSITION's answer: a refusal ends the run, saying why */
+    if (a->info_at_reposition >= 0 && !a->p && !a->failed && m.control_seq == 0 &&
+        m.control_command == DISIM_SIM_CONTROL_T_REPOSITION &&
+        m.control_result == DISIM_SIM_STATUS_T_CONTROL_REFUSED) {
+        core_err_set(&a->err, -1, "station --auto: the loop refused the REPOSITION to the task's start: %s",
+                     m.control_message ? m.control_message : "");
+        a->failed = 1;
+    }
     disim_sim_status_t_decode_cleanup(&m);
 }
 
@@ -295,6 +304,7 @@ static int send_reposition(auto_st *a)
         return core_err_set(&a->err, -1, "LCM: publishing on %s failed", DISIM_CH_SIM_CONTROL);
     a->info_at_reposition = a->info_rx;
     a->s->repositioned = 1;
+    a->t_reposition_s = wall_s();
     return 0;
 }
 
@@ -420,6 +430,10 @@ int sim_station_auto_run(const sim_station_auto_opts *o, sim_station_auto_stats 
             rc = core_err_set(&a->err, -1, "station --auto: no %s on %s within %g s%s",
                               a->p ? "state" : "heli_state_t", DISIM_CH_HELI_STATE, o->wait_s,
                               a->p ? "" : " (or no run_info_t and sim_status_t with it)");
+        if (rc == 0 && !a->p && a->info_at_reposition >= 0 && now - a->t_reposition_s > o->wait_s)
+            rc = core_err_set(&a->err, -1, "station --auto: the flight was not at the task's start (%.2f, %.2f, %.2f) "
+                              "m in S within %g s of the REPOSITION", a->start_S_m[0], a->start_S_m[1],
+                              a->start_S_m[2], o->wait_s);
         if (a->p && o->duration_s > 0.0 && s->t_s >= o->duration_s)
             break;
     }
