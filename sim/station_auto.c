@@ -40,6 +40,7 @@
 
 #include "disim_lcm.h"
 
+#include <errno.h>
 #include <lcm/lcm.h>
 #include <math.h>
 #include <stdio.h>
@@ -402,6 +403,10 @@ int sim_station_auto_run(const sim_station_auto_opts *o, sim_station_auto_stats 
         return o && o->task_path ? -1 : core_err_set(err, -1, "station --auto: expected a task file");
     if (!(o->wait_s > 0.0))
         return core_err_set(err, -1, "station --auto: wait_s %g: expected > 0", o->wait_s);
+    FILE *tf = fopen(o->task_path, "r"); /* read once the ship is known: said missing now */
+    if (!tf)
+        return core_err_set(err, -1, "%s: %s", o->task_path, strerror(errno));
+    fclose(tf);
     auto_st *a = calloc(1, sizeof *a);
     if (!a)
         return core_err_set(err, -1, "station --auto: out of memory");
@@ -413,23 +418,23 @@ int sim_station_auto_run(const sim_station_auto_opts *o, sim_station_auto_stats 
         snprintf(a->ship_path, sizeof a->ship_path, "%s", o->ship_path ? o->ship_path : "");
     }
     int rc = open_lcm(a);
-    double t_last = wall_s();
+    double t_last = wall_s(), t_begin = t_last;
     long heli_seen = 0;
     while (rc == 0 && !a->done && !a->failed && !(o->stop && *o->stop)) {
         lcm_handle_timeout(a->lc, 50);
         if (a->failed)
             break;
-        if (!a->p) {
-            if (get_ready(a) < 0)
-                rc = -1;
-        }
+        if (!a->p && get_ready(a) < 0)
+            rc = -1;
         double now = wall_s();
         if (s->heli_rx != heli_seen)
             heli_seen = s->heli_rx, t_last = now;
         if (rc == 0 && now - t_last > o->wait_s)
-            rc = core_err_set(&a->err, -1, "station --auto: no %s on %s within %g s%s",
-                              a->p ? "state" : "heli_state_t", DISIM_CH_HELI_STATE, o->wait_s,
-                              a->p ? "" : " (or no run_info_t and sim_status_t with it)");
+            rc = core_err_set(&a->err, -1, "station --auto: no %s on %s within %g s",
+                              a->p ? "state" : "heli_state_t", DISIM_CH_HELI_STATE, o->wait_s);
+        if (rc == 0 && !a->p && !(a->aircraft_path[0] && a->ship_path[0]) && now - t_begin > o->wait_s)
+            rc = core_err_set(&a->err, -1, "station --auto: no run_info_t on %s within %g s (start the station "
+                              "before disim fly, or give the scenario)", DISIM_CH_RUN_INFO, o->wait_s);
         if (rc == 0 && !a->p && a->info_at_reposition >= 0 && now - a->t_reposition_s > o->wait_s)
             rc = core_err_set(&a->err, -1, "station --auto: the flight was not at the task's start (%.2f, %.2f, %.2f) "
                               "m in S within %g s of the REPOSITION", a->start_S_m[0], a->start_S_m[1],

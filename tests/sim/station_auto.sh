@@ -8,6 +8,8 @@
 # (docs/conventions.md). The station puts the flight at the task's start (a
 # REPOSITION: the loop starts at the scenario's hover), flies the port-side
 # landing on the states it receives and ends once settled on the deck.
+# First its flags: refused with exit status 2 naming them; a task file that
+# is not there, or no flight to read, exit 1 naming it. Then the landing.
 # Checked: the station flew (exit 0, a touchdown said), took the controls
 # (the loop says so) and the landing ends on the deck with a sink below
 # 2 m/s and within 1 m of the spot, by the station's grading and,
@@ -20,12 +22,34 @@ set -u
 disim=$1
 src=$2
 . "$src/tests/skip.sh"
-unshare -n true 2>/dev/null || skip station_auto "'unshare -n' is not permitted here (needs root or user namespaces)"
-command -v ip > /dev/null 2>&1 || skip station_auto "the 'ip' command (iproute2) is missing"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail=0
 bad() { echo "FAIL: $*"; fail=1; }
+
+# ------------------------------------------------------------------ flags
+# expect STATUS TEXT ARGS...: the exit status and a message containing TEXT
+expect() {
+    want=$1 text=$2
+    shift 2
+    "$disim" station "$@" < /dev/null > "$tmp/o" 2> "$tmp/e"
+    got=$?
+    [ "$got" -eq "$want" ] || bad "disim station $*: exit $got, expected $want: $(head -2 "$tmp/e")"
+    grep -qF -- "$text" "$tmp/e" || bad "disim station $*: no '$text' in: $(head -2 "$tmp/e")"
+}
+task=$src/scenarios/tasks/land_port.ini
+expect 2 "--keyboard, --device, --script and --auto exclude each other" --auto "$task" --keyboard
+expect 2 "--auto: --view, --take-over and --script-absolute do not apply" --auto "$task" --take-over
+expect 2 "--auto: expected a value after it" --auto
+expect 1 "$tmp/none.ini: No such file or directory" --auto "$tmp/none.ini" --lcm memq:// --wait-s 0.3
+expect 1 "no heli_state_t on DISIM_HELI_STATE within 0.3 s" --auto "$task" --lcm memq:// --wait-s 0.3
+grep -q "did not fly" "$tmp/o" || bad "a station without a flight: $(cat "$tmp/o")"
+expect 1 "--scenario: " --auto "$task" --scenario "$tmp/none.ini" --lcm memq:// --wait-s 0.3
+
+# ------------------------------------------------------- across processes
+[ $fail -eq 0 ] || exit 1
+unshare -n true 2>/dev/null || skip station_auto "'unshare -n' is not permitted here (needs root or user namespaces)"
+command -v ip > /dev/null 2>&1 || skip station_auto "the 'ip' command (iproute2) is missing"
 
 unshare -n sh -c '
 ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo || exit 1
