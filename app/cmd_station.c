@@ -584,9 +584,9 @@ static int station_auto(const station_args *o, const char *id)
            s.sas ? "on" : "off");
     if (s.started && r.touched)
         printf("touchdown: t %.2f s, sink %.3f m/s, drift %.3f m/s, %.3f m from the spot, heading error %.2f deg, "
-               "grade %d; settled %s; task grade %d\n",
+               "grade %d; settled %s; task grade %d; the descent from %.2f s\n",
                r.t_touchdown_s, r.sink_mps, r.drift_mps, r.dist_m, r.td_heading_err_rad * CORE_RAD_TO_DEG,
-               r.touchdown_grade, r.settled ? "yes" : "no", r.grade);
+               r.touchdown_grade, r.settled ? "yes" : "no", r.grade, r.t_descent_s);
     else if (s.started)
         printf("touchdown: none by t %.2f s; task grade %d%s\n", s.t_s, r.grade, s.reset ? " (the flight was reset)" : "");
     fflush(stdout);

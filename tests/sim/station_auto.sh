@@ -57,7 +57,7 @@ disim=$1 src=$2 base=$3
 "$disim" station --auto "$src/scenarios/tasks/land_port.ini" --id auto1 --wait-s 30 > "$base.out" 2> "$base.err" &
 st=$!
 sleep 0.3
-"$disim" fly "$src/scenarios/cg47_uh60a_flown.ini" --realtime --duration 110 --wod-speed-kt 25 --wod-dir-deg 0 \
+"$disim" fly "$src/scenarios/cg47_uh60a_flown.ini" --realtime --duration 150 --wod-speed-kt 25 --wod-dir-deg 0 \
     --sea-state 4 --db "$base.db" --stations auto1 --csv "$base.csv" --log "$base.lcmlog" 2> "$base.fly" & fly=$!
 wait $st
 echo $? > "$base.st_rc"
@@ -73,7 +73,7 @@ fly_rc=$(cat "$tmp/a.rc" 2>/dev/null || echo none)
 cat "$tmp/a.out"
 grep -q "sim control reposition .* in the hover at (-*0.0[0-9], -17.00, -6.00) m in S" "$tmp/a.fly" ||
     bad "the loop was not repositioned at the task's start: $(grep -i reposition "$tmp/a.fly")"
-grep -q "station 'auto1' takes the controls" "$tmp/a.fly" || bad "auto1 did not take the controls: $(tail -3 "$tmp/a.fly")"
+grep "station 'auto1' takes the controls" "$tmp/a.fly" || bad "auto1 did not take the controls: $(tail -3 "$tmp/a.fly")"
 # the station's touchdown
 set -- $(sed -n 's/^touchdown: t \([0-9.]*\) s, sink \([-0-9.]*\) m\/s, drift [-0-9.]* m\/s, \([0-9.]*\) m from the spot.*settled \([a-z]*\).*/\1 \2 \3 \4/p' "$tmp/a.out")
 echo "station: touchdown at ${1:-?} s, sink ${2:-?} m/s, ${3:-?} m from the spot, settled ${4:-?}"
