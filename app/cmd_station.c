@@ -72,6 +72,7 @@ static void usage_station(FILE *f)
             "                     [--take-over]\n"
             "                     [--view [pilot|deck|chase|overhead]] [--view-size WxH] [--view-image WxH]\n"
             "                     [--scenario FILE] [--view-stats FILE.csv] [--pad-mappings FILE]\n"
+            "       disim station --auto TASK.ini [--id NAME] [--lcm URL] [--scenario FILE] [--duration S] [--wait-s S]\n"
             "       disim station --list\n"
             "  Sends nothing until a heli_state_t brings the controls the loop flies (--wait-s, 10,\n"
             "  then exit 1): they are the reference the controls start from.\n"
@@ -92,6 +93,11 @@ static void usage_station(FILE *f)
             "               up at the flown controls), so 50 everywhere flies the controls taken\n"
             "               over; --script-absolute: the rows are the controls themselves (the loop\n"
             "               blends them in from the flown controls)\n"
+            "  --auto       the automated pilot flies the task file (as disim fly --pilot auto): it\n"
+            "               puts the flight at the task's start (a REPOSITION when it is elsewhere),\n"
+            "               then publishes its controls once per heli_state_t received; the aircraft\n"
+            "               and ship from the loop's run_info_t, or --scenario's; ends when the task\n"
+            "               is done (exit 0) and says the touchdown; --wait-s (60) for the flight\n"
             "  --list       the evdev devices and their axes\n"
             "  publishes pilot_input_t on DISIM_PILOT_INPUT at --rate-hz (50); --lcm defaults to\n"
             "  the LCM library's default URL; --duration ends it S seconds after its first message;\n"
@@ -145,6 +151,7 @@ typedef struct station_args {
     int view_iw, view_ih;       /* the image drawn */
     render_camera_kind view_cam;
     const char *view_size, *view_image, *view_stats, *scenario, *pad_mappings;
+    const char *auto_task;      /* --auto TASK.ini: the automated pilot flies */
     double rate_hz, duration_s, wait_s, rate_pct_s, authority_pct;
     sim_station_axes axes;
 } station_args;
@@ -155,8 +162,14 @@ static int station_parse_view(station_args *o)
     const char *P = "disim station";
     o->view_w = 1280;
     o->view_h = 720;
-    if (!o->view && (o->view_size || o->view_image || o->view_stats || o->scenario || o->pad_mappings)) {
-        fprintf(stderr, "%s: --view-size, --view-image, --view-stats, --scenario and --pad-mappings need --view\n",
+    if (o->auto_task && (o->view || o->take_over || o->script_absolute)) {
+        fprintf(stderr, "%s: --auto: --view, --take-over and --script-absolute do not apply\n", P);
+        return 2;
+    }
+    if (!o->view && (o->view_size || o->view_image || o->view_stats || (o->scenario && !o->auto_task) ||
+                     o->pad_mappings)) {
+        fprintf(stderr, "%s: --view-size, --view-image, --view-stats, --scenario and --pad-mappings need --view "
+                        "(--scenario: or --auto)\n",
                 P);
         return 2;
     }
@@ -183,7 +196,7 @@ static int station_parse(int argc, char **argv, station_args *o)
     const char *P = "disim station";
     memset(o, 0, sizeof *o);
     o->rate_hz = 50.0;
-    o->wait_s = 10.0;
+    o->wait_s = 0.0; /* not given: 10 s, --auto 60 s */
     o->rate_pct_s = 10.0;
     o->authority_pct = SIM_STATION_AUTHORITY_PCT;
     sim_station_axes_default(&o->axes);
@@ -204,6 +217,7 @@ static int station_parse(int argc, char **argv, station_args *o)
                {"--view-image", &o->view_image},
                {"--view-stats", &o->view_stats},
                {"--scenario", &o->scenario},
+               {"--auto", &o->auto_task},
                {"--pad-mappings", &o->pad_mappings}};
     const struct {
         const char *flag;
@@ -270,10 +284,12 @@ static int station_parse(int argc, char **argv, station_args *o)
         usage_station(stderr);
         return 2;
     }
-    if (o->keyboard + (o->device != NULL) + (o->script_path != NULL) > 1) {
-        fprintf(stderr, "%s: --keyboard, --device and --script exclude each other: choose one\n", P);
+    if (o->keyboard + (o->device != NULL) + (o->script_path != NULL) + (o->auto_task != NULL) > 1) {
+        fprintf(stderr, "%s: --keyboard, --device, --script and --auto exclude each other: choose one\n", P);
         return 2;
     }
+    if (o->wait_s == 0.0)
+        o->wait_s = o->auto_task ? 60.0 : 10.0;
     return station_parse_view(o);
 }
 
@@ -526,6 +542,61 @@ static int station_run(const station_args *o, const char *id, const char *source
     return rc;
 }
 
+/* --auto TASK.ini: the automated pilot as a station (sim_station_auto_run);
+ * the touchdown said at the end. 0, or 1 after a message. */
+static int station_auto(const station_args *o, const char *id)
+{
+    const char *P = "disim station";
+    core_err err;
+    sim_station_auto_opts ao;
+    memset(&ao, 0, sizeof ao);
+    ao.id = id;
+    ao.lcm_url = o->url;
+    ao.task_path = o->auto_task;
+    ao.wait_s = o->wait_s;
+    ao.duration_s = o->duration_s;
+    ao.stop = &station_stop;
+    sim_scenario *sc = NULL;
+    if (o->scenario) {
+        if (!(sc = calloc(1, sizeof *sc))) {
+            fprintf(stderr, "%s: out of memory\n", P);
+            return 1;
+        }
+        if (sim_scenario_load(o->scenario, sc, &err) != 0) {
+            fprintf(stderr, "%s: --scenario: %s\n", P, err.msg);
+            free(sc);
+            return 1;
+        }
+        ao.aircraft_path = sc->aircraft_path;
+        ao.ship_path = sc->ship_path;
+    }
+    station_signals();
+    fprintf(stderr, "%s: %s: the automated pilot flies %s (the aircraft and ship from %s)\n", P, id, o->auto_task,
+            o->scenario ? o->scenario : "the loop's run_info_t");
+    sim_station_auto_stats s;
+    sim_task_result r;
+    int rc = sim_station_auto_run(&ao, &s, &r, &err);
+    free(sc);
+    printf("end: %s: %s, %ld states flown at %.0f Hz (%ld with an older ship state), %ld sent, %ld bad received; "
+           "start (%.2f, %.2f, %.2f) m in S%s; SAS %s\n",
+           id, s.started ? "flew" : "did not fly", s.steps, s.rate_hz, s.unpaired, s.published, s.bad_rx,
+           s.start_S_m[0], s.start_S_m[1], s.start_S_m[2], s.repositioned ? " (repositioned there)" : "",
+           s.sas ? "on" : "off");
+    if (s.started && r.touched)
+        printf("touchdown: t %.2f s, sink %.3f m/s, drift %.3f m/s, %.3f m from the spot, heading error %.2f deg, "
+               "grade %d; settled %s; task grade %d; the descent from %.2f s\n",
+               r.t_touchdown_s, r.sink_mps, r.drift_mps, r.dist_m, r.td_heading_err_rad * CORE_RAD_TO_DEG,
+               r.touchdown_grade, r.settled ? "yes" : "no", r.grade, r.t_descent_s);
+    else if (s.started)
+        printf("touchdown: none by t %.2f s; task grade %d%s\n", s.t_s, r.grade, s.reset ? " (the flight was reset)" : "");
+    fflush(stdout);
+    if (rc != 0) {
+        fprintf(stderr, "%s: %s\n", P, err.msg);
+        return 1;
+    }
+    return 0;
+}
+
 int cmd_station(int argc, char **argv)
 {
     station_args o;
@@ -538,6 +609,12 @@ int cmd_station(int argc, char **argv)
     if (o.id && sim_station_id_check(o.id, &err) != 0) {
         fprintf(stderr, "disim station: --id: %s\n", err.msg);
         return 2;
+    }
+    if (o.auto_task) {
+        char abuf[80];
+        if (!o.id)
+            sim_station_default_id(abuf, sizeof abuf, "auto");
+        return station_auto(&o, o.id ? o.id : abuf);
     }
     int keyboard = o.keyboard || (!o.device && !o.script_path && !o.view);
     int window = !keyboard && !o.device && !o.script_path; /* --view alone: the window's keys and controllers */

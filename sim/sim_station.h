@@ -5,6 +5,7 @@
 
 #include "core.h"
 #include "hfm.h"
+#include "sim_task.h"
 
 #include <stddef.h>
 
@@ -271,6 +272,42 @@ typedef struct sim_station_run_opts {
     double show_hz;
 } sim_station_run_opts;
 int sim_station_run(sim_station *st, const sim_station_run_opts *o, core_err *err);
+
+/* ------------------------ the automated station (sim/station_auto.c) */
+/* The automated pilot (sim_pilot_auto) as a station of its own, `disim
+ * station --auto TASK.ini`: it receives heli_state_t, ship_state_t,
+ * run_info_t and sim_status_t, starts the flight at the task's first point
+ * (one sim_control_t REPOSITION when it is not there), flies one pilot
+ * step per state received and publishes the pilot's controls as
+ * pilot_input_t (absolute; take_over in the first). sim/station_auto.c has
+ * the details. */
+typedef struct sim_station_auto_opts {
+    const char *id;            /* station_id (sim_station_id_check) */
+    const char *lcm_url;       /* NULL: the library default */
+    const char *task_path;     /* the task file, resolved against the ship */
+    const char *aircraft_path; /* NULL: the aircraft and ship of run_info_t */
+    const char *ship_path;
+    double wait_s;             /* for the flight's messages, and between two states (> 0) */
+    double duration_s;         /* > 0: end this long after the pilot's start */
+    const volatile sig_atomic_t *stop; /* set (by a signal handler): stop */
+    const core_log *log;
+} sim_station_auto_opts;
+typedef struct sim_station_auto_stats {
+    int started;               /* the pilot flew */
+    int repositioned;          /* a REPOSITION to the task's start was sent */
+    int reset;                 /* the flight started again under the pilot (the run ended) */
+    int sas, gear;             /* the pilot's options as found */
+    double rate_hz;            /* the pilot's: the state rate */
+    double start_S_m[3];       /* the task's start */
+    long heli_rx, bad_rx, steps, unpaired, published; /* unpaired: flown with an older ship state */
+    double t_s;                /* the pilot's time of the last state flown */
+} sim_station_auto_stats;
+/* Fly until the task is done, duration_s, *stop, or a reset: 0 (r the
+ * task's result so far, s what was received and sent); < 0 with err (no
+ * flight within wait_s, a file that does not load, a start that is not a
+ * hover, a failed publish). */
+int sim_station_auto_run(const sim_station_auto_opts *o, sim_station_auto_stats *s, sim_task_result *r,
+                         core_err *err);
 
 #ifdef __cplusplus
 }
