@@ -131,9 +131,9 @@ struct sim_loop {
     lcm_eventlog_t *replay;
     lcm_eventlog_event_t *pending; /* the next replayed event, not yet due */
     int replay_done;
+    long long replay_size; /* the bytes framed at create: nothing past them is read */
     sim_pilots *pilots;
     sim_pacer *pacer;
-    long prior_overruns;
     long long run_step, nsteps, state_every;
     int paused, held;
     unsigned flags, last_flags;
@@ -324,7 +324,8 @@ static int replay_feed(sim_loop *l)
 {
     int fed = 0;
     while (!l->replay_done) {
-        if (!l->pending && !(l->pending = lcm_eventlog_read_next_event(l->replay))) {
+        if (!l->pending && ((long long)ftello(l->replay->f) >= l->replay_size ||
+                            !(l->pending = lcm_eventlog_read_next_event(l->replay)))) {
             l->replay_done = 1;
             break;
         }
@@ -560,13 +561,13 @@ static unsigned loop_flags(const sim_loop *l)
     return f;
 }
 
+/* The deadlines from now: the run's pacer created, or rebased (its
+ * counts and times over the whole run kept). */
 static int new_pacer(sim_loop *l, core_err *err)
 {
     if (l->pacer) {
-        sim_pacer_report r;
-        sim_pacer_stats(l->pacer, &r);
-        l->prior_overruns += r.overruns;
-        sim_pacer_destroy(l->pacer);
+        sim_pacer_rebase(l->pacer);
+        return 0;
     }
     return (l->pacer = sim_pacer_create(l->o.rate_hz, l->o.realtime, err)) ? 0 : -1;
 }
@@ -626,6 +627,15 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
     if (o->replay_path) {
         snprintf(l->replay_path, sizeof l->replay_path, "%s", o->replay_path);
         l->o.replay_path = l->replay_path;
+        sim_log_frames fr; /* framed whole before LCM's reader sees it (sim_log_check_frames) */
+        if (sim_log_check_frames(o->replay_path, &fr, err) != 0)
+            goto fail;
+        l->replay_size = fr.size;
+        if (fr.n_inputs == 0) {
+            core_err_set(err, -1, "%s: %ld events and no pilot_input_t or sim_control_t: nothing to replay (a log "
+                         "of disim fly --log with a station's inputs)", o->replay_path, fr.n_events);
+            goto fail;
+        }
         if (!(l->replay = lcm_eventlog_create(o->replay_path, "r"))) {
             core_err_set(err, -1, "%s: cannot read the LCM log", o->replay_path);
             goto fail;
@@ -1330,7 +1340,6 @@ void sim_loop_report_get(const sim_loop *l, sim_loop_report *r)
 {
     memset(r, 0, sizeof *r);
     sim_pacer_stats(l->pacer, &r->pace);
-    r->pace.overruns += l->prior_overruns;
     r->run_s = run_t(l);
     r->paused = l->paused;
     r->held = l->held;
