@@ -131,6 +131,7 @@ struct sim_loop {
     lcm_eventlog_t *replay;
     lcm_eventlog_event_t *pending; /* the next replayed event, not yet due */
     int replay_done;
+    long long builds; /* worlds built or tried (a reset, a load, a rebuild, a restore) */
     long long replay_size; /* the bytes framed at create: nothing past them is read */
     sim_pilots *pilots;
     sim_pacer *pacer;
@@ -970,6 +971,7 @@ static int restore_snapshot(sim_loop *l, const snap *sn, char *why, size_t n, co
     sim_loop_world w;
     memset(&w, 0, sizeof w);
     core_err e = {0};
+    l->builds++;
     if (l->o.rebuild(l->user, sn->path, &sn->base, &w, &e) != 0 || !w.flight)
         return snprintf(why, n, "%.200s", e.msg[0] ? e.msg : "no flight"), 1;
     l->w = w; /* the old world is gone */
@@ -1035,6 +1037,7 @@ static int do_load(sim_loop *l, const ctl *c, char *why, size_t n, core_err *err
     sim_loop_world w;
     memset(&w, 0, sizeof w);
     core_err e = {0};
+    l->builds++;
     if (l->build(l->user, path, &w, &e) != 0 || !w.flight)
         return snprintf(why, n, "%s refused: %.200s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "load",
                         e.msg[0] ? e.msg : "no flight"), 1;
@@ -1066,6 +1069,7 @@ static int do_setup(sim_loop *l, const ctl *c, char *why, size_t n, core_err *er
     sim_loop_world w;
     memset(&w, 0, sizeof w);
     core_err e = {0};
+    l->builds++;
     if (l->o.rebuild(l->user, l->scenario_path, &s, &w, &e) != 0 || !w.flight)
         return snprintf(why, n, "%.200s", e.msg[0] ? e.msg : "no flight"), 1;
     sim_pilots_reblend(l->pilots);
@@ -1170,10 +1174,28 @@ static int do_control(sim_loop *l, const ctl *c, core_err *err)
     return 0;
 }
 
-/* The controls received, in order, each answered in a status of its own. */
+/* A control that may build the world again (all but pause, resume,
+ * snapshot and the turbulence, which change nothing or change it in
+ * flight). */
+static int may_build(int command)
+{
+    return command != DISIM_SIM_CONTROL_T_PAUSE && command != DISIM_SIM_CONTROL_T_RESUME &&
+           command != DISIM_SIM_CONTROL_T_SNAPSHOT && command != DISIM_SIM_CONTROL_T_SET_TURBULENCE;
+}
+
+/* The controls received, in order, each answered in a status of its own.
+ * At most one world is built in a pass (a build takes tens of ms): a
+ * further control that may build one is refused with the reason, so a
+ * burst of resets or loads costs one build, not one per message. */
 static int do_controls(sim_loop *l, core_err *err)
 {
+    long long built = l->builds;
     for (int i = 0; i < l->nq; i++) {
+        if (l->builds != built && may_build(l->q[i].command)) {
+            refuse_ctl(l, l->q[i].seq, l->q[i].command, "a world was built in this step already: one build per "
+                       "step, send it again");
+            continue;
+        }
         if (do_control(l, &l->q[i], err) != 0) {
             l->nq = 0;
             return -1;

@@ -580,6 +580,17 @@ static void test_control(void)
     lcm_publish(lc, DISIM_CH_SIM_CONTROL, junk, sizeof junk);
     CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 3);
     CHECK(s.last.control_refused == 2 && strstr(s.message, "fingerprint") != NULL);
+    /* a burst of 64 resets in one step: one world built, the others
+     * refused with the reason (the step's time bounded by one build) */
+    int builds0 = w.builds;
+    for (int k = 0; k < 64; k++)
+        control(lc, DISIM_SIM_CONTROL_T_RESET, NULL);
+    CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 1);
+    CHECK(w.builds == builds0 + 1 && s.last.control_refused == 2 + 63);
+    CHECK(strstr(s.message, "one build per step") != NULL);
+    /* the next step builds again */
+    control(lc, DISIM_SIM_CONTROL_T_RESET, NULL);
+    CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 1 && w.builds == builds0 + 2);
     printf("test_loop: control: paused at %.3f s, reset to z %.2f m, loaded %s, refused '%s'\n", t_paused,
            out.pos_S_m[2], s.scenario, s.message);
     disim_sim_status_t_unsubscribe(lc, ss);
