@@ -336,10 +336,12 @@ int sim_log_check_frames(const char *path, sim_log_frames *fr, core_err *err)
     memset(fr, 0, sizeof *fr);
     if (!path)
         return core_err_set(err, -1, "expected the path of an LCM log");
-    if (core_file_regular(path, SIM_LOG_MAX_BYTES, err) != 0)
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return core_err_set(err, -1, "%s: cannot read the LCM log (%s)", path, strerror(errno));
+    if (core_file_check_stat(path, &st, SIM_LOG_MAX_BYTES, err) != 0) /* nothing opened: a FIFO does not block */
         return -1;
     FILE *f = fopen(path, "rb");
-    struct stat st;
     if (!f || fstat(fileno(f), &st) != 0) {
         int e = errno;
         if (f)
@@ -377,10 +379,10 @@ int sim_log_check_frames(const char *path, sim_log_frames *fr, core_err *err)
 static int open_log(loader *ld, const char *path, core_err *err)
 {
     struct stat st;
-    if (core_file_regular(path, SIM_LOG_MAX_BYTES, err) != 0)
-        return -1;
     if (stat(path, &st) != 0)
         return core_err_set(err, -1, "%s: cannot read the LCM log (%s)", path, strerror(errno));
+    if (core_file_check_stat(path, &st, SIM_LOG_MAX_BYTES, err) != 0)
+        return -1;
     ld->size = (long long)st.st_size;
     ld->L = calloc(1, sizeof *ld->L);
     if (ld->L)

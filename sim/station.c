@@ -55,6 +55,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -113,7 +114,12 @@ sim_station_script *sim_station_script_load(const char *path, core_err *err)
 {
     static const char *col[5] = {"time", "collective", "long", "lat", "pedal"};
     /* a regular file of a sane size: /dev/zero or a FIFO would never end */
-    if (core_file_regular(path, SIM_STATION_SCRIPT_MAX_BYTES, err) != 0)
+    struct stat st;
+    if (stat(path, &st) != 0) {
+        core_err_set(err, -1, "%s: %s", path, strerror(errno));
+        return NULL;
+    }
+    if (core_file_check_stat(path, &st, SIM_STATION_SCRIPT_MAX_BYTES, err) != 0)
         return NULL;
     FILE *fp = fopen(path, "r");
     if (!fp) {
