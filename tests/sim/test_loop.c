@@ -575,18 +575,23 @@ static void test_control(void)
     CHECK(out.step == 2 && w.builds == 3 && !strcmp(s.scenario, "loop_b"));
     CHECK(strstr(s.message, "load refused") != NULL && strstr(s.message, "bad_range.ini") != NULL);
     CHECK(s.last.control_refused == 1);
+    /* a load of /dev/zero (it would be read for ever): refused unread */
+    control(lc, DISIM_SIM_CONTROL_T_LOAD_SCENARIO, "/dev/zero");
+    CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED);
+    CHECK(out.step == 3 && w.builds == 3 && !strcmp(s.scenario, "loop_b"));
+    CHECK(strstr(s.message, "/dev/zero: a character device") != NULL && s.last.control_refused == 2);
     /* a malformed control: refused and counted */
     unsigned char junk[12] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
     lcm_publish(lc, DISIM_CH_SIM_CONTROL, junk, sizeof junk);
-    CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 3);
-    CHECK(s.last.control_refused == 2 && strstr(s.message, "fingerprint") != NULL);
+    CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 4);
+    CHECK(s.last.control_refused == 3 && strstr(s.message, "fingerprint") != NULL);
     /* a burst of 64 resets in one step: one world built, the others
      * refused with the reason (the step's time bounded by one build) */
     int builds0 = w.builds;
     for (int k = 0; k < 64; k++)
         control(lc, DISIM_SIM_CONTROL_T_RESET, NULL);
     CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 1);
-    CHECK(w.builds == builds0 + 1 && s.last.control_refused == 2 + 63);
+    CHECK(w.builds == builds0 + 1 && s.last.control_refused == 3 + 63);
     CHECK(strstr(s.message, "one build per step") != NULL);
     /* the next step builds again */
     control(lc, DISIM_SIM_CONTROL_T_RESET, NULL);
