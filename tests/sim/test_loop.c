@@ -27,7 +27,7 @@ static int enc(unsigned char *b, const char *id, long long seq, double coll, dou
 {
     disim_pilot_input_t m;
     memset(&m, 0, sizeof m);
-    m.utime = seq * 20000;
+    m.utime = seq < 1000000000LL ? seq * 20000 : 0; /* a spoofed seq near 2^63 has no utime of its own */
     m.station_id = (char *)id;
     m.seq = seq;
     m.collective_pct = coll;
