@@ -26,6 +26,8 @@ enum { KIND_SCENARIO, KIND_AIRCRAFT, KIND_SHIP };
 /* The kind of file path is, from its sections; -1 (err set) if it cannot be read. */
 static int file_kind(const char *path, core_err *err)
 {
+    if (core_file_regular(path, SIM_SCENARIO_MAX_BYTES, err) != 0) /* /dev/zero, a FIFO: refused unread */
+        return -1;
     core_ini *ini = core_ini_load(path, err);
     if (!ini)
         return -1;

@@ -1102,6 +1102,9 @@ int cmd_fly(int argc, char **argv)
     ctx.tty = tty;
     rc = -1;
     sim_log *replay_ref = NULL; /* --pilot replay: read first, the flight starts where it does */
+    sim_log_frames rf; /* --replay-inputs: checked before anything is built or written */
+    if (o.replay && sim_log_check_frames(o.replay, &rf, &err) != 0)
+        goto done;
     if (o.replay_log) {
         sim_log_sample s0;
         if (!(replay_ref = sim_log_load(o.replay_log, &err)))

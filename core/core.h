@@ -190,6 +190,16 @@ int core_mkdir_p(const char *dir, core_err *err);
  * with errno set. */
 int core_sync_path(const char *path);
 
+/* ------------------------------------------------------------ input files */
+struct stat;
+/* 0 if path is a regular file of at most max_bytes (max_bytes < 0: any
+ * size); < 0 with err naming the path and what it is otherwise (missing, a
+ * folder, a FIFO, a device, a socket, too large). Nothing is opened, so a
+ * FIFO does not block. */
+int core_file_regular(const char *path, long long max_bytes, core_err *err);
+/* The same check on what fstat or stat gave for path (an opened file). */
+int core_file_check_stat(const char *path, const struct stat *st, long long max_bytes, core_err *err);
+
 /* ------------------------------------------------- airwake case options */
 /* The named options of an airwake case, each defined here once (the
  * lowest module that the scenario reader, the CFD solver, the database's

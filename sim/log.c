@@ -190,6 +190,9 @@ static void make_state(const disim_heli_state_t *h, const ship_rec *sh, rec_stat
 static int heli_ok(const disim_heli_state_t *h, const char **bad)
 {
     const double c[4] = {h->collective_pct, h->long_cyclic_pct, h->lat_cyclic_pct, h->pedal_pct};
+    double qn = 0.0;
+    for (int i = 0; i < 4; i++)
+        qn += h->quat_EB[i] * h->quat_EB[i];
     *bad = NULL;
     if (h->utime < 0)
         *bad = "utime (expected >= 0)";
@@ -201,6 +204,10 @@ static int heli_ok(const disim_heli_state_t *h, const char **bad)
         *bad = "roll_rad / pitch_rad / yaw_rad (expected finite angles within -pi to pi)";
     else if (!fin3(h->rates_B_radps, 1e3))
         *bad = "rates_B_radps (expected finite rates)";
+    else if (!(fabs(qn - 1.0) < 1e-6)) /* NaN and infinities too: as the renderer checks a pose */
+        *bad = "quat_EB (expected a finite unit quaternion)";
+    else if (!isfinite(h->rotor_thrust_N) || !isfinite(h->rotor_power_W))
+        *bad = "rotor_thrust_N / rotor_power_W (expected finite values)";
     for (int i = 0; !*bad && i < 4; i++)
         if (!(c[i] >= 0.0 && c[i] <= 100.0))
             *bad = "the controls (expected finite percentages 0 to 100)";
@@ -297,13 +304,85 @@ typedef struct loader {
 } loader;
 
 /* The file checked and opened: 0, or -1 with err. */
+/* The frame of event R->ev at byte at of a file of size bytes: its
+ * header read from f (positioned there), the sync word, the lengths, the
+ * event inside the file. 0 with the lengths, or -1 with the error. */
+static int frame_at(const reader *R, FILE *f, long long at, long long size, int32_t *chlen, int32_t *dlen)
+{
+    unsigned char hdr[HDR_BYTES];
+    size_t got = fread(hdr, 1, sizeof hdr, f);
+    if (got >= 4 && be32u(hdr) != LOG_MAGIC) {
+        if (R->ev == 1)
+            return core_err_set(R->err, -1, "%s: not an LCM event log (no sync word at byte 0): expected a log of "
+                                            "disim fly --log", R->path);
+        return ev_err(R, "no sync word where the last event ended (corrupt)");
+    }
+    if (got < sizeof hdr)
+        return ev_err(R, "the file ends inside the event's header (truncated)");
+    *chlen = (int32_t)be32u(hdr + 20), *dlen = (int32_t)be32u(hdr + 24);
+    if (*chlen <= 0 || *chlen >= 256 || *dlen < 0)
+        return ev_err(R, "a channel or data length out of range (corrupt)");
+    long long need = (long long)*chlen + (long long)*dlen, left = size - at - HDR_BYTES;
+    if (need > left) {
+        char w[160];
+        snprintf(w, sizeof w, "%lld bytes of channel and data, %lld left in the file (truncated)", need, left);
+        return ev_err(R, w);
+    }
+    return 0;
+}
+
+int sim_log_check_frames(const char *path, sim_log_frames *fr, core_err *err)
+{
+    memset(fr, 0, sizeof *fr);
+    if (!path)
+        return core_err_set(err, -1, "expected the path of an LCM log");
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return core_err_set(err, -1, "%s: cannot read the LCM log (%s)", path, strerror(errno));
+    if (core_file_check_stat(path, &st, SIM_LOG_MAX_BYTES, err) != 0) /* nothing opened: a FIFO does not block */
+        return -1;
+    FILE *f = fopen(path, "rb");
+    if (!f || fstat(fileno(f), &st) != 0) {
+        int e = errno;
+        if (f)
+            fclose(f);
+        return core_err_set(err, -1, "%s: cannot read the LCM log (%s)", path, strerror(e));
+    }
+    int rc = core_file_check_stat(path, &st, SIM_LOG_MAX_BYTES, err); /* the file opened, as checked */
+    fr->size = (long long)st.st_size;
+    if (rc == 0 && fr->size == 0)
+        rc = core_err_set(err, -1, "%s: empty: expected an LCM event log (disim fly --log)", path);
+    reader R = {path, 0, 0, NULL, err};
+    for (long long at = 0; rc == 0 && at < fr->size;) {
+        R.ev++;
+        R.at = at;
+        int32_t chlen, dlen;
+        char ch[256];
+        if (fseeko(f, (off_t)at, SEEK_SET) != 0)
+            rc = ev_err(&R, "cannot seek to the event");
+        else if ((rc = frame_at(&R, f, at, fr->size, &chlen, &dlen)) == 0) {
+            if (fread(ch, 1, (size_t)chlen, f) != (size_t)chlen) {
+                rc = ev_err(&R, "the channel's name not read");
+                break;
+            }
+            ch[chlen] = '\0';
+            if (!strcmp(ch, DISIM_CH_PILOT_INPUT) || !strcmp(ch, DISIM_CH_SIM_CONTROL))
+                fr->n_inputs++;
+            fr->n_events++;
+            at += HDR_BYTES + (long long)chlen + (long long)dlen;
+        }
+    }
+    fclose(f);
+    return rc;
+}
+
 static int open_log(loader *ld, const char *path, core_err *err)
 {
     struct stat st;
     if (stat(path, &st) != 0)
         return core_err_set(err, -1, "%s: cannot read the LCM log (%s)", path, strerror(errno));
-    if (!S_ISREG(st.st_mode))
-        return core_err_set(err, -1, "%s: not a file: expected an LCM event log (disim fly --log)", path);
+    if (core_file_check_stat(path, &st, SIM_LOG_MAX_BYTES, err) != 0)
+        return -1;
     ld->size = (long long)st.st_size;
     ld->L = calloc(1, sizeof *ld->L);
     if (ld->L)
@@ -326,27 +405,9 @@ static lcm_eventlog_event_t *next_event(loader *ld, long long at)
     R->ev++;
     R->at = at;
     R->ch = NULL;
-    unsigned char hdr[HDR_BYTES];
-    size_t got = fread(hdr, 1, sizeof hdr, f);
-    if (got >= 4 && be32u(hdr) != LOG_MAGIC) {
-        if (R->ev == 1)
-            core_err_set(R->err, -1, "%s: not an LCM event log (no sync word at byte 0): expected a log of disim fly "
-                                     "--log", R->path);
-        else
-            ev_err(R, "no sync word where the last event ended (corrupt)");
+    int32_t chlen, dlen;
+    if (frame_at(R, f, at, ld->size, &chlen, &dlen) != 0)
         return NULL;
-    }
-    if (got < sizeof hdr)
-        return ev_err(R, "the file ends inside the event's header (truncated)"), NULL;
-    int32_t chlen = (int32_t)be32u(hdr + 20), dlen = (int32_t)be32u(hdr + 24);
-    if (chlen <= 0 || chlen >= 256 || dlen < 0)
-        return ev_err(R, "a channel or data length out of range (corrupt)"), NULL;
-    if (at + HDR_BYTES + chlen + dlen > ld->size) {
-        char w[160];
-        snprintf(w, sizeof w, "%d bytes of channel and data, %lld left in the file (truncated)", chlen + dlen,
-                 ld->size - at - HDR_BYTES);
-        return ev_err(R, w), NULL;
-    }
     /* lcm_eventlog_read_next_event reads the next event's sync word too
      * (and prints when it is not there): look first, to name it */
     long long next = at + HDR_BYTES + chlen + dlen;

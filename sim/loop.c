@@ -131,9 +131,10 @@ struct sim_loop {
     lcm_eventlog_t *replay;
     lcm_eventlog_event_t *pending; /* the next replayed event, not yet due */
     int replay_done;
+    long long builds; /* worlds built or tried (a reset, a load, a rebuild, a restore) */
+    long long replay_size; /* the bytes framed at create: nothing past them is read */
     sim_pilots *pilots;
     sim_pacer *pacer;
-    long prior_overruns;
     long long run_step, nsteps, state_every;
     int paused, held;
     unsigned flags, last_flags;
@@ -324,7 +325,8 @@ static int replay_feed(sim_loop *l)
 {
     int fed = 0;
     while (!l->replay_done) {
-        if (!l->pending && !(l->pending = lcm_eventlog_read_next_event(l->replay))) {
+        if (!l->pending && ((long long)ftello(l->replay->f) >= l->replay_size ||
+                            !(l->pending = lcm_eventlog_read_next_event(l->replay)))) {
             l->replay_done = 1;
             break;
         }
@@ -564,13 +566,13 @@ static unsigned loop_flags(const sim_loop *l)
     return f;
 }
 
+/* The deadlines from now: the run's pacer created, or rebased (its
+ * counts and times over the whole run kept). */
 static int new_pacer(sim_loop *l, core_err *err)
 {
     if (l->pacer) {
-        sim_pacer_report r;
-        sim_pacer_stats(l->pacer, &r);
-        l->prior_overruns += r.overruns;
-        sim_pacer_destroy(l->pacer);
+        sim_pacer_rebase(l->pacer);
+        return 0;
     }
     return (l->pacer = sim_pacer_create(l->o.rate_hz, l->o.realtime, err)) ? 0 : -1;
 }
@@ -630,6 +632,15 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
     if (o->replay_path) {
         snprintf(l->replay_path, sizeof l->replay_path, "%s", o->replay_path);
         l->o.replay_path = l->replay_path;
+        sim_log_frames fr; /* framed whole before LCM's reader sees it (sim_log_check_frames) */
+        if (sim_log_check_frames(o->replay_path, &fr, err) != 0)
+            goto fail;
+        l->replay_size = fr.size;
+        if (fr.n_inputs == 0) {
+            core_err_set(err, -1, "%s: %ld events and no pilot_input_t or sim_control_t: nothing to replay (a log "
+                         "of disim fly --log with a station's inputs)", o->replay_path, fr.n_events);
+            goto fail;
+        }
         if (!(l->replay = lcm_eventlog_create(o->replay_path, "r"))) {
             core_err_set(err, -1, "%s: cannot read the LCM log", o->replay_path);
             goto fail;
@@ -964,6 +975,7 @@ static int restore_snapshot(sim_loop *l, const snap *sn, char *why, size_t n, co
     sim_loop_world w;
     memset(&w, 0, sizeof w);
     core_err e = {0};
+    l->builds++;
     if (l->o.rebuild(l->user, sn->path, &sn->base, &w, &e) != 0 || !w.flight)
         return snprintf(why, n, "%.200s", e.msg[0] ? e.msg : "no flight"), 1;
     l->w = w; /* the old world is gone */
@@ -1029,6 +1041,7 @@ static int do_load(sim_loop *l, const ctl *c, char *why, size_t n, core_err *err
     sim_loop_world w;
     memset(&w, 0, sizeof w);
     core_err e = {0};
+    l->builds++;
     if (l->build(l->user, path, &w, &e) != 0 || !w.flight)
         return snprintf(why, n, "%s refused: %.200s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "load",
                         e.msg[0] ? e.msg : "no flight"), 1;
@@ -1060,6 +1073,7 @@ static int do_setup(sim_loop *l, const ctl *c, char *why, size_t n, core_err *er
     sim_loop_world w;
     memset(&w, 0, sizeof w);
     core_err e = {0};
+    l->builds++;
     if (l->o.rebuild(l->user, l->scenario_path, &s, &w, &e) != 0 || !w.flight)
         return snprintf(why, n, "%.200s", e.msg[0] ? e.msg : "no flight"), 1;
     sim_pilots_reblend(l->pilots);
@@ -1164,10 +1178,28 @@ static int do_control(sim_loop *l, const ctl *c, core_err *err)
     return 0;
 }
 
-/* The controls received, in order, each answered in a status of its own. */
+/* A control that may build the world again (all but pause, resume,
+ * snapshot and the turbulence, which change nothing or change it in
+ * flight). */
+static int may_build(int command)
+{
+    return command != DISIM_SIM_CONTROL_T_PAUSE && command != DISIM_SIM_CONTROL_T_RESUME &&
+           command != DISIM_SIM_CONTROL_T_SNAPSHOT && command != DISIM_SIM_CONTROL_T_SET_TURBULENCE;
+}
+
+/* The controls received, in order, each answered in a status of its own.
+ * At most one world is built in a pass (a build takes tens of ms): a
+ * further control that may build one is refused with the reason, so a
+ * burst of resets or loads costs one build, not one per message. */
 static int do_controls(sim_loop *l, core_err *err)
 {
+    long long built = l->builds;
     for (int i = 0; i < l->nq; i++) {
+        if (l->builds != built && may_build(l->q[i].command)) {
+            refuse_ctl(l, l->q[i].seq, l->q[i].command, "a world was built in this step already: one build per "
+                       "step, send it again");
+            continue;
+        }
         if (do_control(l, &l->q[i], err) != 0) {
             l->nq = 0;
             return -1;
@@ -1334,7 +1366,6 @@ void sim_loop_report_get(const sim_loop *l, sim_loop_report *r)
 {
     memset(r, 0, sizeof *r);
     sim_pacer_stats(l->pacer, &r->pace);
-    r->pace.overruns += l->prior_overruns;
     r->run_s = run_t(l);
     r->paused = l->paused;
     r->held = l->held;

@@ -117,6 +117,11 @@ sim_pacer *sim_pacer_create_opts(const sim_pacer_opts *o, core_err *err)
 
 void sim_pacer_destroy(sim_pacer *p) { free(p); }
 
+void sim_pacer_rebase(sim_pacer *p)
+{
+    p->clock.now(p->clock.user, &p->next);
+}
+
 int sim_pacer_wait(sim_pacer *p)
 {
     struct timespec now;

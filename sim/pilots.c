@@ -186,13 +186,18 @@ int sim_pilots_offer(sim_pilots *p, const void *buf, int size, double t_s, char 
         rc = refuse(p, -1, why, n, "pilot_input_t from '%s': too many stations", m.station_id);
     else {
         station *s = &p->st[i];
-        if (s->s.last_seq >= 0 && m.seq <= s->s.last_seq && live(p, i, t_s))
+        /* both seqs are >= 0 (checked), so their difference cannot overflow */
+        int64_t ahead = s->s.last_seq >= 0 ? m.seq - s->s.last_seq : 0;
+        if (s->s.last_seq >= 0 && ahead <= 0 && live(p, i, t_s))
             rc = refuse(p, i, why, n, "pilot_input_t from '%s': seq not above the last (stale)", s->s.id);
+        else if (ahead > SIM_PILOTS_SEQ_JUMP_MAX)
+            rc = refuse(p, i, why, n, "pilot_input_t from '%s': seq jumps more than 1000000 past the last "
+                                      "(a spoofed or corrupt message)", s->s.id);
         else {
             /* a seq at or below the last after a silence: the station
              * restarted; its count starts again there */
-            if (s->s.last_seq >= 0 && m.seq > s->s.last_seq + 1)
-                s->s.gaps += m.seq - s->s.last_seq - 1;
+            if (ahead > 1)
+                s->s.gaps += ahead - 1;
             if (s->s.received == 0 && p->o.n_priority == 0)
                 s->prio = p->next_order++;
             s->s.last_seq = m.seq;

@@ -326,6 +326,10 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
         return core_err_set(err, -1, "%.60s...: scenario path longer than %zu characters", path,
                             sizeof sc->path - 1);
     snprintf(sc->path, sizeof sc->path, "%s", path);
+    /* a regular file of a sane size, so that a load (over LCM too) of
+     * /dev/zero, a FIFO or a huge file is refused at once, unread */
+    if (core_file_regular(path, SIM_SCENARIO_MAX_BYTES, err) != 0)
+        return -1;
     core_ini *ini = core_ini_load(path, err);
     if (!ini)
         return -1;

@@ -35,6 +35,22 @@ int sim_log_writer_commit(sim_log_writer *w, core_err *err);
 /* Frees w; an uncommitted log's temporary file is removed. */
 void sim_log_writer_destroy(sim_log_writer *w);
 
+/* Every reader of an LCM event log (sim_log_load, the loop's replay of
+ * its inputs) checks it first: a regular file (no folder, FIFO or device)
+ * of at most SIM_LOG_MAX_BYTES, not empty, and every event framed: the
+ * sync word, a channel of 1 to 255 bytes, a data length >= 0 whose event
+ * ends inside the file, the next event's sync word where it ends, so that
+ * lcm_eventlog_read_next_event never meets a length it would allocate
+ * blindly. 0 with the counts, or -1 with err naming the file and the bad
+ * event (its number from 1 and byte offset). */
+#define SIM_LOG_MAX_BYTES (16LL * 1024 * 1024 * 1024)
+typedef struct sim_log_frames {
+    long long size;  /* the file's bytes */
+    long n_events;
+    long n_inputs;   /* events on DISIM_PILOT_INPUT or DISIM_SIM_CONTROL (what a replay flies) */
+} sim_log_frames;
+int sim_log_check_frames(const char *path, sim_log_frames *fr, core_err *err);
+
 /* The reader: a recorded run (the LCM event log of `disim fly --log`) as
  * a reference: the helicopter's position, velocity and heading relative
  * to the ship's landing spot (S) as functions of the flight's time, and

@@ -47,6 +47,11 @@ sim_pacer *sim_pacer_create_opts(const sim_pacer_opts *o, core_err *err);
 /* sim_pacer_create_opts with the default clock. */
 sim_pacer *sim_pacer_create(double rate_hz, int realtime, core_err *err);
 void sim_pacer_destroy(sim_pacer *p);
+/* The deadlines from now (after a pause, a reset, a load): the run's
+ * counts, wall time and step times kept, the step under way still timed
+ * from its start, so that the summary's real-time factor and the step
+ * times cover the whole run. */
+void sim_pacer_rebase(sim_pacer *p);
 /* Call once per step after its work: sleeps to the next deadline (real
  * time). Returns 1 when the step overran its deadline, 0 otherwise. */
 int sim_pacer_wait(sim_pacer *p);
@@ -78,7 +83,10 @@ int sim_pacer_os_realtime(int priority, char *what, size_t n);
  *   its station is not on a given priority list, or when its seq is not
  *   above the last taken while the station is live (stale); a refused
  *   message whose station id cannot be read counts as refused_unknown;
- * - seq gaps count the messages missing (seq - last - 1);
+ * - seq gaps count the messages missing (seq - last - 1); a seq more
+ *   than SIM_PILOTS_SEQ_JUMP_MAX past the station's last (over an hour
+ *   of messages at 200 Hz) is refused and counted, never adopted, so one
+ *   spoofed or corrupt message cannot make the station's own stale;
  * - a station is live while its last taken message is at most
  *   hold_after_s old; with no active station the first live one by
  *   priority (the list's order, else the order of first connection) takes
@@ -92,6 +100,7 @@ int sim_pacer_os_realtime(int priority, char *what, size_t n);
  *   they blend from the controls flown at that step to the station's,
  *   linearly over blend_s (SIM_PILOTS_BLEND_S): never a step. */
 #define SIM_PILOTS_BLEND_S 1.0
+#define SIM_PILOTS_SEQ_JUMP_MAX 1000000LL
 typedef struct sim_pilots sim_pilots;
 typedef struct sim_pilots_opts {
     double hold_after_s; /* 0.5 */
@@ -239,7 +248,7 @@ sim_pilot sim_loop_own_pilot(sim_loop *l);
  * 0, or < 0 with err (the log is then removed). */
 int sim_loop_finish(sim_loop *l, core_err *err);
 typedef struct sim_loop_report {
-    sim_pacer_report pace; /* overruns counted over every pacer of the run */
+    sim_pacer_report pace; /* over the whole run: its wall time (pauses and rebuilds in it), steps, overruns, step times */
     double run_s;          /* run time flown */
     int paused, held;
     unsigned flags;        /* the sim_status_t FLAG_* bits */

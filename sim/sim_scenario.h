@@ -104,6 +104,10 @@ enum { SIM_SC_PILOT_STATION = 0, SIM_SC_PILOT_AUTO = 1, SIM_SC_PILOT_REPLAY = 2 
  * [cfd] engine = openfoam, [cfd] residual_tol, [output] csv|plots; a key
  * of a mode not chosen; rotor = off with the two-way coupling; a piloted
  * task without the automated pilot). */
+/* The largest scenario file read (bytes), far above any real one: a path
+ * that is not a regular file (a folder, a FIFO, /dev/zero) or is larger
+ * is refused before it is opened. */
+#define SIM_SCENARIO_MAX_BYTES (16LL * 1024 * 1024)
 int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err);
 
 /* Print the resolved configuration as INI-like text. */

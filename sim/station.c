@@ -40,6 +40,9 @@
 
 #include "disim_lcm.h"
 
+/* A station script far longer than any flown (a line a step for hours). */
+#define SIM_STATION_SCRIPT_MAX_BYTES (64LL * 1024 * 1024)
+
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -52,6 +55,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -109,6 +113,14 @@ static int script_fields(char *line, double out[5])
 sim_station_script *sim_station_script_load(const char *path, core_err *err)
 {
     static const char *col[5] = {"time", "collective", "long", "lat", "pedal"};
+    /* a regular file of a sane size: /dev/zero or a FIFO would never end */
+    struct stat st;
+    if (stat(path, &st) != 0) {
+        core_err_set(err, -1, "%s: %s", path, strerror(errno));
+        return NULL;
+    }
+    if (core_file_check_stat(path, &st, SIM_STATION_SCRIPT_MAX_BYTES, err) != 0)
+        return NULL;
     FILE *fp = fopen(path, "r");
     if (!fp) {
         core_err_set(err, -1, "%s: %s", path, strerror(errno));

@@ -17,13 +17,19 @@
  * 6. Errors: a writer in a missing folder names the path; a commit that
  *    cannot rename (a folder at the path) names the path, says nothing
  *    was written and leaves no temporary file; a bad event (no channel)
- *    and a write after the commit are refused. */
+ *    and a write after the commit are refused.
+ * 7. Hostile files: an event whose data length is 0x7FFFFFFF (refused by
+ *    its frame, before LCM's reader allocates it; the sizes said without
+ *    an int overflow), /dev/zero and a folder (refused unread), a
+ *    heli_state_t whose quaternion has infinities (refused, as the
+ *    renderer refuses such a pose). */
 #include "check.h"
 #include "disim_lcm.h"
 #include "sim.h"
 
 #include <dirent.h>
 #include <lcm/eventlog.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -371,6 +377,61 @@ static void test_uncommitted(const char *dir, const event *ev)
     rmdir(p);
 }
 
+/* ---- 7.: hostile files */
+static void write_events(const char *path, const event *ev, int n)
+{
+    core_err err = {0};
+    sim_log_writer *w = sim_log_writer_create(path, &err);
+    CHECK(w != NULL);
+    if (!w)
+        return;
+    for (int i = 0; i < n; i++)
+        CHECK(sim_log_writer_write(w, ev[i].ch, ev[i].ts, ev[i].buf, ev[i].n, &err) == 0);
+    CHECK(sim_log_writer_commit(w, &err) == 0);
+    sim_log_writer_destroy(w);
+}
+
+static void test_hostile(const char *dir)
+{
+    char p[256];
+    core_err err = {0};
+    sim_log_frames fr;
+    /* an event whose data length is 0x7FFFFFFF: refused before LCM's
+     * reader sees it, the sizes said without an int overflow */
+    static const unsigned char huge[] = {0xED, 0xA1, 0xDA, 0x01, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+                                         0, 0, 0, 17, 0x7F, 0xFF, 0xFF, 0xFF, 'D', 'I', 'S', 'I', 'M', '_', 'P', 'I',
+                                         'L', 'O', 'T', '_', 'I', 'N', 'P', 'U', 'T', 1, 2, 3, 4, 5, 6, 7, 8};
+    snprintf(p, sizeof p, "%s/huge.log", dir);
+    write_all(p, huge, sizeof huge);
+    expect_refused("0x7FFFFFFF data bytes", p, "2147483664 bytes of channel and data", "(truncated)");
+    CHECK(sim_log_check_frames(p, &fr, &err) < 0 && strstr(err.msg, "2147483664 bytes") && strstr(err.msg, "event 1"));
+    unlink(p);
+    /* not regular files: refused unread (/dev/zero would never end) */
+    expect_refused("/dev/zero", "/dev/zero", "a character device", "regular file");
+    CHECK(sim_log_check_frames("/dev/zero", &fr, &err) < 0 && strstr(err.msg, "a character device"));
+    expect_refused("a folder", dir, "a folder", "regular file");
+    /* a heli_state_t whose quaternion has infinities: refused, as the renderer refuses it */
+    static event ev[MAXEV];
+    int n = make_events(ev, DISIM_SIM_STATUS_T_FLAG_SAS);
+    for (int i = 0, k = 0; i < n; i++) {
+        if (strcmp(ev[i].ch, DISIM_CH_HELI_STATE) || k++ != 4)
+            continue;
+        disim_heli_state_t h;
+        CHECK(disim_heli_state_t_decode(ev[i].buf, 0, ev[i].n, &h) == ev[i].n);
+        h.quat_EB[1] = INFINITY;
+        h.quat_EB[2] = -INFINITY;
+        ev[i].n = disim_heli_state_t_encode(ev[i].buf, 0, sizeof ev[i].buf, &h);
+        disim_heli_state_t_decode_cleanup(&h);
+    }
+    snprintf(p, sizeof p, "%s/inf_quat.log", dir);
+    write_events(p, ev, n);
+    expect_refused("a quaternion with infinities", p, "heli_state_t.quat_EB", "unit quaternion");
+    /* framed well: every event counted, the one input */
+    CHECK(sim_log_check_frames(p, &fr, &err) == 0 && fr.n_events == n && fr.n_inputs == 1 &&
+          fr.size == file_size(p));
+    unlink(p);
+}
+
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -393,6 +454,7 @@ int main(void)
     unlink(path);
     test_uncommitted(dir, ev);
     test_sas(path);
+    test_hostile(dir);
     CHECK(rmdir(dir) == 0);
     return check_done("test_log");
 }

@@ -27,7 +27,7 @@ static int enc(unsigned char *b, const char *id, long long seq, double coll, dou
 {
     disim_pilot_input_t m;
     memset(&m, 0, sizeof m);
-    m.utime = seq * 20000;
+    m.utime = seq < 1000000000LL ? seq * 20000 : 0; /* a spoofed seq near 2^63 has no utime of its own */
     m.station_id = (char *)id;
     m.seq = seq;
     m.collective_pct = coll;
@@ -156,6 +156,41 @@ static void test_rules(void)
 }
 
 /* u at a blend's fraction w from a to b */
+/* One spoofed message with seq 2^63 - 1 in a station's name: refused and
+ * counted, the station's own messages still taken, its gaps unchanged
+ * (the seq arithmetic cannot overflow). */
+static void test_seq_spoof(void)
+{
+    sim_pilots_opts o;
+    sim_pilots_opts_default(&o);
+    o.blend_s = 0.0;
+    core_err err = {0};
+    sim_pilots *p = sim_pilots_create(&o, &err);
+    CHECK(p != NULL);
+    if (!p)
+        return;
+    unsigned char b[256];
+    char why[256] = "";
+    sim_pilot_station s;
+    int n = enc(b, "A", 10, 60, 50, 50, 50, 0);
+    CHECK(sim_pilots_offer(p, b, n, 0.0, NULL, 0) == 0);
+    n = enc(b, "A", 9223372036854775807LL, 99, 50, 50, 50, 0);
+    CHECK(sim_pilots_offer(p, b, n, 0.005, why, sizeof why) == 1 && strstr(why, "jumps") != NULL);
+    n = enc(b, "A", 11, 61, 50, 50, 50, 0);
+    CHECK(sim_pilots_offer(p, b, n, 0.01, why, sizeof why) == 0);
+    st_of(p, "A", &s);
+    CHECK(s.last_seq == 11 && s.gaps == 0 && s.refused == 1 && s.received == 2);
+    /* a jump within the limit is a gap, counted */
+    n = enc(b, "A", 11 + SIM_PILOTS_SEQ_JUMP_MAX, 62, 50, 50, 50, 0);
+    CHECK(sim_pilots_offer(p, b, n, 0.015, NULL, 0) == 0);
+    st_of(p, "A", &s);
+    CHECK(s.gaps == SIM_PILOTS_SEQ_JUMP_MAX - 1 && s.refused == 1);
+    sim_flight_inputs in;
+    const hfm_controls flown = {50.0, 50.0, 50.0, 50.0};
+    CHECK(sim_pilots_inputs(p, 0.02, &flown, &in) == 0 && in.ctl.collective_pct == 62.0);
+    sim_pilots_destroy(p);
+}
+
 static double lerp(double a, double b, double w) { return a + w * (b - a); }
 
 /* The hand-over blend: a station's first message, a take-over, a return
@@ -522,6 +557,12 @@ static void test_control(void)
     CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED);
     CHECK(out.step == 201 && w.builds == 2);
     CHECK_NEAR(out.pos_S_m[2], z_start, 0.05);
+    /* the pacing over the whole run, the reset and the pause in it: the
+     * summary's "flown in ... (x real time)" is of the run, not of the
+     * last world's pacer */
+    sim_loop_report rr;
+    sim_loop_report_get(l, &rr);
+    CHECK(rr.pace.steps == 452 && fabs(rr.pace.sim_s - rr.run_s) < 1e-9 && fabs(rr.run_s - 452 / 200.0) < 1e-9);
     /* load another scenario: its name in the status, its station flown */
     control(lc, DISIM_SIM_CONTROL_T_LOAD_SCENARIO, SCEN_B);
     CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED);
@@ -534,11 +575,27 @@ static void test_control(void)
     CHECK(out.step == 2 && w.builds == 3 && !strcmp(s.scenario, "loop_b"));
     CHECK(strstr(s.message, "load refused") != NULL && strstr(s.message, "bad_range.ini") != NULL);
     CHECK(s.last.control_refused == 1);
+    /* a load of /dev/zero (it would be read for ever): refused unread */
+    control(lc, DISIM_SIM_CONTROL_T_LOAD_SCENARIO, "/dev/zero");
+    CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED);
+    CHECK(out.step == 3 && w.builds == 3 && !strcmp(s.scenario, "loop_b"));
+    CHECK(strstr(s.message, "/dev/zero: a character device") != NULL && s.last.control_refused == 2);
     /* a malformed control: refused and counted */
     unsigned char junk[12] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
     lcm_publish(lc, DISIM_CH_SIM_CONTROL, junk, sizeof junk);
-    CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 3);
-    CHECK(s.last.control_refused == 2 && strstr(s.message, "fingerprint") != NULL);
+    CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 4);
+    CHECK(s.last.control_refused == 3 && strstr(s.message, "fingerprint") != NULL);
+    /* a burst of 64 resets in one step: one world built, the others
+     * refused with the reason (the step's time bounded by one build) */
+    int builds0 = w.builds;
+    for (int k = 0; k < 64; k++)
+        control(lc, DISIM_SIM_CONTROL_T_RESET, NULL);
+    CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 1);
+    CHECK(w.builds == builds0 + 1 && s.last.control_refused == 3 + 63);
+    CHECK(strstr(s.message, "one build per step") != NULL);
+    /* the next step builds again */
+    control(lc, DISIM_SIM_CONTROL_T_RESET, NULL);
+    CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 1 && w.builds == builds0 + 2);
     printf("test_loop: control: paused at %.3f s, reset to z %.2f m, loaded %s, refused '%s'\n", t_paused,
            out.pos_S_m[2], s.scenario, s.message);
     disim_sim_status_t_unsubscribe(lc, ss);
@@ -974,6 +1031,7 @@ int main(void)
 {
     test_rules();
     test_blend();
+    test_seq_spoof();
     test_station_flight();
     test_control();
     test_ios();

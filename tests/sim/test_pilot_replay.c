@@ -433,7 +433,7 @@ static void test_bad(const char *good)
     mkdir(dir, 0700);
     snprintf(p, sizeof p, "%s/missing.log", dir);
     expect_refused("missing", p, "cannot read", "No such file");
-    expect_refused("a folder", dir, "not a file", NULL);
+    expect_refused("a folder", dir, "a folder", "expected a regular file");
     snprintf(p, sizeof p, "%s/empty.log", dir);
     write_bytes(p, "", 0);
     expect_refused("empty", p, "empty: expected", NULL);
