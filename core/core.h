@@ -190,6 +190,16 @@ int core_mkdir_p(const char *dir, core_err *err);
  * with errno set. */
 int core_sync_path(const char *path);
 
+/* ------------------------------------------------------------ input files */
+struct stat;
+/* 0 if path is a regular file of at most max_bytes (max_bytes < 0: any
+ * size); < 0 with err naming the path and what it is otherwise (missing, a
+ * folder, a FIFO, a device, a socket, too large). Nothing is opened, so a
+ * FIFO does not block. */
+int core_file_regular(const char *path, long long max_bytes, core_err *err);
+/* The same check on what fstat or stat gave for path (an opened file). */
+int core_file_check_stat(const char *path, const struct stat *st, long long max_bytes, core_err *err);
+
 /* ------------------------------------------------- airwake case options */
 /* The named options of an airwake case, each defined here once (the
  * lowest module that the scenario reader, the CFD solver, the database's
@@ -238,7 +248,13 @@ typedef struct core_ini_entry {
     int used; /* set when a schema or getter consumed it */
 } core_ini_entry;
 
-/* Read path; NULL with err filled on failure (missing file, syntax error). */
+/* The largest INI file read, far above any real input (bytes). */
+#define CORE_INI_MAX_BYTES (16LL * 1024 * 1024)
+/* Read path; NULL with err filled on failure: a missing file, one that is
+ * not a regular file or is larger than CORE_INI_MAX_BYTES, a NUL byte, a
+ * control character other than tab (or CR before LF) or a byte that is not
+ * UTF-8 (file, line and column named), a syntax error. Numbers are read
+ * as decimal only (no 0x14, inf or nan). */
 core_ini *core_ini_load(const char *path, core_err *err);
 void core_ini_destroy(core_ini *ini);
 const char *core_ini_path(const core_ini *ini);
@@ -264,6 +280,11 @@ int core_ini_get_enum(core_ini *ini, const char *section, const char *key, int r
 /* String copied into out (size n). */
 int core_ini_get_string(core_ini *ini, const char *section, const char *key, int required,
                         char *out, size_t n, core_err *err);
+/* A name that becomes part of a file or folder name (a scenario, a ship,
+ * an aircraft): letters, digits, '_', '-' and '.', not starting with '.'
+ * (no '/', no "..", no blank). */
+int core_ini_get_name(core_ini *ini, const char *section, const char *key, int required, char *out,
+                      size_t n, core_err *err);
 /* A comma-separated list of up to nmax numbers in [min, max]; *count set. */
 int core_ini_get_doubles(core_ini *ini, const char *section, const char *key, int required,
                          double min, double max, double *out, int nmax, int *count,
