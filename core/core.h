@@ -199,6 +199,14 @@ struct stat;
 int core_file_regular(const char *path, long long max_bytes, core_err *err);
 /* The same check on what fstat or stat gave for path (an opened file). */
 int core_file_check_stat(const char *path, const struct stat *st, long long max_bytes, core_err *err);
+/* An output's target: 0 if it does not exist or is a regular file (or a
+ * link to one); < 0 with err saying what it is otherwise (a folder, a
+ * device such as /dev/full, a FIFO), as the output is written to a
+ * temporary and renamed over it. */
+int core_output_check(const char *path, core_err *err);
+/* 1 if a and b name the same file: the same inode when both exist, else
+ * the same folder and last part (an output named twice before it exists). */
+int core_path_same(const char *a, const char *b);
 
 /* ------------------------------------------------- airwake case options */
 /* The named options of an airwake case, each defined here once (the
