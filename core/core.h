@@ -186,6 +186,11 @@ void core_wod_name(double dir_deg, char *buf, size_t n);
 /* Create dir and its missing parents (mkdir -p); 0, or < 0 with err naming
  * the part that could not be made or a path that is not a folder. */
 int core_mkdir_p(const char *dir, core_err *err);
+/* Before any work that ends in writing to dir: 0 if dir is a folder that
+ * can be written in, or does not exist and its nearest existing parent is
+ * one; < 0 with err naming the part that is not a folder or cannot be
+ * written. Nothing is created. */
+int core_dir_check(const char *dir, core_err *err);
 /* fsync a file or a folder by path (a folder: the renames in it): 0, or -1
  * with errno set. */
 int core_sync_path(const char *path);

@@ -524,6 +524,26 @@ static void test_mkdir(void)
     CHECK(core_mkdir_p(under, &err) < 0 && strstr(err.msg, file) != NULL);
     CHECK(core_mkdir_p(file, &err) < 0 && strstr(err.msg, "not a folder") != NULL);
     CHECK(core_mkdir_p("", &err) < 0);
+    /* checked before any work, nothing created */
+    char deep[700];
+    snprintf(deep, sizeof deep, "%s/new/deeper", dir);
+    CHECK(core_dir_check(deep, &err) == 0 && stat(deep, &st) != 0);
+    CHECK(core_dir_check(dir, &err) == 0);
+    CHECK(core_dir_check(file, &err) < 0 && strstr(err.msg, ": not a folder") != NULL);
+    CHECK(core_dir_check(under, &err) < 0 && strstr(err.msg, "not a folder (on the way to the folder") != NULL);
+    CHECK(core_dir_check("/dev/null/x", &err) < 0 && strstr(err.msg, "/dev/null: not a folder") != NULL);
+    CHECK(core_dir_check("", &err) < 0);
+    /* outputs: a regular file or a new name; the same file spelt twice */
+    CHECK(core_output_check(file, &err) == 0 && core_output_check(deep, &err) == 0);
+    CHECK(core_output_check(dir, &err) < 0 && strstr(err.msg, "a folder: expected a regular file"));
+    CHECK(core_output_check("/dev/full", &err) < 0 && strstr(err.msg, "a character device"));
+    char again[700];
+    snprintf(again, sizeof again, "%s/it's a/../f", base);
+    CHECK(core_path_same(file, again) == 1);
+    snprintf(again, sizeof again, "%s/it's a/../new.csv", base);
+    snprintf(deep, sizeof deep, "%s/./new.csv", base);
+    CHECK(core_path_same(deep, again) == 1);
+    CHECK(core_path_same(file, deep) == 0 && core_path_same(file, NULL) == 0);
     remove(file);
     rmdir(dir);
     snprintf(dir, sizeof dir, "%s/it's a", base);

@@ -3,7 +3,8 @@
 # and is not a regular file (a folder, a FIFO), one that is an input of the
 # same run (the scenario, its aircraft or ship file), or a name given for
 # two outputs is refused, exit 1, naming the flag, and nothing is flown or
-# left behind; a regular file is replaced whole. A copy of scenarios/ is
+# left behind; a regular file is replaced whole. disim shol checks its
+# output folder before computing. A copy of scenarios/ is
 # flown, so that a refusal that fails cannot damage the repository.
 # Usage: fly_outputs_cli.sh DISIM SOURCE_DIR
 set -u
@@ -46,5 +47,14 @@ ls ./*.tmp* sc/*.tmp* folder/* > /dev/null 2>&1 && { fail=$((fail + 1)); echo "F
 echo old > out.csv
 "$disim" fly $args --csv out.csv 2> fly.log && head -n 1 out.csv | grep -q '^t_s,' && pass=$((pass + 1)) \
     || { fail=$((fail + 1)); echo "FAIL a regular --csv was not written"; cat fly.log; }
+# disim shol -o: a file where the folder goes is refused before any work
+# (no database opened, no envelope computed)
+echo data > not_a_folder
+out=$(timeout 120 "$disim" shol sc/cg47_uh60a.ini --cfd-max-iter 10 --speed-max-kmh 5 -o not_a_folder/sub \
+    --db "$tmp/shol_db" 2>&1)
+rc=$?
+if [ $rc -eq 1 ] && printf '%s' "$out" | grep -qF "output folder: not_a_folder: not a folder (on the way to the folder not_a_folder/sub)" \
+    && [ ! -e "$tmp/shol_db" ]; then pass=$((pass + 1)); else
+    fail=$((fail + 1)); echo "FAIL shol -o FILE/sub: exit $rc, got: $out"; fi
 echo "fly_outputs_cli: $pass passed, $fail failed"
 [ $fail -eq 0 ]
