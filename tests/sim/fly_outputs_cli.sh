@@ -56,5 +56,20 @@ rc=$?
 if [ $rc -eq 1 ] && printf '%s' "$out" | grep -qF "output folder: not_a_folder: not a folder (on the way to the folder not_a_folder/sub)" \
     && [ ! -e "$tmp/shol_db" ]; then pass=$((pass + 1)); else
     fail=$((fail + 1)); echo "FAIL shol -o FILE/sub: exit $rc, got: $out"; fi
+# disim render: the still image's target and a log's frame folder the same
+render_refused() { # EXPECTED-MESSAGE ARGS...
+    expect=$1
+    shift
+    out=$(timeout 60 "$disim" render "$@" 2>&1)
+    rc=$?
+    if [ $rc -eq 1 ] && printf '%s' "$out" | grep -qF -- "$expect"; then pass=$((pass + 1)); else
+        fail=$((fail + 1)); echo "FAIL render $*: exit $rc, got: $out"; echo "     expected exit 1 and: $expect"; fi
+}
+render_refused "-o sc/cg47_uh60a.ini: an input of this run" sc/cg47_uh60a.ini -o sc/cg47_uh60a.ini --size 64x48
+render_refused "-o fifo.csv: a FIFO: expected a regular file" sc/cg47_uh60a.ini -o fifo.csv --size 64x48
+render_refused "-o folder: a folder: expected a regular file" sc/cg47_uh60a.ini -o folder --size 64x48
+render_refused "-o not_a_folder: not a folder" no_such.lcm -o not_a_folder/frames
+cmp -s sc/cg47_uh60a.ini "$src/scenarios/cg47_uh60a.ini" && [ -p fifo.csv ] && pass=$((pass + 1)) \
+    || { fail=$((fail + 1)); echo "FAIL render replaced its target"; }
 echo "fly_outputs_cli: $pass passed, $fail failed"
 [ $fail -eq 0 ]
