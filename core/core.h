@@ -265,7 +265,7 @@ typedef struct core_ini_entry {
 #define CORE_INI_MAX_BYTES (16LL * 1024 * 1024)
 /* Read path; NULL with err filled on failure: a missing file, one that is
  * not a regular file or is larger than CORE_INI_MAX_BYTES, a NUL byte, a
- * control character other than tab (or CR before LF) or a byte that is not
+ * control character other than tab and CR (CRLF line ends) or a byte that is not
  * UTF-8 (file, line and column named), a syntax error. Numbers are read
  * as decimal only (no 0x14, inf or nan). */
 core_ini *core_ini_load(const char *path, core_err *err);
