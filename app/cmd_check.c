@@ -2,8 +2,9 @@
  * ship file fully and print what was resolved, or the first error (file,
  * line, key, why). The kind comes from the file's sections: [scenario] is a
  * scenario, [ship] or [block NAME] a ship file, [aircraft] or [main_rotor]
- * an aircraft file; anything else is read as a scenario (whose loader then
- * says what is missing). Warnings of the loaders go to standard error; the
+ * an aircraft file; [task] a task file, which is refused with a pointer to
+ * the scenario that names it; anything else is read as a scenario (whose
+ * loader then says what is missing). Warnings of the loaders go to standard error; the
  * last line on standard output says which kind was checked:
  * "aircraft file PATH: NAME, ok". */
 #include "cmds.h"
@@ -21,7 +22,7 @@
 #include <string.h>
 #include <unistd.h>
 
-enum { KIND_SCENARIO, KIND_AIRCRAFT, KIND_SHIP };
+enum { KIND_SCENARIO, KIND_AIRCRAFT, KIND_SHIP, KIND_TASK };
 
 /* The kind of file path is, from its sections; -1 (err set) if it cannot be read. */
 static int file_kind(const char *path, core_err *err)
@@ -38,6 +39,8 @@ static int file_kind(const char *path, core_err *err)
         kind = KIND_SHIP;
     else if (core_ini_has_section(ini, "aircraft") || core_ini_has_section(ini, "main_rotor"))
         kind = KIND_AIRCRAFT;
+    else if (core_ini_has_section(ini, "task"))
+        kind = KIND_TASK;
     else
         for (size_t i = 0; i < core_ini_count(ini); i++)
             if (!strncmp(core_ini_at(ini, i)->section, "block ", 6))
@@ -165,6 +168,13 @@ int cmd_check(int argc, char **argv)
         rc = 1;
 #endif
         break;
+    case KIND_TASK:
+        /* a task's deck-edge points need the ship: checked through its scenario */
+        fprintf(stderr,
+                "disim check: %s: a task file ([task]): check it through the scenario that names it "
+                "([task] file), as its positions may need the ship\n",
+                path);
+        return 1;
     case KIND_SHIP:
         what = "ship file";
         rc = check_ship(path, &log, name, sizeof name);

@@ -820,16 +820,58 @@ static void fly_air_said(const fly_ctx *c)
     fprintf(stderr, "%s\n", !w->waiting ? "" : w->level >= 0 ? " (a finer field still to come)" : " (a field still to come)");
 }
 
+/* The task result's prefix (--task-result PREFIX, else beside --csv:
+ * OUT_task), "" for none. */
+static void fly_task_prefix(const fly_args *o, char *pre, size_t n)
+{
+    pre[0] = '\0';
+    if (o->task_result)
+        snprintf(pre, n, "%s", o->task_result);
+    else if (o->csv)
+        snprintf(pre, n, "%.*s_task", (int)(strlen(o->csv) - (strlen(o->csv) > 4 &&
+                 !strcmp(o->csv + strlen(o->csv) - 4, ".csv") ? 4 : 0)), o->csv);
+}
+
+/* Before the flight: every output (--csv, --log, the task's result) may
+ * be written, that is, is a regular file or new, is no input of the run
+ * (the scenario, its aircraft, ship and task files, --field, the logs
+ * read) and is named once. 0, or < 0 with err. */
+static int fly_outputs_check(const fly_args *o, const sim_scenario *sc, core_err *err)
+{
+    char pre[1024], res[2][1100];
+    fly_task_prefix(o, pre, sizeof pre);
+    const int task_out = pre[0] && o->pilot && !strcmp(o->pilot, "auto");
+    snprintf(res[0], sizeof res[0], "%s.csv", pre);
+    snprintf(res[1], sizeof res[1], "%s.json", pre);
+    const char *out[][2] = {{"--csv", o->csv}, {"--log", o->log}, {"the task's result", task_out ? res[0] : NULL},
+                            {"the task's result", task_out ? res[1] : NULL}};
+    const char *in[] = {o->scen, o->field, o->replay, o->replay_log, o->task, sc ? sc->aircraft_path : NULL,
+                        sc ? sc->ship_path : NULL, sc && sc->task_path[0] ? sc->task_path : NULL};
+    const int nout = (int)(sizeof out / sizeof out[0]), nin = (int)(sizeof in / sizeof in[0]);
+    for (int i = 0; i < nout; i++) {
+        if (!out[i][1])
+            continue;
+        core_err why = {0};
+        if (core_output_check(out[i][1], &why) != 0)
+            return core_err_set(err, -1, "%s %s", out[i][0], why.msg);
+        for (int j = 0; j < nin; j++)
+            if (core_path_same(out[i][1], in[j]))
+                return core_err_set(err, -1, "%s %s: an input of this run (%s): expected another name", out[i][0],
+                                    out[i][1], in[j]);
+        for (int j = 0; j < i; j++)
+            if (core_path_same(out[i][1], out[j][1]))
+                return core_err_set(err, -1, "%s %s: named as %s too: expected a name for each output", out[i][0],
+                                    out[i][1], out[j][0]);
+    }
+    return 0;
+}
+
 /* The task's result written (--task-result PREFIX, else beside --csv:
  * OUT_task.csv, .json) and said. 0, or < 0 with err. */
 static int fly_auto_report(const fly_args *o, const sim_task *task, const sim_task_result *r, core_err *err)
 {
-    char res[2][1100], pre[1024] = "";
-    if (o->task_result)
-        snprintf(pre, sizeof pre, "%s", o->task_result);
-    else if (o->csv)
-        snprintf(pre, sizeof pre, "%.*s_task", (int)(strlen(o->csv) - (strlen(o->csv) > 4 &&
-                 !strcmp(o->csv + strlen(o->csv) - 4, ".csv") ? 4 : 0)), o->csv);
+    char res[2][1100], pre[1024];
+    fly_task_prefix(o, pre, sizeof pre);
     if (pre[0]) {
         snprintf(res[0], sizeof res[0], "%s.csv", pre);
         snprintf(res[1], sizeof res[1], "%s.json", pre);
@@ -1116,7 +1158,7 @@ int cmd_fly(int argc, char **argv)
         o.replay_sas = li.sas;
         o.has_start = 1;
     }
-    if (world_build(&ctx, o.scen, NULL, &ctx.w, &err) != 0 ||
+    if (world_build(&ctx, o.scen, NULL, &ctx.w, &err) != 0 || fly_outputs_check(&o, ctx.w.sc, &err) != 0 ||
         (o.csv && !(ctx.csv = sim_traj_create(o.csv, o.rate_hz, o.csv_rate_hz, &err))))
         goto done;
     rc = o.replay_log ? fly_replay(&ctx, replay_ref, &err) : o.pilot ? fly_auto(&ctx, &err) : fly_station(&ctx, &err);

@@ -107,6 +107,16 @@ static int render_still(const render_args *a)
         free(sc);
         return 1;
     }
+    /* the image's target before drawing: a regular file or new, no input */
+    const char *inputs[] = {a->in, sc->aircraft_path, sc->ship_path};
+    int same = 0;
+    for (int i = 0; i < 3; i++)
+        same |= core_path_same(a->out, inputs[i]);
+    if (core_output_check(a->out, &err) != 0 || (same && core_err_set(&err, -1, "%s: an input of this run", a->out))) {
+        fprintf(stderr, "disim render: -o %s\n", err.msg);
+        free(sc);
+        return 1;
+    }
     render_camera cam = a->cam;
     if (!a->have_eye) { /* the starboard quarter, above and astern of the deck */
         cam.eye_S_m[0] = sc->ship.deck_x0_m - 45.0;
@@ -288,6 +298,10 @@ static int render_log(const render_args *a)
     render_ctx *rc = NULL;
     uint8_t *img = NULL;
     int ret = 1;
+    if (core_dir_check(a->out, &err) != 0) { /* before the log is read and the frames drawn */
+        fprintf(stderr, "disim render: -o %s\n", err.msg);
+        return 1;
+    }
     sim_log *L = sim_log_load(a->in, &err);
     sim_run_info ri;
     if (!L || run_info_of(a, L, &ri, &err) != 0 || app_scene_open(&s, &ri, a->overlays, &log, &err) != 0)

@@ -510,6 +510,10 @@ static int job_open(shol_job *j)
     else
         snprintf(j->outdir, sizeof j->outdir, "%s", a->outdir ? a->outdir : j->sc->output_dir);
     j->dbdir = a->dbdir ? a->dbdir : "out/airwake-db";
+    /* before the envelope is computed (hours on a two-way run) */
+    core_err why = {0};
+    if (core_dir_check(j->outdir, &why) != 0)
+        return core_err_set(&j->err, -1, "output folder: %s", why.msg);
     if (core_mkdir_p(j->dbdir, &j->err) != 0) /* the database folder and its parents */
         return -1;
     if (!(j->db = awdb_open(j->dbdir, &j->log, &j->err)))

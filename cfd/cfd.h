@@ -286,6 +286,8 @@ typedef struct cfd_meta {
     cfd_result result;
     int mirrored;     /* 1: the port-starboard mirror image of the field of the
                          opposite direction (cfd_field_mirror_y); result is that field's */
+    int checksum;     /* cfd_field_load: 1 when the file carries data_crc64 and the data match
+                         it; 0 for a field written before files carried one (read as it is) */
 } cfd_meta;
 
 /* Write the field to path (HDF5) and path with .xmf (XDMF side file), each

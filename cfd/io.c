@@ -119,6 +119,51 @@ static int write_xmf(const char *tmp, const char *h5name, const int n[3])
 
 /* The whole file, from either a solver or a loaded field: grid, arrays,
  * optional residual history (nh rows), metadata. */
+/* CRC-64/XZ (polynomial 0x42F0E1EBA9EA3693 reflected) of bytes, carried on
+ * from crc (start at 0). The table is made per field, on the stack. */
+typedef struct crc64 {
+    uint64_t t[256], c;
+} crc64;
+
+static void crc64_init(crc64 *k)
+{
+    for (unsigned i = 0; i < 256; i++) {
+        uint64_t r = i;
+        for (int b = 0; b < 8; b++)
+            r = r & 1 ? (r >> 1) ^ 0xC96C5795D7870F42ULL : r >> 1;
+        k->t[i] = r;
+    }
+    k->c = ~0ULL;
+}
+
+static void crc64_add(crc64 *k, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    uint64_t c = k->c;
+    for (size_t i = 0; i < n; i++)
+        c = k->t[(c ^ p[i]) & 0xFF] ^ (c >> 8);
+    k->c = c;
+}
+
+/* The checksum a field file carries in its data_crc64 attribute: the
+ * nodes, the solid flags and every variable, as stored (little-endian
+ * doubles on the machines disim runs on). */
+static uint64_t field_crc(const cfd_grid *g, double *const *var)
+{
+    crc64 *k = malloc(sizeof *k);
+    if (!k)
+        return 0;
+    crc64_init(k);
+    for (int d = 0; d < 3; d++)
+        crc64_add(k, g->xn[d], ((size_t)g->n[d] + 1) * sizeof(double));
+    crc64_add(k, g->solid, g->ncell);
+    for (int v = 0; v < CFD_NVARS; v++)
+        crc64_add(k, var[v], g->ncell * sizeof(double));
+    uint64_t c = ~k->c;
+    free(k);
+    return c;
+}
+
 static int write_field(const cfd_grid *g, double *const *var, const double *hist, int nh, double rho,
                        double nu, const cfd_meta *meta, const char *path, core_err *err)
 {
@@ -157,6 +202,9 @@ static int write_field(const cfd_grid *g, double *const *var, const double *hist
     }
     if (!rc) {
         rc |= attr_string(f, "solver_version", CFD_VERSION);
+        char crc[24];
+        snprintf(crc, sizeof crc, "%016llx", (unsigned long long)field_crc(g, var));
+        rc |= attr_string(f, "data_crc64", crc);
         rc |= attr_string(f, "frame", "ship frame S: x bow, y starboard, z down; SI units; p in Pa gauge");
         rc |= attr_string(f, "ship", meta->ship);
         rc |= attr_string(f, "rotor", meta->rotor);
@@ -383,6 +431,8 @@ static int read_ds(hid_t ds, const char *path, const char *name, hid_t type, voi
 cfd_field *cfd_field_load(const char *path, core_err *err)
 {
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+    if (core_file_regular(path, -1, err) != 0)
+        return NULL;
     if (access(path, R_OK)) {
         core_err_set(err, -1, "%s: cannot read the file", path);
         return NULL;
@@ -532,6 +582,22 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
     m->result.averaged = (int)avg;
     m->result.steady_mean = steady != 0.0;
     m->mirrored = mir != 0.0;
+    /* the data's checksum: a field overwritten with finite garbage is
+     * refused; a field written before files carried one is read (its
+     * meta.checksum 0), as the database checks its own files' CRCs */
+    if (H5Aexists(f, "data_crc64") > 0) {
+        char want[32];
+        if (read_attr_string(f, path, "data_crc64", want, sizeof want, err))
+            goto fail;
+        char got[24];
+        snprintf(got, sizeof got, "%016llx", (unsigned long long)field_crc(fl->g, fl->var));
+        if (strcmp(want, got) != 0) {
+            core_err_set(err, -1, "%s: the data do not match the file's checksum (data_crc64 %s, the data give %s): "
+                                  "a damaged field, build it again", path, want, got);
+            goto fail;
+        }
+        m->checksum = 1;
+    }
     for (int d = 0; d < 3; d++)
         free(xn[d]);
     H5Fclose(f);

@@ -186,6 +186,11 @@ void core_wod_name(double dir_deg, char *buf, size_t n);
 /* Create dir and its missing parents (mkdir -p); 0, or < 0 with err naming
  * the part that could not be made or a path that is not a folder. */
 int core_mkdir_p(const char *dir, core_err *err);
+/* Before any work that ends in writing to dir: 0 if dir is a folder that
+ * can be written in, or does not exist and its nearest existing parent is
+ * one; < 0 with err naming the part that is not a folder or cannot be
+ * written. Nothing is created. */
+int core_dir_check(const char *dir, core_err *err);
 /* fsync a file or a folder by path (a folder: the renames in it): 0, or -1
  * with errno set. */
 int core_sync_path(const char *path);
@@ -199,6 +204,14 @@ struct stat;
 int core_file_regular(const char *path, long long max_bytes, core_err *err);
 /* The same check on what fstat or stat gave for path (an opened file). */
 int core_file_check_stat(const char *path, const struct stat *st, long long max_bytes, core_err *err);
+/* An output's target: 0 if it does not exist or is a regular file (or a
+ * link to one); < 0 with err saying what it is otherwise (a folder, a
+ * device such as /dev/full, a FIFO), as the output is written to a
+ * temporary and renamed over it. */
+int core_output_check(const char *path, core_err *err);
+/* 1 if a and b name the same file: the same inode when both exist, else
+ * the same folder and last part (an output named twice before it exists). */
+int core_path_same(const char *a, const char *b);
 
 /* ------------------------------------------------- airwake case options */
 /* The named options of an airwake case, each defined here once (the
@@ -208,25 +221,13 @@ int core_file_check_stat(const char *path, const struct stat *st, long long max_
  * unknown name; core_*_choices the names joined by '|' for
  * core_ini_get_enum. */
 
-/* The airwake grid levels (cfd/airwake.c gives each its spacing). The
- * three a scenario or a command chooses (CORE_GRID_NLEVELS of them), and
- * CORE_GRID_QUICK, twice the coarse spacing: the first look a flight gets
- * while its own level is solved (the airwake database's builder, docs/
- * usage.md); not a scenario's choice. Its value comes after the others so
- * that the three keep their numbers (the database's field names hash
- * them); core_grid_rank orders the four by spacing. */
-typedef enum { CORE_GRID_COARSE = 0, CORE_GRID_DEFAULT = 1, CORE_GRID_FINE = 2, CORE_GRID_QUICK = 3 } core_grid_level;
+/* The airwake grid levels (cfd/airwake.c gives each its spacing). */
+typedef enum { CORE_GRID_COARSE = 0, CORE_GRID_DEFAULT = 1, CORE_GRID_FINE = 2 } core_grid_level;
 #define CORE_GRID_NLEVELS 3
-/* "coarse", "default", "fine" or "quick". */
+/* "coarse", "default" or "fine". */
 const char *core_grid_name(int level);
-/* One of the three choices ("quick" is not one: -1). */
 int core_grid_parse(const char *s);
-/* One of the four levels, "quick" too; -1 otherwise. */
-int core_grid_parse_any(const char *s);
 const char *core_grid_choices(void);
-/* A level's place from the coarsest: quick 0, coarse 1, default 2, fine 3
- * (-1 for a value out of range). */
-int core_grid_rank(int level);
 
 /* The rotor in an airwake case: none (ship-only), the uniform actuator
  * disk of the seed paper's eq. 5, or the disk loaded with a trim's blade
@@ -260,7 +261,13 @@ typedef struct core_ini_entry {
     int used; /* set when a schema or getter consumed it */
 } core_ini_entry;
 
-/* Read path; NULL with err filled on failure (missing file, syntax error). */
+/* The largest INI file read, far above any real input (bytes). */
+#define CORE_INI_MAX_BYTES (16LL * 1024 * 1024)
+/* Read path; NULL with err filled on failure: a missing file, one that is
+ * not a regular file or is larger than CORE_INI_MAX_BYTES, a NUL byte, a
+ * control character other than tab and CR (CRLF line ends) or a byte that is not
+ * UTF-8 (file, line and column named), a syntax error. Numbers are read
+ * as decimal only (no 0x14, inf or nan). */
 core_ini *core_ini_load(const char *path, core_err *err);
 void core_ini_destroy(core_ini *ini);
 const char *core_ini_path(const core_ini *ini);
@@ -286,6 +293,11 @@ int core_ini_get_enum(core_ini *ini, const char *section, const char *key, int r
 /* String copied into out (size n). */
 int core_ini_get_string(core_ini *ini, const char *section, const char *key, int required,
                         char *out, size_t n, core_err *err);
+/* A name that becomes part of a file or folder name (a scenario, a ship,
+ * an aircraft): letters, digits, '_', '-' and '.', not starting with '.'
+ * (no '/', no "..", no blank). */
+int core_ini_get_name(core_ini *ini, const char *section, const char *key, int required, char *out,
+                      size_t n, core_err *err);
 /* A comma-separated list of up to nmax numbers in [min, max]; *count set. */
 int core_ini_get_doubles(core_ini *ini, const char *section, const char *key, int required,
                          double min, double max, double *out, int nmax, int *count,

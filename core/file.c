@@ -1,10 +1,16 @@
 /* file.c -- what a reader accepts as an input file: a regular file of at most
  * a given size. A folder, a FIFO, a device (/dev/zero) or a socket would
  * block, never end, or read as garbage; each is refused with a message that
- * says what the path is. */
+ * says what the path is. An output is written to a temporary and renamed
+ * over its target: a target that is a device or a FIFO would be replaced by
+ * a regular file, and one that is an input of the same run overwritten, so
+ * both are refused before any work. */
 #include "core.h"
 
 #include <errno.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -39,4 +45,60 @@ int core_file_regular(const char *path, long long max_bytes, core_err *err)
     if (stat(path, &st) != 0)
         return core_err_set(err, -1, "%s: cannot open: %s", path, strerror(errno));
     return core_file_check_stat(path, &st, max_bytes, err);
+}
+
+int core_output_check(const char *path, core_err *err)
+{
+    struct stat st;
+    if (!path || !*path)
+        return core_err_set(err, -1, "an output needs a file name");
+    if (lstat(path, &st) != 0) {
+        if (errno == ENOENT)
+            return 0;
+        return core_err_set(err, -1, "%s: cannot write: %s", path, strerror(errno));
+    }
+    if (S_ISLNK(st.st_mode) && stat(path, &st) != 0)
+        return 0; /* a dangling link: the rename replaces the link */
+    if (!S_ISREG(st.st_mode))
+        return core_err_set(err, -1, "%s: %s: expected a regular file or a new name for an output "
+                            "(it is written whole and renamed over its target)", path, kind_of(st.st_mode));
+    return 0;
+}
+
+/* The folder of path made absolute (realpath) with the last part added:
+ * the same for two spellings of a file that does not exist yet. */
+static int canonical(const char *path, char *out, size_t n)
+{
+    char dir[PATH_MAX], real[PATH_MAX];
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    if (slash) {
+        size_t len = slash == path ? 1 : (size_t)(slash - path);
+        if (len >= sizeof dir)
+            return -1;
+        memcpy(dir, path, len);
+        dir[len] = '\0';
+    } else {
+        snprintf(dir, sizeof dir, ".");
+    }
+    if (!realpath(dir, real))
+        return -1;
+    int w = snprintf(out, n, "%s/%s", real, base);
+    return w < 0 || (size_t)w >= n ? -1 : 0;
+}
+
+int core_path_same(const char *a, const char *b)
+{
+    if (!a || !b)
+        return 0;
+    if (!strcmp(a, b))
+        return 1;
+    struct stat sa, sb;
+    int ea = stat(a, &sa) == 0, eb = stat(b, &sb) == 0;
+    if (ea && eb)
+        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    if (ea != eb)
+        return 0;
+    char ca[PATH_MAX + 256], cb[PATH_MAX + 256];
+    return canonical(a, ca, sizeof ca) == 0 && canonical(b, cb, sizeof cb) == 0 && !strcmp(ca, cb);
 }

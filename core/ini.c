@@ -13,7 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 struct core_ini {
     char *path;
@@ -26,30 +28,107 @@ typedef struct reader_state {
     FILE *f;
     int line;
     int too_long_line; /* first line that did not fit inih's buffer */
-    int read_errno;    /* a read error (a folder, EIO): inih would take it for the end */
+    int read_errno;    /* a read error (EIO): inih would take it for the end */
+    int bad_line, bad_col, bad_byte; /* the first byte that is not text */
+    const char *bad_why;
 } reader_state;
 
+/* Bytes of the UTF-8 sequence starting at s (at most n bytes there), or 0
+ * if it is not one: overlong forms, surrogates and code points past
+ * U+10FFFF are refused. A sequence cut by the end of a full buffer counts
+ * as whole (the line is refused as too long anyway). */
+static int utf8_len(const unsigned char *s, size_t n, int cut)
+{
+    unsigned c = s[0];
+    int k;
+    unsigned lo = 0x80, hi = 0xBF;
+    if (c >= 0xC2 && c <= 0xDF)
+        k = 2;
+    else if (c >= 0xE0 && c <= 0xEF) {
+        k = 3;
+        if (c == 0xE0)
+            lo = 0xA0;
+        else if (c == 0xED)
+            hi = 0x9F;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+        k = 4;
+        if (c == 0xF0)
+            lo = 0x90;
+        else if (c == 0xF4)
+            hi = 0x8F;
+    } else
+        return 0;
+    for (int i = 1; i < k; i++) {
+        if ((size_t)i >= n)
+            return cut ? (int)n : 0;
+        unsigned b = s[i];
+        if (b < (i == 1 ? lo : 0x80) || b > (i == 1 ? hi : 0xBF))
+            return 0;
+    }
+    return k;
+}
+
+/* The first byte of line that is not text: a NUL, a control character
+ * other than tab, CR and LF, or a byte that is not UTF-8. */
+static void check_text(reader_state *rs, const unsigned char *s, size_t len, int cut)
+{
+    for (size_t i = 0; i < len && !rs->bad_line;) {
+        unsigned c = s[i];
+        const char *why = NULL;
+        int step = 1;
+        if (c == 0)
+            why = "a NUL byte (a binary file?)";
+        else if ((c < 0x20 && c != '\t' && c != '\r' && c != '\n') || c == 0x7F)
+            why = "a control character";
+        else if (c >= 0x80 && !(step = utf8_len(s + i, len - i, cut)))
+            why = "a byte that is not UTF-8";
+        if (why) {
+            rs->bad_line = rs->line;
+            rs->bad_col = (int)i + 1;
+            rs->bad_byte = (int)c;
+            rs->bad_why = why;
+        }
+        i += (size_t)step;
+    }
+}
+
 /* inih calls the reader once per line; counting calls gives the line number
- * the handler is about to see (the Debian build has no INI_HANDLER_LINENO). */
+ * the handler is about to see (the Debian build has no INI_HANDLER_LINENO).
+ * The line is read byte by byte, as fgets would hide a NUL in it; the first
+ * byte that is not text ends the reading (the file is refused). */
 static char *reader(char *str, int num, void *stream)
 {
     reader_state *rs = stream;
-    char *r = fgets(str, num, rs->f);
-    if (!r) {
+    if (rs->bad_line)
+        return NULL;
+    size_t len = 0;
+    int c = EOF;
+    while (len + 1 < (size_t)num && (c = getc(rs->f)) != EOF) {
+        str[len++] = (char)c;
+        if (c == '\n')
+            break;
+    }
+    if (len == 0) {
         if (ferror(rs->f) && !rs->read_errno)
             rs->read_errno = errno ? errno : EIO;
         return NULL;
     }
+    str[len] = '\0';
     rs->line++;
-    size_t len = strlen(str);
-    if (len == (size_t)num - 1 && str[len - 1] != '\n' && !feof(rs->f)) {
-        if (!rs->too_long_line)
-            rs->too_long_line = rs->line;
-        int c;
-        while ((c = fgetc(rs->f)) != EOF && c != '\n')
-            ;
+    int full = len + 1 == (size_t)num && str[len - 1] != '\n';
+    check_text(rs, (const unsigned char *)str, len, full);
+    if (full) {
+        int next = getc(rs->f);
+        if (next != EOF && next != '\n') {
+            if (!rs->too_long_line)
+                rs->too_long_line = rs->line;
+            while ((next = getc(rs->f)) != EOF && next != '\n')
+                ;
+        }
     }
-    return r;
+    if (rs->bad_line)
+        str[0] = '\0'; /* inih sees an empty line, then the end */
+    return str;
 }
 
 typedef struct load_ctx {
@@ -106,9 +185,26 @@ static int handler(void *user, const char *section, const char *name, const char
 
 core_ini *core_ini_load(const char *path, core_err *err)
 {
-    FILE *f = fopen(path, "r");
-    if (!f) {
+    /* O_NONBLOCK: a FIFO opens at once (and is then refused) */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
         core_err_set(err, -1, "%s: cannot open: %s", path, strerror(errno));
+        return NULL;
+    }
+    struct stat st;
+    if (fstat(fd, &st) != 0) {
+        core_err_set(err, -1, "%s: cannot read: %s", path, strerror(errno));
+        close(fd);
+        return NULL;
+    }
+    if (core_file_check_stat(path, &st, CORE_INI_MAX_BYTES, err)) {
+        close(fd);
+        return NULL;
+    }
+    FILE *f = fdopen(fd, "r");
+    if (!f) {
+        core_err_set(err, -1, "%s: cannot read: %s", path, strerror(errno));
+        close(fd);
         return NULL;
     }
     core_ini *ini = calloc(1, sizeof *ini);
@@ -130,7 +226,7 @@ core_ini *core_ini_load(const char *path, core_err *err)
         slash[1] = '\0';
     else
         ini->dir[0] = '\0';
-    reader_state rs = {f, 0, 0, 0};
+    reader_state rs = {f, 0, 0, 0, 0, 0, 0, NULL};
     load_ctx c = {ini, &rs, 0, 0, 0, "", ""};
     errno = 0;
     int rc = ini_parse_stream(reader, &rs, handler, &c);
@@ -139,6 +235,16 @@ core_ini *core_ini_load(const char *path, core_err *err)
         /* what was read is only the start of the file: optional keys after
          * it would silently take their defaults */
         core_err_set(err, -1, "%s: cannot read: %s", path, strerror(rs.read_errno));
+        core_ini_destroy(ini);
+        return NULL;
+    }
+    if (rs.bad_line) {
+        if (rs.bad_byte == 0)
+            core_err_set(err, -1, "%s:%d:%d: %s: expected text", path, rs.bad_line, rs.bad_col,
+                         rs.bad_why);
+        else
+            core_err_set(err, -1, "%s:%d:%d: byte 0x%02X, %s: expected UTF-8 text", path, rs.bad_line,
+                         rs.bad_col, (unsigned)rs.bad_byte, rs.bad_why);
         core_ini_destroy(ini);
         return NULL;
     }
@@ -290,8 +396,40 @@ static char *next_item(char **p, char sep)
     return s;
 }
 
+/* A decimal number: [+-]digits[.digits][(e|E)[+-]digits], blanks around.
+ * strtod alone would also take hexadecimal (0x14 as 20), "inf" and "nan". */
+static int is_decimal(const char *s)
+{
+    while (*s == ' ' || *s == '\t')
+        s++;
+    if (*s == '+' || *s == '-')
+        s++;
+    int digits = 0;
+    while (*s >= '0' && *s <= '9')
+        s++, digits++;
+    if (*s == '.')
+        for (s++; *s >= '0' && *s <= '9'; s++)
+            digits++;
+    if (!digits)
+        return 0;
+    if (*s == 'e' || *s == 'E') {
+        s++;
+        if (*s == '+' || *s == '-')
+            s++;
+        if (!(*s >= '0' && *s <= '9'))
+            return 0;
+        while (*s >= '0' && *s <= '9')
+            s++;
+    }
+    while (*s == ' ' || *s == '\t')
+        s++;
+    return *s == '\0';
+}
+
 static int parse_double(const char *s, double *out)
 {
+    if (!is_decimal(s))
+        return -1;
     char *end;
     errno = 0;
     double v = strtod(s, &end);
@@ -403,6 +541,24 @@ int core_ini_get_string(core_ini *ini, const char *section, const char *key, int
     return 0;
 }
 
+int core_ini_get_name(core_ini *ini, const char *section, const char *key, int required, char *out,
+                      size_t n, core_err *err)
+{
+    int rc = core_ini_get_string(ini, section, key, required, out, n, err);
+    if (rc)
+        return rc;
+    int ok = out[0] != '.';
+    for (const char *p = out; *p && ok; p++)
+        ok = (*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') ||
+             *p == '_' || *p == '-' || *p == '.';
+    if (!ok)
+        return core_err_set(err, -1,
+                            "%s:%d: [%s] %s = '%s': expected a name of letters, digits, '_', '-' or '.', "
+                            "not starting with '.' (it names files and folders)",
+                            ini->path, core_ini_find(ini, section, key)->line, section, key, out);
+    return 0;
+}
+
 int core_ini_get_doubles(core_ini *ini, const char *section, const char *key, int required,
                          double min, double max, double *out, int nmax, int *count, core_err *err)
 {
@@ -450,9 +606,13 @@ int core_ini_get_path(core_ini *ini, const char *section, const char *key, int r
         return core_err_set(err, -1, "%s:%d: [%s] %s: path too long", ini->path, e->line,
                             section, key);
     struct stat st;
-    if (stat(out, &st) != 0 || !S_ISREG(st.st_mode))
+    if (stat(out, &st) != 0)
         return core_err_set(err, -1, "%s:%d: [%s] %s = '%s': file not found (looked for %s)",
                             ini->path, e->line, section, key, e->value, out);
+    core_err why = {0};
+    if (core_file_check_stat(out, &st, -1, &why))
+        return core_err_set(err, -1, "%s:%d: [%s] %s = '%s': %s", ini->path, e->line, section, key,
+                            e->value, why.msg);
     return 0;
 }
 

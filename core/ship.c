@@ -161,7 +161,7 @@ int core_ship_load_log(const char *path, core_ship *ship, const core_log *log, c
     int n = 0;
     if ((rc = check_sections(ini, err)))
         goto out;
-    if ((rc = core_ini_get_string(ini, S, "name", 1, ship->name, sizeof ship->name, err)) ||
+    if ((rc = core_ini_get_name(ini, S, "name", 1, ship->name, sizeof ship->name, err)) ||
         (rc = core_ini_get_double(ini, S, "length_m", 1, 1.0, 500.0, &ship->length_m, err)) ||
         (rc = core_ini_get_double(ini, S, "beam_m", 1, 1.0, 100.0, &ship->beam_m, err)) ||
         (rc = core_ini_get_double(ini, S, "draft_m", 1, 0.0, 50.0, &ship->draft_m, err)) ||

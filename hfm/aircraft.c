@@ -151,7 +151,7 @@ static int load_mass(rd *r, hfm_aircraft *ac)
 {
     const char *A = "aircraft";
     double ixx, iyy, izz, ixz;
-    if (core_ini_get_string(r->ini, A, "name", 1, ac->name, sizeof ac->name, r->err) ||
+    if (core_ini_get_name(r->ini, A, "name", 1, ac->name, sizeof ac->name, r->err) ||
         rd_num(r, A, "mass_kg", 100.0, 1e5, &ac->mass) || rd_num(r, A, "Ixx_kgm2", 1.0, 1e7, &ixx) ||
         rd_num(r, A, "Iyy_kgm2", 1.0, 1e7, &iyy) || rd_num(r, A, "Izz_kgm2", 1.0, 1e7, &izz) ||
         rd_num(r, A, "Ixz_kgm2", -1e6, 1e6, &ixz))

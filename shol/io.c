@@ -2,8 +2,10 @@
  * same folder, then rename: rename within one file system is atomic). */
 #include "io.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <stdio.h>
 #include <math.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -16,6 +18,103 @@ int shol_io_mkdir(const char *dir, core_err *err)
     if (strlen(dir) >= SHOL_IO_PATH_MAX)
         return core_err_set(err, -1, "%s: output folder name too long", dir);
     return core_mkdir_p(dir, err);
+}
+
+/* Every plain file in stage (not a name starting with '.'), called with
+ * its name; stops at the first call that returns non-zero. */
+static int stage_each(const char *stage, int (*fn)(const char *stage, const char *name, void *u), void *u)
+{
+    DIR *d = opendir(stage);
+    if (!d)
+        return -1;
+    int rc = 0;
+    for (struct dirent *e; !rc && (e = readdir(d));)
+        if (e->d_name[0] != '.')
+            rc = fn(stage, e->d_name, u);
+    closedir(d);
+    return rc;
+}
+
+static int remove_one(const char *stage, const char *name, void *u)
+{
+    (void)u;
+    char p[SHOL_IO_PATH_MAX + 256];
+    snprintf(p, sizeof p, "%s/%s", stage, name);
+    unlink(p);
+    return 0;
+}
+
+void shol_io_stage_abort(const char *stage)
+{
+    if (!stage || !stage[0])
+        return;
+    stage_each(stage, remove_one, NULL);
+    DIR *d = opendir(stage); /* the writers' own temporaries, ".NAME.tmp.PID" */
+    if (d) {
+        for (struct dirent *e; (e = readdir(d));)
+            if (strcmp(e->d_name, ".") && strcmp(e->d_name, ".."))
+                remove_one(stage, e->d_name, NULL);
+        closedir(d);
+    }
+    rmdir(stage);
+}
+
+int shol_io_stage_begin(const char *dir, char *stage, core_err *err)
+{
+    stage[0] = '\0';
+    if (shol_io_mkdir(dir, err) < 0)
+        return -1;
+    int n = snprintf(stage, SHOL_IO_PATH_MAX, "%s/.shol.stage.%ld", dir, (long)getpid());
+    if (n < 0 || n >= SHOL_IO_PATH_MAX) {
+        stage[0] = '\0';
+        return core_err_set(err, -1, "%s: output folder name too long", dir);
+    }
+    shol_io_stage_abort(stage); /* one left by a killed run of the same pid */
+    if (mkdir(stage, 0777) < 0) {
+        core_err_set(err, -1, "%s: cannot create the output folder's staging folder: %s", stage, strerror(errno));
+        stage[0] = '\0';
+        return -1;
+    }
+    return 0;
+}
+
+typedef struct stage_ctx {
+    const char *dir;
+    core_err *err;
+} stage_ctx;
+
+static int target_ok(const char *stage, const char *name, void *u)
+{
+    (void)stage;
+    stage_ctx *c = u;
+    char p[SHOL_IO_PATH_MAX + 256];
+    snprintf(p, sizeof p, "%s/%s", c->dir, name);
+    return core_output_check(p, c->err) != 0;
+}
+
+static int move_one(const char *stage, const char *name, void *u)
+{
+    stage_ctx *c = u;
+    char from[SHOL_IO_PATH_MAX + 256], to[SHOL_IO_PATH_MAX + 256];
+    snprintf(from, sizeof from, "%s/%s", stage, name);
+    snprintf(to, sizeof to, "%s/%s", c->dir, name);
+    if (rename(from, to) < 0)
+        return core_err_set(c->err, -1, "%s: cannot rename into place: %s", to, strerror(errno)), 1;
+    return 0;
+}
+
+int shol_io_stage_commit(const char *dir, const char *stage, core_err *err)
+{
+    stage_ctx c = {dir, err};
+    /* every target first: a folder or a device where a file goes stops
+     * the set before any of it is moved */
+    if (stage_each(stage, target_ok, &c) != 0 || stage_each(stage, move_one, &c) != 0) {
+        shol_io_stage_abort(stage);
+        return -1;
+    }
+    rmdir(stage);
+    core_sync_path(dir);
+    return 0;
 }
 
 int shol_io_paths(const char *dir, const char *name, char *final, char *tmp, core_err *err)

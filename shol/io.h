@@ -13,6 +13,14 @@
 /* Create dir and its parents if missing; < 0 with err if it cannot, or if
  * it exists and is not a folder. */
 int shol_io_mkdir(const char *dir, core_err *err);
+/* An output set written whole or not at all: begin creates dir and a
+ * staging folder in it (stage, SHOL_IO_PATH_MAX); the writers write
+ * there; commit checks that no target in dir is a folder, a device or a
+ * FIFO, then renames every file into dir; abort (and a failed commit)
+ * removes the staging folder and what is in it. */
+int shol_io_stage_begin(const char *dir, char *stage, core_err *err);
+int shol_io_stage_commit(const char *dir, const char *stage, core_err *err);
+void shol_io_stage_abort(const char *stage);
 /* Fill final = dir/name and tmp = a temporary name beside it. */
 int shol_io_paths(const char *dir, const char *name, char *final, char *tmp, core_err *err);
 /* Open tmp for writing (after shol_io_paths). */

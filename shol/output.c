@@ -150,9 +150,14 @@ static int read_band(const char *path, int lineno, char **fld, int ncol, shol_di
     return 0;
 }
 
+/* far above any envelope's CSV (a few hundred rows) */
+#define SHOL_CSV_MAX_BYTES (64LL * 1024 * 1024)
+
 int shol_read_csv(const char *path, shol_result *r, core_err *err)
 {
     memset(r, 0, sizeof *r);
+    if (core_file_regular(path, SHOL_CSV_MAX_BYTES, err) != 0)
+        return -1;
     FILE *f = fopen(path, "r");
     if (!f)
         return core_err_set(err, -1, "%s: cannot open", path);
@@ -567,9 +572,14 @@ void shol_trim_plot_name(double dir_rad, char *buf, size_t n)
 int shol_write_all(const char *dir, const shol_result *r, const shol_report_info *info,
                    core_err *err)
 {
-    if (shol_write_csv(dir, r, err) < 0 || shol_write_json(dir, r, info, err) < 0 ||
-        shol_plot_polar(dir, r, info, err) < 0 || shol_plot_trim(dir, r, info, err) < 0 ||
-        shol_write_report(dir, r, info, err) < 0)
+    char stage[SHOL_IO_PATH_MAX];
+    if (shol_io_stage_begin(dir, stage, err) < 0)
         return -1;
-    return 0;
+    if (shol_write_csv(stage, r, err) < 0 || shol_write_json(stage, r, info, err) < 0 ||
+        shol_plot_polar(stage, r, info, err) < 0 || shol_plot_trim(stage, r, info, err) < 0 ||
+        shol_write_report(stage, r, info, err) < 0) {
+        shol_io_stage_abort(stage);
+        return -1;
+    }
+    return shol_io_stage_commit(dir, stage, err);
 }

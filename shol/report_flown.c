@@ -476,10 +476,15 @@ int shol_flown_write_report(const char *dir, const shol_flown_result *fr, const 
 int shol_flown_write_all(const char *dir, const shol_flown_result *f, const shol_result *trim,
                          const shol_report_info *info, core_err *err)
 {
-    if (shol_flown_write_csv(dir, f, err) < 0 || shol_flown_write_json(dir, f, info, err) < 0 ||
-        shol_flown_plot_polar(dir, f, trim, info, err) < 0 || shol_flown_write_report(dir, f, trim, info, err) < 0)
+    char stage[SHOL_IO_PATH_MAX];
+    if (shol_io_stage_begin(dir, stage, err) < 0)
         return -1;
-    if (trim && (shol_write_csv(dir, trim, err) < 0 || shol_write_json(dir, trim, NULL, err) < 0))
+    if (shol_flown_write_csv(stage, f, err) < 0 || shol_flown_write_json(stage, f, info, err) < 0 ||
+        shol_flown_plot_polar(stage, f, trim, info, err) < 0 ||
+        shol_flown_write_report(stage, f, trim, info, err) < 0 ||
+        (trim && (shol_write_csv(stage, trim, err) < 0 || shol_write_json(stage, trim, NULL, err) < 0))) {
+        shol_io_stage_abort(stage);
         return -1;
-    return 0;
+    }
+    return shol_io_stage_commit(dir, stage, err);
 }

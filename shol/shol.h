@@ -599,7 +599,9 @@ void shol_trim_plot_name(double dir_rad, char *buf, size_t n);
  * histories and the comparison table. */
 int shol_write_report(const char *dir, const shol_result *r, const shol_report_info *info,
                       core_err *err);
-/* All of the above into DIR. */
+/* All of the above into DIR, whole or not at all: written to a staging
+ * folder in DIR, then renamed into DIR once every file is written and no
+ * target is a folder, a device or a FIFO; on a failure nothing is left. */
 int shol_write_all(const char *dir, const shol_result *r, const shol_report_info *info,
                    core_err *err);
 
@@ -850,7 +852,7 @@ void shol_flown_band(const shol_flown_result *f, const shol_result *trim, int i,
  * trim envelope's bands were computed or changed (shol_band_compute). */
 void shol_flown_bands_update(shol_flown_result *f, const shol_result *trim);
 
-/* All four. */
+/* All four, whole or not at all (as shol_write_all). */
 int shol_flown_write_all(const char *dir, const shol_flown_result *f, const shol_result *trim,
                          const shol_report_info *info, core_err *err);
 

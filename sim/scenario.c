@@ -18,7 +18,7 @@ static int peek_aircraft(const char *path, char *name, size_t n, core_err *err)
     core_ini *ini = core_ini_load(path, err);
     if (!ini)
         return -1;
-    int rc = core_ini_get_string(ini, "aircraft", "name", 1, name, n, err);
+    int rc = core_ini_get_name(ini, "aircraft", "name", 1, name, n, err);
     core_ini_destroy(ini);
     return rc;
 }
@@ -337,7 +337,7 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
     const char *S = "scenario";
     if ((rc = refused_keys(ini, err)))
         goto out;
-    if ((rc = core_ini_get_string(ini, S, "name", 1, sc->name, sizeof sc->name, err)) ||
+    if ((rc = core_ini_get_name(ini, S, "name", 1, sc->name, sizeof sc->name, err)) ||
         (rc = core_ini_get_string(ini, S, "description", 0, sc->description,
                                   sizeof sc->description, err)) < 0 ||
         (rc = core_ini_get_path(ini, S, "aircraft", 1, sc->aircraft_path,

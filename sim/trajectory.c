@@ -7,6 +7,7 @@
  * that failed or stopped leaves nothing half-written. */
 #include "sim.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,7 +36,7 @@ sim_traj *sim_traj_create(const char *path, double rate_hz, double row_rate_hz, 
     snprintf(t->path, sizeof t->path, "%s", path);
     snprintf(t->tmp, sizeof t->tmp, "%s.tmp%ld", path, (long)getpid());
     if (!(t->f = fopen(t->tmp, "w"))) {
-        core_err_set(err, -1, "%s: cannot write", t->tmp);
+        core_err_set(err, -1, "%s: cannot write the trajectory: %s (its temporary %s)", path, strerror(errno), t->tmp);
         free(t);
         return NULL;
     }
@@ -60,7 +61,8 @@ int sim_traj_row(sim_traj *t, const sim_flight_out *o, int always, core_err *err
                 o->vel_S_mps[1], o->vel_S_mps[2], o->pos_E_m[0], o->pos_E_m[1], o->pos_E_m[2], o->ctl.collective_pct,
                 o->ctl.long_cyclic_pct, o->ctl.lat_cyclic_pct, o->ctl.pedal_pct, o->air_flags, o->rotor_thrust_N,
                 o->rotor_power_W, o->on_deck, gear_N, o->contact_flags) < 0)
-        return core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", t->path);
+        return core_err_set(err, -1, "%s: cannot write the trajectory: %s (nothing written)", t->path,
+                            strerror(errno));
     return 0;
 }
 
@@ -68,11 +70,20 @@ int sim_traj_commit(sim_traj *t, core_err *err)
 {
     if (!t || !t->f)
         return 0;
+    errno = 0;
     int bad = fflush(t->f) != 0 || ferror(t->f) || fsync(fileno(t->f)) != 0;
+    int e = errno;
     bad |= fclose(t->f) != 0;
+    if (!e)
+        e = errno;
     t->f = NULL;
-    if (bad || rename(t->tmp, t->path) != 0)
-        return core_err_set(err, -1, "%s: cannot write the trajectory (nothing written)", t->path);
+    if (!bad && rename(t->tmp, t->path) != 0) {
+        bad = 1;
+        e = errno;
+    }
+    if (bad)
+        return core_err_set(err, -1, "%s: cannot write the trajectory: %s (nothing written)", t->path,
+                            e ? strerror(e) : "a write failed");
     t->tmp[0] = '\0';
     return 0;
 }

@@ -357,6 +357,46 @@ static void test_io(void)
         cfd_field *old = cfd_field_load(path, &err);
         CHECK(old != NULL && cfd_field_meta(old)->result.mean_change == -1.0);
         cfd_field_destroy(old);
+        /* The file carries its data's checksum: /fields/u overwritten with
+         * finite garbage is refused naming the file; a field written
+         * before files carried one is read, its meta.checksum 0. */
+        CHECK(cfd_field_meta(f)->checksum == 1);
+        char cpath[300], cxmf[300];
+        snprintf(cpath, sizeof cpath, "%s/crc.h5", dir);
+        snprintf(cxmf, sizeof cxmf, "%s/crc.xmf", dir);
+        CHECK(cfd_field_write(f, cpath, &err) == 0);
+        hid_t hc = H5Fopen(cpath, H5F_ACC_RDWR, H5P_DEFAULT);
+        hid_t du = hc >= 0 ? H5Dopen2(hc, "/fields/u", H5P_DEFAULT) : -1;
+        hid_t sp = du >= 0 ? H5Dget_space(du) : -1;
+        hssize_t np = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : 0;
+        double *u = np > 0 ? malloc((size_t)np * sizeof *u) : NULL;
+        CHECK(u && H5Dread(du, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, u) >= 0);
+        if (u) {
+            u[np / 2] += 0.5; /* finite, plausible */
+            CHECK(H5Dwrite(du, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, u) >= 0);
+        }
+        free(u);
+        if (sp >= 0)
+            H5Sclose(sp);
+        if (du >= 0)
+            H5Dclose(du);
+        if (hc >= 0)
+            H5Fclose(hc);
+        err.msg[0] = '\0';
+        CHECK(cfd_field_load(cpath, &err) == NULL);
+        CHECK(strstr(err.msg, "crc.h5: the data do not match the file's checksum (data_crc64 ") != NULL);
+        hc = H5Fopen(cpath, H5F_ACC_RDWR, H5P_DEFAULT);
+        CHECK(hc >= 0 && H5Adelete(hc, "data_crc64") >= 0);
+        if (hc >= 0)
+            H5Fclose(hc);
+        cfd_field *nocrc = cfd_field_load(cpath, &err);
+        CHECK(nocrc != NULL && cfd_field_meta(nocrc)->checksum == 0);
+        cfd_field_destroy(nocrc);
+        unlink(cpath);
+        unlink(cxmf);
+        /* what is not a regular file is refused before HDF5 opens it */
+        CHECK(cfd_field_load(dir, &err) == NULL && strstr(err.msg, "a folder, expected a regular file"));
+        CHECK(cfd_field_load("/dev/zero", &err) == NULL && strstr(err.msg, "a character device"));
         double pts[3][3] = {{0.3, 0.45, 0.5}, {2.1, 0.77, 0.33}, {3.9, 0.05, 0.9}};
         for (int p = 0; p < 3; p++) {
             double a[CFD_NVARS], b[CFD_NVARS], vel[3];

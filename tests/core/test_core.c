@@ -300,8 +300,93 @@ static void test_ini(void)
     ini = core_ini_load("scenarios", &err);
     CHECK(ini == NULL);
     core_ini_destroy(ini);
-    CHECK(strstr(err.msg, "scenarios: cannot read: ") != NULL);
+    CHECK(strstr(err.msg, "scenarios: a folder, expected a regular file") != NULL);
     core_ini_destroy(NULL);
+}
+
+static const char *write_bytes(const char *name, const char *bytes, size_t n)
+{
+    static char path[256];
+    snprintf(path, sizeof path, "%s/%s", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp", name);
+    FILE *f = fopen(path, "wb");
+    fwrite(bytes, 1, n, f);
+    fclose(f);
+    return path;
+}
+
+/* Loads text that must be refused; 1 if err names what was expected. */
+static int refused(const char *bytes, size_t n, const char *expect)
+{
+    core_err err = {0};
+    core_ini *ini = core_ini_load(write_bytes("disim_core_text.ini", bytes, n), &err);
+    core_ini_destroy(ini);
+    if (!ini && strstr(err.msg, expect))
+        return 1;
+    fprintf(stderr, "expected '%s', got '%s'\n", expect, ini ? "(loaded)" : err.msg);
+    return 0;
+}
+
+/* What the reader takes as text, numbers and names, and what it refuses:
+ * file, line and column named. */
+static void test_ini_text(void)
+{
+#define T(s) s, sizeof s - 1
+    CHECK(refused(T("[a]\nx = 1\ny = ab\0cd\n"), ":3:7: a NUL byte"));
+    CHECK(refused(T("[a]\nx = a\033[31m\n"), ":2:6: byte 0x1B, a control character"));
+    CHECK(refused(T("[a]\nx = a\177\n"), ":2:6: byte 0x7F, a control character"));
+    CHECK(refused(T("[a]\nx = caf\351\n"), ":2:8: byte 0xE9, a byte that is not UTF-8"));
+    CHECK(refused(T("[a]\nx = \300\257\n"), ":2:5: byte 0xC0, a byte that is not UTF-8")); /* overlong '/' */
+    CHECK(refused(T("[a]\nx = \355\240\200\n"), ":2:5: byte 0xED")); /* a surrogate */
+    CHECK(refused(T("[a]\nx = \364\220\200\200\n"), ":2:5: byte 0xF4")); /* past U+10FFFF */
+    CHECK(refused(T("[a]\nx = caf\303\n"), ":2:8: byte 0xC3")); /* cut sequence */
+    /* tabs, CRLF, a BOM and UTF-8 are text */
+    core_err err = {0};
+    const char ok[] = "\357\273\277[a]\r\nx\t= 20\r\ns = caf\303\251 \342\202\254 \360\237\232\201\n"
+                      "h = 0x14\nn = 1e3\nm = -.5\nk = +2.\nname = UH-60A\nbad1 = ../../escaped\nbad2 = .hidden\n"
+                      "bad3 = a b\nl = 1, 0x2\n";
+    core_ini *ini = core_ini_load(write_bytes("disim_core_text_ok.ini", T(ok)), &err);
+    CHECK(ini != NULL);
+    if (ini) {
+        double x;
+        char s[64];
+        double l[2];
+        int cnt;
+        CHECK(core_ini_get_double(ini, "a", "x", 1, 0, 100, &x, &err) == 0 && x == 20.0);
+        CHECK(core_ini_get_string(ini, "a", "s", 1, s, sizeof s, &err) == 0 && !strcmp(s, "caf\303\251 \342\202\254 \360\237\232\201"));
+        /* decimal only: strtod would read 0x14 as 20 */
+        CHECK(core_ini_get_double(ini, "a", "h", 1, 0, 100, &x, &err) < 0 &&
+              strstr(err.msg, ":4: [a] h = '0x14': expected a number"));
+        CHECK(core_ini_get_double(ini, "a", "n", 1, 0, 1e4, &x, &err) == 0 && x == 1000.0);
+        CHECK(core_ini_get_double(ini, "a", "m", 1, -1, 1, &x, &err) == 0 && x == -0.5);
+        CHECK(core_ini_get_double(ini, "a", "k", 1, -1, 3, &x, &err) == 0 && x == 2.0);
+        CHECK(core_ini_get_doubles(ini, "a", "l", 1, 0, 5, l, 2, &cnt, &err) < 0 &&
+              strstr(err.msg, "item 2 '0x2': expected a number"));
+        CHECK(core_ini_get_name(ini, "a", "name", 1, s, sizeof s, &err) == 0 && !strcmp(s, "UH-60A"));
+        CHECK(core_ini_get_name(ini, "a", "bad1", 1, s, sizeof s, &err) < 0 &&
+              strstr(err.msg, ":9: [a] bad1 = '../../escaped': expected a name"));
+        CHECK(core_ini_get_name(ini, "a", "bad2", 1, s, sizeof s, &err) < 0);
+        CHECK(core_ini_get_name(ini, "a", "bad3", 1, s, sizeof s, &err) < 0);
+        core_ini_destroy(ini);
+    }
+#undef T
+    double rv[1];
+    int rn;
+    CHECK(core_parse_range("0x10", rv, 1, &rn) < 0);
+    /* not regular files, and the size cap */
+    CHECK(core_ini_load("/dev/zero", &err) == NULL && strstr(err.msg, "/dev/zero: a character device, expected a regular file"));
+    CHECK(core_file_regular("/dev/null", 10, &err) < 0 && strstr(err.msg, "a character device"));
+    const char *big = write_bytes("disim_core_big.ini", "", 0);
+    CHECK(truncate(big, CORE_INI_MAX_BYTES + 1) == 0);
+    CHECK(core_ini_load(big, &err) == NULL && strstr(err.msg, "larger than the 16777216 bytes"));
+    CHECK(core_file_regular(big, -1, &err) == 0);
+    CHECK(core_file_regular(big, CORE_INI_MAX_BYTES + 1, &err) == 0);
+    remove(big);
+    CHECK(core_file_regular("/nonexistent/x", -1, &err) < 0 && strstr(err.msg, "cannot open"));
+    char fifo[256];
+    snprintf(fifo, sizeof fifo, "%s/disim_core_fifo.%ld", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp", (long)getpid());
+    CHECK(mkfifo(fifo, 0600) == 0);
+    CHECK(core_ini_load(fifo, &err) == NULL && strstr(err.msg, "a FIFO, expected a regular file"));
+    remove(fifo);
 }
 
 static void test_ship(void)
@@ -444,6 +529,26 @@ static void test_mkdir(void)
     CHECK(core_mkdir_p(under, &err) < 0 && strstr(err.msg, file) != NULL);
     CHECK(core_mkdir_p(file, &err) < 0 && strstr(err.msg, "not a folder") != NULL);
     CHECK(core_mkdir_p("", &err) < 0);
+    /* checked before any work, nothing created */
+    char deep[700];
+    snprintf(deep, sizeof deep, "%s/new/deeper", dir);
+    CHECK(core_dir_check(deep, &err) == 0 && stat(deep, &st) != 0);
+    CHECK(core_dir_check(dir, &err) == 0);
+    CHECK(core_dir_check(file, &err) < 0 && strstr(err.msg, ": not a folder") != NULL);
+    CHECK(core_dir_check(under, &err) < 0 && strstr(err.msg, "not a folder (on the way to the folder") != NULL);
+    CHECK(core_dir_check("/dev/null/x", &err) < 0 && strstr(err.msg, "/dev/null: not a folder") != NULL);
+    CHECK(core_dir_check("", &err) < 0);
+    /* outputs: a regular file or a new name; the same file spelt twice */
+    CHECK(core_output_check(file, &err) == 0 && core_output_check(deep, &err) == 0);
+    CHECK(core_output_check(dir, &err) < 0 && strstr(err.msg, "a folder: expected a regular file"));
+    CHECK(core_output_check("/dev/full", &err) < 0 && strstr(err.msg, "a character device"));
+    char again[700];
+    snprintf(again, sizeof again, "%s/it's a/../f", base);
+    CHECK(core_path_same(file, again) == 1);
+    snprintf(again, sizeof again, "%s/it's a/../new.csv", base);
+    snprintf(deep, sizeof deep, "%s/./new.csv", base);
+    CHECK(core_path_same(deep, again) == 1);
+    CHECK(core_path_same(file, deep) == 0 && core_path_same(file, NULL) == 0);
     remove(file);
     rmdir(dir);
     snprintf(dir, sizeof dir, "%s/it's a", base);
@@ -458,6 +563,7 @@ int main(void)
     test_frames();
     test_range();
     test_ini();
+    test_ini_text();
     test_ship();
     test_log();
     test_str();

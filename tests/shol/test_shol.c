@@ -695,7 +695,7 @@ static void test_outputs(void)
 {
     char dir[] = "/tmp/disim_test_shol_XXXXXX";
     CHECK(mkdtemp(dir) != NULL);
-    char out[512], path[640];
+    char out[512], path[640], cmd_ls[3000];
     snprintf(out, sizeof out, "%s/out/nested", dir); /* created on demand */
 
     shol_settings s;
@@ -931,7 +931,7 @@ static void test_outputs(void)
     CHECK(shol_read_csv(path, &back, &err) < 0);
     CHECK(strstr(err.msg, "bad.csv:2:") && strstr(err.msg, "longer"));
     CHECK(shol_read_csv(dir, &back, &err) < 0);
-    CHECK(strstr(err.msg, "read error") != NULL);
+    CHECK(strstr(err.msg, ": a folder, expected a regular file") != NULL);
 
     /* A negative speed would be drawn on the opposite side of the polar. */
     f = fopen(path, "w");
@@ -992,6 +992,31 @@ static void test_outputs(void)
     CHECK(js && !strstr(js, "nan") && strstr(js, "\"criteria\": {\"roll_deg\": null, \"pitch_deg\": 8,"));
     free(js);
     snprintf(path, sizeof path, "%s/bad.csv", dir);
+
+    /* The set whole or not at all: report.md that cannot be written (a
+     * folder there) leaves no shol.csv or shol.json, and no staging folder
+     * or temporary; a FIFO where shol.json goes is refused the same way
+     * and stays a FIFO. */
+    char setdir[640], sub[700];
+    snprintf(setdir, sizeof setdir, "%s/set", dir);
+    snprintf(sub, sizeof sub, "%s/report.md", setdir);
+    CHECK(core_mkdir_p(sub, &err) == 0);
+    err.msg[0] = '\0';
+    CHECK(shol_write_all(setdir, &r, &info, &err) < 0);
+    CHECK(strstr(err.msg, "report.md: a folder: expected a regular file") != NULL);
+    snprintf(cmd_ls, sizeof cmd_ls, "test \"$(ls -A '%s')\" = report.md", setdir);
+    CHECK(system(cmd_ls) == 0);
+    CHECK(rmdir(sub) == 0);
+    snprintf(sub, sizeof sub, "%s/shol.json", setdir);
+    CHECK(mkfifo(sub, 0600) == 0);
+    CHECK(shol_write_all(setdir, &r, &info, &err) < 0 && strstr(err.msg, "shol.json: a FIFO"));
+    snprintf(cmd_ls, sizeof cmd_ls, "test \"$(ls -A '%s')\" = shol.json && test -p '%s'", setdir, sub);
+    CHECK(system(cmd_ls) == 0);
+    CHECK(unlink(sub) == 0);
+    CHECK(shol_write_all(setdir, &r, &info, &err) == 0);
+    snprintf(cmd_ls, sizeof cmd_ls, "test -f '%s/shol.csv' -a -f '%s/report.md' -a -f '%s/shol_polar.svg' && "
+                                    "! ls -A '%s' | grep -q '^\\.'", setdir, setdir, setdir, setdir);
+    CHECK(system(cmd_ls) == 0);
 
     /* An output folder that cannot be made: an error, not a crash. */
     snprintf(path, sizeof path, "%s/bad.csv/sub", dir);

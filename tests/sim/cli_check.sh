@@ -22,6 +22,32 @@ for f in *.ini; do
         echo "     expected exit 1 and: $expect"
     fi
 done
+# Files that are not a scenario's text: each refused with what it is.
+tmp=$(mktemp -d) || exit 1
+trap 'rm -rf "$tmp"' EXIT
+expect_check() { # FILE EXPECTED-MESSAGE
+    out=$(timeout 20 "$disim" check "$1" 2>&1 >/dev/null)
+    rc=$?
+    if [ $rc -eq 1 ] && printf '%s' "$out" | grep -qF -- "$2"; then
+        pass=$((pass + 1))
+    else
+        fail=$((fail + 1))
+        echo "FAIL check $1: exit $rc, got: $out"
+        echo "     expected exit 1 and: $2"
+    fi
+}
+truncate -s 200M "$tmp/zeros.ini"
+expect_check "$tmp/zeros.ini" "zeros.ini: 209715200 bytes, larger than the 16777216 bytes"
+head -c 4096 /dev/zero > "$tmp/small_zeros.ini"
+expect_check "$tmp/small_zeros.ini" "small_zeros.ini:1:1: a NUL byte (a binary file?): expected text"
+mkfifo "$tmp/fifo.ini"
+expect_check "$tmp/fifo.ini" "fifo.ini: a FIFO, expected a regular file"
+expect_check /dev/zero "/dev/zero: a character device, expected a regular file"
+expect_check ../data "../data: a folder, expected a regular file"
+sed "s|^aircraft = .*|aircraft = $tmp/fifo.ini|" missing_file.ini > "$tmp/aircraft_fifo.ini"
+expect_check "$tmp/aircraft_fifo.ini" "fifo.ini: a FIFO, expected a regular file"
+expect_check ../../../scenarios/tasks/land_stern.ini \
+    "land_stern.ini: a task file ([task]): check it through the scenario that names it"
 # Good scenarios resolve and print their configuration.
 for s in ../../../scenarios/*.ini; do
     if "$disim" check "$s" >/dev/null 2>&1; then pass=$((pass + 1)); else
