@@ -221,13 +221,25 @@ int core_path_same(const char *a, const char *b);
  * unknown name; core_*_choices the names joined by '|' for
  * core_ini_get_enum. */
 
-/* The airwake grid levels (cfd/airwake.c gives each its spacing). */
-typedef enum { CORE_GRID_COARSE = 0, CORE_GRID_DEFAULT = 1, CORE_GRID_FINE = 2 } core_grid_level;
+/* The airwake grid levels (cfd/airwake.c gives each its spacing). The
+ * three a scenario or a command chooses (CORE_GRID_NLEVELS of them), and
+ * CORE_GRID_QUICK, twice the coarse spacing: the first look a flight gets
+ * while its own level is solved (the airwake database's builder, docs/
+ * usage.md); not a scenario's choice. Its value comes after the others so
+ * that the three keep their numbers (the database's field names hash
+ * them); core_grid_rank orders the four by spacing. */
+typedef enum { CORE_GRID_COARSE = 0, CORE_GRID_DEFAULT = 1, CORE_GRID_FINE = 2, CORE_GRID_QUICK = 3 } core_grid_level;
 #define CORE_GRID_NLEVELS 3
-/* "coarse", "default" or "fine". */
+/* "coarse", "default", "fine" or "quick". */
 const char *core_grid_name(int level);
+/* One of the three choices ("quick" is not one: -1). */
 int core_grid_parse(const char *s);
+/* One of the four levels, "quick" too; -1 otherwise. */
+int core_grid_parse_any(const char *s);
 const char *core_grid_choices(void);
+/* A level's place from the coarsest: quick 0, coarse 1, default 2, fine 3
+ * (-1 for a value out of range). */
+int core_grid_rank(int level);
 
 /* The rotor in an airwake case: none (ship-only), the uniform actuator
  * disk of the seed paper's eq. 5, or the disk loaded with a trim's blade
