@@ -853,6 +853,7 @@ struct sim_log_writer {
     lcm_eventlog_t *el;
     long events;
     int failed; /* a write failed: the log is not committed */
+    int fail_errno; /* the system's reason for it (EIO where none was given) */
 };
 
 /* A new, empty file beside path, created with O_EXCL (no other writer's):
@@ -903,7 +904,8 @@ int sim_log_writer_write(sim_log_writer *w, const char *channel, int64_t utime_u
     if (!w->el)
         return core_err_set(err, -1, "%s: the LCM log is closed (committed, or its commit failed)", w->path);
     if (w->failed)
-        return core_err_set(err, -1, "%s: cannot write the LCM log (an earlier write failed)", w->tmp);
+        return core_err_set(err, -1, "%s: cannot write the LCM log (an earlier write failed: %s)", w->path,
+                            strerror(w->fail_errno));
     size_t chlen = channel ? strlen(channel) : 0;
     if (chlen == 0 || chlen >= 256 || size < 0 || (size > 0 && !data))
         return core_err_set(err, -1, "%s: an event on channel '%s' of %d bytes: expected a channel of 1 to 255 "
@@ -915,9 +917,12 @@ int sim_log_writer_write(sim_log_writer *w, const char *channel, int64_t utime_u
     ev.datalen = size;
     ev.channel = (char *)channel;
     ev.data = (void *)data;
+    errno = 0;
     if (lcm_eventlog_write_event(w->el, &ev) != 0 || ferror(w->el->f)) {
         w->failed = 1;
-        return core_err_set(err, -1, "%s: cannot write the LCM log", w->tmp);
+        w->fail_errno = errno ? errno : EIO;
+        return core_err_set(err, -1, "%s: cannot write the LCM log (%s; nothing will be written there)", w->path,
+                            strerror(w->fail_errno));
     }
     w->events++;
     return 0;
@@ -930,13 +935,19 @@ int sim_log_writer_commit(sim_log_writer *w, core_err *err)
     if (!w->el)
         return core_err_set(err, -1, "%s: the LCM log is closed (committed, or its commit failed)", w->path);
     FILE *f = w->el->f;
-    int bad = w->failed || fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0;
+    int e = w->failed ? w->fail_errno : 0;
+    errno = 0;
+    if (!e && (fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0))
+        e = errno ? errno : EIO;
     lcm_eventlog_destroy(w->el);
     w->el = NULL;
-    if (bad || rename(w->tmp, w->path) != 0) {
+    errno = 0;
+    if (!e && rename(w->tmp, w->path) != 0)
+        e = errno ? errno : EIO;
+    if (e) {
         unlink(w->tmp);
         w->tmp[0] = '\0';
-        return core_err_set(err, -1, "%s: cannot write the LCM log (nothing written)", w->path);
+        return core_err_set(err, -1, "%s: cannot write the LCM log (%s; nothing written)", w->path, strerror(e));
     }
     w->tmp[0] = '\0';
     return 0;

@@ -34,6 +34,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <errno.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -375,6 +378,30 @@ static void test_uncommitted(const char *dir, const event *ev)
     sim_log_writer_destroy(w);
     CHECK(entries(dir, first, sizeof first) == 1 && !strcmp(first, "a_folder"));
     rmdir(p);
+
+    /* a disk that fills (a file-size limit: EFBIG, as ENOSPC would be):
+     * the message names the log and the system's reason, nothing is left */
+    snprintf(p, sizeof p, "%s/full.log", dir);
+    struct rlimit old_lim, lim;
+    CHECK(getrlimit(RLIMIT_FSIZE, &old_lim) == 0);
+    void (*old_sig)(int) = signal(SIGXFSZ, SIG_IGN);
+    lim = old_lim;
+    lim.rlim_cur = 4096;
+    w = sim_log_writer_create(p, &err);
+    CHECK(w != NULL && setrlimit(RLIMIT_FSIZE, &lim) == 0);
+    int rc = 0;
+    for (int i = 0; w && i < 10000 && rc == 0; i++)
+        rc = sim_log_writer_write(w, ev[0].ch, ev[0].ts, ev[0].buf, ev[0].n, &err);
+    if (w && rc == 0)
+        rc = sim_log_writer_commit(w, &err);
+    CHECK(setrlimit(RLIMIT_FSIZE, &old_lim) == 0);
+    signal(SIGXFSZ, old_sig);
+    CHECK(rc < 0 && strstr(err.msg, p) && strstr(err.msg, strerror(EFBIG)));
+    printf("a disk that fills: %s\n", err.msg);
+    if (w)
+        CHECK(sim_log_writer_commit(w, &err) < 0 && strstr(err.msg, strerror(EFBIG)) && strstr(err.msg, "nothing written"));
+    sim_log_writer_destroy(w);
+    CHECK(entries(dir, first, sizeof first) == 0);
 }
 
 /* ---- 7.: hostile files */
