@@ -195,6 +195,13 @@ int core_dir_check(const char *dir, core_err *err);
  * with errno set. */
 int core_sync_path(const char *path);
 
+/* --------------------------------------------------------------- escaping */
+/* in (NULL: "") into out (n bytes, always NUL-terminated) with every byte
+ * a terminal would act on or that is not ASCII as \xNN and a backslash as
+ * \\, cut at a whole escape: text from a file or the network made safe to
+ * print, log or send on. Returns the length written. */
+size_t core_escape(const char *in, char *out, size_t n);
+
 /* ------------------------------------------------------------ input files */
 struct stat;
 /* 0 if path is a regular file of at most max_bytes (max_bytes < 0: any

@@ -253,8 +253,10 @@ static void got_pilot(sim_loop *l, const void *data, int size)
         core_log_msg(l->log, CORE_LOG_DEBUG, "refused: %s", why);
 }
 
-static void refuse_ctl(sim_loop *l, long long seq, int command, const char *why)
+static void refuse_ctl(sim_loop *l, long long seq, int command, const char *why_raw)
 {
+    char why[512]; /* a path or a name from the network, made safe to print and send on */
+    core_escape(why_raw, why, sizeof why);
     l->control_refused++;
     snprintf(l->message, sizeof l->message, "%.250s", why);
     l->ack_seq = seq;
@@ -716,8 +718,10 @@ static void accept_ctl(sim_loop *l, const ctl *c, double t0_s, const char *fmt, 
 {
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(l->ack_msg, sizeof l->ack_msg, fmt, ap);
+    char raw[sizeof l->ack_msg];
+    vsnprintf(raw, sizeof raw, fmt, ap);
     va_end(ap);
+    core_escape(raw, l->ack_msg, sizeof l->ack_msg);
     l->ack_seq = c->seq;
     l->ack_cmd = c->command;
     l->ack_result = DISIM_SIM_STATUS_T_CONTROL_ACCEPTED;
@@ -1050,8 +1054,9 @@ static int do_load(sim_loop *l, const ctl *c, char *why, size_t n, core_err *err
     sim_pilots_reblend(l->pilots); /* a station's controls blend in from the new start's */
     if (world_started(l, &w, path, &s, err) != 0)
         return -1;
-    core_log_msg(l->log, CORE_LOG_INFO, "%s: %s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "loaded",
-                 l->scenario_path);
+    char shown[2 * SIM_PATH_MAX];
+    core_escape(l->scenario_path, shown, sizeof shown);
+    core_log_msg(l->log, CORE_LOG_INFO, "%s: %s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "loaded", shown);
     return 0;
 }
 

@@ -580,18 +580,24 @@ static void test_control(void)
     CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED);
     CHECK(out.step == 3 && w.builds == 3 && !strcmp(s.scenario, "loop_b"));
     CHECK(strstr(s.message, "/dev/zero: a character device") != NULL && s.last.control_refused == 2);
+    /* a path with terminal controls in it (ESC [2J clears a screen): the
+     * refusal names it escaped, in the status and the log */
+    control(lc, DISIM_SIM_CONTROL_T_LOAD_SCENARIO, "/tmp/\x1b[2J\x07_evil.ini");
+    CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 4);
+    printf("a path with terminal controls: %s\n", s.message);
+    CHECK(strstr(s.message, "\\x1b[2J\\x07_evil.ini") != NULL && !strchr(s.message, 0x1b) && !strchr(s.message, 0x07));
     /* a malformed control: refused and counted */
     unsigned char junk[12] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
     lcm_publish(lc, DISIM_CH_SIM_CONTROL, junk, sizeof junk);
-    CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 4);
-    CHECK(s.last.control_refused == 3 && strstr(s.message, "fingerprint") != NULL);
+    CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 5);
+    CHECK(s.last.control_refused == 4 && strstr(s.message, "fingerprint") != NULL);
     /* a burst of 64 resets in one step: one world built, the others
      * refused with the reason (the step's time bounded by one build) */
     int builds0 = w.builds;
     for (int k = 0; k < 64; k++)
         control(lc, DISIM_SIM_CONTROL_T_RESET, NULL);
     CHECK(iter(l, lc, &out) == SIM_LOOP_STEPPED && out.step == 1);
-    CHECK(w.builds == builds0 + 1 && s.last.control_refused == 3 + 63);
+    CHECK(w.builds == builds0 + 1 && s.last.control_refused == 4 + 63);
     CHECK(strstr(s.message, "one build per step") != NULL);
     /* the next step builds again */
     control(lc, DISIM_SIM_CONTROL_T_RESET, NULL);
