@@ -36,14 +36,8 @@ int app_scene_open(app_scene *s, const sim_run_info *ri, unsigned overlays, cons
         app_scene_close(s);
         return -1;
     }
-    /* the WOD as a flight deck says it: red (port) or green (starboard) */
-    double dir_deg = ri->wod_dir_rad * CORE_RAD_TO_DEG;
     char wod[48];
-    if (fabs(dir_deg) < 0.5)
-        snprintf(wod, sizeof wod, "%.0f kt ahead", ri->wod_speed_mps / CORE_KT_TO_MPS);
-    else
-        snprintf(wod, sizeof wod, "%.0f kt %s %.0f", ri->wod_speed_mps / CORE_KT_TO_MPS, dir_deg < 0 ? "red" : "green",
-                 fabs(dir_deg));
+    core_wod_label(ri->wod_speed_mps, ri->wod_dir_rad * CORE_RAD_TO_DEG, wod, sizeof wod);
     snprintf(s->title, sizeof s->title, "%s + %s, %s, sea state %d", s->ship.name, hfm_aircraft_name(s->ac), wod,
              ri->sea.state);
     render_scene *sc = &s->scene;

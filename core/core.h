@@ -181,6 +181,10 @@ core_vec3 core_wod_vel_S_mps(double speed_mps, double dir_rad);
 int core_wod_faces(double speed_mps, double dir_rad, int sign[2]);
 /* Name of a WOD direction as seamen say it: "green 30", "red 90", "head", "stern". */
 void core_wod_name(double dir_deg, char *buf, size_t n);
+/* A WOD as a flight deck says it, for titles: "25 kt ahead" (within 0.5
+ * deg of the bow), "20 kt red 30", "15 kt green 90" (speed and angle
+ * rounded to whole numbers). */
+void core_wod_label(double speed_mps, double dir_deg, char *buf, size_t n);
 
 /* ---------------------------------------------------------------- folders */
 /* Create dir and its missing parents (mkdir -p); 0, or < 0 with err naming

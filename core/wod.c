@@ -50,3 +50,11 @@ void core_wod_name(double dir_deg, char *buf, size_t n)
     else
         snprintf(buf, n, "%s %g", d > 0 ? "green" : "red", fabs(d));
 }
+
+void core_wod_label(double speed_mps, double dir_deg, char *buf, size_t n)
+{
+    if (fabs(dir_deg) < 0.5)
+        snprintf(buf, n, "%.0f kt ahead", speed_mps / CORE_KT_TO_MPS);
+    else
+        snprintf(buf, n, "%.0f kt %s %.0f", speed_mps / CORE_KT_TO_MPS, dir_deg < 0 ? "red" : "green", fabs(dir_deg));
+}

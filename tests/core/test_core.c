@@ -20,6 +20,14 @@ static void vec_near(core_vec3 a, double x, double y, double z, double tol)
 
 static void test_wod(void)
 {
+    /* the label of titles: whole knots and degrees, ahead within 0.5 deg */
+    char lab[48];
+    core_wod_label(25.0 * CORE_KT_TO_MPS, 0.4, lab, sizeof lab);
+    CHECK(!strcmp(lab, "25 kt ahead"));
+    core_wod_label(20.0 * CORE_KT_TO_MPS, -30.0, lab, sizeof lab);
+    CHECK(!strcmp(lab, "20 kt red 30"));
+    core_wod_label(15.0 * CORE_KT_TO_MPS, 90.0, lab, sizeof lab);
+    CHECK(!strcmp(lab, "15 kt green 90"));
     /* Green 30 at 10 m/s: from 30 deg starboard of the bow; air moves aft and
      * to port: -10 (cos 30, sin 30, 0) = (-8.660254, -5, 0). */
     vec_near(core_wod_vel_S_mps(10.0, 30.0 * CORE_DEG_TO_RAD), -8.660254037844386, -5.0, 0.0, 1e-12);
