@@ -135,6 +135,7 @@ rnd() { od -An -N2 -tu2 /dev/urandom | tr -d ' '; }
 next_kill=$((t0 + kmin + $(rnd) % kspan))
 next_ios=$((t0 + 30))
 ios_runs=0 ios_ok=0 ios_pid=
+rss0= fd0= rss1= fd1= # the loop's resident memory (kB) and open files, 10 s in and at the last look
 while kill -0 "$fpid" 2> /dev/null; do
     now=$(date +%s)
     if [ "$now" -ge "$next_kill" ]; then
@@ -155,6 +156,12 @@ while kill -0 "$fpid" 2> /dev/null; do
         ios_pid=$!
         ios_runs=$((ios_runs + 1))
         next_ios=$((now + 60))
+    fi
+    r=$(awk '/^VmRSS:/ { print $2 }' /proc/"$fpid"/status 2> /dev/null)
+    d=$(ls /proc/"$fpid"/fd 2> /dev/null | wc -l)
+    if [ -n "$r" ]; then
+        [ -z "$rss0" ] && [ $((now - t0)) -ge 10 ] && rss0=$r fd0=$d
+        rss1=$r fd1=$d
     fi
     st=$(steal)
     [ "$st" -gt "$stp" ] && steal_s=$((steal_s + 1))
@@ -191,11 +198,12 @@ ios_other=$(grep -v '^ok:\|^refused:\|^---' "$out/ios.log" 2> /dev/null | grep -
     --extra "ios_commands_refused=$ios_ref" --extra "ios_other_lines=$ios_other" --extra "steal_ms=$steal_ms" \
     --extra "seconds_with_steal=$steal_s" --timeline "$out/timeline.csv" --extra "fly_summary=$summ" \
     --extra "fly_lcm=$lcms" --extra "temporaries_beside_log=$left" \
-    --extra "fly_wakeup=$wake"
+    --extra "fly_wakeup=$wake" --extra "fly_rss_kB=${rss0:-?} at 10 s, ${rss1:-?} at the end" \
+    --extra "fly_open_files=${fd0:-?} at 10 s, ${fd1:-?} at the end"
 crc=$?
 {
     echo
-    echo "The run: $dur s flown ($((t1 - t0)) s of wall time), disim fly exit $frc; builder killed and restarted $restarts times (last exit $brc on SIGTERM); $ios_runs instructor scripts ($ios_acc commands accepted, $ios_ref refused, $ios_other other lines: not answered, errors), $ios_ok with every command accepted; $left temporary files beside the log; the host stole $steal_ms ms of CPU, in $steal_s of the run's seconds."
+    echo "The run: $dur s flown ($((t1 - t0)) s of wall time), disim fly exit $frc; builder killed and restarted $restarts times (last exit $brc on SIGTERM); $ios_runs instructor scripts ($ios_acc commands accepted, $ios_ref refused, $ios_other other lines: not answered, errors), $ios_ok with every command accepted; $left temporary files beside the log; the host stole $steal_ms ms of CPU, in $steal_s of the run's seconds; the loop's resident memory ${rss0:-?} kB 10 s in, ${rss1:-?} kB at the end, its open files ${fd0:-?} and ${fd1:-?}."
     echo
     echo "disim fly: $summ; $wake"
     echo

@@ -70,7 +70,8 @@ typedef struct tally {
     long long st_taken[SIM_PILOTS_MAX], st_refused[SIM_PILOTS_MAX], st_gaps[SIM_PILOTS_MAX];
     /* the step's maximum as it grew: when, and the last control answered before */
     int njumps;
-    struct { double t_s, max_s; int cmd; long long overruns; } jump[16];
+    struct { double t_s, max_s, idle_s; int cmd; long long overruns; } jump[16];
+    double idle_t_s; /* run time of the last status PAUSED or STOPPED (-1: none) */
     long long ov_window[64]; /* overruns at the end of each 5 min of run time */
     int nwin;
     int last_cmd;
@@ -178,6 +179,8 @@ static void take_status(tally *t, const disim_sim_status_t *m, double t_s)
         t->jump[t->njumps].max_s = m->step_max_s;
         t->jump[t->njumps].cmd = t->last_cmd;
         t->jump[t->njumps].overruns = m->overruns;
+        /* a pause or a crash's wait just before: the pacer counts the wait in the step */
+        t->jump[t->njumps].idle_s = t->idle_t_s;
         t->njumps++;
     }
     int w = (int)(t_s / 300.0);
@@ -197,6 +200,8 @@ static void take_status(tally *t, const disim_sim_status_t *m, double t_s)
     if (m->control_command >= 1 && m->control_command <= DISIM_SIM_CONTROL_T_RESTORE &&
         m->control_apply_s > t->apply_max[m->control_command])
         t->apply_max[m->control_command] = m->control_apply_s;
+    if (m->state != DISIM_SIM_STATUS_T_RUNNING)
+        t->idle_t_s = t_s;
     t->have_status = 1;
     t->state = m->state;
     t->overruns = m->overruns;
@@ -511,8 +516,9 @@ static void write_json(FILE *f, const tally *t, const char *good, const dbcheck 
             t->ctl_ios_acc, t->ctl_ios_ref);
     fprintf(f, "  \"step_max_growth\": [");
     for (int i = 0; i < t->njumps; i++)
-        fprintf(f, "%s{\"run_s\": %.1f, \"max_us\": %.0f, \"last_control\": %d, \"overruns\": %lld}", i ? ", " : "",
-                t->jump[i].t_s, 1e6 * t->jump[i].max_s, t->jump[i].cmd, t->jump[i].overruns);
+        fprintf(f, "%s{\"run_s\": %.1f, \"max_us\": %.0f, \"last_control\": %d, \"last_paused_or_stopped_run_s\": %.1f, \"overruns\": %lld}",
+                i ? ", " : "", t->jump[i].t_s, 1e6 * t->jump[i].max_s, t->jump[i].cmd, t->jump[i].idle_s,
+                t->jump[i].overruns);
     fprintf(f, "],\n  \"control_apply_max_ms\": {");
     static const char *cname[] = {"", "pause", "resume", "reset", "load", "reset_hover", "reset_deck", "reposition",
                                   "set_wod", "set_sea", "set_turbulence", "snapshot", "restore"};
@@ -611,6 +617,7 @@ int main(int argc, char **argv)
     }
     static tally t;
     t.good_max_seq = -1;
+    t.idle_t_s = -1.0;
     t.cap = 1 << 22;
     t.seen = malloc(t.cap * sizeof *t.seen);
     if (!t.seen)
