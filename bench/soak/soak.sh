@@ -18,7 +18,9 @@
 #     overruns beside it;
 #   - disim airwaked serves a scratch database (the CG-47's coarse fields
 #     copied from --db-from, or none) and is killed with SIGKILL and started
-#     again every 2 to 5 minutes (a tenth to a quarter of a short run).
+#     again every 2 to 5 minutes (a tenth to a quarter of a short run);
+#     six quick and six coarse fields of directions it lacks are queued at
+#     the start, so that it is killed mid-build and finishes some.
 # The loop flies scenarios/cg47_uh60a_flown.ini (the coarse grid) at 15 kt
 # from ahead, sea state 3, with --stations soak-good,soak-trunc,soak-nan,
 # soak-huge,soak-flood (the genuine station first) and --wait-after-crash
@@ -78,6 +80,15 @@ if [ -n "$dbfrom" ]; then
     done
 fi
 nfields=$(ls "$out/db/fields" | grep -c '\.h5$')
+# work for the builder from the start: quick fields of six directions the
+# database lacks (15 m/s, the ship-only fields' reference speed), which it
+# can finish between two kills, then coarse ones, which it cannot
+for g in quick coarse; do
+    for d in 45 -45 15 -15 75 -75; do
+        "$disim" airwake "$scen" --wod-speed-kt 29.16 --wod-dir-deg $d --rotor off --grid $g --queue "$out/db" \
+            > /dev/null 2>&1 || { echo "soak: disim airwake --queue failed" >&2; exit 1; }
+    done
+done
 # ---- what the bad loads name: a FIFO, a file of garbage (missing.ini is not made)
 mkfifo "$out/bad/fifo"
 head -c 200000 /dev/urandom > "$out/bad/garbage.ini"

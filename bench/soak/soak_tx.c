@@ -449,7 +449,7 @@ int main(int argc, char **argv)
     t.good = "soak-good";
     t.scenario = "scenarios/cg47_uh60a_flown.ini";
     t.bad_dir = "/nonexistent";
-    for (int i = 1; i < argc; i++) {
+    for (int i = 1; i < argc; i += 2) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int rc = 0;
         if (!strcmp(a, "--duration")) rc = arg_num(a, v, 0.0, 1e6, &duration);
@@ -471,7 +471,6 @@ int main(int argc, char **argv)
         }
         if (rc)
             return 2;
-        i++;
     }
     t.rng = (uint64_t)seed;
     t.good_last_seq = -1;
