@@ -53,6 +53,8 @@
 
 /* the loop's counts and the classes of what arrived */
 typedef struct tally {
+    double heli_gap[3]; /* soak_tx's heli_state_t gaps while running: p50, p99, max (ms) */
+    long long heli_gap_n, heli_gap_over;
     long long sent[SOAK_NCLASS], arrived[SOAK_NCLASS], accepted[SOAK_NCLASS], refused_ans[SOAK_NCLASS];
     long long pilot_genuine, pilot_other, ctl_ios, ctl_ios_acc, ctl_ios_ref, ctl_undecoded, ctl_other;
     long long events, bytes, published, published_bad, statuses, heli, ship, run_info, other_ch;
@@ -416,6 +418,14 @@ static int read_sent(tally *t, const char *path)
     while (fgets(line, sizeof line, f)) {
         char name[64];
         long long v;
+        double x;
+        if (sscanf(line, " \"%63[^\"]\": %lf", name, &x) == 2) {
+            if (!strcmp(name, "heli_gap_p50_ms")) t->heli_gap[0] = x;
+            if (!strcmp(name, "heli_gap_p99_ms")) t->heli_gap[1] = x;
+            if (!strcmp(name, "heli_gap_max_ms")) t->heli_gap[2] = x;
+            if (!strcmp(name, "heli_gap_running_n")) t->heli_gap_n = (long long)x;
+            if (!strcmp(name, "heli_gaps_over_100ms")) t->heli_gap_over = (long long)x;
+        }
         if (sscanf(line, " \"%63[^\"]\": %lld", name, &v) == 2)
             for (int c = 0; c < SOAK_NCLASS; c++)
                 if (!strcmp(name, soak_class_name[c]))
@@ -514,6 +524,9 @@ static void write_json(FILE *f, const tally *t, const char *good, const dbcheck 
                 c ? "," : "", soak_class_name[c], t->sent[c], t->snap_arrived[c], t->accepted[c], t->refused_ans[c]);
     fprintf(f, "\n  },\n  \"ios\": {\"arrived\": %lld, \"accepted\": %lld, \"refused\": %lld},\n", t->snap_ios,
             t->ctl_ios_acc, t->ctl_ios_ref);
+    fprintf(f, "  \"heli_state_gaps_running\": {\"n\": %lld, \"p50_ms\": %.0f, \"p99_ms\": %.0f, \"max_ms\": %.1f, "
+               "\"over_100ms\": %lld},\n",
+            t->heli_gap_n, t->heli_gap[0], t->heli_gap[1], t->heli_gap[2], t->heli_gap_over);
     fprintf(f, "  \"step_max_growth\": [");
     for (int i = 0; i < t->njumps; i++)
         fprintf(f, "%s{\"run_s\": %.1f, \"max_us\": %.0f, \"last_control\": %d, \"last_paused_or_stopped_run_s\": %.1f, \"overruns\": %lld}",
@@ -582,6 +595,9 @@ static void write_md(FILE *f, const tally *t, const char *good, const dbcheck *d
     fprintf(f, "\nThe loop: step p50 %.0f us, p99 %.0f us, max %.0f us; %lld overruns; %.0f s of run time logged; "
                "log %lld events, %.1f MB, read back whole.\n",
             1e6 * t->p50, 1e6 * t->p99, 1e6 * t->max, t->overruns, t->last_t_s, t->events, 1e-6 * (double)t->bytes);
+    fprintf(f, "\nFrom outside (soak_tx): the wall time between two heli_state_t (50 Hz) while the loop ran, "
+               "%lld gaps: p50 %.0f ms, p99 %.0f ms, max %.1f ms, %lld over 100 ms.\n",
+            t->heli_gap_n, t->heli_gap[0], t->heli_gap[1], t->heli_gap[2], t->heli_gap_over);
     if (have_db)
         fprintf(f, "\nThe database: %d fields, %d with their checksum holding, %d torn, %d CRC mismatches, %d "
                    "temporaries left, %d requests (%d unreadable), %d failed builds, %d listed / %d READY.\n",

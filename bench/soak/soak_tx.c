@@ -47,6 +47,9 @@
  *     status_garbage   2  the same on DISIM_SIM_STATUS (stations, ios)
  *     awreq_garbage    1  random bytes on DISIM_AIRWAKE_REQUEST, and every
  *                         other one a request with a NaN WOD (airwaked)
+ * It also times the loop from outside: the wall time between two
+ * heli_state_t received (50 Hz) while the loop runs (a gap with a status
+ * PAUSED or STOPPED in it left out), p50, p99 and maximum in the JSON.
  * A control's seq carries its class in bits 40 and up (SOAK_SEQ_CLASS), so
  * that the log says which answer belongs to which class (soak_check).
  * Usage: soak_tx [--duration S] [--out FILE.json] [--seed N] [--good ID]
@@ -87,6 +90,7 @@ static uint64_t rnd(uint64_t *x)
 }
 
 #define REPLAY_RING 256
+#define GAP_BINS 10000
 #define BUF 8192
 
 typedef struct tx {
@@ -107,6 +111,12 @@ typedef struct tx {
     double paused_since_s, resume_at_s;
     long long statuses;
     long long flood_seq, huge_seq, nan_seq, trunc_seq;
+    /* the loop seen from outside: the wall time between two heli_state_t
+     * (50 Hz: 20 ms) while it runs, as a histogram of 1 ms bins; a gap
+     * with a status PAUSED or STOPPED in it is left out */
+    double heli_last_s, gap_max_s;
+    int idle_seen;
+    long long gaps[GAP_BINS], ngaps, heli_rx, gaps_over_100ms;
     int good_i, bad_i, snaps;
     unsigned char buf[BUF];
 } tx;
@@ -167,8 +177,41 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, void *user)
         if (m.state == DISIM_SIM_STATUS_T_PAUSED && t->state != DISIM_SIM_STATUS_T_PAUSED)
             t->paused_since_s = now_s();
         t->state = m.state;
+        if (m.state != DISIM_SIM_STATUS_T_RUNNING)
+            t->idle_seen = 1;
     }
     disim_sim_status_t_decode_cleanup(&m);
+}
+
+static void on_heli(const lcm_recv_buf_t *rb, const char *ch, void *user)
+{
+    (void)ch;
+    tx *t = user;
+    if (disim_lcm_check_raw("heli_state_t", rb->data, (int)rb->data_size, NULL, 0) != 0)
+        return; /* our own garbage */
+    double now = now_s();
+    t->heli_rx++;
+    if (t->heli_last_s > 0.0 && !t->idle_seen && t->state == DISIM_SIM_STATUS_T_RUNNING) {
+        double g = now - t->heli_last_s;
+        long b = (long)(g * 1e3);
+        t->gaps[b < 0 ? 0 : b >= GAP_BINS ? GAP_BINS - 1 : b]++;
+        t->ngaps++;
+        if (g > 0.1)
+            t->gaps_over_100ms++;
+        if (g > t->gap_max_s)
+            t->gap_max_s = g;
+    }
+    t->heli_last_s = now;
+    t->idle_seen = 0;
+}
+
+static double gap_pct(const tx *t, double q)
+{
+    long long want = (long long)ceil(q * (double)t->ngaps), n = 0;
+    for (long b = 0; b < GAP_BINS; b++)
+        if ((n += t->gaps[b]) >= want && n > 0)
+            return (double)(b + 1);
+    return 0.0;
 }
 
 /* ---- pilot_input_t */
@@ -422,6 +465,9 @@ static void write_json(const tx *t, FILE *f, double wall_s, const double *flood)
 {
     fprintf(f, "{\n  \"wall_s\": %.1f,\n  \"flood\": {\"hz\": %.0f, \"burst_s\": %.1f, \"every_s\": %.1f},\n", wall_s,
             flood[0], flood[1], flood[2]);
+    fprintf(f, "  \"heli_state_seen\": %lld,\n  \"heli_gap_running_n\": %lld,\n  \"heli_gap_p50_ms\": %.0f,\n"
+               "  \"heli_gap_p99_ms\": %.0f,\n  \"heli_gap_max_ms\": %.1f,\n  \"heli_gaps_over_100ms\": %lld,\n",
+            t->heli_rx, t->ngaps, gap_pct(t, 0.5), gap_pct(t, 0.99), 1e3 * t->gap_max_s, t->gaps_over_100ms);
     fprintf(f, "  \"genuine_seen\": %lld,\n  \"statuses_seen\": %lld,\n  \"publish_failed\": %lld,\n  \"sent\": {",
             t->good_seen, t->statuses, t->send_failed);
     for (int c = 0; c < SOAK_NCLASS; c++)
@@ -481,6 +527,7 @@ int main(int argc, char **argv)
     }
     lcm_subscribe(t.lc, DISIM_CH_PILOT_INPUT, on_pilot, &t);
     lcm_subscribe(t.lc, DISIM_CH_SIM_STATUS, on_status, &t);
+    lcm_subscribe(t.lc, DISIM_CH_HELI_STATE, on_heli, &t);
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
     double t0 = now_s();
