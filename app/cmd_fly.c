@@ -27,6 +27,7 @@
 #include "cfd.h"
 #include "cmds.h"
 #include "couple.h"
+#include "disim_lcm.h"
 #include "hfm.h"
 #include "render.h"
 #include "scene.h"
@@ -1030,12 +1031,17 @@ static void fly_station_start(const fly_ctx *c, int lcm_on)
 {
     const fly_args *o = c->o;
     const fly_world *w = &c->w;
-    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, %s, %s, %.0f Hz, %.0f s%s%s%s%s\n",
+    const char *url = disim_lcm_url(o->lcm_url);
+    char shown[256];
+    core_escape(url, shown, sizeof shown);
+    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, %s, %s, %.0f Hz, %.0f s%s%s%s%s%s\n",
             w->sc->ship.name, hfm_aircraft_name(w->ac), w->sw.info.wod_speed_mps / CORE_KT_TO_MPS,
             w->sw.info.wod_dir_rad * CORE_RAD_TO_DEG, w->sw.info.sea.state, fly_air(w),
             o->realtime ? "real time" : "as fast as it can", o->rate_hz, o->duration_s, lcm_on ? ", LCM " : "",
-            lcm_on ? (o->lcm_url ? o->lcm_url : "(default URL)") : "", o->replay ? ", inputs from " : "",
-            o->replay ? o->replay : "");
+            lcm_on ? shown : "",
+            !lcm_on ? "" : strstr(url, "ttl=0") ? " (this host only)" : " (other hosts: any of them can fly and "
+                                                                          "command this simulator)",
+            o->replay ? ", inputs from " : "", o->replay ? o->replay : "");
     if (w->inter) {
         sim_interaction_info ii;
         sim_interaction_state(w->inter, &ii);

@@ -655,7 +655,7 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
             goto fail;
     }
     if (o->lcm) {
-        if (!(l->lc = lcm_create(o->lcm_url))) {
+        if (!(l->lc = lcm_create(disim_lcm_url(o->lcm_url)))) {
             core_err_set(err, -1, "LCM: cannot open '%s' (lcm_create failed)", o->lcm_url ? o->lcm_url : "the default URL");
             goto fail;
         }
