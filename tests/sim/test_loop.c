@@ -519,6 +519,7 @@ static void test_control(void)
     o.lcm = 1;
     o.lcm_url = "memq://";
     o.scenario_path = SCEN_A;
+    o.change_interval_s = 0.0; /* builds in the step, one a step: no rate limit (test_worker has it) */
     sim_loop *l = sim_loop_create(&o, &lw, build, &w, NULL, &err);
     CHECK(l != NULL);
     if (!l)
