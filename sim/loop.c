@@ -58,6 +58,38 @@
  * turbulence's field and the ship's motion at its time), without a copy
  * of each stage's internals; its cost is the steps flown again.
  *
+ * World changes off the step. A world change (a reset, a load, a
+ * restore, a reset to the hover or the deck, a reposition, a new WOD
+ * direction or sea state) costs a world build: measured 1 to 10 ms for a
+ * bare world (test_loop), 36 to 55 ms on average and up to 0.4 s on a
+ * loaded machine for disim fly's (the aircraft, a field read from its
+ * file, the seaway of sea state 5: bench_loop_burst), a restore 25 to 70
+ * us a step flown again (seconds for a long one). With a builder
+ * (opts.builder) the loop's worker thread (sim/loop_worker.c) builds the
+ * new world while the old one flies on, and the loop swaps it in between
+ * two steps and answers the control then: in real time at the start of
+ * the first pass after the build ended (SIM_LOOP_SWAP_READY: before the
+ * messages of that pass are taken), as fast as it can at the end of the
+ * controls of the pass that asked, waiting for the worker there
+ * (SIM_LOOP_SWAP_PASS: the same step whatever the timing). One at a
+ * time: a world change that arrives while one is being built is refused,
+ * busy (the latest does not supersede the one under way: each control is
+ * answered, at once or at its swap). What stays in the step is bounded
+ * and small (Release, test_loop): the WOD's speed and the turbulence in
+ * flight (under 10 us), a snapshot (a copy of its journal, at most
+ * snapshot_max_s of inputs: 4 to 10 us for 150 steps), pause and resume. A token bucket over the
+ * run clock (opts.change_burst at once, one more each
+ * opts.change_interval_s) limits the world changes asked, with or
+ * without the worker; the excess is refused with the reason and counted.
+ * Each world change carried out (swapped in, or refused by its build) is
+ * marked in the log where it happened (SIM_LOOP_CH_CONTROL_DONE, log
+ * only); a replay queues the marks with the controls in the log's order
+ * and swaps at each (LOOP_SWAP_LOGGED), so the busy refusals, the rate
+ * limit and the swap steps of a real-time run come again whatever the
+ * replay's timing. A log without marks (its worlds built in the step)
+ * is replayed so (LOOP_SWAP_NOW: the build waited for at once, one a
+ * step, no rate limit).
+ *
  * A received buffer goes through disim_lcm_check_raw before lcm-gen's
  * decoder sees it, then through disim_lcm_check_sim_control (NaN, range):
  * lcm_types/lcm_types.c; pilot_input_t goes to the stations' rules
