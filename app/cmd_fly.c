@@ -1103,6 +1103,9 @@ static void fly_station_end(const fly_ctx *c, const sim_loop_report *lr, const f
         const sim_pilots *pl = sim_loop_pilots(c->loop);
         fprintf(stderr, "fly: LCM %lld sent, %lld received, %lld logged, %lld controls refused", lr->sent, lr->received,
                 lr->logged, lr->control_refused);
+        if (lr->builds_on_worker || lr->refused_busy || lr->refused_rate)
+            fprintf(stderr, " (%lld busy, %lld past the rate limit); %lld worlds built on the loop's worker",
+                    lr->refused_busy, lr->refused_rate, lr->builds_on_worker);
         for (int i = 0; i < sim_pilots_count(pl); i++) {
             sim_pilot_station st;
             sim_pilots_station(pl, i, &st);
