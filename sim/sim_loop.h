@@ -304,7 +304,8 @@ typedef struct sim_loop_report {
     char message[256];     /* why the last control was refused ("" none) */
     /* the last control answered: its seq (-1 none), command, result
      * (sim_status_t CONTROL_*), what was done or why not, and the wall
-     * time its application took */
+     * time its application took (a world built on the worker: from the
+     * control's arrival to its swap) */
     long long control_seq;
     int control_command, control_result;
     char control_message[256];
