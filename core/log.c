@@ -3,32 +3,10 @@
  * A line or an error may hold a name from the command line, a file or the
  * network: every byte a terminal would act on (control characters, DEL, and
  * bytes above 0x7f, which no message of disim's own holds) is written as
- * \xNN, so whatever prints it prints text. */
+ * \xNN (core_escape), so whatever prints it prints text. */
 #include "core.h"
 
 #include <stdio.h>
-
-/* in into out (n bytes, NUL-terminated), the bytes a terminal acts on as
- * \xNN, cut at a whole escape. */
-static void printable(const char *in, char *out, size_t n)
-{
-    static const char hex[] = "0123456789abcdef";
-    size_t o = 0;
-    for (const unsigned char *p = (const unsigned char *)in; *p; p++) {
-        int esc = *p < 0x20 || *p >= 0x7f;
-        if (o + (esc ? 4 : 1) >= n)
-            break;
-        if (esc) {
-            out[o++] = '\\';
-            out[o++] = 'x';
-            out[o++] = hex[*p >> 4];
-            out[o++] = hex[*p & 15];
-        } else {
-            out[o++] = (char)*p;
-        }
-    }
-    out[o] = '\0';
-}
 
 void core_log_msg(const core_log *log, int level, const char *fmt, ...)
 {
@@ -39,7 +17,7 @@ void core_log_msg(const core_log *log, int level, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(buf, sizeof buf, fmt, ap);
     va_end(ap);
-    printable(buf, shown, sizeof shown);
+    core_escape(buf, shown, sizeof shown);
     log->fn(log->user, level, shown);
 }
 
@@ -51,7 +29,7 @@ int core_err_set(core_err *err, int code, const char *fmt, ...)
         va_start(ap, fmt);
         vsnprintf(buf, sizeof buf, fmt, ap);
         va_end(ap);
-        printable(buf, err->msg, sizeof err->msg);
+        core_escape(buf, err->msg, sizeof err->msg);
         err->code = code;
     }
     return code;
