@@ -317,7 +317,7 @@ int cmd_airwaked(int argc, char **argv)
     pthread_mutex_init(&ctx.mu, NULL);
     lcm_subscription_t *sub = NULL;
     if (use_lcm) {
-        ctx.lc = lcm_create(NULL);
+        ctx.lc = lcm_create(disim_lcm_url(NULL));
         if (!ctx.lc)
             fprintf(stderr, "disim airwaked: LCM unavailable: serving the folder queue only\n");
         else

@@ -27,6 +27,7 @@
 #include "cfd.h"
 #include "cmds.h"
 #include "couple.h"
+#include "disim_lcm.h"
 #include "hfm.h"
 #include "render.h"
 #include "scene.h"
@@ -681,6 +682,43 @@ static int loop_build(void *user, const char *path, sim_loop_world *lw, core_err
     return loop_rebuild(user, path, NULL, lw, err);
 }
 
+/* sim_loop's builder: a world prepared on the loop's worker thread
+ * (world_build touches only the new world, the database's handle and the
+ * --field read once at the start, never c->w: the running flight's, which
+ * the loop's thread polls), installed between two steps, the old one
+ * freed on the worker. */
+static int loop_prepare(void *user, const char *path, const sim_loop_setup *setup, void **world, sim_loop_world *lw,
+                        core_err *err)
+{
+    fly_ctx *c = user;
+    fly_world *nw = malloc(sizeof *nw);
+    if (!nw)
+        return core_err_set(err, -1, "out of memory");
+    if (world_build(c, path, setup, nw, err) != 0) {
+        free(nw);
+        return -1;
+    }
+    loop_world(nw, lw);
+    *world = nw;
+    return 0;
+}
+
+static void *loop_install(void *user, void *world)
+{
+    fly_ctx *c = user;
+    fly_world *nw = world, old = c->w;
+    c->w = *nw;
+    *nw = old; /* the handle now holds the world replaced */
+    return nw;
+}
+
+static void loop_drop(void *user, void *world)
+{
+    (void)user;
+    world_free(world);
+    free(world);
+}
+
 /* What every flight of disim fly does after each step (the runner's
  * observer): the frame offered to --render, the trajectory's row at its
  * rate (and the row of the step that ended the flight, row_at_end), the
@@ -724,7 +762,7 @@ static int fly_observe(void *user, const sim_flight_out *out, int st, core_err *
         return 1;
     }
     /* the running world (a reset or a load may have replaced it) */
-    int polled = world_poll(c->db, &c->w, out->step, out->t_s, b->poll_every, err);
+    int polled = world_poll(c->w.db, &c->w, out->step, out->t_s, b->poll_every, err); /* c->db: the worker's */
     if (polled < 0)
         return -1;
     c->t_end_s = out->t_s;
@@ -779,6 +817,9 @@ static int fly_loop_opts(const fly_args *o, double duration_s, const char *sourc
     lo->pilot_source_id = source_id;
     lo->pilots.hold_after_s = o->hold_after_s;
     lo->rebuild = loop_rebuild;
+    lo->builder.prepare = loop_prepare;
+    lo->builder.install = loop_install;
+    lo->builder.drop = loop_drop;
     lo->snapshot_max_s = o->snapshot_max_s;
     lo->wait_after_end = o->wait_after_crash;
     return o->stations ? sim_pilots_opts_parse(&lo->pilots, o->stations, err) : 0;
@@ -1030,12 +1071,17 @@ static void fly_station_start(const fly_ctx *c, int lcm_on)
 {
     const fly_args *o = c->o;
     const fly_world *w = &c->w;
-    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, %s, %s, %.0f Hz, %.0f s%s%s%s%s\n",
+    const char *url = disim_lcm_url(o->lcm_url);
+    char shown[256];
+    core_escape(url, shown, sizeof shown);
+    fprintf(stderr, "fly: %s + %s, WOD %.1f kt from %.0f deg, sea state %d, %s, %s, %.0f Hz, %.0f s%s%s%s%s%s\n",
             w->sc->ship.name, hfm_aircraft_name(w->ac), w->sw.info.wod_speed_mps / CORE_KT_TO_MPS,
             w->sw.info.wod_dir_rad * CORE_RAD_TO_DEG, w->sw.info.sea.state, fly_air(w),
             o->realtime ? "real time" : "as fast as it can", o->rate_hz, o->duration_s, lcm_on ? ", LCM " : "",
-            lcm_on ? (o->lcm_url ? o->lcm_url : "(default URL)") : "", o->replay ? ", inputs from " : "",
-            o->replay ? o->replay : "");
+            lcm_on ? shown : "",
+            !lcm_on ? "" : strstr(url, "ttl=0") ? " (this host only)" : " (other hosts: any of them can fly and "
+                                                                          "command this simulator)",
+            o->replay ? ", inputs from " : "", o->replay ? o->replay : "");
     if (w->inter) {
         sim_interaction_info ii;
         sim_interaction_state(w->inter, &ii);
@@ -1063,6 +1109,9 @@ static void fly_station_end(const fly_ctx *c, const sim_loop_report *lr, const f
         const sim_pilots *pl = sim_loop_pilots(c->loop);
         fprintf(stderr, "fly: LCM %lld sent, %lld received, %lld logged, %lld controls refused", lr->sent, lr->received,
                 lr->logged, lr->control_refused);
+        if (lr->builds_on_worker || lr->refused_busy || lr->refused_rate)
+            fprintf(stderr, " (%lld busy, %lld past the rate limit); %lld worlds built on the loop's worker",
+                    lr->refused_busy, lr->refused_rate, lr->builds_on_worker);
         for (int i = 0; i < sim_pilots_count(pl); i++) {
             sim_pilot_station st;
             sim_pilots_station(pl, i, &st);

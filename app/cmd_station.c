@@ -100,7 +100,7 @@ static void usage_station(FILE *f)
             "               is done (exit 0) and says the touchdown; --wait-s (60) for the flight\n"
             "  --list       the evdev devices and their axes\n"
             "  publishes pilot_input_t on DISIM_PILOT_INPUT at --rate-hz (50); --lcm defaults to\n"
-            "  the LCM library's default URL; --duration ends it S seconds after its first message;\n"
+            "  LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0 (this host only); --duration ends it S seconds after its first message;\n"
             "  --take-over sets take_over in every message (this station flies, whoever was flying)\n"
             "  --view       a window with the camera's view (pilot, the default, deck, chase,\n"
             "               overhead) and the head-up strip, drawn from the states received;\n"

@@ -201,9 +201,10 @@ int core_sync_path(const char *path);
 
 /* --------------------------------------------------------------- escaping */
 /* in (NULL: "") into out (n bytes, always NUL-terminated) with every byte
- * a terminal would act on or that is not ASCII as \xNN and a backslash as
- * \\, cut at a whole escape: text from a file or the network made safe to
- * print, log or send on. Returns the length written. */
+ * a terminal would act on or that is not ASCII as \xNN, cut at a whole
+ * escape: text from a file or the network made safe to print, log or send
+ * on. Idempotent (a backslash is kept). Returns the length written.
+ * core_err_set and core_log_msg apply it to every message. */
 size_t core_escape(const char *in, char *out, size_t n);
 
 /* ------------------------------------------------------------ input files */

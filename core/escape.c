@@ -1,8 +1,11 @@
 /* escape.c -- text from files or the network made safe to echo: a byte
  * that a terminal would act on (a control character, DEL) or that is not
- * ASCII is written as \xNN, and a backslash as \\, so that what a host on
- * the network sends can be shown, logged and sent on without moving a
- * cursor, clearing a screen or changing a title. */
+ * ASCII is written as \xNN, so that what a host on the network sends can
+ * be shown, logged and sent on without moving a cursor, clearing a screen
+ * or changing a title. A backslash stays as it is: escaping is idempotent
+ * (text escaped twice, as an error message that quotes another one, reads
+ * the same), at the cost that a name holding the four characters \x1b
+ * shows as one holding ESC would. */
 #include "core.h"
 
 #include <stdio.h>
@@ -15,9 +18,7 @@ size_t core_escape(const char *in, char *out, size_t n)
     for (const unsigned char *p = (const unsigned char *)(in ? in : ""); *p; p++) {
         char buf[5];
         size_t m;
-        if (*p == '\\')
-            m = (size_t)snprintf(buf, sizeof buf, "\\\\");
-        else if (*p < 0x20 || *p >= 0x7f)
+        if (*p < 0x20 || *p >= 0x7f)
             m = (size_t)snprintf(buf, sizeof buf, "\\x%02x", *p);
         else
             buf[0] = (char)*p, buf[1] = '\0', m = 1;

@@ -32,6 +32,19 @@
 #define DISIM_CH_SHOL_POINT "DISIM_SHOL_POINT"
 #define DISIM_CH_RUN_INFO "DISIM_RUN_INFO"
 
+/* The URL every disim process opens LCM with unless told otherwise: UDP
+ * multicast with a time-to-live of 0, so that no datagram leaves this host
+ * (docs/conventions.md). Reaching stations on other hosts is a choice made
+ * on every process (--lcm URL with ttl=1, or LCM_DEFAULT_URL), and it opens
+ * the simulator to every host on that network (README, "Stations on other
+ * hosts"). */
+#define DISIM_LCM_DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
+
+/* The URL to open: given (a --lcm flag) when not NULL, else the
+ * environment's LCM_DEFAULT_URL when set and not empty, else
+ * DISIM_LCM_DEFAULT_URL. */
+const char *disim_lcm_url(const char *given);
+
 int disim_lcm_check_pilot_input(const disim_pilot_input_t *m, char *err, size_t n);
 int disim_lcm_check_sim_control(const disim_sim_control_t *m, char *err, size_t n);
 int disim_lcm_check_airwake_request(const disim_airwake_request_t *m, char *err, size_t n);

@@ -6,6 +6,7 @@
 #include "core.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -271,4 +272,12 @@ int disim_lcm_upgrade(const char *type, const void *buf, int size, void *out, in
         return size + older[t].tail_size;
     }
     return 0;
+}
+
+const char *disim_lcm_url(const char *given)
+{
+    if (given)
+        return given;
+    const char *env = getenv("LCM_DEFAULT_URL");
+    return env && env[0] ? env : DISIM_LCM_DEFAULT_URL;
 }

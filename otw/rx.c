@@ -232,7 +232,7 @@ static void *rx_main(void *arg)
 
 int otw_rx_start(otw *w, core_err *err)
 {
-    w->lc = lcm_create(w->o.lcm_url);
+    w->lc = lcm_create(disim_lcm_url(w->o.lcm_url));
     if (!w->lc)
         return core_err_set(err, -1,
                             "view: LCM '%s': cannot create (a bad URL, or no multicast route: see docs/conventions.md, LCM)",

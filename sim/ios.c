@@ -267,7 +267,7 @@ sim_ios *sim_ios_create(const char *lcm_url, core_err *err)
         core_err_set(err, -1, "ios: out of memory");
         return NULL;
     }
-    if (!(io->lc = lcm_create(lcm_url)) || !(io->sub = lcm_subscribe(io->lc, DISIM_CH_SIM_STATUS, on_status, io))) {
+    if (!(io->lc = lcm_create(disim_lcm_url(lcm_url))) || !(io->sub = lcm_subscribe(io->lc, DISIM_CH_SIM_STATUS, on_status, io))) {
         core_err_set(err, -1, "LCM: cannot open '%s'", lcm_url ? lcm_url : "the default URL");
         sim_ios_destroy(io);
         return NULL;

@@ -368,6 +368,8 @@ int sim_log_check_frames(const char *path, sim_log_frames *fr, core_err *err)
             ch[chlen] = '\0';
             if (!strcmp(ch, DISIM_CH_PILOT_INPUT) || !strcmp(ch, DISIM_CH_SIM_CONTROL))
                 fr->n_inputs++;
+            else if (!strcmp(ch, SIM_LOOP_CH_CONTROL_DONE))
+                fr->n_marks++;
             fr->n_events++;
             at += HDR_BYTES + (long long)chlen + (long long)dlen;
         }

@@ -58,6 +58,38 @@
  * turbulence's field and the ship's motion at its time), without a copy
  * of each stage's internals; its cost is the steps flown again.
  *
+ * World changes off the step. A world change (a reset, a load, a
+ * restore, a reset to the hover or the deck, a reposition, a new WOD
+ * direction or sea state) costs a world build: measured 1 to 10 ms for a
+ * bare world (test_loop), 36 to 55 ms on average and up to 0.4 s on a
+ * loaded machine for disim fly's (the aircraft, a field read from its
+ * file, the seaway of sea state 5: bench_loop_burst), a restore 25 to 70
+ * us a step flown again (seconds for a long one). With a builder
+ * (opts.builder) the loop's worker thread (sim/loop_worker.c) builds the
+ * new world while the old one flies on, and the loop swaps it in between
+ * two steps and answers the control then: in real time at the start of
+ * the first pass after the build ended (SIM_LOOP_SWAP_READY: before the
+ * messages of that pass are taken), as fast as it can at the end of the
+ * controls of the pass that asked, waiting for the worker there
+ * (SIM_LOOP_SWAP_PASS: the same step whatever the timing). One at a
+ * time: a world change that arrives while one is being built is refused,
+ * busy (the latest does not supersede the one under way: each control is
+ * answered, at once or at its swap). What stays in the step is bounded
+ * and small (Release, test_loop): the WOD's speed and the turbulence in
+ * flight (under 10 us), a snapshot (a copy of its journal, at most
+ * snapshot_max_s of inputs: 4 to 10 us for 150 steps), pause and resume. A token bucket over the
+ * run clock (opts.change_burst at once, one more each
+ * opts.change_interval_s) limits the world changes asked, with or
+ * without the worker; the excess is refused with the reason and counted.
+ * Each world change carried out (swapped in, or refused by its build) is
+ * marked in the log where it happened (SIM_LOOP_CH_CONTROL_DONE, log
+ * only); a replay queues the marks with the controls in the log's order
+ * and swaps at each (LOOP_SWAP_LOGGED), so the busy refusals, the rate
+ * limit and the swap steps of a real-time run come again whatever the
+ * replay's timing. A log without marks (its worlds built in the step)
+ * is replayed so (LOOP_SWAP_NOW: the build waited for at once, one a
+ * step, no rate limit).
+ *
  * A received buffer goes through disim_lcm_check_raw before lcm-gen's
  * decoder sees it, then through disim_lcm_check_sim_control (NaN, range):
  * lcm_types/lcm_types.c; pilot_input_t goes to the stations' rules
@@ -69,6 +101,7 @@
  */
 #include "sim.h"
 #include "disim_lcm.h"
+#include "loop_worker.h"
 
 #include <lcm/eventlog.h>
 #include <lcm/lcm.h>
@@ -82,6 +115,15 @@
 
 /* ---------------------------------------------------------------- loop */
 #define LOOP_CTL_MAX 64
+#define LOOP_SWAPS_MAX 16 /* a replay's marks of world changes carried out, queued with the controls */
+/* The queue's own entries beside the commands of sim_control_t: a
+ * replayed log's mark that the world change under way was carried out
+ * here (SIM_LOOP_CH_CONTROL_DONE). */
+#define LOOP_SWAP_MARK 100
+/* The swap of a replay beside SIM_LOOP_SWAP_*: where its log marks it
+ * (LOGGED), or, a log with no marks (a disim that built in the step),
+ * at once in the step that asked, one build a step, no rate limit (NOW). */
+enum { LOOP_SWAP_LOGGED = 10, LOOP_SWAP_NOW };
 #define LOOP_BUF 16384
 
 #define LOOP_SNAP_MAX 16
@@ -117,6 +159,26 @@ typedef struct snap {
     jev *ev;
 } snap;
 
+/* A world change on the worker: what to build (all copied: the worker
+ * reads nothing of the loop's but a restore's snapshot, which is not
+ * replaced while the job is under way), then what it built. */
+typedef struct job {
+    sim_loop_builder b;
+    void *user;
+    ctl c;
+    char path[SIM_PATH_MAX];
+    sim_loop_setup s;
+    int has_setup;
+    const snap *sn; /* a restore's */
+    double t0_s;    /* wall time asked */
+    int rc;         /* 0 built, else e says why not */
+    core_err e;
+    void *world;
+    sim_loop_world w;
+    sim_flight_inputs *jr; /* a restore's journal and changes in flight, its snapshot's */
+    jev *ev;
+} job;
+
 struct sim_loop {
     sim_loop_opts o;
     sim_loop_world w;
@@ -139,8 +201,17 @@ struct sim_loop {
     int paused, held;
     unsigned flags, last_flags;
     int last_active, last_paused, dirty;
-    ctl q[LOOP_CTL_MAX];
-    int nq;
+    ctl q[LOOP_CTL_MAX + LOOP_SWAPS_MAX];
+    int nq, nctl; /* entries, controls among them */
+    /* the worker (opts.builder), the world change under way on it, where
+     * it is swapped in (SIM_LOOP_SWAP_READY, _PASS, LOOP_SWAP_LOGGED,
+     * _NOW); the rate limit's changes allowed now as of run time
+     * tokens_t_s; the counts */
+    loop_worker *worker;
+    job *job;
+    int swap;
+    double tokens, tokens_t_s;
+    long long builds_in_step, builds_on_worker, refused_busy, refused_rate;
     long long seq_heli, seq_ship, seq_status, seq_info, seq_source;
     char source_id[SIM_STATION_ID_MAX]; /* opts.pilot_source_id ("" the stations fly) */
     long long sent, received, logged, control_refused;
@@ -180,6 +251,8 @@ void sim_loop_opts_default(sim_loop_opts *o)
     o->state_rate_hz = 50.0;
     o->status_period_s = 1.0;
     o->snapshot_max_s = 600.0;
+    o->change_burst = 5;
+    o->change_interval_s = 1.0;
     sim_pilots_opts_default(&o->pilots);
 }
 
@@ -290,13 +363,14 @@ static void got_ctl(sim_loop *l, const void *data, int size)
     }
     if (disim_lcm_check_sim_control(&m, e, sizeof e) != 0)
         refuse_ctl(l, m.seq, m.command, e);
-    else if (l->nq == LOOP_CTL_MAX)
+    else if (l->nctl == LOOP_CTL_MAX)
         refuse_ctl(l, m.seq, m.command, "sim_control_t: too many controls at once");
     else if (strlen(m.scenario_path) >= SIM_PATH_MAX)
         refuse_ctl(l, m.seq, m.command, "sim_control_t.scenario_path: too long");
     else if (strlen(m.name) >= LOOP_SNAP_NAME)
         refuse_ctl(l, m.seq, m.command, "sim_control_t.name: longer than 31 characters");
     else {
+        l->nctl++;
         ctl *c = &l->q[l->nq++];
         c->seq = m.seq;
         c->command = m.command;
@@ -322,6 +396,26 @@ static void on_raw(const lcm_recv_buf_t *rb, const char *channel, void *user)
         got_ctl(l, rb->data, (int)rb->data_size);
 }
 
+/* A replayed log's mark of a world change carried out: queued with the
+ * controls, so that the swap comes where it came among them. */
+static void got_mark(sim_loop *l, const void *data, int size)
+{
+    disim_sim_control_t m;
+    memset(&m, 0, sizeof m);
+    if (disim_lcm_check_raw("sim_control_t", data, size, NULL, 0) != 0 ||
+        disim_sim_control_t_decode(data, 0, size, &m) != size) {
+        core_log_msg(l->log, CORE_LOG_WARN, "replay: a mark of a world change not read: passed over");
+        return;
+    }
+    if (l->nq < LOOP_CTL_MAX + LOOP_SWAPS_MAX) {
+        ctl *c = &l->q[l->nq++];
+        memset(c, 0, sizeof *c);
+        c->seq = m.seq;
+        c->command = LOOP_SWAP_MARK;
+    }
+    disim_sim_control_t_decode_cleanup(&m);
+}
+
 /* The replayed log's events due at this run step (and earlier). */
 static int replay_feed(sim_loop *l)
 {
@@ -337,7 +431,10 @@ static int replay_feed(sim_loop *l)
         if (step > l->run_step)
             break;
         int pilot = !strcmp(ev->channel, DISIM_CH_PILOT_INPUT), control = !strcmp(ev->channel, DISIM_CH_SIM_CONTROL);
-        if (pilot || control) {
+        if (l->swap == LOOP_SWAP_LOGGED && !strcmp(ev->channel, SIM_LOOP_CH_CONTROL_DONE)) {
+            log_event(l, ev->channel, ev->data, ev->datalen); /* at its place among the inputs, as it came */
+            got_mark(l, ev->data, ev->datalen);
+        } else if (pilot || control) {
             log_event(l, ev->channel, ev->data, ev->datalen);
             if (pilot)
                 got_pilot(l, ev->data, ev->datalen);
@@ -591,6 +688,15 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
                      o->status_period_s);
         return NULL;
     }
+    if (!(o->change_burst >= 1 && o->change_burst <= 1000) ||
+        !(o->change_interval_s >= 0.0 && o->change_interval_s <= 3600.0) ||
+        (o->builder.prepare && (!o->builder.install || !o->builder.drop)) || o->swap < SIM_LOOP_SWAP_AUTO ||
+        o->swap > SIM_LOOP_SWAP_PASS) {
+        core_err_set(err, -1, "flight loop: world changes %d at once, one more every %g s: expected 1 to 1000 and 0 "
+                     "to 3600 s; a builder with prepare, install and drop; a swap of SIM_LOOP_SWAP_*",
+                     o->change_burst, o->change_interval_s);
+        return NULL;
+    }
     if (!w || !w->flight || !build || !o->scenario_path || strlen(o->scenario_path) >= SIM_PATH_MAX ||
         (o->log_path && strlen(o->log_path) >= SIM_PATH_MAX) ||
         (o->replay_path && strlen(o->replay_path) >= SIM_PATH_MAX)) {
@@ -611,6 +717,8 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
     l->last_active = -1;
     l->ack_seq = -1;
     sim_loop_setup_default(&l->setup);
+    l->tokens = (double)o->change_burst;
+    l->swap = o->swap == SIM_LOOP_SWAP_AUTO ? (o->realtime ? SIM_LOOP_SWAP_READY : SIM_LOOP_SWAP_PASS) : o->swap;
     l->jr_max = llround(o->snapshot_max_s * o->rate_hz);
     snprintf(l->scenario_path, sizeof l->scenario_path, "%s", o->scenario_path);
     l->o.scenario_path = l->scenario_path;
@@ -638,6 +746,7 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
         if (sim_log_check_frames(o->replay_path, &fr, err) != 0)
             goto fail;
         l->replay_size = fr.size;
+        l->swap = fr.n_marks > 0 ? LOOP_SWAP_LOGGED : LOOP_SWAP_NOW;
         if (fr.n_inputs == 0) {
             core_err_set(err, -1, "%s: %ld events and no pilot_input_t or sim_control_t: nothing to replay (a log "
                          "of disim fly --log with a station's inputs)", o->replay_path, fr.n_events);
@@ -655,7 +764,7 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
             goto fail;
     }
     if (o->lcm) {
-        if (!(l->lc = lcm_create(o->lcm_url))) {
+        if (!(l->lc = lcm_create(disim_lcm_url(o->lcm_url)))) {
             core_err_set(err, -1, "LCM: cannot open '%s' (lcm_create failed)", o->lcm_url ? o->lcm_url : "the default URL");
             goto fail;
         }
@@ -673,6 +782,8 @@ sim_loop *sim_loop_create(const sim_loop_opts *o, const sim_loop_world *w, sim_l
             }
         }
     }
+    if (o->builder.prepare && !(l->worker = loop_worker_create(err)))
+        goto fail;
     if (new_pacer(l, err) != 0)
         goto fail;
     l->dirty = 1; /* the first status at once */
@@ -688,6 +799,14 @@ void sim_loop_destroy(sim_loop *l)
 {
     if (!l)
         return;
+    loop_worker_destroy(l->worker); /* the job under way finished, the worlds swapped out freed */
+    if (l->job) {
+        if (l->job->rc == 0)
+            l->o.builder.drop(l->user, l->job->world);
+        free(l->job->jr);
+        free(l->job->ev);
+        free(l->job);
+    }
     if (l->lc) {
         if (l->sub_pilot)
             lcm_unsubscribe(l->lc, l->sub_pilot);
@@ -971,22 +1090,12 @@ static int refly_observe(void *user, const sim_flight_out *out, int st, core_err
     return refly_changes(r, err);
 }
 
-/* RESTORE: the snapshot's world built again and its flight flown again.
- * 0; 1 with why (the running world kept); < 0 with err (the re-flight
- * failed: fatal). */
-static int restore_snapshot(sim_loop *l, const snap *sn, char *why, size_t n, core_err *err)
+/* A snapshot's flight flown again in f, the flight of a world just built
+ * from it: 0, or < 0 with err. */
+static int refly_world(const snap *sn, sim_flight *f, core_err *err)
 {
-    sim_loop_world w;
-    memset(&w, 0, sizeof w);
-    core_err e = {0};
-    l->builds++;
-    if (l->o.rebuild(l->user, sn->path, &sn->base, &w, &e) != 0 || !w.flight)
-        return snprintf(why, n, "%.200s", e.msg[0] ? e.msg : "no flight"), 1;
-    l->w = w; /* the old world is gone */
-    if (journal_room(l, sn->n, sn->nev) != 0)
-        return core_err_set(err, -1, "restore: out of memory");
     static const sim_pilot_ops journal = {"journal", refly_pilot};
-    refly r = {sn, w.flight, 0, 0};
+    refly r = {sn, f, 0, 0};
     sim_pilot p = {&journal, &r};
     sim_run_opts ro;
     sim_run_opts_default(&ro);
@@ -994,20 +1103,13 @@ static int restore_snapshot(sim_loop *l, const snap *sn, char *why, size_t n, co
     ro.observe = refly_observe;
     ro.observe_user = &r;
     sim_flight_out out;
-    sim_flight_state(w.flight, &out);
-    if (refly_changes(&r, err) != 0 || (sn->n > 0 && sim_run(w.flight, &p, &ro, &out, err) != SIM_RUN_LENGTH))
-        return core_err_set(err, -1, "restore '%s': flying it again failed at step %lld: %s", sn->name, r.k + 1,
-                            err->msg);
-    sim_pilots_reblend(l->pilots); /* the stick is where the pilot left it: blended in from the snapshot's */
-    if (world_started(l, &w, sn->path, &sn->base, err) != 0)
-        return -1;
-    l->setup = sn->setup;
-    if (sn->n)
-        memcpy(l->jr, sn->in, (size_t)sn->n * sizeof *l->jr);
-    l->njr = sn->n;
-    if (sn->nev)
-        memcpy(l->ev, sn->ev, (size_t)sn->nev * sizeof *l->ev);
-    l->nev = sn->nev;
+    sim_flight_state(f, &out);
+    if (refly_changes(&r, err) != 0 || (sn->n > 0 && sim_run(f, &p, &ro, &out, err) != SIM_RUN_LENGTH)) {
+        char m[sizeof err->msg];
+        snprintf(m, sizeof m, "%s", err->msg);
+        return core_err_set(err, -1, "restore '%s': flying it again failed at step %lld: %.200s", sn->name, r.k + 1,
+                            m);
+    }
     return 0;
 }
 
@@ -1037,52 +1139,205 @@ static int do_live(sim_loop *l, const ctl *c, const sim_loop_setup *s, char *why
     return 0;
 }
 
-/* RESET and LOAD_SCENARIO: the caller's build, the console's setup
- * dropped. 0, 1 refused (why), < 0 fatal. */
-static int do_load(sim_loop *l, const ctl *c, char *why, size_t n, core_err *err)
+/* A world built for control c (from path under base, NULL: the caller's
+ * settings; a restore's snapshot sn flown again in it) flying: the
+ * stations' controls blended in afresh (the stick is where the pilot left
+ * it), its start published; a restore's setup and journal (the job's
+ * copies taken, or without a job sn's copied). 0, or < 0 with err. */
+static int world_apply(sim_loop *l, const ctl *c, const char *path, const sim_loop_setup *base,
+                       const sim_loop_world *w, const snap *sn, job *j, core_err *err)
 {
-    const char *path = c->command == DISIM_SIM_CONTROL_T_RESET ? l->scenario_path : c->path;
+    sim_loop_setup s;
+    if (base)
+        s = *base;
+    else
+        sim_loop_setup_default(&s);
+    sim_pilots_reblend(l->pilots);
+    if (world_started(l, w, path, &s, err) != 0)
+        return -1;
+    if (sn) {
+        l->setup = sn->setup;
+        if (j && j->jr && j->ev) { /* the worker's copies: no copy here */
+            free(l->jr);
+            free(l->ev);
+            l->jr = j->jr;
+            l->capjr = sn->n > 0 ? sn->n : 1;
+            l->ev = j->ev;
+            l->capev = sn->nev > 0 ? sn->nev : 1;
+            j->jr = NULL;
+            j->ev = NULL;
+        } else {
+            if (journal_room(l, sn->n, sn->nev) != 0)
+                return core_err_set(err, -1, "restore: out of memory");
+            if (sn->n)
+                memcpy(l->jr, sn->in, (size_t)sn->n * sizeof *l->jr);
+            if (sn->nev)
+                memcpy(l->ev, sn->ev, (size_t)sn->nev * sizeof *l->ev);
+        }
+        l->njr = sn->n;
+        l->nev = sn->nev;
+    }
+    if (c->command == DISIM_SIM_CONTROL_T_RESET || c->command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO) {
+        char shown[2 * SIM_PATH_MAX];
+        core_escape(l->scenario_path, shown, sizeof shown);
+        core_log_msg(l->log, CORE_LOG_INFO, "%s: %s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "loaded",
+                     shown);
+    }
+    return 0;
+}
+
+/* The rate limit: a world change taken from the changes allowed now (1
+ * refused with why). */
+static int rate_take(sim_loop *l, char *why, size_t n)
+{
+    double dt = l->o.change_interval_s, burst = (double)l->o.change_burst;
+    if (!(dt > 0.0) || l->swap == LOOP_SWAP_NOW)
+        return 0;
+    double t = run_t(l);
+    l->tokens = fmin(burst, l->tokens + (t - l->tokens_t_s) / dt);
+    l->tokens_t_s = t;
+    if (l->tokens >= 1.0) {
+        l->tokens -= 1.0;
+        return 0;
+    }
+    l->refused_rate++;
+    return snprintf(why, n, "rate limit: at most %d world changes at once and one more every %g s of run time: "
+                    "the next in %.2f s", l->o.change_burst, dt, (1.0 - l->tokens) * dt), 1;
+}
+
+/* A world change refused while another is under way: 1 with why. */
+static int busy(sim_loop *l, char *why, size_t n)
+{
+    l->refused_busy++;
+    return snprintf(why, n, "busy: a world change (%s) is being prepared: send it again once that is answered",
+                    ctl_name(l->job->c.command)), 1;
+}
+
+/* On the worker: the job's world prepared, a restore's flight flown again
+ * in it (its journal copied first: the snapshot is not replaced while
+ * the job is under way). */
+static void job_run(void *arg)
+{
+    job *j = arg;
+    j->rc = j->b.prepare(j->user, j->path, j->has_setup ? &j->s : NULL, &j->world, &j->w, &j->e);
+    if (j->rc != 0)
+        j->world = NULL;
+    else if (!j->w.flight)
+        j->rc = core_err_set(&j->e, -1, "no flight");
+    const snap *sn = j->sn;
+    if (j->rc == 0 && sn) {
+        j->jr = malloc((size_t)(sn->n > 0 ? sn->n : 1) * sizeof *j->jr);
+        j->ev = malloc((size_t)(sn->nev > 0 ? sn->nev : 1) * sizeof *j->ev);
+        if (!j->jr || !j->ev)
+            j->rc = core_err_set(&j->e, -1, "restore: out of memory");
+        else {
+            if (sn->n)
+                memcpy(j->jr, sn->in, (size_t)sn->n * sizeof *j->jr);
+            if (sn->nev)
+                memcpy(j->ev, sn->ev, (size_t)sn->nev * sizeof *j->ev);
+            j->rc = refly_world(sn, j->w.flight, &j->e);
+        }
+    }
+    if (j->rc != 0 && j->world) {
+        j->b.drop(j->user, j->world);
+        j->world = NULL;
+    }
+}
+
+static int job_finish(sim_loop *l, int wait, core_err *err);
+
+/* The world change asked of the worker: 2 (answered when it is swapped
+ * in), 1 refused (why), < 0 fatal. */
+static int ask_worker(sim_loop *l, const ctl *c, const char *path, const sim_loop_setup *s, const snap *sn,
+                      char *why, size_t n, core_err *err)
+{
+    job *j = calloc(1, sizeof *j);
+    if (!j)
+        return snprintf(why, n, "out of memory"), 1;
+    j->b = l->o.builder;
+    j->user = l->user;
+    j->c = *c;
+    snprintf(j->path, sizeof j->path, "%s", path);
+    if (s) {
+        j->s = *s;
+        j->has_setup = 1;
+    }
+    j->sn = sn;
+    j->t0_s = wall_s();
+    if (loop_worker_submit(l->worker, job_run, j) != 0) {
+        free(j);
+        return snprintf(why, n, "busy: the worker is still at work"), 1;
+    }
+    l->job = j;
+    core_log_msg(l->log, CORE_LOG_DEBUG, "sim control %s (seq %lld): its world being prepared", ctl_name(c->command),
+                 c->seq);
+    if (l->swap == LOOP_SWAP_NOW && job_finish(l, 1, err) != 0)
+        return -1;
+    return 2;
+}
+
+/* A world change for control c: the world of path under s (NULL: the
+ * caller's build), a restore's snapshot sn flown again in it. Refused
+ * while another is under way (busy) and past the rate limit; else built
+ * here, in the step (no builder: flying at return), or asked of the
+ * worker. 0 done, 1 refused (why), 2 asked (answered when swapped in),
+ * < 0 fatal. */
+static int world_change(sim_loop *l, const ctl *c, const char *path, const sim_loop_setup *s, const snap *sn,
+                        char *why, size_t n, core_err *err)
+{
+    if (l->job) {
+        return busy(l, why, n);
+    }
+    if (rate_take(l, why, n))
+        return 1;
+    if (l->worker)
+        return ask_worker(l, c, path, s, sn, why, n, err);
     sim_loop_world w;
     memset(&w, 0, sizeof w);
     core_err e = {0};
     l->builds++;
-    if (l->build(l->user, path, &w, &e) != 0 || !w.flight)
-        return snprintf(why, n, "%s refused: %.200s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "load",
-                        e.msg[0] ? e.msg : "no flight"), 1;
-    sim_loop_setup s;
-    sim_loop_setup_default(&s);
-    sim_pilots_reblend(l->pilots); /* a station's controls blend in from the new start's */
-    if (world_started(l, &w, path, &s, err) != 0)
-        return -1;
-    char shown[2 * SIM_PATH_MAX];
-    core_escape(l->scenario_path, shown, sizeof shown);
-    core_log_msg(l->log, CORE_LOG_INFO, "%s: %s", c->command == DISIM_SIM_CONTROL_T_RESET ? "reset" : "loaded", shown);
-    return 0;
+    l->builds_in_step++;
+    if ((s ? l->o.rebuild(l->user, path, s, &w, &e) : l->build(l->user, path, &w, &e)) != 0 || !w.flight)
+        return snprintf(why, n, "%.200s", e.msg[0] ? e.msg : "no flight"), 1;
+    if (sn) {
+        l->w = w; /* the old world is gone */
+        if (refly_world(sn, w.flight, err) != 0)
+            return -1;
+    }
+    return world_apply(l, c, path, s, &w, sn, NULL, err);
 }
 
+/* RESET and LOAD_SCENARIO: the caller's build, the console's setup
+ * dropped. 0, 1 refused (why), 2 asked, < 0 fatal. */
+static int do_load(sim_loop *l, const ctl *c, char *why, size_t n, core_err *err)
+{
+    const char *path = c->command == DISIM_SIM_CONTROL_T_RESET ? l->scenario_path : c->path;
+    return world_change(l, c, path, NULL, NULL, why, n, err);
+}
+
+/* A loop that can build its world again under the instructor's setup. */
+static int can_rebuild(const sim_loop *l) { return l->o.rebuild || l->worker; }
+
 /* The instructor's world controls: the setup checked, the world built
- * again under it. 0, 1 refused (why), < 0 fatal. */
+ * again under it (none while a world change is under way: it would
+ * replace what this one set). 0, 1 refused (why), 2 asked, < 0 fatal. */
 static int do_setup(sim_loop *l, const ctl *c, char *why, size_t n, core_err *err)
 {
     sim_loop_setup s;
     l->live = 0;
     if (ctl_setup(l, c, &s, why, n))
         return 1;
+    if (l->job) {
+        return busy(l, why, n);
+    }
     if (c->command == DISIM_SIM_CONTROL_T_SET_WOD || c->command == DISIM_SIM_CONTROL_T_SET_TURBULENCE) {
         int r = do_live(l, c, &s, why, n, err);
         if (r <= 0 || why[0])
             return r;
     }
-    if (!l->o.rebuild)
+    if (!can_rebuild(l))
         return snprintf(why, n, "this loop cannot build its world again with the instructor's settings"), 1;
-    sim_loop_world w;
-    memset(&w, 0, sizeof w);
-    core_err e = {0};
-    l->builds++;
-    if (l->o.rebuild(l->user, l->scenario_path, &s, &w, &e) != 0 || !w.flight)
-        return snprintf(why, n, "%.200s", e.msg[0] ? e.msg : "no flight"), 1;
-    sim_pilots_reblend(l->pilots);
-    return world_started(l, &w, l->scenario_path, &s, err) != 0 ? -1 : 0;
+    return world_change(l, c, l->scenario_path, &s, NULL, why, n, err);
 }
 
 /* What an accepted control did, for its answer. */
@@ -1125,7 +1380,81 @@ static void said(const sim_loop *l, const ctl *c, char *msg, size_t n)
     }
 }
 
-/* One control: 0 (answered: accepted or refused), < 0 with err (fatal). */
+/* The name a refusal gives its control. */
+static const char *refused_name(int command)
+{
+    return command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO ? "load" : ctl_name(command);
+}
+
+/* The state the status says. */
+static int status_state(const sim_loop *l)
+{
+    return l->crashed && l->o.wait_after_end ? DISIM_SIM_STATUS_T_STOPPED
+           : l->paused                       ? DISIM_SIM_STATUS_T_PAUSED
+                                             : DISIM_SIM_STATUS_T_RUNNING;
+}
+
+/* The mark of a world change carried out (or refused by its build), into
+ * the log only (SIM_LOOP_CH_CONTROL_DONE). */
+static void log_mark(sim_loop *l, const ctl *c)
+{
+    disim_sim_control_t m;
+    memset(&m, 0, sizeof m);
+    m.seq = c->seq;
+    m.command = (int8_t)c->command;
+    m.scenario_path = (char *)"";
+    m.name = (char *)"";
+    int n = disim_sim_control_t_encoded_size(&m);
+    if (n > LOOP_BUF || disim_sim_control_t_encode(l->buf, 0, n, &m) != n) {
+        if (!l->fatal)
+            core_err_set(&l->ferr, -1, "LCM: cannot encode sim_control_t");
+        l->fatal = 1;
+        return;
+    }
+    log_event(l, SIM_LOOP_CH_CONTROL_DONE, l->buf, n);
+}
+
+/* The world change under way, once the worker has built it (wait 1: the
+ * loop waits for it): swapped in (the caller's world replaced, the old
+ * one freed on the worker) and accepted, or refused with the build's
+ * reason, the old world flying on; answered in a status at once, marked
+ * in the log. 0 (done or not yet), < 0 with err (fatal). */
+static int job_finish(sim_loop *l, int wait, core_err *err)
+{
+    job *j = l->job;
+    if (!j || loop_worker_poll(l->worker, wait) != 1)
+        return 0;
+    l->job = NULL;
+    l->builds++;
+    l->builds_on_worker++;
+    if (l->swap == SIM_LOOP_SWAP_READY || l->swap == SIM_LOOP_SWAP_PASS) /* a replay's own are its log's */
+        log_mark(l, &j->c);
+    int rc = 0;
+    if (j->rc != 0) {
+        char why[300];
+        snprintf(why, sizeof why, "%s refused: %.200s", refused_name(j->c.command), j->e.msg);
+        refuse_ctl(l, j->c.seq, j->c.command, why);
+    } else {
+        void *old = j->b.install(j->user, j->world);
+        loop_worker_later(l->worker, j->b.drop, j->user, old);
+        rc = world_apply(l, &j->c, j->path, j->has_setup ? &j->s : NULL, &j->w, j->sn, j, err);
+        if (rc == 0) {
+            char msg[256];
+            l->live = 0;
+            said(l, &j->c, msg, sizeof msg);
+            accept_ctl(l, &j->c, j->t0_s, "%s", msg);
+        }
+    }
+    free(j->jr);
+    free(j->ev);
+    free(j);
+    if (rc == 0 && (l->lc || l->elog)) /* its answer out before any other control's */
+        publish_status(l, status_state(l));
+    return rc;
+}
+
+/* One control: 0 (answered: accepted or refused; or a world change asked
+ * of the worker, answered when swapped in), < 0 with err (fatal). */
 static int do_control(sim_loop *l, const ctl *c, core_err *err)
 {
     double t0 = wall_s();
@@ -1145,17 +1474,21 @@ static int do_control(sim_loop *l, const ctl *c, core_err *err)
         break;
     case DISIM_SIM_CONTROL_T_RESET:
     case DISIM_SIM_CONTROL_T_LOAD_SCENARIO: rc = do_load(l, c, why, sizeof why, err); break;
-    case DISIM_SIM_CONTROL_T_SNAPSHOT:
-        if (!l->o.rebuild)
+    case DISIM_SIM_CONTROL_T_SNAPSHOT: {
+        int i = snap_find(l, c->name);
+        if (!can_rebuild(l))
             rc = (snprintf(why, sizeof why, "this loop cannot build its world again: no snapshots"), 1);
         else if (l->crashed)
             rc = (snprintf(why, sizeof why, "the flight has ended (%.150s): no snapshot of it", l->crash_msg), 1);
+        else if (i >= 0 && l->job && l->job->sn == &l->snaps[i])
+            rc = (snprintf(why, sizeof why, "busy: '%s' is being restored", c->name), 1);
         else
             rc = take_snapshot(l, c->name, why, sizeof why);
         break;
+    }
     case DISIM_SIM_CONTROL_T_RESTORE: {
         int i = snap_find(l, c->name);
-        if (!l->o.rebuild)
+        if (!can_rebuild(l))
             rc = (snprintf(why, sizeof why, "this loop cannot build its world again: no restore"), 1);
         else if (l->source_id[0])
             rc = (snprintf(why, sizeof why, "a pilot of the caller's flies (%s): its own state is not restored",
@@ -1163,18 +1496,19 @@ static int do_control(sim_loop *l, const ctl *c, core_err *err)
         else if (i < 0)
             rc = (snprintf(why, sizeof why, "no snapshot '%s'", c->name), 1);
         else
-            rc = restore_snapshot(l, &l->snaps[i], why, sizeof why, err);
+            rc = world_change(l, c, l->snaps[i].path, &l->snaps[i].base, &l->snaps[i], why, sizeof why, err);
         break;
     }
     default: rc = do_setup(l, c, why, sizeof why, err); break;
     }
     if (rc < 0)
         return -1;
+    if (rc == 2) /* asked of the worker: answered when swapped in */
+        return 0;
     if (rc > 0) {
         char full[300];
-        snprintf(full, sizeof full, "%s refused: %s", ctl_name(c->command), why);
-        refuse_ctl(l, c->seq, c->command, c->command == DISIM_SIM_CONTROL_T_RESET ||
-                   c->command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO ? why : full);
+        snprintf(full, sizeof full, "%s refused: %s", refused_name(c->command), why);
+        refuse_ctl(l, c->seq, c->command, full);
         return 0;
     }
     char msg[256];
@@ -1192,28 +1526,42 @@ static int may_build(int command)
            command != DISIM_SIM_CONTROL_T_SNAPSHOT && command != DISIM_SIM_CONTROL_T_SET_TURBULENCE;
 }
 
-/* The controls received, in order, each answered in a status of its own.
- * At most one world is built in a pass (a build takes tens of ms): a
- * further control that may build one is refused with the reason, so a
- * burst of resets or loads costs one build, not one per message. */
+/* The controls received, in order, each answered in a status of its own
+ * (a replay's marks of world changes carried out among them: the swap
+ * there). Building in the step (no builder, or a replay of a log without
+ * marks), at most one world is built in a pass (a build takes tens of
+ * ms): a further control that may build one is refused with the reason,
+ * so a burst of resets or loads costs one build, not one per message.
+ * With the worker, one world change at a time (busy) and the rate limit;
+ * SIM_LOOP_SWAP_PASS swaps at the end. */
 static int do_controls(sim_loop *l, core_err *err)
 {
     long long built = l->builds;
-    for (int i = 0; i < l->nq; i++) {
-        if (l->builds != built && may_build(l->q[i].command)) {
-            refuse_ctl(l, l->q[i].seq, l->q[i].command, "a world was built in this step already: one build per "
+    int one_a_step = !l->worker || l->swap == LOOP_SWAP_NOW;
+    int rc = 0;
+    for (int i = 0; i < l->nq && rc == 0; i++) {
+        const ctl *c = &l->q[i];
+        if (c->command == LOOP_SWAP_MARK) {
+            if (l->job && l->job->c.seq == c->seq)
+                rc = job_finish(l, 1, err);
+            else
+                core_log_msg(l->log, CORE_LOG_DEBUG, "replay: a mark of seq %lld and no world change of it "
+                             "under way: passed over", c->seq);
+            continue;
+        }
+        if (one_a_step && l->builds != built && may_build(c->command)) {
+            refuse_ctl(l, c->seq, c->command, "a world was built in this step already: one build per "
                        "step, send it again");
             continue;
         }
-        if (do_control(l, &l->q[i], err) != 0) {
-            l->nq = 0;
-            return -1;
-        }
-        if ((l->lc || l->elog) && i + 1 < l->nq)
-            publish_status(l, l->paused ? DISIM_SIM_STATUS_T_PAUSED : DISIM_SIM_STATUS_T_RUNNING);
+        rc = do_control(l, c, err);
+        if (rc == 0 && (l->lc || l->elog) && i + 1 < l->nq)
+            publish_status(l, status_state(l));
     }
-    l->nq = 0;
-    return 0;
+    l->nq = l->nctl = 0;
+    if (rc == 0 && l->job && l->swap == SIM_LOOP_SWAP_PASS)
+        rc = job_finish(l, 1, err);
+    return rc != 0 ? -1 : 0;
 }
 
 /* ---- the loop's pass, as the runner's wrap (sim/runner.c) */
@@ -1225,9 +1573,7 @@ static int pass_end(sim_loop *l, int stepped, core_err *err)
         unsigned f = loop_flags(l);
         if (l->dirty || f != l->last_flags || sim_pilots_active(l->pilots) != l->last_active ||
             wall_s() - l->status_wall_s >= l->o.status_period_s)
-            publish_status(l, l->crashed && l->o.wait_after_end ? DISIM_SIM_STATUS_T_STOPPED
-                              : l->paused                           ? DISIM_SIM_STATUS_T_PAUSED
-                                                                    : DISIM_SIM_STATUS_T_RUNNING);
+            publish_status(l, status_state(l));
     }
     if (l->fatal)
         return core_err_set(err, -1, "%s", l->ferr.msg);
@@ -1251,6 +1597,10 @@ static int pass_before(void *user, core_err *err)
     }
     if (!l->paused && l->run_step >= l->nsteps)
         return SIM_RUN_LENGTH;
+    /* a world built on the worker, swapped in once ready: before what
+     * arrived in this pass, as its mark in the log */
+    if (l->job && l->swap == SIM_LOOP_SWAP_READY && job_finish(l, 0, err) != 0)
+        return -1;
     int waiting = l->paused || l->crashed; /* a flight that ended waits for a control that builds it again */
     take_received(l, waiting ? 100 : 0);
     if (do_controls(l, err) != 0)
@@ -1353,6 +1703,10 @@ int sim_loop_iterate(sim_loop *l, sim_flight_out *out, core_err *err)
 
 int sim_loop_finish(sim_loop *l, core_err *err)
 {
+    /* a world change still under way is dropped: marked, so that a replay
+     * of the log knows its world changes are swapped where marked */
+    if (l->job && (l->swap == SIM_LOOP_SWAP_READY || l->swap == SIM_LOOP_SWAP_PASS))
+        log_mark(l, &l->job->c);
     if (l->lc || l->elog)
         publish_status(l, DISIM_SIM_STATUS_T_STOPPED);
     if (l->lc) /* what arrived meanwhile, into the log */
@@ -1387,6 +1741,11 @@ void sim_loop_report_get(const sim_loop *l, sim_loop_report *r)
     snprintf(r->control_message, sizeof r->control_message, "%s", l->ack_msg);
     r->control_apply_s = l->ack_apply_s;
     r->snapshots = l->nsnaps;
+    r->builds_in_step = l->builds_in_step;
+    r->builds_on_worker = l->builds_on_worker;
+    r->refused_busy = l->refused_busy;
+    r->refused_rate = l->refused_rate;
+    r->change_pending = l->job != NULL;
 }
 
 const sim_pilots *sim_loop_pilots(const sim_loop *l) { return l->pilots; }

@@ -48,6 +48,7 @@ typedef struct sim_log_frames {
     long long size;  /* the file's bytes */
     long n_events;
     long n_inputs;   /* events on DISIM_PILOT_INPUT or DISIM_SIM_CONTROL (what a replay flies) */
+    long n_marks;    /* the loop's marks of world changes carried out (SIM_LOOP_CH_CONTROL_DONE) */
 } sim_log_frames;
 int sim_log_check_frames(const char *path, sim_log_frames *fr, core_err *err);
 

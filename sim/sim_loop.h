@@ -180,6 +180,37 @@ void sim_loop_setup_default(sim_loop_setup *s);
  * (the build of a default s is the build_fn's). */
 typedef int (*sim_loop_rebuild_fn)(void *user, const char *path, const sim_loop_setup *s, sim_loop_world *w,
                                    core_err *err);
+/* A world built off the loop's thread (sim_loop_opts.builder), in three
+ * parts, all with the loop's user:
+ * - prepare, on the loop's worker thread: the world of the scenario at
+ *   path under s (NULL: the caller's settings alone, as build) into a
+ *   world of the caller's own (*world), w filled from it. It must touch
+ *   nothing that the running flight or the caller's code between steps
+ *   reads (the caller's running world stays as it is). 0, or < 0 with err
+ *   and nothing left to free;
+ * - install, on the loop's thread between two steps: world becomes the
+ *   caller's running one; returns the one it replaces (to be dropped);
+ * - drop, on the worker: a world replaced, or prepared and not installed,
+ *   freed. */
+typedef struct sim_loop_builder {
+    int (*prepare)(void *user, const char *path, const sim_loop_setup *s, void **world, sim_loop_world *w,
+                   core_err *err);
+    void *(*install)(void *user, void *world);
+    void (*drop)(void *user, void *world);
+} sim_loop_builder;
+/* Where a world prepared on the worker is swapped in (sim_loop_opts.swap). */
+enum {
+    SIM_LOOP_SWAP_AUTO = 0, /* real time: READY; as fast as it can: PASS */
+    SIM_LOOP_SWAP_READY,    /* at the start of the first pass after the worker has finished (the step it
+                               lands on depends on the thread's timing: it is logged) */
+    SIM_LOOP_SWAP_PASS      /* at the end of the controls of the pass that asked (the loop waits for the
+                               worker there): the same step whatever the timing */
+};
+/* The channel of the log-only event that marks a world change carried out
+ * (built and swapped in, or refused by its build) at its step: a
+ * sim_control_t with the control's seq and command. A replay swaps its
+ * world where the log has it. */
+#define SIM_LOOP_CH_CONTROL_DONE "DISIM_SIM_CONTROL_DONE"
 typedef struct sim_loop_opts {
     double rate_hz;          /* the step rate (200) */
     int realtime;            /* 1: paced (sim_pacer), 0: as fast as it can */
@@ -214,6 +245,22 @@ typedef struct sim_loop_opts {
      * world again (a reset, a reposition, a condition, a load, a restore:
      * the instructor's), then flies on; the run ends at its duration. */
     int wait_after_end;
+    /* NULL prepare (default): a world is built in the step that asked for
+     * it, through build and rebuild (one build per step: a further
+     * control that would build one is refused). Else a world is built on
+     * the loop's worker thread while the old one flies on, and swapped in
+     * between two steps (swap); the control is answered then. While one
+     * is being built, a further control that would change the world is
+     * refused ("busy"). */
+    sim_loop_builder builder;
+    int swap; /* SIM_LOOP_SWAP_AUTO (default); a replay swaps where its log says, whatever this is */
+    /* The world changes (a reset, a load, a restore, the instructor's
+     * controls that build the world again) asked for, limited over the run
+     * clock: at most change_burst (5) at once, one more each
+     * change_interval_s (1 s) of run time; the excess refused with the
+     * reason and counted. change_interval_s 0: no limit. */
+    int change_burst;
+    double change_interval_s;
 } sim_loop_opts;
 void sim_loop_opts_default(sim_loop_opts *o);
 /* A loop flying w (built by the caller from o->scenario_path). NULL with
@@ -257,12 +304,18 @@ typedef struct sim_loop_report {
     char message[256];     /* why the last control was refused ("" none) */
     /* the last control answered: its seq (-1 none), command, result
      * (sim_status_t CONTROL_*), what was done or why not, and the wall
-     * time its application took */
+     * time its application took (a world built on the worker: from the
+     * control's arrival to its swap) */
     long long control_seq;
     int control_command, control_result;
     char control_message[256];
     double control_apply_s;
     int snapshots;         /* snapshots held */
+    /* world builds: run in a step on the loop's thread (no builder), run
+     * on the worker; controls refused as the worker was busy, refused by
+     * the rate limit; a world change being built now (0, 1) */
+    long long builds_in_step, builds_on_worker, refused_busy, refused_rate;
+    int change_pending;
 } sim_loop_report;
 void sim_loop_report_get(const sim_loop *l, sim_loop_report *r);
 const sim_pilots *sim_loop_pilots(const sim_loop *l);

@@ -867,7 +867,7 @@ sim_station *sim_station_create(const sim_station_opts *o, core_err *err)
     st->v.id = st->id;
     st->v.last_seq = -1;
     sim_station_controls_centre(&st->v.sent);
-    st->lc = lcm_create(o->lcm_url);
+    st->lc = lcm_create(disim_lcm_url(o->lcm_url));
     if (!st->lc) {
         core_err_set(err, -1, "LCM '%s': cannot create (a bad URL, or no multicast route: see docs/conventions.md, LCM)",
                      o->lcm_url ? o->lcm_url : "(default)");

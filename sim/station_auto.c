@@ -383,7 +383,7 @@ static int get_ready(auto_st *a)
 
 static int open_lcm(auto_st *a)
 {
-    if (!(a->lc = lcm_create(a->o->lcm_url)))
+    if (!(a->lc = lcm_create(disim_lcm_url(a->o->lcm_url))))
         return core_err_set(&a->err, -1,
                             "LCM '%s': cannot create (a bad URL, or no multicast route: see docs/conventions.md, LCM)",
                             a->o->lcm_url ? a->o->lcm_url : "(default)");

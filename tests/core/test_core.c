@@ -517,16 +517,39 @@ static void test_str(void)
 
 /* mkdir -p without a shell: a quote and a space in the name, parents made,
  * a file in the way refused naming it. */
-/* core_escape: terminal controls, DEL, non-ASCII and backslash escaped,
- * the cut never inside an escape */
+/* core_escape: terminal controls, DEL and non-ASCII escaped, a backslash
+ * kept (escaping twice changes nothing), the cut never inside an escape */
 static void test_escape(void)
 {
     char out[64];
     CHECK(core_escape("a\x1b[2J\\b\x7f\xc3\xa9", out, sizeof out) == strlen(out));
-    CHECK(!strcmp(out, "a\\x1b[2J\\\\b\\x7f\\xc3\\xa9"));
+    CHECK(!strcmp(out, "a\\x1b[2J\\b\\x7f\\xc3\\xa9"));
+    char twice[64];
+    CHECK(core_escape(out, twice, sizeof twice) == strlen(out) && !strcmp(twice, out));
     CHECK(core_escape("ab\x01", out, 5) == 2 && !strcmp(out, "ab"));
     CHECK(core_escape(NULL, out, sizeof out) == 0 && out[0] == '\0');
     CHECK(core_escape("plain text, 1.0 %", out, sizeof out) == 17 && !strcmp(out, "plain text, 1.0 %"));
+}
+
+static void log_keep(void *user, int level, const char *line)
+{
+    (void)level;
+    snprintf(user, 64, "%s", line);
+}
+
+/* An error or a log line naming a path from the command line: the bytes a
+ * terminal acts on come out as \xNN, the rest as it was */
+static void test_err_printable(void)
+{
+    core_err e = {0};
+    CHECK(core_err_set(&e, -3, "%s: missing", "run\x1b]0;owned\x07\n\xc3\xa9.ini") == -3 && e.code == -3);
+    CHECK(!strcmp(e.msg, "run\\x1b]0;owned\\x07\\x0a\\xc3\\xa9.ini: missing"));
+    core_err_set(&e, -1, "%s", "a\\b 100 %");
+    CHECK(!strcmp(e.msg, "a\\b 100 %"));
+    char line[64] = "";
+    core_log lg = {.fn = log_keep, .user = line, .max_level = CORE_LOG_INFO};
+    core_log_msg(&lg, CORE_LOG_INFO, "loaded %s", "x\x1b[2J");
+    CHECK(!strcmp(line, "loaded x\\x1b[2J"));
 }
 
 static void test_mkdir(void)
@@ -588,6 +611,7 @@ int main(void)
     test_log();
     test_str();
     test_escape();
+    test_err_printable();
     test_mkdir();
     return check_done("test_core");
 }

@@ -1,7 +1,10 @@
 /* lcm_xproc.c -- one side of the cross-process test over UDP multicast:
  * `lcm_xproc sub N` waits (up to 10 s) for N helicopter states with the
  * sequence numbers 0..N-1 in order; `lcm_xproc pub N` publishes them every
- * 20 ms. Run only inside a private network namespace (see lcm_xproc.sh). */
+ * 20 ms; `lcm_xproc count S` counts the helicopter states of any sender
+ * that reach it in S seconds and prints the count. Each opens LCM at
+ * disim's URL (disim_lcm_url: LCM_DEFAULT_URL, else ttl 0). Run only inside
+ * private network namespaces (lcm_xproc.sh, lcm_ttl.sh). */
 #include "disim_lcm.h"
 
 #include <lcm/lcm.h>
@@ -9,6 +12,14 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+
+static void on_any(const lcm_recv_buf_t *rb, const char *ch, const disim_heli_state_t *m, void *u)
+{
+    (void)rb;
+    (void)ch;
+    (void)m;
+    (*(int *)u)++;
+}
 
 typedef struct rx {
     int next;
@@ -27,18 +38,26 @@ static void on_state(const lcm_recv_buf_t *rb, const char *ch, const disim_heli_
 
 int main(int argc, char **argv)
 {
-    if (argc != 3 || (strcmp(argv[1], "pub") && strcmp(argv[1], "sub"))) {
-        fprintf(stderr, "usage: lcm_xproc pub|sub N\n");
+    if (argc != 3 || (strcmp(argv[1], "pub") && strcmp(argv[1], "sub") && strcmp(argv[1], "count"))) {
+        fprintf(stderr, "usage: lcm_xproc pub|sub N | count SECONDS\n");
         return 2;
     }
     int n = atoi(argv[2]);
-    lcm_t *lc = lcm_create(NULL); /* the library default: UDP multicast, ttl 0 */
+    lcm_t *lc = lcm_create(disim_lcm_url(NULL));
     if (!lc) {
         fprintf(stderr, "lcm_xproc: lcm_create failed\n");
         return 1;
     }
     int rc = 0;
-    if (!strcmp(argv[1], "pub")) {
+    if (!strcmp(argv[1], "count")) {
+        int got = 0;
+        disim_heli_state_t_subscription_t *sub = disim_heli_state_t_subscribe(lc, DISIM_CH_HELI_STATE, on_any, &got);
+        time_t t0 = time(NULL);
+        while (time(NULL) - t0 < n)
+            lcm_handle_timeout(lc, 200);
+        printf("%d\n", got);
+        disim_heli_state_t_unsubscribe(lc, sub);
+    } else if (!strcmp(argv[1], "pub")) {
         double gear[3] = {1, 2, 3};
         for (int i = 0; i < n; i++) {
             disim_heli_state_t m = {0};

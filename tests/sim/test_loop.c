@@ -519,6 +519,7 @@ static void test_control(void)
     o.lcm = 1;
     o.lcm_url = "memq://";
     o.scenario_path = SCEN_A;
+    o.change_interval_s = 0.0; /* builds in the step, one a step: no rate limit (test_worker has it) */
     sim_loop *l = sim_loop_create(&o, &lw, build, &w, NULL, &err);
     CHECK(l != NULL);
     if (!l)
@@ -621,11 +622,11 @@ typedef struct iworld {
     int builds;
 } iworld;
 
-static int ios_rebuild(void *user, const char *path, const sim_loop_setup *s, sim_loop_world *lw, core_err *err)
+/* The world of path under s into nw: 0, or -1 with err and nothing held. */
+static int iworld_build(const char *path, const sim_loop_setup *s, iworld *nw, core_err *err)
 {
-    iworld *w = user, nw;
-    memset(&nw, 0, sizeof nw);
-    if (sim_scenario_load(path, &nw.sc, err) != 0 || !(nw.ac = hfm_aircraft_load(nw.sc.aircraft_path, NULL, err)))
+    memset(nw, 0, sizeof *nw);
+    if (sim_scenario_load(path, &nw->sc, err) != 0 || !(nw->ac = hfm_aircraft_load(nw->sc.aircraft_path, NULL, err)))
         return -1;
     sim_world_overrides ov;
     sim_world_overrides_default(&ov);
@@ -646,25 +647,71 @@ static int ios_rebuild(void *user, const char *path, const sim_loop_setup *s, si
             memcpy(ov.station_S_m, s->station_S_m, sizeof ov.station_S_m);
         }
     }
-    if (sim_world_build(&nw.sc, nw.ac, &ov, NULL, &nw.sw, err) != 0) {
-        hfm_aircraft_destroy(nw.ac);
+    if (sim_world_build(&nw->sc, nw->ac, &ov, NULL, &nw->sw, err) != 0) {
+        hfm_aircraft_destroy(nw->ac);
         return -1;
     }
-    sim_world_free(&w->sw);
-    hfm_aircraft_destroy(w->ac);
-    nw.builds = w->builds + 1;
-    *w = nw;
+    return 0;
+}
+
+static void iworld_lw(const iworld *w, sim_loop_world *lw)
+{
     memset(lw, 0, sizeof *lw);
     lw->flight = w->sw.flight;
     lw->motion = w->sw.motion;
     lw->info = w->sw.info;
     snprintf(lw->scenario, sizeof lw->scenario, "%s", w->sc.name);
+}
+
+static int ios_rebuild(void *user, const char *path, const sim_loop_setup *s, sim_loop_world *lw, core_err *err)
+{
+    iworld *w = user, nw;
+    if (iworld_build(path, s, &nw, err) != 0)
+        return -1;
+    sim_world_free(&w->sw);
+    hfm_aircraft_destroy(w->ac);
+    nw.builds = w->builds + 1;
+    *w = nw;
+    iworld_lw(w, lw);
     return 0;
 }
 
 static int ios_build(void *user, const char *path, sim_loop_world *lw, core_err *err)
 {
     return ios_rebuild(user, path, NULL, lw, err);
+}
+
+/* The same worlds through the loop's worker (sim_loop_builder). */
+static int ios_prepare(void *user, const char *path, const sim_loop_setup *s, void **world, sim_loop_world *lw,
+                       core_err *err)
+{
+    (void)user;
+    iworld *nw = malloc(sizeof *nw);
+    if (!nw || iworld_build(path, s, nw, err) != 0) {
+        free(nw);
+        return -1;
+    }
+    iworld_lw(nw, lw);
+    *world = nw;
+    return 0;
+}
+
+static void *ios_install(void *user, void *world)
+{
+    iworld *w = user, *nw = world, old = *w;
+    nw->builds = w->builds + 1;
+    *w = *nw;
+    *nw = old;
+    return nw;
+}
+
+static void ios_drop(void *user, void *world)
+{
+    (void)user;
+    iworld *w = world;
+    sim_world_free(&w->sw);
+    hfm_aircraft_destroy(w->ac);
+    free(w);
 }
 
 typedef struct ictl {
@@ -942,7 +989,10 @@ static void ios_crash(sim_loop *l, lcm_t *lc, seen *s)
     CHECK(s->last.state == DISIM_SIM_STATUS_T_RUNNING && !(s->last.flags & end) && out.step == 2);
 }
 
-static void test_ios(void)
+/* The instructor's controls, their worlds built in the step (worker 0)
+ * or on the loop's worker, swapped in at the end of the controls of the
+ * pass that asked (worker 1): the same answers, the same flights. */
+static void test_ios(int worker)
 {
     iworld w;
     memset(&w, 0, sizeof w);
@@ -960,7 +1010,13 @@ static void test_ios(void)
     o.lcm = 1;
     o.lcm_url = "memq://";
     o.scenario_path = SCEN_A;
-    o.rebuild = ios_rebuild;
+    o.rebuild = worker ? NULL : ios_rebuild;
+    if (worker) {
+        o.builder.prepare = ios_prepare;
+        o.builder.install = ios_install;
+        o.builder.drop = ios_drop;
+        o.swap = SIM_LOOP_SWAP_PASS;
+    }
     /* the station's controls at once: a restore blends a station's
      * controls in afresh (the stick is where the pilot left it), which
      * the flight before the snapshot did not; without the blend the same
@@ -986,9 +1042,11 @@ static void test_ios(void)
     sim_loop_report r;
     sim_loop_report_get(l, &r);
     CHECK(r.snapshots == 3 && r.control_result == DISIM_SIM_STATUS_T_CONTROL_ACCEPTED);
-    printf("test_loop: applied in (s): reposition %.4f, WOD %.4f, sea state 4 %.4f, turbulence %.4f, deck %.4f, "
+    CHECK(worker ? r.builds_in_step == 0 && r.builds_on_worker == w.builds - 1
+                 : r.builds_on_worker == 0 && r.builds_in_step == w.builds - 1);
+    printf("test_loop: %s: applied in (s): reposition %.4f, WOD %.4f, sea state 4 %.4f, turbulence %.4f, deck %.4f, "
            "hover %.4f, snapshot %.6f, restore (152 steps) %.4f, restore (%.0f steps) %.3f (%.1f us a step), WOD speed "
-           "in flight %.6f\n", t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[9], t[8], 1e6 * t[8] / t[9], t[10]);
+           "in flight %.6f\n", worker ? "worker" : "in the step", t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[9], t[8], 1e6 * t[8] / t[9], t[10]);
     disim_sim_status_t_unsubscribe(lc, ss);
     sim_loop_destroy(l);
     sim_world_free(&w.sw);
@@ -1040,7 +1098,8 @@ int main(void)
     test_seq_spoof();
     test_station_flight();
     test_control();
-    test_ios();
+    test_ios(0);
+    test_ios(1);
     test_ios_parse();
     printf("test_loop: %d checks, %d failed\n", check_count, check_failures);
     return check_failures != 0;
