@@ -198,7 +198,7 @@ pids= bpid=
 say "the loop exited $frc after $((t1 - t0)) s of wall time; checking the log and the database"
 summ=$(grep -a "s flown in" "$out/fly.err" | tail -1 | sed 's/^.*fly: //')
 wake=$(grep -a "wake-up after the deadline" "$out/fly.err" | tail -1 | sed 's/^fly: //')
-lcms=$(grep -a "^fly: LCM" "$out/fly.err" | tail -1 | sed 's/^fly: //' | cut -c1-400 | tr -d '"\\')
+lcms=$(grep -a "^fly: LCM" "$out/fly.err" | tail -1 | sed 's/^fly: //' | cut -c1-1200 | tr -d '"\\')
 left=$(ls "$out" | grep -c '\.tmp')
 ios_acc=$(grep -c '^ok:' "$out/ios.log" 2> /dev/null) ios_ref=$(grep -c '^refused:' "$out/ios.log" 2> /dev/null)
 ios_other=$(grep -v '^ok:\|^refused:\|^---' "$out/ios.log" 2> /dev/null | grep -c .)
