@@ -31,7 +31,9 @@
 # the figures printed. Everything runs in a private network namespace
 # (unshare -n: LCM's multicast on the namespace's loopback; root or user
 # namespaces needed). A terminal gets one progress line; otherwise quiet.
-# Exit 0 when the loop ran to its end (exit 0) and every check held.
+# Exit 0 when the loop ran to its end (exit 0) and every check held; a
+# loop still running at 1.5 times DURATION and 5 minutes more is stopped
+# with SIGTERM and the run fails.
 # usage: bench/soak/soak.sh [DURATION_S] [OUT_DIR] [--build DIR] [--db-from DB]
 #        from the source root (OUT_DIR: soak-out; DIR: build, with
 #        -DDISIM_BENCH=ON for soak_tx and soak_check)
@@ -146,9 +148,16 @@ rnd() { od -An -N2 -tu2 /dev/urandom | tr -d ' '; }
 next_kill=$((t0 + kmin + $(rnd) % kspan))
 next_ios=$((t0 + 30))
 ios_runs=0 ios_ok=0 ios_pid=
+# a loop still running at 1.5 times its duration and 5 minutes more is
+# stopped with SIGTERM (it is stuck: paused or stopped for good) and fails
+limit=$((dur * 3 / 2 + 300)) overtime=0
 rss0= fd0= rss1= fd1= # the loop's resident memory (kB) and open files, 10 s in and at the last look
 while kill -0 "$fpid" 2> /dev/null; do
     now=$(date +%s)
+    if [ $((now - t0)) -ge "$limit" ] && [ $overtime -eq 0 ]; then
+        overtime=1
+        kill -TERM "$fpid"
+    fi
     if [ "$now" -ge "$next_kill" ]; then
         kill -KILL "$bpid" 2> /dev/null
         wait "$bpid" 2> /dev/null
@@ -202,19 +211,21 @@ lcms=$(grep -a "^fly: LCM" "$out/fly.err" | tail -1 | sed 's/^fly: //' | cut -c1
 left=$(ls "$out" | grep -c '\.tmp')
 ios_acc=$(grep -c '^ok:' "$out/ios.log" 2> /dev/null) ios_ref=$(grep -c '^refused:' "$out/ios.log" 2> /dev/null)
 ios_other=$(grep -v '^ok:\|^refused:\|^---' "$out/ios.log" 2> /dev/null | grep -c .)
+ios_acc=${ios_acc:-0} ios_ref=${ios_ref:-0}
 "$chk" --log "$out/run.lcm" --sent "$out/sent.json" --good soak-good --db "$out/db" --json "$out/summary.json" \
     --md "$out/summary.md" --extra "duration_s=$dur" --extra "wall_s=$((t1 - t0))" --extra "fly_exit=$frc" \
     --extra "builder_restarts=$restarts" --extra "builder_last_exit=$brc" --extra "db_fields_at_start=$nfields" \
     --extra "ios_runs=$ios_runs" --extra "ios_runs_all_accepted=$ios_ok" --extra "ios_commands_ok=$ios_acc" \
     --extra "ios_commands_refused=$ios_ref" --extra "ios_other_lines=$ios_other" --extra "steal_ms=$steal_ms" \
     --extra "seconds_with_steal=$steal_s" --timeline "$out/timeline.csv" --extra "fly_summary=$summ" \
-    --extra "fly_lcm=$lcms" --extra "temporaries_beside_log=$left" \
+    --extra "fly_lcm=$lcms" --extra "temporaries_beside_log=$left" --extra "stopped_overtime=$overtime" \
     --extra "fly_wakeup=$wake" --extra "fly_rss_kB=${rss0:-?} at 10 s, ${rss1:-?} at the end" \
     --extra "fly_open_files=${fd0:-?} at 10 s, ${fd1:-?} at the end"
 crc=$?
 {
     echo
-    echo "The run: $dur s flown ($((t1 - t0)) s of wall time), disim fly exit $frc; builder killed and restarted $restarts times (last exit $brc on SIGTERM); $ios_runs instructor scripts ($ios_acc commands accepted, $ios_ref refused, $ios_other other lines: not answered, errors), $ios_ok with every command accepted; $left temporary files beside the log; the host stole $steal_ms ms of CPU, in $steal_s of the run's seconds; the loop's resident memory ${rss0:-?} kB 10 s in, ${rss1:-?} kB at the end, its open files ${fd0:-?} and ${fd1:-?}."
+    [ $overtime -eq 1 ] && echo "FAILED: the loop had not ended after $limit s of wall time: stopped with SIGTERM."
+    echo "The run: $dur s of run time asked ($((t1 - t0)) s of wall time), disim fly exit $frc; builder killed and restarted $restarts times (last exit $brc on SIGTERM); $ios_runs instructor scripts ($ios_acc commands accepted, $ios_ref refused, $ios_other other lines: not answered, errors), $ios_ok with every command accepted; $left temporary files beside the log; the host stole $steal_ms ms of CPU, in $steal_s of the run's seconds; the loop's resident memory ${rss0:-?} kB 10 s in, ${rss1:-?} kB at the end, its open files ${fd0:-?} and ${fd1:-?}."
     echo
     echo "disim fly: $summ; $wake"
     echo
@@ -223,4 +234,4 @@ crc=$?
     echo "Station soak-good: $(tail -1 "$out/station.out" | cut -c1-300)"
 } >> "$out/summary.md"
 cat "$out/summary.md"
-[ "$frc" -eq 0 ] && [ "$crc" -eq 0 ] && [ "$left" -eq 0 ]
+[ "$frc" -eq 0 ] && [ "$crc" -eq 0 ] && [ "$left" -eq 0 ] && [ $overtime -eq 0 ]

@@ -59,6 +59,8 @@ typedef struct tally {
     long long pilot_genuine, pilot_other, ctl_ios, ctl_ios_acc, ctl_ios_ref, ctl_undecoded, ctl_other;
     long long events, bytes, published, published_bad, statuses, heli, ship, run_info, other_ch;
     long long good_max_seq;
+    double good_t_s;            /* run time of the last genuine message */
+    long long spoof_after_silence; /* replays and jumps more than 0.5 s after it (the restart rule may take one) */
     /* what had arrived when the last status was sent (the loop's counts in it cover those) */
     long long snap_arrived[SOAK_NCLASS], snap_events, snap_genuine, snap_pilot_other, snap_ios;
     /* the longest application of each command (sim_status_t control_apply_s), s */
@@ -107,7 +109,7 @@ static int fingerprint_is(const unsigned char *b, int n, int64_t hash)
 
 static int id_is(const char *id, const char *prefix) { return !strncmp(id, prefix, strlen(prefix)); }
 
-static void pilot_class(tally *t, const char *good, const unsigned char *b, int n)
+static void pilot_class(tally *t, const char *good, const unsigned char *b, int n, double t_s)
 {
     if (disim_lcm_check_raw("pilot_input_t", b, n, NULL, 0) != 0) {
         /* a cut message of soak-trunc keeps its id; anything else is random */
@@ -127,8 +129,12 @@ static void pilot_class(tally *t, const char *good, const unsigned char *b, int 
         if (m.seq > t->good_max_seq && m.seq - t->good_max_seq <= 1000000LL) {
             t->pilot_genuine++;
             t->good_max_seq = m.seq;
-        } else
+            t->good_t_s = t_s;
+        } else {
+            if (t_s - t->good_t_s > 0.5 + 1e-9)
+                t->spoof_after_silence++;
             t->arrived[m.seq <= t->good_max_seq ? SOAK_PILOT_REPLAY : SOAK_PILOT_AHEAD]++;
+        }
     } else if (!strcmp(m.station_id, "soak-trunc"))
         t->arrived[SOAK_PILOT_TRUNC]++;
     else if (!strcmp(m.station_id, "soak-nan"))
@@ -251,7 +257,7 @@ static int read_log(tally *t, const char *path, const char *good, char *fail, si
         const unsigned char *b = ev->data;
         int ok = 1;
         if (!strcmp(ev->channel, DISIM_CH_PILOT_INPUT))
-            pilot_class(t, good, b, ev->datalen);
+            pilot_class(t, good, b, ev->datalen, t_s);
         else if (!strcmp(ev->channel, DISIM_CH_SIM_CONTROL))
             ctl_class(t, b, ev->datalen);
         else if (!strcmp(ev->channel, DISIM_CH_SIM_STATUS)) {
@@ -524,6 +530,7 @@ static void write_json(FILE *f, const tally *t, const char *good, const dbcheck 
                 c ? "," : "", soak_class_name[c], t->sent[c], t->snap_arrived[c], t->accepted[c], t->refused_ans[c]);
     fprintf(f, "\n  },\n  \"ios\": {\"arrived\": %lld, \"accepted\": %lld, \"refused\": %lld},\n", t->snap_ios,
             t->ctl_ios_acc, t->ctl_ios_ref);
+    fprintf(f, "  \"genuine_spoofs_after_silence\": %lld,\n", t->spoof_after_silence);
     fprintf(f, "  \"heli_state_gaps_running\": {\"n\": %lld, \"p50_ms\": %.0f, \"p99_ms\": %.0f, \"max_ms\": %.1f, "
                "\"over_100ms\": %lld},\n",
             t->heli_gap_n, t->heli_gap[0], t->heli_gap[1], t->heli_gap[2], t->heli_gap_over);
