@@ -292,6 +292,11 @@ typedef struct core_ini_entry {
  * UTF-8 (file, line and column named), a syntax error. Numbers are read
  * as decimal only (no 0x14, inf or nan). */
 core_ini *core_ini_load(const char *path, core_err *err);
+/* The same reader on text already in memory (len bytes, no NUL needed at
+ * its end): path names it in every message and its folder is where
+ * core_ini_get_path resolves relative paths. core_ini_load reads the file
+ * whole and parses it here. */
+core_ini *core_ini_parse(const char *text, size_t len, const char *path, core_err *err);
 void core_ini_destroy(core_ini *ini);
 const char *core_ini_path(const core_ini *ini);
 size_t core_ini_count(const core_ini *ini);

@@ -25,10 +25,10 @@ struct core_ini {
 };
 
 typedef struct reader_state {
-    FILE *f;
+    const unsigned char *p; /* the text, len bytes; pos: the next to read */
+    size_t len, pos;
     int line;
     int too_long_line; /* first line that did not fit inih's buffer */
-    int read_errno;    /* a read error (EIO): inih would take it for the end */
     int bad_line, bad_col, bad_byte; /* the first byte that is not text */
     const char *bad_why;
 } reader_state;
@@ -94,38 +94,32 @@ static void check_text(reader_state *rs, const unsigned char *s, size_t len, int
 
 /* inih calls the reader once per line; counting calls gives the line number
  * the handler is about to see (the Debian build has no INI_HANDLER_LINENO).
- * The line is read byte by byte, as fgets would hide a NUL in it; the first
- * byte that is not text ends the reading (the file is refused). */
+ * The line is copied byte by byte up to its LF, as a NUL in it must be seen;
+ * the first byte that is not text ends the reading (the text is refused). */
 static char *reader(char *str, int num, void *stream)
 {
     reader_state *rs = stream;
-    if (rs->bad_line)
+    if (rs->bad_line || rs->pos >= rs->len)
         return NULL;
     size_t len = 0;
-    int c = EOF;
-    while (len + 1 < (size_t)num && (c = getc(rs->f)) != EOF) {
-        str[len++] = (char)c;
+    while (len + 1 < (size_t)num && rs->pos < rs->len) {
+        char c = (char)rs->p[rs->pos++];
+        str[len++] = c;
         if (c == '\n')
             break;
-    }
-    if (len == 0) {
-        if (ferror(rs->f) && !rs->read_errno)
-            rs->read_errno = errno ? errno : EIO;
-        return NULL;
     }
     str[len] = '\0';
     rs->line++;
     int full = len + 1 == (size_t)num && str[len - 1] != '\n';
     check_text(rs, (const unsigned char *)str, len, full);
-    if (full) {
-        int next = getc(rs->f);
-        if (next != EOF && next != '\n') {
-            if (!rs->too_long_line)
-                rs->too_long_line = rs->line;
-            while ((next = getc(rs->f)) != EOF && next != '\n')
-                ;
-        }
+    if (full && rs->pos < rs->len && rs->p[rs->pos] != '\n') {
+        if (!rs->too_long_line)
+            rs->too_long_line = rs->line;
+        while (rs->pos < rs->len && rs->p[rs->pos] != '\n')
+            rs->pos++;
     }
+    if (full && rs->pos < rs->len)
+        rs->pos++; /* the LF that ends the long line */
     if (rs->bad_line)
         str[0] = '\0'; /* inih sees an empty line, then the end */
     return str;
@@ -183,7 +177,9 @@ static int handler(void *user, const char *section, const char *name, const char
     return 1;
 }
 
-core_ini *core_ini_load(const char *path, core_err *err)
+/* The whole of a regular file of at most max bytes into a new buffer (NUL
+ * added), its size in *len; NULL with err. */
+static char *read_whole(const char *path, long long max, size_t *len, core_err *err)
 {
     /* O_NONBLOCK: a FIFO opens at once (and is then refused) */
     int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
@@ -197,26 +193,83 @@ core_ini *core_ini_load(const char *path, core_err *err)
         close(fd);
         return NULL;
     }
-    if (core_file_check_stat(path, &st, CORE_INI_MAX_BYTES, err)) {
+    if (core_file_check_stat(path, &st, max, err)) {
         close(fd);
         return NULL;
     }
-    FILE *f = fdopen(fd, "r");
-    if (!f) {
-        core_err_set(err, -1, "%s: cannot read: %s", path, strerror(errno));
-        close(fd);
+    /* the size read, not the size stat gave: a file that grows meanwhile
+     * is read up to max and refused past it */
+    size_t cap = (size_t)st.st_size + 1, n = 0;
+    char *buf = malloc(cap + 1);
+    while (buf) {
+        if (n == cap) {
+            if ((long long)n > max) {
+                core_err_set(err, -1, "%s: larger than the %lld bytes a file of this kind may have", path, max);
+                break;
+            }
+            size_t ncap = 2 * cap > (size_t)max + 1 ? (size_t)max + 1 : 2 * cap;
+            char *nb = ncap > cap ? realloc(buf, ncap + 1) : NULL;
+            if (!nb) {
+                if (ncap > cap)
+                    core_err_set(err, -1, "%s: out of memory", path);
+                else
+                    core_err_set(err, -1, "%s: larger than the %lld bytes a file of this kind may have", path,
+                                 max);
+                break;
+            }
+            buf = nb;
+            cap = ncap;
+        }
+        ssize_t r = read(fd, buf + n, cap - n);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r < 0) {
+            /* what was read is only the start of the file: optional keys
+             * after it would silently take their defaults */
+            core_err_set(err, -1, "%s: cannot read: %s", path, strerror(errno));
+            break;
+        }
+        if (r == 0) {
+            close(fd);
+            buf[n] = '\0';
+            *len = n;
+            return buf;
+        }
+        n += (size_t)r;
+    }
+    if (!buf)
+        core_err_set(err, -1, "%s: out of memory", path);
+    free(buf);
+    close(fd);
+    return NULL;
+}
+
+core_ini *core_ini_load(const char *path, core_err *err)
+{
+    size_t len = 0;
+    char *text = read_whole(path, CORE_INI_MAX_BYTES, &len, err);
+    if (!text)
+        return NULL;
+    core_ini *ini = core_ini_parse(text, len, path, err);
+    free(text);
+    return ini;
+}
+
+core_ini *core_ini_parse(const char *text, size_t len, const char *path, core_err *err)
+{
+    if ((long long)len > CORE_INI_MAX_BYTES) {
+        core_err_set(err, -1, "%s: %zu bytes, larger than the %lld bytes a file of this kind may have", path, len,
+                     CORE_INI_MAX_BYTES);
         return NULL;
     }
     core_ini *ini = calloc(1, sizeof *ini);
     if (!ini) {
-        fclose(f);
         core_err_set(err, -1, "%s: out of memory", path);
         return NULL;
     }
     ini->path = strdup(path);
     ini->dir = strdup(path);
     if (!ini->path || !ini->dir) {
-        fclose(f);
         core_ini_destroy(ini);
         core_err_set(err, -1, "%s: out of memory", path);
         return NULL;
@@ -226,18 +279,9 @@ core_ini *core_ini_load(const char *path, core_err *err)
         slash[1] = '\0';
     else
         ini->dir[0] = '\0';
-    reader_state rs = {f, 0, 0, 0, 0, 0, 0, NULL};
+    reader_state rs = {(const unsigned char *)text, len, 0, 0, 0, 0, 0, 0, NULL};
     load_ctx c = {ini, &rs, 0, 0, 0, "", ""};
-    errno = 0;
     int rc = ini_parse_stream(reader, &rs, handler, &c);
-    fclose(f);
-    if (rs.read_errno) {
-        /* what was read is only the start of the file: optional keys after
-         * it would silently take their defaults */
-        core_err_set(err, -1, "%s: cannot read: %s", path, strerror(rs.read_errno));
-        core_ini_destroy(ini);
-        return NULL;
-    }
     if (rs.bad_line) {
         if (rs.bad_byte == 0)
             core_err_set(err, -1, "%s:%d:%d: %s: expected text", path, rs.bad_line, rs.bad_col,
