@@ -177,77 +177,10 @@ static int handler(void *user, const char *section, const char *name, const char
     return 1;
 }
 
-/* The whole of a regular file of at most max bytes into a new buffer (NUL
- * added), its size in *len; NULL with err. */
-static char *read_whole(const char *path, long long max, size_t *len, core_err *err)
-{
-    /* O_NONBLOCK: a FIFO opens at once (and is then refused) */
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) {
-        core_err_set(err, -1, "%s: cannot open: %s", path, strerror(errno));
-        return NULL;
-    }
-    struct stat st;
-    if (fstat(fd, &st) != 0) {
-        core_err_set(err, -1, "%s: cannot read: %s", path, strerror(errno));
-        close(fd);
-        return NULL;
-    }
-    if (core_file_check_stat(path, &st, max, err)) {
-        close(fd);
-        return NULL;
-    }
-    /* the size read, not the size stat gave: a file that grows meanwhile
-     * is read up to max and refused past it */
-    size_t cap = (size_t)st.st_size + 1, n = 0;
-    char *buf = malloc(cap + 1);
-    while (buf) {
-        if (n == cap) {
-            if ((long long)n > max) {
-                core_err_set(err, -1, "%s: larger than the %lld bytes a file of this kind may have", path, max);
-                break;
-            }
-            size_t ncap = 2 * cap > (size_t)max + 1 ? (size_t)max + 1 : 2 * cap;
-            char *nb = ncap > cap ? realloc(buf, ncap + 1) : NULL;
-            if (!nb) {
-                if (ncap > cap)
-                    core_err_set(err, -1, "%s: out of memory", path);
-                else
-                    core_err_set(err, -1, "%s: larger than the %lld bytes a file of this kind may have", path,
-                                 max);
-                break;
-            }
-            buf = nb;
-            cap = ncap;
-        }
-        ssize_t r = read(fd, buf + n, cap - n);
-        if (r < 0 && errno == EINTR)
-            continue;
-        if (r < 0) {
-            /* what was read is only the start of the file: optional keys
-             * after it would silently take their defaults */
-            core_err_set(err, -1, "%s: cannot read: %s", path, strerror(errno));
-            break;
-        }
-        if (r == 0) {
-            close(fd);
-            buf[n] = '\0';
-            *len = n;
-            return buf;
-        }
-        n += (size_t)r;
-    }
-    if (!buf)
-        core_err_set(err, -1, "%s: out of memory", path);
-    free(buf);
-    close(fd);
-    return NULL;
-}
-
 core_ini *core_ini_load(const char *path, core_err *err)
 {
     size_t len = 0;
-    char *text = read_whole(path, CORE_INI_MAX_BYTES, &len, err);
+    char *text = core_file_read(path, CORE_INI_MAX_BYTES, &len, err);
     if (!text)
         return NULL;
     core_ini *ini = core_ini_parse(text, len, path, err);
