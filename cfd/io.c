@@ -22,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 struct cfd_field {
@@ -431,7 +432,12 @@ static int read_ds(hid_t ds, const char *path, const char *name, hid_t type, voi
 cfd_field *cfd_field_load(const char *path, core_err *err)
 {
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
-    if (core_file_regular(path, -1, err) != 0)
+    struct stat st;
+    if (stat(path, &st) != 0) {
+        core_err_set(err, -1, "%s: cannot open: %s", path, strerror(errno));
+        return NULL;
+    }
+    if (core_file_check_stat(path, &st, -1, err) != 0)
         return NULL;
     if (access(path, R_OK)) {
         core_err_set(err, -1, "%s: cannot read the file", path);
@@ -458,6 +464,11 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
         core_err_set(err, -1, "%s: group /grid or /fields missing (not a disim airwake field)", path);
         goto fail;
     }
+    /* what the extents call for must be in the file (the nodes, the solid
+     * mask and every variable, uncompressed): a damaged header declaring a
+     * billion nodes is refused here, not by an allocation of gigabytes */
+    const unsigned long long fsize = (unsigned long long)st.st_size, per_cell = 1 + CFD_NVARS * sizeof(double);
+    unsigned long long need = 0;
     for (int d = 0; d < 3; d++) {
         hsize_t np = 0;
         if ((nds[d] = open_ds(f, path, nn[d], 1, &np, err)) < 0)
@@ -468,9 +479,11 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
             goto fail;
         }
         n[d] = (int)(np - 1);
-        if ((size_t)n[d] > SIZE_MAX / sizeof(double) / nc) {
-            core_err_set(err, -1, "%s: grid of %d x %d x %d cells: too many cells to hold in memory", path,
-                         n[0], d > 0 ? n[1] : 1, d > 1 ? n[2] : 1);
+        need += (unsigned long long)np * sizeof(double);
+        if (need > fsize || (size_t)n[d] > fsize / per_cell / nc) {
+            core_err_set(err, -1, "%s: grid of %d x %d x %d cells: its data need more than the file's %llu bytes "
+                                  "(a truncated or damaged field)", path, n[0], d > 0 ? n[1] : 1, d > 1 ? n[2] : 1,
+                         fsize);
             goto fail;
         }
         nc *= (size_t)n[d];
