@@ -7,8 +7,11 @@
  *   sim_control/  one encoded sim_control_t of every command
  *   lcm_log/      a short LCM log of a run (run_info_t, heli_state_t,
  *                 ship_state_t, pilot_input_t, sim_status_t, sim_control_t)
+ *   field/        a small airwake field (a 4 x 3 x 2-cell channel after a
+ *                 few solver iterations) by cfd_solver_write, checksum in
  * tests/fuzz/seeds.sh runs it and adds the repository's text files.
  * Usage: fuzz_seeds DIR */
+#include "cfd.h"
 #include "disim_lcm.h"
 
 #include <lcm/lcm.h>
@@ -269,6 +272,49 @@ static void lcm_log_seeds(void)
     lcm_eventlog_destroy(lg);
 }
 
+static void field_seeds(void)
+{
+    core_err err = {0};
+    cfd_config cfg;
+    cfd_config_default(&cfg);
+    cfg.turbulence = 1;
+    cfg.nu_m2ps = 1e-3;
+    cfg.bc[CFD_XMIN].type = CFD_BC_INLET;
+    cfg.bc[CFD_XMAX].type = CFD_BC_OUTLET;
+    cfg.inflow.vel_mps[0] = 1.0;
+    cfg.max_iter = 3;
+    cfd_axis_spec ax[3] = {{0, 4, 0, 4, 1.0, 1.0, 1.0}, {0, 1, 0, 1, 0.34, 0.34, 1.0}, {0, 1, 0, 1, 0.5, 0.5, 1.0}};
+    cfd_grid *g = cfd_grid_create_spec(ax, &err);
+    cfd_solver *s = g ? cfd_solver_create(g, &cfg, &err) : NULL;
+    cfd_result res;
+    if (!s || cfd_solver_run(s, &res, &err) < 0) {
+        fprintf(stderr, "fuzz_seeds: the field: %s\n", err.msg);
+        exit(1);
+    }
+    cfd_meta meta;
+    memset(&meta, 0, sizeof meta);
+    meta.wod_speed_mps = 1.0;
+    meta.wod_dir_deg = -30.0;
+    snprintf(meta.ship, sizeof meta.ship, "channel");
+    snprintf(meta.rotor, sizeof meta.rotor, "off");
+    snprintf(meta.grid, sizeof meta.grid, "test");
+    meta.result = res;
+    char path[1024];
+    snprintf(path, sizeof path, "%s/field", root);
+    if (mkdir(path, 0755) != 0 && errno != EEXIST) {
+        perror(path);
+        exit(1);
+    }
+    snprintf(path, sizeof path, "%s/field/channel.h5", root);
+    if (cfd_solver_write(s, &meta, path, &err) != 0) {
+        fprintf(stderr, "fuzz_seeds: %s\n", err.msg);
+        exit(1);
+    }
+    snprintf(path, sizeof path, "%s/field/channel.xmf", root);
+    remove(path); /* the XDMF side file is not read */
+    cfd_solver_destroy(s);
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -283,5 +329,6 @@ int main(int argc, char **argv)
     lcm_msg_seeds();
     sim_control_seeds();
     lcm_log_seeds();
+    field_seeds();
     return 0;
 }
