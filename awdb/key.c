@@ -18,6 +18,14 @@
 #include <string.h>
 
 static double round_to(double v, double q) { return q * nearbyint(v / q); }
+/* v (in [lo, hi]) rounded to a multiple of q inside [lo, hi] (lo and hi
+ * multiples of q): a value near a limit must not round past it, or the
+ * canonical key would be refused when read back (its request file, a
+ * second canon) */
+static double round_in(double v, double q, double lo, double hi)
+{
+    return round_to(v < lo ? lo : v > hi ? hi : v, q) + 0.0;
+}
 
 static int name_ok(const char *s, int allow_empty)
 {
@@ -85,14 +93,15 @@ int awdb_key_canon(awdb_key *k, core_err *err)
         /* A ship-only field in a deck zone: the zone's box is the rotor's
          * reach from the station, so station and radius name it. */
         k->thrust_N = k->shaft_pitch_rad = k->shaft_roll_rad = 0.0;
-        k->radius_m = round_to(k->radius_m, 0.01);
+        k->radius_m = round_in(k->radius_m, 0.01, 0.11, 49.99); /* inside (0.1, 50) */
         for (int i = 0; i < 3; i++)
             k->station_S_m[i] = round_to(k->station_S_m[i], 0.01) + 0.0;
     } else {
         k->thrust_N = round_to(k->thrust_N, 1.0);
-        k->radius_m = round_to(k->radius_m, 0.01);
-        k->shaft_pitch_rad = round_to(k->shaft_pitch_rad * CORE_RAD_TO_DEG, 0.1) * CORE_DEG_TO_RAD + 0.0;
-        k->shaft_roll_rad = round_to(k->shaft_roll_rad * CORE_RAD_TO_DEG, 0.1) * CORE_DEG_TO_RAD + 0.0;
+        k->radius_m = round_in(k->radius_m, 0.01, 0.11, 49.99);
+        /* 0.1 deg steps within 1 rad (57.2958 deg): at most 57.2 deg */
+        k->shaft_pitch_rad = round_in(k->shaft_pitch_rad * CORE_RAD_TO_DEG, 0.1, -57.2, 57.2) * CORE_DEG_TO_RAD + 0.0;
+        k->shaft_roll_rad = round_in(k->shaft_roll_rad * CORE_RAD_TO_DEG, 0.1, -57.2, 57.2) * CORE_DEG_TO_RAD + 0.0;
         for (int i = 0; i < 3; i++)
             k->station_S_m[i] = round_to(k->station_S_m[i], 0.01) + 0.0; /* no -0 */
     }
