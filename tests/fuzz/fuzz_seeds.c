@@ -7,10 +7,14 @@
  *   sim_control/  one encoded sim_control_t of every command
  *   lcm_log/      a short LCM log of a run (run_info_t, heli_state_t,
  *                 ship_state_t, pilot_input_t, sim_status_t, sim_control_t)
+ *   awdb/         the database's records by awdb_key_format, with the
+ *                 harness's kind byte first (0 a request, 1 a checksum
+ *                 record): ship-only, a uniform rotor, a loaded rotor, a zone
  *   field/        a small airwake field (a 4 x 3 x 2-cell channel after a
  *                 few solver iterations) by cfd_solver_write, checksum in
  * tests/fuzz/seeds.sh runs it and adds the repository's text files.
  * Usage: fuzz_seeds DIR */
+#include "awdb_private.h"
 #include "cfd.h"
 #include "disim_lcm.h"
 
@@ -315,6 +319,44 @@ static void field_seeds(void)
     cfd_solver_destroy(s);
 }
 
+static void awdb_seeds(void)
+{
+    for (int i = 0; i < 4; i++) {
+        awdb_key k;
+        memset(&k, 0, sizeof k);
+        snprintf(k.ship, sizeof k.ship, "%s", i == 3 ? "CG-47.isolated" : "CG-47");
+        snprintf(k.aircraft, sizeof k.aircraft, "%s", i == 0 ? "" : "UH-60A");
+        k.wod_speed_mps = 15.0;
+        k.wod_dir_rad = -0.5236;
+        k.grid = CORE_GRID_COARSE;
+        k.rotor = i == 1 ? CORE_ROTOR_UNIFORM : i == 2 ? CORE_ROTOR_LOADED : CORE_ROTOR_OFF;
+        k.station_S_m[0] = -2.0;
+        k.station_S_m[2] = -6.0;
+        k.radius_m = i ? 8.18 : 0.0;
+        k.thrust_N = k.rotor != CORE_ROTOR_OFF ? 72950.0 : 0.0;
+        k.zone_ref_mps = i == 3 ? 15.0 : 0.0;
+        if (k.rotor == CORE_ROTOR_LOADED) {
+            for (int j = 0; j < AWDB_LOAD_NR * AWDB_LOAD_NPSI; j++)
+                k.load[j] = 1.0;
+            for (int j = 0; j < AWDB_LOAD_NR; j++)
+                k.swirl[j] = 0.5;
+            k.torque_Nm = 35000.0;
+            k.root_cut = 0.1;
+            k.ccw_from_above = 1;
+        }
+        char text[8192], name[32];
+        text[0] = 0;
+        awdb_key_format(&k, text + 1, sizeof text - 1);
+        snprintf(name, sizeof name, "request_%d", i);
+        put("awdb", name, (const unsigned char *)text, strlen(text + 1) + 1);
+        char sum[8400];
+        sum[0] = 1;
+        int n = snprintf(sum + 1, sizeof sum - 1, "[field]\nsize = 123456\ncrc64 = 0123456789abcdef\n\n%s", text + 1);
+        snprintf(name, sizeof name, "sum_%d", i);
+        put("awdb", name, (const unsigned char *)sum, (size_t)n + 1);
+    }
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -330,5 +372,6 @@ int main(int argc, char **argv)
     sim_control_seeds();
     lcm_log_seeds();
     field_seeds();
+    awdb_seeds();
     return 0;
 }
