@@ -4,7 +4,11 @@
  * newest), disim_lcm_check_raw, lcm-gen's decoder, the type's own check
  * (pilot_input_t, sim_control_t, airwake_request_t) and, for
  * pilot_input_t, the pilot stations' rules (sim_pilots_offer, which peeks
- * at the station id of a refused buffer and does the seq arithmetic).
+ * at the station id of a refused buffer and does the seq arithmetic); a
+ * heli_state_t or sim_status_t also goes to a pilot station as its LCM
+ * handler gives it (sim_station_receive: checked, decoded, its values
+ * checked, taken into the view), and the view is formatted for a
+ * terminal and for a log (sim_station_format).
  *
  * Input: one byte choosing the type (its value modulo the number of
  * types), then the buffer (its fingerprint first, as lcm_recv_buf_t
@@ -15,15 +19,46 @@
  * Checked, beyond no crash, hang, leak or sanitizer report: a buffer that
  * check_raw takes decodes to exactly its size, every string it holds ends
  * inside the message, and it encodes back to the same bytes (the check and
- * the decoder agree on the wire layout); sim_pilots's counts stay >= 0. */
+ * the decoder agree on the wire layout); sim_pilots's counts stay >= 0;
+ * the station's line for a log holds no control character (no text from
+ * the network reaches a terminal raw). */
 #include "disim_lcm.h"
 #include "sim.h"
 
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+int LLVMFuzzerInitialize(int *argc, char ***argv);
+
+static sim_station *station;
+
+int LLVMFuzzerInitialize(int *argc, char ***argv)
+{
+    (void)argc, (void)argv;
+    sim_station_opts o = {"fuzz-station", "memq://"};
+    core_err err = {0};
+    if (!(station = sim_station_create(&o, &err))) {
+        fprintf(stderr, "fuzz_lcm_msg: %s\n", err.msg);
+        exit(1);
+    }
+    return 0;
+}
+
+/* what the station shows of a received buffer */
+static void station_view(const char *channel, const void *buf, int size)
+{
+    sim_station_receive(station, channel, buf, size);
+    const sim_station_view *v = sim_station_get_view(station);
+    static char text[16384];
+    sim_station_format(v, "fuzz", 0, text, sizeof text);
+    for (const unsigned char *p = (const unsigned char *)text; *p; p++)
+        if (*p < 0x20 || *p == 0x7F)
+            abort(); /* a control character in the line for a log: text from the network shown raw */
+    sim_station_format(v, "fuzz", 1, text, sizeof text);
+}
 
 /* Decode, check the strings, encode again and compare. 0 when check_raw
  * refused it (not decoded, as every receiver does), 1 when taken. */
@@ -128,6 +163,10 @@ static void one(size_t t, const uint8_t *buf, int size)
     if (un > 0)
         types[t].rt(up, un);
     types[t].rt(buf, size);
+    if (!strcmp(types[t].type, "heli_state_t"))
+        station_view(DISIM_CH_HELI_STATE, buf, size);
+    else if (!strcmp(types[t].type, "sim_status_t"))
+        station_view(DISIM_CH_SIM_STATUS, buf, size);
 }
 
 static void pilots(const uint8_t *data, size_t size)
