@@ -27,11 +27,16 @@ static double round_in(double v, double q, double lo, double hi)
     return round_to(v < lo ? lo : v > hi ? hi : v, q) + 0.0;
 }
 
+/* A name in a file stem: letters, digits, '-', '_', '.', not starting with
+ * '.' (the database's listings skip hidden files and temporaries: a ship
+ * ".x" would have fields built that no listing or nearest search sees). */
 static int name_ok(const char *s, int allow_empty)
 {
     size_t n = strlen(s);
     if (n == 0)
         return allow_empty;
+    if (s[0] == '.')
+        return 0;
     for (size_t i = 0; i < n; i++)
         if (!isalnum((unsigned char)s[i]) && s[i] != '-' && s[i] != '_' && s[i] != '.')
             return 0;
@@ -41,9 +46,9 @@ static int name_ok(const char *s, int allow_empty)
 int awdb_key_canon(awdb_key *k, core_err *err)
 {
     if (!name_ok(k->ship, 0))
-        return core_err_set(err, -1, "airwake key: ship '%s': expected letters, digits, '-', '_' or '.'", k->ship);
+        return core_err_set(err, -1, "airwake key: ship '%s': expected letters, digits, '-', '_' or '.', not starting with '.'", k->ship);
     if (!name_ok(k->aircraft, 1))
-        return core_err_set(err, -1, "airwake key: aircraft '%s': expected letters, digits, '-', '_' or '.'", k->aircraft);
+        return core_err_set(err, -1, "airwake key: aircraft '%s': expected letters, digits, '-', '_' or '.', not starting with '.'", k->aircraft);
     if (!isfinite(k->wod_speed_mps) || k->wod_speed_mps < 0.0 || k->wod_speed_mps > 100.0)
         return core_err_set(err, -1, "airwake key: wod_speed_mps = %g: expected 0 to 100", k->wod_speed_mps);
     if (!isfinite(k->wod_dir_rad))

@@ -296,6 +296,14 @@ static void test_keys(void)
         }
         CHECK(fabs(e1.shaft_roll_rad) <= 1.0 && fabs(e1.shaft_pitch_rad) <= 1.0 && e2.radius_m < 50.0);
     }
+    /* a name starting with '.' would make a hidden field file that the
+     * database's listings skip (the fuzzer's find: ship ".i-GC47") */
+    bad = key(10, 0);
+    snprintf(bad.ship, sizeof bad.ship, ".i-GC47");
+    CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "ship '.i-GC47'") != NULL);
+    bad = key(10, 0);
+    snprintf(bad.aircraft, sizeof bad.aircraft, ".UH-60A");
+    CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "aircraft '.UH-60A'") != NULL);
     bad = key(10, 0);
     snprintf(bad.ship, sizeof bad.ship, "a/b");
     CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "ship 'a/b'") != NULL);
