@@ -317,21 +317,38 @@ static int referenced_files(core_ini *ini, sim_scenario *sc, core_err *err)
     return 0;
 }
 
-int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
+/* the path names the scenario in every later message and report: a cut
+ * one would name another file */
+static int set_path(sim_scenario *sc, const char *path, core_err *err)
 {
-    memset(sc, 0, sizeof *sc);
-    /* the path names the scenario in every later message and report: a cut
-     * one would name another file */
     if (strlen(path) >= sizeof sc->path)
         return core_err_set(err, -1, "%.60s...: scenario path longer than %zu characters", path,
                             sizeof sc->path - 1);
     snprintf(sc->path, sizeof sc->path, "%s", path);
+    return 0;
+}
+
+int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
+{
+    memset(sc, 0, sizeof *sc);
+    if (set_path(sc, path, err) != 0)
+        return -1;
     /* a regular file of a sane size, so that a load (over LCM too) of
      * /dev/zero, a FIFO or a huge file is refused at once, unread */
     if (core_file_regular(path, SIM_SCENARIO_MAX_BYTES, err) != 0)
         return -1;
     core_ini *ini = core_ini_load(path, err);
     if (!ini)
+        return -1;
+    int rc = sim_scenario_from_ini(ini, sc, err);
+    core_ini_destroy(ini);
+    return rc;
+}
+
+int sim_scenario_from_ini(core_ini *ini, sim_scenario *sc, core_err *err)
+{
+    memset(sc, 0, sizeof *sc);
+    if (set_path(sc, core_ini_path(ini), err) != 0)
         return -1;
     int rc = 0;
     const char *S = "scenario";
@@ -364,7 +381,6 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
         goto out;
     rc = referenced_files(ini, sc, err);
 out:
-    core_ini_destroy(ini);
     return rc < 0 ? rc : 0;
 }
 

@@ -109,6 +109,10 @@ enum { SIM_SC_PILOT_STATION = 0, SIM_SC_PILOT_AUTO = 1, SIM_SC_PILOT_REPLAY = 2 
  * is refused before it is opened. */
 #define SIM_SCENARIO_MAX_BYTES (16LL * 1024 * 1024)
 int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err);
+/* The same on a scenario file already read (core_ini_load or
+ * core_ini_parse; the caller destroys it): its path names it and its
+ * folder is where the aircraft, ship and task files are looked for. */
+int sim_scenario_from_ini(core_ini *ini, sim_scenario *sc, core_err *err);
 
 /* Print the resolved configuration as INI-like text. */
 void sim_scenario_print(const sim_scenario *sc, FILE *out);
