@@ -21,7 +21,8 @@
  *
  * Rotor: the embedded solver's disk force per cell (cfd_solver_disk_force,
  * the Gaussian-smoothed uniform disk) grouped by force density into
- * FOAM_DISK_BANDS bands; each band is a cell zone with a
+ * FOAM_DISK_BANDS bands (cells below FOAM_DISK_TAIL of the peak density
+ * left out, their force given to the lowest band); each band is a cell zone with a
  * vectorSemiImplicitSource of the band's total force over rho, spread
  * evenly over the zone's volume (volumeMode absolute), so the total force
  * is the embedded solver's exactly and its spread across the disk to a
@@ -153,7 +154,8 @@ static void write_labels(writer *w, const size_t *lab, size_t n)
 }
 
 /* The disk's bands: band[c] in 0..FOAM_DISK_BANDS-1 for a fluid cell with
- * a force, -1 otherwise; force[b][3] the band's total (N), vol[b] its
+ * a force density of at least FOAM_DISK_TAIL of the peak, -1 otherwise (the
+ * tail's force is added to band 0's, so the total is the disk's); force[b][3] the band's total (N), vol[b] its
  * volume. Returns the cells with a force. */
 static size_t disk_bands(const cfd_solver *s, int *band, double force[][3], double *vol)
 {
@@ -180,6 +182,12 @@ static size_t disk_bands(const cfd_solver *s, int *band, double force[][3], doub
             }
             if (solid[c] || !(fm > 0.0))
                 continue;
+            if (dens < FOAM_DISK_TAIL * peak) {
+                /* the Gaussian's far tail: its force joins the lowest band */
+                for (int d = 0; d < 3; d++)
+                    force[0][d] += fd[d][c];
+                continue;
+            }
             int b = (int)(dens / peak * FOAM_DISK_BANDS);
             b = b < 0 ? 0 : b >= FOAM_DISK_BANDS ? FOAM_DISK_BANDS - 1 : b;
             band[c] = b;

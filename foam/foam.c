@@ -343,7 +343,7 @@ int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_met
     foam_log_info info;
     char logp[1200];
     snprintf(logp, sizeof logp, "%s/log.simpleFoam", res->case_dir);
-    if (!rc && foam_log_parse(logp, 1, &info) != 0)
+    if (!rc && foam_log_parse(logp, &info) != 0)
         rc = core_err_set(err, -1, "OpenFOAM step simpleFoam: %s has no iteration", logp);
     if (!rc)
         rc = foam_read_fields(res->case_dir, s, &res->cells, err);

@@ -13,6 +13,8 @@ extern const char *const foam_patch_names[CFD_NFACES];
 #define FOAM_SHIP_PATCH "ship"
 /* The disk's force bands (cell zones rotorBand0..); see case.c. */
 #define FOAM_DISK_BANDS 4
+/* Cells below this fraction of the peak force density are in no band. */
+#define FOAM_DISK_TAIL 0.01
 
 /* Write the case of solver s (the embedded solver's set-up of spec, its
  * state the inflow) into dir: system/, constant/, 0/. *has_ship: 1 when
@@ -43,7 +45,7 @@ typedef struct foam_log_info {
     int converged;
     char version[64];
 } foam_log_info;
-int foam_log_parse(const char *path, int whole, foam_log_info *info);
+int foam_log_parse(const char *path, foam_log_info *info);
 
 /* Read the latest time's U, p, k, epsilon, nut and cell centres C of the
  * reconstructed case and place them on s's grid (fluid cells matched by

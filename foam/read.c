@@ -53,9 +53,8 @@ static const char *last_of(const char *hay, const char *needle)
     return p;
 }
 
-int foam_log_parse(const char *path, int whole, foam_log_info *info)
+int foam_log_parse(const char *path, foam_log_info *info)
 {
-    (void)whole;
     memset(info, 0, sizeof *info);
     char *b = slurp(path, NULL);
     if (!b)
