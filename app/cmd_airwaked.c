@@ -237,8 +237,9 @@ typedef struct airwaked_args {
     const char *dir, *ships;
     long jobs, max_iter;
     int once, use_lcm;
-    int openfoam; /* --engine openfoam */
-    long np;      /* --np: its MPI ranks (0: 2) */
+    int openfoam;   /* --engine openfoam */
+    long np;        /* --np: its MPI ranks (0: 2) */
+    int jobs_given; /* --jobs given (else, with OpenFOAM, the cores over its ranks) */
 } airwaked_args;
 
 /* The flags into o: 0, or 2 (usage) after the message. */
@@ -255,6 +256,7 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
         if (!strcmp(a, "--jobs")) {
             char *end;
             o->jobs = strtol(argv[++i], &end, 10);
+            o->jobs_given = 1;
             if (*end || o->jobs < 1 || o->jobs > 64) {
                 fprintf(stderr, "disim airwaked: --jobs '%s': expected 1 to 64\n", argv[i]);
                 return 2;
@@ -313,13 +315,15 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
 int cmd_airwaked(int argc, char **argv)
 {
     long ncores = sysconf(_SC_NPROCESSORS_ONLN);
-    airwaked_args a = {NULL, "scenarios/ships", ncores, 0, 0, 1, 0, 0};
+    airwaked_args a = {NULL, "scenarios/ships", ncores, 0, 0, 1, 0, 0, 0};
     int prc = airwaked_parse(argc, argv, &a);
     if (prc != 0)
         return prc;
     const char *dir = a.dir, *ships = a.ships;
     long jobs = a.jobs, max_iter = a.max_iter;
     int once = a.once, use_lcm = a.use_lcm;
+    if (a.openfoam && !a.jobs_given) /* each build runs np ranks */
+        jobs = ncores / (a.np > 0 ? a.np : 2);
     if (jobs < 1)
         jobs = 1;
     app_log al = {"airwaked", 0};
