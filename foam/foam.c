@@ -467,7 +467,9 @@ static int engine_build(void *user, const awdb_key *k, const char *warm_path, co
     if (rc == 0)
         core_log_msg(o.log, CORE_LOG_INFO, "openfoam %s: %s v=%.2f dir=%.1f: %d iterations, %.0f s, %s", r.version,
                      k->ship, k->wod_speed_mps, k->wod_dir_rad * CORE_RAD_TO_DEG, r.res.iterations, r.total_wall_s,
-                     r.res.converged ? "converged" : "not converged (at the iteration cap)");
+                     r.res.converged        ? "converged"
+                     : r.steady_iter > 0    ? "monitors steady, residuals above 1e-4"
+                                            : "not converged (at the iteration cap)");
     return rc;
 }
 
