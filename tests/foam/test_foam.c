@@ -4,8 +4,9 @@
  * embedded solver and by OpenFOAM through mpirun -np 2; the velocities
  * along the deck lines compared in % of the wind speed (docs/openfoam.md
  * has the figures). A failing OpenFOAM step must stop the run with the
- * step's name and its log's tail and write nothing. Skips (77) where
- * OpenFOAM or mpirun is absent; under CI that fails. */
+ * step's name and its log's tail and write nothing. The case writer's
+ * grading is checked without OpenFOAM; the rest skips (77) where OpenFOAM
+ * or mpirun is absent, and under CI that fails. */
 #include "cfd.h"
 #include "check.h"
 #include "core.h"
@@ -188,17 +189,86 @@ static double far_field(const core_ship *ship, const sampler *a, const sampler *
     return worst;
 }
 
+/* The case writer, without OpenFOAM: the blockMeshDict's grading, laid
+ * out as blockMesh lays it out (each section geometric: n cells growing by
+ * E^(1/(n-1)) over its length), gives disim's nodes on every axis. */
+static void check_grading(const cfd_airwake_spec *sp, const foam_opts *o, const char *tmp, const core_log *log)
+{
+    char dir[1200], p[1300];
+    snprintf(dir, sizeof dir, "%s/case", tmp);
+    CHECK(mkdir(dir, 0755) == 0);
+    core_err err = {0};
+    int rc = foam_case_write(sp, o, dir, &err);
+    if (rc)
+        fprintf(stderr, "foam_case_write: %s\n", err.msg);
+    CHECK(rc == 0);
+    cfd_solver *s = cfd_airwake_create(sp, log, NULL, NULL, &err);
+    snprintf(p, sizeof p, "%s/system/blockMeshDict", dir);
+    FILE *f = fopen(p, "r");
+    CHECK(f != NULL && s != NULL);
+    if (!f || !s) {
+        if (f)
+            fclose(f);
+        cfd_solver_destroy(s);
+        return;
+    }
+    static char text[1 << 16];
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    const char *q = strstr(text, "simpleGrading");
+    CHECK(q != NULL);
+    double worst = 0.0;
+    q = q ? strchr(q, '(') : NULL; /* the three axes' list */
+    for (int d = 0; q && d < 3; d++) {
+        q = strchr(q + 1, '('); /* the axis's list */
+        const double *xn = cfd_grid_nodes(cfd_solver_grid(s), d);
+        int dims[3];
+        cfd_grid_dims(cfd_solver_grid(s), dims);
+        double x = xn[0];
+        int cell = 0;
+        const char *r = q ? q + 1 : NULL;
+        double len, e;
+        int cnt, used;
+        while (r && sscanf(r, " ( %lf %d %lf )%n", &len, &cnt, &e, &used) == 3) {
+            double ratio = cnt > 1 ? pow(e, 1.0 / (cnt - 1)) : 1.0, sum = 0.0;
+            for (int i = 0; i < cnt; i++)
+                sum += pow(ratio, i);
+            for (int i = 0; i < cnt && cell < dims[d]; i++) {
+                x += len * pow(ratio, i) / sum;
+                cell++;
+                worst = fmax(worst, fabs(x - xn[cell]) / (xn[cell] - xn[cell - 1]));
+            }
+            r += used;
+        }
+        CHECK(cell == dims[d]);
+        q = r;
+    }
+    printf("blockMesh grading against disim's nodes: largest difference %.2e of a cell\n", worst);
+    CHECK(worst < 1e-6);
+    cfd_solver_destroy(s);
+    static const char *const files[] = {"system/blockMeshDict", "system/topoSetDict", "system/controlDict",
+                                        "system/fvSchemes", "system/fvSolution", "system/decomposeParDict",
+                                        "constant/transportProperties", "constant/turbulenceProperties",
+                                        "0/U", "0/p", "0/k", "0/epsilon", "0/nut"};
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        snprintf(p, sizeof p, "%s/%s", dir, files[i]);
+        CHECK(access(p, R_OK) == 0);
+        remove(p);
+    }
+    static const char *const sub[] = {"system", "constant", "0", ""};
+    for (size_t i = 0; i < sizeof sub / sizeof sub[0]; i++) {
+        snprintf(p, sizeof p, "%s/%s", dir, sub[i]);
+        rmdir(p);
+    }
+}
+
 int main(int argc, char **argv)
 {
     int rotor = argc > 1 && !strcmp(argv[1], "rotor");
     foam_opts o;
     foam_opts_default(&o);
     o.np = 2;
-    char why[256];
-    if (!foam_available(&o, why, sizeof why)) {
-        check_skip(why);
-        return check_done("test_foam");
-    }
     core_log log = {log_stderr, NULL, CORE_LOG_INFO};
     o.log = &log;
     o.keep_case = getenv("DISIM_FOAM_KEEP") != NULL;
@@ -213,6 +283,13 @@ int main(int argc, char **argv)
     char tmp[] = "/tmp/test_foam_XXXXXX";
     CHECK(mkdtemp(tmp) != NULL);
     o.work_dir = tmp;
+    check_grading(&sp, &o, tmp, &log);
+    char why[256];
+    if (!foam_available(&o, why, sizeof why)) {
+        rmdir(tmp);
+        check_skip(why);
+        return check_done("test_foam");
+    }
     if (!rotor)
         check_failing_step(&sp, &o, tmp);
 
