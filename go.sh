@@ -23,7 +23,7 @@ cd "$(dirname "$0")"
 PKGS="build-essential cmake pkg-config libinih-dev liblcm-dev liblcm-bin liblcm-java \
 default-jdk-headless libglib2.0-dev libode-dev libosmesa6-dev libsundials-dev \
 libhdf5-dev liblapacke-dev liblapack-dev libcairo2-dev ffmpeg iproute2 util-linux \
-libsdl2-dev xvfb xauth imagemagick clang-14 libclang-rt-14-dev"
+libsdl2-dev xvfb xauth imagemagick clang-14 libclang-rt-14-dev openfoam openmpi-bin"
 
 install_deps() {
     missing=""

@@ -476,6 +476,12 @@ static int job_load(shol_job *j)
     const shol_args *a = j->a;
     if (!(j->sc = calloc(1, sizeof *j->sc)) || sim_scenario_load(a->scen, j->sc, &j->err) != 0)
         return -1;
+    if (j->sc->engine == SIM_ENGINE_OPENFOAM)
+        return core_err_set(&j->err, -1,
+                            "%s: [cfd] engine = openfoam: disim shol builds its fields through the airwake "
+                            "database, whose builder runs the embedded engine; the OpenFOAM engine solves one "
+                            "field with disim airwake (set engine = embedded or remove the key)",
+                            a->scen);
     if (!(j->ac = hfm_aircraft_load(j->sc->aircraft_path, &j->log, &j->err)))
         return -1;
     /* --method pilot flies in the scenario's sea; its trims, as every

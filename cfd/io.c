@@ -203,6 +203,9 @@ static int write_field(const cfd_grid *g, double *const *var, const double *hist
     }
     if (!rc) {
         rc |= attr_string(f, "solver_version", CFD_VERSION);
+        rc |= attr_string(f, "engine", meta->engine[0] ? meta->engine : "embedded");
+        rc |= attr_string(f, "engine_version", meta->engine[0] ? meta->engine_version : CFD_VERSION);
+        rc |= attr_double(f, "monitor_change", meta->result.monitor_change);
         char crc[24];
         snprintf(crc, sizeof crc, "%016llx", (unsigned long long)field_crc(g, var));
         rc |= attr_string(f, "data_crc64", crc);
@@ -590,6 +593,15 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
     for (int q = 0; q < 5; q++)
         if (read_attr_double(f, path, residual_names[q], 0, &m->result.residual[q], err) < 0)
             goto fail;
+    /* absent in fields before the engine was recorded: the embedded solver's */
+    if (read_attr_double(f, path, "monitor_change", 0, &m->result.monitor_change, err) < 0)
+        goto fail;
+    snprintf(m->engine, sizeof m->engine, "embedded");
+    snprintf(m->engine_version, sizeof m->engine_version, "%s", CFD_VERSION);
+    if ((H5Aexists(f, "engine") > 0 && read_attr_string(f, path, "engine", m->engine, sizeof m->engine, err)) ||
+        (H5Aexists(f, "engine_version") > 0 &&
+         read_attr_string(f, path, "engine_version", m->engine_version, sizeof m->engine_version, err)))
+        goto fail;
     /* the rotor's centre, written with the thrust and radius (a reader
      * that writes the field again, or mirrors it, keeps it) */
     for (int q = 0; q < 3; q++) {
