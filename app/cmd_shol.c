@@ -650,9 +650,15 @@ static char *rank_texts(shol_job *j, int k, char *own)
     core_str b = {0};
     for (int r = 0; r < j->ranks; r++) {
         const char *t = r == 0 ? own : j->texts[r * SHOL_PART_TEXTS + k];
-        if (t && *t)
-            core_str_printf(&b, "%s*Rank %d of %d (directions %d, %d + %d, ...):*\n\n%s", r ? "\n" : "", r,
-                            j->ranks, r + 1, r + 1, j->ranks, t);
+        if (!t || !*t)
+            continue;
+        core_str_printf(&b, "%s*Rank %d of %d:", r ? "\n" : "", r, j->ranks);
+        for (int i = r; i < j->all.n_dirs; i += j->ranks) {
+            char name[32];
+            core_wod_name(j->all.dirs_rad[i] * CORE_RAD_TO_DEG, name, sizeof name);
+            core_str_printf(&b, "%s %s", i == r ? "" : ",", name);
+        }
+        core_str_printf(&b, "*\n\n%s", t);
     }
     free(own);
     return core_str_take(&b);
