@@ -5,7 +5,9 @@
 # by hand with --rank/--ranks (two processes), and under mpirun -np 2 and
 # -np 7 (more ranks than directions) over the same database; shol.csv and
 # the table on stdout must be the same bytes, shol.json the same but for
-# its wall time; the stage folder is gone after each run. A rank that
+# its wall time (a trim warm-started across directions shows there: the
+# attribution's ninth digits move with the order the directions are swept
+# in); the stage folder is gone after each run. A rank that
 # fails, a part of another run and a rank that never comes each stop rank
 # 0 with an error naming the rank. Skips (77) without mpirun, after the
 # checks that need none.
