@@ -12,7 +12,9 @@
 #                  replay pilot (coarse grid, one-way) into out/run
 #   ./go.sh run-default  the default-grid two-way envelopes of both
 #                  combinations (many hours on 2 cores) into out/<scenario>
-#   ./go.sh test   install what is missing, build (sanitizers on), run all tests
+#   ./go.sh test   install what is missing, build (sanitizers on), run all tests,
+#                  then each libFuzzer harness for 5 s (about a minute; a
+#                  crash, hang, leak or sanitizer report fails it)
 # quick and run share the airwake database out/airwake-db: a field built by
 # one is not built again by the other.
 set -eu
@@ -21,7 +23,7 @@ cd "$(dirname "$0")"
 PKGS="build-essential cmake pkg-config libinih-dev liblcm-dev liblcm-bin liblcm-java \
 default-jdk-headless libglib2.0-dev libode-dev libosmesa6-dev libsundials-dev \
 libhdf5-dev liblapacke-dev liblapack-dev libcairo2-dev ffmpeg iproute2 util-linux \
-libsdl2-dev xvfb xauth imagemagick"
+libsdl2-dev xvfb xauth imagemagick clang-14 libclang-rt-14-dev openfoam openmpi-bin"
 
 install_deps() {
     missing=""
@@ -45,6 +47,16 @@ build() { # build DIR [cmake options]
     shift
     cmake -S . -B "$dir" "$@" >/dev/null
     cmake --build "$dir" -j "$(nproc)"
+}
+
+# The fuzz harnesses' short run (tests/fuzz/README.md): clang 14 with
+# libFuzzer, ASan and UBSan, only the harnesses and what they link built;
+# each harness FUZZ_SECONDS (5) from the corpus kept in build-fuzz/corpus.
+fuzz_short() {
+    CC=clang-14 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDISIM_FUZZ=ON -DDISIM_TESTS=OFF \
+        -DDISIM_BENCH=OFF >/dev/null
+    cmake --build build-fuzz -j "$(nproc)" --target fuzz fuzz_seeds
+    sh tests/fuzz/run.sh build-fuzz "${FUZZ_SECONDS:-5}" build-fuzz/corpus
 }
 
 check_scenarios() {
@@ -173,13 +185,15 @@ test)
     # hand. A test that cannot run here skips (exit 77); under CI (CI set)
     # it fails instead: CI installs everything a test needs.
     ctest --output-on-failure -j "$(nproc)" -LE validation
+    cd ..
+    fuzz_short
     ;;
 *)
     echo "usage: ./go.sh quick | ./go.sh run | ./go.sh run-default | ./go.sh test" >&2
     echo "  quick  build, check the scenarios, the coarse one-way CG-47 + UH-60A envelope (minutes)" >&2
     echo "  run    build, check the scenarios, the main job: flown landings, video, both SHOLs (coarse, one-way)" >&2
     echo "  run-default  build, check the scenarios, the default-grid two-way envelopes of both (hours)" >&2
-    echo "  test   build with sanitizers, run every test" >&2
+    echo "  test   build with sanitizers, run every test, then each fuzz harness for 5 s" >&2
     exit 2
     ;;
 esac

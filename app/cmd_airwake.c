@@ -4,6 +4,7 @@
  * validation case, each figure beside its reference). */
 #include "awdb.h"
 #include "cfd.h"
+#include "foam.h"
 #ifdef DISIM_HAVE_SHOL_CMD
 #include "couple.h"
 #include "hfm.h"
@@ -121,7 +122,9 @@ static void usage_airwake(void)
             "                      [--grid coarse|default|fine|quick] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
             "                      [--thrust-n N] [--radius-m R] [--threads N] [--h-fine-m H]\n"
             "                      [--growth G] [--h-max-m H] [--focus-fwd-m X] [--avg-window N] [--limiter vanleer|minmod]\n"
-            "                      [--zone OUTER.h5] -o FIELD.h5\n"
+            "                      [--zone OUTER.h5] [--engine embedded|openfoam] [--np N] -o FIELD.h5\n"
+            "  --engine openfoam: solve the same case with OpenFOAM (mpirun -np N simpleFoam, N 2 by\n"
+            "       default; the scenario's [cfd] engine and np otherwise; docs/openfoam.md)\n"
             "  --zone: solve the deck zone only (5 R round the hover station's hub, 4 R above it),\n"
             "  its open faces taken from OUTER.h5 (a whole-domain ship-only field of this ship and\n"
             "  direction, any grid) scaled to the WOD speed: a fine zone nested in a coarser field\n"
@@ -133,9 +136,14 @@ static void usage_airwake(void)
 typedef struct airwake_args {
     const char *scen, *out, *warm, *queue, *zone;
     double speed_kt, dir_deg, thrust_N, radius_m, h_fine_m, growth, h_max_m, focus_fwd_m;
-    int rotor, level, abl, max_iter, threads, avg_window, limiter_fixed;
+    int rotor, level, abl, max_iter, threads, avg_window, limiter_fixed, engine, np;
     cfd_limiter limiter;
 } airwake_args;
+
+static int parse_engine(const char *v)
+{
+    return !strcmp(v, "embedded") ? SIM_ENGINE_EMBEDDED : !strcmp(v, "openfoam") ? SIM_ENGINE_OPENFOAM : -1;
+}
 
 static int parse_limiter(const char *v)
 {
@@ -166,6 +174,7 @@ static int airwake_flag(airwake_args *o, const char *a, const char *v)
         {"--avg-window", 2, 1e6, &o->avg_window}, /* studies of shedding fields: how long a mean the field is */
         {"--max-iter", 1, 1e6, &o->max_iter},
         {"--threads", 1, 1024, &o->threads},
+        {"--np", 1, 4096, &o->np}, /* the OpenFOAM engine's MPI ranks */
     };
     const struct {
         const char *flag, *expect;
@@ -174,6 +183,7 @@ static int airwake_flag(airwake_args *o, const char *a, const char *v)
     } word[] = {
         {"--rotor", "off, uniform or loaded", core_rotor_parse, &o->rotor},
         {"--grid", "coarse, default, fine or quick", core_grid_parse_any, &o->level},
+        {"--engine", "embedded or openfoam", parse_engine, &o->engine},
         {"--limiter", "vanleer or minmod", parse_limiter, NULL}, /* grid studies: one convection scheme on every grid */
     };
     const struct {
@@ -218,7 +228,7 @@ static int airwake_parse(int argc, char **argv, airwake_args *o)
 {
     memset(o, 0, sizeof *o);
     o->speed_kt = o->dir_deg = o->thrust_N = o->radius_m = NAN;
-    o->rotor = o->level = -1;
+    o->rotor = o->level = o->engine = -1;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         int rc = i + 1 < argc ? airwake_flag(o, a, argv[i + 1]) : -1;
@@ -339,6 +349,69 @@ static void airwake_grid_name(const airwake_args *o, core_grid_level level, char
              o->zone ? " zone" : "");
 }
 
+/* The field's metadata but for the result. */
+static void airwake_meta(const airwake_args *o, const cfd_airwake_spec *sp, const awdb_key *key, cfd_meta *meta)
+{
+    memset(meta, 0, sizeof *meta);
+    meta->wod_speed_mps = key->wod_speed_mps;
+    meta->wod_dir_deg = key->wod_dir_rad * CORE_RAD_TO_DEG;
+    snprintf(meta->ship, sizeof meta->ship, "%s", sp->ship->name);
+    snprintf(meta->rotor, sizeof meta->rotor, "%s", core_rotor_name(key->rotor));
+    if (key->rotor != CORE_ROTOR_OFF) {
+        meta->rotor_thrust_N = key->thrust_N;
+        meta->rotor_radius_m = key->radius_m;
+        memcpy(meta->rotor_centre_S_m, key->station_S_m, sizeof meta->rotor_centre_S_m);
+    }
+    airwake_grid_name(o, key->grid, meta->grid, sizeof meta->grid);
+}
+
+/* OpenFOAM's progress: its iteration and p residual (no known end: it
+ * stops at convergence or once the monitors are steady). */
+static int foam_progress(void *user, double frac, double residual, int iter)
+{
+    progress_state *p = user;
+    (void)frac;
+    if (p->tty)
+        fprintf(stderr, "\r  openfoam: iteration %d  p residual %.2e   ", iter, residual);
+    else if (iter >= p->last_print_s + 200) {
+        p->last_print_s = iter;
+        fprintf(stderr, "  openfoam: iteration %d  p residual %.2e\n", iter, residual);
+    }
+    return 0;
+}
+
+/* The same case through OpenFOAM (foam.h) with np MPI ranks. 0 or 1. */
+static int airwake_solve_foam(const airwake_args *o, const cfd_airwake_spec *sp, const awdb_key *key, int np,
+                              const core_log *log)
+{
+    foam_opts fo;
+    foam_opts_default(&fo);
+    fo.np = np;
+    fo.log = log;
+    fo.max_iter = sp->max_iter;
+    progress_state ps = {isatty(2), 0.0};
+    fo.progress = foam_progress;
+    fo.progress_user = &ps;
+    cfd_meta meta;
+    airwake_meta(o, sp, key, &meta);
+    foam_result r;
+    core_err err = {0};
+    int rc = foam_airwake(sp, &fo, &meta, o->out, &r, &err);
+    progress_end(&ps);
+    if (rc) {
+        fprintf(stderr, "disim airwake: %s (nothing written)\n", rc > 0 ? "stopped" : err.msg);
+        return 1;
+    }
+    fprintf(stderr,
+            "disim airwake: wrote %s (OpenFOAM %s, %d rank%s, %zu cells, %d iterations, %s; simpleFoam %.1f s, "
+            "every step %.1f s)\n",
+            o->out, r.version, np, np > 1 ? "s" : "", r.cells, r.res.iterations,
+            r.res.converged ? "converged" : r.steady_iter > 0 ? "monitors steady, residuals above 1e-4"
+                                                              : "not converged (the iteration cap)",
+            r.res.wall_s, r.total_wall_s);
+    return 0;
+}
+
 /* Solve the spec (warm-started from --warm) and write the field. 0 or 1. */
 static int airwake_solve(const airwake_args *o, const cfd_airwake_spec *sp, const awdb_key *key,
                          const core_log *log)
@@ -373,17 +446,7 @@ static int airwake_solve(const airwake_args *o, const cfd_airwake_spec *sp, cons
                         "written with converged = 0\n",
                 res.iterations, res.residual[0]);
     cfd_meta meta;
-    memset(&meta, 0, sizeof meta);
-    meta.wod_speed_mps = key->wod_speed_mps;
-    meta.wod_dir_deg = key->wod_dir_rad * CORE_RAD_TO_DEG;
-    snprintf(meta.ship, sizeof meta.ship, "%s", sp->ship->name);
-    snprintf(meta.rotor, sizeof meta.rotor, "%s", core_rotor_name(key->rotor));
-    if (key->rotor != CORE_ROTOR_OFF) {
-        meta.rotor_thrust_N = key->thrust_N;
-        meta.rotor_radius_m = key->radius_m;
-        memcpy(meta.rotor_centre_S_m, key->station_S_m, sizeof meta.rotor_centre_S_m);
-    }
-    airwake_grid_name(o, key->grid, meta.grid, sizeof meta.grid);
+    airwake_meta(o, sp, key, &meta);
     meta.result = res;
     rc = cfd_solver_write(s, &meta, o->out, &err);
     cfd_solver_destroy(s);
@@ -433,6 +496,18 @@ int cmd_airwake(int argc, char **argv)
         free(sc);
         return 1;
     }
+    int engine = o.engine >= 0 ? o.engine : sc->engine;
+    int np = o.np > 0 ? o.np : sc->engine_np > 0 ? sc->engine_np : 2;
+    const char *clash = engine != SIM_ENGINE_OPENFOAM && o.np > 0 ? "--np is the OpenFOAM engine's (--engine openfoam)"
+                        : engine == SIM_ENGINE_OPENFOAM && o.queue
+                            ? "--queue: the database's builder solves with its own engine (disim airwaked)"
+                        : engine == SIM_ENGINE_OPENFOAM && o.warm ? "--warm: the OpenFOAM engine starts from the inflow"
+                                                                  : NULL;
+    if (clash) {
+        fprintf(stderr, "disim airwake: %s\n", clash);
+        free(sc);
+        return 2;
+    }
     if (o.queue) {
         rc = queue_request(o.queue, &key, &log);
         free(sc);
@@ -461,7 +536,7 @@ int cmd_airwake(int argc, char **argv)
         free(sc);
         return 1;
     }
-    rc = airwake_solve(&o, &sp, &key, &log);
+    rc = engine == SIM_ENGINE_OPENFOAM ? airwake_solve_foam(&o, &sp, &key, np, &log) : airwake_solve(&o, &sp, &key, &log);
     cfd_field_destroy(outer);
     free(sc);
     return rc;

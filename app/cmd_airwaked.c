@@ -6,6 +6,7 @@
  * updating line; in a log (not a terminal) only state changes are written. */
 #include "awdb.h"
 #include "cmds.h"
+#include "foam.h"
 #include "disim_lcm.h"
 
 #include <lcm/lcm.h>
@@ -236,6 +237,9 @@ typedef struct airwaked_args {
     const char *dir, *ships;
     long jobs, max_iter;
     int once, use_lcm;
+    int openfoam;   /* --engine openfoam */
+    long np;        /* --np: its MPI ranks (0: 2) */
+    int jobs_given; /* --jobs given (else, with OpenFOAM, the cores over its ranks) */
 } airwaked_args;
 
 /* The flags into o: 0, or 2 (usage) after the message. */
@@ -243,13 +247,16 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
 {
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
-        if ((!strcmp(a, "--jobs") || !strcmp(a, "--ships") || !strcmp(a, "--max-iter")) && i + 1 >= argc) {
+        if ((!strcmp(a, "--jobs") || !strcmp(a, "--ships") || !strcmp(a, "--max-iter") || !strcmp(a, "--engine") ||
+             !strcmp(a, "--np")) &&
+            i + 1 >= argc) {
             fprintf(stderr, "disim airwaked: %s: expected a value\n", a);
             return 2;
         }
         if (!strcmp(a, "--jobs")) {
             char *end;
             o->jobs = strtol(argv[++i], &end, 10);
+            o->jobs_given = 1;
             if (*end || o->jobs < 1 || o->jobs > 64) {
                 fprintf(stderr, "disim airwaked: --jobs '%s': expected 1 to 64\n", argv[i]);
                 return 2;
@@ -261,6 +268,20 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
                 fprintf(stderr, "disim airwaked: --max-iter '%s': expected an integer >= 10\n", argv[i]);
                 return 2;
             }
+        } else if (!strcmp(a, "--np")) {
+            char *end;
+            o->np = strtol(argv[++i], &end, 10);
+            if (*end || o->np < 1 || o->np > 4096) {
+                fprintf(stderr, "disim airwaked: --np '%s': expected 1 to 4096\n", argv[i]);
+                return 2;
+            }
+        } else if (!strcmp(a, "--engine")) {
+            const char *v = argv[++i];
+            if (strcmp(v, "embedded") && strcmp(v, "openfoam")) {
+                fprintf(stderr, "disim airwaked: --engine '%s': expected embedded or openfoam\n", v);
+                return 2;
+            }
+            o->openfoam = !strcmp(v, "openfoam");
         } else if (!strcmp(a, "--ships"))
             o->ships = argv[++i];
         else if (!strcmp(a, "--exit-when-idle"))
@@ -279,7 +300,13 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
     }
     if (!o->dir) {
         fprintf(stderr, "usage: disim airwaked DB_DIR [--jobs N] [--ships DIR] [--max-iter N] "
-                        "[--exit-when-idle] [--no-lcm]\n");
+                        "[--exit-when-idle] [--no-lcm] [--engine embedded|openfoam] [--np N]\n"
+                        "  --engine openfoam: build with OpenFOAM (mpirun -np N, 2 by default), into a database\n"
+                        "       of its own (a key does not name its engine; docs/openfoam.md)\n");
+        return 2;
+    }
+    if (o->np > 0 && !o->openfoam) {
+        fprintf(stderr, "disim airwaked: --np is the OpenFOAM engine's (--engine openfoam)\n");
         return 2;
     }
     return 0;
@@ -288,27 +315,38 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
 int cmd_airwaked(int argc, char **argv)
 {
     long ncores = sysconf(_SC_NPROCESSORS_ONLN);
-    airwaked_args a = {NULL, "scenarios/ships", ncores, 0, 0, 1};
+    airwaked_args a = {NULL, "scenarios/ships", ncores, 0, 0, 1, 0, 0, 0};
     int prc = airwaked_parse(argc, argv, &a);
     if (prc != 0)
         return prc;
     const char *dir = a.dir, *ships = a.ships;
     long jobs = a.jobs, max_iter = a.max_iter;
     int once = a.once, use_lcm = a.use_lcm;
+    if (a.openfoam && !a.jobs_given) /* each build runs np ranks */
+        jobs = ncores / (a.np > 0 ? a.np : 2);
     if (jobs < 1)
         jobs = 1;
     app_log al = {"airwaked", 0};
     core_log log = {app_log_stderr, &al, CORE_LOG_INFO};
     core_err err = {0};
     awdb *db = awdb_open(dir, &log, &err);
-    awdb_embedded *emb = db ? awdb_embedded_create(ships, (int)max_iter, (int)(ncores / jobs > 0 ? ncores / jobs : 1), &log, &err) : NULL;
-    if (!db || !emb) {
+    awdb_embedded *emb = db && !a.openfoam
+                             ? awdb_embedded_create(ships, (int)max_iter, (int)(ncores / jobs > 0 ? ncores / jobs : 1), &log, &err)
+                             : NULL;
+    foam_opts fo;
+    foam_opts_default(&fo);
+    fo.np = a.np > 0 ? (int)a.np : 2;
+    fo.max_iter = (int)max_iter;
+    fo.log = &log;
+    foam_engine *fe = db && a.openfoam ? foam_engine_create(ships, &fo, &err) : NULL;
+    if (!db || (!emb && !fe)) {
         fprintf(stderr, "disim airwaked: %s\n", err.msg);
         awdb_embedded_destroy(emb);
         awdb_close(db);
         return 1;
     }
-    awdb_embedded_set_db(emb, db);
+    if (emb)
+        awdb_embedded_set_db(emb, db);
     daemon_ctx ctx;
     memset(&ctx, 0, sizeof ctx);
     ctx.db = db;
@@ -329,10 +367,14 @@ int cmd_airwaked(int argc, char **argv)
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     awdb_engine eng;
-    awdb_embedded_engine(emb, &eng);
+    if (emb)
+        awdb_embedded_engine(emb, &eng);
+    else
+        foam_engine_get(fe, &eng);
     awdb_builder_opts o = {(int)jobs, once, 0.2, on_status, &ctx, on_idle, &ctx, 0.0};
-    fprintf(stderr, "airwaked: serving %s with %ld job%s (ships from %s)%s\n", dir, jobs, jobs > 1 ? "s" : "",
-            ships, ctx.lc ? ", LCM requests on " DISIM_CH_AIRWAKE_REQUEST : "");
+    fprintf(stderr, "airwaked: serving %s with %ld job%s (ships from %s)%s%s\n", dir, jobs, jobs > 1 ? "s" : "",
+            ships, ctx.lc ? ", LCM requests on " DISIM_CH_AIRWAKE_REQUEST : "",
+            fe ? ", engine openfoam" : "");
     int rc = awdb_builder_run(db, &eng, &o, &stop_flag, &err);
     if (rc)
         fprintf(stderr, "disim airwaked: %s\n", err.msg);
@@ -341,6 +383,7 @@ int cmd_airwaked(int argc, char **argv)
         lcm_destroy(ctx.lc);
     }
     awdb_embedded_destroy(emb);
+    foam_engine_destroy(fe);
     awdb_close(db);
     return rc ? 1 : 0;
 }

@@ -611,6 +611,14 @@ static int world_build(fly_ctx *c, const char *path, const sim_loop_setup *setup
     sim_scenario *sc = w->sc;
     if (sim_scenario_load(path, sc, err) != 0)
         goto fail;
+    if (sc->engine == SIM_ENGINE_OPENFOAM) {
+        core_err_set(err, -1,
+                     "%s: [cfd] engine = openfoam: disim fly takes its fields from the airwake database, whose "
+                     "builder runs the embedded engine; the OpenFOAM engine solves one field with disim airwake "
+                     "(set engine = embedded or remove the key)",
+                     path);
+        goto fail;
+    }
     if (!(w->ac = hfm_aircraft_load(sc->aircraft_path, c->log, err)))
         goto fail;
     sim_world_overrides ov;

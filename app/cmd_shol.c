@@ -317,10 +317,11 @@ out:
 
 /* The command line of disim shol (numbers NAN or -1: not given). */
 typedef struct shol_args {
-    const char *scen, *outdir, *dbdir, *task_path;
+    const char *scen, *outdir, *dbdir, *task_path, *run_id;
     int pilot, feed_controls, full, direct, no_seed;
     int grid, coupling, zone;
     double seeds, window_s, dstep, sstep, smax, bisect, maxit, cfdit;
+    double rank, ranks, rank_wait_s; /* --rank, --ranks (-1: from the environment), --rank-wait-s */
     couple_band_opts bands; /* --band-grid, --band-grid-csv */
 } shol_args;
 
@@ -340,6 +341,8 @@ static int shol_flag(shol_args *o, const char *a, const char *v)
         {"--speed-max-kmh", 0, 300, &o->smax},         {"--bisect-kmh", 0.1, 50, &o->bisect},
         {"--cfd-max-iter", 10, 1e6, &o->cfdit},        {"--criteria-window-s", 0, 60, &o->window_s},
         {"--max-coupling-iter", 1, COUPLE_MAX_ITER - 1, &o->maxit},
+        {"--rank", 0, SHOL_MAX_RANKS - 1, &o->rank},    {"--ranks", 1, SHOL_MAX_RANKS, &o->ranks},
+        {"--rank-wait-s", 1, 1e7, &o->rank_wait_s},
     };
     const struct {
         const char *flag;
@@ -357,7 +360,8 @@ static int shol_flag(shol_args *o, const char *a, const char *v)
     const struct {
         const char *flag;
         const char **out;
-    } str[] = {{"-o", &o->outdir}, {"--db", &o->dbdir}, {"--band-grid-csv", &o->bands.grid_csv}, {"--task", &o->task_path}};
+    } str[] = {{"-o", &o->outdir}, {"--db", &o->dbdir}, {"--band-grid-csv", &o->bands.grid_csv}, {"--task", &o->task_path},
+              {"--run-id", &o->run_id}};
     for (size_t k = 0; k < sizeof num / sizeof num[0]; k++)
         if (!strcmp(a, num[k].flag))
             return app_parse_double("disim shol", a, v, num[k].lo, num[k].hi, num[k].out) ? 2 : 0;
@@ -394,6 +398,8 @@ static int shol_parse(int argc, char **argv, shol_args *o)
     o->window_s = NAN;
     o->smax = -1;
     o->maxit = 6;
+    o->rank = o->ranks = -1;
+    o->rank_wait_s = 24 * 3600.0;
     const struct {
         const char *flag;
         int *out;
@@ -433,7 +439,13 @@ static int shol_parse(int argc, char **argv, shol_args *o)
                         "[-o DIR] [--db DIR] [--full-circle] [--dir-step-deg D] [--speed-step-kmh S] "
                         "[--speed-max-kmh M] [--bisect-kmh T] [--direct] [--no-seed] [--domain whole|zone] [--max-coupling-iter N] "
                         "[--cfd-max-iter N] [--method trim|pilot] [--task FILE|LOG [--feed-controls]] [--seeds N] [--criteria-window-s S] "
-                        "[--band-grid auto|none|coarse|default|fine] [--band-grid-csv FILE]\n");
+                        "[--band-grid auto|none|coarse|default|fine] [--band-grid-csv FILE] "
+                        "[--rank R --ranks N] [--run-id ID] [--rank-wait-s S]\n");
+        return 2;
+    }
+    if ((o->rank >= 0) != (o->ranks >= 0) || o->rank != floor(o->rank) || o->ranks != floor(o->ranks) ||
+        (o->rank >= 0 && o->rank >= o->ranks)) {
+        fprintf(stderr, "disim shol: --rank R and --ranks N go together, whole numbers with 0 <= R < N\n");
         return 2;
     }
     if (!o->pilot && (o->task_path || o->seeds > 0 || !isnan(o->window_s) || o->feed_controls)) {
@@ -468,6 +480,15 @@ typedef struct shol_job {
     app_launcher launcher;
     const char *dbdir;
     char outdir[1024];
+    /* a sweep spread over ranks (docs/cluster.md): this process's rank of
+     * ranks, the whole sweep's settings (set holds this rank's share), the
+     * stage folder of the parts, the run's key, the log's prefix and the
+     * other ranks' report texts (rank 0, once gathered) */
+    int rank, ranks;
+    shol_settings all;
+    char stage[1200], run_id[128], prefix[48];
+    char *key;
+    char **texts;
 } shol_job;
 
 /* The scenario, its aircraft and the envelope's settings with the flags. */
@@ -476,6 +497,12 @@ static int job_load(shol_job *j)
     const shol_args *a = j->a;
     if (!(j->sc = calloc(1, sizeof *j->sc)) || sim_scenario_load(a->scen, j->sc, &j->err) != 0)
         return -1;
+    if (j->sc->engine == SIM_ENGINE_OPENFOAM)
+        return core_err_set(&j->err, -1,
+                            "%s: [cfd] engine = openfoam: disim shol builds its fields through the airwake "
+                            "database, whose builder runs the embedded engine; the OpenFOAM engine solves one "
+                            "field with disim airwake (set engine = embedded or remove the key)",
+                            a->scen);
     if (!(j->ac = hfm_aircraft_load(j->sc->aircraft_path, &j->log, &j->err)))
         return -1;
     /* --method pilot flies in the scenario's sea; its trims, as every
@@ -498,7 +525,14 @@ static int job_load(shol_job *j)
     if (a->smax >= 0) /* 0: calm air only (a hover check) */
         set->speed_max_mps = a->smax * CORE_KMH_TO_MPS;
     set->bisect_tol_mps = a->bisect * CORE_KMH_TO_MPS;
-    return shol_settings_check(set, &j->err) != 0 ? -1 : 0;
+    if (shol_settings_check(set, &j->err) != 0)
+        return -1;
+    if (j->ranks < 2)
+        return 0;
+    /* this rank's share of the directions: whole directions, so that each
+     * direction's trims run in one process in the serial order */
+    j->all = *set;
+    return shol_settings_deal(&j->all, j->rank, j->ranks, set, &j->err) < 0 ? -1 : 0;
 }
 
 /* The output folder, the database and the coupling settings. */
@@ -510,6 +544,8 @@ static int job_open(shol_job *j)
     else
         snprintf(j->outdir, sizeof j->outdir, "%s", a->outdir ? a->outdir : j->sc->output_dir);
     j->dbdir = a->dbdir ? a->dbdir : "out/airwake-db";
+    if (j->ranks > 1) /* beside the outputs: a folder every rank can reach */
+        snprintf(j->stage, sizeof j->stage, "%s/.shol-ranks%s%s", j->outdir, j->run_id[0] ? "-" : "", j->run_id);
     /* before the envelope is computed (hours on a two-way run) */
     core_err why = {0};
     if (core_dir_check(j->outdir, &why) != 0)
@@ -555,6 +591,7 @@ static int job_bands(shol_job *j, shol_result *r2)
 {
     couple_band_opts bo = j->a->bands;
     bo.on_grid = on_band_grid;
+    bo.level_dirs = j->ranks > 1 ? &j->all : NULL;
     if (couple_shol_bands(&bo, j->ac, &j->sc->ship, j->db, &j->cs, j->one, &j->set, &j->r1, r2, &j->log, &j->err) != 0)
         return -1;
     const shol_result *m = r2 ? r2 : &j->r1;
@@ -576,6 +613,10 @@ static int job_bands(shol_job *j, shol_result *r2)
 static int job_sweep(shol_job *j)
 {
     couple_settings *cs = &j->cs;
+    if (j->set.n_dirs == 0) { /* a rank beyond the directions: an empty part */
+        j->r1.settings = j->r2.settings = j->set;
+        return 0;
+    }
     cs->mode = CORE_COUPLING_ONE_WAY;
     if (!(j->one = couple_create(j->ac, &j->sc->ship, j->db, cs, &j->log, &j->err)))
         return -1;
@@ -605,6 +646,60 @@ static int job_sweep(shol_job *j)
     return rc;
 }
 
+/* The report text k (SHOL_PART_TEXTS) of a run over ranks: rank 0's own
+ * (taken) and every other rank's, each under a line naming its rank; own
+ * itself in a serial run. */
+static char *rank_texts(shol_job *j, int k, char *own)
+{
+    if (j->ranks < 2 || !j->texts)
+        return own;
+    core_str b = {0};
+    for (int r = 0; r < j->ranks; r++) {
+        const char *t = r == 0 ? own : j->texts[r * SHOL_PART_TEXTS + k];
+        if (!t || !*t)
+            continue;
+        core_str_printf(&b, "%s*Rank %d of %d:", r ? "\n" : "", r, j->ranks);
+        for (int i = r; i < j->all.n_dirs; i += j->ranks) {
+            char name[32];
+            core_wod_name(j->all.dirs_rad[i] * CORE_RAD_TO_DEG, name, sizeof name);
+            core_str_printf(&b, "%s %s", i == r ? "" : ",", name);
+        }
+        core_str_printf(&b, "*\n\n%s", t);
+    }
+    free(own);
+    return core_str_take(&b);
+}
+
+/* A run over ranks: a rank other than 0 writes its part; rank 0 gathers
+ * every part into the whole envelopes (then written as the serial run
+ * writes them). */
+static int job_ranks(shol_job *j)
+{
+    const shol_result *r2 = j->mode == CORE_COUPLING_TWO_WAY ? &j->r2 : NULL;
+    if (j->rank > 0) {
+        char *t[SHOL_PART_TEXTS] = {j->two ? couple_points_md(j->two) : NULL,
+                                    j->one ? couple_shol_fields_md(j->one, j->two) : NULL};
+        const char *ct[SHOL_PART_TEXTS] = {t[0], t[1]};
+        int rc = shol_part_write(j->stage, j->rank, j->ranks, j->key, &j->r1, r2, ct, &j->err);
+        free(t[0]);
+        free(t[1]);
+        if (rc == 0)
+            fprintf(stderr, "shol: rank %d of %d: %d direction%s, its part in %s\n", j->rank, j->ranks,
+                    j->set.n_dirs, j->set.n_dirs == 1 ? "" : "s", j->stage);
+        return rc;
+    }
+    fprintf(stderr, "shol: rank 0 of %d: %d direction%s done; gathering the other ranks' parts in %s\n", j->ranks,
+            j->set.n_dirs, j->set.n_dirs == 1 ? "" : "s", j->stage);
+    if (!(j->texts = calloc((size_t)j->ranks * SHOL_PART_TEXTS, sizeof *j->texts)))
+        return core_err_set(&j->err, -1, "out of memory");
+    if (shol_part_gather(j->stage, j->ranks, j->key, &j->all, j->a->rank_wait_s, &j->r1,
+                         r2 ? &j->r2 : NULL, j->texts, &j->err) != 0)
+        return -1;
+    shol_part_clean(j->stage, j->ranks);
+    j->set = j->all;
+    return 0;
+}
+
 /* The trim-based envelope's checks (one line each on stderr), files and
  * table on stdout. */
 static int job_write(shol_job *j)
@@ -619,7 +714,8 @@ static int job_write(shol_job *j)
     info.grid = core_grid_name(j->cs.grid);
     info.coupling = couple_shol_coupling_text(&j->cs);
     const shol_result *main_r = j->two ? &j->r2 : &j->r1;
-    char *md = j->two ? couple_points_md(j->two) : NULL, *fmd = couple_shol_fields_md(j->one, j->two);
+    char *md = rank_texts(j, 0, j->two ? couple_points_md(j->two) : NULL),
+         *fmd = rank_texts(j, 1, couple_shol_fields_md(j->one, j->two));
     if (j->two) {
         info.label = "two-way coupled";
         info.compare = &j->r1;
@@ -657,11 +753,33 @@ static int job_run(shol_job *j)
     const shol_args *a = j->a;
     if (job_load(j) != 0 || job_open(j) != 0 || job_sweep(j) != 0)
         return -1;
+    if (j->ranks > 1 && job_ranks(j) != 0)
+        return -1;
+    if (j->rank > 0) /* its part is written: rank 0 writes the outputs */
+        return 0;
     if (!a->pilot)
         return job_write(j);
     j->cs.mode = CORE_COUPLING_ONE_WAY;
     return run_pilot(j->sc, j->ac, j->db, &j->cs, &j->set, &j->r1, a->task_path, (int)a->seeds, a->window_s,
                      a->feed_controls, j->outdir, a->scen, j->tty, &j->log, &j->err);
+}
+
+/* The run's settings in words, the same on every rank: the command line
+ * without the flags that differ between ranks (NULL without memory). */
+static char *run_key(int argc, char **argv)
+{
+    core_str b = {0};
+    for (int i = 1; i < argc; i++) {
+        if (i + 1 < argc && (!strcmp(argv[i], "--rank") || !strcmp(argv[i], "--rank-wait-s"))) {
+            i++;
+            continue;
+        }
+        core_str_printf(&b, "%s%s", i > 1 ? " " : "", argv[i]);
+    }
+    char *k = core_str_take(&b);
+    if (!k)
+        fprintf(stderr, "disim shol: out of memory\n");
+    return k;
 }
 
 int cmd_shol(int argc, char **argv)
@@ -673,12 +791,30 @@ int cmd_shol(int argc, char **argv)
     shol_job j;
     memset(&j, 0, sizeof j);
     j.a = &a;
+    if (app_ranks_from_env(&j.rank, &j.ranks, j.run_id, sizeof j.run_id) != 0)
+        return 2;
+    if (a.ranks >= 0) { /* the flags over the environment */
+        j.rank = (int)a.rank;
+        j.ranks = (int)a.ranks;
+    }
+    if (a.run_id)
+        snprintf(j.run_id, sizeof j.run_id, "%s", a.run_id);
+    if (j.ranks > 1 && !(j.key = run_key(argc, argv)))
+        return 1;
     j.tty = isatty(2);
-    j.al = (app_log){"shol", j.tty};
+    snprintf(j.prefix, sizeof j.prefix, j.rank > 0 ? "shol rank %d" : "shol", j.rank);
+    j.al = (app_log){j.prefix, j.tty};
     j.log = (core_log){app_log_stderr, &j.al, CORE_LOG_INFO};
     rc = job_run(&j);
-    if (rc != 0)
-        fprintf(stderr, "%sdisim shol: %s\n", j.tty ? "\r\033[K" : "", j.err.msg);
+    if (rc != 0) {
+        fprintf(stderr, "%sdisim shol%s: %s\n", j.tty ? "\r\033[K" : "", j.rank > 0 ? j.prefix + 4 : "", j.err.msg);
+        if (j.rank > 0 && j.stage[0]) /* rank 0 stops waiting and names this one */
+            shol_part_fail(j.stage, j.rank, j.err.msg);
+    }
+    for (int i = 0; j.texts && i < j.ranks * SHOL_PART_TEXTS; i++)
+        free(j.texts[i]);
+    free(j.texts);
+    free(j.key);
     shol_result_free(&j.r1);
     shol_result_free(&j.r2);
     couple_destroy(j.two);

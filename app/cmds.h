@@ -7,6 +7,8 @@
 #ifndef DISIM_APP_CMDS_H
 #define DISIM_APP_CMDS_H
 
+#include <stddef.h>
+
 int cmd_check(int argc, char **argv);    /* cmd_check.c */
 int cmd_trim(int argc, char **argv);     /* cmd_trim.c */
 int cmd_render(int argc, char **argv);   /* cmd_render.c */
@@ -53,6 +55,17 @@ typedef struct app_launcher {
  * executable's path cannot be found. */
 int app_launcher_init(app_launcher *l, const char *ship_path, int max_iter);
 int app_launch_builder(void *user, const char *db_dir);
+
+/* ------------------------------------------- ranks of a sweep (ranks.c) */
+/* Where this process stands in a sweep spread over several processes
+ * (docs/cluster.md): rank and ranks from the launcher's environment
+ * (OMPI_COMM_WORLD_RANK/SIZE under Open MPI's mpirun, PMI_RANK/PMI_SIZE
+ * under MPICH's, SLURM_PROCID/SLURM_STEP_NUM_TASKS under srun), 0 of 1
+ * without one; run_id (n bytes) the launcher's job, so that parts of one
+ * run are kept apart from another's (PMIX_NAMESPACE, SLURM_JOB_ID and
+ * SLURM_STEP_ID; "" without one), with only [A-Za-z0-9._-] kept. 0, or
+ * -1 after a message naming a variable that is not a rank. */
+int app_ranks_from_env(int *rank, int *ranks, char *run_id, size_t n);
 
 /* A run's scene for the renderer (scene.c): app_scene_open,
  * app_render_state_from_flight, ... are declared in scene.h. */

@@ -244,6 +244,14 @@ static int read_sum(const char *sum_path, uint64_t *size, uint64_t *crc, awdb_ke
     core_ini *ini = core_ini_load(sum_path, err);
     if (!ini)
         return -1;
+    int rc = awdb_sum_read(ini, size, crc, key, err);
+    core_ini_destroy(ini);
+    return rc;
+}
+
+int awdb_sum_read(core_ini *ini, uint64_t *size, uint64_t *crc, awdb_key *key, core_err *err)
+{
+    const char *sum_path = core_ini_path(ini);
     char hex[32];
     double sz = 0;
     int rc = core_ini_get_double(ini, "field", "size", 1, 0, 1e15, &sz, err);
@@ -255,7 +263,6 @@ static int read_sum(const char *sum_path, uint64_t *size, uint64_t *crc, awdb_ke
         core_ini_skip_section(ini, "key");
     if (!rc)
         rc = core_ini_check_unused(ini, err);
-    core_ini_destroy(ini);
     if (rc)
         return rc < 0 ? rc : -1;
     if (sz != floor(sz))

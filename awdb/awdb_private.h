@@ -33,6 +33,10 @@ int awdb_write_atomic(const char *path, const char *text, core_err *err);
 /* Key as INI text (section [key]) and back; the reader names file:line. */
 void awdb_key_format(const awdb_key *k, char *buf, size_t n);
 int awdb_key_read(core_ini *ini, awdb_key *k, core_err *err);
+/* A field's checksum record (NAME.sum: [field] size, crc64 as 16 hex
+ * digits, then its [key]; key NULL skips the key) from its parsed text:
+ * 0, or < 0 with err naming the file, line and key. */
+int awdb_sum_read(core_ini *ini, uint64_t *size, uint64_t *crc, awdb_key *key, core_err *err);
 /* Build a path under the database folder. */
 void awdb_path(const awdb *db, char *out, size_t n, const char *sub, const char *name,
                const char *ext);

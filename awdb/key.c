@@ -18,12 +18,25 @@
 #include <string.h>
 
 static double round_to(double v, double q) { return q * nearbyint(v / q); }
+/* v (in [lo, hi]) rounded to a multiple of q inside [lo, hi] (lo and hi
+ * multiples of q): a value near a limit must not round past it, or the
+ * canonical key would be refused when read back (its request file, a
+ * second canon) */
+static double round_in(double v, double q, double lo, double hi)
+{
+    return round_to(v < lo ? lo : v > hi ? hi : v, q) + 0.0;
+}
 
+/* A name in a file stem: letters, digits, '-', '_', '.', not starting with
+ * '.' (the database's listings skip hidden files and temporaries: a ship
+ * ".x" would have fields built that no listing or nearest search sees). */
 static int name_ok(const char *s, int allow_empty)
 {
     size_t n = strlen(s);
     if (n == 0)
         return allow_empty;
+    if (s[0] == '.')
+        return 0;
     for (size_t i = 0; i < n; i++)
         if (!isalnum((unsigned char)s[i]) && s[i] != '-' && s[i] != '_' && s[i] != '.')
             return 0;
@@ -33,9 +46,9 @@ static int name_ok(const char *s, int allow_empty)
 int awdb_key_canon(awdb_key *k, core_err *err)
 {
     if (!name_ok(k->ship, 0))
-        return core_err_set(err, -1, "airwake key: ship '%s': expected letters, digits, '-', '_' or '.'", k->ship);
+        return core_err_set(err, -1, "airwake key: ship '%s': expected letters, digits, '-', '_' or '.', not starting with '.'", k->ship);
     if (!name_ok(k->aircraft, 1))
-        return core_err_set(err, -1, "airwake key: aircraft '%s': expected letters, digits, '-', '_' or '.'", k->aircraft);
+        return core_err_set(err, -1, "airwake key: aircraft '%s': expected letters, digits, '-', '_' or '.', not starting with '.'", k->aircraft);
     if (!isfinite(k->wod_speed_mps) || k->wod_speed_mps < 0.0 || k->wod_speed_mps > 100.0)
         return core_err_set(err, -1, "airwake key: wod_speed_mps = %g: expected 0 to 100", k->wod_speed_mps);
     if (!isfinite(k->wod_dir_rad))
@@ -85,14 +98,15 @@ int awdb_key_canon(awdb_key *k, core_err *err)
         /* A ship-only field in a deck zone: the zone's box is the rotor's
          * reach from the station, so station and radius name it. */
         k->thrust_N = k->shaft_pitch_rad = k->shaft_roll_rad = 0.0;
-        k->radius_m = round_to(k->radius_m, 0.01);
+        k->radius_m = round_in(k->radius_m, 0.01, 0.11, 49.99); /* inside (0.1, 50) */
         for (int i = 0; i < 3; i++)
             k->station_S_m[i] = round_to(k->station_S_m[i], 0.01) + 0.0;
     } else {
         k->thrust_N = round_to(k->thrust_N, 1.0);
-        k->radius_m = round_to(k->radius_m, 0.01);
-        k->shaft_pitch_rad = round_to(k->shaft_pitch_rad * CORE_RAD_TO_DEG, 0.1) * CORE_DEG_TO_RAD + 0.0;
-        k->shaft_roll_rad = round_to(k->shaft_roll_rad * CORE_RAD_TO_DEG, 0.1) * CORE_DEG_TO_RAD + 0.0;
+        k->radius_m = round_in(k->radius_m, 0.01, 0.11, 49.99);
+        /* 0.1 deg steps within 1 rad (57.2958 deg): at most 57.2 deg */
+        k->shaft_pitch_rad = round_in(k->shaft_pitch_rad * CORE_RAD_TO_DEG, 0.1, -57.2, 57.2) * CORE_DEG_TO_RAD + 0.0;
+        k->shaft_roll_rad = round_in(k->shaft_roll_rad * CORE_RAD_TO_DEG, 0.1, -57.2, 57.2) * CORE_DEG_TO_RAD + 0.0;
         for (int i = 0; i < 3; i++)
             k->station_S_m[i] = round_to(k->station_S_m[i], 0.01) + 0.0; /* no -0 */
     }

@@ -78,6 +78,18 @@ const double *cfd_grid_centres(const cfd_grid *g, int d);
 /* 1 where the cell (index i + nx (j + ny k)) is solid. */
 const unsigned char *cfd_grid_solid(const cfd_grid *g);
 
+/* The RNG k-epsilon constants (Yakhot et al. 1992) and the standard wall
+ * functions' (turb.c); another engine solving the same case takes these. */
+#define CFD_RNG_CMU 0.0845
+#define CFD_RNG_C1 1.42
+#define CFD_RNG_C2 1.68
+#define CFD_RNG_SIGMA_K 0.71942
+#define CFD_RNG_SIGMA_E 0.71942
+#define CFD_RNG_ETA0 4.38
+#define CFD_RNG_BETA 0.012
+#define CFD_WALL_KAPPA 0.41
+#define CFD_WALL_E 9.8
+
 /* ------------------------------------------------------ boundaries, setup */
 enum { CFD_XMIN = 0, CFD_XMAX, CFD_YMIN, CFD_YMAX, CFD_ZMIN, CFD_ZMAX, CFD_NFACES };
 
@@ -267,6 +279,10 @@ int cfd_solver_run(cfd_solver *s, cfd_result *res, core_err *err);
 
 /* Cell-centred array of a variable (p in Pa, nu_t in m^2/s). */
 const double *cfd_solver_var(const cfd_solver *s, int var);
+/* Replace a variable's cell values (ncell values; a state solved elsewhere,
+ * on this grid, to be written by cfd_solver_write). Returns < 0 for a
+ * variable out of range. */
+int cfd_solver_set_var(cfd_solver *s, int var, const double *values);
 /* Trilinear sample of u, v, w (out[0..2]), p, k, eps, nut at a point. */
 int cfd_solver_sample(const cfd_solver *s, const double pos_m[3], double out[CFD_NVARS]);
 /* Residual history: n iterations x 5 values (continuity, u, v, w, k). */
@@ -288,6 +304,12 @@ typedef struct cfd_meta {
                          opposite direction (cfd_field_mirror_y); result is that field's */
     int checksum;     /* cfd_field_load: 1 when the file carries data_crc64 and the data match
                          it; 0 for a field written before files carried one (read as it is) */
+    /* the engine that solved the field and its version: "" writes "embedded"
+     * and CFD_VERSION (a field without them reads back so); "openfoam" and
+     * e.g. "v1912" for the OpenFOAM engine (foam.h), whose result.residual[]
+     * are OpenFOAM's initial residuals of p, Ux, Uy, Uz and k */
+    char engine[32];
+    char engine_version[64];
 } cfd_meta;
 
 /* Write the field to path (HDF5) and path with .xmf (XDMF side file), each

@@ -73,16 +73,16 @@ void cfd_sample_arrays(const cfd_grid *g, double *const *arr, int narr, const do
  * air). Returns < 0 if the disk misses the grid. */
 int cfd_disk_distribute(const cfd_grid *g, const cfd_disk *d, double *f[3], core_err *err);
 
-/* Turbulence constants (turb.c). */
-#define CFD_CMU 0.0845
-#define CFD_C1 1.42
-#define CFD_C2 1.68
-#define CFD_SIGMA_K 0.71942
-#define CFD_SIGMA_E 0.71942
-#define CFD_ETA0 4.38
-#define CFD_BETA 0.012
-#define CFD_KAPPA 0.41
-#define CFD_EWALL 9.8
+/* Turbulence constants (turb.c; public in cfd.h). */
+#define CFD_CMU CFD_RNG_CMU
+#define CFD_C1 CFD_RNG_C1
+#define CFD_C2 CFD_RNG_C2
+#define CFD_SIGMA_K CFD_RNG_SIGMA_K
+#define CFD_SIGMA_E CFD_RNG_SIGMA_E
+#define CFD_ETA0 CFD_RNG_ETA0
+#define CFD_BETA CFD_RNG_BETA
+#define CFD_KAPPA CFD_WALL_KAPPA
+#define CFD_EWALL CFD_WALL_E
 
 /* Wall-function effective viscosity for a wall-adjacent cell at distance y
  * with turbulent kinetic energy k (log law for y* > 11.225, else nu). */

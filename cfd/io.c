@@ -22,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 struct cfd_field {
@@ -202,6 +203,9 @@ static int write_field(const cfd_grid *g, double *const *var, const double *hist
     }
     if (!rc) {
         rc |= attr_string(f, "solver_version", CFD_VERSION);
+        rc |= attr_string(f, "engine", meta->engine[0] ? meta->engine : "embedded");
+        rc |= attr_string(f, "engine_version", meta->engine[0] ? meta->engine_version : CFD_VERSION);
+        rc |= attr_double(f, "monitor_change", meta->result.monitor_change);
         char crc[24];
         snprintf(crc, sizeof crc, "%016llx", (unsigned long long)field_crc(g, var));
         rc |= attr_string(f, "data_crc64", crc);
@@ -319,7 +323,10 @@ static int read_attr_double(hid_t f, const char *path, const char *name, int req
     H5T_class_t cls = t >= 0 ? H5Tget_class(t) : H5T_NO_CLASS;
     double x = 0.0;
     herr_t rc = -1;
-    if (np == 1 && (cls == H5T_FLOAT || cls == H5T_INTEGER))
+    /* a number of at most 8 bytes: HDF5 would convert through a buffer of
+     * the size a damaged type declares */
+    size_t tsz = t >= 0 ? H5Tget_size(t) : 0;
+    if (np == 1 && (cls == H5T_FLOAT || cls == H5T_INTEGER) && tsz >= 1 && tsz <= 8)
         rc = H5Aread(a, H5T_NATIVE_DOUBLE, &x);
     if (t >= 0)
         H5Tclose(t);
@@ -350,8 +357,10 @@ static int read_attr_string(hid_t f, const char *path, const char *name, char *o
     hssize_t np = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : -1;
     int ok = np == 1 && t >= 0 && H5Tget_class(t) == H5T_STRING && H5Tis_variable_str(t) == 0;
     size_t sz = ok ? H5Tget_size(t) : 0;
-    char *buf = ok ? calloc(sz + 1, 1) : NULL;
-    int rc = -1;
+    /* disim writes the string's length + 1: a longer type (a damaged one
+     * declares gigabytes) is refused before its buffer is allocated */
+    int rc = ok && sz > n ? -2 : -1;
+    char *buf = ok && rc == -1 ? calloc(sz + 1, 1) : NULL;
     if (buf) {
         hid_t mt = H5Tcopy(H5T_C_S1);
         if (mt >= 0 && H5Tset_size(mt, sz) >= 0 && H5Aread(a, mt, buf) >= 0)
@@ -377,8 +386,11 @@ static int read_attr_string(hid_t f, const char *path, const char *name, char *o
 /* Open a dataset and check its rank and extent (slowest dimension first)
  * against what the grid expects: the element count alone would pass a field
  * stored nx x ny x nz for a grid's nz x ny x nx, read transposed. dims[d] 0
- * accepts any extent and returns it there. The dataset, or -1 with err set. */
-static hid_t open_ds(hid_t f, const char *path, const char *name, int rank, hsize_t *dims, core_err *err)
+ * accepts any extent and returns it there. Its stored type must be the one
+ * disim writes (class cls, size bytes): HDF5 converts through a buffer of
+ * the size a damaged type declares. The dataset, or -1 with err set. */
+static hid_t open_ds(hid_t f, const char *path, const char *name, int rank, hsize_t *dims, H5T_class_t cls,
+                     size_t size, core_err *err)
 {
     if (H5Lexists(f, name, H5P_DEFAULT) <= 0) {
         core_err_set(err, -1, "%s: dataset %s missing (not a disim airwake field, or a damaged one)", path, name);
@@ -413,6 +425,18 @@ static hid_t open_ds(hid_t f, const char *path, const char *name, int rank, hsiz
         H5Dclose(ds);
         return -1;
     }
+    hid_t t = H5Dget_type(ds);
+    H5T_class_t tc = t >= 0 ? H5Tget_class(t) : H5T_NO_CLASS;
+    size_t tsz = t >= 0 ? H5Tget_size(t) : 0;
+    if (t >= 0)
+        H5Tclose(t);
+    if (tc != cls || tsz != size) {
+        core_err_set(err, -1, "%s: %s is stored as %s of %zu bytes, expected %s of %zu bytes", path, name,
+                     tc == H5T_FLOAT ? "floats" : tc == H5T_INTEGER ? "integers" : "another type", tsz,
+                     cls == H5T_FLOAT ? "floats" : "integers", size);
+        H5Dclose(ds);
+        return -1;
+    }
     for (int d = 0; d < rank; d++)
         dims[d] = got[d];
     return ds;
@@ -431,7 +455,12 @@ static int read_ds(hid_t ds, const char *path, const char *name, hid_t type, voi
 cfd_field *cfd_field_load(const char *path, core_err *err)
 {
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
-    if (core_file_regular(path, -1, err) != 0)
+    struct stat st;
+    if (stat(path, &st) != 0) {
+        core_err_set(err, -1, "%s: cannot open: %s", path, strerror(errno));
+        return NULL;
+    }
+    if (core_file_check_stat(path, &st, -1, err) != 0)
         return NULL;
     if (access(path, R_OK)) {
         core_err_set(err, -1, "%s: cannot read the file", path);
@@ -458,9 +487,14 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
         core_err_set(err, -1, "%s: group /grid or /fields missing (not a disim airwake field)", path);
         goto fail;
     }
+    /* what the extents call for must be in the file (the nodes, the solid
+     * mask and every variable, uncompressed): a damaged header declaring a
+     * billion nodes is refused here, not by an allocation of gigabytes */
+    const unsigned long long fsize = (unsigned long long)st.st_size, per_cell = 1 + CFD_NVARS * sizeof(double);
+    unsigned long long need = 0;
     for (int d = 0; d < 3; d++) {
         hsize_t np = 0;
-        if ((nds[d] = open_ds(f, path, nn[d], 1, &np, err)) < 0)
+        if ((nds[d] = open_ds(f, path, nn[d], 1, &np, H5T_FLOAT, sizeof(double), err)) < 0)
             goto fail;
         if (np < 2 || np - 1 > (hsize_t)INT_MAX) {
             core_err_set(err, -1, "%s: %s has %llu nodes: expected 2 to %d", path, nn[d], (unsigned long long)np,
@@ -468,9 +502,11 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
             goto fail;
         }
         n[d] = (int)(np - 1);
-        if ((size_t)n[d] > SIZE_MAX / sizeof(double) / nc) {
-            core_err_set(err, -1, "%s: grid of %d x %d x %d cells: too many cells to hold in memory", path,
-                         n[0], d > 0 ? n[1] : 1, d > 1 ? n[2] : 1);
+        need += (unsigned long long)np * sizeof(double);
+        if (need > fsize || (size_t)n[d] > fsize / per_cell / nc) {
+            core_err_set(err, -1, "%s: grid of %d x %d x %d cells: its data need more than the file's %llu bytes "
+                                  "(a truncated or damaged field)", path, n[0], d > 0 ? n[1] : 1, d > 1 ? n[2] : 1,
+                         fsize);
             goto fail;
         }
         nc *= (size_t)n[d];
@@ -507,7 +543,7 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
         goto fail;
     }
     hsize_t cells[3] = {(hsize_t)n[2], (hsize_t)n[1], (hsize_t)n[0]};
-    hid_t ds = open_ds(f, path, "/grid/solid", 3, cells, err);
+    hid_t ds = open_ds(f, path, "/grid/solid", 3, cells, H5T_INTEGER, 1, err);
     if (ds < 0 || read_ds(ds, path, "/grid/solid", H5T_NATIVE_UCHAR, fl->g->solid, err))
         goto fail;
     for (int v = 0; v < CFD_NVARS; v++) {
@@ -518,7 +554,7 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
             core_err_set(err, -2, "%s: out of memory", path);
             goto fail;
         }
-        if ((ds = open_ds(f, path, name, 3, cells, err)) < 0 ||
+        if ((ds = open_ds(f, path, name, 3, cells, H5T_FLOAT, sizeof(double), err)) < 0 ||
             read_ds(ds, path, name, H5T_NATIVE_DOUBLE, fl->var[v], err))
             goto fail;
         for (size_t c = 0; c < nc; c++)
@@ -557,6 +593,15 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
     for (int q = 0; q < 5; q++)
         if (read_attr_double(f, path, residual_names[q], 0, &m->result.residual[q], err) < 0)
             goto fail;
+    /* absent in fields before the engine was recorded: the embedded solver's */
+    if (read_attr_double(f, path, "monitor_change", 0, &m->result.monitor_change, err) < 0)
+        goto fail;
+    snprintf(m->engine, sizeof m->engine, "embedded");
+    snprintf(m->engine_version, sizeof m->engine_version, "%s", CFD_VERSION);
+    if ((H5Aexists(f, "engine") > 0 && read_attr_string(f, path, "engine", m->engine, sizeof m->engine, err)) ||
+        (H5Aexists(f, "engine_version") > 0 &&
+         read_attr_string(f, path, "engine_version", m->engine_version, sizeof m->engine_version, err)))
+        goto fail;
     /* the rotor's centre, written with the thrust and radius (a reader
      * that writes the field again, or mirrors it, keeps it) */
     for (int q = 0; q < 3; q++) {

@@ -685,6 +685,15 @@ void cfd_solver_init_inflow(cfd_solver *s)
     faces_from_cells(s);
 }
 
+int cfd_solver_set_var(cfd_solver *s, int var, const double *values)
+{
+    if (var < 0 || var >= CFD_NVARS)
+        return -1;
+    memcpy(s->var[var], values, s->g->ncell * sizeof *values);
+    faces_from_cells(s);
+    return 0;
+}
+
 /* Warm starts: every fluid cell from a sampler of another state (a field
  * file or a coarser solver), k and epsilon kept positive. */
 typedef int (*sample_fn)(const void *src, const double pos[3], double out[CFD_NVARS]);

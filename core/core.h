@@ -216,6 +216,12 @@ struct stat;
 int core_file_regular(const char *path, long long max_bytes, core_err *err);
 /* The same check on what fstat or stat gave for path (an opened file). */
 int core_file_check_stat(const char *path, const struct stat *st, long long max_bytes, core_err *err);
+/* The whole of the regular file path, of at most max_bytes (the size read,
+ * not the size stat gives: a file that grows meanwhile is refused past
+ * it), into a new buffer with a NUL added, its size in *len (a NUL inside
+ * is the caller's to refuse); NULL with err (not a regular file, too
+ * large, a read error, out of memory). The caller frees it. */
+char *core_file_read(const char *path, long long max_bytes, size_t *len, core_err *err);
 /* An output's target: 0 if it does not exist or is a regular file (or a
  * link to one); < 0 with err saying what it is otherwise (a folder, a
  * device such as /dev/full, a FIFO), as the output is written to a
@@ -293,6 +299,11 @@ typedef struct core_ini_entry {
  * UTF-8 (file, line and column named), a syntax error. Numbers are read
  * as decimal only (no 0x14, inf or nan). */
 core_ini *core_ini_load(const char *path, core_err *err);
+/* The same reader on text already in memory (len bytes, no NUL needed at
+ * its end): path names it in every message and its folder is where
+ * core_ini_get_path resolves relative paths. core_ini_load reads the file
+ * whole and parses it here. */
+core_ini *core_ini_parse(const char *text, size_t len, const char *path, core_err *err);
 void core_ini_destroy(core_ini *ini);
 const char *core_ini_path(const core_ini *ini);
 size_t core_ini_count(const core_ini *ini);
@@ -382,6 +393,9 @@ int core_ship_load(const char *path, core_ship *ship, core_err *err);
  * spot not on a deck at deck_height_m, an anemometer below the deck, blocks
  * longer or wider than the ship, a flight deck off the blocks. */
 int core_ship_load_log(const char *path, core_ship *ship, const core_log *log, core_err *err);
+/* The same on a ship file already read (core_ini_load or core_ini_parse;
+ * the caller destroys it). */
+int core_ship_from_ini(core_ini *ini, core_ship *ship, const core_log *log, core_err *err);
 /* 1 if point p (S) lies inside one of the ship's blocks. The sea surface is
  * a boundary of the CFD domain, not a block, so it does not count here. */
 int core_ship_contains(const core_ship *ship, core_vec3 p_S_m);

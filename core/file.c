@@ -8,11 +8,14 @@
 #include "core.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 static const char *kind_of(mode_t m)
 {
@@ -45,6 +48,69 @@ int core_file_regular(const char *path, long long max_bytes, core_err *err)
     if (stat(path, &st) != 0)
         return core_err_set(err, -1, "%s: cannot open: %s", path, strerror(errno));
     return core_file_check_stat(path, &st, max_bytes, err);
+}
+
+char *core_file_read(const char *path, long long max, size_t *len, core_err *err)
+{
+    /* O_NONBLOCK: a FIFO opens at once (and is then refused) */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+        core_err_set(err, -1, "%s: cannot open: %s", path, strerror(errno));
+        return NULL;
+    }
+    struct stat st;
+    if (fstat(fd, &st) != 0) {
+        core_err_set(err, -1, "%s: cannot read: %s", path, strerror(errno));
+        close(fd);
+        return NULL;
+    }
+    if (core_file_check_stat(path, &st, max, err)) {
+        close(fd);
+        return NULL;
+    }
+    /* the size read, not the size stat gave: a file that grows meanwhile
+     * is read up to max and refused past it */
+    size_t limit = max < 0 || (unsigned long long)max >= SIZE_MAX / 2 ? SIZE_MAX / 2 : (size_t)max;
+    size_t cap = (size_t)st.st_size + 1, n = 0;
+    char *buf = malloc(cap + 1);
+    if (!buf)
+        goto oom;
+    for (;;) {
+        if (n == cap) {
+            if (n > limit) {
+                core_err_set(err, -1, "%s: larger than the %lld bytes a file of this kind may have", path, max);
+                goto fail;
+            }
+            size_t ncap = cap > limit / 2 ? limit + 1 : 2 * cap;
+            char *nb = realloc(buf, ncap + 1);
+            if (!nb)
+                goto oom;
+            buf = nb;
+            cap = ncap;
+        }
+        ssize_t r = read(fd, buf + n, cap - n);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r < 0) {
+            /* what was read is only the start of the file: a reader would
+             * take it for the whole */
+            core_err_set(err, -1, "%s: cannot read: %s", path, strerror(errno));
+            goto fail;
+        }
+        if (r == 0)
+            break;
+        n += (size_t)r;
+    }
+    close(fd);
+    buf[n] = '\0';
+    *len = n;
+    return buf;
+oom:
+    core_err_set(err, -1, "%s: out of memory", path);
+fail:
+    free(buf);
+    close(fd);
+    return NULL;
 }
 
 int core_output_check(const char *path, core_err *err)

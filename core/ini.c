@@ -25,10 +25,10 @@ struct core_ini {
 };
 
 typedef struct reader_state {
-    FILE *f;
+    const unsigned char *p; /* the text, len bytes; pos: the next to read */
+    size_t len, pos;
     int line;
     int too_long_line; /* first line that did not fit inih's buffer */
-    int read_errno;    /* a read error (EIO): inih would take it for the end */
     int bad_line, bad_col, bad_byte; /* the first byte that is not text */
     const char *bad_why;
 } reader_state;
@@ -94,38 +94,32 @@ static void check_text(reader_state *rs, const unsigned char *s, size_t len, int
 
 /* inih calls the reader once per line; counting calls gives the line number
  * the handler is about to see (the Debian build has no INI_HANDLER_LINENO).
- * The line is read byte by byte, as fgets would hide a NUL in it; the first
- * byte that is not text ends the reading (the file is refused). */
+ * The line is copied byte by byte up to its LF, as a NUL in it must be seen;
+ * the first byte that is not text ends the reading (the text is refused). */
 static char *reader(char *str, int num, void *stream)
 {
     reader_state *rs = stream;
-    if (rs->bad_line)
+    if (rs->bad_line || rs->pos >= rs->len)
         return NULL;
     size_t len = 0;
-    int c = EOF;
-    while (len + 1 < (size_t)num && (c = getc(rs->f)) != EOF) {
-        str[len++] = (char)c;
+    while (len + 1 < (size_t)num && rs->pos < rs->len) {
+        char c = (char)rs->p[rs->pos++];
+        str[len++] = c;
         if (c == '\n')
             break;
-    }
-    if (len == 0) {
-        if (ferror(rs->f) && !rs->read_errno)
-            rs->read_errno = errno ? errno : EIO;
-        return NULL;
     }
     str[len] = '\0';
     rs->line++;
     int full = len + 1 == (size_t)num && str[len - 1] != '\n';
     check_text(rs, (const unsigned char *)str, len, full);
-    if (full) {
-        int next = getc(rs->f);
-        if (next != EOF && next != '\n') {
-            if (!rs->too_long_line)
-                rs->too_long_line = rs->line;
-            while ((next = getc(rs->f)) != EOF && next != '\n')
-                ;
-        }
+    if (full && rs->pos < rs->len && rs->p[rs->pos] != '\n') {
+        if (!rs->too_long_line)
+            rs->too_long_line = rs->line;
+        while (rs->pos < rs->len && rs->p[rs->pos] != '\n')
+            rs->pos++;
     }
+    if (full && rs->pos < rs->len)
+        rs->pos++; /* the LF that ends the long line */
     if (rs->bad_line)
         str[0] = '\0'; /* inih sees an empty line, then the end */
     return str;
@@ -185,38 +179,30 @@ static int handler(void *user, const char *section, const char *name, const char
 
 core_ini *core_ini_load(const char *path, core_err *err)
 {
-    /* O_NONBLOCK: a FIFO opens at once (and is then refused) */
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) {
-        core_err_set(err, -1, "%s: cannot open: %s", path, strerror(errno));
+    size_t len = 0;
+    char *text = core_file_read(path, CORE_INI_MAX_BYTES, &len, err);
+    if (!text)
         return NULL;
-    }
-    struct stat st;
-    if (fstat(fd, &st) != 0) {
-        core_err_set(err, -1, "%s: cannot read: %s", path, strerror(errno));
-        close(fd);
-        return NULL;
-    }
-    if (core_file_check_stat(path, &st, CORE_INI_MAX_BYTES, err)) {
-        close(fd);
-        return NULL;
-    }
-    FILE *f = fdopen(fd, "r");
-    if (!f) {
-        core_err_set(err, -1, "%s: cannot read: %s", path, strerror(errno));
-        close(fd);
+    core_ini *ini = core_ini_parse(text, len, path, err);
+    free(text);
+    return ini;
+}
+
+core_ini *core_ini_parse(const char *text, size_t len, const char *path, core_err *err)
+{
+    if ((long long)len > CORE_INI_MAX_BYTES) {
+        core_err_set(err, -1, "%s: %zu bytes, larger than the %lld bytes a file of this kind may have", path, len,
+                     CORE_INI_MAX_BYTES);
         return NULL;
     }
     core_ini *ini = calloc(1, sizeof *ini);
     if (!ini) {
-        fclose(f);
         core_err_set(err, -1, "%s: out of memory", path);
         return NULL;
     }
     ini->path = strdup(path);
     ini->dir = strdup(path);
     if (!ini->path || !ini->dir) {
-        fclose(f);
         core_ini_destroy(ini);
         core_err_set(err, -1, "%s: out of memory", path);
         return NULL;
@@ -226,18 +212,9 @@ core_ini *core_ini_load(const char *path, core_err *err)
         slash[1] = '\0';
     else
         ini->dir[0] = '\0';
-    reader_state rs = {f, 0, 0, 0, 0, 0, 0, NULL};
+    reader_state rs = {(const unsigned char *)text, len, 0, 0, 0, 0, 0, 0, NULL};
     load_ctx c = {ini, &rs, 0, 0, 0, "", ""};
-    errno = 0;
     int rc = ini_parse_stream(reader, &rs, handler, &c);
-    fclose(f);
-    if (rs.read_errno) {
-        /* what was read is only the start of the file: optional keys after
-         * it would silently take their defaults */
-        core_err_set(err, -1, "%s: cannot read: %s", path, strerror(rs.read_errno));
-        core_ini_destroy(ini);
-        return NULL;
-    }
     if (rs.bad_line) {
         if (rs.bad_byte == 0)
             core_err_set(err, -1, "%s:%d:%d: %s: expected text", path, rs.bad_line, rs.bad_col,

@@ -155,6 +155,15 @@ int core_ship_load_log(const char *path, core_ship *ship, const core_log *log, c
     core_ini *ini = core_ini_load(path, err);
     if (!ini)
         return -1;
+    int rc = core_ship_from_ini(ini, ship, log, err);
+    core_ini_destroy(ini);
+    return rc;
+}
+
+int core_ship_from_ini(core_ini *ini, core_ship *ship, const core_log *log, core_err *err)
+{
+    memset(ship, 0, sizeof *ship);
+    const char *path = core_ini_path(ini);
     int rc = 0;
     const char *S = "ship";
     double pair[2], anem[3];
@@ -247,7 +256,6 @@ int core_ship_load_log(const char *path, core_ship *ship, const core_log *log, c
     if (rc == 0 && log)
         warn_ship(ini, ship, log);
 out:
-    core_ini_destroy(ini);
     return rc;
 }
 

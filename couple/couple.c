@@ -108,6 +108,7 @@ void couple_destroy(couple_ctx *c)
     hfm_trim_destroy(c->trim);
     free(c->disk);
     free(c->hist);
+    free(c->warm);
     free(c->fields);
     free(c);
 }
@@ -144,16 +145,40 @@ static void record(couple_iter *it, const hfm_trim_result *r, const couple_iter 
     }
 }
 
-static int solve(couple_ctx *c, const hfm_trim_cond *cond, hfm_trim_result *res)
+/* The warm start of direction dir (NULL: none yet). */
+static struct couple_warm *warm_find(couple_ctx *c, double dir)
 {
-    int rc = hfm_trim_solve(c->trim, cond, c->have_last ? &c->last : NULL, res);
-    if (rc == 1 && c->have_last) /* a cold start sometimes finds what the warm one missed */
+    for (int i = 0; i < c->nwarm; i++)
+        if (fabs(remainder(c->warm[i].dir - dir, 2 * CORE_PI)) < 1e-9)
+            return &c->warm[i];
+    return NULL;
+}
+
+/* A trim at direction dir, warm-started from that direction's last
+ * converged trim; a converged one becomes the direction's warm start.
+ * < 0 fatal (out of memory), else hfm_trim_solve's code. */
+static int solve(couple_ctx *c, double dir, const hfm_trim_cond *cond, hfm_trim_result *res)
+{
+    struct couple_warm *w = warm_find(c, dir);
+    int rc = hfm_trim_solve(c->trim, cond, w ? &w->r : NULL, res);
+    if (rc == 1 && w) /* a cold start sometimes finds what the warm one missed */
         rc = hfm_trim_solve(c->trim, cond, NULL, res);
-    if (rc == 0) {
-        c->last = *res;
-        c->have_last = 1;
+    if (rc != 0)
+        return rc;
+    if (!w) {
+        if (c->nwarm == c->capwarm) {
+            int cap = c->capwarm ? 2 * c->capwarm : 16;
+            struct couple_warm *nw = realloc(c->warm, cap * sizeof *nw);
+            if (!nw)
+                return -1;
+            c->warm = nw;
+            c->capwarm = cap;
+        }
+        w = &c->warm[c->nwarm++];
+        w->dir = dir;
     }
-    return rc;
+    w->r = *res;
+    return 0;
 }
 
 /* The one-way air at a WOD: the direction's ship-only field (at the
@@ -237,7 +262,7 @@ static int trim_one_way(couple_ctx *c, trim_state *st, double v, double dir, cou
             return -1;
         st->cond.air = &air;
     }
-    int rc = solve(c, &st->cond, &p->trim);
+    int rc = solve(c, dir, &st->cond, &p->trim);
     st->cond.air = NULL;
     if (rc < 0)
         return core_err_set(err, rc, "trim at %.2f m/s from %.1f deg: fatal error", v, dir * CORE_RAD_TO_DEG);
@@ -282,7 +307,7 @@ static int seed_previous(couple_ctx *c, trim_state *st, double v, double dir, co
     st->air.user = ai;
     st->air.wake = &st->free_air; /* the flight model's wake is the isolated rotor's (hfm.h) */
     st->cond.air = &st->air;
-    int rc = solve(c, &st->cond, &p->trim);
+    int rc = solve(c, dir, &st->cond, &p->trim);
     if (rc < 0)
         return core_err_set(err, rc, "seeded trim at %.2f m/s: fatal error", v);
     if (rc == 0) {
@@ -310,7 +335,7 @@ static int seed_one_way(couple_ctx *c, trim_state *st, double v, double dir, cou
     st->ship_hfm_air.user = &st->ship_air;
     st->ship_hfm_air.wake = NULL;
     st->cond.air = &st->ship_hfm_air;
-    int rc = solve(c, &st->cond, &p->trim);
+    int rc = solve(c, dir, &st->cond, &p->trim);
     if (rc < 0)
         return core_err_set(err, rc, "one-way seed trim at %.2f m/s: fatal error", v);
     if (rc == 0)
@@ -424,7 +449,7 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
     if (rc < 0)
         return -1;
     if (rc > 0) {
-        rc = solve(c, &st.cond, &p->trim);
+        rc = solve(c, dir, &st.cond, &p->trim);
         if (rc != 0) {
             if (rc < 0)
                 return core_err_set(err, rc, "free-air trim at %.2f m/s: fatal error", v);
@@ -438,7 +463,7 @@ int couple_trim(couple_ctx *c, double v, double dir, couple_point *p, core_err *
         if (coupled_air(c, &st, v, dir, it, p, err) != 0)
             return -1;
         hfm_trim_result next;
-        rc = solve(c, &st.cond, &next);
+        rc = solve(c, dir, &st.cond, &next);
         if (rc != 0) {
             if (rc < 0)
                 return core_err_set(err, rc, "coupled trim at %.2f m/s: fatal error", v);

@@ -214,6 +214,10 @@ typedef struct couple_band_opts {
      * fields queued: the level and the number of directions. */
     void (*on_grid)(void *user, core_grid_level level, int n_dirs);
     void *user;
+    /* The directions whose ready fields choose the auto level (NULL: the
+     * envelope's own): a rank of a dealt sweep passes the whole sweep's,
+     * so that every rank chooses the level the serial run does. */
+    const shol_settings *level_dirs;
 } couple_band_opts;
 /* The grid of the bands' second envelope in words: auto, none, coarse,
  * default or fine; < -2 if none of those. */

@@ -46,8 +46,16 @@ struct couple_ctx {
     hfm_trim *trim;
     hfm_disk *disk;
     awdb_fields *fc;        /* the fields loaded from db */
-    hfm_trim_result last;   /* warm start for the next trim */
-    int have_last;
+    /* The warm start of each direction: its last converged trim. Per
+     * direction, so that a direction's trims depend on its own earlier
+     * trims only, never on the order the directions are swept in: a sweep
+     * dealt over several processes (disim shol under mpirun) gives the
+     * serial run's numbers bit for bit. */
+    struct couple_warm {
+        double dir;
+        hfm_trim_result r;
+    } *warm;
+    int nwarm, capwarm;
     couple_point *hist;
     int nhist, caphist;
     char last_error[1024];

@@ -118,9 +118,12 @@ int couple_shol_bands(const couple_band_opts *o, const hfm_aircraft *ac, const c
             static const int order[3][2] = {{CORE_GRID_DEFAULT, CORE_GRID_FINE},
                                             {CORE_GRID_FINE, CORE_GRID_COARSE},
                                             {CORE_GRID_DEFAULT, CORE_GRID_COARSE}};
+            const shol_settings *choose = o->level_dirs ? o->level_dirs : set;
             for (int k = 0; k < 2 && level < 0; k++)
-                if (ready_dirs(db, ac, ship, cs, set, (core_grid_level)order[cs->grid][k], &s2) > 0)
+                if (ready_dirs(db, ac, ship, cs, choose, (core_grid_level)order[cs->grid][k], &s2) > 0)
                     level = order[cs->grid][k];
+            if (level >= 0) /* this envelope's own directions that are ready there (none: no grid spread here) */
+                ready_dirs(db, ac, ship, cs, set, (core_grid_level)level, &s2);
             if (level < 0)
                 core_log_msg(log, CORE_LOG_INFO, "bands: the database has no ship-only field on another grid: no "
                                                  "grid spread (--band-grid LEVEL builds one)");
@@ -135,7 +138,7 @@ int couple_shol_bands(const couple_band_opts *o, const hfm_aircraft *ac, const c
                 goto out;
             if (o->on_grid)
                 o->on_grid(o->user, c2s.grid, s2.n_dirs);
-            if (shol_envelope_run(&s2, couple_shol_trim, c2, NULL, NULL, log, &g, err) != 0) {
+            if (s2.n_dirs > 0 && shol_envelope_run(&s2, couple_shol_trim, c2, NULL, NULL, log, &g, err) != 0) {
                 if (couple_last_error(c2)[0])
                     snprintf(err->msg, sizeof err->msg, "%s", couple_last_error(c2));
                 goto out;

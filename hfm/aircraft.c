@@ -697,10 +697,17 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
     core_ini *ini = core_ini_load(path, err);
     if (!ini)
         return NULL;
+    hfm_aircraft *ac = hfm_aircraft_from_ini(ini, log, err);
+    core_ini_destroy(ini);
+    return ac;
+}
+
+hfm_aircraft *hfm_aircraft_from_ini(core_ini *ini, const core_log *log, core_err *err)
+{
+    const char *path = core_ini_path(ini);
     hfm_aircraft *ac = calloc(1, sizeof *ac);
     if (!ac) {
         core_err_set(err, -1, "%s: out of memory", path);
-        core_ini_destroy(ini);
         return NULL;
     }
     rd r = {ini, path, err};
@@ -717,12 +724,10 @@ hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err 
     core_ini_skip_section(ini, "rejection");
     if (core_ini_check_unused(ini, err) || hfm_aircraft_check(ac, ini, log, err))
         goto fail;
-    core_ini_destroy(ini);
     core_log_msg(log, CORE_LOG_INFO, "hfm: loaded %s (%s), %.0f kg, %d blades, %d segments", ac->name, path,
                  ac->mass, ac->mr.nb, ac->mr.nseg);
     return ac;
 fail:
-    core_ini_destroy(ini);
     free(ac);
     return NULL;
 }

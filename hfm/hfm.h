@@ -59,6 +59,9 @@ typedef struct hfm_aircraft hfm_aircraft;
  * and every unknown key is an error naming file, line and key. The
  * [rejection] section is left to shol. NULL on failure with err filled. */
 hfm_aircraft *hfm_aircraft_load(const char *path, const core_log *log, core_err *err);
+/* The same on an aircraft file already read (core_ini_load or
+ * core_ini_parse; its entries are marked used, the caller destroys it). */
+hfm_aircraft *hfm_aircraft_from_ini(core_ini *ini, const core_log *log, core_err *err);
 void hfm_aircraft_destroy(hfm_aircraft *ac);
 const char *hfm_aircraft_name(const hfm_aircraft *ac);
 double hfm_aircraft_mass_kg(const hfm_aircraft *ac);

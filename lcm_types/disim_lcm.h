@@ -52,7 +52,8 @@ int disim_lcm_check_airwake_request(const disim_airwake_request_t *m, char *err,
 /* Check a received buffer of type TYPE ("airwake_request_t", ...; the
  * fingerprint first, as lcm_recv_buf_t holds it) before decoding it: every
  * string must have a length of at least 1 ending in its NUL inside the
- * message, every count be >= 0, and the size be what the fields take. lcm
+ * message and no other NUL (it decodes to the bytes received), every count
+ * be >= 0, and the size be what the fields take. lcm
  * 1.3.1's decoder checks none of this, so a hostile or broken sender could
  * leave a decoded string unterminated. 0 ok; -1 with err naming the field;
  * -2 for a type that is not disim's. Subscribe with lcm_subscribe, check,

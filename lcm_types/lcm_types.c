@@ -228,6 +228,15 @@ int disim_lcm_check_raw(const char *type, const void *buf, int size, char *err, 
                  * bytes: a length < 1 or a last byte other than NUL leaves
                  * the decoded string unterminated (strlen would run past it) */
                 int32_t sl = be32(b + pos);
+                const unsigned char *nul = sl >= 1 && sl <= size - pos - 4 ? memchr(b + pos + 4, 0, (size_t)sl) : NULL;
+                if (nul && nul != b + pos + 4 + sl - 1) {
+                    /* a NUL inside: the decoded string would end there and
+                     * the bytes after it (logged, never acted on) be lost */
+                    if (err)
+                        snprintf(err, n, "%s.%.*s: a NUL inside the string (byte %d of %d): expected one string "
+                                 "ending in its NUL", type, len, name, (int)(nul - (b + pos + 4)) + 1, (int)sl);
+                    return -1;
+                }
                 if (sl < 1 || sl > size - pos - 4 || b[pos + 4 + sl - 1] != 0) {
                     if (err)
                         snprintf(err, n, "%s.%.*s: string length %d%s: expected a NUL-terminated string within "

@@ -330,6 +330,43 @@ int shol_envelope_run_near(const shol_settings *s, const shol_result *cheap_resu
                            shol_progress_fn progress, void *progress_user, const core_log *log, shol_result *out,
                            core_err *err);
 
+/* ---- a sweep dealt over several processes (part.c, docs/cluster.md)
+ * Every direction's sweep depends on its own earlier trims only (the
+ * caller's trim must keep it so: couple keeps a warm start per
+ * direction), so a rank that sweeps the directions dealt to it makes the
+ * same numbers as the serial run does for them, and the gathered envelope
+ * is the serial one bit for bit. */
+#define SHOL_MAX_RANKS 4096
+/* The report texts a part carries (the caller's, e.g. its coupled points
+ * and its fields as Markdown; NULL where none). */
+#define SHOL_PART_TEXTS 2
+/* mine = all with the directions dealt to rank of ranks (direction i of
+ * all to rank i % ranks, in all's order): its number of directions (0:
+ * none for this rank), or < 0 with err for a rank outside 0..ranks-1. */
+int shol_settings_deal(const shol_settings *all, int rank, int ranks, shol_settings *mine, core_err *err);
+/* Write rank's part into the folder stage (created if missing): its
+ * one-way envelope r1, its two-way one r2 (NULL: one-way run), bands
+ * included, and its texts (NULL: none), under key (the run's settings in
+ * words: a part whose key differs is refused by the gather). Written
+ * whole under a temporary name and renamed into place. 0, or < 0 with err. */
+int shol_part_write(const char *stage, int rank, int ranks, const char *key, const shol_result *r1,
+                    const shol_result *r2, const char *const texts[SHOL_PART_TEXTS], core_err *err);
+/* Mark rank as failed with why (one line), so that rank 0 stops waiting
+ * and names it. 0, or -1 if the mark cannot be written. */
+int shol_part_fail(const char *stage, int rank, const char *why);
+/* Rank 0: r1 and r2 (NULL: one-way) hold rank 0's own envelopes (the
+ * directions dealt to it); wait up to timeout_s for every other rank's
+ * part in stage and replace r1 and r2 by the whole envelopes over all, as
+ * the serial run makes them (n_trims summed, wall_s the longest rank's).
+ * texts (NULL: not wanted; else ranks * SHOL_PART_TEXTS pointers) gets
+ * each other rank's texts at [rank * SHOL_PART_TEXTS + k] (malloc'd or
+ * NULL; rank 0's are left alone). 0, or < 0 with err naming the rank that
+ * failed, did not come in time or wrote a part of another run. */
+int shol_part_gather(const char *stage, int ranks, const char *key, const shol_settings *all, double timeout_s,
+                     shol_result *r1, shol_result *r2, char **texts, core_err *err);
+/* Remove every rank's part (and failure mark) and the stage folder if empty. */
+void shol_part_clean(const char *stage, int ranks);
+
 /* How firmly a direction's limit is placed: the limiting criterion's
  * margin falls by slope_per_mps (rad per m/s for roll and pitch, percentage
  * points per m/s for a control) between the last passing speed and the

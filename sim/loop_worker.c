@@ -5,11 +5,17 @@
  * (or waits, where the swap must not depend on the thread's timing),
  * collects; the frees queue behind it. A mutex and a condition variable
  * hand everything over, so that what the job wrote is seen whole by the
- * loop once poll says it has run. */
+ * loop once poll says it has run. The thread runs at the system's normal
+ * scheduling (SCHED_OTHER), whatever the loop's thread was given: a world
+ * built at the loop's real-time priority would take a core from the
+ * stations and the view for as long as it lasts. */
 #include "loop_worker.h"
 
 #include <pthread.h>
+#include <sched.h>
+#include <signal.h>
 #include <stdlib.h>
+#include <string.h>
 
 #define LATER_MAX 8
 
@@ -75,7 +81,22 @@ loop_worker *loop_worker_create(core_err *err)
     pthread_mutex_init(&w->mu, NULL);
     pthread_cond_init(&w->work, NULL);
     pthread_cond_init(&w->done, NULL);
-    if (pthread_create(&w->th, NULL, worker_main, w) != 0) {
+    pthread_attr_t at;
+    struct sched_param sp;
+    memset(&sp, 0, sizeof sp);
+    sigset_t all, old;
+    sigfillset(&all);
+    int bad = pthread_attr_init(&at);
+    if (!bad) {
+        bad = pthread_attr_setinheritsched(&at, PTHREAD_EXPLICIT_SCHED) ||
+              pthread_attr_setschedpolicy(&at, SCHED_OTHER) || pthread_attr_setschedparam(&at, &sp);
+        pthread_sigmask(SIG_SETMASK, &all, &old); /* signals stay the loop's thread's */
+        if (!bad)
+            bad = pthread_create(&w->th, &at, worker_main, w);
+        pthread_sigmask(SIG_SETMASK, &old, NULL);
+        pthread_attr_destroy(&at);
+    }
+    if (bad) {
         core_err_set(err, -1, "flight loop: cannot start the worker thread");
         pthread_cond_destroy(&w->done);
         pthread_cond_destroy(&w->work);

@@ -3,9 +3,9 @@
  * files, and refuse anything unknown. Every error names file, line and key.
  *
  * Every key that is accepted acts in some command (scenarios/README.md says
- * which). Keys that a later part of disim will read (the OpenFOAM engine,
- * ...) are refused with the reason, not read and ignored: a user who writes
- * `[cfd] engine = openfoam` must not believe it ran. */
+ * which). Keys that a later part of disim will read are refused with the
+ * reason, not read and ignored: a user who writes `[cfd] residual_tol` must
+ * not believe it acted. */
 #include "sim.h"
 
 #include <math.h>
@@ -92,9 +92,6 @@ static const struct {
     {"task", "approach_dir_deg", NULL,
      "not supported: the approach is the task file's, in its phases (scenarios/tasks/land_port.ini); "
      "remove the key and give [task] file"},
-    {"cfd", "engine", "openfoam",
-     "not supported yet: the OpenFOAM engine is not built (the airwake database has the "
-     "embedded solver only); set engine = embedded or remove the key"},
     {"cfd", "residual_tol", NULL,
      "not supported: every airwake field is solved to the embedded solver's own convergence "
      "test (normalised residuals below 1e-4 with steady monitor velocities), which the "
@@ -142,6 +139,8 @@ static int mode_keys(const core_ini *ini, core_err *err)
         {"wod", "speed_max_kmh", "mode = sweep"},
         /* disim shol solves the deck zone only for coupled points */
         {"cfd", "coupled_domain", "coupling = two-way"},
+        /* the embedded engine's threads are OpenMP's */
+        {"cfd", "np", "engine = openfoam"},
         {"task", "file", "type = hover or landing"},
         {"pilot", "stations", "type = station"},
         {"pilot", "hold_after_s", "type = station"},
@@ -254,9 +253,17 @@ static int cfd_section(core_ini *ini, sim_scenario *sc, core_err *err)
     long it = 0;
     sc->grid = CORE_GRID_DEFAULT;
     sc->rotor = CORE_ROTOR_UNIFORM;
-    /* embedded is the only engine (openfoam is refused above) */
-    if ((rc = core_ini_get_enum(ini, "cfd", "engine", 0, "embedded", &v, err)) < 0)
+    if ((rc = core_ini_get_enum(ini, "cfd", "engine", 0, "embedded|openfoam", &v, err)) < 0)
         return rc;
+    sc->engine = rc == 0 && v == 1 ? SIM_ENGINE_OPENFOAM : SIM_ENGINE_EMBEDDED;
+    /* np: the OpenFOAM engine's MPI ranks (the embedded engine's threads
+     * are OpenMP's: mode_keys refuses np there) */
+    if (sc->engine == SIM_ENGINE_OPENFOAM) {
+        if ((rc = core_ini_get_int(ini, "cfd", "np", 0, 1, 4096, &it, err)) < 0)
+            return rc;
+        sc->engine_np = rc == 0 ? (int)it : 2;
+        it = 0;
+    }
     if ((rc = core_ini_get_enum(ini, "cfd", "grid", 0, core_grid_choices(), &v, err)) < 0)
         return rc;
     if (rc == 0)
@@ -317,21 +324,38 @@ static int referenced_files(core_ini *ini, sim_scenario *sc, core_err *err)
     return 0;
 }
 
-int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
+/* the path names the scenario in every later message and report: a cut
+ * one would name another file */
+static int set_path(sim_scenario *sc, const char *path, core_err *err)
 {
-    memset(sc, 0, sizeof *sc);
-    /* the path names the scenario in every later message and report: a cut
-     * one would name another file */
     if (strlen(path) >= sizeof sc->path)
         return core_err_set(err, -1, "%.60s...: scenario path longer than %zu characters", path,
                             sizeof sc->path - 1);
     snprintf(sc->path, sizeof sc->path, "%s", path);
+    return 0;
+}
+
+int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
+{
+    memset(sc, 0, sizeof *sc);
+    if (set_path(sc, path, err) != 0)
+        return -1;
     /* a regular file of a sane size, so that a load (over LCM too) of
      * /dev/zero, a FIFO or a huge file is refused at once, unread */
     if (core_file_regular(path, SIM_SCENARIO_MAX_BYTES, err) != 0)
         return -1;
     core_ini *ini = core_ini_load(path, err);
     if (!ini)
+        return -1;
+    int rc = sim_scenario_from_ini(ini, sc, err);
+    core_ini_destroy(ini);
+    return rc;
+}
+
+int sim_scenario_from_ini(core_ini *ini, sim_scenario *sc, core_err *err)
+{
+    memset(sc, 0, sizeof *sc);
+    if (set_path(sc, core_ini_path(ini), err) != 0)
         return -1;
     int rc = 0;
     const char *S = "scenario";
@@ -364,7 +388,6 @@ int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err)
         goto out;
     rc = referenced_files(ini, sc, err);
 out:
-    core_ini_destroy(ini);
     return rc < 0 ? rc : 0;
 }
 
@@ -409,8 +432,10 @@ void sim_scenario_print(const sim_scenario *sc, FILE *f)
                 sc->pilot_hold_after_s > 0 ? sc->pilot_hold_after_s : 0.5);
     if (sc->pilot == SIM_SC_PILOT_REPLAY)
         fprintf(f, "log = %s\nfeed_controls = %s\n", sc->pilot_log, sc->pilot_feed_controls ? "true" : "false");
-    fprintf(f, "\n[cfd]\nengine = embedded\ngrid = %s\nrotor = %s\ncoupling = %s\n",
-            core_grid_name(sc->grid), core_rotor_name(sc->rotor),
+    fprintf(f, "\n[cfd]\nengine = %s\n", sc->engine == SIM_ENGINE_OPENFOAM ? "openfoam" : "embedded");
+    if (sc->engine == SIM_ENGINE_OPENFOAM)
+        fprintf(f, "np = %d\n", sc->engine_np);
+    fprintf(f, "grid = %s\nrotor = %s\ncoupling = %s\n", core_grid_name(sc->grid), core_rotor_name(sc->rotor),
             core_coupling_name(sc->coupling));
     if (sc->coupling == CORE_COUPLING_TWO_WAY)
         fprintf(f, "coupled_domain = %s\n", sc->coupled_zone ? "zone" : "whole");

@@ -69,7 +69,11 @@ typedef struct sim_scenario {
     sim_sea sea;
     int turbulence;         /* [wod] turbulence (disim fly): 1 the field's turbulence */
 
-    /* CFD (the embedded engine, the only one) */
+    /* CFD */
+    int engine;           /* [cfd] engine: SIM_ENGINE_EMBEDDED (default) or SIM_ENGINE_OPENFOAM
+                             (disim airwake; the commands that build through the airwake
+                             database refuse it) */
+    int engine_np;        /* [cfd] np: the OpenFOAM engine's MPI ranks (default 2); 0 embedded */
     core_grid_level grid;
     core_rotor_mode rotor;
     core_coupling_mode coupling;
@@ -96,12 +100,13 @@ typedef struct sim_scenario {
     double flown_transient_frac;   /* transient_frac: the transient attitude limits' margin */
 } sim_scenario;
 enum { SIM_SC_PILOT_STATION = 0, SIM_SC_PILOT_AUTO = 1, SIM_SC_PILOT_REPLAY = 2 };
+enum { SIM_ENGINE_EMBEDDED = 0, SIM_ENGINE_OPENFOAM = 1 };
 
 /* Parse and resolve a scenario file. Returns 0, or < 0 with err naming the
  * file, line, key and what was expected (unknown keys and sections, wrong
  * types, values out of range, missing files, errors in referenced files), or
  * why a key no command acts on yet is refused ([task] approach_dir_deg,
- * [cfd] engine = openfoam, [cfd] residual_tol, [output] csv|plots; a key
+ * [cfd] residual_tol, [output] csv|plots; a key
  * of a mode not chosen; rotor = off with the two-way coupling; a piloted
  * task without the automated pilot). */
 /* The largest scenario file read (bytes), far above any real one: a path
@@ -109,6 +114,10 @@ enum { SIM_SC_PILOT_STATION = 0, SIM_SC_PILOT_AUTO = 1, SIM_SC_PILOT_REPLAY = 2 
  * is refused before it is opened. */
 #define SIM_SCENARIO_MAX_BYTES (16LL * 1024 * 1024)
 int sim_scenario_load(const char *path, sim_scenario *sc, core_err *err);
+/* The same on a scenario file already read (core_ini_load or
+ * core_ini_parse; the caller destroys it): its path names it and its
+ * folder is where the aircraft, ship and task files are looked for. */
+int sim_scenario_from_ini(core_ini *ini, sim_scenario *sc, core_err *err);
 
 /* Print the resolved configuration as INI-like text. */
 void sim_scenario_print(const sim_scenario *sc, FILE *out);

@@ -39,6 +39,10 @@ void sim_station_controls_centre(sim_station_controls *c);
  * naming file and line. */
 typedef struct sim_station_script sim_station_script;
 sim_station_script *sim_station_script_load(const char *path, core_err *err);
+/* The same on a script's text in memory (len bytes; a NUL in them is
+ * refused), path naming it in messages: sim_station_script_load reads the
+ * file whole and parses it here. */
+sim_station_script *sim_station_script_parse(const char *text, size_t len, const char *path, core_err *err);
 void sim_station_script_destroy(sim_station_script *s);
 void sim_station_script_at(const sim_station_script *s, double t_s, sim_station_controls *c);
 

@@ -64,6 +64,9 @@ typedef struct sim_task {
  * line-up line): ship NULL refuses any anchor but the spot. */
 int sim_task_load(const char *path, sim_task *t, core_err *err);
 int sim_task_load_ship(const char *path, const core_ship *ship, sim_task *t, core_err *err);
+/* The same on a task file already read (core_ini_load or core_ini_parse;
+ * the caller destroys it). */
+int sim_task_from_ini(core_ini *ini, const core_ship *ship, sim_task *t, core_err *err);
 /* The task's start (phase files: the first phase's target) into
  * start_S_m; left as it is for a file without one. 0, or < 0 with err. */
 int sim_task_start_S(const char *path, const core_ship *ship, double start_S_m[3], core_err *err);

@@ -112,87 +112,92 @@ static int script_fields(char *line, double out[5])
 
 sim_station_script *sim_station_script_load(const char *path, core_err *err)
 {
-    static const char *col[5] = {"time", "collective", "long", "lat", "pedal"};
     /* a regular file of a sane size: /dev/zero or a FIFO would never end */
-    struct stat st;
-    if (stat(path, &st) != 0) {
-        core_err_set(err, -1, "%s: %s", path, strerror(errno));
+    size_t len = 0;
+    char *text = core_file_read(path, SIM_STATION_SCRIPT_MAX_BYTES, &len, err);
+    if (!text)
         return NULL;
+    sim_station_script *s = sim_station_script_parse(text, len, path, err);
+    free(text);
+    return s;
+}
+
+/* One row (or the header, or nothing) of a script's line p (its comment
+ * and line end cut off): 0, or < 0 with err. */
+static int script_row_add(sim_station_script *s, int *cap, int *header_ok, char *p, const char *path, int lineno,
+                          core_err *err)
+{
+    static const char *col[5] = {"time", "collective", "long", "lat", "pedal"};
+    while (*p == ' ' || *p == '\t')
+        p++;
+    if (!*p)
+        return 0;
+    double f[5];
+    int nf = script_fields(p, f);
+    if (nf < 0 && *header_ok && s->n == 0 && !strchr("+-.0123456789", *p)) {
+        *header_ok = 0; /* one header line, before the first row */
+        return 0;
     }
-    if (core_file_check_stat(path, &st, SIM_STATION_SCRIPT_MAX_BYTES, err) != 0)
-        return NULL;
-    FILE *fp = fopen(path, "r");
-    if (!fp) {
-        core_err_set(err, -1, "%s: %s", path, strerror(errno));
-        return NULL;
+    *header_ok = 0;
+    if (nf != 5)
+        return core_err_set(err, -1, "%s:%d: '%s': expected 5 numbers time_s,collective,long,lat,pedal (percent)",
+                            path, lineno, p);
+    for (int k = 0; k < 5; k++)
+        if (!isfinite(f[k]) || (k == 0 && f[k] < 0.0) || (k > 0 && (f[k] < 0.0 || f[k] > 100.0)))
+            return core_err_set(err, -1, "%s:%d: %s = %g: expected %s", path, lineno, col[k], f[k],
+                                k == 0 ? "a time >= 0 s" : "a percentage 0 to 100");
+    if (s->n > 0 && f[0] < s->rows[s->n - 1].t_s)
+        return core_err_set(err, -1,
+                            "%s:%d: time %g s is before the previous row's %g s: expected times that do not decrease",
+                            path, lineno, f[0], s->rows[s->n - 1].t_s);
+    if (s->n == *cap) {
+        int nc = *cap ? 2 * *cap : 64;
+        script_row *r = realloc(s->rows, (size_t)nc * sizeof *r);
+        if (!r)
+            return core_err_set(err, -1, "%s: out of memory", path);
+        s->rows = r;
+        *cap = nc;
     }
+    script_row *r = &s->rows[s->n++];
+    r->t_s = f[0];
+    memcpy(r->v, f + 1, sizeof r->v);
+    return 0;
+}
+
+sim_station_script *sim_station_script_parse(const char *text, size_t len, const char *path, core_err *err)
+{
     sim_station_script *s = calloc(1, sizeof *s);
+    if (!s) {
+        core_err_set(err, -1, "%s: out of memory", path);
+        return NULL;
+    }
     int cap = 0, lineno = 0, header_ok = 1;
     char line[1024];
-    if (!s)
-        goto oom;
-    while (fgets(line, sizeof line, fp)) {
+    for (size_t pos = 0; pos < len;) {
         lineno++;
-        size_t len = strlen(line);
-        if (len == sizeof line - 1 && line[len - 1] != '\n') {
+        const char *nl = memchr(text + pos, '\n', len - pos);
+        size_t n = nl ? (size_t)(nl - (text + pos)) : len - pos;
+        if (n > sizeof line - 2) {
             core_err_set(err, -1, "%s:%d: line longer than %d characters", path, lineno, (int)sizeof line - 2);
             goto fail;
         }
-        line[strcspn(line, "\r\n#")] = '\0';
-        char *p = line;
-        while (*p == ' ' || *p == '\t')
-            p++;
-        if (!*p)
-            continue;
-        double f[5];
-        int nf = script_fields(p, f);
-        if (nf < 0 && header_ok && s->n == 0 && !strchr("+-.0123456789", *p)) {
-            header_ok = 0; /* one header line, before the first row */
-            continue;
-        }
-        header_ok = 0;
-        if (nf != 5) {
-            core_err_set(err, -1, "%s:%d: '%s': expected 5 numbers time_s,collective,long,lat,pedal (percent)",
-                         path, lineno, p);
+        if (memchr(text + pos, '\0', n)) {
+            core_err_set(err, -1, "%s:%d: a NUL byte (a binary file?): expected text", path, lineno);
             goto fail;
         }
-        for (int k = 0; k < 5; k++)
-            if (!isfinite(f[k]) || (k == 0 && f[k] < 0.0) || (k > 0 && (f[k] < 0.0 || f[k] > 100.0))) {
-                core_err_set(err, -1, "%s:%d: %s = %g: expected %s", path, lineno, col[k], f[k],
-                             k == 0 ? "a time >= 0 s" : "a percentage 0 to 100");
-                goto fail;
-            }
-        if (s->n > 0 && f[0] < s->rows[s->n - 1].t_s) {
-            core_err_set(err, -1, "%s:%d: time %g s is before the previous row's %g s: expected times that do not decrease",
-                         path, lineno, f[0], s->rows[s->n - 1].t_s);
+        memcpy(line, text + pos, n);
+        line[n] = '\0';
+        pos += n + (nl ? 1 : 0);
+        line[strcspn(line, "\r#")] = '\0';
+        if (script_row_add(s, &cap, &header_ok, line, path, lineno, err) != 0)
             goto fail;
-        }
-        if (s->n == cap) {
-            int nc = cap ? 2 * cap : 64;
-            script_row *r = realloc(s->rows, (size_t)nc * sizeof *r);
-            if (!r)
-                goto oom;
-            s->rows = r;
-            cap = nc;
-        }
-        script_row *r = &s->rows[s->n++];
-        r->t_s = f[0];
-        memcpy(r->v, f + 1, sizeof r->v);
-    }
-    if (ferror(fp)) {
-        core_err_set(err, -1, "%s: read error: %s", path, strerror(errno));
-        goto fail;
     }
     if (s->n == 0) {
         core_err_set(err, -1, "%s: no rows: expected lines time_s,collective,long,lat,pedal", path);
         goto fail;
     }
-    fclose(fp);
     return s;
-oom:
-    core_err_set(err, -1, "%s: out of memory", path);
 fail:
-    fclose(fp);
     sim_station_script_destroy(s);
     return NULL;
 }

@@ -303,6 +303,15 @@ int sim_task_load_ship(const char *path, const core_ship *ship, sim_task *t, cor
     core_ini *ini = core_ini_load(path, err);
     if (!ini)
         return -1;
+    int rc = sim_task_from_ini(ini, ship, t, err);
+    core_ini_destroy(ini);
+    return rc;
+}
+
+int sim_task_from_ini(core_ini *ini, const core_ship *ship, sim_task *t, core_err *err)
+{
+    memset(t, 0, sizeof *t);
+    const char *path = core_ini_path(ini);
     int kind = 0, rc;
     if ((rc = core_ini_get_enum(ini, "task", "type", 1, "station_keep|land", &kind, err)) == 0) {
         rc = core_ini_find(ini, "task", "phases") ? load_phases(ini, path, ship, kind, t, err)
@@ -319,7 +328,6 @@ int sim_task_load_ship(const char *path, const core_ship *ship, sim_task *t, cor
         if (rc == 0)
             rc = core_ini_check_unused(ini, err);
     }
-    core_ini_destroy(ini);
     if (rc)
         memset(t, 0, sizeof *t);
     return rc < 0 ? rc : (rc ? -1 : 0);

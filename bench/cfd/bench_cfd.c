@@ -13,6 +13,15 @@
  *       one radius over the spot: wall time to convergence (normalised
  *       residuals < 1e-4 and deck-line monitors changing < 2 %), or to the
  *       limit; solver bytes per cell and the process's peak RSS per cell.
+ *   bench_cfd warmstart [--ship NAME] [--grid coarse|default] [--dir-deg D]
+ *       [--speed MPS] [--rotor on|off] [--threads N] [--max-iter N]
+ *       What the airwake builder does for a finer field, against its
+ *       baseline, in one invocation: the field on the grid below (quick
+ *       below coarse, coarse below default) solved and written, then the
+ *       finer one solved from the inflow and from that file
+ *       (cfd_field_load, cfd_solver_init_from_field, as awdb's builder):
+ *       iterations and wall time of each, the ratios, and the largest
+ *       velocity difference between the two finer fields in % of U.
  *   bench_cfd_compare compare [--ship NAME] [--grid coarse|default|fine]
  *       [--rotor on|off] [--dir-deg D] [--speed MPS] [--iters N]
  *       [--threads N] [--rounds N] [--h-fine-m H --h-max-m H]
@@ -36,6 +45,7 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <time.h>
+#include <unistd.h>
 
 static double wall_now(void)
 {
@@ -124,6 +134,90 @@ static double run_iters(int threads, int iters, double *cells)
     *cells = (double)cfd_grid_fluid_cells(cfd_solver_grid(s));
     cfd_solver_destroy(s);
     return res.cell_updates / res.wall_s;
+}
+
+/* Solve sp (from f when not NULL) to convergence; its solver in *out
+ * (the caller destroys it). 0, or -1 with the error printed. */
+static int solve_case(const cfd_airwake_spec *sp, const cfd_field *f, cfd_solver **out, cfd_result *res)
+{
+    core_err err;
+    limit l = {0.0, 0, NULL};
+    cfd_solver *s = cfd_airwake_create(sp, NULL, progress, &l, &err);
+    if (!s || (f && cfd_solver_init_from_field(s, f, &err)) || cfd_solver_run(s, res, &err) < 0) {
+        fprintf(stderr, "bench_cfd: %s\n", err.msg);
+        cfd_solver_destroy(s);
+        return -1;
+    }
+    *out = s;
+    return 0;
+}
+
+static int warmstart(const char *ship_name, double speed, double dir, int lv, int rotor, int threads, int max_iter)
+{
+    omp_set_num_threads(threads);
+    core_ship ship;
+    cfd_airwake_spec fine, below;
+    if (lv != CORE_GRID_COARSE && lv != CORE_GRID_DEFAULT) {
+        fprintf(stderr, "bench_cfd: warmstart: --grid coarse or default (the grid below: quick, coarse)\n");
+        return 2;
+    }
+    if (setup_ship(&ship, &fine, ship_name, speed, (core_grid_level)lv, dir, rotor))
+        return 1;
+    fine.max_iter = max_iter;
+    below = fine;
+    below.level = lv == CORE_GRID_COARSE ? CORE_GRID_QUICK : CORE_GRID_COARSE;
+    char path[] = "/tmp/bench_cfd_warm_XXXXXX";
+    int fd = mkstemp(path);
+    if (fd < 0) {
+        perror("bench_cfd: mkstemp");
+        return 1;
+    }
+    close(fd);
+    core_err err;
+    cfd_solver *sb = NULL, *cold = NULL, *warm = NULL;
+    cfd_field *f = NULL;
+    cfd_result rb, rc, rw;
+    cfd_meta meta;
+    memset(&meta, 0, sizeof meta);
+    meta.wod_speed_mps = speed;
+    meta.wod_dir_deg = dir;
+    snprintf(meta.ship, sizeof meta.ship, "%s", ship.name);
+    snprintf(meta.rotor, sizeof meta.rotor, "%s", rotor ? "uh60a" : "off");
+    int bad = solve_case(&below, NULL, &sb, &rb) || cfd_solver_write(sb, &meta, path, &err) ||
+              !(f = cfd_field_load(path, &err));
+    if (bad && err.msg[0])
+        fprintf(stderr, "bench_cfd: %s\n", err.msg);
+    bad = bad || solve_case(&fine, NULL, &cold, &rc) || solve_case(&fine, f, &warm, &rw);
+    unlink(path);
+    if (!bad) {
+        const cfd_grid *g = cfd_solver_grid(cold);
+        const unsigned char *solid = cfd_grid_solid(g);
+        size_t n = cfd_grid_cells(g);
+        double dmax = 0.0;
+        for (int d = CFD_VAR_U; d <= CFD_VAR_W; d++) {
+            const double *a = cfd_solver_var(cold, d), *b = cfd_solver_var(warm, d);
+            for (size_t i = 0; a && b && i < n; i++)
+                if (!solid[i])
+                    dmax = fmax(dmax, fabs(a[i] - b[i]));
+        }
+        printf("warmstart: %s %.1f m/s %.0f deg, rotor %s, %s grid (%zu cells) from the %s grid, %d threads\n",
+               ship.name, speed, dir, rotor ? "UH-60A" : "off", core_grid_name((core_grid_level)lv), n,
+               core_grid_name(below.level), threads);
+        printf("  %-28s %5d iterations %s, %7.1f s\n", "below (the start)", rb.iterations,
+               rb.converged ? "converged" : "NOT converged", rb.wall_s);
+        printf("  %-28s %5d iterations %s, %7.1f s\n", "finer from the inflow", rc.iterations,
+               rc.converged ? "converged" : "NOT converged", rc.wall_s);
+        printf("  %-28s %5d iterations %s, %7.1f s\n", "finer from the field below", rw.iterations,
+               rw.converged ? "converged" : "NOT converged", rw.wall_s);
+        printf("  ratio warm / cold: iterations %.3f, wall %.3f (%.3f with the start's solve)\n",
+               (double)rw.iterations / rc.iterations, rw.wall_s / rc.wall_s, (rw.wall_s + rb.wall_s) / rc.wall_s);
+        printf("  the two finer fields: largest velocity difference %.3f %% of U\n", 100.0 * dmax / speed);
+    }
+    cfd_field_destroy(f);
+    cfd_solver_destroy(sb);
+    cfd_solver_destroy(cold);
+    cfd_solver_destroy(warm);
+    return bad ? 1 : 0;
 }
 
 /* Whole-string numbers within [lo, hi]; 0 ok, 1 bad (the caller names the option). */
@@ -230,14 +324,16 @@ static int compare(const bench_case *bc, int threads, int rounds)
 int main(int argc, char **argv)
 {
     if (argc < 2) {
-        fprintf(stderr, "usage: bench_cfd throughput|airwake|compare [options]\n");
+        fprintf(stderr, "usage: bench_cfd throughput|airwake|compare|warmstart [options]\n");
         return 2;
     }
     int threads = 2, iters = 50, max_iter = 3000, lv = 1, rotor = 1, every = 100, seq = 0, rounds = 1;
     double tl = 0.0, dir = 0.0, speed = 15.0, h_fine = 0.0, h_max = 0.0;
     const char *ship_name = "sfs2";
-    if (strcmp(argv[1], "throughput") && strcmp(argv[1], "airwake") && strcmp(argv[1], "compare")) {
-        fprintf(stderr, "bench_cfd: unknown mode '%s' (expected throughput, airwake or compare)\n", argv[1]);
+    if (strcmp(argv[1], "throughput") && strcmp(argv[1], "airwake") && strcmp(argv[1], "compare") &&
+        strcmp(argv[1], "warmstart")) {
+        fprintf(stderr, "bench_cfd: unknown mode '%s' (expected throughput, airwake, compare or warmstart)\n",
+                argv[1]);
         return 2;
     }
     for (int i = 2; i < argc; i += 2) {
@@ -287,6 +383,8 @@ int main(int argc, char **argv)
             return 2;
         }
     }
+    if (!strcmp(argv[1], "warmstart"))
+        return warmstart(ship_name, speed, dir, lv, rotor, threads, max_iter);
     if (!strcmp(argv[1], "compare")) {
         bench_case bc = {CFD_SHIPS_DIR, ship_name, speed, dir, lv, rotor, iters, h_fine, h_max, 0, 0};
         return compare(&bc, threads, rounds);

@@ -19,9 +19,11 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <math.h>
 #include <fcntl.h>
 #include <pthread.h>
 #include <signal.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/file.h>
@@ -264,6 +266,44 @@ static void test_keys(void)
     CHECK(strcmp(na, nb) == 0);
     awdb_key_name(&t3, nb, sizeof nb);
     CHECK(strcmp(na, nb) != 0);
+    /* A key at a limit stays inside it when rounded (the fuzzer's find: a
+     * shaft roll of 1 rad rounded to 57.3 deg, 1.00007 rad, and a radius
+     * of 49.996 m to 50 m, so the canonical key was refused by a second
+     * canon and its request file by the builder's reader). */
+    {
+        awdb_key e1 = key(10, 0), e2 = key(10, 0);
+        e1.shaft_roll_rad = 1.0;
+        e1.shaft_pitch_rad = -1.0;
+        e2.radius_m = 49.996;
+        for (int i = 0; i < 2; i++) {
+            awdb_key *e = i ? &e2 : &e1, again;
+            CHECK(awdb_key_canon(e, &err) == 0);
+            again = *e;
+            CHECK(awdb_key_canon(&again, &err) == 0);
+            char text[8192], n1[200], n2[200];
+            awdb_key_format(e, text, sizeof text);
+            core_ini *ini = core_ini_parse(text, strlen(text), "edge.req", &err);
+            awdb_key back;
+            memset(&back, 0, sizeof back);
+            int ok = ini && awdb_key_read(ini, &back, &err) == 0 && awdb_key_canon(&back, &err) == 0;
+            CHECK(ok);
+            if (!ok)
+                fprintf(stderr, "  edge key %d: %s\n", i, err.msg);
+            core_ini_destroy(ini);
+            awdb_key_name(e, n1, sizeof n1);
+            awdb_key_name(&back, n2, sizeof n2);
+            CHECK(strcmp(n1, n2) == 0);
+        }
+        CHECK(fabs(e1.shaft_roll_rad) <= 1.0 && fabs(e1.shaft_pitch_rad) <= 1.0 && e2.radius_m < 50.0);
+    }
+    /* a name starting with '.' would make a hidden field file that the
+     * database's listings skip (the fuzzer's find: ship ".i-GC47") */
+    bad = key(10, 0);
+    snprintf(bad.ship, sizeof bad.ship, ".i-GC47");
+    CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "ship '.i-GC47'") != NULL);
+    bad = key(10, 0);
+    snprintf(bad.aircraft, sizeof bad.aircraft, ".UH-60A");
+    CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "aircraft '.UH-60A'") != NULL);
     bad = key(10, 0);
     snprintf(bad.ship, sizeof bad.ship, "a/b");
     CHECK(awdb_key_canon(&bad, &err) < 0 && strstr(err.msg, "ship 'a/b'") != NULL);

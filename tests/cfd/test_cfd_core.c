@@ -519,6 +519,10 @@ enum {
     BAD_NODE_INF,      /* the last x node infinite */
     BAD_NODES_FLAT,    /* two equal y nodes */
     BAD_NODES_HUGE,    /* 2^22 nodes declared per axis (never written): 2^66 cells */
+    BAD_SOLID_FLOAT,   /* the solid mask stored as 8-byte floats: the fuzzer's find had a
+                          damaged type of 2 GB a value, converted through a 2 GB buffer */
+    BAD_NODES_LARGE,   /* 2^27 x nodes declared (never written), the file a few kB: the
+                          fuzzer's find, which had the loader allocate 1 GB and more */
 };
 
 /* A small field file written with HDF5 directly, as cfd writes it (4 x 3 x 2
@@ -544,15 +548,15 @@ static int write_raw_field(const char *path, int bad)
             x[2] = x[1];
         hsize_t dim = (hsize_t)n[d] + 1;
         hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
-        if (bad == BAD_NODES_HUGE) {
+        if (bad == BAD_NODES_HUGE || (bad == BAD_NODES_LARGE && d == 0)) {
             /* chunked and never written: the file stays small */
             hsize_t chunk = 1024;
-            dim = (hsize_t)1 << 22;
+            dim = (hsize_t)1 << (bad == BAD_NODES_HUGE ? 22 : 27);
             H5Pset_chunk(dcpl, 1, &chunk);
         }
         hid_t sp = H5Screate_simple(1, &dim, NULL);
         hid_t ds = H5Dcreate2(gg, nn[d], H5T_NATIVE_DOUBLE, sp, H5P_DEFAULT, dcpl, H5P_DEFAULT);
-        if (ds < 0 || (bad != BAD_NODES_HUGE && H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, x) < 0))
+        if (ds < 0 || (dim == (hsize_t)n[d] + 1 && H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, x) < 0))
             rc = -1;
         H5Dclose(ds);
         H5Sclose(sp);
@@ -561,7 +565,8 @@ static int write_raw_field(const char *path, int bad)
     hsize_t cells[3] = {NZ, NY, NX}, trans[3] = {NX, NY, NZ}, flat[2] = {NX * NY, NZ};
     unsigned char solid[NX * NY * NZ] = {0};
     hid_t sp = bad == BAD_SOLID_2D ? H5Screate_simple(2, flat, NULL) : H5Screate_simple(3, cells, NULL);
-    hid_t ds = H5Dcreate2(gg, "solid", H5T_NATIVE_UCHAR, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t ds = H5Dcreate2(gg, "solid", bad == BAD_SOLID_FLOAT ? H5T_NATIVE_DOUBLE : H5T_NATIVE_UCHAR, sp,
+                          H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     rc |= H5Dwrite(ds, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, solid);
     H5Dclose(ds);
     H5Sclose(sp);
@@ -652,7 +657,9 @@ static void test_io_bad(void)
         {BAD_ATTR_STRINGS, "attribute ship: expected one fixed-length string"},
         {BAD_NODE_INF, "/grid/x_nodes node 4 is inf: expected a finite coordinate"},
         {BAD_NODES_FLAT, "cfd grid: axis 1 nodes must increase (node 1: 1, 1)"},
-        {BAD_NODES_HUGE, "too many cells"},
+        {BAD_NODES_HUGE, "its data need more than the file's"},
+        {BAD_SOLID_FLOAT, "/grid/solid is stored as floats of 8 bytes, expected integers of 1 bytes"},
+        {BAD_NODES_LARGE, "grid of 134217727 x 1 x 1 cells: its data need more than the file's"},
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         CHECK(write_raw_field(path, cases[c].bad) == 0);

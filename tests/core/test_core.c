@@ -376,6 +376,23 @@ static void test_ini_text(void)
         CHECK(core_ini_get_name(ini, "a", "bad3", 1, s, sizeof s, &err) < 0);
         core_ini_destroy(ini);
     }
+    /* the same reader on text in memory: the name in every message, its
+     * folder for relative paths, a NUL inside the length refused, text
+     * after the length not read */
+    const char mem[] = "[a]\nx = 1\np = b/c.ini\ny = z\0w\n";
+    ini = core_ini_parse(mem, 15, "dir/mem.ini", &err);
+    CHECK(ini != NULL && core_ini_count(ini) == 2 && !strcmp(core_ini_path(ini), "dir/mem.ini"));
+    if (ini) {
+        char s[64];
+        CHECK(core_ini_get_path(ini, "a", "p", 1, s, sizeof s, &err) < 0 &&
+              strstr(err.msg, "dir/mem.ini:3: [a] p = 'b': file not found (looked for dir/b)"));
+        core_ini_destroy(ini);
+    }
+    CHECK(core_ini_parse(mem, sizeof mem - 1, "dir/mem.ini", &err) == NULL &&
+          strstr(err.msg, "dir/mem.ini:4:6: a NUL byte"));
+    ini = core_ini_parse("", 0, "empty.ini", &err);
+    CHECK(ini != NULL && core_ini_count(ini) == 0);
+    core_ini_destroy(ini);
 #undef T
     double rv[1];
     int rn;

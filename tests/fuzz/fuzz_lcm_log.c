@@ -1,5 +1,6 @@
 /* fuzz_lcm_log.c -- libFuzzer harness of the LCM log reader (sim/log.c):
- * each input is written to a file and read by sim_log_check_frames (the
+ * each input is written to a file on tmpfs (/dev/shm: the reader is lcm's
+ * event log, which reads files) and read by sim_log_check_frames (the
  * framing every reader checks first) and sim_log_load (the whole reader:
  * framing, disim_lcm_check_raw, the decoders, the states' checks). Built
  * with -DDISIM_FUZZ=ON and clang; run from the source root:
@@ -12,11 +13,13 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static char path[64];
     if (!path[0])
-        snprintf(path, sizeof path, "/tmp/fuzz_lcm_log_%d.lcm", (int)getpid());
+        snprintf(path, sizeof path, "/dev/shm/disim_fuzz_lcm_log.%d.lcm", (int)getpid());
     FILE *f = fopen(path, "wb");
     if (!f)
         abort(); /* the harness itself cannot run */

@@ -248,6 +248,12 @@ int main(void)
         c[ship + 4 + 5] = 'x';
         CHECK(disim_lcm_check_raw("airwake_request_t", c, n, err, sizeof err) == -1);
         CHECK(strstr(err, "airwake_request_t.ship") && strstr(err, "without its NUL"));
+        /* a NUL inside a string (the fuzzer's find: the string decoded
+         * shorter than received, the rest dropped) */
+        memcpy(c, b, n);
+        c[ship + 4 + 2] = 0;
+        CHECK(disim_lcm_check_raw("airwake_request_t", c, n, err, sizeof err) == -1);
+        CHECK(strstr(err, "airwake_request_t.ship: a NUL inside the string (byte 3 of 6)") != NULL);
         memcpy(c, b, n);
         c[ship + 3] = 0;
         CHECK(disim_lcm_check_raw("airwake_request_t", c, n, err, sizeof err) == -1);

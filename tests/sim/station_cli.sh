@@ -56,7 +56,7 @@ expect 2 "--axis-long: axis 'ABS_NOPE'" --axis-long ABS_NOPE
 expect 2 "--id: station id 'two words'" --id "two words" --script "$tmp/one.csv"
 expect 1 "/nonexistent/event42: No such file or directory" --device /nonexistent/event42
 expect 1 "/dev/null: not an evdev input device" --device /dev/null
-expect 1 "$tmp/missing.csv: No such file or directory" --script "$tmp/missing.csv"
+expect 1 "$tmp/missing.csv: cannot open: No such file or directory" --script "$tmp/missing.csv"
 expect 1 "bad.csv:3: long = 120: expected a percentage 0 to 100" --script "$tmp/bad.csv"
 expect 1 "standard input is not a terminal" --keyboard
 expect 1 "no heli_state_t on DISIM_HELI_STATE within 0.3 s" --script "$tmp/one.csv" --lcm memq:// --wait-s 0.3

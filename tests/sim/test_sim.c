@@ -26,8 +26,7 @@ static const struct {
 } refusals[] = {
     {"refused_task_approach.ini", "refused_task_approach.ini:15: [task] approach_dir_deg: ",
      "not supported: the approach is the task file's, in its phases"},
-    {"refused_engine_openfoam.ini", "refused_engine_openfoam.ini:16: [cfd] engine = openfoam: ",
-     "not supported yet: the OpenFOAM engine is not built"},
+    {"np_without_openfoam.ini", "np_without_openfoam.ini:17: [cfd] np: ", "only used with engine = openfoam"},
     {"refused_residual_tol.ini", "refused_residual_tol.ini:17: [cfd] residual_tol: ",
      "not supported: every airwake field is solved to the embedded solver's own convergence test"},
     {"refused_output_csv.ini", "refused_output_csv.ini:19: [output] csv: ",

@@ -84,7 +84,17 @@ static void test_script(const char *dir)
         sim_station_script_destroy(s);
     }
     snprintf(path, sizeof path, "%s/none.csv", dir);
-    CHECK(sim_station_script_load(path, &err) == NULL && strstr(err.msg, "none.csv: No such file") != NULL);
+    CHECK(sim_station_script_load(path, &err) == NULL &&
+          strstr(err.msg, "none.csv: cannot open: No such file") != NULL);
+    /* a NUL byte is refused, not read as the end of its line (the row
+     * after it would be silently cut), in memory as in a file */
+    static const char nul[] = "0,50,50,50,50\n1,50,50,50,50\0,7\n";
+    s = sim_station_script_parse(nul, sizeof nul - 1, "mem.csv", &err);
+    CHECK(s == NULL && strstr(err.msg, "mem.csv:2: a NUL byte") != NULL);
+    sim_station_script_destroy(s);
+    s = sim_station_script_parse(nul, 14, "mem.csv", &err); /* the first row alone */
+    CHECK(s != NULL);
+    sim_station_script_destroy(s);
 }
 
 static int feed(sim_station_keys *k, const char *bytes, double t_s, sim_station_controls *c)

@@ -1,0 +1,59 @@
+#!/bin/sh
+# run.sh BUILD_DIR SECONDS CORPUS_DIR [HARNESS...] -- run each libFuzzer
+# harness of BUILD_DIR (built with -DDISIM_FUZZ=ON; all of them when none
+# is named, e.g. fuzz_ini fuzz_field) for SECONDS, one after another, from
+# the source root (the schema harnesses read scenarios/). The seed corpora
+# are made first (seeds.sh) into CORPUS_DIR/seeds; each harness keeps what
+# it finds in CORPUS_DIR/<harness>, its log in CORPUS_DIR/logs/<harness>.log
+# and any failing input in CORPUS_DIR/artifacts/. A run stops at SECONDS
+# or at FUZZ_RUNS executions (default 10,000,000). Prints each harness's
+# final figures (executions, time, executions a second, coverage); exits 1
+# when a harness found a crash, a hang (an input over FUZZ_TIMEOUT s,
+# default 20), a leak, a sanitizer report or ran out of memory (2 GB).
+set -eu
+[ $# -ge 3 ] || { echo "usage: run.sh BUILD_DIR SECONDS CORPUS_DIR [HARNESS...]" >&2; exit 2; }
+build=$(cd "$1" && pwd)
+secs=$2
+mkdir -p "$3"
+corpus=$(cd "$3" && pwd)
+shift 3
+cd "$(dirname "$0")/../.."
+src=$(pwd)
+if [ $# -eq 0 ]; then
+    set -- $(cd "$build/tests/fuzz" && ls fuzz_* | grep -v '^fuzz_seeds$' | sort)
+fi
+sh "$src/tests/fuzz/seeds.sh" "$build" "$corpus/seeds" > /dev/null
+mkdir -p "$corpus/logs" "$corpus/artifacts"
+failed=""
+printf '%-22s %12s %8s %9s %7s %7s  %s\n' harness executions time_s exec/s cov ft result
+for h in "$@"; do
+    bin="$build/tests/fuzz/$h"
+    seeds="$corpus/seeds/${h#fuzz_}"
+    [ -x "$bin" ] || { echo "run.sh: $bin not built" >&2; exit 2; }
+    [ -d "$seeds" ] || { echo "run.sh: no seeds for $h ($seeds)" >&2; exit 2; }
+    mkdir -p "$corpus/$h"
+    log="$corpus/logs/$h.log"
+    t0=$(date +%s)
+    rc=0
+    "$bin" -max_total_time="$secs" -runs="${FUZZ_RUNS:-10000000}" -timeout="${FUZZ_TIMEOUT:-20}" \
+        -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$corpus/artifacts/$h-" \
+        "$corpus/$h" "$seeds" > "$log" 2>&1 || rc=$?
+    t1=$(date +%s)
+    execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+    last=$(grep -E '^#[0-9]+' "$log" | tail -1)
+    cov=$(echo "$last" | sed -n 's/.* cov: \([0-9]*\).*/\1/p')
+    ft=$(echo "$last" | sed -n 's/.* ft: \([0-9]*\).*/\1/p')
+    el=$((t1 - t0))
+    [ "$el" -gt 0 ] || el=1
+    result=ok
+    if [ "$rc" -ne 0 ]; then
+        result="FAILED (exit $rc): $(grep -m1 -E 'ERROR|SUMMARY|deadly|timeout' "$log" || true), see $log"
+        failed="$failed $h"
+    fi
+    printf '%-22s %12s %8s %9s %7s %7s  %s\n' "$h" "${execs:-?}" "$el" "$(( ${execs:-0} / el ))" "${cov:-?}" \
+        "${ft:-?}" "$result"
+done
+if [ -n "$failed" ]; then
+    echo "run.sh: failed:$failed (inputs in $corpus/artifacts)" >&2
+    exit 1
+fi
