@@ -1187,11 +1187,14 @@ static int world_apply(sim_loop *l, const ctl *c, const char *path, const sim_lo
 }
 
 /* The rate limit: a world change taken from the changes allowed now (1
- * refused with why). */
+ * refused with why). It guards a flight's steps, and refills on the run
+ * clock: a frozen or ended flight (whose clock stands still, and which
+ * steps nothing) is not held by it, so a crash with the budget spent waits
+ * for nothing but its reset; the worker's one build at a time bounds it. */
 static int rate_take(sim_loop *l, char *why, size_t n)
 {
     double dt = l->o.change_interval_s, burst = (double)l->o.change_burst;
-    if (!(dt > 0.0) || l->swap == LOOP_SWAP_NOW)
+    if (!(dt > 0.0) || l->swap == LOOP_SWAP_NOW || l->paused || l->crashed)
         return 0;
     double t = run_t(l);
     l->tokens = fmin(burst, l->tokens + (t - l->tokens_t_s) / dt);

@@ -258,7 +258,8 @@ typedef struct sim_loop_opts {
      * controls that build the world again) asked for, limited over the run
      * clock: at most change_burst (5) at once, one more each
      * change_interval_s (1 s) of run time; the excess refused with the
-     * reason and counted. change_interval_s 0: no limit. */
+     * reason and counted; a frozen or ended flight is not held by it.
+     * change_interval_s 0: no limit. */
     int change_burst;
     double change_interval_s;
 } sim_loop_opts;

@@ -414,7 +414,8 @@ static void test_worker(void)
 }
 
 /* The rate limit regained over the run clock: one change at once, one
- * more every 0.5 s; swapped at the end of the asking pass (no timing). */
+ * more every 0.5 s; swapped at the end of the asking pass (no timing). A
+ * frozen flight is not held by it. */
 static void test_rate(void)
 {
     gate g;
@@ -465,6 +466,19 @@ static void test_rate(void)
     sim_loop_report rep;
     sim_loop_report_get(l, &rep);
     CHECK(rep.refused_rate == 1 && rep.builds_on_worker == 2 && rep.builds_in_step == 0 && g.prepared_on_main == 0);
+    /* the budget spent, the flight frozen: its run clock stands still, so
+     * the limit (which guards a flight's steps) does not hold a frozen or
+     * ended flight: a reset is taken at once, and again */
+    seq = send_ctl(lc, DISIM_SIM_CONTROL_T_PAUSE, NULL, 0);
+    iter(l, lc, &r, &out);
+    CHECK(s.last.control_seq == seq && s.last.control_result == A);
+    for (int k = 0; k < 2; k++) {
+        seq = send_ctl(lc, DISIM_SIM_CONTROL_T_RESET, NULL, 0);
+        iter(l, lc, &r, &out);
+        CHECK(s.last.control_seq == seq && s.last.control_result == A);
+    }
+    sim_loop_report_get(l, &rep);
+    CHECK(rep.refused_rate == 1 && rep.builds_on_worker == 4);
     disim_sim_status_t_unsubscribe(lc, ss);
     sim_loop_destroy(l);
     gate_fini(&g);
