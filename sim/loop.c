@@ -1610,6 +1610,8 @@ static int pass_before(void *user, core_err *err)
         return -1;
     if (!l->paused && !l->crashed)
         return SIM_RUN_STEPPED;
+    if (l->pacer)
+        sim_pacer_idle(l->pacer);
     return pass_end(l, 0, err) != 0 ? -1 : SIM_RUN_SKIPPED;
 }
 

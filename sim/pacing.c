@@ -122,6 +122,11 @@ void sim_pacer_rebase(sim_pacer *p)
     p->clock.now(p->clock.user, &p->next);
 }
 
+void sim_pacer_idle(sim_pacer *p)
+{
+    p->clock.now(p->clock.user, &p->work0);
+}
+
 int sim_pacer_wait(sim_pacer *p)
 {
     struct timespec now;

@@ -52,6 +52,10 @@ void sim_pacer_destroy(sim_pacer *p);
  * from its start, so that the summary's real-time factor and the step
  * times cover the whole run. */
 void sim_pacer_rebase(sim_pacer *p);
+/* A pass that steps nothing (frozen, or an ended flight waiting for a
+ * reset): the next step is timed from now, so that the wait is no step's
+ * work. */
+void sim_pacer_idle(sim_pacer *p);
 /* Call once per step after its work: sleeps to the next deadline (real
  * time). Returns 1 when the step overran its deadline, 0 otherwise. */
 int sim_pacer_wait(sim_pacer *p);

@@ -156,6 +156,44 @@ static void test_unpaced(void)
     sim_pacer_destroy(p);
 }
 
+/* A frozen flight: passes that step nothing, 3 s of them, then the
+ * flight again (its deadlines rebased, as the loop does at a resume): the
+ * wait is no step's work, so the step maximum stays the steps' */
+static void test_idle(void)
+{
+    fake_clock c = {T0_NS, 0, 0, 0};
+    sim_pacer_opts o;
+    sim_pacer_opts_default(&o);
+    o.rate_hz = RATE_HZ;
+    o.realtime = 1;
+    o.clock.now = fake_now;
+    o.clock.sleep_until = fake_sleep_until;
+    o.clock.user = &c;
+    core_err err = {0};
+    sim_pacer *p = sim_pacer_create_opts(&o, &err);
+    CHECK(p != NULL);
+    if (!p)
+        return;
+    for (int i = 0; i < 10; i++) {
+        c.ns += 1000500LL;
+        sim_pacer_wait(p);
+    }
+    for (int k = 0; k < 30; k++) { /* frozen: a pass every 100 ms */
+        c.ns += 100000000LL;
+        sim_pacer_idle(p);
+    }
+    sim_pacer_rebase(p);
+    for (int i = 0; i < 10; i++) {
+        c.ns += 2000500LL;
+        sim_pacer_wait(p);
+    }
+    sim_pacer_report r;
+    sim_pacer_stats(p, &r);
+    printf("idle: %ld steps, step max %.6f s over a 3 s freeze, %ld overruns\n", r.steps, r.step_max_s, r.overruns);
+    CHECK(fabs(r.step_max_s - 2.0005e-3) < 1e-9 && r.overruns == 0);
+    sim_pacer_destroy(p);
+}
+
 static void test_options(void)
 {
     fake_clock c = {T0_NS, 0, 0, 0};
@@ -187,6 +225,7 @@ static void test_options(void)
 int main(void)
 {
     test_paced();
+    test_idle();
     test_unpaced();
     test_options();
     return check_done("test_pacing");
