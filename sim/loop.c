@@ -1606,12 +1606,12 @@ static int pass_before(void *user, core_err *err)
         return -1;
     int waiting = l->paused || l->crashed; /* a flight that ended waits for a control that builds it again */
     take_received(l, waiting ? 100 : 0);
+    if (waiting && l->pacer) /* the wait for a control is no step's work */
+        sim_pacer_idle(l->pacer);
     if (do_controls(l, err) != 0)
         return -1;
     if (!l->paused && !l->crashed)
         return SIM_RUN_STEPPED;
-    if (l->pacer)
-        sim_pacer_idle(l->pacer);
     return pass_end(l, 0, err) != 0 ? -1 : SIM_RUN_SKIPPED;
 }
 
