@@ -190,12 +190,15 @@ int sim_pilots_offer(sim_pilots *p, const void *buf, int size, double t_s, char 
         int64_t ahead = s->s.last_seq >= 0 ? m.seq - s->s.last_seq : 0;
         if (s->s.last_seq >= 0 && ahead <= 0 && live(p, i, t_s))
             rc = refuse(p, i, why, n, "pilot_input_t from '%s': seq not above the last (stale)", s->s.id);
+        else if (s->s.last_seq >= 0 && ahead <= 0 && m.seq >= SIM_PILOTS_RESTART_SEQ_MAX)
+            rc = refuse(p, i, why, n, "pilot_input_t from '%s': seq not above the last after a silence, and too "
+                                      "high for a restart (a replay)", s->s.id);
         else if (ahead > SIM_PILOTS_SEQ_JUMP_MAX)
             rc = refuse(p, i, why, n, "pilot_input_t from '%s': seq jumps more than 1000000 past the last "
                                       "(a spoofed or corrupt message)", s->s.id);
         else {
-            /* a seq at or below the last after a silence: the station
-             * restarted; its count starts again there */
+            /* a low seq at or below the last after a silence: the
+             * station restarted; its count starts again there */
             if (ahead > 1)
                 s->s.gaps += ahead - 1;
             if (s->s.received == 0 && p->o.n_priority == 0)

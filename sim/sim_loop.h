@@ -91,6 +91,9 @@ int sim_pacer_os_realtime(int priority, char *what, size_t n);
  *   than SIM_PILOTS_SEQ_JUMP_MAX past the station's last (over an hour
  *   of messages at 200 Hz) is refused and counted, never adopted, so one
  *   spoofed or corrupt message cannot make the station's own stale;
+ * - after a silence, a seq at or below the last is a restarted station
+ *   (its count begins again at 0) only when it is below
+ *   SIM_PILOTS_RESTART_SEQ_MAX; any other is refused as a replay;
  * - a station is live while its last taken message is at most
  *   hold_after_s old; with no active station the first live one by
  *   priority (the list's order, else the order of first connection) takes
@@ -105,6 +108,7 @@ int sim_pacer_os_realtime(int priority, char *what, size_t n);
  *   linearly over blend_s (SIM_PILOTS_BLEND_S): never a step. */
 #define SIM_PILOTS_BLEND_S 1.0
 #define SIM_PILOTS_SEQ_JUMP_MAX 1000000LL
+#define SIM_PILOTS_RESTART_SEQ_MAX 200LL /* a restarted station's first 1-4 s at 50-200 Hz */
 typedef struct sim_pilots sim_pilots;
 typedef struct sim_pilots_opts {
     double hold_after_s; /* 0.5 */

@@ -121,6 +121,12 @@ static void test_rules(void)
     n = enc(b, "A", 0, 63, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 0.62, NULL, 0) == 0);
     CHECK(sim_pilots_inputs(p, 0.62, &flown, &in) == 0 && in.ctl.collective_pct == 41.0);
+    /* B replayed after a silence: a seq below its last but not a restart's is refused */
+    n = enc(b, "B", 300, 41, 50, 50, 50, 0);
+    CHECK(sim_pilots_offer(p, b, n, 0.63, NULL, 0) == 0);
+    n = enc(b, "B", 250, 99, 50, 50, 50, 0);
+    char rwhy[200] = "";
+    CHECK(sim_pilots_offer(p, b, n, 1.19, rwhy, sizeof rwhy) != 0 && strstr(rwhy, "a replay") != NULL);
     /* B falls silent: A (live, higher priority) takes the controls back */
     n = enc(b, "A", 1, 64, 50, 50, 50, 0);
     CHECK(sim_pilots_offer(p, b, n, 1.2, NULL, 0) == 0);
