@@ -239,6 +239,7 @@ struct sim_loop {
     int ack_cmd, ack_result;
     char ack_msg[256];
     double ack_apply_s;
+    int ack_unsent, acks_pass; /* an answer not yet published; answers published early in this pass */
     unsigned char buf[LOOP_BUF];
 };
 
@@ -326,8 +327,25 @@ static void got_pilot(sim_loop *l, const void *data, int size)
         core_log_msg(l->log, CORE_LOG_DEBUG, "refused: %s", why);
 }
 
+static void publish_status(sim_loop *l, int state);
+static int status_state(const sim_loop *l);
+
+/* Several controls answered in one pass: each answer published before the
+ * next replaces it, up to LOOP_ACKS_PASS_MAX a pass (a flood of controls
+ * is not echoed as a flood of statuses; past that the answers are
+ * counted, the last published). */
+#define LOOP_ACKS_PASS_MAX 16
+static void ack_flush(sim_loop *l)
+{
+    if (l->ack_unsent && (l->lc || l->elog) && l->acks_pass < LOOP_ACKS_PASS_MAX) {
+        publish_status(l, status_state(l));
+        l->acks_pass++;
+    }
+}
+
 static void refuse_ctl(sim_loop *l, long long seq, int command, const char *why_raw)
 {
+    ack_flush(l);
     char why[512]; /* a path or a name from the network, made safe to print and send on */
     core_escape(why_raw, why, sizeof why);
     l->control_refused++;
@@ -337,6 +355,7 @@ static void refuse_ctl(sim_loop *l, long long seq, int command, const char *why_
     l->ack_result = DISIM_SIM_STATUS_T_CONTROL_REFUSED;
     snprintf(l->ack_msg, sizeof l->ack_msg, "%.250s", why);
     l->ack_apply_s = 0.0;
+    l->ack_unsent = 1;
     l->dirty = 1;
     core_log_msg(l->log, CORE_LOG_WARN, "sim control %s (seq %lld) refused: %s", ctl_name(command), seq, why);
 }
@@ -627,6 +646,7 @@ static void publish_status(sim_loop *l, int state)
     l->last_active = m.active_station;
     l->last_paused = l->paused;
     l->dirty = 0;
+    l->ack_unsent = 0;
 }
 
 static unsigned loop_flags(const sim_loop *l)
@@ -835,12 +855,14 @@ static void accept_ctl(sim_loop *l, const ctl *c, double t0_s, const char *fmt, 
     __attribute__((format(printf, 4, 5)));
 static void accept_ctl(sim_loop *l, const ctl *c, double t0_s, const char *fmt, ...)
 {
+    ack_flush(l);
     va_list ap;
     va_start(ap, fmt);
     char raw[sizeof l->ack_msg];
     vsnprintf(raw, sizeof raw, fmt, ap);
     va_end(ap);
     core_escape(raw, l->ack_msg, sizeof l->ack_msg);
+    l->ack_unsent = 1;
     l->ack_seq = c->seq;
     l->ack_cmd = c->command;
     l->ack_result = DISIM_SIM_STATUS_T_CONTROL_ACCEPTED;
@@ -1578,6 +1600,7 @@ static int pass_end(sim_loop *l, int stepped, core_err *err)
             wall_s() - l->status_wall_s >= l->o.status_period_s)
             publish_status(l, status_state(l));
     }
+    l->acks_pass = 0;
     if (l->fatal)
         return core_err_set(err, -1, "%s", l->ferr.msg);
     if (stepped)

@@ -156,12 +156,15 @@ static void gate_set(gate *g, int closed)
 typedef struct seen {
     disim_sim_status_t last; /* its scalar fields */
     char scenario[64], message[256], control_message[256];
+    int answers; /* statuses answering a control other than the one before */
 } seen;
 
 static void on_status(const lcm_recv_buf_t *rb, const char *ch, const disim_sim_status_t *m, void *u)
 {
     (void)rb, (void)ch;
     seen *s = u;
+    if (m->control_seq != s->last.control_seq)
+        s->answers++;
     s->last = *m;
     snprintf(s->scenario, sizeof s->scenario, "%s", m->scenario);
     snprintf(s->message, sizeof s->message, "%s", m->message);
@@ -248,6 +251,7 @@ static void live_reset(sim_loop *l, lcm_t *lc, seen *s, gate *g, run *r)
     CHECK(rep.change_pending == 1 && rep.builds_in_step == 0 && rep.builds_on_worker == 0);
     /* a burst meanwhile: each refused at once, busy */
     long long last = 0;
+    int a0 = s->answers;
     for (int k = 0; k < 30; k++) {
         int cmd = k % 3 == 0 ? DISIM_SIM_CONTROL_T_RESET : k % 3 == 1 ? DISIM_SIM_CONTROL_T_LOAD_SCENARIO
                                                                       : DISIM_SIM_CONTROL_T_SET_SEA;
@@ -257,8 +261,19 @@ static void live_reset(sim_loop *l, lcm_t *lc, seen *s, gate *g, run *r)
     sim_loop_report_get(l, &rep);
     CHECK(rep.refused_busy == 30 && rep.control_refused == 30 && rep.refused_rate == 0);
     CHECK(s->last.control_seq == last && s->last.control_result == DISIM_SIM_STATUS_T_CONTROL_REFUSED);
+    CHECK(s->answers - a0 == 30); /* each answered */
     CHECK(strstr(s->control_message, "set sea refused: busy: a world change (reset) is being prepared") != NULL);
     printf("test_loop_worker: while a reset is built: '%s'\n", s->control_message);
+    /* 30 refused on arrival (an unknown command): answered one by one, 16
+     * before the pass's last one (the rest of a flood counted, not echoed) */
+    a0 = s->answers;
+    for (int k = 0; k < 30; k++)
+        last = send_ctl(lc, 99, NULL, 0);
+    CHECK(iter(l, lc, r, &out) == SIM_LOOP_STEPPED && out.step == step + 52);
+    CHECK(s->answers - a0 == 17 && s->last.control_seq == last);
+    printf("test_loop_worker: 30 refused on arrival in one pass, %d answers published\n", s->answers - a0);
+    sim_loop_report_get(l, &rep);
+    CHECK(rep.control_refused == 60);
     /* the gate opened: swapped in between two steps, answered */
     gate_set(g, 0);
     CHECK(until_answered(l, lc, s, g, 1, r, seq, 1000000, &out));
