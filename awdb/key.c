@@ -102,7 +102,7 @@ int awdb_key_canon(awdb_key *k, core_err *err)
         for (int i = 0; i < 3; i++)
             k->station_S_m[i] = round_to(k->station_S_m[i], 0.01) + 0.0;
     } else {
-        k->thrust_N = round_to(k->thrust_N, 1.0);
+        k->thrust_N = round_in(k->thrust_N, 1.0, 1.0, 1e7); /* a positive thrust stays positive */
         k->radius_m = round_in(k->radius_m, 0.01, 0.11, 49.99);
         /* 0.1 deg steps within 1 rad (57.2958 deg): at most 57.2 deg */
         k->shaft_pitch_rad = round_in(k->shaft_pitch_rad * CORE_RAD_TO_DEG, 0.1, -57.2, 57.2) * CORE_DEG_TO_RAD + 0.0;

@@ -437,6 +437,18 @@ static hid_t open_ds(hid_t f, const char *path, const char *name, int rank, hsiz
         H5Dclose(ds);
         return -1;
     }
+    /* the data the extent calls for must be stored: HDF5 1.10.8 reads a
+     * damaged dataset's short storage past its own buffer */
+    unsigned long long need = size;
+    for (int d = 0; d < rank; d++)
+        need = got[d] && need > ULLONG_MAX / got[d] ? ULLONG_MAX : need * got[d];
+    unsigned long long have = (unsigned long long)H5Dget_storage_size(ds);
+    if (have < need) {
+        core_err_set(err, -1, "%s: %s holds %llu bytes, its extent needs %llu (a truncated or damaged field)", path,
+                     name, have, need);
+        H5Dclose(ds);
+        return -1;
+    }
     for (int d = 0; d < rank; d++)
         dims[d] = got[d];
     return ds;

@@ -266,15 +266,17 @@ static void test_keys(void)
     CHECK(strcmp(na, nb) == 0);
     awdb_key_name(&t3, nb, sizeof nb);
     CHECK(strcmp(na, nb) != 0);
-    /* A key at a limit stays inside it when rounded (the fuzzer's find: a
-     * shaft roll of 1 rad rounded to 57.3 deg, 1.00007 rad, and a radius
-     * of 49.996 m to 50 m, so the canonical key was refused by a second
-     * canon and its request file by the builder's reader). */
+    /* A key at a limit stays inside it when rounded (the fuzzer's finds: a
+     * shaft roll of 1 rad rounded to 57.3 deg, 1.00007 rad, a radius of
+     * 49.996 m to 50 m, a thrust of 0.2 N to none, so the canonical key
+     * was refused by a second canon and its request file by the builder's
+     * reader). */
     {
         awdb_key e1 = key(10, 0), e2 = key(10, 0);
         e1.shaft_roll_rad = 1.0;
         e1.shaft_pitch_rad = -1.0;
         e2.radius_m = 49.996;
+        e2.thrust_N = 0.2; /* rounded to 0 N, refused as no thrust when read back */
         for (int i = 0; i < 2; i++) {
             awdb_key *e = i ? &e2 : &e1, again;
             CHECK(awdb_key_canon(e, &err) == 0);

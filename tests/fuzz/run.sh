@@ -10,6 +10,9 @@
 # final figures (executions, time, executions a second, coverage); exits 1
 # when a harness found a crash, a hang (an input over FUZZ_TIMEOUT s,
 # default 20), a leak, a sanitizer report or ran out of memory (2 GB).
+# FUZZ_ARGS adds libFuzzer options, e.g. "-fork=1 -ignore_crashes=1" to go
+# on past crashes (each input kept in artifacts/) where a third-party
+# library's own bugs stop a run.
 set -eu
 [ $# -ge 3 ] || { echo "usage: run.sh BUILD_DIR SECONDS CORPUS_DIR [HARNESS...]" >&2; exit 2; }
 build=$(cd "$1" && pwd)
@@ -36,7 +39,7 @@ for h in "$@"; do
     t0=$(date +%s)
     rc=0
     "$bin" -max_total_time="$secs" -runs="${FUZZ_RUNS:-10000000}" -timeout="${FUZZ_TIMEOUT:-20}" \
-        -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$corpus/artifacts/$h-" \
+        -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$corpus/artifacts/$h-" ${FUZZ_ARGS:-} \
         "$corpus/$h" "$seeds" > "$log" 2>&1 || rc=$?
     t1=$(date +%s)
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
