@@ -8,7 +8,6 @@
 #include "awdb.h"
 #include "cfd.h"
 
-#include <dirent.h>
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -67,42 +66,7 @@ awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, int thr
     e->max_iter = max_iter;
     e->threads = threads > 0 ? threads : 1;
     e->pool = omp_get_num_procs();
-    DIR *d = opendir(ships_dir);
-    if (!d) {
-        core_err_set(err, -1, "%s: cannot open the ships folder", ships_dir);
-        free(e);
-        return NULL;
-    }
-    struct dirent *de;
-    while ((de = readdir(d))) {
-        size_t l = strlen(de->d_name);
-        if (l < 5 || strcmp(de->d_name + l - 4, ".ini"))
-            continue;
-        char p[1024];
-        /* a ship left out would fail every request for it later, with a
-         * misleading "no ship file of that name": refuse now instead */
-        core_ship *grown = NULL;
-        if (snprintf(p, sizeof p, "%s/%s", ships_dir, de->d_name) >= (int)sizeof p)
-            core_err_set(err, -1, "ship file path longer than %zu characters: %s/%s", sizeof p - 1, ships_dir,
-                         de->d_name);
-        else if (!(grown = realloc(e->ships, (e->nships + 1) * sizeof *grown)))
-            core_err_set(err, -1, "%s: out of memory loading the ships", p);
-        if (!grown) {
-            closedir(d);
-            awdb_embedded_destroy(e);
-            return NULL;
-        }
-        e->ships = grown;
-        if (core_ship_load(p, &e->ships[e->nships], err) != 0) {
-            closedir(d);
-            awdb_embedded_destroy(e);
-            return NULL;
-        }
-        e->nships++;
-    }
-    closedir(d);
-    if (e->nships == 0) {
-        core_err_set(err, -1, "%s: no ship files (*.ini)", ships_dir);
+    if (core_ship_load_dir(ships_dir, &e->ships, &e->nships, err) != 0) {
         awdb_embedded_destroy(e);
         return NULL;
     }

@@ -396,6 +396,12 @@ int core_ship_load_log(const char *path, core_ship *ship, const core_log *log, c
 /* The same on a ship file already read (core_ini_load or core_ini_parse;
  * the caller destroys it). */
 int core_ship_from_ini(core_ini *ini, core_ship *ship, const core_log *log, core_err *err);
+/* Every ship file (*.ini) of a folder, loaded into *ships (malloc'ed, *n
+ * of them; the caller frees): 0, or < 0 with err naming the folder or the
+ * file (a folder that cannot be read, a path too long, a bad file, none at
+ * all), *ships NULL. A ship left out would fail every later request for it
+ * with a misleading "no ship of that name": one bad file refuses them all. */
+int core_ship_load_dir(const char *dir, core_ship **ships, int *n, core_err *err);
 /* 1 if point p (S) lies inside one of the ship's blocks. The sea surface is
  * a boundary of the CFD domain, not a block, so it does not count here. */
 int core_ship_contains(const core_ship *ship, core_vec3 p_S_m);

@@ -20,8 +20,10 @@
  * deck that no block carries. */
 #include "core.h"
 
+#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static int get_pair(core_ini *ini, const char *sec, const char *key, double lo, double hi,
@@ -302,4 +304,42 @@ int core_ship_mirror_symmetric(const core_ship *ship, double tol_m)
         used[found] = 1;
     }
     return ship->nblocks > 0;
+}
+
+int core_ship_load_dir(const char *dir, core_ship **ships, int *n, core_err *err)
+{
+    *ships = NULL;
+    *n = 0;
+    DIR *d = opendir(dir);
+    if (!d)
+        return core_err_set(err, -1, "%s: cannot open the ships folder", dir);
+    core_ship *all = NULL;
+    int count = 0, rc = 0;
+    struct dirent *de;
+    while (rc == 0 && (de = readdir(d))) {
+        size_t l = strlen(de->d_name);
+        if (l < 5 || strcmp(de->d_name + l - 4, ".ini"))
+            continue;
+        char p[1024];
+        core_ship *grown = NULL;
+        if (snprintf(p, sizeof p, "%s/%s", dir, de->d_name) >= (int)sizeof p)
+            rc = core_err_set(err, -1, "ship file path longer than %zu characters: %s/%s", sizeof p - 1, dir,
+                              de->d_name);
+        else if (!(grown = realloc(all, (size_t)(count + 1) * sizeof *grown)))
+            rc = core_err_set(err, -1, "%s: out of memory loading the ships", p);
+        else if ((all = grown), core_ship_load(p, &all[count], err) != 0)
+            rc = -1;
+        else
+            count++;
+    }
+    closedir(d);
+    if (rc == 0 && count == 0)
+        rc = core_err_set(err, -1, "%s: no ship files (*.ini)", dir);
+    if (rc != 0) {
+        free(all);
+        return -1;
+    }
+    *ships = all;
+    *n = count;
+    return 0;
 }

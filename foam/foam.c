@@ -11,7 +11,6 @@
 #define _XOPEN_SOURCE 700
 #include "foam_private.h"
 
-#include <dirent.h>
 #include <errno.h>
 #include <ftw.h>
 #include <math.h>
@@ -380,36 +379,12 @@ struct foam_engine {
 foam_engine *foam_engine_create(const char *ships_dir, const foam_opts *o, core_err *err)
 {
     foam_engine *e = calloc(1, sizeof *e);
-    DIR *d = e ? opendir(ships_dir) : NULL;
-    if (!d) {
-        core_err_set(err, -1, "%s: %s", ships_dir, e ? "cannot open the ships folder" : "out of memory");
-        free(e);
+    if (!e) {
+        core_err_set(err, -1, "%s: out of memory", ships_dir);
         return NULL;
     }
     e->o = *o;
-    struct dirent *de;
-    while ((de = readdir(d))) {
-        size_t l = strlen(de->d_name);
-        if (l < 5 || strcmp(de->d_name + l - 4, ".ini"))
-            continue;
-        char p[1024];
-        core_ship *grown = NULL;
-        if (snprintf(p, sizeof p, "%s/%s", ships_dir, de->d_name) >= (int)sizeof p)
-            core_err_set(err, -1, "ship file path too long: %s/%s", ships_dir, de->d_name);
-        else if (!(grown = realloc(e->ships, (e->nships + 1) * sizeof *grown)))
-            core_err_set(err, -1, "%s: out of memory loading the ships", p);
-        if (grown)
-            e->ships = grown;
-        if (!grown || core_ship_load(p, &e->ships[e->nships], err) != 0) {
-            closedir(d);
-            foam_engine_destroy(e);
-            return NULL;
-        }
-        e->nships++;
-    }
-    closedir(d);
-    if (e->nships == 0) {
-        core_err_set(err, -1, "%s: no ship files (*.ini)", ships_dir);
+    if (core_ship_load_dir(ships_dir, &e->ships, &e->nships, err) != 0) {
         foam_engine_destroy(e);
         return NULL;
     }
