@@ -66,18 +66,24 @@ static long long work_ns(int i)
     return 1000500LL;
 }
 
-static void test_paced(void)
+/* A pacer at RATE_HZ on the fake clock c (realtime: paced on deadlines). */
+static sim_pacer *fake_pacer(fake_clock *c, int realtime)
 {
-    fake_clock c = {T0_NS, 0, 0, 0};
     sim_pacer_opts o;
     sim_pacer_opts_default(&o);
     o.rate_hz = RATE_HZ;
-    o.realtime = 1;
+    o.realtime = realtime;
     o.clock.now = fake_now;
     o.clock.sleep_until = fake_sleep_until;
-    o.clock.user = &c;
+    o.clock.user = c;
     core_err err = {0};
-    sim_pacer *p = sim_pacer_create_opts(&o, &err);
+    return sim_pacer_create_opts(&o, &err);
+}
+
+static void test_paced(void)
+{
+    fake_clock c = {T0_NS, 0, 0, 0};
+    sim_pacer *p = fake_pacer(&c, 1);
     CHECK(p != NULL);
     if (!p)
         return;
@@ -126,15 +132,7 @@ static void test_paced(void)
 static void test_unpaced(void)
 {
     fake_clock c = {T0_NS, 0, 10500LL, 0};
-    sim_pacer_opts o;
-    sim_pacer_opts_default(&o);
-    o.rate_hz = RATE_HZ;
-    o.realtime = 0;
-    o.clock.now = fake_now;
-    o.clock.sleep_until = fake_sleep_until;
-    o.clock.user = &c;
-    core_err err = {0};
-    sim_pacer *p = sim_pacer_create_opts(&o, &err);
+    sim_pacer *p = fake_pacer(&c, 0);
     CHECK(p != NULL);
     if (!p)
         return;
@@ -162,15 +160,7 @@ static void test_unpaced(void)
 static void test_idle(void)
 {
     fake_clock c = {T0_NS, 0, 0, 0};
-    sim_pacer_opts o;
-    sim_pacer_opts_default(&o);
-    o.rate_hz = RATE_HZ;
-    o.realtime = 1;
-    o.clock.now = fake_now;
-    o.clock.sleep_until = fake_sleep_until;
-    o.clock.user = &c;
-    core_err err = {0};
-    sim_pacer *p = sim_pacer_create_opts(&o, &err);
+    sim_pacer *p = fake_pacer(&c, 1);
     CHECK(p != NULL);
     if (!p)
         return;
