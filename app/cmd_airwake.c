@@ -380,12 +380,25 @@ static int foam_progress(void *user, double frac, double residual, int iter)
     return 0;
 }
 
-/* The same case through OpenFOAM (foam.h) with np MPI ranks. 0 or 1. */
+/* The same case through OpenFOAM (foam.h) with np MPI ranks; the loaded
+ * rotor as rotorDisk with the blades of the aircraft file. 0 or 1. */
 static int airwake_solve_foam(const airwake_args *o, const cfd_airwake_spec *sp, const awdb_key *key, int np,
-                              const core_log *log)
+                              const char *aircraft_path, const core_log *log)
 {
     foam_opts fo;
     foam_opts_default(&fo);
+    core_err err = {0};
+    hfm_blade_data blades;
+    if (sp->rotor == CORE_ROTOR_LOADED) {
+        hfm_aircraft *ac = hfm_aircraft_load(aircraft_path, log, &err);
+        if (!ac) {
+            fprintf(stderr, "disim airwake: %s\n", err.msg);
+            return 1;
+        }
+        hfm_aircraft_blade_data(ac, &blades);
+        hfm_aircraft_destroy(ac);
+        fo.blades = &blades;
+    }
     fo.np = np;
     fo.log = log;
     fo.max_iter = sp->max_iter;
@@ -395,7 +408,6 @@ static int airwake_solve_foam(const airwake_args *o, const cfd_airwake_spec *sp,
     cfd_meta meta;
     airwake_meta(o, sp, key, &meta);
     foam_result r;
-    core_err err = {0};
     int rc = foam_airwake(sp, &fo, &meta, o->out, &r, &err);
     progress_end(&ps);
     if (rc) {
@@ -409,6 +421,13 @@ static int airwake_solve_foam(const airwake_args *o, const cfd_airwake_spec *sp,
             r.res.converged ? "converged" : r.steady_iter > 0 ? "monitors steady, residuals above 1e-4"
                                                               : "not converged (the iteration cap)",
             r.res.wall_s, r.total_wall_s);
+    if (fo.blades)
+        fprintf(stderr,
+                "disim airwake: rotorDisk on %zu cells: thrust %.0f N for %.0f N (%+.2f %%); trim %s: theta0 %.2f deg, "
+                "theta1c %.2f deg, theta1s %.2f deg\n",
+                r.rotor_cells, r.rotor_force_N, sp->disk.thrust_N, 100.0 * (r.rotor_force_N / sp->disk.thrust_N - 1.0),
+                r.trim_converged ? "converged" : "not converged", r.trim_pitch_deg[0], r.trim_pitch_deg[1],
+                r.trim_pitch_deg[2]);
     return 0;
 }
 
@@ -536,7 +555,7 @@ int cmd_airwake(int argc, char **argv)
         free(sc);
         return 1;
     }
-    rc = engine == SIM_ENGINE_OPENFOAM ? airwake_solve_foam(&o, &sp, &key, np, &log) : airwake_solve(&o, &sp, &key, &log);
+    rc = engine == SIM_ENGINE_OPENFOAM ? airwake_solve_foam(&o, &sp, &key, np, sc->aircraft_path, &log) : airwake_solve(&o, &sp, &key, &log);
     cfd_field_destroy(outer);
     free(sc);
     return rc;

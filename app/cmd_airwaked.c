@@ -1,5 +1,6 @@
 /* cmd_airwaked.c -- `disim airwaked DB_DIR [--jobs N] [--ships DIR]
- * [--max-iter N] [--exit-when-idle] [--no-lcm]`: the background airwake
+ * [--max-iter N] [--exit-when-idle] [--no-lcm] [--engine E] [--np N]
+ * [--aircraft DIR]`: the background airwake
  * builder. It serves the database's queue (filled by `disim airwake --queue`,
  * `disim shol` and other processes) and LCM requests on DISIM_AIRWAKE_REQUEST,
  * and publishes DISIM_AIRWAKE_STATUS. Progress goes to a terminal as one
@@ -234,12 +235,13 @@ static void on_idle(void *user)
 
 /* The command line of disim airwaked. */
 typedef struct airwaked_args {
-    const char *dir, *ships;
+    const char *dir, *ships, *aircraft;
     long jobs, max_iter;
     int once, use_lcm;
     int openfoam;   /* --engine openfoam */
     long np;        /* --np: its MPI ranks (0: 2) */
     int jobs_given; /* --jobs given (else, with OpenFOAM, the cores over its ranks) */
+    int aircraft_given;
 } airwaked_args;
 
 /* The flags into o: 0, or 2 (usage) after the message. */
@@ -248,7 +250,7 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if ((!strcmp(a, "--jobs") || !strcmp(a, "--ships") || !strcmp(a, "--max-iter") || !strcmp(a, "--engine") ||
-             !strcmp(a, "--np")) &&
+             !strcmp(a, "--np") || !strcmp(a, "--aircraft")) &&
             i + 1 >= argc) {
             fprintf(stderr, "disim airwaked: %s: expected a value\n", a);
             return 2;
@@ -284,6 +286,10 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
             o->openfoam = !strcmp(v, "openfoam");
         } else if (!strcmp(a, "--ships"))
             o->ships = argv[++i];
+        else if (!strcmp(a, "--aircraft")) {
+            o->aircraft = argv[++i];
+            o->aircraft_given = 1;
+        }
         else if (!strcmp(a, "--exit-when-idle"))
             o->once = 1;
         else if (!strcmp(a, "--no-lcm"))
@@ -300,13 +306,16 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
     }
     if (!o->dir) {
         fprintf(stderr, "usage: disim airwaked DB_DIR [--jobs N] [--ships DIR] [--max-iter N] "
-                        "[--exit-when-idle] [--no-lcm] [--engine embedded|openfoam] [--np N]\n"
+                        "[--exit-when-idle] [--no-lcm] [--engine embedded|openfoam] [--np N] [--aircraft DIR]\n"
                         "  --engine openfoam: build with OpenFOAM (mpirun -np N, 2 by default), into a database\n"
-                        "       of its own (a key does not name its engine; docs/openfoam.md)\n");
+                        "       of its own (a key does not name its engine; docs/openfoam.md); the loaded rotor\n"
+                        "       as rotorDisk with the blades of the key's aircraft, found in --aircraft DIR\n"
+                        "       (scenarios/aircraft)\n");
         return 2;
     }
-    if (o->np > 0 && !o->openfoam) {
-        fprintf(stderr, "disim airwaked: --np is the OpenFOAM engine's (--engine openfoam)\n");
+    if ((o->np > 0 || o->aircraft_given) && !o->openfoam) {
+        fprintf(stderr, "disim airwaked: %s is the OpenFOAM engine's (--engine openfoam)\n",
+                o->np > 0 ? "--np" : "--aircraft");
         return 2;
     }
     return 0;
@@ -315,7 +324,7 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
 int cmd_airwaked(int argc, char **argv)
 {
     long ncores = sysconf(_SC_NPROCESSORS_ONLN);
-    airwaked_args a = {NULL, "scenarios/ships", ncores, 0, 0, 1, 0, 0, 0};
+    airwaked_args a = {NULL, "scenarios/ships", "scenarios/aircraft", ncores, 0, 0, 1, 0, 0, 0, 0};
     int prc = airwaked_parse(argc, argv, &a);
     if (prc != 0)
         return prc;
@@ -338,7 +347,7 @@ int cmd_airwaked(int argc, char **argv)
     fo.np = a.np > 0 ? (int)a.np : 2;
     fo.max_iter = (int)max_iter;
     fo.log = &log;
-    foam_engine *fe = db && a.openfoam ? foam_engine_create(ships, &fo, &err) : NULL;
+    foam_engine *fe = db && a.openfoam ? foam_engine_create(ships, a.aircraft, &fo, &err) : NULL;
     if (!db || (!emb && !fe)) {
         fprintf(stderr, "disim airwaked: %s\n", err.msg);
         awdb_embedded_destroy(emb);

@@ -310,6 +310,14 @@ typedef struct cfd_meta {
      * are OpenFOAM's initial residuals of p, Ux, Uy, Uz and k */
     char engine[32];
     char engine_version[64];
+    /* how the engine built the rotor: "" (a field without it reads back so)
+     * for its actuator disk of the rotor's mode, "rotorDisk" for the
+     * OpenFOAM engine's blade-element rotor, whose trimmed thrust,
+     * integrated from its force field, is rotor_force_N, and the torque it
+     * put into the air about the thrust direction, in the rotor's sense,
+     * rotor_torque_Nm (0 otherwise) */
+    char rotor_model[32];
+    double rotor_force_N, rotor_torque_Nm;
 } cfd_meta;
 
 /* Write the field to path (HDF5) and path with .xmf (XDMF side file), each

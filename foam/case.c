@@ -26,7 +26,8 @@
  * vectorSemiImplicitSource of the band's total force over rho, spread
  * evenly over the zone's volume (volumeMode absolute), so the total force
  * is the embedded solver's exactly and its spread across the disk to a
- * quarter of the peak density.
+ * quarter of the peak density. The loaded rotor with the aircraft's
+ * blades: OpenFOAM's rotorDisk on the one cell zone rotorDisk0 (blade.c).
  *
  * Turbulence: RNGkEpsilon with cfd's constants (cfd.h). Schemes: steady,
  * Gauss linear gradients and Laplacians (the grid is orthogonal), bounded
@@ -45,6 +46,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+
+/* The blade-element rotor's cell zone (one: BLADE_ZONE "0"). */
+#define BLADE_ZONE "rotorDisk"
 
 const char *const foam_patch_names[CFD_NFACES] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
 
@@ -199,7 +203,10 @@ static size_t disk_bands(const cfd_solver *s, int *band, double force[][3], doub
     return used;
 }
 
-static int write_topo_set(const cfd_solver *s, const int *band, const char *dir, int *has_ship, core_err *err)
+/* The ship's cells (inverted into fluidCells) and, with band, the cell
+ * zones ZONE0.. of the cells whose band[c] is 0.. (ZONE the zone prefix). */
+static int write_topo_set(const cfd_solver *s, const int *band, const char *zone, const char *dir, int *has_ship,
+                          core_err *err)
 {
     const cfd_grid *g = cfd_solver_grid(s);
     const unsigned char *solid = cfd_grid_solid(g);
@@ -231,11 +238,11 @@ static int write_topo_set(const cfd_solver *s, const int *band, const char *dir,
                 lab[nb++] = c;
         if (nb == 0)
             continue;
-        w_printf(&w, "    {\n        name rotorBand%d;\n        type cellSet;\n        action new;\n"
-                     "        source labelToCell;\n        value ", b);
+        w_printf(&w, "    {\n        name %s%d;\n        type cellSet;\n        action new;\n"
+                     "        source labelToCell;\n        value ", zone, b);
         write_labels(&w, lab, nb);
-        w_printf(&w, ";\n    }\n    {\n        name rotorBand%d;\n        type cellZoneSet;\n        action new;\n"
-                     "        source setToCellZone;\n        set rotorBand%d;\n    }\n", b, b);
+        w_printf(&w, ";\n    }\n    {\n        name %s%d;\n        type cellZoneSet;\n        action new;\n"
+                     "        source setToCellZone;\n        set %s%d;\n    }\n", zone, b, zone, b);
     }
     w_printf(&w, ");\n");
     free(lab);
@@ -421,8 +428,11 @@ static int write_decompose(const cfd_grid *g, int np, const char *dir, core_err 
     return w_close(&w);
 }
 
+/* transportProperties, turbulenceProperties and, with a rotor, fvOptions:
+ * the uniform disk's bands (band, force, vol) or the blade-element rotor
+ * (blades, on the zone BLADE_ZONE0). */
 static int write_constant(const cfd_solver *s, const int *band, const double force[][3], const double *vol,
-                          const char *dir, core_err *err)
+                          const cfd_airwake_spec *sp, const hfm_blade_data *blades, const char *dir, core_err *err)
 {
     const cfd_config *cfg = cfd_solver_config(s);
     writer w;
@@ -441,6 +451,10 @@ static int write_constant(const cfd_solver *s, const int *band, const double for
         return 0;
     if (w_open(&w, dir, "constant/fvOptions", "dictionary", "fvOptions", err))
         return -1;
+    if (blades) {
+        foam_blade_options(w.f, BLADE_ZONE "0", &sp->disk, blades, cfg->rho_kgpm3);
+        return w_close(&w);
+    }
     for (int b = 0; b < FOAM_DISK_BANDS; b++) {
         if (!(vol[b] > 0.0))
             continue;
@@ -465,10 +479,9 @@ static int make_dirs(const char *dir, core_err *err)
     return 0;
 }
 
-int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, int np, int max_iter, const char *dir,
-                    int *has_ship, core_err *err)
+int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, const hfm_blade_data *blades, int np,
+                    int max_iter, const char *dir, int *has_ship, core_err *err)
 {
-    (void)sp;
     const cfd_grid *g = cfd_solver_grid(s);
     const cfd_config *cfg = cfd_solver_config(s);
     double in[5];
@@ -477,7 +490,16 @@ int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, int np, int
         return core_err_set(err, -1, "foam case: the inflow has no turbulence (k %g, epsilon %g)", in[3], in[4]);
     int *band = NULL;
     double force[FOAM_DISK_BANDS][3] = {{0}}, vol[FOAM_DISK_BANDS] = {0};
-    if (cfd_solver_disk_force(s, 0)) {
+    if (blades && sp->rotor != CORE_ROTOR_OFF) {
+        if (!(band = malloc(cfd_grid_cells(g) * sizeof *band)))
+            return core_err_set(err, -2, "foam case: out of memory");
+        if (foam_blade_zone(s, &sp->disk, blades->root_cutout_m, band) == 0) {
+            free(band);
+            return core_err_set(err, -1, "foam case: the rotor disk's plane crosses no fluid cell between the root "
+                                         "cut-out and the tip");
+        }
+    } else if (cfd_solver_disk_force(s, 0)) {
+        blades = NULL;
         if (!(band = malloc(cfd_grid_cells(g) * sizeof *band)))
             return core_err_set(err, -2, "foam case: out of memory");
         if (disk_bands(s, band, force, vol) == 0) {
@@ -489,7 +511,7 @@ int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, int np, int
     if (!rc)
         rc = write_block_mesh(g, cfg, dir, err);
     if (!rc)
-        rc = write_topo_set(s, band, dir, has_ship, err);
+        rc = write_topo_set(s, band, blades ? BLADE_ZONE : "rotorBand", dir, has_ship, err);
     if (!rc)
         rc = write_control(cfg, max_iter, dir, err);
     if (!rc)
@@ -499,7 +521,7 @@ int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, int np, int
     if (!rc)
         rc = write_decompose(g, np, dir, err);
     if (!rc)
-        rc = write_constant(s, band, force, vol, dir, err);
+        rc = write_constant(s, band, force, vol, sp, band ? blades : NULL, dir, err);
     for (field_id id = F_U; !rc && id <= F_NUT; id++)
         rc = write_field(cfg, in, id, dir, err);
     free(band);

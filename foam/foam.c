@@ -12,6 +12,7 @@
 #include "foam_private.h"
 
 #include <errno.h>
+#include <dirent.h>
 #include <ftw.h>
 #include <math.h>
 #include <stdlib.h>
@@ -75,14 +76,14 @@ static void rm_tree(const char *dir)
 }
 
 /* The refusals: what the engine does not build. NULL when spec is one it does. */
-static const char *unsupported(const cfd_airwake_spec *sp)
+static const char *unsupported(const cfd_airwake_spec *sp, const foam_opts *o)
 {
     if (sp->zone)
         return "a deck zone (its boundary is an outer field)";
     if (!(sp->wod_speed_mps > 0.0))
         return "calm air (no inlet)";
-    if (sp->rotor == CORE_ROTOR_LOADED)
-        return "the loaded rotor (its swirl and table; the uniform disk is built)";
+    if (sp->rotor == CORE_ROTOR_LOADED && !o->blades)
+        return "the loaded rotor without the aircraft's blades (rotorDisk needs them)";
     if (sp->abl)
         return "the ABL inflow (the uniform inflow is built)";
     return NULL;
@@ -292,7 +293,7 @@ static int make_case_dir(const foam_opts *o, char *dir, size_t n, core_err *err)
 
 int foam_case_write(const cfd_airwake_spec *spec, const foam_opts *o, const char *dir, core_err *err)
 {
-    const char *why = unsupported(spec);
+    const char *why = unsupported(spec, o);
     if (why)
         return core_err_set(err, -1, "the OpenFOAM engine does not build %s", why);
     cfd_solver *s = cfd_airwake_create(spec, o->log, NULL, NULL, err);
@@ -301,7 +302,7 @@ int foam_case_write(const cfd_airwake_spec *spec, const foam_opts *o, const char
     cfd_solver_init_inflow(s);
     int has_ship;
     int max_iter = o->max_iter > 0 ? o->max_iter : spec->max_iter > 0 ? spec->max_iter : 3000;
-    int rc = foam_case_files(s, spec, o->np > 1 ? o->np : 1, max_iter, dir, &has_ship, err);
+    int rc = foam_case_files(s, spec, o->blades, o->np > 1 ? o->np : 1, max_iter, dir, &has_ship, err);
     cfd_solver_destroy(s);
     return rc;
 }
@@ -310,7 +311,7 @@ int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_met
                  foam_result *res, core_err *err)
 {
     memset(res, 0, sizeof *res);
-    const char *why = unsupported(spec);
+    const char *why = unsupported(spec, o);
     if (why)
         return core_err_set(err, -1, "the OpenFOAM engine does not build %s", why);
     char avail[256];
@@ -330,7 +331,8 @@ int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_met
         return rc;
     }
     int has_ship = 0;
-    rc = foam_case_files(s, spec, o->np, max_iter, res->case_dir, &has_ship, err);
+    const hfm_blade_data *blades = spec->rotor == CORE_ROTOR_LOADED ? o->blades : NULL;
+    rc = foam_case_files(s, spec, blades, o->np, max_iter, res->case_dir, &has_ship, err);
     double solve_s = 0.0;
     int steady_iter = 0;
     if (!rc) {
@@ -346,6 +348,11 @@ int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_met
         rc = core_err_set(err, -1, "OpenFOAM step simpleFoam: %s has no iteration", logp);
     if (!rc)
         rc = foam_read_fields(res->case_dir, s, &res->cells, err);
+    char tdir[256];
+    if (!rc && blades && foam_latest_time(res->case_dir, tdir, sizeof tdir) != 0)
+        rc = core_err_set(err, -1, "OpenFOAM result: %s has no time folder", res->case_dir);
+    if (!rc && blades)
+        rc = foam_blade_result(res->case_dir, tdir, s, &spec->disk, res, err);
     if (!rc) {
         res->res.iterations = info.iterations;
         res->res.converged = info.converged;
@@ -360,6 +367,11 @@ int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_met
         snprintf(m.engine, sizeof m.engine, "openfoam");
         snprintf(m.engine_version, sizeof m.engine_version, "OpenFOAM %.54s", res->version);
         m.result = res->res;
+        if (blades) {
+            snprintf(m.rotor_model, sizeof m.rotor_model, "rotorDisk");
+            m.rotor_force_N = res->rotor_force_N;
+            m.rotor_torque_Nm = res->rotor_torque_Nm;
+        }
         rc = cfd_solver_write(s, &m, out_path, err);
     }
     cfd_solver_destroy(s);
@@ -374,9 +386,10 @@ struct foam_engine {
     foam_opts o;
     int nships;
     core_ship *ships;
+    const char *aircraft_dir;
 };
 
-foam_engine *foam_engine_create(const char *ships_dir, const foam_opts *o, core_err *err)
+foam_engine *foam_engine_create(const char *ships_dir, const char *aircraft_dir, const foam_opts *o, core_err *err)
 {
     foam_engine *e = calloc(1, sizeof *e);
     if (!e) {
@@ -384,6 +397,7 @@ foam_engine *foam_engine_create(const char *ships_dir, const foam_opts *o, core_
         return NULL;
     }
     e->o = *o;
+    e->aircraft_dir = aircraft_dir;
     if (core_ship_load_dir(ships_dir, &e->ships, &e->nships, err) != 0) {
         foam_engine_destroy(e);
         return NULL;
@@ -397,6 +411,35 @@ void foam_engine_destroy(foam_engine *e)
         return;
     free(e->ships);
     free(e);
+}
+
+/* The blades of the aircraft file in dir whose [aircraft] name is name. */
+static int find_blades(const char *dir, const char *name, const core_log *log, hfm_blade_data *b, core_err *err)
+{
+    if (!dir)
+        return core_err_set(err, -1, "aircraft '%s': the loaded rotor needs the aircraft files (no folder given)",
+                            name);
+    DIR *d = opendir(dir);
+    if (!d)
+        return core_err_set(err, -1, "%s: %s", dir, strerror(errno));
+    struct dirent *en;
+    int found = 0;
+    while (!found && (en = readdir(d))) {
+        size_t l = strlen(en->d_name);
+        if (l < 5 || strcmp(en->d_name + l - 4, ".ini") != 0)
+            continue;
+        char p[1200];
+        snprintf(p, sizeof p, "%s/%s", dir, en->d_name);
+        core_err e2;
+        hfm_aircraft *ac = hfm_aircraft_load(p, log, &e2);
+        if (ac && !strcmp(hfm_aircraft_name(ac), name)) {
+            hfm_aircraft_blade_data(ac, b);
+            found = 1;
+        }
+        hfm_aircraft_destroy(ac);
+    }
+    closedir(d);
+    return found ? 0 : core_err_set(err, -1, "aircraft '%s': no aircraft file of that name in %s", name, dir);
 }
 
 static int engine_build(void *user, const awdb_key *k, const char *warm_path, const char *out_path,
@@ -416,6 +459,16 @@ static int engine_build(void *user, const awdb_key *k, const char *warm_path, co
     if (awdb_key_spec(k, ship, &spec, err) != 0)
         return -1;
     foam_opts o = e->o;
+    hfm_blade_data *blades = NULL;
+    if (k->rotor == CORE_ROTOR_LOADED) {
+        if (!(blades = malloc(sizeof *blades)))
+            return core_err_set(err, -2, "out of memory");
+        if (find_blades(e->aircraft_dir, k->aircraft, o.log, blades, err) != 0) {
+            free(blades);
+            return -1;
+        }
+        o.blades = blades;
+    }
     o.progress = progress;
     o.progress_user = progress_user;
     cfd_meta meta;
@@ -430,6 +483,7 @@ static int engine_build(void *user, const awdb_key *k, const char *warm_path, co
     memcpy(meta.rotor_centre_S_m, k->station_S_m, sizeof meta.rotor_centre_S_m);
     foam_result r;
     int rc = foam_airwake(&spec, &o, &meta, out_path, &r, err);
+    free(blades);
     /* the database keeps the HDF5 file only */
     char xmf[1200];
     size_t l = strlen(out_path);
@@ -445,6 +499,12 @@ static int engine_build(void *user, const awdb_key *k, const char *warm_path, co
                      r.res.converged        ? "converged"
                      : r.steady_iter > 0    ? "monitors steady, residuals above 1e-4"
                                             : "not converged (at the iteration cap)");
+    if (rc == 0 && k->rotor == CORE_ROTOR_LOADED)
+        core_log_msg(o.log, CORE_LOG_INFO,
+                     "openfoam rotorDisk: thrust %.0f N of %.0f N (%+.2f %%), theta0 %.2f deg, theta1c %.2f deg, "
+                     "theta1s %.2f deg%s",
+                     r.rotor_force_N, k->thrust_N, 100.0 * (r.rotor_force_N / k->thrust_N - 1.0), r.trim_pitch_deg[0],
+                     r.trim_pitch_deg[1], r.trim_pitch_deg[2], r.trim_converged ? "" : " (trim not converged)");
     return rc;
 }
 
