@@ -70,13 +70,13 @@ static int parse_double(const char *flag, const char *s, double lo, double hi, d
 }
 
 /* --queue: the same case as an airwake database request. */
-static int queue_request(const char *db_dir, const awdb_key *key, const core_log *log)
+static int queue_request(const char *db_dir, const char *engine, const awdb_key *key, const core_log *log)
 {
     awdb_key k = *key;
     core_err err = {0};
     awdb *db = awdb_open(db_dir, log, &err);
     awdb_state before;
-    if (!db || awdb_submit(db, &k, &before, &err) != 0) {
+    if (!db || awdb_engine_claim(db, engine, &err) != 0 || awdb_submit(db, &k, &before, &err) != 0) {
         fprintf(stderr, "disim airwake: --queue %s: %s\n", db_dir, err.msg);
         awdb_close(db);
         return 1;
@@ -87,7 +87,8 @@ static int queue_request(const char *db_dir, const awdb_key *key, const core_log
     printf("%s: %s%s\n", name, awdb_state_name(before),
            before == AWDB_ABSENT || before == AWDB_FAILED ? " -> queued" : "");
     if (!awdb_builder_alive(db))
-        fprintf(stderr, "disim airwake: no builder serves %s yet: start `disim airwaked %s`\n", db_dir, db_dir);
+        fprintf(stderr, "disim airwake: no builder serves %s yet: start `disim airwaked %s%s`\n", db_dir, db_dir,
+                strcmp(engine, "openfoam") ? "" : " --engine openfoam");
     awdb_close(db);
     return 0;
 }
@@ -518,8 +519,8 @@ int cmd_airwake(int argc, char **argv)
     int engine = o.engine >= 0 ? o.engine : sc->engine;
     int np = o.np > 0 ? o.np : sc->engine_np > 0 ? sc->engine_np : 2;
     const char *clash = engine != SIM_ENGINE_OPENFOAM && o.np > 0 ? "--np is the OpenFOAM engine's (--engine openfoam)"
-                        : engine == SIM_ENGINE_OPENFOAM && o.queue
-                            ? "--queue: the database's builder solves with its own engine (disim airwaked)"
+                        : engine == SIM_ENGINE_OPENFOAM && o.queue && o.np > 0
+                            ? "--np with --queue: the database's builder runs its own ranks (disim airwaked --np)"
                         : engine == SIM_ENGINE_OPENFOAM && o.warm ? "--warm: the OpenFOAM engine starts from the inflow"
                                                                   : NULL;
     if (clash) {
@@ -528,7 +529,7 @@ int cmd_airwake(int argc, char **argv)
         return 2;
     }
     if (o.queue) {
-        rc = queue_request(o.queue, &key, &log);
+        rc = queue_request(o.queue, engine == SIM_ENGINE_OPENFOAM ? "openfoam" : "embedded", &key, &log);
         free(sc);
         return rc;
     }

@@ -308,7 +308,7 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
         fprintf(stderr, "usage: disim airwaked DB_DIR [--jobs N] [--ships DIR] [--max-iter N] "
                         "[--exit-when-idle] [--no-lcm] [--engine embedded|openfoam] [--np N] [--aircraft DIR]\n"
                         "  --engine openfoam: build with OpenFOAM (mpirun -np N, 2 by default), into a database\n"
-                        "       of its own (a key does not name its engine; docs/openfoam.md); the loaded rotor\n"
+                        "       of its own (DB_DIR/engine names it; docs/openfoam.md); the loaded rotor\n"
                         "       as rotorDisk with the blades of the key's aircraft, found in --aircraft DIR\n"
                         "       (scenarios/aircraft)\n");
         return 2;
@@ -339,6 +339,11 @@ int cmd_airwaked(int argc, char **argv)
     core_log log = {app_log_stderr, &al, CORE_LOG_INFO};
     core_err err = {0};
     awdb *db = awdb_open(dir, &log, &err);
+    if (db && awdb_engine_claim(db, a.openfoam ? "openfoam" : "embedded", &err) != 0) {
+        fprintf(stderr, "disim airwaked: %s\n", err.msg);
+        awdb_close(db);
+        return 1;
+    }
     awdb_embedded *emb = db && !a.openfoam
                              ? awdb_embedded_create(ships, (int)max_iter, (int)(ncores / jobs > 0 ? ncores / jobs : 1), &log, &err)
                              : NULL;

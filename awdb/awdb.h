@@ -15,6 +15,7 @@
  *                       has the order) and removes the marks of processes
  *                       that have ended
  *   builder.lock        flock()ed by the one running builder
+ *   engine              the engine whose fields it holds (awdb_engine_claim)
  * Every file is written to a temporary name and renamed into place, so a
  * crash or kill at any instant leaves the database consistent; a restarted
  * builder returns running/ requests to the queue and removes stray
@@ -105,6 +106,13 @@ typedef struct awdb awdb;
 /* Open (creating the folders if needed). NULL with err on failure. */
 awdb *awdb_open(const char *dir, const core_log *log, core_err *err);
 void awdb_close(awdb *db);
+/* A key does not name its engine, so a database holds one engine's
+ * fields. Claim the database for engine ("embedded", "openfoam") when it
+ * names none yet (one with fields but no engine file is the embedded
+ * engine's), else check it: 0 when its fields are engine's, < 0 with err
+ * naming both otherwise. Builders and the clients that ask for fields call
+ * it once after awdb_open. */
+int awdb_engine_claim(awdb *db, const char *engine, core_err *err);
 const char *awdb_dir(const awdb *db);
 
 /* State of a key. READY only after the field's checksum was verified; a
