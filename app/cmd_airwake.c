@@ -123,9 +123,11 @@ static void usage_airwake(void)
             "                      [--grid coarse|default|fine|quick] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
             "                      [--thrust-n N] [--radius-m R] [--threads N] [--h-fine-m H]\n"
             "                      [--growth G] [--h-max-m H] [--focus-fwd-m X] [--avg-window N] [--limiter vanleer|minmod]\n"
-            "                      [--zone OUTER.h5] [--engine embedded|openfoam] [--np N] -o FIELD.h5\n"
+            "                      [--zone OUTER.h5] [--engine embedded|openfoam] [--np N]\n"
+            "                      [--hostfile FILE] [--work-dir DIR] -o FIELD.h5\n"
             "  --engine openfoam: solve the same case with OpenFOAM (mpirun -np N simpleFoam, N 2 by\n"
-            "       default; the scenario's [cfd] engine and np otherwise; docs/openfoam.md)\n"
+            "       default; the scenario's [cfd] engine and np otherwise; docs/openfoam.md); its ranks\n"
+            "       over the hosts of an MPI --hostfile, its case in --work-dir (every host must see it)\n"
             "  --zone: solve the deck zone only (5 R round the hover station's hub, 4 R above it),\n"
             "  its open faces taken from OUTER.h5 (a whole-domain ship-only field of this ship and\n"
             "  direction, any grid) scaled to the WOD speed: a fine zone nested in a coarser field\n"
@@ -135,7 +137,7 @@ static void usage_airwake(void)
 /* The command line of `disim airwake`. -1 (NAN for numbers, 0 for the
  * grid-study options): not given, the scenario's or the level's. */
 typedef struct airwake_args {
-    const char *scen, *out, *warm, *queue, *zone;
+    const char *scen, *out, *warm, *queue, *zone, *hostfile, *work_dir;
     double speed_kt, dir_deg, thrust_N, radius_m, h_fine_m, growth, h_max_m, focus_fwd_m;
     int rotor, level, abl, max_iter, threads, avg_window, limiter_fixed, engine, np;
     cfd_limiter limiter;
@@ -190,7 +192,8 @@ static int airwake_flag(airwake_args *o, const char *a, const char *v)
     const struct {
         const char *flag;
         const char **out;
-    } str[] = {{"-o", &o->out}, {"--queue", &o->queue}, {"--warm", &o->warm}, {"--zone", &o->zone}};
+    } str[] = {{"-o", &o->out},     {"--queue", &o->queue},       {"--warm", &o->warm},
+               {"--zone", &o->zone}, {"--hostfile", &o->hostfile}, {"--work-dir", &o->work_dir}};
     for (size_t k = 0; k < sizeof num / sizeof num[0]; k++)
         if (!strcmp(a, num[k].flag))
             return parse_double(a, v, num[k].lo, num[k].hi, num[k].out) ? 1 : 0;
@@ -402,6 +405,8 @@ static int airwake_solve_foam(const airwake_args *o, const cfd_airwake_spec *sp,
     }
     fo.np = np;
     fo.log = log;
+    fo.hostfile = o->hostfile;
+    fo.work_dir = o->work_dir;
     fo.max_iter = sp->max_iter;
     progress_state ps = {isatty(2), 0.0};
     fo.progress = foam_progress;
@@ -519,6 +524,10 @@ int cmd_airwake(int argc, char **argv)
     int engine = o.engine >= 0 ? o.engine : sc->engine;
     int np = o.np > 0 ? o.np : sc->engine_np > 0 ? sc->engine_np : 2;
     const char *clash = engine != SIM_ENGINE_OPENFOAM && o.np > 0 ? "--np is the OpenFOAM engine's (--engine openfoam)"
+                        : engine != SIM_ENGINE_OPENFOAM && (o.hostfile || o.work_dir)
+                            ? "--hostfile and --work-dir are the OpenFOAM engine's (--engine openfoam)"
+                        : o.queue && (o.hostfile || o.work_dir)
+                            ? "--hostfile and --work-dir with --queue: the builder has its own (disim airwaked)"
                         : engine == SIM_ENGINE_OPENFOAM && o.queue && o.np > 0
                             ? "--np with --queue: the database's builder runs its own ranks (disim airwaked --np)"
                         : engine == SIM_ENGINE_OPENFOAM && o.warm ? "--warm: the OpenFOAM engine starts from the inflow"

@@ -17,6 +17,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -46,6 +47,11 @@ int foam_available(const foam_opts *o, char *why, size_t n)
         }
     if ((!o || o->np > 1) && !foam_which("mpirun", p, sizeof p)) {
         snprintf(why, n, "mpirun is not on PATH (install openmpi-bin: go.sh does)");
+        return 0;
+    }
+    struct stat st;
+    if (o && o->hostfile && (stat(o->hostfile, &st) != 0 || !S_ISREG(st.st_mode) || access(o->hostfile, R_OK) != 0)) {
+        snprintf(why, n, "the hostfile %s is not a readable file", o->hostfile);
         return 0;
     }
     snprintf(p, sizeof p, "%s/controlDict", etc_dir(o));
@@ -244,11 +250,15 @@ static int run_steps(const char *dir, const foam_opts *o, const cfd_config *cfg,
     char *serial[] = {"simpleFoam", NULL};
     char np[16];
     snprintf(np, sizeof np, "%d", o->np);
-    char *mpi[12];
+    char *mpi[14];
     int m = 0;
     mpi[m++] = "mpirun";
     if (geteuid() == 0)
         mpi[m++] = "--allow-run-as-root";
+    if (o->hostfile) {
+        mpi[m++] = "--hostfile";
+        mpi[m++] = (char *)o->hostfile;
+    }
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     if (cores > 0 && o->np > cores)
         mpi[m++] = "--oversubscribe";

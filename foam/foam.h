@@ -39,7 +39,9 @@ typedef struct foam_opts {
     int np;              /* MPI ranks (mpirun -np); 1: simpleFoam without MPI */
     int max_iter;        /* SIMPLE iteration cap (0: the spec's max_iter, else 3000) */
     double timeout_s;    /* longest any one step may run (0: 6 h) */
-    const char *work_dir; /* where the case folder is made (NULL: $TMPDIR or /tmp) */
+    const char *work_dir; /* where the case folder is made (NULL: $TMPDIR or /tmp); with a
+                             hostfile, a folder every host sees at the same path */
+    const char *hostfile; /* mpirun --hostfile: the ranks over these hosts (NULL: this one) */
     int keep_case;       /* 1: leave the case folder (its path in foam_result.case_dir) */
     /* Where OpenFOAM's etc folder is (NULL: $FOAM_ETC, else
      * /usr/share/openfoam/etc, Debian's); WM_PROJECT_DIR is its parent. */
