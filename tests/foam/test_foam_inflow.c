@@ -26,6 +26,7 @@
 #include "foam.h"
 #include "hfm.h"
 
+#include <dirent.h>
 #include <ftw.h>
 #include <math.h>
 #include <stdio.h>
@@ -194,22 +195,26 @@ static double inlet_faces(const char *dir, const char *tdir, const cfd_solver *s
     return worst;
 }
 
-/* The latest time folder of a case: the largest numeric name. */
+/* The latest time folder of a case (the largest number among the folder
+ * names that hold a U file). 0, or -1 when none does. */
 static int latest_time(const char *dir, char *out, size_t n)
 {
-    double best = 0.0;
-    int found = 0;
-    for (int t = 1; t <= 4000; t++) { /* the time folders are iteration numbers */
-        char p[1400];
-        snprintf(p, sizeof p, "%s/%d/U", dir, t);
-        if (access(p, R_OK) == 0) {
+    DIR *d = opendir(dir);
+    if (!d)
+        return -1;
+    double best = -1.0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        char *end, p[1400];
+        double t = strtod(e->d_name, &end);
+        snprintf(p, sizeof p, "%s/%s/U", dir, e->d_name);
+        if (end != e->d_name && *end == '\0' && t > best && access(p, R_OK) == 0) {
             best = t;
-            found = 1;
+            snprintf(out, n, "%.60s", e->d_name);
         }
     }
-    if (found)
-        snprintf(out, n, "%.0f", best);
-    return found ? 0 : -1;
+    closedir(d);
+    return best > 0.0 ? 0 : -1;
 }
 
 /* ---------------------------------------------------------------- ABL */
