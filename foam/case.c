@@ -12,12 +12,29 @@
  * them.
  *
  * Boundaries as the embedded solver's (cfd_config.bc): an inlet fixes U,
- * k and epsilon to the uniform inflow (p zero gradient); an outlet fixes p
- * = 0 with U, k and epsilon inletOutlet (zero gradient out, the inflow's
- * k and epsilon and no velocity where air comes back in); a symmetry face
+ * k and epsilon to the embedded solver's inflow, face by face (below; a
+ * uniform inflow as `fixedValue uniform`), p zero gradient; an outlet
+ * fixes p = 0 with U, k and epsilon inletOutlet (zero gradient out, the
+ * inflow's k and epsilon and no velocity where air comes back in: the
+ * values of the first fluid cell's initial state, also with a profile or
+ * a sampled inflow, as is the uniform initial internal field); a symmetry face
  * is a symmetryPlane; the sea and the ship are no-slip walls with the
  * standard wall functions (nutkWallFunction, epsilonWallFunction,
  * kqRWallFunction) with the embedded solver's Cmu, kappa and E.
+ *
+ * Inlets with a profile (the ABL's log law) or a sampled inflow (a deck
+ * zone's faces from the outer field): U, k and epsilon are
+ * timeVaryingMappedFixedValue with mapMethod nearest on
+ * constant/boundaryData/PATCH: `points`, the patch's face centres (the
+ * grid's cell centres across the side, its node coordinate along it; the
+ * fluid cells' faces only), and 0/{U,k,epsilon}, the embedded solver's
+ * inflow at each (cfd_solver_inflow_at), one time that holds for every
+ * iteration. Each OpenFOAM face takes the value of the point at its
+ * centre (to rounding), whatever the face order: blockMesh numbers a
+ * patch's faces in its own order, subsetMesh drops the ship's and
+ * decomposePar splits the rest among the ranks, and nearest mapping needs
+ * none of that order, where a `fixedValue nonuniform List` would have to
+ * reproduce all three.
  *
  * Rotor: the embedded solver's disk force per cell (cfd_solver_disk_force,
  * the Gaussian-smoothed uniform disk) grouped by force density into
@@ -266,9 +283,18 @@ static void inflow_values(const cfd_solver *s, double v[5])
 
 typedef enum { F_U, F_P, F_K, F_EPS, F_NUT } field_id;
 
-/* One patch's entry of field id for boundary type t (-1: the ship). */
-static void write_patch(writer *w, field_id id, int t, const double in[5])
+/* An inlet mapped from constant/boundaryData (the inflow face by face). */
+static void write_mapped(writer *w, const char *value)
 {
+    w_printf(w, "        type timeVaryingMappedFixedValue;\n        mapMethod nearest;\n        setAverage false;\n"
+                "        value uniform %s;\n", value);
+}
+
+/* One patch's entry of field id for boundary type t (-1: the ship);
+ * mapped: an inlet takes the inflow face by face (boundaryData). */
+static void write_patch(writer *w, field_id id, int t, const double in[5], int mapped)
+{
+    char val[128];
     if (t == CFD_BC_SYMMETRY) {
         w_printf(w, "        type symmetryPlane;\n");
         return;
@@ -278,7 +304,10 @@ static void write_patch(writer *w, field_id id, int t, const double in[5])
     case F_U:
         if (wall)
             w_printf(w, "        type noSlip;\n");
-        else if (t == CFD_BC_INLET)
+        else if (t == CFD_BC_INLET && mapped) {
+            snprintf(val, sizeof val, "(%.12g %.12g %.12g)", in[0], in[1], in[2]);
+            write_mapped(w, val);
+        } else if (t == CFD_BC_INLET)
             w_printf(w, "        type fixedValue;\n        value uniform (%.12g %.12g %.12g);\n", in[0], in[1], in[2]);
         else
             w_printf(w, "        type inletOutlet;\n        inletValue uniform (0 0 0);\n"
@@ -296,7 +325,10 @@ static void write_patch(writer *w, field_id id, int t, const double in[5])
         if (wall)
             w_printf(w, "        type %s;\n        value uniform %.12g;\n",
                      id == F_K ? "kqRWallFunction" : "epsilonWallFunction", v);
-        else if (t == CFD_BC_INLET)
+        else if (t == CFD_BC_INLET && mapped) {
+            snprintf(val, sizeof val, "%.12g", v);
+            write_mapped(w, val);
+        } else if (t == CFD_BC_INLET)
             w_printf(w, "        type fixedValue;\n        value uniform %.12g;\n", v);
         else
             w_printf(w, "        type inletOutlet;\n        inletValue uniform %.12g;\n        value uniform %.12g;\n", v, v);
@@ -312,7 +344,8 @@ static void write_patch(writer *w, field_id id, int t, const double in[5])
     }
 }
 
-static int write_field(const cfd_config *cfg, const double in[5], field_id id, const char *dir, core_err *err)
+static int write_field(const cfd_config *cfg, const double in[5], int mapped, field_id id, const char *dir,
+                       core_err *err)
 {
     static const char *const names[] = {"U", "p", "k", "epsilon", "nut"};
     static const char *const dims[] = {"[0 1 -1 0 0 0 0]", "[0 2 -2 0 0 0 0]", "[0 2 -2 0 0 0 0]",
@@ -344,13 +377,103 @@ static int write_field(const cfd_config *cfg, const double in[5], field_id id, c
     w_printf(&w, "\nboundaryField\n{\n");
     for (int f = 0; f < CFD_NFACES; f++) {
         w_printf(&w, "    %s\n    {\n", foam_patch_names[f]);
-        write_patch(&w, id, (int)cfg->bc[f].type, in);
+        write_patch(&w, id, (int)cfg->bc[f].type, in, mapped);
         w_printf(&w, "    }\n");
     }
     w_printf(&w, "    %s\n    {\n", FOAM_SHIP_PATCH);
-    write_patch(&w, id, -1, in);
+    write_patch(&w, id, -1, in, mapped);
     w_printf(&w, "    }\n}\n");
     return w_close(&w);
+}
+
+/* ---------------------------------------------------------- inlet data */
+static int make_dir(const char *dir, const char *rel, core_err *err)
+{
+    char p[1200];
+    if (snprintf(p, sizeof p, "%s/%s", dir, rel) >= (int)sizeof p)
+        return core_err_set(err, -1, "foam case: path too long: %s/%s", dir, rel);
+    if (mkdir(p, 0755) != 0 && errno != EEXIST)
+        return core_err_set(err, -1, "foam case: %s: %s", p, strerror(errno));
+    return 0;
+}
+
+/* A raw list file of boundaryData (no header: OpenFOAM reads the list). */
+static int raw_open(writer *w, const char *dir, const char *rel, core_err *err)
+{
+    w->err = err;
+    w->failed = 0;
+    if (snprintf(w->path, sizeof w->path, "%s/%s", dir, rel) >= (int)sizeof w->path)
+        return core_err_set(err, -1, "foam case: path too long: %s/%s", dir, rel);
+    if (!(w->f = fopen(w->path, "w")))
+        return core_err_set(err, -1, "foam case: %s: %s", w->path, strerror(errno));
+    return 0;
+}
+
+/* constant/boundaryData/PATCH of inlet side f: the fluid cells' face
+ * centres (points) and the embedded solver's inflow at each (0/U, 0/k,
+ * 0/epsilon). */
+static int write_inlet_data(const cfd_solver *s, int f, const char *dir, core_err *err)
+{
+    const cfd_grid *g = cfd_solver_grid(s);
+    const unsigned char *solid = cfd_grid_solid(g);
+    int n[3];
+    cfd_grid_dims(g, n);
+    int d = f >> 1, a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
+    const double *xc[3] = {cfd_grid_centres(g, 0), cfd_grid_centres(g, 1), cfd_grid_centres(g, 2)};
+    double side = cfd_grid_nodes(g, d)[(f & 1) ? n[d] : 0];
+    size_t nf = (size_t)n[a] * (size_t)n[b], m = 0;
+    double *pos = malloc((nf ? nf : 1) * 3 * sizeof *pos), *val = malloc((nf ? nf : 1) * 5 * sizeof *val);
+    if (!pos || !val) {
+        free(pos);
+        free(val);
+        return core_err_set(err, -2, "foam case: out of memory");
+    }
+    int rc = 0;
+    for (int jb = 0; jb < n[b] && !rc; jb++)
+        for (int ja = 0; ja < n[a] && !rc; ja++) {
+            int ijk[3];
+            ijk[d] = (f & 1) ? n[d] - 1 : 0;
+            ijk[a] = ja;
+            ijk[b] = jb;
+            if (solid[(size_t)ijk[0] + (size_t)n[0] * ((size_t)ijk[1] + (size_t)n[1] * (size_t)ijk[2])])
+                continue;
+            double *p = pos + 3 * m, *v = val + 5 * m;
+            p[a] = xc[a][ja];
+            p[b] = xc[b][jb];
+            p[d] = side;
+            if (cfd_solver_inflow_at(s, f, p, v, v + 3, v + 4) != 0)
+                rc = core_err_set(err, -1, "foam case: no inflow on %s at (%g %g %g)", foam_patch_names[f], p[0],
+                                  p[1], p[2]);
+            m++;
+        }
+    char rel[2][64];
+    snprintf(rel[0], sizeof rel[0], "constant/boundaryData/%s", foam_patch_names[f]);
+    snprintf(rel[1], sizeof rel[1], "constant/boundaryData/%s/0", foam_patch_names[f]);
+    if (!rc)
+        rc = make_dir(dir, "constant/boundaryData", err);
+    for (int q = 0; q < 2 && !rc; q++)
+        rc = make_dir(dir, rel[q], err);
+    static const char *const files[4] = {"points", "0/U", "0/k", "0/epsilon"};
+    for (int q = 0; q < 4 && !rc; q++) {
+        char path[128];
+        snprintf(path, sizeof path, "%s/%s", rel[0], files[q]);
+        writer w;
+        if ((rc = raw_open(&w, dir, path, err)) != 0)
+            break;
+        w_printf(&w, "%zu\n(\n", m);
+        for (size_t i = 0; i < m; i++) {
+            const double *v = q == 0 ? pos + 3 * i : val + 5 * i;
+            if (q <= 1)
+                w_printf(&w, "(%.15g %.15g %.15g)\n", v[0], v[1], v[2]);
+            else
+                w_printf(&w, "%.15g\n", v[q == 2 ? 3 : 4]);
+        }
+        w_printf(&w, ")\n");
+        rc = w_close(&w);
+    }
+    free(pos);
+    free(val);
+    return rc;
 }
 
 /* ------------------------------------------------------ system, constant */
@@ -522,8 +645,13 @@ int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, const hfm_b
         rc = write_decompose(g, np, dir, err);
     if (!rc)
         rc = write_constant(s, band, force, vol, sp, band ? blades : NULL, dir, err);
+    /* a profile or a sampled inflow: every inlet face by face */
+    const int mapped = cfg->inflow.type != CFD_INFLOW_UNIFORM;
+    for (int f = 0; mapped && !rc && f < CFD_NFACES; f++)
+        if (cfg->bc[f].type == CFD_BC_INLET)
+            rc = write_inlet_data(s, f, dir, err);
     for (field_id id = F_U; !rc && id <= F_NUT; id++)
-        rc = write_field(cfg, in, id, dir, err);
+        rc = write_field(cfg, in, mapped, id, dir, err);
     free(band);
     return rc;
 }

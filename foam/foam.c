@@ -81,17 +81,15 @@ static void rm_tree(const char *dir)
     nftw(dir, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
 }
 
-/* The refusals: what the engine does not build. NULL when spec is one it does. */
+/* The refusals: what the engine does not build. NULL when spec is one it
+ * does (a deck zone and the ABL inflow among them: their inlets take the
+ * embedded solver's inflow face by face, case.c). */
 static const char *unsupported(const cfd_airwake_spec *sp, const foam_opts *o)
 {
-    if (sp->zone)
-        return "a deck zone (its boundary is an outer field)";
     if (!(sp->wod_speed_mps > 0.0))
         return "calm air (no inlet)";
     if (sp->rotor == CORE_ROTOR_LOADED && !o->blades)
         return "the loaded rotor without the aircraft's blades (rotorDisk needs them)";
-    if (sp->abl)
-        return "the ABL inflow (the uniform inflow is built)";
     return NULL;
 }
 
@@ -468,6 +466,11 @@ static int engine_build(void *user, const awdb_key *k, const char *warm_path, co
     cfd_airwake_spec spec;
     if (awdb_key_spec(k, ship, &spec, err) != 0)
         return -1;
+    if (spec.zone && !(iso && iso[9] == '\0'))
+        return core_err_set(err, -1,
+                            "the OpenFOAM builder engine does not build a ship's deck-zone key (its boundary is the "
+                            "database's ship-only field, which it does not read): %s",
+                            k->ship);
     foam_opts o = e->o;
     hfm_blade_data *blades = NULL;
     if (k->rotor == CORE_ROTOR_LOADED) {

@@ -89,9 +89,10 @@ int foam_available(const foam_opts *o, char *why, size_t n);
  * XDMF side file, as cfd_solver_write; meta's engine, version and result
  * are filled here). 0 written (converged or at the cap: res.converged
  * says), 1 stopped by progress (nothing written), < 0 failed with err
- * naming the step and the tail of its log (nothing written). The spec must
- * be a whole-domain case with a wind and uniform inflow: a deck zone, calm
- * air or an ABL inflow are refused, and the loaded rotor without o->blades.
+ * naming the step and the tail of its log (nothing written). The spec
+ * needs a wind: calm air is refused, and the loaded rotor without
+ * o->blades. A deck zone (its inlets the outer field's values) and the ABL
+ * inflow are built with the embedded solver's inflow on every inlet face.
  * With the loaded rotor the field's meta says rotor_model "rotorDisk",
  * rotor_force_N and rotor_torque_Nm (as res's). */
 int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_meta *meta, const char *out_path,
@@ -108,8 +109,10 @@ int foam_case_write(const cfd_airwake_spec *spec, const foam_opts *o, const char
  * becomes its case through awdb_key_spec. A key with the loaded rotor
  * takes the blades of the aircraft file in aircraft_dir whose [aircraft]
  * name is the key's (NULL aircraft_dir: the loaded rotor is refused).
- * Deck zones are refused (the build fails with the reason). The options
- * are copied (strings must outlive the engine). */
+ * A deck-zone key of a ship is refused (the build fails with the reason:
+ * its boundary is the database's ship-only field, which this engine does
+ * not read); the isolated rotor's zone (the inflow profile) is built. The
+ * options are copied (strings must outlive the engine). */
 typedef struct foam_engine foam_engine;
 foam_engine *foam_engine_create(const char *ships_dir, const char *aircraft_dir, const foam_opts *o, core_err *err);
 void foam_engine_destroy(foam_engine *e);
