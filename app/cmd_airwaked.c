@@ -375,6 +375,8 @@ int cmd_airwaked(int argc, char **argv)
     }
     if (emb)
         awdb_embedded_set_db(emb, db);
+    if (fe)
+        foam_engine_set_db(fe, db);
     daemon_ctx ctx;
     memset(&ctx, 0, sizeof ctx);
     ctx.db = db;

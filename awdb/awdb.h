@@ -284,6 +284,12 @@ void awdb_embedded_destroy(awdb_embedded *e);
  * ship-only boundary field from (the builder's own); without one such
  * builds fail with an error saying so. */
 void awdb_embedded_set_db(awdb_embedded *e, awdb *db);
+/* A deck zone's boundary (a key with zone_ref_mps > 0): the ship-only field
+ * of the key's ship, direction and grid at its reference speed, loaded from
+ * db (awdb_key_zone_boundary); NULL with err when db is NULL or the field
+ * is not ready there. Every engine that builds deck zones reads it so. */
+struct cfd_field;
+struct cfd_field *awdb_zone_boundary(awdb *db, const awdb_key *k, core_err *err);
 void awdb_embedded_engine(awdb_embedded *e, awdb_engine *eng);
 
 /* ------------------------------------------------ a client's fields */

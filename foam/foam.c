@@ -395,7 +395,13 @@ struct foam_engine {
     int nships;
     core_ship *ships;
     const char *aircraft_dir;
+    awdb *db; /* where deck zones find their ship-only boundary field */
 };
+
+void foam_engine_set_db(foam_engine *e, awdb *db)
+{
+    e->db = db;
+}
 
 foam_engine *foam_engine_create(const char *ships_dir, const char *aircraft_dir, const foam_opts *o, core_err *err)
 {
@@ -466,11 +472,13 @@ static int engine_build(void *user, const awdb_key *k, const char *warm_path, co
     cfd_airwake_spec spec;
     if (awdb_key_spec(k, ship, &spec, err) != 0)
         return -1;
-    if (spec.zone && !(iso && iso[9] == '\0'))
-        return core_err_set(err, -1,
-                            "the OpenFOAM builder engine does not build a ship's deck-zone key (its boundary is the "
-                            "database's ship-only field, which it does not read): %s",
-                            k->ship);
+    cfd_field *outer = NULL; /* a deck zone's boundary; outlives the case */
+    if (spec.zone && !(iso && iso[9] == '\0')) {
+        if (!(outer = awdb_zone_boundary(e->db, k, err)))
+            return -1;
+        spec.zone_field = outer;
+        spec.zone_scale = k->wod_speed_mps / k->zone_ref_mps;
+    }
     foam_opts o = e->o;
     hfm_blade_data *blades = NULL;
     if (k->rotor == CORE_ROTOR_LOADED) {
@@ -478,6 +486,7 @@ static int engine_build(void *user, const awdb_key *k, const char *warm_path, co
             return core_err_set(err, -2, "out of memory");
         if (find_blades(e->aircraft_dir, k->aircraft, o.log, blades, err) != 0) {
             free(blades);
+            cfd_field_destroy(outer);
             return -1;
         }
         o.blades = blades;
@@ -497,6 +506,7 @@ static int engine_build(void *user, const awdb_key *k, const char *warm_path, co
     foam_result r;
     int rc = foam_airwake(&spec, &o, &meta, out_path, &r, err);
     free(blades);
+    cfd_field_destroy(outer);
     /* the database keeps the HDF5 file only */
     char xmf[1200];
     size_t l = strlen(out_path);

@@ -109,12 +109,15 @@ int foam_case_write(const cfd_airwake_spec *spec, const foam_opts *o, const char
  * becomes its case through awdb_key_spec. A key with the loaded rotor
  * takes the blades of the aircraft file in aircraft_dir whose [aircraft]
  * name is the key's (NULL aircraft_dir: the loaded rotor is refused).
- * A deck-zone key of a ship is refused (the build fails with the reason:
- * its boundary is the database's ship-only field, which this engine does
- * not read); the isolated rotor's zone (the inflow profile) is built. The
- * options are copied (strings must outlive the engine). */
+ * A deck-zone key of a ship takes its boundary, the ship-only field, from
+ * the database given by foam_engine_set_db (awdb_zone_boundary; without
+ * one, or before that field is ready, the build fails saying so); the
+ * isolated rotor's zone takes the inflow profile. The options are copied
+ * (strings must outlive the engine). */
 typedef struct foam_engine foam_engine;
 foam_engine *foam_engine_create(const char *ships_dir, const char *aircraft_dir, const foam_opts *o, core_err *err);
+/* The database deck-zone builds read their ship-only boundary field from. */
+void foam_engine_set_db(foam_engine *e, awdb *db);
 void foam_engine_destroy(foam_engine *e);
 void foam_engine_get(foam_engine *e, awdb_engine *eng);
 
