@@ -292,7 +292,11 @@ static void write_mapped(writer *w, const char *value)
 
 /* One patch's entry of field id for boundary type t (-1: the ship);
  * mapped: an inlet takes the inflow face by face (boundaryData). */
-static void write_patch(writer *w, field_id id, int t, const double in[5], int mapped)
+/* A patch's boundary condition of field id for the face type t (-1: the
+ * ship's wall); mapped: inlets take boundaryData face by face; open: calm
+ * air, no inlet anywhere, every open face lets air in at total pressure 0
+ * (as the embedded solver's openings) and out at static pressure 0. */
+static void write_patch(writer *w, field_id id, int t, const double in[5], int mapped, int open)
 {
     char val[128];
     if (t == CFD_BC_SYMMETRY) {
@@ -309,12 +313,16 @@ static void write_patch(writer *w, field_id id, int t, const double in[5], int m
             write_mapped(w, val);
         } else if (t == CFD_BC_INLET)
             w_printf(w, "        type fixedValue;\n        value uniform (%.12g %.12g %.12g);\n", in[0], in[1], in[2]);
+        else if (open)
+            w_printf(w, "        type pressureInletOutletVelocity;\n        value uniform (0 0 0);\n");
         else
             w_printf(w, "        type inletOutlet;\n        inletValue uniform (0 0 0);\n"
                         "        value uniform (%.12g %.12g %.12g);\n", in[0], in[1], in[2]);
         break;
     case F_P:
-        if (t == CFD_BC_OUTLET)
+        if (t == CFD_BC_OUTLET && open)
+            w_printf(w, "        type totalPressure;\n        p0 uniform 0;\n        value uniform 0;\n");
+        else if (t == CFD_BC_OUTLET)
             w_printf(w, "        type fixedValue;\n        value uniform 0;\n");
         else
             w_printf(w, "        type zeroGradient;\n");
@@ -344,8 +352,8 @@ static void write_patch(writer *w, field_id id, int t, const double in[5], int m
     }
 }
 
-static int write_field(const cfd_config *cfg, const double in[5], int mapped, field_id id, const char *dir,
-                       core_err *err)
+static int write_field(const cfd_config *cfg, const double in[5], int mapped, int open, field_id id,
+                       const char *dir, core_err *err)
 {
     static const char *const names[] = {"U", "p", "k", "epsilon", "nut"};
     static const char *const dims[] = {"[0 1 -1 0 0 0 0]", "[0 2 -2 0 0 0 0]", "[0 2 -2 0 0 0 0]",
@@ -359,7 +367,10 @@ static int write_field(const cfd_config *cfg, const double in[5], int mapped, fi
     const double nut0 = CFD_RNG_CMU * in[3] * in[3] / in[4];
     switch (id) {
     case F_U:
-        w_printf(&w, "internalField uniform (%.12g %.12g %.12g);\n", in[0], in[1], in[2]);
+        if (open) /* calm air: the air at rest */
+            w_printf(&w, "internalField uniform (0 0 0);\n");
+        else
+            w_printf(&w, "internalField uniform (%.12g %.12g %.12g);\n", in[0], in[1], in[2]);
         break;
     case F_P:
         w_printf(&w, "internalField uniform 0;\n");
@@ -377,11 +388,11 @@ static int write_field(const cfd_config *cfg, const double in[5], int mapped, fi
     w_printf(&w, "\nboundaryField\n{\n");
     for (int f = 0; f < CFD_NFACES; f++) {
         w_printf(&w, "    %s\n    {\n", foam_patch_names[f]);
-        write_patch(&w, id, (int)cfg->bc[f].type, in, mapped);
+        write_patch(&w, id, (int)cfg->bc[f].type, in, mapped, open);
         w_printf(&w, "    }\n");
     }
     w_printf(&w, "    %s\n    {\n", FOAM_SHIP_PATCH);
-    write_patch(&w, id, -1, in, mapped);
+    write_patch(&w, id, -1, in, mapped, open);
     w_printf(&w, "    }\n}\n");
     return w_close(&w);
 }
@@ -500,9 +511,12 @@ static int write_control(const cfd_config *cfg, int max_iter, const char *dir, c
     return w_close(&w);
 }
 
-static int write_schemes(const cfd_config *cfg, const char *dir, core_err *err)
+/* open: calm air, first-order upwind convection (see write_solution). */
+static int write_schemes(const cfd_config *cfg, int open, const char *dir, core_err *err)
 {
-    const char *lim = cfg->second_order == 0 ? NULL : cfg->limiter == CFD_LIMITER_MINMOD ? "Minmod" : "vanLeer";
+    const char *lim = cfg->second_order == 0 || open ? NULL
+                      : cfg->limiter == CFD_LIMITER_MINMOD ? "Minmod"
+                                                           : "vanLeer";
     char u[64], t[64];
     /* vectors take the limiter's V form (limited along the direction of
      * steepest change), as the embedded solver limits each component alike */
@@ -521,7 +535,16 @@ static int write_schemes(const cfd_config *cfg, const char *dir, core_err *err)
     return w_close(&w);
 }
 
-static int write_solution(const char *dir, core_err *err)
+/* open: calm air. There the disk alone drives the flow, and from air at
+ * rest SIMPLEC's first iterations meet the disk's force with no convection
+ * to balance it: k and epsilon went negative in the first iteration and
+ * the run diverged within five (SIMPLEC at 0.9 / 0.8, and SIMPLE at 0.5
+ * with p at 0.3, with the TVD scheme; van Leer at 0.5 / 0.3 also diverged
+ * when started from a converged first-order field). Plain SIMPLE with U, k
+ * and epsilon relaxed to 0.3, p to 0.2 and upwind convection runs, and
+ * converges (residuals below 1e-4 at 433 iterations on the quick grid):
+ * calm-air fields are first-order (docs/openfoam.md). */
+static int write_solution(int open, const char *dir, core_err *err)
 {
     writer w;
     if (w_open(&w, dir, "system/fvSolution", "dictionary", "fvSolution", err))
@@ -530,9 +553,14 @@ static int write_solution(const char *dir, core_err *err)
                  "        tolerance 1e-8;\n        relTol 0.05;\n    }\n"
                  "    \"(U|k|epsilon)\"\n    {\n        solver smoothSolver;\n        smoother symGaussSeidel;\n"
                  "        tolerance 1e-9;\n        relTol 0.1;\n    }\n}\n\n"
-                 "SIMPLE\n{\n    nNonOrthogonalCorrectors 0;\n    consistent yes;\n    residualControl\n    {\n"
-                 "        p 1e-4;\n        U 1e-4;\n        \"(k|epsilon)\" 1e-4;\n    }\n}\n\n"
-                 "relaxationFactors\n{\n    equations\n    {\n        U 0.9;\n        \".*\" 0.8;\n    }\n}\n");
+                 "SIMPLE\n{\n    nNonOrthogonalCorrectors 0;\n    consistent %s;\n    residualControl\n    {\n"
+                 "        p 1e-4;\n        U 1e-4;\n        \"(k|epsilon)\" 1e-4;\n    }\n}\n\n",
+             open ? "no" : "yes");
+    if (open)
+        w_printf(&w, "relaxationFactors\n{\n    fields\n    {\n        p 0.2;\n    }\n    equations\n    {\n"
+                     "        U 0.3;\n        \".*\" 0.3;\n    }\n}\n");
+    else
+        w_printf(&w, "relaxationFactors\n{\n    equations\n    {\n        U 0.9;\n        \".*\" 0.8;\n    }\n}\n");
     return w_close(&w);
 }
 
@@ -630,6 +658,9 @@ int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, const hfm_b
             return core_err_set(err, -1, "foam case: the rotor disk has no fluid cell");
         }
     }
+    int open = 1; /* calm air: no inlet anywhere */
+    for (int f = 0; f < CFD_NFACES; f++)
+        open &= cfg->bc[f].type != CFD_BC_INLET;
     int rc = make_dirs(dir, err);
     if (!rc)
         rc = write_block_mesh(g, cfg, dir, err);
@@ -638,9 +669,9 @@ int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, const hfm_b
     if (!rc)
         rc = write_control(cfg, max_iter, dir, err);
     if (!rc)
-        rc = write_schemes(cfg, dir, err);
+        rc = write_schemes(cfg, open, dir, err);
     if (!rc)
-        rc = write_solution(dir, err);
+        rc = write_solution(open, dir, err);
     if (!rc)
         rc = write_decompose(g, np, dir, err);
     if (!rc)
@@ -651,7 +682,7 @@ int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, const hfm_b
         if (cfg->bc[f].type == CFD_BC_INLET)
             rc = write_inlet_data(s, f, dir, err);
     for (field_id id = F_U; !rc && id <= F_NUT; id++)
-        rc = write_field(cfg, in, mapped, id, dir, err);
+        rc = write_field(cfg, in, mapped, open, id, dir, err);
     free(band);
     return rc;
 }

@@ -86,8 +86,6 @@ static void rm_tree(const char *dir)
  * embedded solver's inflow face by face, case.c). */
 static const char *unsupported(const cfd_airwake_spec *sp, const foam_opts *o)
 {
-    if (!(sp->wod_speed_mps > 0.0))
-        return "calm air (no inlet)";
     if (sp->rotor == CORE_ROTOR_LOADED && !o->blades)
         return "the loaded rotor without the aircraft's blades (rotorDisk needs them)";
     return NULL;

@@ -17,6 +17,10 @@
  * loaded rotor (rotorDisk) in the zone: a short run puts the thrust into
  * the air.
  *
+ * Calm air: no inlet (every open face at total pressure 0 for air coming
+ * in), the UH-60A's uniform disk 8.18 m over the deck: the downwash on its
+ * axis against momentum theory and the embedded solver's.
+ *
  * Skips (77) where OpenFOAM or mpirun is absent; under CI that fails. Run
  * as `test_foam inflow` (test_foam.c). */
 #define _XOPEN_SOURCE 700
@@ -573,6 +577,67 @@ static void check_zone(const core_ship *ship, foam_opts o, const char *tmp, cons
     cfd_field_destroy(outer);
 }
 
+/* Calm air: no inlet; the uniform disk over the deck drives the flow, every
+ * open face lets air in at total pressure 0 and out at 0. The downwash on
+ * the rotor's axis against the embedded solver's on the same grid. */
+static void check_calm(const core_ship *ship, foam_opts o, const char *tmp, const core_log *log)
+{
+    cfd_airwake_spec sp;
+    spec_base(&sp, ship, 0.0);
+    sp.rotor = CORE_ROTOR_UNIFORM;
+    double c[3] = {0.0, 0.0, -8.18};
+    core_euler att = {0.0, 0.0, 0.0};
+    cfd_disk_from_attitude(&sp.disk, c, att, 8.18, 7438.91 * CORE_G_MPS2);
+    core_err err = {0};
+    cfd_solver *s = cfd_airwake_create(&sp, log, NULL, NULL, &err);
+    CHECK(s != NULL);
+    if (!s)
+        return;
+    cfd_result er;
+    CHECK(cfd_solver_run(s, &er, &err) >= 0);
+    char out[1300];
+    snprintf(out, sizeof out, "%s/calm.h5", tmp);
+    cfd_meta meta;
+    memset(&meta, 0, sizeof meta);
+    snprintf(meta.rotor, sizeof meta.rotor, "uniform");
+    foam_result fr;
+    o.max_iter = 300;
+    int rc = foam_airwake(&sp, &o, &meta, out, &fr, &err);
+    if (rc)
+        fprintf(stderr, "calm: %s\n", err.msg);
+    CHECK(rc == 0);
+    cfd_field *f = rc == 0 ? cfd_field_load(out, &err) : NULL;
+    CHECK(f != NULL);
+    if (f) {
+        /* the induced velocity of momentum theory, v = sqrt(T / (2 rho A)) */
+        double vi = sqrt(sp.disk.thrust_N / (2.0 * 1.225 * CORE_PI * 8.18 * 8.18)), worst = 0.0, wmax = 0.0;
+        for (int i = 0; i <= 10; i++) {
+            double p[3] = {0.0, 0.0, -12.0 + i}, a[CFD_NVARS], b[CFD_NVARS];
+            cfd_field_sample(f, p, a);
+            cfd_solver_sample(s, p, b);
+            worst = fmax(worst, fabs(a[CFD_VAR_W] - b[CFD_VAR_W]));
+            wmax = fmax(wmax, a[CFD_VAR_W]);
+        }
+        printf("calm air: embedded %d iterations (%s); openfoam %d iterations (%s, monitor change %.3f); on the "
+               "axis 3.8 m above to 6.2 m below the disk the downwash peaks at %.2f m/s (momentum theory's v_i %.2f "
+               "m/s) and differs from the embedded solver's by %.2f m/s at most (%.1f %% of v_i)\n",
+               er.iterations, er.converged ? "converged" : "not converged", fr.res.iterations,
+               fr.steady_iter > 0 ? "monitors steady" : "at the cap", fr.res.monitor_change, wmax, vi, worst,
+               100.0 * worst / vi);
+        /* the slipstream accelerates towards 2 v_i below the disk, where
+         * the deck stops it: its peak between v_i and 2 v_i. OpenFOAM's calm
+         * case is first-order upwind (case.c, write_solution: its TVD scheme
+         * diverges in calm air, also from a converged first-order start),
+         * the embedded solver's van Leer: measured 26.5 % of v_i apart at
+         * most, 1.8 m above the disk, where the first-order field draws the
+         * air in faster; the bound holds that */
+        CHECK(wmax > vi && wmax < 2.0 * vi);
+        CHECK(worst <= 0.30 * vi);
+        cfd_field_destroy(f);
+    }
+    cfd_solver_destroy(s);
+}
+
 int test_foam_inflow(void)
 {
     core_log log = {log_stderr, NULL, CORE_LOG_INFO};
@@ -601,6 +666,8 @@ int test_foam_inflow(void)
         check_abl(&ship, o, tmp, &log);
     if (!only || !strcmp(only, "zone"))
         check_zone(&ship, o, tmp, &log);
+    if (!only || !strcmp(only, "calm"))
+        check_calm(&ship, o, tmp, &log);
     rm_tree(tmp);
     return check_done("test_foam_inflow");
 }
