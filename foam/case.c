@@ -511,10 +511,11 @@ static int write_control(const cfd_config *cfg, int max_iter, const char *dir, c
     return w_close(&w);
 }
 
-/* open: calm air, first-order upwind convection (see write_solution). */
-static int write_schemes(const cfd_config *cfg, int open, const char *dir, core_err *err)
+/* stiff: the rotor's flow dominates, first-order upwind convection (see
+ * write_solution). */
+static int write_schemes(const cfd_config *cfg, int stiff, const char *dir, core_err *err)
 {
-    const char *lim = cfg->second_order == 0 || open ? NULL
+    const char *lim = cfg->second_order == 0 || stiff ? NULL
                       : cfg->limiter == CFD_LIMITER_MINMOD ? "Minmod"
                                                            : "vanLeer";
     char u[64], t[64];
@@ -535,16 +536,19 @@ static int write_schemes(const cfd_config *cfg, int open, const char *dir, core_
     return w_close(&w);
 }
 
-/* open: calm air. There the disk alone drives the flow, and from air at
- * rest SIMPLEC's first iterations meet the disk's force with no convection
- * to balance it: k and epsilon went negative in the first iteration and
+/* stiff: the rotor's flow dominates the wind's (calm air, or a wind
+ * slower than the disk's hover induced velocity sqrt(T / (2 rho A))).
+ * There the disk drives the flow, and from the inflow SIMPLEC's first
+ * iterations meet the disk's force with too little convection to balance
+ * it: in calm air k and epsilon went negative in the first iteration and
  * the run diverged within five (SIMPLEC at 0.9 / 0.8, and SIMPLE at 0.5
  * with p at 0.3, with the TVD scheme; van Leer at 0.5 / 0.3 also diverged
- * when started from a converged first-order field). Plain SIMPLE with U, k
- * and epsilon relaxed to 0.3, p to 0.2 and upwind convection runs, and
- * converges (residuals below 1e-4 at 433 iterations on the quick grid):
- * calm-air fields are first-order (docs/openfoam.md). */
-static int write_solution(int open, const char *dir, core_err *err)
+ * when started from a converged first-order field), and a deck zone in a
+ * 2.78 m/s wind diverged the same way. Plain SIMPLE with U, k and epsilon
+ * relaxed to 0.3, p to 0.2 and upwind convection runs, and converges
+ * (residuals below 1e-4 at 433 iterations in calm air on the quick grid):
+ * such fields are first-order (docs/openfoam.md). */
+static int write_solution(int stiff, const char *dir, core_err *err)
 {
     writer w;
     if (w_open(&w, dir, "system/fvSolution", "dictionary", "fvSolution", err))
@@ -555,8 +559,8 @@ static int write_solution(int open, const char *dir, core_err *err)
                  "        tolerance 1e-9;\n        relTol 0.1;\n    }\n}\n\n"
                  "SIMPLE\n{\n    nNonOrthogonalCorrectors 0;\n    consistent %s;\n    residualControl\n    {\n"
                  "        p 1e-4;\n        U 1e-4;\n        \"(k|epsilon)\" 1e-4;\n    }\n}\n\n",
-             open ? "no" : "yes");
-    if (open)
+             stiff ? "no" : "yes");
+    if (stiff)
         w_printf(&w, "relaxationFactors\n{\n    fields\n    {\n        p 0.2;\n    }\n    equations\n    {\n"
                      "        U 0.3;\n        \".*\" 0.3;\n    }\n}\n");
     else
@@ -661,6 +665,12 @@ int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, const hfm_b
     int open = 1; /* calm air: no inlet anywhere */
     for (int f = 0; f < CFD_NFACES; f++)
         open &= cfg->bc[f].type != CFD_BC_INLET;
+    /* the rotor's flow dominates: calm air, or a wind below the disk's
+     * hover induced velocity */
+    double vi = sp->rotor != CORE_ROTOR_OFF && sp->disk.radius_m > 0.0 && sp->disk.thrust_N > 0.0
+                    ? sqrt(sp->disk.thrust_N / (2.0 * cfg->rho_kgpm3 * CORE_PI * sp->disk.radius_m * sp->disk.radius_m))
+                    : 0.0;
+    int stiff = open || sp->wod_speed_mps < vi;
     int rc = make_dirs(dir, err);
     if (!rc)
         rc = write_block_mesh(g, cfg, dir, err);
@@ -669,9 +679,9 @@ int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, const hfm_b
     if (!rc)
         rc = write_control(cfg, max_iter, dir, err);
     if (!rc)
-        rc = write_schemes(cfg, open, dir, err);
+        rc = write_schemes(cfg, stiff, dir, err);
     if (!rc)
-        rc = write_solution(open, dir, err);
+        rc = write_solution(stiff, dir, err);
     if (!rc)
         rc = write_decompose(g, np, dir, err);
     if (!rc)
