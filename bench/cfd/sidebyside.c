@@ -214,7 +214,8 @@ static void spacings(const cfd_grid *g, double lo[3], double hi[3])
 
 /* ------------------------------------------------------------- engines */
 typedef struct emb_run {
-    int rc; /* cfd_solver_run's */
+    int rc;           /* cfd_solver_run's */
+    int monitor_stop; /* 1: run to the common criterion */
     cfd_result res;
     double create_s, write_s, total_s;
     double cpu_s; /* CPU seconds, every thread, end to end */
@@ -233,6 +234,7 @@ static int run_embedded(const cfd_airwake_spec *sp0, int monitor_stop, const cfd
     core_log log = {log_fn, &tk, CORE_LOG_WARN};
     core_err err = {0};
     memset(r, 0, sizeof *r);
+    r->monitor_stop = monitor_stop;
     double t0 = sbs_now(), c0 = cpu_s(RUSAGE_SELF);
     cfd_solver *s = cfd_airwake_create(&sp, &log, emb_progress, &tk, &err);
     r->create_s = sbs_now() - t0;
@@ -448,7 +450,9 @@ typedef struct sbs {
 
 static const char *emb_stop(const emb_run *r)
 {
-    return r->res.converged ? "converged" : r->res.steady_mean ? "steady mean" : "at the iteration cap";
+    return r->res.converged    ? (r->monitor_stop ? "monitors steady" : "converged")
+           : r->res.steady_mean ? "steady mean"
+                                : "at the iteration cap";
 }
 
 static void json_str(FILE *f, const char *s)
