@@ -14,19 +14,24 @@
  * last two spans of 50 iterations (OpenFOAM's stop in foam.c; the
  * embedded solver's cfd_config.monitor_stop). The embedded solver runs on
  * --threads OpenMP threads (default: as many as --np), OpenFOAM on --np
- * MPI ranks. Then (--default on) the embedded solver once more to its own
- * default criterion (residuals below 1e-4 and the monitors within 2 %).
+ * MPI ranks. The embedded solver runs before OpenFOAM and again after it
+ * (the ratio takes the mean of its two times, so that a change of the
+ * machine's load during the long OpenFOAM run weighs on both), then
+ * (--default on) once more to its own default criterion (residuals below
+ * 1e-4 and the monitors within 2 %).
  *
  * Printed: the grid; per engine the iterations, the wall time to the
  * criterion (end to end: the case to its HDF5 field file; and the solver
- * alone), cell-iterations per second and seconds per iteration;
- * OpenFOAM's per-step times; the ratio OpenFOAM / embedded and whether the
- * embedded solver is 5 times faster or more; the velocity differences
- * along the nine deck lines (cfd_airwake_deck_diff) in % of U. With
- * --out DIR: DIR/sidebyside.json, DIR/sidebyside.csv (one row per run),
- * DIR/sidebyside_deck.csv (one row per deck line) and the fields
- * (embedded.h5, openfoam.h5, embedded_default.h5); OpenFOAM's case folder
- * is made in DIR too. Progress goes to stderr while each engine runs.
+ * alone), CPU time, cell-iterations per second, seconds per iteration
+ * and the load while it ran; OpenFOAM's per-step times and the iteration
+ * its monitors first passed the test; the ratio OpenFOAM / embedded and
+ * whether the embedded solver is 5 times faster or more; the velocity
+ * differences along the nine deck lines (cfd_airwake_deck_diff) in % of
+ * U. With --out DIR: DIR/sidebyside.json, DIR/sidebyside.csv (one row per
+ * run), DIR/sidebyside_deck.csv (one row per deck line) and the fields
+ * (embedded.h5, embedded_after.h5, openfoam.h5, embedded_default.h5);
+ * OpenFOAM's case folder is made in DIR too. Progress goes to stderr while
+ * each engine runs.
  */
 /* nftw */
 #define _XOPEN_SOURCE 700
