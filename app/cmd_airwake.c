@@ -70,13 +70,13 @@ static int parse_double(const char *flag, const char *s, double lo, double hi, d
 }
 
 /* --queue: the same case as an airwake database request. */
-static int queue_request(const char *db_dir, const awdb_key *key, const core_log *log)
+static int queue_request(const char *db_dir, const char *engine, const awdb_key *key, const core_log *log)
 {
     awdb_key k = *key;
     core_err err = {0};
     awdb *db = awdb_open(db_dir, log, &err);
     awdb_state before;
-    if (!db || awdb_submit(db, &k, &before, &err) != 0) {
+    if (!db || awdb_engine_claim(db, engine, &err) != 0 || awdb_submit(db, &k, &before, &err) != 0) {
         fprintf(stderr, "disim airwake: --queue %s: %s\n", db_dir, err.msg);
         awdb_close(db);
         return 1;
@@ -87,7 +87,8 @@ static int queue_request(const char *db_dir, const awdb_key *key, const core_log
     printf("%s: %s%s\n", name, awdb_state_name(before),
            before == AWDB_ABSENT || before == AWDB_FAILED ? " -> queued" : "");
     if (!awdb_builder_alive(db))
-        fprintf(stderr, "disim airwake: no builder serves %s yet: start `disim airwaked %s`\n", db_dir, db_dir);
+        fprintf(stderr, "disim airwake: no builder serves %s yet: start `disim airwaked %s%s`\n", db_dir, db_dir,
+                strcmp(engine, "openfoam") ? "" : " --engine openfoam");
     awdb_close(db);
     return 0;
 }
@@ -122,9 +123,11 @@ static void usage_airwake(void)
             "                      [--grid coarse|default|fine|quick] [--abl] [--warm FIELD.h5] [--max-iter N]\n"
             "                      [--thrust-n N] [--radius-m R] [--threads N] [--h-fine-m H]\n"
             "                      [--growth G] [--h-max-m H] [--focus-fwd-m X] [--avg-window N] [--limiter vanleer|minmod]\n"
-            "                      [--zone OUTER.h5] [--engine embedded|openfoam] [--np N] -o FIELD.h5\n"
+            "                      [--zone OUTER.h5] [--engine embedded|openfoam] [--np N]\n"
+            "                      [--hostfile FILE] [--work-dir DIR] -o FIELD.h5\n"
             "  --engine openfoam: solve the same case with OpenFOAM (mpirun -np N simpleFoam, N 2 by\n"
-            "       default; the scenario's [cfd] engine and np otherwise; docs/openfoam.md)\n"
+            "       default; the scenario's [cfd] engine and np otherwise; docs/openfoam.md); its ranks\n"
+            "       over the hosts of an MPI --hostfile, its case in --work-dir (every host must see it)\n"
             "  --zone: solve the deck zone only (5 R round the hover station's hub, 4 R above it),\n"
             "  its open faces taken from OUTER.h5 (a whole-domain ship-only field of this ship and\n"
             "  direction, any grid) scaled to the WOD speed: a fine zone nested in a coarser field\n"
@@ -134,7 +137,7 @@ static void usage_airwake(void)
 /* The command line of `disim airwake`. -1 (NAN for numbers, 0 for the
  * grid-study options): not given, the scenario's or the level's. */
 typedef struct airwake_args {
-    const char *scen, *out, *warm, *queue, *zone;
+    const char *scen, *out, *warm, *queue, *zone, *hostfile, *work_dir;
     double speed_kt, dir_deg, thrust_N, radius_m, h_fine_m, growth, h_max_m, focus_fwd_m;
     int rotor, level, abl, max_iter, threads, avg_window, limiter_fixed, engine, np;
     cfd_limiter limiter;
@@ -189,7 +192,8 @@ static int airwake_flag(airwake_args *o, const char *a, const char *v)
     const struct {
         const char *flag;
         const char **out;
-    } str[] = {{"-o", &o->out}, {"--queue", &o->queue}, {"--warm", &o->warm}, {"--zone", &o->zone}};
+    } str[] = {{"-o", &o->out},     {"--queue", &o->queue},       {"--warm", &o->warm},
+               {"--zone", &o->zone}, {"--hostfile", &o->hostfile}, {"--work-dir", &o->work_dir}};
     for (size_t k = 0; k < sizeof num / sizeof num[0]; k++)
         if (!strcmp(a, num[k].flag))
             return parse_double(a, v, num[k].lo, num[k].hi, num[k].out) ? 1 : 0;
@@ -380,14 +384,29 @@ static int foam_progress(void *user, double frac, double residual, int iter)
     return 0;
 }
 
-/* The same case through OpenFOAM (foam.h) with np MPI ranks. 0 or 1. */
+/* The same case through OpenFOAM (foam.h) with np MPI ranks; the loaded
+ * rotor as rotorDisk with the blades of the aircraft file. 0 or 1. */
 static int airwake_solve_foam(const airwake_args *o, const cfd_airwake_spec *sp, const awdb_key *key, int np,
-                              const core_log *log)
+                              const char *aircraft_path, const core_log *log)
 {
     foam_opts fo;
     foam_opts_default(&fo);
+    core_err err = {0};
+    hfm_blade_data blades;
+    if (sp->rotor == CORE_ROTOR_LOADED) {
+        hfm_aircraft *ac = hfm_aircraft_load(aircraft_path, log, &err);
+        if (!ac) {
+            fprintf(stderr, "disim airwake: %s\n", err.msg);
+            return 1;
+        }
+        hfm_aircraft_blade_data(ac, &blades);
+        hfm_aircraft_destroy(ac);
+        fo.blades = &blades;
+    }
     fo.np = np;
     fo.log = log;
+    fo.hostfile = o->hostfile;
+    fo.work_dir = o->work_dir;
     fo.max_iter = sp->max_iter;
     progress_state ps = {isatty(2), 0.0};
     fo.progress = foam_progress;
@@ -395,7 +414,6 @@ static int airwake_solve_foam(const airwake_args *o, const cfd_airwake_spec *sp,
     cfd_meta meta;
     airwake_meta(o, sp, key, &meta);
     foam_result r;
-    core_err err = {0};
     int rc = foam_airwake(sp, &fo, &meta, o->out, &r, &err);
     progress_end(&ps);
     if (rc) {
@@ -409,6 +427,13 @@ static int airwake_solve_foam(const airwake_args *o, const cfd_airwake_spec *sp,
             r.res.converged ? "converged" : r.steady_iter > 0 ? "monitors steady, residuals above 1e-4"
                                                               : "not converged (the iteration cap)",
             r.res.wall_s, r.total_wall_s);
+    if (fo.blades)
+        fprintf(stderr,
+                "disim airwake: rotorDisk on %zu cells: thrust %.0f N for %.0f N (%+.2f %%); trim %s: theta0 %.2f deg, "
+                "theta1c %.2f deg, theta1s %.2f deg\n",
+                r.rotor_cells, r.rotor_force_N, sp->disk.thrust_N, 100.0 * (r.rotor_force_N / sp->disk.thrust_N - 1.0),
+                r.trim_converged ? "converged" : "not converged", r.trim_pitch_deg[0], r.trim_pitch_deg[1],
+                r.trim_pitch_deg[2]);
     return 0;
 }
 
@@ -499,8 +524,12 @@ int cmd_airwake(int argc, char **argv)
     int engine = o.engine >= 0 ? o.engine : sc->engine;
     int np = o.np > 0 ? o.np : sc->engine_np > 0 ? sc->engine_np : 2;
     const char *clash = engine != SIM_ENGINE_OPENFOAM && o.np > 0 ? "--np is the OpenFOAM engine's (--engine openfoam)"
-                        : engine == SIM_ENGINE_OPENFOAM && o.queue
-                            ? "--queue: the database's builder solves with its own engine (disim airwaked)"
+                        : engine != SIM_ENGINE_OPENFOAM && (o.hostfile || o.work_dir)
+                            ? "--hostfile and --work-dir are the OpenFOAM engine's (--engine openfoam)"
+                        : o.queue && (o.hostfile || o.work_dir)
+                            ? "--hostfile and --work-dir with --queue: the builder has its own (disim airwaked)"
+                        : engine == SIM_ENGINE_OPENFOAM && o.queue && o.np > 0
+                            ? "--np with --queue: the database's builder runs its own ranks (disim airwaked --np)"
                         : engine == SIM_ENGINE_OPENFOAM && o.warm ? "--warm: the OpenFOAM engine starts from the inflow"
                                                                   : NULL;
     if (clash) {
@@ -509,7 +538,7 @@ int cmd_airwake(int argc, char **argv)
         return 2;
     }
     if (o.queue) {
-        rc = queue_request(o.queue, &key, &log);
+        rc = queue_request(o.queue, engine == SIM_ENGINE_OPENFOAM ? "openfoam" : "embedded", &key, &log);
         free(sc);
         return rc;
     }
@@ -536,7 +565,7 @@ int cmd_airwake(int argc, char **argv)
         free(sc);
         return 1;
     }
-    rc = engine == SIM_ENGINE_OPENFOAM ? airwake_solve_foam(&o, &sp, &key, np, &log) : airwake_solve(&o, &sp, &key, &log);
+    rc = engine == SIM_ENGINE_OPENFOAM ? airwake_solve_foam(&o, &sp, &key, np, sc->aircraft_path, &log) : airwake_solve(&o, &sp, &key, &log);
     cfd_field_destroy(outer);
     free(sc);
     return rc;

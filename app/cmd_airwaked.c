@@ -1,5 +1,6 @@
 /* cmd_airwaked.c -- `disim airwaked DB_DIR [--jobs N] [--ships DIR]
- * [--max-iter N] [--exit-when-idle] [--no-lcm]`: the background airwake
+ * [--max-iter N] [--exit-when-idle] [--no-lcm] [--engine E] [--np N]
+ * [--aircraft DIR]`: the background airwake
  * builder. It serves the database's queue (filled by `disim airwake --queue`,
  * `disim shol` and other processes) and LCM requests on DISIM_AIRWAKE_REQUEST,
  * and publishes DISIM_AIRWAKE_STATUS. Progress goes to a terminal as one
@@ -234,12 +235,13 @@ static void on_idle(void *user)
 
 /* The command line of disim airwaked. */
 typedef struct airwaked_args {
-    const char *dir, *ships;
+    const char *dir, *ships, *aircraft, *hostfile, *work_dir;
     long jobs, max_iter;
     int once, use_lcm;
     int openfoam;   /* --engine openfoam */
     long np;        /* --np: its MPI ranks (0: 2) */
     int jobs_given; /* --jobs given (else, with OpenFOAM, the cores over its ranks) */
+    int aircraft_given;
 } airwaked_args;
 
 /* The flags into o: 0, or 2 (usage) after the message. */
@@ -248,7 +250,8 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if ((!strcmp(a, "--jobs") || !strcmp(a, "--ships") || !strcmp(a, "--max-iter") || !strcmp(a, "--engine") ||
-             !strcmp(a, "--np")) &&
+             !strcmp(a, "--np") || !strcmp(a, "--aircraft") || !strcmp(a, "--hostfile") ||
+             !strcmp(a, "--work-dir")) &&
             i + 1 >= argc) {
             fprintf(stderr, "disim airwaked: %s: expected a value\n", a);
             return 2;
@@ -284,6 +287,14 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
             o->openfoam = !strcmp(v, "openfoam");
         } else if (!strcmp(a, "--ships"))
             o->ships = argv[++i];
+        else if (!strcmp(a, "--hostfile"))
+            o->hostfile = argv[++i];
+        else if (!strcmp(a, "--work-dir"))
+            o->work_dir = argv[++i];
+        else if (!strcmp(a, "--aircraft")) {
+            o->aircraft = argv[++i];
+            o->aircraft_given = 1;
+        }
         else if (!strcmp(a, "--exit-when-idle"))
             o->once = 1;
         else if (!strcmp(a, "--no-lcm"))
@@ -300,13 +311,18 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
     }
     if (!o->dir) {
         fprintf(stderr, "usage: disim airwaked DB_DIR [--jobs N] [--ships DIR] [--max-iter N] "
-                        "[--exit-when-idle] [--no-lcm] [--engine embedded|openfoam] [--np N]\n"
+                        "[--exit-when-idle] [--no-lcm] [--engine embedded|openfoam] [--np N] [--aircraft DIR]\n"
+                        "       [--hostfile FILE] [--work-dir DIR]\n"
                         "  --engine openfoam: build with OpenFOAM (mpirun -np N, 2 by default), into a database\n"
-                        "       of its own (a key does not name its engine; docs/openfoam.md)\n");
+                        "       of its own (DB_DIR/engine names it; docs/openfoam.md); the loaded rotor\n"
+                        "       as rotorDisk with the blades of the key's aircraft, found in --aircraft DIR\n"
+                        "       (scenarios/aircraft); each solve's ranks over the hosts of an MPI --hostfile, its\n"
+                        "       case in --work-dir (a folder every host sees; docs/cluster.md)\n");
         return 2;
     }
-    if (o->np > 0 && !o->openfoam) {
-        fprintf(stderr, "disim airwaked: --np is the OpenFOAM engine's (--engine openfoam)\n");
+    if ((o->np > 0 || o->aircraft_given || o->hostfile || o->work_dir) && !o->openfoam) {
+        fprintf(stderr, "disim airwaked: %s is the OpenFOAM engine's (--engine openfoam)\n",
+                o->np > 0 ? "--np" : o->aircraft_given ? "--aircraft" : o->hostfile ? "--hostfile" : "--work-dir");
         return 2;
     }
     return 0;
@@ -315,7 +331,7 @@ static int airwaked_parse(int argc, char **argv, airwaked_args *o)
 int cmd_airwaked(int argc, char **argv)
 {
     long ncores = sysconf(_SC_NPROCESSORS_ONLN);
-    airwaked_args a = {NULL, "scenarios/ships", ncores, 0, 0, 1, 0, 0, 0};
+    airwaked_args a = {NULL, "scenarios/ships", "scenarios/aircraft", NULL, NULL, ncores, 0, 0, 1, 0, 0, 0, 0};
     int prc = airwaked_parse(argc, argv, &a);
     if (prc != 0)
         return prc;
@@ -329,16 +345,28 @@ int cmd_airwaked(int argc, char **argv)
     app_log al = {"airwaked", 0};
     core_log log = {app_log_stderr, &al, CORE_LOG_INFO};
     core_err err = {0};
-    awdb *db = awdb_open(dir, &log, &err);
-    awdb_embedded *emb = db && !a.openfoam
-                             ? awdb_embedded_create(ships, (int)max_iter, (int)(ncores / jobs > 0 ? ncores / jobs : 1), &log, &err)
-                             : NULL;
     foam_opts fo;
     foam_opts_default(&fo);
     fo.np = a.np > 0 ? (int)a.np : 2;
     fo.max_iter = (int)max_iter;
     fo.log = &log;
-    foam_engine *fe = db && a.openfoam ? foam_engine_create(ships, &fo, &err) : NULL;
+    fo.hostfile = a.hostfile;
+    fo.work_dir = a.work_dir;
+    char why[300];
+    if (a.openfoam && !foam_available(&fo, why, sizeof why)) { /* before the database is touched */
+        fprintf(stderr, "disim airwaked: the OpenFOAM engine cannot run: %s\n", why);
+        return 1;
+    }
+    awdb *db = awdb_open(dir, &log, &err);
+    if (db && awdb_engine_claim(db, a.openfoam ? "openfoam" : "embedded", &err) != 0) {
+        fprintf(stderr, "disim airwaked: %s\n", err.msg);
+        awdb_close(db);
+        return 1;
+    }
+    awdb_embedded *emb = db && !a.openfoam
+                             ? awdb_embedded_create(ships, (int)max_iter, (int)(ncores / jobs > 0 ? ncores / jobs : 1), &log, &err)
+                             : NULL;
+    foam_engine *fe = db && a.openfoam ? foam_engine_create(ships, a.aircraft, &fo, &err) : NULL;
     if (!db || (!emb && !fe)) {
         fprintf(stderr, "disim airwaked: %s\n", err.msg);
         awdb_embedded_destroy(emb);
@@ -347,6 +375,8 @@ int cmd_airwaked(int argc, char **argv)
     }
     if (emb)
         awdb_embedded_set_db(emb, db);
+    if (fe)
+        foam_engine_set_db(fe, db);
     daemon_ctx ctx;
     memset(&ctx, 0, sizeof ctx);
     ctx.db = db;

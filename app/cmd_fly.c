@@ -230,7 +230,7 @@ static void fly_defaults(fly_args *o)
     o->rate_hz = 200.0;
     o->csv_rate_hz = 50.0;
     o->speed_kt = o->dir_deg = NAN;
-    o->db = "out/airwake-db";
+    o->db = NULL; /* app_db_default: the scenario's engine's */
     o->turbulence = -1;
     o->gear = 1;
     o->sea_state = -1;
@@ -550,6 +550,17 @@ static void world_overrides(const fly_args *o, const fly_world *w, sim_world_ove
     ov->interaction = w->inter;
 }
 
+/* The database, claimed for the scenario's engine (awdb_engine_claim). */
+static awdb *fly_db_open(const char *dir, const sim_scenario *sc, const core_log *log, core_err *err)
+{
+    awdb *db = awdb_open(dir, log, err);
+    if (db && awdb_engine_claim(db, sc->engine == SIM_ENGINE_OPENFOAM ? "openfoam" : "embedded", err) != 0) {
+        awdb_close(db);
+        db = NULL;
+    }
+    return db;
+}
+
 /* The airwake of the WOD: --field, else the database's ship-only field
  * (requested when absent: w->waiting) and its coupled fields. */
 static int world_fields(fly_ctx *c, fly_world *w, double speed, double dir, core_err *err)
@@ -562,8 +573,9 @@ static int world_fields(fly_ctx *c, fly_world *w, double speed, double dir, core
         w->fld_shared = 1;
         return 0;
     }
+    const char *dbdir = o->db ? o->db : app_db_default(w->sc);
     if (speed > 0.0) {
-        if (!c->db && (core_mkdir_p(o->db, err) != 0 || !(c->db = awdb_open(o->db, c->log, err))))
+        if (!c->db && (core_mkdir_p(dbdir, err) != 0 || !(c->db = fly_db_open(dbdir, w->sc, c->log, err))))
             return -1;
         core_grid_level level = CORE_GRID_QUICK;
         int got = couple_flight_field(c->db, w->sc, dir, -1, &w->fld, &level, &w->waiting, err);
@@ -574,7 +586,7 @@ static int world_fields(fly_ctx *c, fly_world *w, double speed, double dir, core
         w->level = got > 0 ? (int)level : -1;
         world_span(w, w->level, 0.0);
     }
-    if (!c->db && access(o->db, F_OK) == 0 && !(c->db = awdb_open(o->db, c->log, err)))
+    if (!c->db && access(dbdir, F_OK) == 0 && !(c->db = fly_db_open(dbdir, w->sc, c->log, err)))
         return -1; /* calm air: coupled fields (ground effect) without a ship-only one */
     if (c->db && couple_flight_coupled(c->db, w->sc, speed, dir, w->cpl, &w->inter, err) < 0)
         return -1;
@@ -611,14 +623,6 @@ static int world_build(fly_ctx *c, const char *path, const sim_loop_setup *setup
     sim_scenario *sc = w->sc;
     if (sim_scenario_load(path, sc, err) != 0)
         goto fail;
-    if (sc->engine == SIM_ENGINE_OPENFOAM) {
-        core_err_set(err, -1,
-                     "%s: [cfd] engine = openfoam: disim fly takes its fields from the airwake database, whose "
-                     "builder runs the embedded engine; the OpenFOAM engine solves one field with disim airwake "
-                     "(set engine = embedded or remove the key)",
-                     path);
-        goto fail;
-    }
     if (!(w->ac = hfm_aircraft_load(sc->aircraft_path, c->log, err)))
         goto fail;
     sim_world_overrides ov;

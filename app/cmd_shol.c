@@ -497,12 +497,6 @@ static int job_load(shol_job *j)
     const shol_args *a = j->a;
     if (!(j->sc = calloc(1, sizeof *j->sc)) || sim_scenario_load(a->scen, j->sc, &j->err) != 0)
         return -1;
-    if (j->sc->engine == SIM_ENGINE_OPENFOAM)
-        return core_err_set(&j->err, -1,
-                            "%s: [cfd] engine = openfoam: disim shol builds its fields through the airwake "
-                            "database, whose builder runs the embedded engine; the OpenFOAM engine solves one "
-                            "field with disim airwake (set engine = embedded or remove the key)",
-                            a->scen);
     if (!(j->ac = hfm_aircraft_load(j->sc->aircraft_path, &j->log, &j->err)))
         return -1;
     /* --method pilot flies in the scenario's sea; its trims, as every
@@ -543,7 +537,7 @@ static int job_open(shol_job *j)
         snprintf(j->outdir, sizeof j->outdir, "%s/pilot", j->sc->output_dir);
     else
         snprintf(j->outdir, sizeof j->outdir, "%s", a->outdir ? a->outdir : j->sc->output_dir);
-    j->dbdir = a->dbdir ? a->dbdir : "out/airwake-db";
+    j->dbdir = a->dbdir ? a->dbdir : app_db_default(j->sc);
     if (j->ranks > 1) /* beside the outputs: a folder every rank can reach */
         snprintf(j->stage, sizeof j->stage, "%s/.shol-ranks%s%s", j->outdir, j->run_id[0] ? "-" : "", j->run_id);
     /* before the envelope is computed (hours on a two-way run) */
@@ -552,7 +546,8 @@ static int job_open(shol_job *j)
         return core_err_set(&j->err, -1, "output folder: %s", why.msg);
     if (core_mkdir_p(j->dbdir, &j->err) != 0) /* the database folder and its parents */
         return -1;
-    if (!(j->db = awdb_open(j->dbdir, &j->log, &j->err)))
+    if (!(j->db = awdb_open(j->dbdir, &j->log, &j->err)) ||
+        awdb_engine_claim(j->db, j->sc->engine == SIM_ENGINE_OPENFOAM ? "openfoam" : "embedded", &j->err) != 0)
         return -1;
     couple_settings *cs = &j->cs;
     couple_settings_scenario(cs, j->sc);
@@ -567,7 +562,7 @@ static int job_open(shol_job *j)
     app_progress_init(&j->pw, j->db, j->tty);
     cs->wait_fn = app_progress_wait;
     cs->wait_user = &j->pw;
-    if (app_launcher_init(&j->launcher, j->sc->ship_path, a->cfdit > 0 ? (int)a->cfdit : j->sc->max_iterations) == 0) {
+    if (app_launcher_init(&j->launcher, j->sc, a->cfdit > 0 ? (int)a->cfdit : j->sc->max_iterations) == 0) {
         cs->launch = app_launch_builder;
         cs->launch_user = &j->launcher;
     }

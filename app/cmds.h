@@ -7,6 +7,8 @@
 #ifndef DISIM_APP_CMDS_H
 #define DISIM_APP_CMDS_H
 
+#include "sim_scenario.h"
+
 #include <stddef.h>
 
 int cmd_check(int argc, char **argv);    /* cmd_check.c */
@@ -48,12 +50,17 @@ int app_parse_int(const char *prefix, const char *flag, const char *s, int lo, i
 typedef struct app_launcher {
     char exe[4096];       /* this disim executable ("" : cannot launch) */
     char ships_dir[1024]; /* the ships folder the builder looks ships up in */
+    char aircraft_dir[1024]; /* the OpenFOAM engine's aircraft folder (the loaded rotor's blades) */
     int max_iter;         /* > 0: the builder's CFD iteration limit */
+    int foam_np;          /* > 0: the OpenFOAM engine with this many MPI ranks; 0: the embedded one */
     long pid;             /* the last builder started (0: none) */
 } app_launcher;
-/* Fill l for the ship file ship_path's folder; 0, or -1 when this
- * executable's path cannot be found. */
-int app_launcher_init(app_launcher *l, const char *ship_path, int max_iter);
+/* Fill l for the scenario's ship and aircraft files' folders and its
+ * engine; 0, or -1 when this executable's path cannot be found. */
+int app_launcher_init(app_launcher *l, const sim_scenario *sc, int max_iter);
+/* The airwake database a scenario's runs use unless --db names one: one
+ * folder per engine (a database holds one engine's fields). */
+const char *app_db_default(const sim_scenario *sc);
 int app_launch_builder(void *user, const char *db_dir);
 
 /* ------------------------------------------- ranks of a sweep (ranks.c) */

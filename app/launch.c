@@ -10,13 +10,16 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-int app_launcher_init(app_launcher *l, const char *ship_path, int max_iter)
+int app_launcher_init(app_launcher *l, const sim_scenario *sc, int max_iter)
 {
     memset(l, 0, sizeof *l);
     l->max_iter = max_iter;
-    char ships[sizeof l->ships_dir];
-    snprintf(ships, sizeof ships, "%s", ship_path);
-    snprintf(l->ships_dir, sizeof l->ships_dir, "%s", dirname(ships));
+    l->foam_np = sc->engine == SIM_ENGINE_OPENFOAM ? (sc->engine_np > 0 ? sc->engine_np : 2) : 0;
+    char tmp[sizeof l->ships_dir];
+    snprintf(tmp, sizeof tmp, "%s", sc->ship_path);
+    snprintf(l->ships_dir, sizeof l->ships_dir, "%s", dirname(tmp));
+    snprintf(tmp, sizeof tmp, "%s", sc->aircraft_path);
+    snprintf(l->aircraft_dir, sizeof l->aircraft_dir, "%s", dirname(tmp));
     ssize_t n = readlink("/proc/self/exe", l->exe, sizeof l->exe - 1);
     if (n <= 0) {
         l->exe[0] = '\0';
@@ -24,6 +27,11 @@ int app_launcher_init(app_launcher *l, const char *ship_path, int max_iter)
     }
     l->exe[n] = '\0';
     return 0;
+}
+
+const char *app_db_default(const sim_scenario *sc)
+{
+    return sc->engine == SIM_ENGINE_OPENFOAM ? "out/airwake-db-openfoam" : "out/airwake-db";
 }
 
 int app_launch_builder(void *user, const char *db_dir)
@@ -46,14 +54,32 @@ int app_launch_builder(void *user, const char *db_dir)
             close(fd);
         }
         setsid(); /* outlives this process if another client still waits */
-        char it[32];
+        char it[32], np[32];
         snprintf(it, sizeof it, "%d", l->max_iter);
-        if (l->max_iter > 0)
-            execl(l->exe, l->exe, "airwaked", db_dir, "--exit-when-idle", "--ships", l->ships_dir, "--no-lcm",
-                  "--max-iter", it, (char *)NULL);
-        else
-            execl(l->exe, l->exe, "airwaked", db_dir, "--exit-when-idle", "--ships", l->ships_dir, "--no-lcm",
-                  (char *)NULL);
+        snprintf(np, sizeof np, "%d", l->foam_np);
+        char *argv[20];
+        int a = 0;
+        argv[a++] = l->exe;
+        argv[a++] = "airwaked";
+        argv[a++] = (char *)db_dir;
+        argv[a++] = "--exit-when-idle";
+        argv[a++] = "--ships";
+        argv[a++] = l->ships_dir;
+        argv[a++] = "--no-lcm";
+        if (l->max_iter > 0) {
+            argv[a++] = "--max-iter";
+            argv[a++] = it;
+        }
+        if (l->foam_np > 0) {
+            argv[a++] = "--engine";
+            argv[a++] = "openfoam";
+            argv[a++] = "--np";
+            argv[a++] = np;
+            argv[a++] = "--aircraft";
+            argv[a++] = l->aircraft_dir;
+        }
+        argv[a] = NULL;
+        execv(l->exe, argv);
         _exit(127);
     }
     l->pid = (long)pid;

@@ -15,6 +15,7 @@
  *                       has the order) and removes the marks of processes
  *                       that have ended
  *   builder.lock        flock()ed by the one running builder
+ *   engine              the engine whose fields it holds (awdb_engine_claim)
  * Every file is written to a temporary name and renamed into place, so a
  * crash or kill at any instant leaves the database consistent; a restarted
  * builder returns running/ requests to the queue and removes stray
@@ -105,6 +106,13 @@ typedef struct awdb awdb;
 /* Open (creating the folders if needed). NULL with err on failure. */
 awdb *awdb_open(const char *dir, const core_log *log, core_err *err);
 void awdb_close(awdb *db);
+/* A key does not name its engine, so a database holds one engine's
+ * fields. Claim the database for engine ("embedded", "openfoam") when it
+ * names none yet (one with fields but no engine file is the embedded
+ * engine's), else check it: 0 when its fields are engine's, < 0 with err
+ * naming both otherwise. Builders and the clients that ask for fields call
+ * it once after awdb_open. */
+int awdb_engine_claim(awdb *db, const char *engine, core_err *err);
 const char *awdb_dir(const awdb *db);
 
 /* State of a key. READY only after the field's checksum was verified; a
@@ -276,6 +284,12 @@ void awdb_embedded_destroy(awdb_embedded *e);
  * ship-only boundary field from (the builder's own); without one such
  * builds fail with an error saying so. */
 void awdb_embedded_set_db(awdb_embedded *e, awdb *db);
+/* A deck zone's boundary (a key with zone_ref_mps > 0): the ship-only field
+ * of the key's ship, direction and grid at its reference speed, loaded from
+ * db (awdb_key_zone_boundary); NULL with err when db is NULL or the field
+ * is not ready there. Every engine that builds deck zones reads it so. */
+struct cfd_field;
+struct cfd_field *awdb_zone_boundary(awdb *db, const awdb_key *k, core_err *err);
 void awdb_embedded_engine(awdb_embedded *e, awdb_engine *eng);
 
 /* ------------------------------------------------ a client's fields */

@@ -30,30 +30,6 @@ void awdb_embedded_set_db(awdb_embedded *e, awdb *db)
     e->db = db;
 }
 
-/* A deck zone's boundary: the ship-only field of the key's ship, direction
- * and grid at the key's reference speed, from the database. */
-static cfd_field *zone_outer(awdb_embedded *e, const awdb_key *k, core_err *err)
-{
-    awdb_key sk;
-    awdb_key_zone_boundary(k, &sk);
-    char name[200], path[1200];
-    if (awdb_key_canon(&sk, err) != 0)
-        return NULL;
-    awdb_key_name(&sk, name, sizeof name);
-    if (!e->db) {
-        core_err_set(err, -1, "deck zone: no database to read the ship-only field %s from", name);
-        return NULL;
-    }
-    if (awdb_query(e->db, &sk, path, sizeof path) != AWDB_READY) {
-        core_err_set(err, -1,
-                     "deck zone: its boundary, the ship-only field %s, is not in the database %s (request it "
-                     "before the zone)",
-                     name, awdb_dir(e->db));
-        return NULL;
-    }
-    return cfd_field_load(path, err);
-}
-
 awdb_embedded *awdb_embedded_create(const char *ships_dir, int max_iter, int threads,
                                     const core_log *log, core_err *err)
 {
@@ -215,7 +191,7 @@ static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, cons
     spec.max_iter = e->max_iter;
     cfd_field *outer = NULL; /* a deck zone's boundary field; outlives the solver */
     if (spec.zone && !open_ship) {
-        if (!(outer = zone_outer(e, k, err)))
+        if (!(outer = awdb_zone_boundary(e->db, k, err)))
             return -1;
         spec.zone_field = outer;
         spec.zone_scale = k->wod_speed_mps / k->zone_ref_mps;

@@ -191,6 +191,28 @@ int awdb_fields_ship_only_air(awdb_fields *fc, const char *ship, const char *air
     return air->field ? 0 : -1;
 }
 
+struct cfd_field *awdb_zone_boundary(awdb *db, const awdb_key *k, core_err *err)
+{
+    awdb_key sk;
+    awdb_key_zone_boundary(k, &sk);
+    char name[200], path[1200];
+    if (awdb_key_canon(&sk, err) != 0)
+        return NULL;
+    awdb_key_name(&sk, name, sizeof name);
+    if (!db) {
+        core_err_set(err, -1, "deck zone: no database to read the ship-only field %s from", name);
+        return NULL;
+    }
+    if (awdb_query(db, &sk, path, sizeof path) != AWDB_READY) {
+        core_err_set(err, -1,
+                     "deck zone: its boundary, the ship-only field %s, is not in the database %s (request it "
+                     "before the zone)",
+                     name, awdb_dir(db));
+        return NULL;
+    }
+    return cfd_field_load(path, err);
+}
+
 int awdb_key_spec(const awdb_key *k, const core_ship *ship, cfd_airwake_spec *spec, core_err *err)
 {
     const char *iso = strstr(k->ship, ".isolated");

@@ -247,6 +247,16 @@ int cfd_solver_set_disk(cfd_solver *s, const cfd_disk *disk, core_err *err);
 /* The disk's momentum source per cell in N (force on the air), component d;
  * NULL when there is no disk. */
 const double *cfd_solver_disk_force(const cfd_solver *s, int d);
+/* The inflow the solver applies on boundary face set face (CFD_XMIN ..
+ * CFD_ZMAX) at pos_m, a point of that side of the domain (a face centre of
+ * the grid: the node coordinate of the side along its axis, the cell
+ * centres across): the velocity (m/s), k and epsilon an inlet face there
+ * is fixed to (an outlet face takes k and epsilon of backflow from it).
+ * The profile at pos_m, or with a sampled inflow (CFD_INFLOW_FIELD) the
+ * values sampled at create for the face whose cell span holds pos_m.
+ * 0, or -1 when face is not an inlet or outlet or pos_m is off the side. */
+int cfd_solver_inflow_at(const cfd_solver *s, int face, const double pos_m[3], double vel[3], double *k,
+                         double *eps);
 /* Initial state: the inflow (or u_ref along +x when there is no inlet). */
 void cfd_solver_init_inflow(cfd_solver *s);
 
@@ -317,6 +327,14 @@ typedef struct cfd_meta {
      * are OpenFOAM's initial residuals of p, Ux, Uy, Uz and k */
     char engine[32];
     char engine_version[64];
+    /* how the engine built the rotor: "" (a field without it reads back so)
+     * for its actuator disk of the rotor's mode, "rotorDisk" for the
+     * OpenFOAM engine's blade-element rotor, whose trimmed thrust,
+     * integrated from its force field, is rotor_force_N, and the torque it
+     * put into the air about the thrust direction, in the rotor's sense,
+     * rotor_torque_Nm (0 otherwise) */
+    char rotor_model[32];
+    double rotor_force_N, rotor_torque_Nm;
 } cfd_meta;
 
 /* Write the field to path (HDF5) and path with .xmf (XDMF side file), each

@@ -206,6 +206,11 @@ static int write_field(const cfd_grid *g, double *const *var, const double *hist
         rc |= attr_string(f, "engine", meta->engine[0] ? meta->engine : "embedded");
         rc |= attr_string(f, "engine_version", meta->engine[0] ? meta->engine_version : CFD_VERSION);
         rc |= attr_double(f, "monitor_change", meta->result.monitor_change);
+        if (meta->rotor_model[0]) {
+            rc |= attr_string(f, "rotor_model", meta->rotor_model);
+            rc |= attr_double(f, "rotor_force_N", meta->rotor_force_N);
+            rc |= attr_double(f, "rotor_torque_Nm", meta->rotor_torque_Nm);
+        }
         char crc[24];
         snprintf(crc, sizeof crc, "%016llx", (unsigned long long)field_crc(g, var));
         rc |= attr_string(f, "data_crc64", crc);
@@ -613,6 +618,12 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
     if ((H5Aexists(f, "engine") > 0 && read_attr_string(f, path, "engine", m->engine, sizeof m->engine, err)) ||
         (H5Aexists(f, "engine_version") > 0 &&
          read_attr_string(f, path, "engine_version", m->engine_version, sizeof m->engine_version, err)))
+        goto fail;
+    /* absent but for a rotor the engine built its own way */
+    if ((H5Aexists(f, "rotor_model") > 0 &&
+         read_attr_string(f, path, "rotor_model", m->rotor_model, sizeof m->rotor_model, err)) ||
+        read_attr_double(f, path, "rotor_force_N", 0, &m->rotor_force_N, err) < 0 ||
+        read_attr_double(f, path, "rotor_torque_Nm", 0, &m->rotor_torque_Nm, err) < 0)
         goto fail;
     /* the rotor's centre, written with the thrust and radius (a reader
      * that writes the field again, or mirrors it, keeps it) */

@@ -307,6 +307,38 @@ static void inflow_at(const cfd_solver *s, int f, const int ijk[3], const double
     profile_at(s, pos, vel, k, eps);
 }
 
+/* The cell index along axis d whose span [xn[i], xn[i + 1]] holds x; -1
+ * outside the grid. */
+static int axis_cell(const cfd_grid *g, int d, double x)
+{
+    const double *xn = g->xn[d];
+    if (!(x >= xn[0] && x <= xn[g->n[d]]))
+        return -1;
+    int lo = 0, hi = g->n[d] - 1;
+    while (lo < hi) {
+        int m = (lo + hi + 1) / 2;
+        if (xn[m] <= x)
+            lo = m;
+        else
+            hi = m - 1;
+    }
+    return lo;
+}
+
+int cfd_solver_inflow_at(const cfd_solver *s, int face, const double pos_m[3], double vel[3], double *k, double *eps)
+{
+    if (face < 0 || face >= CFD_NFACES ||
+        (s->cfg.bc[face].type != CFD_BC_INLET && s->cfg.bc[face].type != CFD_BC_OUTLET))
+        return -1;
+    int d = face >> 1, ijk[3];
+    ijk[d] = (face & 1) ? s->g->n[d] - 1 : 0;
+    for (int e = 0; e < 3; e++)
+        if (e != d && (ijk[e] = axis_cell(s->g, e, pos_m[e])) < 0)
+            return -1;
+    inflow_at(s, face, ijk, pos_m, vel, k, eps);
+    return 0;
+}
+
 /* ---------------------------------------------------------- life cycle */
 static double *alloc_arr(cfd_solver *s, size_t n)
 {

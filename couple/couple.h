@@ -164,6 +164,11 @@ typedef struct couple_field_info {
     double residual_continuity;
     int mirrored;              /* 1: the mirror image of the opposite direction's field
                                   (cfd_meta.mirrored); the other members are that field's */
+    char engine_version[64];   /* "" for the embedded engine; else its name and version
+                                  ("OpenFOAM v1912 ...", cfd_meta.engine_version) */
+    double monitor_change;     /* the OpenFOAM engine: the deck monitors' last change over 50
+                                  iterations, / WOD speed (cfd_result.monitor_change; < 0 unknown) */
+    char rotor_model[32];      /* cfd_meta.rotor_model ("rotorDisk"; "" the engine's disk) */
 } couple_field_info;
 
 /* The fields loaded so far, each once, in the order first loaded. */

@@ -42,6 +42,10 @@ void couple_field_note(void *user, const char *path, const cfd_field *f)
     fi->mean_change = m->result.mean_change;
     fi->residual_continuity = m->result.residual[0];
     fi->mirrored = m->mirrored;
+    fi->monitor_change = m->result.monitor_change;
+    if (strcmp(m->engine, "embedded") != 0)
+        snprintf(fi->engine_version, sizeof fi->engine_version, "%s", m->engine_version);
+    snprintf(fi->rotor_model, sizeof fi->rotor_model, "%s", m->rotor_model);
 }
 
 const couple_field_info *couple_fields(const couple_ctx *c, int *n)
@@ -59,10 +63,15 @@ const couple_field_info *couple_fields(const couple_ctx *c, int *n)
 char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_info *f2, int n2)
 {
     core_str md = {0};
-    int nconv = 0, navg = 0, ngrew = 0, nmir = 0;
+    int nconv = 0, navg = 0, ngrew = 0, nmir = 0, nother = 0;
+    const char *other = NULL;
     for (int i = 0; i < n1 + n2; i++) {
         const couple_field_info *fi = i < n1 ? &f1[i] : &f2[i - n1];
         nmir += fi->mirrored;
+        if (fi->engine_version[0]) {
+            nother++;
+            other = fi->engine_version;
+        }
         nconv += fi->converged;
         navg += fi->averaged > 0;
         ngrew += !fi->converged && fi->residual_continuity > 1.0;
@@ -80,6 +89,13 @@ char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_i
                     "the window and the one before it (\"-\": none before it), in %% of the WOD speed (a "
                     "steady mean is below 2 %% in both).\n\n",
                     n1 + n2, nconv, navg);
+    if (nother)
+        core_str_printf(&md,
+                        "%d field%s solved by %s (docs/openfoam.md): its residuals stall above 1e-4 on these "
+                        "grids, so such a field stops once its deck monitors change less than 2 %% of the WOD "
+                        "speed over each of two 50-iteration windows (\"monitors steady\" below); its "
+                        "continuity column is OpenFOAM's initial residual of p.\n\n",
+                        nother, nother > 1 ? "s were" : " was", other);
     if (nmir)
         core_str_printf(&md,
                         "%d field%s the mirror image of the opposite direction's (the ship is symmetric about "
@@ -108,6 +124,8 @@ char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_i
             sl = (size_t)snprintf(st, sizeof st, "mirror of %.1f: ", core_wod_mirror_deg(fi->wod_dir_deg));
         if (fi->converged)
             snprintf(st + sl, sizeof st - sl, "converged");
+        else if (fi->engine_version[0] && fi->monitor_change >= 0.0 && fi->monitor_change < 0.02)
+            snprintf(st + sl, sizeof st - sl, "monitors steady (%.1f %% of U)", 100.0 * fi->monitor_change);
         else if (fi->averaged && fi->steady_mean)
             snprintf(st + sl, sizeof st - sl, "steady mean of last %d", fi->averaged);
         else if (fi->averaged)
@@ -117,6 +135,10 @@ char *couple_fields_md(const couple_field_info *f1, int n1, const couple_field_i
         if (!fi->converged && fi->residual_continuity > 1.0) {
             size_t l = strlen(st);
             snprintf(st + l, sizeof st - l, "; continuity grew");
+        }
+        if (fi->rotor_model[0]) {
+            size_t l = strlen(st);
+            snprintf(st + l, sizeof st - l, "; rotor %s", fi->rotor_model);
         }
         char drift[24] = "-", change[24] = "-";
         if (fi->averaged && fi->mean_drift > 0.0)

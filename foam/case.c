@@ -12,12 +12,29 @@
  * them.
  *
  * Boundaries as the embedded solver's (cfd_config.bc): an inlet fixes U,
- * k and epsilon to the uniform inflow (p zero gradient); an outlet fixes p
- * = 0 with U, k and epsilon inletOutlet (zero gradient out, the inflow's
- * k and epsilon and no velocity where air comes back in); a symmetry face
+ * k and epsilon to the embedded solver's inflow, face by face (below; a
+ * uniform inflow as `fixedValue uniform`), p zero gradient; an outlet
+ * fixes p = 0 with U, k and epsilon inletOutlet (zero gradient out, the
+ * inflow's k and epsilon and no velocity where air comes back in: the
+ * values of the first fluid cell's initial state, also with a profile or
+ * a sampled inflow, as is the uniform initial internal field); a symmetry face
  * is a symmetryPlane; the sea and the ship are no-slip walls with the
  * standard wall functions (nutkWallFunction, epsilonWallFunction,
  * kqRWallFunction) with the embedded solver's Cmu, kappa and E.
+ *
+ * Inlets with a profile (the ABL's log law) or a sampled inflow (a deck
+ * zone's faces from the outer field): U, k and epsilon are
+ * timeVaryingMappedFixedValue with mapMethod nearest on
+ * constant/boundaryData/PATCH: `points`, the patch's face centres (the
+ * grid's cell centres across the side, its node coordinate along it; the
+ * fluid cells' faces only), and 0/{U,k,epsilon}, the embedded solver's
+ * inflow at each (cfd_solver_inflow_at), one time that holds for every
+ * iteration. Each OpenFOAM face takes the value of the point at its
+ * centre (to rounding), whatever the face order: blockMesh numbers a
+ * patch's faces in its own order, subsetMesh drops the ship's and
+ * decomposePar splits the rest among the ranks, and nearest mapping needs
+ * none of that order, where a `fixedValue nonuniform List` would have to
+ * reproduce all three.
  *
  * Rotor: the embedded solver's disk force per cell (cfd_solver_disk_force,
  * the Gaussian-smoothed uniform disk) grouped by force density into
@@ -26,7 +43,8 @@
  * vectorSemiImplicitSource of the band's total force over rho, spread
  * evenly over the zone's volume (volumeMode absolute), so the total force
  * is the embedded solver's exactly and its spread across the disk to a
- * quarter of the peak density.
+ * quarter of the peak density. The loaded rotor with the aircraft's
+ * blades: OpenFOAM's rotorDisk on the one cell zone rotorDisk0 (blade.c).
  *
  * Turbulence: RNGkEpsilon with cfd's constants (cfd.h). Schemes: steady,
  * Gauss linear gradients and Laplacians (the grid is orthogonal), bounded
@@ -45,6 +63,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+
+/* The blade-element rotor's cell zone (one: BLADE_ZONE "0"). */
+#define BLADE_ZONE "rotorDisk"
 
 const char *const foam_patch_names[CFD_NFACES] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
 
@@ -199,7 +220,10 @@ static size_t disk_bands(const cfd_solver *s, int *band, double force[][3], doub
     return used;
 }
 
-static int write_topo_set(const cfd_solver *s, const int *band, const char *dir, int *has_ship, core_err *err)
+/* The ship's cells (inverted into fluidCells) and, with band, the cell
+ * zones ZONE0.. of the cells whose band[c] is 0.. (ZONE the zone prefix). */
+static int write_topo_set(const cfd_solver *s, const int *band, const char *zone, const char *dir, int *has_ship,
+                          core_err *err)
 {
     const cfd_grid *g = cfd_solver_grid(s);
     const unsigned char *solid = cfd_grid_solid(g);
@@ -231,11 +255,11 @@ static int write_topo_set(const cfd_solver *s, const int *band, const char *dir,
                 lab[nb++] = c;
         if (nb == 0)
             continue;
-        w_printf(&w, "    {\n        name rotorBand%d;\n        type cellSet;\n        action new;\n"
-                     "        source labelToCell;\n        value ", b);
+        w_printf(&w, "    {\n        name %s%d;\n        type cellSet;\n        action new;\n"
+                     "        source labelToCell;\n        value ", zone, b);
         write_labels(&w, lab, nb);
-        w_printf(&w, ";\n    }\n    {\n        name rotorBand%d;\n        type cellZoneSet;\n        action new;\n"
-                     "        source setToCellZone;\n        set rotorBand%d;\n    }\n", b, b);
+        w_printf(&w, ";\n    }\n    {\n        name %s%d;\n        type cellZoneSet;\n        action new;\n"
+                     "        source setToCellZone;\n        set %s%d;\n    }\n", zone, b, zone, b);
     }
     w_printf(&w, ");\n");
     free(lab);
@@ -259,9 +283,22 @@ static void inflow_values(const cfd_solver *s, double v[5])
 
 typedef enum { F_U, F_P, F_K, F_EPS, F_NUT } field_id;
 
-/* One patch's entry of field id for boundary type t (-1: the ship). */
-static void write_patch(writer *w, field_id id, int t, const double in[5])
+/* An inlet mapped from constant/boundaryData (the inflow face by face). */
+static void write_mapped(writer *w, const char *value)
 {
+    w_printf(w, "        type timeVaryingMappedFixedValue;\n        mapMethod nearest;\n        setAverage false;\n"
+                "        value uniform %s;\n", value);
+}
+
+/* One patch's entry of field id for boundary type t (-1: the ship);
+ * mapped: an inlet takes the inflow face by face (boundaryData). */
+/* A patch's boundary condition of field id for the face type t (-1: the
+ * ship's wall); mapped: inlets take boundaryData face by face; open: calm
+ * air, no inlet anywhere, every open face lets air in at total pressure 0
+ * (as the embedded solver's openings) and out at static pressure 0. */
+static void write_patch(writer *w, field_id id, int t, const double in[5], int mapped, int open)
+{
+    char val[128];
     if (t == CFD_BC_SYMMETRY) {
         w_printf(w, "        type symmetryPlane;\n");
         return;
@@ -271,14 +308,21 @@ static void write_patch(writer *w, field_id id, int t, const double in[5])
     case F_U:
         if (wall)
             w_printf(w, "        type noSlip;\n");
-        else if (t == CFD_BC_INLET)
+        else if (t == CFD_BC_INLET && mapped) {
+            snprintf(val, sizeof val, "(%.12g %.12g %.12g)", in[0], in[1], in[2]);
+            write_mapped(w, val);
+        } else if (t == CFD_BC_INLET)
             w_printf(w, "        type fixedValue;\n        value uniform (%.12g %.12g %.12g);\n", in[0], in[1], in[2]);
+        else if (open)
+            w_printf(w, "        type pressureInletOutletVelocity;\n        value uniform (0 0 0);\n");
         else
             w_printf(w, "        type inletOutlet;\n        inletValue uniform (0 0 0);\n"
                         "        value uniform (%.12g %.12g %.12g);\n", in[0], in[1], in[2]);
         break;
     case F_P:
-        if (t == CFD_BC_OUTLET)
+        if (t == CFD_BC_OUTLET && open)
+            w_printf(w, "        type totalPressure;\n        p0 uniform 0;\n        value uniform 0;\n");
+        else if (t == CFD_BC_OUTLET)
             w_printf(w, "        type fixedValue;\n        value uniform 0;\n");
         else
             w_printf(w, "        type zeroGradient;\n");
@@ -289,7 +333,10 @@ static void write_patch(writer *w, field_id id, int t, const double in[5])
         if (wall)
             w_printf(w, "        type %s;\n        value uniform %.12g;\n",
                      id == F_K ? "kqRWallFunction" : "epsilonWallFunction", v);
-        else if (t == CFD_BC_INLET)
+        else if (t == CFD_BC_INLET && mapped) {
+            snprintf(val, sizeof val, "%.12g", v);
+            write_mapped(w, val);
+        } else if (t == CFD_BC_INLET)
             w_printf(w, "        type fixedValue;\n        value uniform %.12g;\n", v);
         else
             w_printf(w, "        type inletOutlet;\n        inletValue uniform %.12g;\n        value uniform %.12g;\n", v, v);
@@ -305,7 +352,8 @@ static void write_patch(writer *w, field_id id, int t, const double in[5])
     }
 }
 
-static int write_field(const cfd_config *cfg, const double in[5], field_id id, const char *dir, core_err *err)
+static int write_field(const cfd_config *cfg, const double in[5], int mapped, int open, field_id id,
+                       const char *dir, core_err *err)
 {
     static const char *const names[] = {"U", "p", "k", "epsilon", "nut"};
     static const char *const dims[] = {"[0 1 -1 0 0 0 0]", "[0 2 -2 0 0 0 0]", "[0 2 -2 0 0 0 0]",
@@ -319,7 +367,10 @@ static int write_field(const cfd_config *cfg, const double in[5], field_id id, c
     const double nut0 = CFD_RNG_CMU * in[3] * in[3] / in[4];
     switch (id) {
     case F_U:
-        w_printf(&w, "internalField uniform (%.12g %.12g %.12g);\n", in[0], in[1], in[2]);
+        if (open) /* calm air: the air at rest */
+            w_printf(&w, "internalField uniform (0 0 0);\n");
+        else
+            w_printf(&w, "internalField uniform (%.12g %.12g %.12g);\n", in[0], in[1], in[2]);
         break;
     case F_P:
         w_printf(&w, "internalField uniform 0;\n");
@@ -337,13 +388,103 @@ static int write_field(const cfd_config *cfg, const double in[5], field_id id, c
     w_printf(&w, "\nboundaryField\n{\n");
     for (int f = 0; f < CFD_NFACES; f++) {
         w_printf(&w, "    %s\n    {\n", foam_patch_names[f]);
-        write_patch(&w, id, (int)cfg->bc[f].type, in);
+        write_patch(&w, id, (int)cfg->bc[f].type, in, mapped, open);
         w_printf(&w, "    }\n");
     }
     w_printf(&w, "    %s\n    {\n", FOAM_SHIP_PATCH);
-    write_patch(&w, id, -1, in);
+    write_patch(&w, id, -1, in, mapped, open);
     w_printf(&w, "    }\n}\n");
     return w_close(&w);
+}
+
+/* ---------------------------------------------------------- inlet data */
+static int make_dir(const char *dir, const char *rel, core_err *err)
+{
+    char p[1200];
+    if (snprintf(p, sizeof p, "%s/%s", dir, rel) >= (int)sizeof p)
+        return core_err_set(err, -1, "foam case: path too long: %s/%s", dir, rel);
+    if (mkdir(p, 0755) != 0 && errno != EEXIST)
+        return core_err_set(err, -1, "foam case: %s: %s", p, strerror(errno));
+    return 0;
+}
+
+/* A raw list file of boundaryData (no header: OpenFOAM reads the list). */
+static int raw_open(writer *w, const char *dir, const char *rel, core_err *err)
+{
+    w->err = err;
+    w->failed = 0;
+    if (snprintf(w->path, sizeof w->path, "%s/%s", dir, rel) >= (int)sizeof w->path)
+        return core_err_set(err, -1, "foam case: path too long: %s/%s", dir, rel);
+    if (!(w->f = fopen(w->path, "w")))
+        return core_err_set(err, -1, "foam case: %s: %s", w->path, strerror(errno));
+    return 0;
+}
+
+/* constant/boundaryData/PATCH of inlet side f: the fluid cells' face
+ * centres (points) and the embedded solver's inflow at each (0/U, 0/k,
+ * 0/epsilon). */
+static int write_inlet_data(const cfd_solver *s, int f, const char *dir, core_err *err)
+{
+    const cfd_grid *g = cfd_solver_grid(s);
+    const unsigned char *solid = cfd_grid_solid(g);
+    int n[3];
+    cfd_grid_dims(g, n);
+    int d = f >> 1, a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
+    const double *xc[3] = {cfd_grid_centres(g, 0), cfd_grid_centres(g, 1), cfd_grid_centres(g, 2)};
+    double side = cfd_grid_nodes(g, d)[(f & 1) ? n[d] : 0];
+    size_t nf = (size_t)n[a] * (size_t)n[b], m = 0;
+    double *pos = malloc((nf ? nf : 1) * 3 * sizeof *pos), *val = malloc((nf ? nf : 1) * 5 * sizeof *val);
+    if (!pos || !val) {
+        free(pos);
+        free(val);
+        return core_err_set(err, -2, "foam case: out of memory");
+    }
+    int rc = 0;
+    for (int jb = 0; jb < n[b] && !rc; jb++)
+        for (int ja = 0; ja < n[a] && !rc; ja++) {
+            int ijk[3];
+            ijk[d] = (f & 1) ? n[d] - 1 : 0;
+            ijk[a] = ja;
+            ijk[b] = jb;
+            if (solid[(size_t)ijk[0] + (size_t)n[0] * ((size_t)ijk[1] + (size_t)n[1] * (size_t)ijk[2])])
+                continue;
+            double *p = pos + 3 * m, *v = val + 5 * m;
+            p[a] = xc[a][ja];
+            p[b] = xc[b][jb];
+            p[d] = side;
+            if (cfd_solver_inflow_at(s, f, p, v, v + 3, v + 4) != 0)
+                rc = core_err_set(err, -1, "foam case: no inflow on %s at (%g %g %g)", foam_patch_names[f], p[0],
+                                  p[1], p[2]);
+            m++;
+        }
+    char rel[2][64];
+    snprintf(rel[0], sizeof rel[0], "constant/boundaryData/%s", foam_patch_names[f]);
+    snprintf(rel[1], sizeof rel[1], "constant/boundaryData/%s/0", foam_patch_names[f]);
+    if (!rc)
+        rc = make_dir(dir, "constant/boundaryData", err);
+    for (int q = 0; q < 2 && !rc; q++)
+        rc = make_dir(dir, rel[q], err);
+    static const char *const files[4] = {"points", "0/U", "0/k", "0/epsilon"};
+    for (int q = 0; q < 4 && !rc; q++) {
+        char path[128];
+        snprintf(path, sizeof path, "%s/%s", rel[0], files[q]);
+        writer w;
+        if ((rc = raw_open(&w, dir, path, err)) != 0)
+            break;
+        w_printf(&w, "%zu\n(\n", m);
+        for (size_t i = 0; i < m; i++) {
+            const double *v = q == 0 ? pos + 3 * i : val + 5 * i;
+            if (q <= 1)
+                w_printf(&w, "(%.15g %.15g %.15g)\n", v[0], v[1], v[2]);
+            else
+                w_printf(&w, "%.15g\n", v[q == 2 ? 3 : 4]);
+        }
+        w_printf(&w, ")\n");
+        rc = w_close(&w);
+    }
+    free(pos);
+    free(val);
+    return rc;
 }
 
 /* ------------------------------------------------------ system, constant */
@@ -370,9 +511,12 @@ static int write_control(const cfd_config *cfg, int max_iter, const char *dir, c
     return w_close(&w);
 }
 
-static int write_schemes(const cfd_config *cfg, const char *dir, core_err *err)
+/* open: calm air, first-order upwind convection (see write_solution). */
+static int write_schemes(const cfd_config *cfg, int open, const char *dir, core_err *err)
 {
-    const char *lim = cfg->second_order == 0 ? NULL : cfg->limiter == CFD_LIMITER_MINMOD ? "Minmod" : "vanLeer";
+    const char *lim = cfg->second_order == 0 || open ? NULL
+                      : cfg->limiter == CFD_LIMITER_MINMOD ? "Minmod"
+                                                           : "vanLeer";
     char u[64], t[64];
     /* vectors take the limiter's V form (limited along the direction of
      * steepest change), as the embedded solver limits each component alike */
@@ -391,7 +535,16 @@ static int write_schemes(const cfd_config *cfg, const char *dir, core_err *err)
     return w_close(&w);
 }
 
-static int write_solution(const char *dir, core_err *err)
+/* open: calm air. There the disk alone drives the flow, and from air at
+ * rest SIMPLEC's first iterations meet the disk's force with no convection
+ * to balance it: k and epsilon went negative in the first iteration and
+ * the run diverged within five (SIMPLEC at 0.9 / 0.8, and SIMPLE at 0.5
+ * with p at 0.3, with the TVD scheme; van Leer at 0.5 / 0.3 also diverged
+ * when started from a converged first-order field). Plain SIMPLE with U, k
+ * and epsilon relaxed to 0.3, p to 0.2 and upwind convection runs, and
+ * converges (residuals below 1e-4 at 433 iterations on the quick grid):
+ * calm-air fields are first-order (docs/openfoam.md). */
+static int write_solution(int open, const char *dir, core_err *err)
 {
     writer w;
     if (w_open(&w, dir, "system/fvSolution", "dictionary", "fvSolution", err))
@@ -400,9 +553,14 @@ static int write_solution(const char *dir, core_err *err)
                  "        tolerance 1e-8;\n        relTol 0.05;\n    }\n"
                  "    \"(U|k|epsilon)\"\n    {\n        solver smoothSolver;\n        smoother symGaussSeidel;\n"
                  "        tolerance 1e-9;\n        relTol 0.1;\n    }\n}\n\n"
-                 "SIMPLE\n{\n    nNonOrthogonalCorrectors 0;\n    consistent yes;\n    residualControl\n    {\n"
-                 "        p 1e-4;\n        U 1e-4;\n        \"(k|epsilon)\" 1e-4;\n    }\n}\n\n"
-                 "relaxationFactors\n{\n    equations\n    {\n        U 0.9;\n        \".*\" 0.8;\n    }\n}\n");
+                 "SIMPLE\n{\n    nNonOrthogonalCorrectors 0;\n    consistent %s;\n    residualControl\n    {\n"
+                 "        p 1e-4;\n        U 1e-4;\n        \"(k|epsilon)\" 1e-4;\n    }\n}\n\n",
+             open ? "no" : "yes");
+    if (open)
+        w_printf(&w, "relaxationFactors\n{\n    fields\n    {\n        p 0.2;\n    }\n    equations\n    {\n"
+                     "        U 0.3;\n        \".*\" 0.3;\n    }\n}\n");
+    else
+        w_printf(&w, "relaxationFactors\n{\n    equations\n    {\n        U 0.9;\n        \".*\" 0.8;\n    }\n}\n");
     return w_close(&w);
 }
 
@@ -421,8 +579,11 @@ static int write_decompose(const cfd_grid *g, int np, const char *dir, core_err 
     return w_close(&w);
 }
 
+/* transportProperties, turbulenceProperties and, with a rotor, fvOptions:
+ * the uniform disk's bands (band, force, vol) or the blade-element rotor
+ * (blades, on the zone BLADE_ZONE0). */
 static int write_constant(const cfd_solver *s, const int *band, const double force[][3], const double *vol,
-                          const char *dir, core_err *err)
+                          const cfd_airwake_spec *sp, const hfm_blade_data *blades, const char *dir, core_err *err)
 {
     const cfd_config *cfg = cfd_solver_config(s);
     writer w;
@@ -441,6 +602,10 @@ static int write_constant(const cfd_solver *s, const int *band, const double for
         return 0;
     if (w_open(&w, dir, "constant/fvOptions", "dictionary", "fvOptions", err))
         return -1;
+    if (blades) {
+        foam_blade_options(w.f, BLADE_ZONE "0", &sp->disk, blades, cfg->rho_kgpm3);
+        return w_close(&w);
+    }
     for (int b = 0; b < FOAM_DISK_BANDS; b++) {
         if (!(vol[b] > 0.0))
             continue;
@@ -465,10 +630,9 @@ static int make_dirs(const char *dir, core_err *err)
     return 0;
 }
 
-int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, int np, int max_iter, const char *dir,
-                    int *has_ship, core_err *err)
+int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, const hfm_blade_data *blades, int np,
+                    int max_iter, const char *dir, int *has_ship, core_err *err)
 {
-    (void)sp;
     const cfd_grid *g = cfd_solver_grid(s);
     const cfd_config *cfg = cfd_solver_config(s);
     double in[5];
@@ -477,7 +641,16 @@ int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, int np, int
         return core_err_set(err, -1, "foam case: the inflow has no turbulence (k %g, epsilon %g)", in[3], in[4]);
     int *band = NULL;
     double force[FOAM_DISK_BANDS][3] = {{0}}, vol[FOAM_DISK_BANDS] = {0};
-    if (cfd_solver_disk_force(s, 0)) {
+    if (blades && sp->rotor != CORE_ROTOR_OFF) {
+        if (!(band = malloc(cfd_grid_cells(g) * sizeof *band)))
+            return core_err_set(err, -2, "foam case: out of memory");
+        if (foam_blade_zone(s, &sp->disk, blades->root_cutout_m, band) == 0) {
+            free(band);
+            return core_err_set(err, -1, "foam case: the rotor disk's plane crosses no fluid cell between the root "
+                                         "cut-out and the tip");
+        }
+    } else if (cfd_solver_disk_force(s, 0)) {
+        blades = NULL;
         if (!(band = malloc(cfd_grid_cells(g) * sizeof *band)))
             return core_err_set(err, -2, "foam case: out of memory");
         if (disk_bands(s, band, force, vol) == 0) {
@@ -485,23 +658,31 @@ int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, int np, int
             return core_err_set(err, -1, "foam case: the rotor disk has no fluid cell");
         }
     }
+    int open = 1; /* calm air: no inlet anywhere */
+    for (int f = 0; f < CFD_NFACES; f++)
+        open &= cfg->bc[f].type != CFD_BC_INLET;
     int rc = make_dirs(dir, err);
     if (!rc)
         rc = write_block_mesh(g, cfg, dir, err);
     if (!rc)
-        rc = write_topo_set(s, band, dir, has_ship, err);
+        rc = write_topo_set(s, band, blades ? BLADE_ZONE : "rotorBand", dir, has_ship, err);
     if (!rc)
         rc = write_control(cfg, max_iter, dir, err);
     if (!rc)
-        rc = write_schemes(cfg, dir, err);
+        rc = write_schemes(cfg, open, dir, err);
     if (!rc)
-        rc = write_solution(dir, err);
+        rc = write_solution(open, dir, err);
     if (!rc)
         rc = write_decompose(g, np, dir, err);
     if (!rc)
-        rc = write_constant(s, band, force, vol, dir, err);
+        rc = write_constant(s, band, force, vol, sp, band ? blades : NULL, dir, err);
+    /* a profile or a sampled inflow: every inlet face by face */
+    const int mapped = cfg->inflow.type != CFD_INFLOW_UNIFORM;
+    for (int f = 0; mapped && !rc && f < CFD_NFACES; f++)
+        if (cfg->bc[f].type == CFD_BC_INLET)
+            rc = write_inlet_data(s, f, dir, err);
     for (field_id id = F_U; !rc && id <= F_NUT; id++)
-        rc = write_field(cfg, in, id, dir, err);
+        rc = write_field(cfg, in, mapped, open, id, dir, err);
     free(band);
     return rc;
 }

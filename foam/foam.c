@@ -12,10 +12,12 @@
 #include "foam_private.h"
 
 #include <errno.h>
+#include <dirent.h>
 #include <ftw.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -47,6 +49,11 @@ int foam_available(const foam_opts *o, char *why, size_t n)
         snprintf(why, n, "mpirun is not on PATH (install openmpi-bin: go.sh does)");
         return 0;
     }
+    struct stat st;
+    if (o && o->hostfile && (stat(o->hostfile, &st) != 0 || !S_ISREG(st.st_mode) || access(o->hostfile, R_OK) != 0)) {
+        snprintf(why, n, "the hostfile %s is not a readable file", o->hostfile);
+        return 0;
+    }
     snprintf(p, sizeof p, "%s/controlDict", etc_dir(o));
     if (access(p, R_OK) != 0) {
         snprintf(why, n, "OpenFOAM's etc folder %s has no controlDict (set FOAM_ETC)", etc_dir(o));
@@ -74,17 +81,13 @@ static void rm_tree(const char *dir)
     nftw(dir, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
 }
 
-/* The refusals: what the engine does not build. NULL when spec is one it does. */
-static const char *unsupported(const cfd_airwake_spec *sp)
+/* The refusals: what the engine does not build. NULL when spec is one it
+ * does (a deck zone and the ABL inflow among them: their inlets take the
+ * embedded solver's inflow face by face, case.c). */
+static const char *unsupported(const cfd_airwake_spec *sp, const foam_opts *o)
 {
-    if (sp->zone)
-        return "a deck zone (its boundary is an outer field)";
-    if (!(sp->wod_speed_mps > 0.0))
-        return "calm air (no inlet)";
-    if (sp->rotor == CORE_ROTOR_LOADED)
-        return "the loaded rotor (its swirl and table; the uniform disk is built)";
-    if (sp->abl)
-        return "the ABL inflow (the uniform inflow is built)";
+    if (sp->rotor == CORE_ROTOR_LOADED && !o->blades)
+        return "the loaded rotor without the aircraft's blades (rotorDisk needs them)";
     return NULL;
 }
 
@@ -258,11 +261,15 @@ static int run_steps(const char *dir, const foam_opts *o, const cfd_config *cfg,
     char *serial[] = {"simpleFoam", NULL};
     char np[16];
     snprintf(np, sizeof np, "%d", o->np);
-    char *mpi[12];
+    char *mpi[14];
     int m = 0;
     mpi[m++] = "mpirun";
     if (geteuid() == 0)
         mpi[m++] = "--allow-run-as-root";
+    if (o->hostfile) {
+        mpi[m++] = "--hostfile";
+        mpi[m++] = (char *)o->hostfile;
+    }
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     if (cores > 0 && o->np > cores)
         mpi[m++] = "--oversubscribe";
@@ -307,7 +314,7 @@ static int make_case_dir(const foam_opts *o, char *dir, size_t n, core_err *err)
 
 int foam_case_write(const cfd_airwake_spec *spec, const foam_opts *o, const char *dir, core_err *err)
 {
-    const char *why = unsupported(spec);
+    const char *why = unsupported(spec, o);
     if (why)
         return core_err_set(err, -1, "the OpenFOAM engine does not build %s", why);
     cfd_solver *s = cfd_airwake_create(spec, o->log, NULL, NULL, err);
@@ -316,7 +323,7 @@ int foam_case_write(const cfd_airwake_spec *spec, const foam_opts *o, const char
     cfd_solver_init_inflow(s);
     int has_ship;
     int max_iter = o->max_iter > 0 ? o->max_iter : spec->max_iter > 0 ? spec->max_iter : 3000;
-    int rc = foam_case_files(s, spec, o->np > 1 ? o->np : 1, max_iter, dir, &has_ship, err);
+    int rc = foam_case_files(s, spec, o->blades, o->np > 1 ? o->np : 1, max_iter, dir, &has_ship, err);
     cfd_solver_destroy(s);
     return rc;
 }
@@ -325,7 +332,7 @@ int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_met
                  foam_result *res, core_err *err)
 {
     memset(res, 0, sizeof *res);
-    const char *why = unsupported(spec);
+    const char *why = unsupported(spec, o);
     if (why)
         return core_err_set(err, -1, "the OpenFOAM engine does not build %s", why);
     char avail[256];
@@ -345,7 +352,8 @@ int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_met
         return rc;
     }
     int has_ship = 0;
-    rc = foam_case_files(s, spec, o->np, max_iter, res->case_dir, &has_ship, err);
+    const hfm_blade_data *blades = spec->rotor == CORE_ROTOR_LOADED ? o->blades : NULL;
+    rc = foam_case_files(s, spec, blades, o->np, max_iter, res->case_dir, &has_ship, err);
     double solve_s = 0.0;
     int steady_iter = 0;
     if (!rc) {
@@ -363,6 +371,11 @@ int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_met
     double t_read = now_s();
     if (!rc)
         rc = foam_read_fields(res->case_dir, s, &res->cells, err);
+    char tdir[256];
+    if (!rc && blades && foam_latest_time(res->case_dir, tdir, sizeof tdir) != 0)
+        rc = core_err_set(err, -1, "OpenFOAM result: %s has no time folder", res->case_dir);
+    if (!rc && blades)
+        rc = foam_blade_result(res->case_dir, tdir, s, &spec->disk, res, err);
     res->step_s[FOAM_STEP_READ] = now_s() - t_read;
     if (!rc) {
         res->res.iterations = info.iterations;
@@ -378,6 +391,11 @@ int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_met
         snprintf(m.engine, sizeof m.engine, "openfoam");
         snprintf(m.engine_version, sizeof m.engine_version, "OpenFOAM %.54s", res->version);
         m.result = res->res;
+        if (blades) {
+            snprintf(m.rotor_model, sizeof m.rotor_model, "rotorDisk");
+            m.rotor_force_N = res->rotor_force_N;
+            m.rotor_torque_Nm = res->rotor_torque_Nm;
+        }
         double t_write = now_s();
         rc = cfd_solver_write(s, &m, out_path, err);
         res->step_s[FOAM_STEP_WRITE] = now_s() - t_write;
@@ -394,9 +412,16 @@ struct foam_engine {
     foam_opts o;
     int nships;
     core_ship *ships;
+    const char *aircraft_dir;
+    awdb *db; /* where deck zones find their ship-only boundary field */
 };
 
-foam_engine *foam_engine_create(const char *ships_dir, const foam_opts *o, core_err *err)
+void foam_engine_set_db(foam_engine *e, awdb *db)
+{
+    e->db = db;
+}
+
+foam_engine *foam_engine_create(const char *ships_dir, const char *aircraft_dir, const foam_opts *o, core_err *err)
 {
     foam_engine *e = calloc(1, sizeof *e);
     if (!e) {
@@ -404,6 +429,7 @@ foam_engine *foam_engine_create(const char *ships_dir, const foam_opts *o, core_
         return NULL;
     }
     e->o = *o;
+    e->aircraft_dir = aircraft_dir;
     if (core_ship_load_dir(ships_dir, &e->ships, &e->nships, err) != 0) {
         foam_engine_destroy(e);
         return NULL;
@@ -417,6 +443,35 @@ void foam_engine_destroy(foam_engine *e)
         return;
     free(e->ships);
     free(e);
+}
+
+/* The blades of the aircraft file in dir whose [aircraft] name is name. */
+static int find_blades(const char *dir, const char *name, const core_log *log, hfm_blade_data *b, core_err *err)
+{
+    if (!dir)
+        return core_err_set(err, -1, "aircraft '%s': the loaded rotor needs the aircraft files (no folder given)",
+                            name);
+    DIR *d = opendir(dir);
+    if (!d)
+        return core_err_set(err, -1, "%s: %s", dir, strerror(errno));
+    struct dirent *en;
+    int found = 0;
+    while (!found && (en = readdir(d))) {
+        size_t l = strlen(en->d_name);
+        if (l < 5 || strcmp(en->d_name + l - 4, ".ini") != 0)
+            continue;
+        char p[1200];
+        snprintf(p, sizeof p, "%s/%s", dir, en->d_name);
+        core_err e2;
+        hfm_aircraft *ac = hfm_aircraft_load(p, log, &e2);
+        if (ac && !strcmp(hfm_aircraft_name(ac), name)) {
+            hfm_aircraft_blade_data(ac, b);
+            found = 1;
+        }
+        hfm_aircraft_destroy(ac);
+    }
+    closedir(d);
+    return found ? 0 : core_err_set(err, -1, "aircraft '%s': no aircraft file of that name in %s", name, dir);
 }
 
 static int engine_build(void *user, const awdb_key *k, const char *warm_path, const char *out_path,
@@ -435,7 +490,25 @@ static int engine_build(void *user, const awdb_key *k, const char *warm_path, co
     cfd_airwake_spec spec;
     if (awdb_key_spec(k, ship, &spec, err) != 0)
         return -1;
+    cfd_field *outer = NULL; /* a deck zone's boundary; outlives the case */
+    if (spec.zone && !(iso && iso[9] == '\0')) {
+        if (!(outer = awdb_zone_boundary(e->db, k, err)))
+            return -1;
+        spec.zone_field = outer;
+        spec.zone_scale = k->wod_speed_mps / k->zone_ref_mps;
+    }
     foam_opts o = e->o;
+    hfm_blade_data *blades = NULL;
+    if (k->rotor == CORE_ROTOR_LOADED) {
+        if (!(blades = malloc(sizeof *blades)))
+            return core_err_set(err, -2, "out of memory");
+        if (find_blades(e->aircraft_dir, k->aircraft, o.log, blades, err) != 0) {
+            free(blades);
+            cfd_field_destroy(outer);
+            return -1;
+        }
+        o.blades = blades;
+    }
     o.progress = progress;
     o.progress_user = progress_user;
     cfd_meta meta;
@@ -450,6 +523,8 @@ static int engine_build(void *user, const awdb_key *k, const char *warm_path, co
     memcpy(meta.rotor_centre_S_m, k->station_S_m, sizeof meta.rotor_centre_S_m);
     foam_result r;
     int rc = foam_airwake(&spec, &o, &meta, out_path, &r, err);
+    free(blades);
+    cfd_field_destroy(outer);
     /* the database keeps the HDF5 file only */
     char xmf[1200];
     size_t l = strlen(out_path);
@@ -465,6 +540,12 @@ static int engine_build(void *user, const awdb_key *k, const char *warm_path, co
                      r.res.converged        ? "converged"
                      : r.steady_iter > 0    ? "monitors steady, residuals above 1e-4"
                                             : "not converged (at the iteration cap)");
+    if (rc == 0 && k->rotor == CORE_ROTOR_LOADED)
+        core_log_msg(o.log, CORE_LOG_INFO,
+                     "openfoam rotorDisk: thrust %.0f N of %.0f N (%+.2f %%), theta0 %.2f deg, theta1c %.2f deg, "
+                     "theta1s %.2f deg%s",
+                     r.rotor_force_N, k->thrust_N, 100.0 * (r.rotor_force_N / k->thrust_N - 1.0), r.trim_pitch_deg[0],
+                     r.trim_pitch_deg[1], r.trim_pitch_deg[2], r.trim_converged ? "" : " (trim not converged)");
     return rc;
 }
 

@@ -14,6 +14,14 @@
  * with the step's name and the tail of its log; the field is written to a
  * temporary name and renamed, so a failure leaves none. The library never
  * prints. The case's settings and how they were chosen: docs/openfoam.md.
+ *
+ * The rotor: the uniform disk (the spec's rotor "uniform") as the embedded
+ * solver's disk force, cell by cell (vectorSemiImplicitSource); the loaded
+ * rotor ("loaded") as OpenFOAM's blade-element rotorDisk with the
+ * aircraft's blades (hfm_blade_data), trimmed to the spec's thrust with no
+ * hub moment (blade.c). The embedded solver's loaded disk takes its load
+ * shape from the flight model's trim instead; both put the helicopter's
+ * thrust into the air.
  */
 #ifndef DISIM_FOAM_H
 #define DISIM_FOAM_H
@@ -21,6 +29,7 @@
 #include "awdb.h"
 #include "cfd.h"
 #include "core.h"
+#include "hfm.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -30,7 +39,9 @@ typedef struct foam_opts {
     int np;              /* MPI ranks (mpirun -np); 1: simpleFoam without MPI */
     int max_iter;        /* SIMPLE iteration cap (0: the spec's max_iter, else 3000) */
     double timeout_s;    /* longest any one step may run (0: 6 h) */
-    const char *work_dir; /* where the case folder is made (NULL: $TMPDIR or /tmp) */
+    const char *work_dir; /* where the case folder is made (NULL: $TMPDIR or /tmp); with a
+                             hostfile, a folder every host sees at the same path */
+    const char *hostfile; /* mpirun --hostfile: the ranks over these hosts (NULL: this one) */
     int keep_case;       /* 1: leave the case folder (its path in foam_result.case_dir) */
     /* Where OpenFOAM's etc folder is (NULL: $FOAM_ETC, else
      * /usr/share/openfoam/etc, Debian's); WM_PROJECT_DIR is its parent. */
@@ -40,6 +51,10 @@ typedef struct foam_opts {
      * non-zero stops the run (nothing written, returns 1). May be NULL. */
     awdb_progress_fn progress;
     void *progress_user;
+    /* The blades of the loaded rotor (spec rotor CORE_ROTOR_LOADED, built
+     * as rotorDisk); NULL refuses the loaded rotor. The builder engine sets
+     * it from the key's aircraft. */
+    const hfm_blade_data *blades;
 } foam_opts;
 
 void foam_opts_default(foam_opts *o);
@@ -73,6 +88,17 @@ typedef struct foam_result {
     double step_s[FOAM_NSTEPS]; /* each step's wall time (0: not run) */
     char version[64];      /* OpenFOAM's, from its banner (e.g. "v1912") */
     char case_dir[1024];   /* the case folder (removed unless keep_case) */
+    /* the loaded rotor (rotorDisk), 0 otherwise: the thrust integrated from
+     * its force field at the last iteration over rotor_cells cells; its
+     * trim's last thrust and blade pitch (theta0, theta1c, theta1s) from
+     * OpenFOAM's log, and whether that trim's Newton iteration converged */
+    double rotor_force_N;
+    double rotor_torque_Nm; /* the torque it puts into the air about the thrust direction, in the
+                               rotor's sense of rotation (its blades' profile drag: rotorDisk
+                               turns the lift along the axis, so there is no induced torque) */
+    size_t rotor_cells;
+    double trim_thrust_N, trim_pitch_deg[3];
+    int trim_converged;
 } foam_result;
 
 /* 1 when the OpenFOAM programs (simpleFoam, blockMesh, ...) and, for np > 1,
@@ -83,9 +109,12 @@ int foam_available(const foam_opts *o, char *why, size_t n);
  * XDMF side file, as cfd_solver_write; meta's engine, version and result
  * are filled here). 0 written (converged or at the cap: res.converged
  * says), 1 stopped by progress (nothing written), < 0 failed with err
- * naming the step and the tail of its log (nothing written). The spec must
- * be a whole-domain case with a wind and uniform inflow: a deck zone, calm
- * air, a loaded rotor or an ABL inflow are refused. */
+ * naming the step and the tail of its log (nothing written). The spec
+ * needs a wind: calm air is refused, and the loaded rotor without
+ * o->blades. A deck zone (its inlets the outer field's values) and the ABL
+ * inflow are built with the embedded solver's inflow on every inlet face.
+ * With the loaded rotor the field's meta says rotor_model "rotorDisk",
+ * rotor_force_N and rotor_torque_Nm (as res's). */
 int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_meta *meta, const char *out_path,
                  foam_result *res, core_err *err);
 
@@ -97,11 +126,18 @@ int foam_case_write(const cfd_airwake_spec *spec, const foam_opts *o, const char
 /* ------------------------------------------------------- builder engine */
 /* OpenFOAM as an airwake builder engine (awdb_engine): ships looked up by
  * name among ships_dir's *.ini as the embedded engine does; each key
- * becomes its case through awdb_key_spec. Deck zones and the loaded rotor
- * are refused (the build fails with the reason). The options are copied
+ * becomes its case through awdb_key_spec. A key with the loaded rotor
+ * takes the blades of the aircraft file in aircraft_dir whose [aircraft]
+ * name is the key's (NULL aircraft_dir: the loaded rotor is refused).
+ * A deck-zone key of a ship takes its boundary, the ship-only field, from
+ * the database given by foam_engine_set_db (awdb_zone_boundary; without
+ * one, or before that field is ready, the build fails saying so); the
+ * isolated rotor's zone takes the inflow profile. The options are copied
  * (strings must outlive the engine). */
 typedef struct foam_engine foam_engine;
-foam_engine *foam_engine_create(const char *ships_dir, const foam_opts *o, core_err *err);
+foam_engine *foam_engine_create(const char *ships_dir, const char *aircraft_dir, const foam_opts *o, core_err *err);
+/* The database deck-zone builds read their ship-only boundary field from. */
+void foam_engine_set_db(foam_engine *e, awdb *db);
 void foam_engine_destroy(foam_engine *e);
 void foam_engine_get(foam_engine *e, awdb_engine *eng);
 

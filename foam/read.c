@@ -11,8 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* A whole file, NUL-terminated; NULL if it cannot be read. */
-static char *slurp(const char *path, size_t *len)
+char *foam_slurp(const char *path, size_t *len)
 {
     FILE *f = fopen(path, "rb");
     if (!f)
@@ -56,7 +55,7 @@ static const char *last_of(const char *hay, const char *needle)
 int foam_log_parse(const char *path, foam_log_info *info)
 {
     memset(info, 0, sizeof *info);
-    char *b = slurp(path, NULL);
+    char *b = foam_slurp(path, NULL);
     if (!b)
         return -1;
     /* the banner's build line: "Build  : OPENFOAM=1912 patch=200626" */
@@ -93,7 +92,7 @@ double foam_monitor_change(const char *case_dir, int back, double u_ref)
 {
     char p[1200];
     snprintf(p, sizeof p, "%s/postProcessing/monitors/0/U", case_dir);
-    char *b = slurp(p, NULL);
+    char *b = foam_slurp(p, NULL);
     if (!b || !(u_ref > 0.0)) {
         free(b);
         return -1.0;
@@ -140,7 +139,7 @@ double foam_monitor_change(const char *case_dir, int back, double u_ref)
 }
 
 /* The latest time folder's name (the largest number > 0). */
-static int latest_time(const char *case_dir, char *out, size_t n)
+int foam_latest_time(const char *case_dir, char *out, size_t n)
 {
     DIR *d = opendir(case_dir);
     if (!d)
@@ -159,13 +158,11 @@ static int latest_time(const char *case_dir, char *out, size_t n)
     return best > 0.0 ? 0 : -1;
 }
 
-/* The internalField of a volField file: ncomp values per cell into
- * *vals (malloc'ed), *n cells. 0, or < 0 with err. */
-static int read_internal(const char *path, int ncomp, double **vals, size_t *n, core_err *err)
+int foam_read_internal(const char *path, int ncomp, double **vals, size_t *n, core_err *err)
 {
     *vals = NULL;
     *n = 0;
-    char *b = slurp(path, NULL);
+    char *b = foam_slurp(path, NULL);
     if (!b)
         return core_err_set(err, -1, "OpenFOAM result: %s: %s", path, strerror(errno));
     const char *p = strstr(b, "internalField");
@@ -227,10 +224,32 @@ static int nearest(const double *c, int n, double x)
     return fabs(c[hi] - x) < fabs(c[lo] - x) ? hi : lo;
 }
 
+int foam_cell_index(const cfd_grid *g, const double xyz[3], size_t c, size_t *k, double *vol, core_err *err)
+{
+    int n[3], ijk[3];
+    cfd_grid_dims(g, n);
+    double v = 1.0;
+    for (int d = 0; d < 3; d++) {
+        const double *xc = cfd_grid_centres(g, d), *xn = cfd_grid_nodes(g, d);
+        ijk[d] = nearest(xc, n[d], xyz[d]);
+        double h = xn[ijk[d] + 1] - xn[ijk[d]];
+        if (fabs(xyz[d] - xc[ijk[d]]) > 1e-4 * h)
+            return core_err_set(err, -1,
+                                "OpenFOAM result: cell %zu's centre (%g, %g, %g) is not one of disim's grid's "
+                                "centres (axis %d off by %g m): the meshes differ",
+                                c, xyz[0], xyz[1], xyz[2], d, xyz[d] - xc[ijk[d]]);
+        v *= h;
+    }
+    *k = (size_t)ijk[0] + (size_t)n[0] * ((size_t)ijk[1] + (size_t)n[1] * (size_t)ijk[2]);
+    if (vol)
+        *vol = v;
+    return 0;
+}
+
 int foam_read_fields(const char *case_dir, cfd_solver *s, size_t *cells, core_err *err)
 {
     char t[256], p[1600];
-    if (latest_time(case_dir, t, sizeof t) != 0)
+    if (foam_latest_time(case_dir, t, sizeof t) != 0)
         return core_err_set(err, -1, "OpenFOAM result: %s has no time folder with a solution", case_dir);
     static const char *const names[] = {"C", "U", "p", "k", "epsilon", "nut"};
     static const int ncomp[] = {3, 3, 1, 1, 1, 1};
@@ -239,13 +258,11 @@ int foam_read_fields(const char *case_dir, cfd_solver *s, size_t *cells, core_er
     int rc = 0;
     for (int q = 0; q < 6 && !rc; q++) {
         snprintf(p, sizeof p, "%s/%s/%s", case_dir, t, names[q]);
-        rc = read_internal(p, ncomp[q], &v[q], &nv[q], err);
+        rc = foam_read_internal(p, ncomp[q], &v[q], &nv[q], err);
         if (!rc && nv[q] != nv[0])
             rc = core_err_set(err, -1, "OpenFOAM result: %s: %zu cells, C has %zu", p, nv[q], nv[0]);
     }
     const cfd_grid *g = cfd_solver_grid(s);
-    int n[3];
-    cfd_grid_dims(g, n);
     size_t nc = cfd_grid_cells(g);
     const unsigned char *solid = cfd_grid_solid(g);
     double *out[CFD_NVARS] = {0};
@@ -263,23 +280,9 @@ int foam_read_fields(const char *case_dir, cfd_solver *s, size_t *cells, core_er
                           cfd_grid_fluid_cells(g));
     const double rho = cfd_solver_config(s)->rho_kgpm3;
     for (size_t c = 0; c < nv[0] && !rc; c++) {
-        int ijk[3];
-        for (int d = 0; d < 3; d++) {
-            const double *xc = cfd_grid_centres(g, d), *xn = cfd_grid_nodes(g, d);
-            double x = v[0][3 * c + d];
-            ijk[d] = nearest(xc, n[d], x);
-            double h = xn[ijk[d] + 1] - xn[ijk[d]];
-            if (fabs(x - xc[ijk[d]]) > 1e-4 * h) {
-                rc = core_err_set(err, -1,
-                                  "OpenFOAM result: cell %zu's centre (%g, %g, %g) is not one of disim's grid's "
-                                  "centres (axis %d off by %g m): the meshes differ",
-                                  c, v[0][3 * c], v[0][3 * c + 1], v[0][3 * c + 2], d, x - xc[ijk[d]]);
-                break;
-            }
-        }
-        if (rc)
+        size_t k;
+        if ((rc = foam_cell_index(g, v[0] + 3 * c, c, &k, NULL, err)))
             break;
-        size_t k = (size_t)ijk[0] + (size_t)n[0] * ((size_t)ijk[1] + (size_t)n[1] * (size_t)ijk[2]);
         if (solid[k] || hit[k]) {
             rc = core_err_set(err, -1, "OpenFOAM result: cell %zu lands on disim's cell %zu, %s", c, k,
                               solid[k] ? "a ship cell" : "already taken");

@@ -66,6 +66,27 @@ void foam_log_tail(const char *path, char *buf, size_t n)
         buf[--l] = '\0';
 }
 
+/* A log's tail for an error message: its lines joined with " | ", blank
+ * lines and MPI's rules of dashes left out (an error message is one line:
+ * core_err_set escapes a newline). */
+static void tidy_tail(const char *in, char *out, size_t size)
+{
+    size_t w = 0;
+    out[0] = '\0';
+    for (const char *l = in; *l;) {
+        size_t n = strcspn(l, "\n");
+        size_t lead = strspn(l, " \t");
+        int rule = n > 0 && strspn(l, "-") == n;
+        if (n > lead && !rule) {
+            int k = snprintf(out + w, size - w, "%s%.*s", w ? " | " : "", (int)(n - lead), l + lead);
+            if (k < 0 || (size_t)k >= size - w)
+                break;
+            w += (size_t)k;
+        }
+        l += n + (l[n] == '\n');
+    }
+}
+
 /* environ with FOAM_ETC and WM_PROJECT_DIR set (etc's parent), and
  * OpenMPI's shared-memory transport told not to use cross-memory attach
  * (refused in containers without ptrace rights). NULL out of memory. */
@@ -202,15 +223,17 @@ int foam_exec(const char *case_dir, const char *step, char *const argv[], const 
         return 1;
     if (!timed_out && status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0)
         return 0;
-    foam_log_tail(logp, tail, sizeof tail);
+    char raw[sizeof tail];
+    foam_log_tail(logp, raw, sizeof raw);
+    tidy_tail(raw, tail, sizeof tail);
     if (timed_out)
-        return core_err_set(err, -1, "OpenFOAM step %s: no result after %.0f s (the time limit); the end of %s:\n%s",
+        return core_err_set(err, -1, "OpenFOAM step %s: no result after %.0f s (the time limit); the end of %s: %s",
                             step, timeout_s, logp, tail);
     if (status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 127)
         return core_err_set(err, -1, "OpenFOAM step %s: %s could not be started", step, prog);
     if (status != -1 && WIFSIGNALED(status))
-        return core_err_set(err, -1, "OpenFOAM step %s: killed by signal %d; the end of %s:\n%s", step,
+        return core_err_set(err, -1, "OpenFOAM step %s: killed by signal %d; the end of %s: %s", step,
                             WTERMSIG(status), logp, tail);
-    return core_err_set(err, -1, "OpenFOAM step %s failed (exit %d); the end of %s:\n%s", step,
+    return core_err_set(err, -1, "OpenFOAM step %s failed (exit %d); the end of %s: %s", step,
                         status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1, logp, tail);
 }

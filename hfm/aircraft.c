@@ -765,6 +765,30 @@ int hfm_aircraft_rotor_ccw(const hfm_aircraft *ac)
     return ac->mr.sense > 0;
 }
 
+void hfm_aircraft_blade_data(const hfm_aircraft *ac, hfm_blade_data *b)
+{
+    const hfm_mr *mr = &ac->mr;
+    memset(b, 0, sizeof *b);
+    b->blades = mr->nb;
+    b->ccw = mr->sense > 0;
+    b->radius_m = mr->R;
+    b->omega_radps = mr->omega;
+    b->chord_m = mr->chord;
+    b->root_cutout_m = mr->root;
+    b->tip_loss = mr->B;
+    b->twist_rad = mr->twist;
+    b->twist_ref = mr->twist_ref;
+    for (int i = 0; i < HFM_BLADE_NALPHA; i++) {
+        b->alpha_deg[i] = i - 180.0;
+        b->cl[i] = mr->af.cl[i];
+        b->cd[i] = mr->af.cd[i];
+    }
+    hfm_aircraft_figures f;
+    hfm_aircraft_get_figures(ac, &f);
+    b->lift_slope_per_rad = f.lift_slope_per_rad;
+    b->hover_pitch0_rad = f.hover_pitch75_deg * CORE_DEG_TO_RAD - mr->twist * (0.75 - mr->twist_ref);
+}
+
 /* Controls through the rig (stick inches) and mixing to blade angles. */
 void hfm_controls_to_pitch(const hfm_aircraft *ac, const hfm_controls *u, double *theta0_rad,
                            double *A1_rad, double *B1_rad, double *theta_tr_rad)

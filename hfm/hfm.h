@@ -72,6 +72,24 @@ double hfm_aircraft_rotor_omega_radps(const hfm_aircraft *ac);
 /* 1 if the main rotor turns counter-clockwise seen from above (UH-60A), 0 if clockwise (SA365N). */
 int hfm_aircraft_rotor_ccw(const hfm_aircraft *ac);
 
+/* The main rotor's blades as a blade-element rotor disk takes them (the
+ * OpenFOAM engine's rotorDisk): plain data. Blade pitch at radius r is
+ * theta0 + twist_rad (r / R - twist_ref); the airfoil is the file's table
+ * on its 1 deg grid from -180 to 180 deg (no compressibility). */
+#define HFM_BLADE_NALPHA 361
+typedef struct hfm_blade_data {
+    int blades, ccw;                 /* ccw: 1 counter-clockwise seen from above */
+    double radius_m, omega_radps, chord_m;
+    double root_cutout_m;            /* no lift inside */
+    double tip_loss;                 /* Prandtl's B: r / R beyond which there is no lift */
+    double twist_rad, twist_ref;     /* linear twist and the r / R where it is zero */
+    double lift_slope_per_rad;       /* of the table, from cl at -4 and +4 deg */
+    double hover_pitch0_rad;         /* theta0 of the blade-element momentum estimate of the hover
+                                        collective at the aircraft's weight (hfm_aircraft_figures) */
+    double alpha_deg[HFM_BLADE_NALPHA], cl[HFM_BLADE_NALPHA], cd[HFM_BLADE_NALPHA];
+} hfm_blade_data;
+void hfm_aircraft_blade_data(const hfm_aircraft *ac, hfm_blade_data *b);
+
 /* The stability augmentation of the aircraft file's optional [sas] section
  * (docs/aircraft-format.md): per axis (0 roll, 1 pitch, 2 yaw) a rate gain
  * and an attitude-hold gain (percent of travel per rad/s and per rad of the

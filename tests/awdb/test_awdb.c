@@ -1423,6 +1423,44 @@ static void test_long_ships_path(const char *dir)
     awdb_embedded_destroy(e);
 }
 
+/* The database's engine file: the first claim writes it, a second engine
+ * is refused by name, fields from before the file are the embedded
+ * engine's, a damaged file is named. */
+static void test_engine_mark(const char *dir)
+{
+    core_err err = {0};
+    awdb *db = awdb_open(dir, NULL, &err);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    CHECK(awdb_engine_claim(db, "openfoam", &err) == 0);
+    CHECK(awdb_engine_claim(db, "openfoam", &err) == 0);
+    CHECK(awdb_engine_claim(db, "embedded", &err) < 0);
+    CHECK(strstr(err.msg, "openfoam engine's fields") && strstr(err.msg, "embedded engine's"));
+    CHECK(awdb_engine_claim(db, "Bad Name", &err) < 0);
+    CHECK(count_tmp(dir, "") == 0);
+    char p[256];
+    snprintf(p, sizeof p, "%s/engine", dir);
+    FILE *f = fopen(p, "w");
+    CHECK(f != NULL);
+    if (f) {
+        fputs("open foam\n", f);
+        fclose(f);
+    }
+    CHECK(awdb_engine_claim(db, "openfoam", &err) < 0);
+    CHECK(strstr(err.msg, "/engine: expected one line naming the engine") != NULL);
+    /* a database with a field and no engine file: the embedded engine's */
+    remove(p);
+    snprintf(p, sizeof p, "%s/fields/old.h5", dir);
+    f = fopen(p, "w");
+    if (f)
+        fclose(f);
+    CHECK(awdb_engine_claim(db, "openfoam", &err) < 0);
+    CHECK(strstr(err.msg, "holds the embedded engine's fields") != NULL);
+    CHECK(awdb_engine_claim(db, "embedded", &err) == 0);
+    awdb_close(db);
+}
+
 int main(void)
 {
     char dir[] = "/tmp/disim_awdb_XXXXXX";
@@ -1464,6 +1502,8 @@ int main(void)
     test_embedded(d5);
     snprintf(d5, sizeof d5, "%s/ships", dir);
     test_long_ships_path(d5);
+    snprintf(d5, sizeof d5, "%s/db12", dir);
+    test_engine_mark(d5);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0)

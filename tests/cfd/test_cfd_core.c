@@ -1229,6 +1229,18 @@ static void test_zone(void)
             CHECK_NEAR(a[d], 2.0 * b[d], 1e-9);
         CHECK_NEAR(a[CFD_VAR_K], 4.0 * b[CFD_VAR_K], 1e-9 * (1.0 + b[CFD_VAR_K]));
         CHECK_NEAR(a[CFD_VAR_EPS], 8.0 * b[CFD_VAR_EPS], 1e-9 * (1.0 + b[CFD_VAR_EPS]));
+        /* the inflow at a face of the top (an inlet): the outer field at
+         * the face centre, scaled; none on the sea or off the side */
+        double fp[3] = {xc[i], yc[j], cfd_grid_nodes(g, 2)[0]}, vel[3], ki, ei;
+        CHECK(cfd_solver_inflow_at(z, CFD_ZMIN, fp, vel, &ki, &ei) == 0);
+        cfd_field_sample(outer, fp, b);
+        for (int d = 0; d < 3; d++)
+            CHECK_NEAR(vel[d], 2.0 * b[d], 1e-9);
+        CHECK_NEAR(ki, 4.0 * b[CFD_VAR_K], 1e-9 * (1.0 + b[CFD_VAR_K]));
+        CHECK_NEAR(ei, 8.0 * b[CFD_VAR_EPS], 1e-9 * (1.0 + b[CFD_VAR_EPS]));
+        CHECK(cfd_solver_inflow_at(z, CFD_ZMAX, fp, vel, &ki, &ei) == -1);
+        fp[0] = 1e6;
+        CHECK(cfd_solver_inflow_at(z, CFD_ZMIN, fp, vel, &ki, &ei) == -1);
         cfd_solver_destroy(z);
     }
     /* the isolated rotor's zone: the same grid and faces, the inflow profile */

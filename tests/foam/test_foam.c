@@ -6,7 +6,10 @@
  * has the figures). A failing OpenFOAM step must stop the run with the
  * step's name and its log's tail and write nothing. The case writer's
  * grading is checked without OpenFOAM; the rest skips (77) where OpenFOAM
- * or mpirun is absent, and under CI that fails. */
+ * or mpirun is absent, and under CI that fails. `test_foam blade`: the
+ * blade-element rotor through the builder's engine (test_foam_blade.c);
+ * `test_foam inflow`: the ABL inflow and a deck zone, their inlets face by
+ * face (test_foam_inflow.c). */
 #include "cfd.h"
 #include "check.h"
 #include "core.h"
@@ -240,8 +243,17 @@ static void check_grading(const cfd_airwake_spec *sp, const foam_opts *o, const 
     }
 }
 
+/* test_foam_blade.c */
+int test_foam_blade(void);
+/* test_foam_inflow.c */
+int test_foam_inflow(void);
+
 int main(int argc, char **argv)
 {
+    if (argc > 1 && !strcmp(argv[1], "blade"))
+        return test_foam_blade();
+    if (argc > 1 && !strcmp(argv[1], "inflow"))
+        return test_foam_inflow();
     int rotor = argc > 1 && !strcmp(argv[1], "rotor");
     foam_opts o;
     foam_opts_default(&o);
