@@ -189,6 +189,12 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
      * coupled zone fields' means still moved 10-20 % of U at 600, so they
      * run to the cap; docs/validation/cfd.md) */
     cfg.avg_stop = 1;
+    /* the OpenFOAM engine's test alone, and its last iterate */
+    if (sp->monitor_stop) {
+        cfg.monitor_stop = 1;
+        cfg.avg_window = 0;
+        cfg.avg_stop = 0;
+    }
     /* a larger pseudo-time step than the generic 0.7: the transients of a
      * ship airwake (the rotor wake's ground vortex settling behind the
      * stern) die out in fewer iterations (SFS2 coarse with the rotor: 435
@@ -325,4 +331,48 @@ int cfd_airwake_reattachment(const cfd_solver *s, const core_ship *ship, double 
     }
     *len_m = reversed ? 3.0 * (ship->deck_x1_m - ship->deck_x0_m) : 0.0;
     return reversed ? 1 : 0;
+}
+
+static void flow_sample(const cfd_flow *f, const double p[3], double out[CFD_NVARS])
+{
+    if (f->solver)
+        cfd_solver_sample(f->solver, p, out);
+    else
+        cfd_field_sample(f->field, p, out);
+}
+
+void cfd_airwake_deck_diff(const core_ship *ship, const cfd_flow *a, const cfd_flow *b, double u_ref_mps,
+                           cfd_deck_diff *out)
+{
+    static const double ys[3] = {-3.4, 0.0, 3.4}, zs[3] = {-3.8, -6.8, -10.0};
+    memset(out, 0, sizeof *out);
+    double sum2 = 0.0;
+    int np = 0;
+    for (int ia = 0; ia < 3; ia++)
+        for (int ib = 0; ib < 3; ib++) {
+            const int l = 3 * ia + ib;
+            out->line_y_m[l] = ys[ia];
+            out->line_z_m[l] = zs[ib];
+            for (int i = 0; i < CFD_DECK_LINE_POINTS; i++) {
+                double p[3] = {ship->deck_x0_m + (ship->deck_x1_m - ship->deck_x0_m) * i / (CFD_DECK_LINE_POINTS - 1.0),
+                               ys[ia], zs[ib]};
+                double va[CFD_NVARS], vb[CFD_NVARS], d2 = 0.0;
+                flow_sample(a, p, va);
+                flow_sample(b, p, vb);
+                for (int d = 0; d < 3; d++)
+                    d2 += (va[d] - vb[d]) * (va[d] - vb[d]);
+                double dn = sqrt(d2) / u_ref_mps;
+                sum2 += dn * dn;
+                np++;
+                if (dn > out->line_worst[l]) {
+                    out->line_worst[l] = dn;
+                    out->line_worst_x_m[l] = p[0];
+                }
+                if (dn > out->worst) {
+                    out->worst = dn;
+                    memcpy(out->worst_at_m, p, sizeof p);
+                }
+            }
+        }
+    out->rms = sqrt(sum2 / np);
 }

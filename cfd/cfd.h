@@ -171,6 +171,13 @@ typedef struct cfd_config {
                               its two halves, and its mean and the mean of the window just before
                               it, differ by less than tol_monitor times u_ref (so never at the
                               first window; cfd_result.steady_mean says so); 0: off (default) */
+    int monitor_stop;      /* 1: converged on the monitors alone, the residuals not tested: from
+                              iteration 4 monitor_every on, once every monitor velocity has moved
+                              by less than tol_monitor times u_ref (the length of its change) over
+                              each of the last two spans of monitor_every iterations, tested every
+                              iteration (the OpenFOAM engine's stopping test, foam.h: the two
+                              engines compared to one criterion); without monitors the run goes to
+                              max_iter. 0: residuals and monitors (default) */
     int n_monitor;
     double monitor_m[CFD_MAX_MONITOR][3];
     double relax_u, relax_p, relax_turb; /* under-relaxation (0.7, 0.9, 0.6; ship airwakes u 0.85) */
@@ -395,6 +402,10 @@ typedef struct cfd_airwake_spec {
                                 every grid); 0: the level's (van Leer on the coarse grid,
                                 minmod below 1 m spacing) */
     cfd_limiter limiter;
+    int monitor_stop;        /* 1: stop on the monitors alone (cfd_config.monitor_stop: the
+                                OpenFOAM engine's test), with no averaging window and no
+                                steady-mean stop (the last iterate, as OpenFOAM's); 0: the
+                                default criterion */
     int open_ship;           /* 1: the same grid and boundaries with no cell blocked
                                 (the isolated rotor of the coupling's interaction velocity) */
     /* 1: the deck zone only, for a coupled point (needs a wind and the disk's
@@ -423,6 +434,34 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *spec, const core_log *log
  * still reversed three deck lengths aft (len_m = that distance), else 0. */
 int cfd_airwake_reattachment(const cfd_solver *s, const core_ship *ship, double wod_dir_rad,
                              double y_m, double z_m, double *len_m);
+
+/* A flow to sample: a solver's state (solver) or a loaded field (field);
+ * the one that is not NULL. */
+typedef struct cfd_flow {
+    const cfd_solver *solver;
+    const cfd_field *field;
+} cfd_flow;
+
+/* The deck lines two airwakes are compared along: the port quarter
+ * (y = -3.4 m), the centre line and the starboard quarter (3.4 m) at 3.8 m,
+ * 6.8 m (the hangar's height) and 10 m above the deck, each from the stern
+ * (deck_x0) to the hangar face (deck_x1) in CFD_DECK_LINE_POINTS points. */
+#define CFD_DECK_LINES 9
+#define CFD_DECK_LINE_POINTS 25
+
+typedef struct cfd_deck_diff {
+    double worst;                           /* the largest velocity difference |a - b|, / u_ref */
+    double worst_at_m[3];                   /* ... where (S) */
+    double rms;                             /* RMS of |a - b| / u_ref over every point */
+    double line_y_m[CFD_DECK_LINES];        /* each line's y and z (S) ... */
+    double line_z_m[CFD_DECK_LINES];
+    double line_worst[CFD_DECK_LINES];      /* ... its largest difference, / u_ref ... */
+    double line_worst_x_m[CFD_DECK_LINES];  /* ... and where along it (x, S) */
+} cfd_deck_diff;
+
+/* The velocities of a and b compared along the deck lines of ship. */
+void cfd_airwake_deck_diff(const core_ship *ship, const cfd_flow *a, const cfd_flow *b, double u_ref_mps,
+                           cfd_deck_diff *out);
 
 /* -------------------------------------------------------------- validation */
 #define CFD_MAX_CHECKS 96

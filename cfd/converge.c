@@ -15,6 +15,11 @@
  *    and, with monitors, the monitor velocities changed by less than
  *    tol_monitor times u_ref (every component, every monitor) between the
  *    last two checks, monitor_every iterations apart;
+ *  - with monitor_stop, the OpenFOAM engine's test instead (foam.c): from
+ *    iteration 4 monitor_every on, every monitor velocity moved by less
+ *    than tol_monitor times u_ref (the length of the change) over each of
+ *    the last two spans of monitor_every iterations, tested every
+ *    iteration; the residuals are not tested;
  *  - residuals as ANSYS Fluent scales them (Fluent User's Guide,
  *    "definition of residuals"): continuity = sum |mass imbalance| divided
  *    by its largest value over the first five iterations; u, v, w, k = sum
@@ -78,7 +83,7 @@ void cfd_converge_attempt(cfd_converge *c)
     memset(c->rmax, 0, sizeof c->rmax);
     c->worst = 0.0;
     c->have_mon = 0;
-    c->mon_ok = cfg->n_monitor == 0;
+    c->mon_ok = cfg->n_monitor == 0 && !cfg->monitor_stop;
     c->navg = cfg->avg_window > 0 ? 0 : -1;
     c->early = cfg->avg_stop && cfg->avg_window >= 2 && cfg->n_monitor > 0;
     c->wstart = 0;
@@ -178,6 +183,46 @@ static void monitor_check(cfd_converge *c, int it)
     c->have_mon = 1;
 }
 
+/* monitor_stop's test at iteration it: the monitor velocities kept for the
+ * last 2 W + 1 iterations (W = monitor_every); from iteration 4 W on,
+ * mon_ok when every monitor moved by less than tol_monitor u_ref over each
+ * of the spans (it - 2 W, it - W) and (it - W, it), monitor_change the
+ * larger of the two largest moves, / u_ref. < 0 out of memory. */
+static int monitor_spans(cfd_converge *c, int it)
+{
+    const cfd_config *cfg = c->cfg;
+    const int W = cfg->monitor_every, rows = 2 * W + 1, nm = cfg->n_monitor;
+    if (!nm || W < 1)
+        return 0;
+    if (!c->mring) {
+        if (!(c->mring = malloc((size_t)rows * nm * 3 * sizeof(double))))
+            return -1;
+        c->mring_bytes = (size_t)rows * nm * 3 * sizeof(double);
+    }
+    double *row = c->mring + (size_t)(it % rows) * nm * 3;
+    for (int m = 0; m < nm; m++) {
+        double out[CFD_NVARS];
+        cfd_solver_sample(c->s, cfg->monitor_m[m], out);
+        memcpy(row + 3 * m, out, 3 * sizeof(double));
+    }
+    c->mon_ok = 0;
+    if (it < 4 * W)
+        return 0;
+    const double *r[3] = {row, c->mring + (size_t)((it - W) % rows) * nm * 3,
+                          c->mring + (size_t)((it - 2 * W) % rows) * nm * 3};
+    double ch[2] = {0.0, 0.0};
+    for (int w = 0; w < 2; w++)
+        for (int m = 0; m < nm; m++) {
+            double d2 = 0.0;
+            for (int d = 0; d < 3; d++)
+                d2 += (r[w][3 * m + d] - r[w + 1][3 * m + d]) * (r[w][3 * m + d] - r[w + 1][3 * m + d]);
+            ch[w] = fmax(ch[w], sqrt(d2) / cfg->u_ref_mps);
+        }
+    c->monitor_change = fmax(ch[0], ch[1]);
+    c->mon_ok = ch[0] < cfg->tol_monitor && ch[1] < cfg->tol_monitor;
+    return 0;
+}
+
 /* The running mean: zeroed sums (allocated once); < 0 out of memory. */
 static int averaging_start(cfd_converge *c)
 {
@@ -274,7 +319,10 @@ static int window_close(cfd_converge *c, int it)
 int cfd_converge_update(cfd_converge *c, int it)
 {
     const cfd_config *cfg = c->cfg;
-    monitor_check(c, it);
+    if (!cfg->monitor_stop)
+        monitor_check(c, it);
+    else if (monitor_spans(c, it) < 0)
+        return -1;
     memcpy(c->residual, c->rn, sizeof c->residual);
     if (c->navg >= 0 && !c->wstart)
         window_open(c, it);
@@ -301,7 +349,7 @@ int cfd_converge_update(cfd_converge *c, int it)
 
 int cfd_converge_done(cfd_converge *c, int it)
 {
-    if (it > 5 && c->worst < c->cfg->tol_residual && c->mon_ok)
+    if (c->cfg->monitor_stop ? c->mon_ok : it > 5 && c->worst < c->cfg->tol_residual && c->mon_ok)
         c->converged = 1;
     return c->converged;
 }
@@ -346,7 +394,7 @@ void cfd_converge_result(const cfd_converge *c, cfd_result *res)
     res->mean_change = c->mean_change;
 }
 
-size_t cfd_converge_bytes(const cfd_converge *c) { return c->bytes; }
+size_t cfd_converge_bytes(const cfd_converge *c) { return c->bytes + c->mring_bytes; }
 
 void cfd_converge_release(cfd_converge *c)
 {
@@ -355,4 +403,7 @@ void cfd_converge_release(cfd_converge *c)
         c->avg[v] = NULL;
     }
     c->bytes = 0;
+    free(c->mring);
+    c->mring = NULL;
+    c->mring_bytes = 0;
 }

@@ -39,6 +39,11 @@ typedef struct cfd_converge {
     double hsum[2][CFD_MAX_MONITOR][3]; /* monitor sums over the window's halves */
     double wprev[CFD_MAX_MONITOR][3];   /* monitor means of the last window closed ... */
     int wprev_end;                      /* ... and its last iteration (0: none) */
+    /* monitor_stop: the monitor velocities of the last 2 monitor_every + 1
+     * iterations, iteration it in row it % (2 monitor_every + 1) (allocated
+     * by the first update that needs it) */
+    double *mring;
+    size_t mring_bytes;
 } cfd_converge;
 
 /* The start of a run of s (its configuration as the run reads it): the
@@ -55,10 +60,11 @@ double cfd_converge_residuals(cfd_converge *c, int it, const double r[CFD_CONVER
 /* After the iterate it has been accepted (not diverged; its scaled
  * residuals in the solver's history): the monitor check, the averaging
  * windows and the running mean. Returns 1 when the run stops here with a
- * steady mean, 0 to go on. */
+ * steady mean, 0 to go on, < 0 out of memory (monitor_stop's history). */
 int cfd_converge_update(cfd_converge *c, int it);
 /* 1 (and converged) when the residuals and the monitors have met the
- * tolerances at iteration it; after the progress callback. */
+ * tolerances at iteration it (with monitor_stop: the monitors' two spans
+ * alone); after the progress callback. */
 int cfd_converge_done(cfd_converge *c, int it);
 /* The end of an attempt at iteration it (max_iter + 1 when the loop ran
  * out). An attempt that neither diverged, converged nor was stopped and has

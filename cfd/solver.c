@@ -1683,7 +1683,10 @@ static int run_attempt(cfd_solver *s, double t0, int *total_iter, int *it_out, i
             diverged = 1;
             break;
         }
-        if (cfd_converge_update(cv, it))
+        int up = cfd_converge_update(cv, it);
+        if (up < 0)
+            return core_err_set(err, -2, "cfd: out of memory for the monitors' history");
+        if (up)
             break; /* a steady mean */
         if (cfg->progress && cfg->progress(cfg->progress_user, it, cfg->max_iter, worst, now_s() - t0)) {
             *stop = 1;

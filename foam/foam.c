@@ -231,9 +231,24 @@ static int on_poll(void *user)
     return c->o->progress(c->o->progress_user, c->max_iter > 0 ? (double)it / c->max_iter : 0.0, res, it);
 }
 
-/* The OpenFOAM steps in case_dir. 0, 1 stopped, < 0 failed. */
+const char *const foam_step_names[FOAM_NSTEPS] = {"case", "blockMesh", "topoSet", "subsetMesh",
+                                                   "decomposePar", "simpleFoam", "reconstructPar",
+                                                   "postProcess", "read", "write"};
+
+/* foam_exec, its wall time into *t. */
+static int timed_exec(double *t, const char *dir, const char *step, char *const argv[], const char *etc,
+                      double tmo, foam_poll_fn poll, void *poll_user, core_err *err)
+{
+    double t0 = now_s();
+    int rc = foam_exec(dir, step, argv, etc, tmo, poll, poll_user, err);
+    *t = now_s() - t0;
+    return rc;
+}
+
+/* The OpenFOAM steps in case_dir, each one's wall time into st. 0, 1
+ * stopped, < 0 failed. */
 static int run_steps(const char *dir, const foam_opts *o, const cfd_config *cfg, int has_ship, int has_zones,
-                     int max_iter, double *solve_s, int *steady_iter, core_err *err)
+                     int max_iter, double *solve_s, int *steady_iter, double st[FOAM_NSTEPS], core_err *err)
 {
     const char *etc = etc_dir(o);
     double tmo = o->timeout_s > 0.0 ? o->timeout_s : 6 * 3600.0;
@@ -266,22 +281,22 @@ static int run_steps(const char *dir, const foam_opts *o, const cfd_config *cfg,
     char logp[1200];
     snprintf(logp, sizeof logp, "%s/log.simpleFoam", dir);
     poll_ctx pc = {o, dir, logp, max_iter, cfg->u_ref_mps, cfg->n_monitor > 0 ? cfg->tol_monitor : 0.0, 0, 0};
-    int rc = foam_exec(dir, "blockMesh", mesh, etc, tmo, NULL, NULL, err);
+    int rc = timed_exec(&st[FOAM_STEP_BLOCKMESH], dir, "blockMesh", mesh, etc, tmo, NULL, NULL, err);
     if (!rc && (has_ship || has_zones))
-        rc = foam_exec(dir, "topoSet", topo, etc, tmo, NULL, NULL, err);
+        rc = timed_exec(&st[FOAM_STEP_TOPOSET], dir, "topoSet", topo, etc, tmo, NULL, NULL, err);
     if (!rc && has_ship)
-        rc = foam_exec(dir, "subsetMesh", subset, etc, tmo, NULL, NULL, err);
+        rc = timed_exec(&st[FOAM_STEP_SUBSETMESH], dir, "subsetMesh", subset, etc, tmo, NULL, NULL, err);
     if (!rc && o->np > 1)
-        rc = foam_exec(dir, "decomposePar", decomp, etc, tmo, NULL, NULL, err);
-    double t0 = now_s();
+        rc = timed_exec(&st[FOAM_STEP_DECOMPOSEPAR], dir, "decomposePar", decomp, etc, tmo, NULL, NULL, err);
     if (!rc)
-        rc = foam_exec(dir, "simpleFoam", o->np > 1 ? mpi : serial, etc, tmo, on_poll, &pc, err);
-    *solve_s = now_s() - t0;
+        rc = timed_exec(&st[FOAM_STEP_SIMPLEFOAM], dir, "simpleFoam", o->np > 1 ? mpi : serial, etc, tmo, on_poll,
+                        &pc, err);
+    *solve_s = st[FOAM_STEP_SIMPLEFOAM];
     *steady_iter = pc.steady_iter;
     if (!rc && o->np > 1)
-        rc = foam_exec(dir, "reconstructPar", recon, etc, tmo, NULL, NULL, err);
+        rc = timed_exec(&st[FOAM_STEP_RECONSTRUCTPAR], dir, "reconstructPar", recon, etc, tmo, NULL, NULL, err);
     if (!rc)
-        rc = foam_exec(dir, "postProcess", centres, etc, tmo, NULL, NULL, err);
+        rc = timed_exec(&st[FOAM_STEP_POSTPROCESS], dir, "postProcess", centres, etc, tmo, NULL, NULL, err);
     return rc;
 }
 
@@ -344,14 +359,16 @@ int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_met
     if (!rc) {
         core_log_msg(o->log, CORE_LOG_INFO, "openfoam: case %s, %zu fluid cells, %d rank%s", res->case_dir,
                      cfd_grid_fluid_cells(cfd_solver_grid(s)), o->np, o->np > 1 ? "s" : "");
+        res->step_s[FOAM_STEP_CASE] = now_s() - t0;
         rc = run_steps(res->case_dir, o, cfd_solver_config(s), has_ship, cfd_solver_disk_force(s, 0) != NULL, max_iter,
-                       &solve_s, &steady_iter, err);
+                       &solve_s, &steady_iter, res->step_s, err);
     }
     foam_log_info info;
     char logp[1200];
     snprintf(logp, sizeof logp, "%s/log.simpleFoam", res->case_dir);
     if (!rc && foam_log_parse(logp, &info) != 0)
         rc = core_err_set(err, -1, "OpenFOAM step simpleFoam: %s has no iteration", logp);
+    double t_read = now_s();
     if (!rc)
         rc = foam_read_fields(res->case_dir, s, &res->cells, err);
     char tdir[256];
@@ -359,6 +376,7 @@ int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_met
         rc = core_err_set(err, -1, "OpenFOAM result: %s has no time folder", res->case_dir);
     if (!rc && blades)
         rc = foam_blade_result(res->case_dir, tdir, s, &spec->disk, res, err);
+    res->step_s[FOAM_STEP_READ] = now_s() - t_read;
     if (!rc) {
         res->res.iterations = info.iterations;
         res->res.converged = info.converged;
@@ -378,7 +396,9 @@ int foam_airwake(const cfd_airwake_spec *spec, const foam_opts *o, const cfd_met
             m.rotor_force_N = res->rotor_force_N;
             m.rotor_torque_Nm = res->rotor_torque_Nm;
         }
+        double t_write = now_s();
         rc = cfd_solver_write(s, &m, out_path, err);
+        res->step_s[FOAM_STEP_WRITE] = now_s() - t_write;
     }
     cfd_solver_destroy(s);
     if (!o->keep_case)

@@ -59,6 +59,25 @@ typedef struct foam_opts {
 
 void foam_opts_default(foam_opts *o);
 
+/* The steps of foam_airwake, in order (foam_result.step_s): the case
+ * (the embedded set-up and the case files), the OpenFOAM programs, reading
+ * the latest time back onto the grid, writing the HDF5 field. */
+enum {
+    FOAM_STEP_CASE = 0,
+    FOAM_STEP_BLOCKMESH,
+    FOAM_STEP_TOPOSET,
+    FOAM_STEP_SUBSETMESH,
+    FOAM_STEP_DECOMPOSEPAR,
+    FOAM_STEP_SIMPLEFOAM,
+    FOAM_STEP_RECONSTRUCTPAR,
+    FOAM_STEP_POSTPROCESS,
+    FOAM_STEP_READ,
+    FOAM_STEP_WRITE,
+    FOAM_NSTEPS
+};
+/* Their names: "case", "blockMesh", ..., "read", "write". */
+extern const char *const foam_step_names[FOAM_NSTEPS];
+
 typedef struct foam_result {
     cfd_result res;        /* iterations, converged, residual[] (p, Ux, Uy, Uz, k initial
                               residuals), wall_s (simpleFoam), monitor_change */
@@ -66,6 +85,7 @@ typedef struct foam_result {
     int steady_iter;       /* > 0: stopped once the monitors were steady, at this iteration (the
                               residuals had not reached 1e-4: res.converged 0) */
     double total_wall_s;   /* every step, meshing and sampling included */
+    double step_s[FOAM_NSTEPS]; /* each step's wall time (0: not run) */
     char version[64];      /* OpenFOAM's, from its banner (e.g. "v1912") */
     char case_dir[1024];   /* the case folder (removed unless keep_case) */
     /* the loaded rotor (rotorDisk), 0 otherwise: the thrust integrated from

@@ -1,5 +1,9 @@
 /* bench_cfd.c -- the embedded CFD solver's speed and memory.
  *
+ *   bench_cfd sidebyside [--ship sfs2|cg47] [--rotor on|off] [--cells N]
+ *       [--np N] [--threads N] [--max-iter N] [--keep-case] [--out DIR]
+ *       The embedded solver and OpenFOAM on the same case to the same
+ *       criterion (sidebyside.c; docs/openfoam.md, "Side by side").
  *   bench_cfd throughput [--threads N] [--iters N]
  *       SFS2 at 0 deg on the coarse grid, a fixed number of SIMPLEC
  *       iterations with 1 thread and with N threads: cell-updates per
@@ -37,6 +41,7 @@
 #include "cfd.h"
 
 #include "bench_case.h"
+#include "bench_cfd.h"
 
 #include <math.h>
 #include <omp.h>
@@ -84,8 +89,8 @@ static void log_fn(void *user, int level, const char *msg)
     fprintf(stderr, "  %s\n", msg);
 }
 
-static int setup_ship(core_ship *ship, cfd_airwake_spec *sp, const char *name, double speed_mps, core_grid_level lv,
-                      double dir_deg, int rotor)
+int bench_cfd_setup_ship(core_ship *ship, cfd_airwake_spec *sp, const char *name, double speed_mps,
+                         core_grid_level lv, double dir_deg, int rotor)
 {
     core_err err;
     char path[1024];
@@ -111,7 +116,7 @@ static int setup_ship(core_ship *ship, cfd_airwake_spec *sp, const char *name, d
 
 static int setup(core_ship *ship, cfd_airwake_spec *sp, core_grid_level lv, double dir_deg, int rotor)
 {
-    return setup_ship(ship, sp, "sfs2", 15.0, lv, dir_deg, rotor);
+    return bench_cfd_setup_ship(ship, sp, "sfs2", 15.0, lv, dir_deg, rotor);
 }
 
 static double run_iters(int threads, int iters, double *cells)
@@ -161,7 +166,7 @@ static int warmstart(const char *ship_name, double speed, double dir, int lv, in
         fprintf(stderr, "bench_cfd: warmstart: --grid coarse or default (the grid below: quick, coarse)\n");
         return 2;
     }
-    if (setup_ship(&ship, &fine, ship_name, speed, (core_grid_level)lv, dir, rotor))
+    if (bench_cfd_setup_ship(&ship, &fine, ship_name, speed, (core_grid_level)lv, dir, rotor))
         return 1;
     fine.max_iter = max_iter;
     below = fine;
@@ -324,15 +329,23 @@ static int compare(const bench_case *bc, int threads, int rounds)
 int main(int argc, char **argv)
 {
     if (argc < 2) {
-        fprintf(stderr, "usage: bench_cfd throughput|airwake|compare|warmstart [options]\n");
+        fprintf(stderr, "usage: bench_cfd throughput|airwake|compare|warmstart|sidebyside [options]\n");
         return 2;
+    }
+    if (!strcmp(argv[1], "sidebyside")) {
+#ifdef BENCH_CFD_FOAM
+        return bench_cfd_sidebyside(argc - 2, argv + 2);
+#else
+        fprintf(stderr, "bench_cfd sidebyside: this build has no OpenFOAM engine (the foam library)\n");
+        return 2;
+#endif
     }
     int threads = 2, iters = 50, max_iter = 3000, lv = 1, rotor = 1, every = 100, seq = 0, rounds = 1;
     double tl = 0.0, dir = 0.0, speed = 15.0, h_fine = 0.0, h_max = 0.0;
     const char *ship_name = "sfs2";
     if (strcmp(argv[1], "throughput") && strcmp(argv[1], "airwake") && strcmp(argv[1], "compare") &&
         strcmp(argv[1], "warmstart")) {
-        fprintf(stderr, "bench_cfd: unknown mode '%s' (expected throughput, airwake, compare or warmstart)\n",
+        fprintf(stderr, "bench_cfd: unknown mode '%s' (expected throughput, airwake, compare, warmstart or sidebyside)\n",
                 argv[1]);
         return 2;
     }
@@ -404,7 +417,7 @@ int main(int argc, char **argv)
         omp_set_num_threads(threads);
         core_ship ship;
         cfd_airwake_spec sp;
-        if (setup_ship(&ship, &sp, ship_name, speed, (core_grid_level)lv, dir, rotor))
+        if (bench_cfd_setup_ship(&ship, &sp, ship_name, speed, (core_grid_level)lv, dir, rotor))
             return 1;
         sp.max_iter = max_iter;
         core_err err;

@@ -2,7 +2,8 @@
  * actuator-disk exactness and load shares, HDF5 round trip and trilinear
  * sampling, NaN refusal, damaged field files, divergence detection,
  * iteration averaging and the steady-mean stop, Anderson acceleration,
- * sampled inflow, the deck zone and the mirror image. */
+ * sampled inflow, the deck zone, the mirror image, the monitors-only stop
+ * (monitor_stop) and the deck-line comparison. */
 #include "cfd.h"
 #include "check.h"
 
@@ -1403,6 +1404,155 @@ static void test_mirror(void)
     cfd_solver_destroy(green);
 }
 
+/* The monitor velocities of every iteration, recorded from the progress
+ * callback (the state of iteration it). */
+typedef struct mon_rec {
+    const cfd_solver *s;
+    int n;
+    double v[1000][CFD_MAX_MONITOR][3];
+} mon_rec;
+
+static int record_monitors(void *user, int iter, int max_iter, double res, double t)
+{
+    (void)max_iter, (void)res, (void)t;
+    mon_rec *r = user;
+    const cfd_config *c = cfd_solver_config(r->s);
+    if (iter < 1 || iter >= 1000)
+        return 1;
+    for (int m = 0; m < c->n_monitor; m++) {
+        double out[CFD_NVARS];
+        cfd_solver_sample(r->s, c->monitor_m[m], out);
+        memcpy(r->v[iter][m], out, sizeof r->v[iter][m]);
+    }
+    r->n = iter;
+    return 0;
+}
+
+/* s run with monitor_stop, its monitors recorded in rec: it stopped at the
+ * first iteration from 4 W on (W = monitor_every) whose monitors moved by
+ * less than tol_monitor u_ref over each of the two W-iteration spans before
+ * it (found here from the record), converged, with the last iterate. The
+ * first passing iteration into *first. */
+static void check_monitor_stop(const cfd_solver *s, const mon_rec *rec, int rc, const cfd_result *res, int *first)
+{
+    const cfd_config *c = cfd_solver_config(s);
+    const int W = c->monitor_every;
+    double worst = -1.0;
+    *first = 0;
+    for (int it = 4 * W; it <= rec->n && !*first; it++) {
+        double ch[2] = {0.0, 0.0};
+        for (int w = 0; w < 2; w++)
+            for (int m = 0; m < c->n_monitor; m++) {
+                double d2 = 0.0;
+                for (int d = 0; d < 3; d++) {
+                    double a = rec->v[it - W * w][m][d] - rec->v[it - W * (w + 1)][m][d];
+                    d2 += a * a;
+                }
+                ch[w] = fmax(ch[w], sqrt(d2) / c->u_ref_mps);
+            }
+        if (ch[0] < c->tol_monitor && ch[1] < c->tol_monitor) {
+            *first = it;
+            worst = fmax(ch[0], ch[1]);
+        }
+    }
+    printf("monitor_stop: stopped at %d (rc %d, converged %d, continuity residual %.2e), the test first passes "
+           "at %d (from %d), change %.3e of U\n",
+           res->iterations, rc, res->converged, res->residual[0], *first, 4 * W, res->monitor_change);
+    CHECK(rc == 0 && res->converged == 1 && res->averaged == 0 && res->steady_mean == 0);
+    CHECK(*first >= 4 * W && res->iterations == *first);
+    CHECK_NEAR(res->monitor_change, worst, 1e-12);
+}
+
+/* monitor_stop (the OpenFOAM engine's test): on a channel whose monitors
+ * settle after the test's first iteration and before its residuals reach
+ * 1e-4, and on a ship (where the spec turns it on with no averaging); the
+ * default run of the ship case keeps its averaging. And the deck lines: a
+ * flow against itself differs by nothing, against the inflow by its
+ * largest line's figure. */
+static void test_monitor_stop(void)
+{
+    static mon_rec rec;
+    cfd_config cfg;
+    channel_config(&cfg);
+    cfg.max_iter = 900;
+    cfg.monitor_stop = 1;
+    cfg.monitor_every = 10;
+    cfg.tol_monitor = 5e-4;
+    cfg.n_monitor = 2;
+    double mpos[2][3] = {{1.5, 0.45, 0.5}, {3.0, 0.75, 0.3}};
+    memcpy(cfg.monitor_m, mpos, sizeof mpos);
+    cfg.progress = record_monitors;
+    cfg.progress_user = &rec;
+    memset(&rec, 0, sizeof rec);
+    core_err err;
+    cfd_solver *ch = channel_create(&cfg);
+    CHECK(ch != NULL);
+    if (ch) {
+        rec.s = ch;
+        cfd_result res;
+        int rc = cfd_solver_run(ch, &res, &err);
+        int first;
+        check_monitor_stop(ch, &rec, rc, &res, &first);
+        /* past the floor, and the residuals not what stopped it */
+        CHECK(first > 40);
+        double rmax = 0.0;
+        for (int q = 0; q < 5; q++)
+            rmax = fmax(rmax, res.residual[q]);
+        CHECK(rmax > 10.0 * cfg.tol_residual);
+        cfd_solver_destroy(ch);
+    }
+
+    core_ship ship;
+    CHECK(core_ship_load("scenarios/ships/sfs2.ini", &ship, &err) == 0);
+    cfd_airwake_spec sp;
+    memset(&sp, 0, sizeof sp);
+    sp.ship = &ship;
+    sp.wod_speed_mps = 10.0;
+    sp.level = CORE_GRID_COARSE;
+    sp.h_fine_m = 4.0;
+    sp.monitor_z_m = -6.8;
+    sp.max_iter = 900;
+    sp.monitor_stop = 1;
+    memset(&rec, 0, sizeof rec);
+    cfd_solver *s = cfd_airwake_create(&sp, NULL, record_monitors, &rec, &err);
+    CHECK(s != NULL);
+    if (!s)
+        return;
+    rec.s = s;
+    const cfd_config *c = cfd_solver_config(s);
+    CHECK(c->monitor_stop == 1 && c->avg_window == 0 && c->avg_stop == 0);
+    cfd_result res;
+    int rc = cfd_solver_run(s, &res, &err), first;
+    check_monitor_stop(s, &rec, rc, &res, &first);
+
+    /* the deck lines */
+    cfd_flow a = {s, NULL};
+    cfd_deck_diff d;
+    cfd_airwake_deck_diff(&ship, &a, &a, 10.0, &d);
+    CHECK(d.worst == 0.0 && d.rms == 0.0);
+    sp.monitor_stop = 0;
+    cfd_solver *in = cfd_airwake_create(&sp, NULL, NULL, NULL, &err);
+    CHECK(in != NULL);
+    if (in) {
+        c = cfd_solver_config(in);
+        CHECK(c->monitor_stop == 0 && c->avg_stop == 1 && c->avg_window == 200);
+        cfd_solver_init_inflow(in);
+        cfd_flow b = {in, NULL};
+        cfd_airwake_deck_diff(&ship, &a, &b, 10.0, &d);
+        double lw = 0.0;
+        for (int l = 0; l < CFD_DECK_LINES; l++)
+            lw = fmax(lw, d.line_worst[l]);
+        printf("deck lines, solved - inflow: largest %.3f of U at (%.1f, %.1f, %.1f), RMS %.3f\n", d.worst,
+               d.worst_at_m[0], d.worst_at_m[1], d.worst_at_m[2], d.rms);
+        /* the hangar's wake: the flow over the deck is well off the inflow */
+        CHECK(d.worst > 0.1 && d.rms > 0.0 && d.rms <= d.worst && lw == d.worst);
+        CHECK(d.worst_at_m[0] >= ship.deck_x0_m && d.worst_at_m[0] <= ship.deck_x1_m);
+        CHECK(d.line_y_m[0] == -3.4 && d.line_z_m[0] == -3.8 && d.line_y_m[8] == 3.4 && d.line_z_m[8] == -10.0);
+        cfd_solver_destroy(in);
+    }
+    cfd_solver_destroy(s);
+}
+
 int main(void)
 {
     test_axis();
@@ -1420,5 +1570,6 @@ int main(void)
     test_sampled_inflow();
     test_zone();
     test_mirror();
+    test_monitor_stop();
     return check_done("test_cfd_core");
 }

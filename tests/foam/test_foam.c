@@ -105,45 +105,22 @@ static void sample(const sampler *a, const double p[3], double out[CFD_NVARS])
 }
 
 /* The largest velocity difference between a and b along the deck lines
- * (9 lines along the deck: port quarter, centre line and starboard quarter
- * at 3.8 m, 6.8 m (the hangar's height) and 10 m above the deck), / U,
- * where it is in at, and the RMS difference over every point in *rms;
- * with label, each line's is printed. */
+ * (cfd_airwake_deck_diff: 9 lines along the deck, port quarter, centre line
+ * and starboard quarter at 3.8 m, 6.8 m (the hangar's height) and 10 m
+ * above the deck), / U, where it is in at, and the RMS difference over
+ * every point in *rms; with label, each line's is printed. */
 static double deck_lines(const core_ship *ship, const sampler *a, const sampler *b, double U, double *at,
                          double *rms, const char *label)
 {
-    double worst = 0.0, sum2 = 0.0;
-    int np = 0;
-    static const double ys[3] = {-3.4, 0.0, 3.4}, zs[3] = {-3.8, -6.8, -10.0};
-    for (int ia = 0; ia < 3; ia++)
-        for (int ib = 0; ib < 3; ib++) {
-            double line = 0.0, lat = 0.0;
-            for (int i = 0; i <= 24; i++) {
-                double p[3] = {ship->deck_x0_m + (ship->deck_x1_m - ship->deck_x0_m) * i / 24.0, ys[ia], zs[ib]};
-                double e[CFD_NVARS], o[CFD_NVARS];
-                sample(a, p, e);
-                sample(b, p, o);
-                double d2 = 0.0;
-                for (int d = 0; d < 3; d++)
-                    d2 += (e[d] - o[d]) * (e[d] - o[d]);
-                double dn = sqrt(d2) / U;
-                sum2 += dn * dn;
-                np++;
-                if (dn > line) {
-                    line = dn;
-                    lat = p[0];
-                }
-                if (dn > worst) {
-                    worst = dn;
-                    memcpy(at, p, sizeof p);
-                }
-            }
-            if (label)
-                printf("%s: deck line y %+.1f m, z %.1f m: largest difference %.1f %% of U at x %.1f m\n", label,
-                       ys[ia], zs[ib], 100.0 * line, lat);
-        }
-    *rms = sqrt(sum2 / np);
-    return worst;
+    cfd_flow fa = {a->s, a->f}, fb = {b->s, b->f};
+    cfd_deck_diff d;
+    cfd_airwake_deck_diff(ship, &fa, &fb, U, &d);
+    for (int l = 0; label && l < CFD_DECK_LINES; l++)
+        printf("%s: deck line y %+.1f m, z %.1f m: largest difference %.1f %% of U at x %.1f m\n", label,
+               d.line_y_m[l], d.line_z_m[l], 100.0 * d.line_worst[l], d.line_worst_x_m[l]);
+    memcpy(at, d.worst_at_m, sizeof d.worst_at_m);
+    *rms = d.rms;
+    return d.worst;
 }
 
 /* Where the flow reattaches behind the hangar along the centre line at z

@@ -353,47 +353,22 @@ static void zone_expect(void *user, const double pos[3], double out[5])
 }
 
 /* The largest velocity difference (/ U) between the field f (else the
- * solver t) and the embedded solver s along the 9 deck lines (port
- * quarter, centre line, starboard quarter at 3.8 m, 6.8 m and 10 m above
- * the deck, stern to hangar face), its place, and the RMS over every
- * point; with label, each line's largest. */
+ * solver t) and the embedded solver s along the 9 deck lines
+ * (cfd_airwake_deck_diff: port quarter, centre line, starboard quarter at
+ * 3.8 m, 6.8 m and 10 m above the deck, stern to hangar face), its place,
+ * and the RMS over every point; with label, each line's largest. */
 static double deck_lines(const core_ship *ship, const cfd_field *f, const cfd_solver *t, const cfd_solver *s,
                          double U, double at[3], double *rms, const char *label)
 {
-    static const double ys[3] = {-3.4, 0.0, 3.4}, zs[3] = {-3.8, -6.8, -10.0};
-    double worst = 0.0, sum2 = 0.0;
-    int np = 0;
-    for (int ia = 0; ia < 3; ia++)
-        for (int ib = 0; ib < 3; ib++) {
-            double line = 0.0, lx = 0.0;
-            for (int i = 0; i <= 24; i++) {
-                double p[3] = {ship->deck_x0_m + (ship->deck_x1_m - ship->deck_x0_m) * i / 24.0, ys[ia], zs[ib]};
-                double a[CFD_NVARS], b[CFD_NVARS], d2 = 0.0;
-                if (f)
-                    cfd_field_sample(f, p, a);
-                else
-                    cfd_solver_sample(t, p, a);
-                cfd_solver_sample(s, p, b);
-                for (int d = 0; d < 3; d++)
-                    d2 += (a[d] - b[d]) * (a[d] - b[d]);
-                double dn = sqrt(d2) / U;
-                sum2 += dn * dn;
-                np++;
-                if (dn > line) {
-                    line = dn;
-                    lx = p[0];
-                }
-                if (dn > worst) {
-                    worst = dn;
-                    memcpy(at, p, sizeof p);
-                }
-            }
-            if (label)
-                printf("%s: deck line y %+.1f m, z %.1f m: largest difference %.1f %% of U at x %.1f m\n", label,
-                       ys[ia], zs[ib], 100.0 * line, lx);
-        }
-    *rms = sqrt(sum2 / np);
-    return worst;
+    cfd_flow a = {f ? NULL : t, f}, b = {s, NULL};
+    cfd_deck_diff d;
+    cfd_airwake_deck_diff(ship, &a, &b, U, &d);
+    for (int l = 0; label && l < CFD_DECK_LINES; l++)
+        printf("%s: deck line y %+.1f m, z %.1f m: largest difference %.1f %% of U at x %.1f m\n", label,
+               d.line_y_m[l], d.line_z_m[l], 100.0 * d.line_worst[l], d.line_worst_x_m[l]);
+    memcpy(at, d.worst_at_m, sizeof d.worst_at_m);
+    *rms = d.rms;
+    return d.worst;
 }
 
 /* The loaded rotor (rotorDisk, the UH-60A's blades) in the zone: a short
