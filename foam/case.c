@@ -507,7 +507,12 @@ static int write_control(const cfd_config *cfg, int max_iter, const char *dir, c
                      cfg->monitor_m[m][2]);
         w_printf(&w, "        );\n    }\n");
     }
-    w_printf(&w, "}\n");
+    /* the engine's stop (foam.c): the function object looks for the file
+     * every iteration, where an edited controlDict is noticed only after
+     * fileModificationSkew seconds */
+    w_printf(&w, "    stop\n    {\n        type abort;\n        libs (\"libutilityFunctionObjects.so\");\n"
+                 "        file \"%s/%s\";\n        action writeNow;\n    }\n}\n",
+             dir, FOAM_STOP_FILE);
     return w_close(&w);
 }
 

@@ -97,7 +97,7 @@ typedef struct poll_ctx {
     const char *log_path;
     int max_iter;
     double u_ref, tol_monitor;
-    int steady_asked; /* stopAt writeNow written */
+    int steady_asked; /* the stop file written */
     int steady_iter;  /* the iteration the monitors were found steady at */
 } poll_ctx;
 
@@ -168,31 +168,14 @@ static int monitor_windows(const poll_ctx *c, int *it, double ch[2])
     return rc;
 }
 
-/* Ask simpleFoam to write and stop (stopAt writeNow in the controlDict it
- * re-reads, replaced by rename so that it never reads half a file). */
+/* Ask simpleFoam to write and stop: the abort function object of its
+ * controlDict sees the stop file at its next iteration. */
 static int ask_write_now(const char *dir)
 {
-    char p[1200], t[1300];
-    snprintf(p, sizeof p, "%s/system/controlDict", dir);
-    snprintf(t, sizeof t, "%s.tmp", p);
-    FILE *f = fopen(p, "r");
-    char buf[8192];
-    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
-    if (f)
-        fclose(f);
-    buf[n] = '\0';
-    char *s = strstr(buf, "stopAt endTime;");
-    if (!s)
-        return -1;
-    FILE *o = fopen(t, "w");
-    if (!o)
-        return -1;
-    fprintf(o, "%.*sstopAt writeNow; %s", (int)(s - buf), buf, s + strlen("stopAt endTime;"));
-    if (fclose(o) != 0 || rename(t, p) != 0) {
-        remove(t);
-        return -1;
-    }
-    return 0;
+    char p[1200];
+    snprintf(p, sizeof p, "%s/%s", dir, FOAM_STOP_FILE);
+    FILE *f = fopen(p, "w");
+    return f && fclose(f) == 0 ? 0 : -1;
 }
 
 /* simpleFoam's progress from its log's tail, and the monitors' test: once

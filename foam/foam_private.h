@@ -11,6 +11,9 @@
  * (CFD_XMIN .. CFD_ZMAX), then the ship's walls (empty until subsetMesh). */
 extern const char *const foam_patch_names[CFD_NFACES];
 #define FOAM_SHIP_PATCH "ship"
+/* The file in the case folder whose appearance makes simpleFoam write its
+ * fields and stop (the abort function object of the controlDict). */
+#define FOAM_STOP_FILE "STOP"
 /* The disk's force bands (cell zones rotorBand0..); see case.c. */
 #define FOAM_DISK_BANDS 4
 /* Cells below this fraction of the peak force density are in no band. */
