@@ -28,6 +28,7 @@
 #include "check.h"
 #include "core.h"
 #include "foam.h"
+#include "foam_private.h"
 #include "hfm.h"
 
 #include <dirent.h>
@@ -64,32 +65,13 @@ static void rm_tree(const char *dir)
     nftw(dir, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
 }
 
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    if (b && fread(b, 1, (size_t)n, f) != (size_t)n) {
-        free(b);
-        b = NULL;
-    }
-    if (b)
-        b[n] = '\0';
-    fclose(f);
-    return b;
-}
-
 /* The values of patch `patch` in the volField file path (its boundaryField
  * entry's `value`: uniform or a nonuniform list), ncomp per face, up to
  * max faces into v. Returns the faces read (a uniform value: max copies),
  * -1 when not found. */
 static long patch_values(const char *path, const char *patch, int ncomp, double *v, long max)
 {
-    char *b = slurp(path);
+    char *b = foam_slurp(path, NULL);
     if (!b)
         return -1;
     long n = -1;
