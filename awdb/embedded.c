@@ -102,14 +102,6 @@ static void drop_xmf(const char *out)
     }
 }
 
-static const core_ship *find_ship(const awdb_embedded *e, const char *name, size_t len)
-{
-    for (int i = 0; i < e->nships; i++)
-        if (strlen(e->ships[i].name) == len && !strncmp(e->ships[i].name, name, len))
-            return &e->ships[i];
-    return NULL;
-}
-
 /* The key whose mirror image is k's field: a whole-domain ship-only field
  * of a ship symmetric about its centre line, from a wind off the centre
  * line (head and stern winds are their own images). Why: the RANS problem
@@ -123,7 +115,7 @@ static int mirror_source(void *user, const awdb_key *k, awdb_key *src)
     double d = k->wod_dir_rad;
     if (fabs(d) < 1e-9 || fabs(fabs(d) - M_PI) < 1e-9)
         return 0;
-    const core_ship *ship = find_ship(e, k->ship, strlen(k->ship));
+    const core_ship *ship = core_ship_find(e->ships, e->nships, k->ship, strlen(k->ship));
     if (!ship || !core_ship_mirror_symmetric(ship, 1e-6))
         return 0;
     *src = *k;
@@ -182,7 +174,7 @@ static int build_one(awdb_embedded *e, const awdb_key *k, const char *warm, cons
     const char *iso = strstr(k->ship, ".isolated");
     int open_ship = iso && iso[9] == '\0';
     size_t base_len = open_ship ? (size_t)(iso - k->ship) : strlen(k->ship);
-    const core_ship *ship = find_ship(e, k->ship, base_len);
+    const core_ship *ship = core_ship_find(e->ships, e->nships, k->ship, base_len);
     if (!ship)
         return core_err_set(err, -1, "ship '%s': no ship file of that name", k->ship);
     cfd_airwake_spec spec;

@@ -1115,33 +1115,10 @@ static void assemble(cfd_solver *s, int var, double alpha, const double *pk)
             }
 }
 
-/* Residual sum |a_P phi - sum a_nb phi_nb - b| over fluid cells. */
-
-/* sum over the existing neighbours of a_nb phi_nb (the off-diagonal part of
- * the 7-point operator), shared by the residual and the Gauss-Seidel sweep. */
-static inline double neighbours(const cfd_solver *s, const double *phi, size_t c, int i, int j, int k,
-                                const size_t st[3])
-{
-    const cfd_grid *g = s->g;
-    double r = 0.0;
-    if (i > 0)
-        r += s->a[0][c] * phi[c - 1];
-    if (i + 1 < g->n[0])
-        r += s->a[1][c] * phi[c + 1];
-    if (j > 0)
-        r += s->a[2][c] * phi[c - st[1]];
-    if (j + 1 < g->n[1])
-        r += s->a[3][c] * phi[c + st[1]];
-    if (k > 0)
-        r += s->a[4][c] * phi[c - st[2]];
-    if (k + 1 < g->n[2])
-        r += s->a[5][c] * phi[c + st[2]];
-    return r;
-}
-
-/* The off-diagonal sum of cell c at (i, j, k) with its coefficients a[6]
- * loaded once, the terms in neighbours()'s order; jm .. kp: whether the
- * four y, z neighbours exist. */
+/* The off-diagonal sum of cell c at (i, j, k) (sum a_nb phi_nb of the
+ * 7-point operator, shared by the residual and the Gauss-Seidel sweep)
+ * with its coefficients a[6] loaded once, in the order -x, +x, -y, +y,
+ * -z, +z; jm .. kp: whether the four y, z neighbours exist. */
 static inline double nb_sum(const double a[6], const double *phi, size_t c, int i, int nx, int jm, int jp, int km,
                             int kp, const size_t st[3])
 {

@@ -402,6 +402,9 @@ int core_ship_from_ini(core_ini *ini, core_ship *ship, const core_log *log, core
  * all), *ships NULL. A ship left out would fail every later request for it
  * with a misleading "no ship of that name": one bad file refuses them all. */
 int core_ship_load_dir(const char *dir, core_ship **ships, int *n, core_err *err);
+/* The ship of ships[0 .. n-1] named by the first len characters of name
+ * (a database key's ship, "SFS2" of "SFS2.isolated"), or NULL. */
+const core_ship *core_ship_find(const core_ship *ships, int n, const char *name, size_t len);
 /* 1 if point p (S) lies inside one of the ship's blocks. The sea surface is
  * a boundary of the CFD domain, not a block, so it does not count here. */
 int core_ship_contains(const core_ship *ship, core_vec3 p_S_m);

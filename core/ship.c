@@ -306,6 +306,14 @@ int core_ship_mirror_symmetric(const core_ship *ship, double tol_m)
     return ship->nblocks > 0;
 }
 
+const core_ship *core_ship_find(const core_ship *ships, int n, const char *name, size_t len)
+{
+    for (int i = 0; i < n; i++)
+        if (strlen(ships[i].name) == len && !strncmp(ships[i].name, name, len))
+            return &ships[i];
+    return NULL;
+}
+
 int core_ship_load_dir(const char *dir, core_ship **ships, int *n, core_err *err)
 {
     *ships = NULL;

@@ -464,10 +464,7 @@ static int engine_build(void *user, const awdb_key *k, const char *warm_path, co
     foam_engine *e = user;
     const char *iso = strstr(k->ship, ".isolated");
     size_t len = iso && iso[9] == '\0' ? (size_t)(iso - k->ship) : strlen(k->ship);
-    const core_ship *ship = NULL;
-    for (int i = 0; i < e->nships && !ship; i++)
-        if (strlen(e->ships[i].name) == len && !strncmp(e->ships[i].name, k->ship, len))
-            ship = &e->ships[i];
+    const core_ship *ship = core_ship_find(e->ships, e->nships, k->ship, len);
     if (!ship)
         return core_err_set(err, -1, "ship '%s': no ship file of that name", k->ship);
     cfd_airwake_spec spec;

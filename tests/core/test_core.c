@@ -460,6 +460,17 @@ static void test_ship(void)
     CHECK(core_ship_mirror_symmetric(&pair, 1e-6) == 0);
     CHECK(core_ship_load("scenarios/ships/lpd17.ini", &s2, &err) == 0);
     CHECK(core_ship_mirror_symmetric(&s2, 1e-6) == 1);
+    /* Every ship of the folder, found by a key's ship name or its prefix
+     * ("SFS2" of "SFS2.isolated"); a prefix of a name is not that name. */
+    core_ship *all = NULL;
+    int nall = 0;
+    CHECK(core_ship_load_dir("scenarios/ships", &all, &nall, &err) == 0 && nall == 3);
+    const char *iso = "SFS2.isolated";
+    const core_ship *found = core_ship_find(all, nall, iso, 4);
+    CHECK(found && !strcmp(found->name, "SFS2"));
+    CHECK(core_ship_find(all, nall, "CG-47", 5) && core_ship_find(all, nall, "CG-4", 4) == NULL);
+    CHECK(core_ship_find(all, nall, iso, strlen(iso)) == NULL);
+    free(all);
     /* A block whose top is below its bottom names the line. */
     const char *p = write_tmp("disim_bad_ship.ini",
                               "[ship]\nname = X\nlength_m = 10\nbeam_m = 2\ndraft_m = 1\n"
