@@ -201,6 +201,14 @@ int sim_ios_parse(const char *line, sim_ios_cmd *c, core_err *err)
     return core_err_set(err, -1, "'%s': not a command (try 'help')", w[0]);
 }
 
+const char *sim_ios_command_name(int command)
+{
+    static const char *const names[] = {"pause", "resume", "reset", "load scenario", "reset hover", "reset deck",
+                                        "reposition", "set wod", "set sea", "set turbulence", "snapshot", "restore"};
+    int i = command - DISIM_SIM_CONTROL_T_PAUSE;
+    return i >= 0 && i < (int)(sizeof names / sizeof names[0]) ? names[i] : "?";
+}
+
 /* ---------------------------------------------------------------- LCM */
 struct sim_ios {
     lcm_t *lc;
@@ -224,17 +232,18 @@ static void take_status(sim_ios *io, const disim_sim_status_t *m)
     a->seq = m->control_seq;
     a->command = m->control_command;
     a->result = m->control_result;
-    snprintf(a->message, sizeof a->message, "%s", m->control_message);
+    /* text from the network, shown on a terminal: escaped */
+    core_escape(m->control_message, a->message, sizeof a->message);
     a->apply_s = m->control_apply_s;
     a->state = m->state;
     a->sim_time_s = m->sim_time_s;
     a->rate_hz = m->rate_hz;
     a->real_time_factor = m->real_time_factor;
-    snprintf(a->scenario, sizeof a->scenario, "%s", m->scenario);
+    core_escape(m->scenario, a->scenario, sizeof a->scenario);
     a->flags = (unsigned)m->flags;
     a->n_stations = m->n_stations;
     if (m->active_station >= 0 && m->active_station < m->n_stations)
-        snprintf(a->active_id, sizeof a->active_id, "%s", m->station_ids[m->active_station]);
+        core_escape(m->station_ids[m->active_station], a->active_id, sizeof a->active_id);
     a->control_refused = m->control_refused;
     io->have = 1;
 }

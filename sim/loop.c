@@ -266,13 +266,6 @@ void sim_loop_setup_default(sim_loop_setup *s)
     s->turbulence = -1;
 }
 
-static const char *ctl_name(int command)
-{
-    static const char *names[] = {"?", "pause", "resume", "reset", "load scenario", "reset hover", "reset deck",
-                                  "reposition", "set wod", "set sea", "set turbulence", "snapshot", "restore"};
-    return command >= 1 && command <= DISIM_SIM_CONTROL_T_RESTORE ? names[command] : names[0];
-}
-
 static double wall_s(void)
 {
     struct timespec t;
@@ -357,7 +350,8 @@ static void refuse_ctl(sim_loop *l, long long seq, int command, const char *why_
     l->ack_apply_s = 0.0;
     l->ack_unsent = 1;
     l->dirty = 1;
-    core_log_msg(l->log, CORE_LOG_WARN, "sim control %s (seq %lld) refused: %s", ctl_name(command), seq, why);
+    core_log_msg(l->log, CORE_LOG_WARN, "sim control %s (seq %lld) refused: %s", sim_ios_command_name(command), seq,
+                 why);
 }
 
 static void got_ctl(sim_loop *l, const void *data, int size)
@@ -869,8 +863,8 @@ static void accept_ctl(sim_loop *l, const ctl *c, double t0_s, const char *fmt, 
     l->ack_apply_s = wall_s() - t0_s;
     l->message[0] = '\0';
     l->dirty = 1;
-    core_log_msg(l->log, CORE_LOG_INFO, "sim control %s (seq %lld): %s (applied in %.3f s)", ctl_name(c->command),
-                 c->seq, l->ack_msg, l->ack_apply_s);
+    core_log_msg(l->log, CORE_LOG_INFO, "sim control %s (seq %lld): %s (applied in %.3f s)",
+                 sim_ios_command_name(c->command), c->seq, l->ack_msg, l->ack_apply_s);
 }
 
 /* The step's inputs into the journal (NULL: held), while it is not full. */
@@ -1235,7 +1229,7 @@ static int busy(sim_loop *l, char *why, size_t n)
 {
     l->refused_busy++;
     return snprintf(why, n, "busy: a world change (%s) is being prepared: send it again once that is answered",
-                    ctl_name(l->job->c.command)), 1;
+                    sim_ios_command_name(l->job->c.command)), 1;
 }
 
 /* On the worker: the job's world prepared, a restore's flight flown again
@@ -1294,8 +1288,8 @@ static int ask_worker(sim_loop *l, const ctl *c, const char *path, const sim_loo
         return snprintf(why, n, "busy: the worker is still at work"), 1;
     }
     l->job = j;
-    core_log_msg(l->log, CORE_LOG_DEBUG, "sim control %s (seq %lld): its world being prepared", ctl_name(c->command),
-                 c->seq);
+    core_log_msg(l->log, CORE_LOG_DEBUG, "sim control %s (seq %lld): its world being prepared",
+                 sim_ios_command_name(c->command), c->seq);
     if (l->swap == LOOP_SWAP_NOW && job_finish(l, 1, err) != 0)
         return -1;
     return 2;
@@ -1388,7 +1382,8 @@ static void said(const sim_loop *l, const ctl *c, char *msg, size_t n)
         snprintf(msg, n, "restored '%s': t = %.3f s, %lld steps flown again", c->name, l->out.t_s, l->njr);
         break;
     default:
-        snprintf(msg, n, "%s: %s %s at (%.2f, %.2f, %.2f) m in S, WOD %s, sea %s, turbulence %s", ctl_name(c->command),
+        snprintf(msg, n, "%s: %s %s at (%.2f, %.2f, %.2f) m in S, WOD %s, sea %s, turbulence %s",
+                 sim_ios_command_name(c->command),
                  l->w.scenario, s->start == SIM_START_DECK ? "on the deck" : "in the hover", l->out.pos_S_m[0],
                  l->out.pos_S_m[1], l->out.pos_S_m[2], isnan(s->wod_speed_mps) ? "as started" : "set",
                  s->sea_state < 0 ? "as started" : "set",
@@ -1408,7 +1403,7 @@ static void said(const sim_loop *l, const ctl *c, char *msg, size_t n)
 /* The name a refusal gives its control. */
 static const char *refused_name(int command)
 {
-    return command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO ? "load" : ctl_name(command);
+    return command == DISIM_SIM_CONTROL_T_LOAD_SCENARIO ? "load" : sim_ios_command_name(command);
 }
 
 /* The state the status says. */

@@ -43,6 +43,9 @@ typedef struct sim_ios_cmd {
  * 0 with cmd, or -1 with err saying what was expected. Numbers are read
  * as typed (a NaN too): the loop checks them and says why it refuses. */
 int sim_ios_parse(const char *line, sim_ios_cmd *cmd, core_err *err);
+/* A sim_control_t command (1 pause .. 12 restore) in words ("reset
+ * hover", "set wod"); "?" for another. */
+const char *sim_ios_command_name(int command);
 /* The commands, one a line, for help. */
 const char *sim_ios_help(void);
 

@@ -214,7 +214,13 @@ typedef struct sim_station_view {
     char active[64];        /* the station flying ("" none) */
     int32_t flags;          /* DISIM_SIM_STATUS_T_FLAG_* */
     int64_t my_received, my_refused, my_gaps; /* the loop's counts for this station (listed) */
-    char message[256];      /* why the loop refused the last sim_control_t */
+    char message[256];      /* why the loop refused the last sim_control_t, or what ended the flight */
+    /* the instructor's last command as the loop answered it (sim_status_t
+     * control_*): control_result DISIM_SIM_STATUS_T_CONTROL_NONE until one */
+    int64_t control_seq;
+    int control_command, control_result;
+    char control_message[256]; /* what was done, or why not */
+    double control_t_s;        /* station time the answer first arrived */
 } sim_station_view;
 /* 0 for an id the station may have, else -1 with err. */
 int sim_station_id_check(const char *id, core_err *err);
@@ -233,7 +239,8 @@ void sim_station_handle(sim_station *st);
 /* One received buffer of channel (DISIM_HELI_STATE or DISIM_SIM_STATUS,
  * as lcm_recv_buf_t holds it), what the LCM handlers call: checked with
  * disim_lcm_check_raw, decoded, its shown values checked finite, then
- * taken into the view; otherwise counted as bad with the reason. */
+ * taken into the view (its text escaped: core_escape); otherwise counted
+ * as bad with the reason. */
 void sim_station_receive(sim_station *st, const char *channel, const void *buf, int size);
 const sim_station_view *sim_station_get_view(const sim_station *st);
 /* The view as text: tty 1, a block of lines that redraws in place (ANSI:

@@ -782,15 +782,23 @@ static void rx_status(sim_station *st, const char *ch, const void *buf, int size
         v->real_time_factor = m.real_time_factor;
         v->overruns = m.overruns;
         v->state = m.state;
-        snprintf(v->scenario, sizeof v->scenario, "%s", m.scenario);
+        /* every string shown is the network's: escaped (core_escape) */
+        core_escape(m.scenario, v->scenario, sizeof v->scenario);
         v->n_stations = m.n_stations;
         v->listed = 0;
         v->stations[0] = '\0';
         v->flags = m.flags;
         v->my_received = v->my_refused = v->my_gaps = 0;
-        snprintf(v->active, sizeof v->active, "%s",
-                 m.active_station >= 0 && m.active_station < m.n_stations ? m.station_ids[m.active_station] : "");
-        snprintf(v->message, sizeof v->message, "%s", m.message);
+        core_escape(m.active_station >= 0 && m.active_station < m.n_stations ? m.station_ids[m.active_station] : "",
+                    v->active, sizeof v->active);
+        core_escape(m.message, v->message, sizeof v->message);
+        if (m.control_result != DISIM_SIM_STATUS_T_CONTROL_NONE &&
+            (m.control_seq != v->control_seq || v->control_result == DISIM_SIM_STATUS_T_CONTROL_NONE))
+            v->control_t_s = v->t_s;
+        v->control_seq = m.control_seq;
+        v->control_command = m.control_command;
+        v->control_result = m.control_result;
+        core_escape(m.control_message, v->control_message, sizeof v->control_message);
         size_t used = 0;
         for (int i = 0; i < m.n_stations; i++) {
             if (!strcmp(m.station_ids[i], st->id)) {
@@ -799,8 +807,9 @@ static void rx_status(sim_station *st, const char *ch, const void *buf, int size
                 v->my_refused = m.station_refused[i];
                 v->my_gaps = m.station_gaps[i];
             }
-            int w = snprintf(v->stations + used, sizeof v->stations - used, "%s%s", i ? ", " : "",
-                             m.station_ids[i]);
+            char idv[256];
+            core_escape(m.station_ids[i], idv, sizeof idv);
+            int w = snprintf(v->stations + used, sizeof v->stations - used, "%s%s", i ? ", " : "", idv);
             if (w < 0 || (size_t)w >= sizeof v->stations - used) {
                 used = sizeof v->stations - 1;
                 snprintf(v->stations + sizeof v->stations - 4, 4, "...");
@@ -871,6 +880,7 @@ sim_station *sim_station_create(const sim_station_opts *o, core_err *err)
     snprintf(st->id, sizeof st->id, "%s", o->id);
     st->v.id = st->id;
     st->v.last_seq = -1;
+    st->v.control_seq = -1;
     sim_station_controls_centre(&st->v.sent);
     st->lc = lcm_create(disim_lcm_url(o->lcm_url));
     if (!st->lc) {
@@ -960,15 +970,41 @@ static const char *state_name(int s)
                                              : "state ?";
 }
 
-/* The loop's flags in words ("" none). */
+/* The loop's flags in words ("" none): the gear's reports first. */
 static void flag_words(int32_t f, char *b, size_t n)
 {
-    snprintf(b, n, "%s%s%s%s%s%s%s", f & DISIM_SIM_STATUS_T_FLAG_INPUT_HELD ? " INPUT-HELD" : "",
+    snprintf(b, n, "%s%s%s%s%s%s%s%s%s%s%s", f & DISIM_SIM_STATUS_T_FLAG_CRASH ? " CRASH" : "",
+             f & DISIM_SIM_STATUS_T_FLAG_TIP_OVER ? " TIP-OVER" : "", f & DISIM_SIM_STATUS_T_FLAG_SLIDE ? " SLIDE" : "",
+             f & DISIM_SIM_STATUS_T_FLAG_INPUT_HELD ? " INPUT-HELD" : "",
              f & DISIM_SIM_STATUS_T_FLAG_CONTROLS_BLENDING ? " CONTROLS-BLENDING" : "",
              f & DISIM_SIM_STATUS_T_FLAG_FREE_STREAM ? " FREE-STREAM" : "",
              f & DISIM_SIM_STATUS_T_FLAG_FIELD_BLENDING ? " FIELD-BLENDING" : "",
              f & DISIM_SIM_STATUS_T_FLAG_PAUSED ? " PAUSED" : "", f & DISIM_SIM_STATUS_T_FLAG_REPLAY ? " REPLAY" : "",
-             f & DISIM_SIM_STATUS_T_FLAG_ROTOR_INTERACTION ? " ROTOR-INTERACTION" : "");
+             f & DISIM_SIM_STATUS_T_FLAG_ROTOR_INTERACTION ? " ROTOR-INTERACTION" : "",
+             f & DISIM_SIM_STATUS_T_FLAG_SAS_OFF ? " SAS-OFF" : "");
+}
+
+/* The instructor's last command as answered ("" none yet): the loop's
+ * words (they name the command), REFUSED before a refusal's. */
+static void ios_words(const sim_station_view *v, char *b, size_t n)
+{
+    if (n)
+        b[0] = '\0';
+    int ok = v->control_result == DISIM_SIM_STATUS_T_CONTROL_ACCEPTED;
+    if (!ok && v->control_result != DISIM_SIM_STATUS_T_CONTROL_REFUSED)
+        return;
+    if (v->control_message[0])
+        snprintf(b, n, "%s%s", ok ? "" : "REFUSED: ", v->control_message);
+    else
+        snprintf(b, n, "%s %s", sim_ios_command_name(v->control_command), ok ? "done" : "REFUSED");
+}
+
+/* The loop's message unless it is the refusal the instructor's line shows. */
+static const char *loop_message(const sim_station_view *v)
+{
+    return v->control_result == DISIM_SIM_STATUS_T_CONTROL_REFUSED && !strcmp(v->message, v->control_message)
+               ? ""
+               : v->message;
 }
 
 void sim_station_format(const sim_station_view *v, const char *source, int tty, char *buf, size_t n)
@@ -1000,6 +1036,10 @@ void sim_station_format(const sim_station_view *v, const char *source, int tty, 
                 v->listed ? " (listed)" : "", v->active[0] ? v->active : "none", flags);
         else
             out(&o, " | sim none");
+        char ios[320];
+        ios_words(v, ios, sizeof ios);
+        if (ios[0])
+            out(&o, " | instructor %s", ios);
         out(&o, " | rx heli %ld status %ld bad %ld", v->heli_rx, v->status_rx, v->bad_rx);
         if (v->bad_rx)
             out(&o, " (%s)", v->bad_last);
@@ -1039,9 +1079,16 @@ void sim_station_format(const sim_station_view *v, const char *source, int tty, 
                 (long long)v->my_refused, (long long)v->my_gaps, E);
         else
             out(&o, "              this station: not among them%s", E);
-        if (flags[0] || v->message[0])
-            out(&o, "              \033[1m%s\033[0m%s%s%s", flags + (flags[0] == ' '), v->message[0] ? "   " : "",
-                v->message, E);
+        const char *msg = loop_message(v);
+        if (flags[0] || msg[0])
+            out(&o, "              \033[1m%s\033[0m%s%s%s", flags + (flags[0] == ' '), msg[0] ? "   " : "", msg, E);
+        char ios[320];
+        ios_words(v, ios, sizeof ios);
+        if (ios[0])
+            out(&o, "  instructor  %s%s%s   (%.0f s ago)%s",
+                v->control_result == DISIM_SIM_STATUS_T_CONTROL_REFUSED ? "\033[1m" : "", ios,
+                v->control_result == DISIM_SIM_STATUS_T_CONTROL_REFUSED ? "\033[0m" : "",
+                v->t_s >= v->control_t_s ? v->t_s - v->control_t_s : 0.0, E);
     } else {
         out(&o, "  sim         (nothing on %s yet)%s", DISIM_CH_SIM_STATUS, E);
     }

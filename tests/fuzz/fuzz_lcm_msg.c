@@ -20,8 +20,9 @@
  * check_raw takes decodes to exactly its size, every string it holds ends
  * inside the message, and it encodes back to the same bytes (the check and
  * the decoder agree on the wire layout); sim_pilots's counts stay >= 0;
- * the station's line for a log holds no control character (no text from
- * the network reaches a terminal raw). */
+ * the station's line for a log holds no control character, and its
+ * terminal display no escape but its own (cursor home, clear, bold; no
+ * text from the network reaches a terminal raw). */
 #include "disim_lcm.h"
 #include "sim.h"
 
@@ -58,6 +59,21 @@ static void station_view(const char *channel, const void *buf, int size)
         if (*p < 0x20 || *p == 0x7F)
             abort(); /* a control character in the line for a log: text from the network shown raw */
     sim_station_format(v, "fuzz", 1, text, sizeof text);
+    static const char *const own[] = {"\033[H", "\033[K", "\033[J", "\033[1m", "\033[0m"};
+    for (const char *p = text; *p; p++) {
+        if (*p == '\n')
+            continue;
+        if (*p == '\033') {
+            size_t k = 0;
+            while (k < sizeof own / sizeof own[0] && strncmp(p, own[k], strlen(own[k])))
+                k++;
+            if (k == sizeof own / sizeof own[0])
+                abort(); /* an escape not the display's own: text from the network reached the terminal */
+            p += strlen(own[k]) - 1;
+        } else if ((unsigned char)*p < 0x20 || *p == 0x7F) {
+            abort(); /* a control character on the terminal */
+        }
+    }
 }
 
 /* Decode, check the strings, encode again and compare. 0 when check_raw

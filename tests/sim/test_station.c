@@ -517,6 +517,64 @@ static void test_station_rx(void)
     CHECK(strncmp(text, "\033[H", 3) == 0 && strstr(text, "height over deck   7.25 m") != NULL);
     CHECK(strstr(text, "stations (2): other, me   flying: other") != NULL && strstr(text, "w/s collective") != NULL);
     CHECK(strstr(text, "taken 2   refused 4   missing 7") != NULL);
+    CHECK(strstr(text, "instructor") == NULL); /* no command answered yet */
+
+    /* The instructor's answer as the loop sends it, and a hostile status
+     * whose strings would move the cursor or clear the pilot's screen:
+     * shown escaped, never raw (every string of a status is the network's). */
+    s.control_seq = 41;
+    s.control_command = DISIM_SIM_CONTROL_T_REPOSITION;
+    s.control_result = DISIM_SIM_STATUS_T_CONTROL_ACCEPTED;
+    s.control_message = "reposition: sfs2 in the hover at (0.00, 0.00, -10.00) m in S";
+    s.flags = DISIM_SIM_STATUS_T_FLAG_CRASH | DISIM_SIM_STATUS_T_FLAG_SAS_OFF;
+    n = disim_sim_status_t_encode(buf, 0, sizeof buf, &s);
+    sim_station_receive(st, DISIM_CH_SIM_STATUS, buf, n);
+    CHECK(v->control_seq == 41 && v->control_result == DISIM_SIM_STATUS_T_CONTROL_ACCEPTED);
+    sim_station_format(v, "keyboard", 0, text, sizeof text);
+    CHECK(strstr(text, " CRASH") != NULL && strstr(text, " SAS-OFF") != NULL);
+    CHECK(strstr(text, "| instructor reposition: sfs2 in the hover at (0.00, 0.00, -10.00) m in S |") != NULL);
+    sim_station_format(v, "keyboard", 1, text, sizeof text);
+    CHECK(strstr(text, "  instructor  reposition: sfs2 in the hover at (0.00, 0.00, -10.00) m in S   (0 s ago)") != NULL);
+    CHECK(strstr(text, "CRASH SAS-OFF") != NULL);
+    char *evil_ids[2] = {"other\033]0;owned\007", "me"};
+    s.station_ids = evil_ids;
+    s.scenario = "sfs2\033[2J";
+    s.message = "\033[31mred";
+    s.control_seq = 42;
+    s.control_command = DISIM_SIM_CONTROL_T_SET_WOD;
+    s.control_result = DISIM_SIM_STATUS_T_CONTROL_REFUSED;
+    s.control_message = "no\rway\033[H";
+    n = disim_sim_status_t_encode(buf, 0, sizeof buf, &s);
+    sim_station_receive(st, DISIM_CH_SIM_STATUS, buf, n);
+    CHECK(v->status_rx == 3 && !strcmp(v->active, "other\\x1b]0;owned\\x07"));
+    CHECK(!strcmp(v->scenario, "sfs2\\x1b[2J") && !strcmp(v->message, "\\x1b[31mred"));
+    CHECK(strstr(v->stations, "other\\x1b]0;owned\\x07, me") != NULL);
+    sim_station_format(v, "keyboard", 0, text, sizeof text);
+    CHECK(strstr(text, "| instructor REFUSED: no\\x0dway\\x1b[H |") != NULL);
+    for (const char *c = text; *c; c++)
+        CHECK(*c >= 0x20 && *c != 0x7f);
+    sim_station_format(v, "keyboard", 1, text, sizeof text);
+    /* the escapes on a tty are the display's own: cursor home, bold, clear
+     * to the end of a line and below */
+    size_t esc = 0;
+    for (const char *c = text; (c = strchr(c, '\033')); c++)
+        esc += !strncmp(c, "\033[H", 3) || !strncmp(c, "\033[K", 3) || !strncmp(c, "\033[J", 3) ||
+               !strncmp(c, "\033[1m", 4) || !strncmp(c, "\033[0m", 4);
+    size_t all = 0;
+    for (const char *c = text; (c = strchr(c, '\033')); c++)
+        all++;
+    CHECK(esc == all && all > 0);
+    CHECK(strchr(text, '\r') == NULL && strchr(text, '\007') == NULL);
+    /* a refusal is the loop's message too: shown once, on the instructor's line */
+    s.station_ids = ids;
+    s.scenario = "sfs2";
+    s.message = s.control_message = "set wod refused: WOD 99 m/s";
+    s.control_seq = 43;
+    n = disim_sim_status_t_encode(buf, 0, sizeof buf, &s);
+    sim_station_receive(st, DISIM_CH_SIM_STATUS, buf, n);
+    sim_station_format(v, "keyboard", 1, text, sizeof text);
+    const char *first = strstr(text, "WOD 99 m/s");
+    CHECK(first && strstr(first + 1, "WOD 99 m/s") == NULL && strstr(text, "instructor  \033[1mREFUSED: set wod") != NULL);
     sim_station_destroy(st);
 }
 
