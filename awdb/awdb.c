@@ -191,21 +191,6 @@ void awdb_close(awdb *db)
 
 const char *awdb_dir(const awdb *db) { return db->dir; }
 
-/* CRC-64/ECMA-182 in its reflected form (as xz uses): polynomial
- * 0xC96C5795D7870F42; the table is filled once for all threads. */
-static uint64_t crc_tab[256];
-static pthread_once_t crc_once = PTHREAD_ONCE_INIT;
-
-static void crc_init(void)
-{
-    for (int i = 0; i < 256; i++) {
-        uint64_t c = (uint64_t)i;
-        for (int k = 0; k < 8; k++)
-            c = (c & 1) ? (c >> 1) ^ 0xC96C5795D7870F42ULL : c >> 1;
-        crc_tab[i] = c;
-    }
-}
-
 /* awdb_file_crc64 that tells a missing file (-1) from one it could not read
  * (-2: too many open files, an I/O error): verify_field removes a field as
  * corrupt only on evidence, never because a check could not run. */
@@ -214,21 +199,18 @@ static int file_crc64(const char *path, uint64_t *crc, uint64_t *size, core_err 
     FILE *f = fopen(path, "rb");
     if (!f)
         return core_err_set(err, errno == ENOENT ? -1 : -2, "%s: cannot open: %s", path, strerror(errno));
-    pthread_once(&crc_once, crc_init);
-    const uint64_t *t = crc_tab;
-    uint64_t c = ~0ULL, total = 0;
+    uint64_t c = 0, total = 0;
     unsigned char buf[1 << 16];
     size_t got;
     while ((got = fread(buf, 1, sizeof buf, f)) > 0) {
-        for (size_t i = 0; i < got; i++)
-            c = t[(c ^ buf[i]) & 0xff] ^ (c >> 8);
+        c = core_crc64(c, buf, got);
         total += got;
     }
     int bad = ferror(f);
     fclose(f);
     if (bad)
         return core_err_set(err, -2, "%s: read error", path);
-    *crc = ~c;
+    *crc = c;
     *size = total;
     return 0;
 }

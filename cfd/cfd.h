@@ -321,6 +321,9 @@ typedef struct cfd_meta {
                          opposite direction (cfd_field_mirror_y); result is that field's */
     int checksum;     /* cfd_field_load: 1 when the file carries data_crc64 and the data match
                          it; 0 for a field written before files carried one (read as it is) */
+    int sealed;       /* cfd_field_load: 1 when the file's seal (its size and CRC-64 in its
+                         first 512 bytes, cfd_field_seal) held; 0 for a field written before
+                         fields were sealed (read as it is) */
     /* the engine that solved the field and its version: "" writes "embedded"
      * and CFD_VERSION (a field without them reads back so); "openfoam" and
      * e.g. "v1912" for the OpenFOAM engine (foam.h), whose result.residual[]
@@ -337,8 +340,9 @@ typedef struct cfd_meta {
     double rotor_force_N, rotor_torque_Nm;
 } cfd_meta;
 
-/* Write the field to path (HDF5) and path with .xmf (XDMF side file), each
- * through a temporary file and a rename. Refuses (< 0) a state with a NaN. */
+/* Write the field to path (HDF5, sealed: cfd_field_seal) and path with
+ * .xmf (XDMF side file), each through a temporary file and a rename.
+ * Refuses (< 0) a state with a NaN. */
 int cfd_solver_write(const cfd_solver *s, const cfd_meta *meta, const char *path, core_err *err);
 
 /* A loaded field: grid, u v w p k eps nut and metadata. */
@@ -366,6 +370,13 @@ const cfd_meta *cfd_field_meta(const cfd_field *f);
 /* Write a loaded (or mirrored) field, as cfd_solver_write does (temporary
  * file and rename; no residual history). */
 int cfd_field_write(const cfd_field *f, const char *path, core_err *err);
+/* Seal a field file again: the header in its first 512 bytes (HDF5's user
+ * block, which the writers reserve) made to hold the file's size and the
+ * CRC-64 of the rest as they are now. The writers seal every field; a
+ * field changed in place since (through HDF5: h5py, a test) is refused by
+ * cfd_field_load until it is sealed again. < 0 with err for a file without
+ * that user block. */
+int cfd_field_seal(const char *path, core_err *err);
 /* The port-starboard mirror image (y -> -y, v -> -v) of a ship-only field:
  * for a ship symmetric about its centre line (core_ship_mirror_symmetric)
  * the steady RANS solution for a wind from green D is the mirror of the one

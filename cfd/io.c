@@ -5,7 +5,9 @@
  * (uint8, nz x ny x nx), /fields/{u,v,w,p,k,epsilon,nu_t} (float64,
  * nz x ny x nx, x fastest; cell centred; m/s, Pa, m^2/s^2, m^2/s^3, m^2/s),
  * /residuals (iterations x 5: continuity, u, v, w, k, normalised), root
- * attributes for the metadata. The XDMF file describes a 3DRectMesh with
+ * attributes for the metadata, after a 512-byte user block holding the
+ * file's seal (its size and CRC-64, checked before HDF5 opens it: below).
+ * The XDMF file describes a 3DRectMesh with
  * cell-centred attributes so ParaView opens it; coordinates stay in frame
  * S (z down, not flipped), which the file states. Both files are written to
  * a temporary name and renamed, so a reader never sees half a field.
@@ -120,49 +122,119 @@ static int write_xmf(const char *tmp, const char *h5name, const int n[3])
 
 /* The whole file, from either a solver or a loaded field: grid, arrays,
  * optional residual history (nh rows), metadata. */
-/* CRC-64/XZ (polynomial 0x42F0E1EBA9EA3693 reflected) of bytes, carried on
- * from crc (start at 0). The table is made per field, on the stack. */
-typedef struct crc64 {
-    uint64_t t[256], c;
-} crc64;
-
-static void crc64_init(crc64 *k)
-{
-    for (unsigned i = 0; i < 256; i++) {
-        uint64_t r = i;
-        for (int b = 0; b < 8; b++)
-            r = r & 1 ? (r >> 1) ^ 0xC96C5795D7870F42ULL : r >> 1;
-        k->t[i] = r;
-    }
-    k->c = ~0ULL;
-}
-
-static void crc64_add(crc64 *k, const void *data, size_t n)
-{
-    const unsigned char *p = data;
-    uint64_t c = k->c;
-    for (size_t i = 0; i < n; i++)
-        c = k->t[(c ^ p[i]) & 0xFF] ^ (c >> 8);
-    k->c = c;
-}
-
 /* The checksum a field file carries in its data_crc64 attribute: the
  * nodes, the solid flags and every variable, as stored (little-endian
- * doubles on the machines disim runs on). */
+ * doubles on the machines disim runs on), CRC-64/XZ (core_crc64). */
 static uint64_t field_crc(const cfd_grid *g, double *const *var)
 {
-    crc64 *k = malloc(sizeof *k);
-    if (!k)
-        return 0;
-    crc64_init(k);
+    uint64_t c = 0;
     for (int d = 0; d < 3; d++)
-        crc64_add(k, g->xn[d], ((size_t)g->n[d] + 1) * sizeof(double));
-    crc64_add(k, g->solid, g->ncell);
+        c = core_crc64(c, g->xn[d], ((size_t)g->n[d] + 1) * sizeof(double));
+    c = core_crc64(c, g->solid, g->ncell);
     for (int v = 0; v < CFD_NVARS; v++)
-        crc64_add(k, var[v], g->ncell * sizeof(double));
-    uint64_t c = ~k->c;
-    free(k);
+        c = core_crc64(c, var[v], g->ncell * sizeof(double));
     return c;
+}
+
+/* The seal. A field file begins with HDF5's user block of SEAL_BYTES,
+ * which HDF5 leaves to its user (the superblock follows it; HDF5 User's
+ * Guide, "User block"), holding a text header, NUL-padded:
+ *     disim airwake field
+ *     bytes N
+ *     crc64 HHHHHHHHHHHHHHHH
+ * N the file's size and H the CRC-64/XZ of every byte after the user
+ * block. The loader checks both before HDF5 reads a byte: a file cut
+ * short, bit rot or a stray write is refused with its name, and libhdf5
+ * (whose parser is not safe on a damaged file: docs/validation.md,
+ * Fuzzing) never sees one. A file with HDF5's signature at its start (a
+ * field written before fields were sealed) is read unsealed. */
+#define SEAL_BYTES 512
+static const char seal_magic[] = "disim airwake field\n";
+static const unsigned char hdf5_sig[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+
+/* CRC-64 of fp's bytes from SEAL_BYTES to its end, and their count: 0, or
+ * -1 on a read error. */
+static int crc_after_seal(FILE *fp, uint64_t *crc, unsigned long long *bytes)
+{
+    unsigned char buf[1 << 16];
+    uint64_t c = 0;
+    unsigned long long n = 0;
+    size_t got;
+    if (fseek(fp, SEAL_BYTES, SEEK_SET) != 0)
+        return -1;
+    while ((got = fread(buf, 1, sizeof buf, fp)) > 0) {
+        c = core_crc64(c, buf, got);
+        n += got;
+    }
+    if (ferror(fp))
+        return -1;
+    *crc = c;
+    *bytes = n;
+    return 0;
+}
+
+int cfd_field_seal(const char *path, core_err *err)
+{
+    FILE *fp = fopen(path, "r+b");
+    if (!fp)
+        return core_err_set(err, -1, "%s: cannot open to seal: %s", path, strerror(errno));
+    unsigned char sig[8];
+    uint64_t crc = 0;
+    unsigned long long rest = 0;
+    int rc = 0;
+    if (fseek(fp, SEAL_BYTES, SEEK_SET) != 0 || fread(sig, 1, sizeof sig, fp) != sizeof sig ||
+        memcmp(sig, hdf5_sig, sizeof sig) != 0)
+        rc = core_err_set(err, -1, "%s: no HDF5 superblock after a user block of %d bytes: not a field cfd wrote",
+                          path, SEAL_BYTES);
+    else if (crc_after_seal(fp, &crc, &rest) != 0)
+        rc = core_err_set(err, -1, "%s: read error while sealing", path);
+    char head[SEAL_BYTES];
+    memset(head, 0, sizeof head);
+    snprintf(head, sizeof head, "%sbytes %llu\ncrc64 %016llx\n", seal_magic, rest + SEAL_BYTES,
+             (unsigned long long)crc);
+    if (!rc && (fseek(fp, 0, SEEK_SET) != 0 || fwrite(head, 1, sizeof head, fp) != sizeof head))
+        rc = core_err_set(err, -1, "%s: cannot write its seal: %s", path, strerror(errno));
+    if (fclose(fp) != 0 && !rc)
+        rc = core_err_set(err, -1, "%s: cannot write its seal: %s", path, strerror(errno));
+    return rc;
+}
+
+/* The seal of the file at path (size bytes) checked: 1 sealed and whole,
+ * 0 unsealed (HDF5's signature at its start), < 0 with err. */
+static int seal_check(const char *path, unsigned long long size, core_err *err)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return core_err_set(err, -1, "%s: cannot open: %s", path, strerror(errno));
+    char head[SEAL_BYTES + 1];
+    size_t got = fread(head, 1, SEAL_BYTES, fp);
+    head[got] = '\0';
+    int rc;
+    unsigned long long want_bytes = 0, want_crc = 0, bytes = 0;
+    uint64_t crc = 0;
+    int used = 0;
+    if (got >= sizeof hdf5_sig && memcmp(head, hdf5_sig, sizeof hdf5_sig) == 0)
+        rc = 0;
+    else if (got < sizeof seal_magic - 1 || memcmp(head, seal_magic, sizeof seal_magic - 1) != 0)
+        rc = core_err_set(err, -1, "%s: not an HDF5 file (neither a disim field's header nor HDF5's signature at "
+                                   "its start)", path);
+    else if (sscanf(head + sizeof seal_magic - 1, "bytes %llu\ncrc64 %16llx\n%n", &want_bytes, &want_crc, &used) != 2 ||
+             used == 0)
+        rc = core_err_set(err, -1, "%s: a damaged field header (expected 'bytes N' and 'crc64 H' after '%.19s')",
+                          path, seal_magic);
+    else if (want_bytes != size)
+        rc = core_err_set(err, -1, "%s: %llu bytes, its header says %llu: cut short or written past its end "
+                                   "(a damaged field; build it again)", path, size, want_bytes);
+    else if (crc_after_seal(fp, &crc, &bytes) != 0)
+        rc = core_err_set(err, -1, "%s: read error while checking its seal", path);
+    else if (crc != want_crc || bytes + SEAL_BYTES != size)
+        rc = core_err_set(err, -1, "%s: the file does not match its checksum (crc64 %016llx in its header, the file "
+                                   "gives %016llx): a damaged field, build it again", path, want_crc,
+                          (unsigned long long)crc);
+    else
+        rc = 1;
+    fclose(fp);
+    return rc;
 }
 
 static int write_field(const cfd_grid *g, double *const *var, const double *hist, int nh, double rho,
@@ -179,7 +251,14 @@ static int write_field(const cfd_grid *g, double *const *var, const double *hist
     xmf_path(path, xmf, sizeof xmf);
     snprintf(xtmp, sizeof xtmp, "%s.tmp.%ld", xmf, (long)getpid());
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
-    hid_t f = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
+    if (fcpl < 0 || H5Pset_userblock(fcpl, SEAL_BYTES) < 0) {
+        if (fcpl >= 0)
+            H5Pclose(fcpl);
+        return core_err_set(err, -1, "%s: cannot create (HDF5: the user block)", tmp);
+    }
+    hid_t f = H5Fcreate(tmp, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+    H5Pclose(fcpl);
     if (f < 0)
         return core_err_set(err, -1, "%s: cannot create (HDF5)", tmp);
     int rc = 0;
@@ -249,6 +328,10 @@ static int write_field(const cfd_grid *g, double *const *var, const double *hist
     if (rc) {
         unlink(tmp);
         return core_err_set(err, -1, "%s: HDF5 write failed", tmp);
+    }
+    if (cfd_field_seal(tmp, err) != 0) {
+        unlink(tmp);
+        return -1;
     }
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
@@ -483,6 +566,9 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
         core_err_set(err, -1, "%s: cannot read the file", path);
         return NULL;
     }
+    int sealed = seal_check(path, (unsigned long long)st.st_size, err);
+    if (sealed < 0)
+        return NULL;
     hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0) {
         /* the signature is at the start: a file cut short still has it */
@@ -666,6 +752,7 @@ cfd_field *cfd_field_load(const char *path, core_err *err)
         }
         m->checksum = 1;
     }
+    m->sealed = sealed;
     for (int d = 0; d < 3; d++)
         free(xn[d]);
     H5Fclose(f);

@@ -18,6 +18,7 @@
 #define DISIM_CORE_H
 
 #include <stddef.h>
+#include <stdint.h>
 #include <stdarg.h>
 
 #ifdef __cplusplus
@@ -206,6 +207,10 @@ int core_sync_path(const char *path);
  * on. Idempotent (a backslash is kept). Returns the length written.
  * core_err_set and core_log_msg apply it to every message. */
 size_t core_escape(const char *in, char *out, size_t n);
+/* CRC-64/XZ of n bytes carried on from crc (0 to start; the result of
+ * the bytes before to go on): core_crc64(core_crc64(0, a, na), b, nb) is
+ * the checksum of a then b. */
+uint64_t core_crc64(uint64_t crc, const void *data, size_t n);
 
 /* ------------------------------------------------------------ input files */
 struct stat;

@@ -319,6 +319,81 @@ static void test_meta(cfd_meta *meta, const char *ship, double speed_mps, double
         meta->result = *res;
 }
 
+/* A byte of the file at path at offset set to v (SEEK_END when offset < 0). */
+static void poke(const char *path, long offset, int v)
+{
+    FILE *fp = fopen(path, "r+b");
+    CHECK(fp != NULL);
+    if (!fp)
+        return;
+    CHECK(fseek(fp, offset, offset < 0 ? SEEK_END : SEEK_SET) == 0);
+    CHECK(fputc(v, fp) == v);
+    fclose(fp);
+}
+
+/* The file's seal (cfd_field_seal): its header, and every kind of damage
+ * refused with the file's name before HDF5 reads it. f: a loaded field;
+ * path: where to write it. */
+static void test_seal(const cfd_field *f, const char *path)
+{
+    core_err err = {0};
+    CHECK(cfd_field_write(f, path, &err) == 0);
+    cfd_field *g = cfd_field_load(path, &err);
+    CHECK(g && cfd_field_meta(g)->sealed == 1 && cfd_field_meta(g)->checksum == 1);
+    cfd_field_destroy(g);
+    struct stat st;
+    CHECK(stat(path, &st) == 0);
+    char head[64] = "";
+    FILE *fp = fopen(path, "rb");
+    CHECK(fp && fread(head, 1, sizeof head - 1, fp) == sizeof head - 1);
+    if (fp)
+        fclose(fp);
+    char want[64];
+    snprintf(want, sizeof want, "disim airwake field\nbytes %lld\ncrc64 ", (long long)st.st_size);
+    CHECK(strncmp(head, want, strlen(want)) == 0);
+    /* one byte of the data changed (bit rot, a stray write) */
+    long mid = (long)st.st_size / 2;
+    fp = fopen(path, "rb");
+    int was = fp && fseek(fp, mid, SEEK_SET) == 0 ? fgetc(fp) : -1;
+    if (fp)
+        fclose(fp);
+    poke(path, mid, was ^ 0x10);
+    CHECK(cfd_field_load(path, &err) == NULL && strstr(err.msg, path) &&
+          strstr(err.msg, "the file does not match its checksum (crc64 ") != NULL);
+    poke(path, mid, was);
+    g = cfd_field_load(path, &err);
+    CHECK(g != NULL);
+    cfd_field_destroy(g);
+    /* cut short, or a byte appended */
+    fp = fopen(path, "rb");
+    int last = fp && fseek(fp, -1, SEEK_END) == 0 ? fgetc(fp) : -1;
+    if (fp)
+        fclose(fp);
+    CHECK(truncate(path, st.st_size - 1) == 0);
+    CHECK(cfd_field_load(path, &err) == NULL && strstr(err.msg, "cut short or written past its end") != NULL);
+    CHECK(truncate(path, st.st_size + 1) == 0);
+    CHECK(cfd_field_load(path, &err) == NULL && strstr(err.msg, "its header says") != NULL);
+    CHECK(truncate(path, st.st_size) == 0);
+    poke(path, -1, last); /* the byte cut, back */
+    CHECK((g = cfd_field_load(path, &err)) != NULL);
+    cfd_field_destroy(g);
+    /* the header itself damaged: its size line, its first byte */
+    poke(path, 20, 'X');
+    CHECK(cfd_field_load(path, &err) == NULL && strstr(err.msg, "a damaged field header") != NULL);
+    poke(path, 20, 'b');
+    poke(path, 0, 'D');
+    CHECK(cfd_field_load(path, &err) == NULL && strstr(err.msg, "not an HDF5 file") != NULL);
+    poke(path, 0, 'd');
+    CHECK((g = cfd_field_load(path, &err)) != NULL);
+    cfd_field_destroy(g);
+    /* a file without the user block cannot be sealed */
+    fp = fopen(path, "wb");
+    CHECK(fp && fputs("\x89HDF\r\n\x1a\n not sealable", fp) >= 0);
+    if (fp)
+        fclose(fp);
+    CHECK(cfd_field_seal(path, &err) < 0 && strstr(err.msg, "no HDF5 superblock after a user block of 512 bytes"));
+}
+
 static void test_io(void)
 {
     core_err err;
@@ -355,6 +430,9 @@ static void test_io(void)
         CHECK(h >= 0 && H5Adelete(h, "mean_change") >= 0);
         if (h >= 0)
             H5Fclose(h);
+        /* changed in place through HDF5: refused until sealed again */
+        CHECK(cfd_field_load(path, &err) == NULL && strstr(err.msg, "does not match its checksum") != NULL);
+        CHECK(cfd_field_seal(path, &err) == 0);
         cfd_field *old = cfd_field_load(path, &err);
         CHECK(old != NULL && cfd_field_meta(old)->result.mean_change == -1.0);
         cfd_field_destroy(old);
@@ -383,6 +461,7 @@ static void test_io(void)
             H5Dclose(du);
         if (hc >= 0)
             H5Fclose(hc);
+        CHECK(cfd_field_seal(cpath, &err) == 0);
         err.msg[0] = '\0';
         CHECK(cfd_field_load(cpath, &err) == NULL);
         CHECK(strstr(err.msg, "crc.h5: the data do not match the file's checksum (data_crc64 ") != NULL);
@@ -390,9 +469,11 @@ static void test_io(void)
         CHECK(hc >= 0 && H5Adelete(hc, "data_crc64") >= 0);
         if (hc >= 0)
             H5Fclose(hc);
+        CHECK(cfd_field_seal(cpath, &err) == 0);
         cfd_field *nocrc = cfd_field_load(cpath, &err);
         CHECK(nocrc != NULL && cfd_field_meta(nocrc)->checksum == 0);
         cfd_field_destroy(nocrc);
+        test_seal(f, cpath);
         unlink(cpath);
         unlink(cxmf);
         /* what is not a regular file is refused before HDF5 opens it */
@@ -632,10 +713,12 @@ static void test_io_bad(void)
         return;
     char path[512];
     snprintf(path, sizeof path, "%s/f.h5", d);
-    /* the writer here makes a field the loader takes */
+    /* the writer here makes a field the loader takes: an unsealed one (no
+     * user block, HDF5's signature at its start), as fields were written
+     * before they were sealed */
     CHECK(write_raw_field(path, BAD_NONE) == 0);
     cfd_field *f = cfd_field_load(path, &err);
-    CHECK(f != NULL);
+    CHECK(f != NULL && cfd_field_meta(f)->sealed == 0);
     if (!f)
         fprintf(stderr, "  %s\n", err.msg);
     if (f) {
