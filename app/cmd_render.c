@@ -185,7 +185,7 @@ static int overlay_field(const render_args *a, app_scene *s, core_err *err)
         sim_scenario *sc = malloc(sizeof *sc);
         if (!sc)
             return core_err_set(err, -1, "out of memory");
-        if (sim_scenario_load(s->info.scenario_path, sc, err) != 0) {
+        if (sim_scenario_load(s->run.info.scenario_path, sc, err) != 0) {
             free(sc);
             return -1;
         }
@@ -196,14 +196,15 @@ static int overlay_field(const render_args *a, app_scene *s, core_err *err)
             return -1;
         }
         awdb_key k;
-        awdb_key_ship_only(&k, sc->ship.name, sc->aircraft_name, AWDB_SHIP_ONLY_REF_MPS, s->info.wod_dir_rad, sc->grid);
+        awdb_key_ship_only(&k, sc->ship.name, sc->aircraft_name, AWDB_SHIP_ONLY_REF_MPS, s->run.info.wod_dir_rad,
+                           sc->grid);
         char path[1024];
         int rc = awdb_key_canon(&k, err);
         if (rc == 0 && awdb_query(db, &k, path, sizeof path) != AWDB_READY)
             rc = core_err_set(err, -1,
                               "--overlay airwake: no ship-only field of %s for %.0f deg in %s: build it (disim "
                               "airwaked) or give --field F.h5",
-                              sc->ship.name, s->info.wod_dir_rad * CORE_RAD_TO_DEG, dbdir);
+                              sc->ship.name, s->run.info.wod_dir_rad * CORE_RAD_TO_DEG, dbdir);
         awdb_close(db);
         free(sc);
         if (rc != 0 || !(f = cfd_field_load(path, err)))
@@ -338,7 +339,7 @@ static int render_log(const render_args *a)
     }
     if (!(rc = render_create(a->w, a->h, &err)))
         goto fail;
-    fprintf(stderr, "render: %s, %.2f to %.2f s, %ld frames at %g frames/s, %dx%d, into %s\n", s.title, t0, t1, n,
+    fprintf(stderr, "render: %s, %.2f to %.2f s, %ld frames at %g frames/s, %dx%d, into %s\n", s.run.name, t0, t1, n,
             a->fps, a->w, a->h, a->out);
     double wall0 = core_monotonic_s();
     int ncam = 0;

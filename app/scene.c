@@ -26,27 +26,15 @@ static int scene_air(void *user, const double p_S_m[3], double v_S_mps[3])
 int app_scene_open(app_scene *s, const sim_run_info *ri, unsigned overlays, const core_log *log, core_err *err)
 {
     memset(s, 0, sizeof *s);
-    s->info = *ri;
-    if (core_ship_load(ri->ship_path, &s->ship, err) != 0)
+    if (sim_run_scene_open(&s->run, ri, log, err) != 0)
         return -1;
-    if (!(s->ac = hfm_aircraft_load(ri->aircraft_path, log, err)))
-        return -1;
-    hfm_aircraft_geometry(s->ac, &s->geom);
-    if (!(s->sea = sim_world_seaway(&s->ship, &ri->sea, ri->seed, err))) {
-        app_scene_close(s);
-        return -1;
-    }
-    char wod[48];
-    core_wod_label(ri->wod_speed_mps, ri->wod_dir_rad * CORE_RAD_TO_DEG, wod, sizeof wod);
-    snprintf(s->title, sizeof s->title, "%s + %s, %s, sea state %d", s->ship.name, hfm_aircraft_name(s->ac), wod,
-             ri->sea.state);
     render_scene *sc = &s->scene;
-    sc->ship = &s->ship;
-    sc->heli = &s->geom;
+    sc->ship = &s->run.ship;
+    sc->heli = &s->run.geom;
     sc->sea = sim_ship_motion_elevation;
-    sc->sea_user = s->sea;
+    sc->sea_user = s->run.sea;
     sc->overlays = overlays;
-    sc->title = s->title;
+    sc->title = s->run.name;
     sc->air_ref_mps = ri->wod_speed_mps > 0.5 ? ri->wod_speed_mps : 1.0;
     return 0;
 }
@@ -55,9 +43,9 @@ int app_scene_set_field(app_scene *s, struct cfd_field *field, core_err *err)
 {
     sim_air_opts ao;
     sim_air_opts_default(&ao);
-    ao.wod_speed_mps = s->info.wod_speed_mps;
-    ao.wod_dir_rad = s->info.wod_dir_rad;
-    ao.deck_height_m = s->ship.deck_height_m;
+    ao.wod_speed_mps = s->run.info.wod_speed_mps;
+    ao.wod_dir_rad = s->run.info.wod_dir_rad;
+    ao.deck_height_m = s->run.ship.deck_height_m;
     sim_air_destroy(s->air);
     if (!(s->air = sim_air_create(&ao, err)) || sim_air_set_field(s->air, field, -1e9, err) != 0)
         return -1;
@@ -71,8 +59,7 @@ void app_scene_close(app_scene *s)
 {
     sim_air_destroy(s->air);
     cfd_field_destroy(s->field);
-    sim_ship_motion_destroy(s->sea);
-    hfm_aircraft_destroy(s->ac);
+    sim_run_scene_close(&s->run);
     memset(s, 0, sizeof *s);
 }
 
@@ -80,13 +67,6 @@ static void pose_from(core_pose *p, const double pos[3], core_quat q)
 {
     p->pos_E_m = core_vec3_make(pos[0], pos[1], pos[2]);
     p->q_EF = q;
-}
-
-/* The blades' azimuth at t: omega t, turning the rotor's way. */
-static double azimuth(const app_scene *s, double t_s)
-{
-    double a = fmod(s->geom.rotor_omega_radps * t_s, 2.0 * CORE_PI);
-    return s->geom.rotor_ccw ? a : -a;
 }
 
 void app_render_state_from_flight(const app_scene *s, const sim_flight_out *o, render_state *rs)
@@ -112,7 +92,7 @@ void app_render_state_from_flight(const app_scene *s, const sim_flight_out *o, r
     rs->n_gear = o->nlegs < RENDER_MAX_LEGS ? o->nlegs : RENDER_MAX_LEGS;
     for (int i = 0; i < rs->n_gear; i++)
         rs->gear_load_N[i] = o->gear_load_N[i];
-    rs->rotor_azimuth_rad = azimuth(s, o->t_s);
+    rs->rotor_azimuth_rad = render_rotor_azimuth(&s->run.geom, o->t_s);
     rs->flags = (o->on_deck ? (unsigned)DISIM_SIM_STATUS_T_FLAG_ON_DECK : 0u) |
                 (o->contact_flags & SIM_CONTACT_SLIDE ? (unsigned)DISIM_SIM_STATUS_T_FLAG_SLIDE : 0u) |
                 (o->contact_flags & SIM_CONTACT_TIP ? (unsigned)DISIM_SIM_STATUS_T_FLAG_TIP_OVER : 0u) |
@@ -135,7 +115,7 @@ void app_render_state_from_log(const app_scene *s, const sim_log_state *l, rende
     rs->on_deck = l->on_deck;
     rs->n_gear = l->n_gear < RENDER_MAX_LEGS ? l->n_gear : RENDER_MAX_LEGS;
     memcpy(rs->gear_load_N, l->gear_load_N, sizeof rs->gear_load_N);
-    rs->rotor_azimuth_rad = azimuth(s, l->t_s);
+    rs->rotor_azimuth_rad = render_rotor_azimuth(&s->run.geom, l->t_s);
     rs->flags = l->on_deck ? (unsigned)DISIM_SIM_STATUS_T_FLAG_ON_DECK : 0u;
 }
 
@@ -143,7 +123,7 @@ double app_scene_check_log(const app_scene *s, const sim_log *log)
 {
     sim_log_summary info;
     sim_log_info(log, &info);
-    double rate = s->info.state_rate_hz > 0.0 ? s->info.state_rate_hz : 50.0, worst = 0.0;
+    double rate = s->run.info.state_rate_hz > 0.0 ? s->run.info.state_rate_hz : 50.0, worst = 0.0;
     long n = (long)llround((info.t1_s - info.t0_s) * rate);
     for (int k = 0; k <= 20; k++) {
         /* at the samples' own times: between them the log is linear */
@@ -151,7 +131,7 @@ double app_scene_check_log(const app_scene *s, const sim_log *log)
         sim_log_state l;
         sim_ship_state ss;
         sim_log_state_at(log, t, &l);
-        if (sim_ship_motion_at(s->sea, t, &ss) != 0)
+        if (sim_ship_motion_at(s->run.sea, t, &ss) != 0)
             return INFINITY;
         worst = fmax(worst, core_vec3_norm(core_vec3_sub(l.ship.pos_E_m, ss.pose.pos_E_m)));
     }

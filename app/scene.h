@@ -9,15 +9,10 @@
 #include "sim.h"
 
 typedef struct app_scene {
-    sim_run_info info;          /* what the run was flown from */
-    core_ship ship;
-    hfm_aircraft *ac;
-    hfm_geometry geom;
-    sim_ship_motion *sea;       /* the seaway drawn: its own, never the flight's */
+    sim_run_scene run;          /* what the run was flown from, its ship, aircraft and seaway (its own) */
     sim_air *air;               /* the airwake overlay's air (NULL: none) */
     struct cfd_field *field;    /* its field (owned) */
     render_scene scene;         /* points into this struct: do not copy an open app_scene */
-    char title[200];
 } app_scene;
 
 /* The scene of run ri (its ship and aircraft files loaded, its seaway

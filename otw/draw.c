@@ -13,13 +13,6 @@
 #include <math.h>
 #include <string.h>
 
-/* The blades' azimuth at t: omega t, turning the rotor's way. */
-static double azimuth(const hfm_geometry *g, double t_s)
-{
-    double a = fmod(g->rotor_omega_radps * t_s, 2.0 * CORE_PI);
-    return g->rotor_ccw ? a : -a;
-}
-
 /* The loop's run information (newer than the scene's): the scene it names,
  * or the old one kept with the reason counted as a refusal. Under mu. */
 static void take_run_info(otw *w)
@@ -49,10 +42,10 @@ static int draw_one(otw *w, render_ctx *rc, render_state *s, render_camera_kind 
                     uint8_t *img, double t[2], core_err *err)
 {
     otw_scene *sc = &w->scene;
-    s->rotor_azimuth_rad = azimuth(&sc->geom, s->t_s);
+    s->rotor_azimuth_rad = render_rotor_azimuth(&sc->run.geom, s->t_s);
     render_view v;
     if (render_camera_place(cam, &sc->sc, s, &v, err) != 0) {
-        if (cam != RENDER_CAM_PILOT || sc->geom.has_eye)
+        if (cam != RENDER_CAM_PILOT || sc->run.geom.has_eye)
             return -1;
         /* an aircraft file without the pilot's eye: the chase camera */
         cam = RENDER_CAM_CHASE;
@@ -61,7 +54,7 @@ static int draw_one(otw *w, render_ctx *rc, render_state *s, render_camera_kind 
             return -1;
     }
     snprintf(sc->title, sizeof sc->title, "%s%s%s  %s", stats, stats[0] ? "  " : "", render_camera_name(cam),
-             sc->name);
+             sc->run.name);
     t[0] = core_monotonic_s();
     int rc_ = render_frame(rc, &sc->sc, s, &v, img, err);
     t[1] = core_monotonic_s();

@@ -15,13 +15,8 @@
  * used by the drawing thread alone). */
 typedef struct otw_scene {
     int open;
-    sim_run_info info;
-    core_ship ship;
-    hfm_aircraft *ac;
-    hfm_geometry geom;
-    sim_ship_motion *sea;
+    sim_run_scene run; /* ship, aircraft, seaway; run.name: ship + aircraft, WOD, sea state */
     render_scene sc;
-    char name[160];   /* ship + aircraft, WOD, sea state */
     char title[256];  /* the strip's first line: the frame rate, the latency, the name */
 } otw_scene;
 int otw_scene_open(otw_scene *s, const sim_run_info *ri, unsigned overlays, core_err *err);

@@ -1,7 +1,7 @@
-/* scene.c -- what the view draws: a run's ship, aircraft and seaway as a
- * render_scene (the seaway its own, rebuilt from the run's ship, sea and
- * seed as the flight's is, sim_world_seaway: the sea the ship moves in),
- * and the samples behind the frame rate and latency figures. */
+/* scene.c -- what the view draws: a run's ship, aircraft and seaway
+ * (sim_run_scene: the seaway its own, rebuilt as the flight's is) as a
+ * render_scene, and the samples behind the frame rate and latency
+ * figures. */
 #include "otw_priv.h"
 
 #include <math.h>
@@ -11,21 +11,9 @@
 int otw_scene_open(otw_scene *s, const sim_run_info *ri, unsigned overlays, core_err *err)
 {
     memset(s, 0, sizeof *s);
-    s->info = *ri;
-    if (core_ship_load(ri->ship_path, &s->ship, err) != 0)
+    if (sim_run_scene_open(&s->run, ri, NULL, err) != 0)
         return -1;
-    if (!(s->ac = hfm_aircraft_load(ri->aircraft_path, NULL, err)))
-        return -1;
-    hfm_aircraft_geometry(s->ac, &s->geom);
-    if (!(s->sea = sim_world_seaway(&s->ship, &ri->sea, ri->seed, err))) {
-        otw_scene_close(s);
-        return -1;
-    }
-    char wod[48];
-    core_wod_label(ri->wod_speed_mps, ri->wod_dir_rad * CORE_RAD_TO_DEG, wod, sizeof wod);
-    snprintf(s->name, sizeof s->name, "%s + %s, %s, sea %d", s->ship.name, hfm_aircraft_name(s->ac), wod,
-             ri->sea.state);
-    snprintf(s->title, sizeof s->title, "%s", s->name);
+    snprintf(s->title, sizeof s->title, "%s", s->run.name);
     s->sc.sea = sim_ship_motion_elevation;
     s->sc.overlays = overlays;
     s->sc.air_ref_mps = 1.0;
@@ -36,16 +24,15 @@ int otw_scene_open(otw_scene *s, const sim_run_info *ri, unsigned overlays, core
 
 void otw_scene_moved(otw_scene *s)
 {
-    s->sc.ship = &s->ship;
-    s->sc.heli = &s->geom;
-    s->sc.sea_user = s->sea;
+    s->sc.ship = &s->run.ship;
+    s->sc.heli = &s->run.geom;
+    s->sc.sea_user = s->run.sea;
     s->sc.title = s->title;
 }
 
 void otw_scene_close(otw_scene *s)
 {
-    sim_ship_motion_destroy(s->sea);
-    hfm_aircraft_destroy(s->ac);
+    sim_run_scene_close(&s->run);
     memset(s, 0, sizeof *s);
 }
 

@@ -96,6 +96,9 @@ typedef struct render_state {
     double rotor_azimuth_rad;     /* blade 1's azimuth (drawn blades); the caller keeps it as omega t */
     unsigned flags;               /* sim_status_t FLAG_* bits for the HUD (0: none) */
 } render_state;
+/* Blade 1's azimuth at t_s for render_state.rotor_azimuth_rad: omega t
+ * (rad, within one turn), turning the rotor's way (g->rotor_ccw). */
+double render_rotor_azimuth(const hfm_geometry *g, double t_s);
 
 /* ---------------------------------------------------------------- cameras */
 typedef enum {

@@ -60,6 +60,12 @@ static const uint8_t colour_table[RENDER_COLOUR_COUNT][3] = {
     [RENDER_COLOUR_ROTOR] = {34, 34, 38},
 };
 
+double render_rotor_azimuth(const hfm_geometry *g, double t_s)
+{
+    double a = fmod(g->rotor_omega_radps * t_s, 2.0 * CORE_PI);
+    return g->rotor_ccw ? a : -a;
+}
+
 void render_colour_rgb(render_colour c, uint8_t rgb[3])
 {
     if ((int)c < 0 || c >= RENDER_COLOUR_COUNT) {

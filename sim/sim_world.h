@@ -55,6 +55,23 @@ void sim_world_run_info(const sim_scenario *sc, const sim_world_overrides *ov, s
 /* The seaway of a run of seed over ship: its own stream, seed + 1 (the
  * one place that rule is written). NULL with err. */
 sim_ship_motion *sim_world_seaway(const core_ship *ship, const sim_sea *sea, unsigned long long seed, core_err *err);
+/* What a run is drawn from, for a view of it (live or from its log): its
+ * ship and aircraft files loaded, its seaway rebuilt from its ship, sea
+ * and seed (sim_world_seaway: its own, never the flight's motion, whose
+ * step cache is not for two threads), and its name "SHIP + AIRCRAFT, WOD,
+ * sea state N". */
+typedef struct sim_run_scene {
+    sim_run_info info;
+    core_ship ship;
+    hfm_aircraft *ac;
+    hfm_geometry geom;
+    sim_ship_motion *sea;
+    char name[200];
+} sim_run_scene;
+/* 0, or < 0 with err and nothing left to close. log: the aircraft file's
+ * warnings (NULL: none). */
+int sim_run_scene_open(sim_run_scene *s, const sim_run_info *ri, const core_log *log, core_err *err);
+void sim_run_scene_close(sim_run_scene *s);
 /* A world: the ship's motion in the seaway, the flight in it, and what
  * they were built from. */
 typedef struct sim_world {

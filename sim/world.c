@@ -59,6 +59,33 @@ sim_ship_motion *sim_world_seaway(const core_ship *ship, const sim_sea *sea, uns
     return sim_ship_motion_create(ship, sea, (uint64_t)seed + 1u, err);
 }
 
+int sim_run_scene_open(sim_run_scene *s, const sim_run_info *ri, const core_log *log, core_err *err)
+{
+    memset(s, 0, sizeof *s);
+    s->info = *ri;
+    if (core_ship_load(ri->ship_path, &s->ship, err) != 0)
+        return -1;
+    if (!(s->ac = hfm_aircraft_load(ri->aircraft_path, log, err)))
+        return -1;
+    hfm_aircraft_geometry(s->ac, &s->geom);
+    if (!(s->sea = sim_world_seaway(&s->ship, &ri->sea, ri->seed, err))) {
+        sim_run_scene_close(s);
+        return -1;
+    }
+    char wod[48];
+    core_wod_label(ri->wod_speed_mps, ri->wod_dir_rad * CORE_RAD_TO_DEG, wod, sizeof wod);
+    snprintf(s->name, sizeof s->name, "%s + %s, %s, sea state %d", s->ship.name, hfm_aircraft_name(s->ac), wod,
+             ri->sea.state);
+    return 0;
+}
+
+void sim_run_scene_close(sim_run_scene *s)
+{
+    sim_ship_motion_destroy(s->sea);
+    hfm_aircraft_destroy(s->ac);
+    memset(s, 0, sizeof *s);
+}
+
 int sim_world_build(const sim_scenario *sc, const hfm_aircraft *ac, const sim_world_overrides *ov,
                     const core_log *log, sim_world *w, core_err *err)
 {
