@@ -56,7 +56,7 @@ static void usage_fly(void)
                     "                  [--ship-speed-kt U] [--seed N] [--no-turbulence] [--sas on|off] [--start hover|deck] [--no-gear]\n"
                     "                  [--lcm URL | --no-lcm] [--log FILE] [--replay-inputs LOG]\n"
                     "                  [--stations A,B,...] [--hold-after-s S] [--state-rate-hz N] [--snapshot-max-s S]\n"
-                    "                  [--wait-after-crash]\n"
+                    "                  [--change-burst N] [--change-interval-s S] [--wait-after-crash]\n"
                     "                  [--pilot auto --task FILE [--task-result PREFIX]]  (headless, as fast as it can)\n"
                     "                  [--pilot replay LOG [--feed-controls]]  (headless: LOG's run re-flown)\n"
                     "                  [--render DIR [--render-rate HZ] [--render-size WxH]\n"
@@ -69,6 +69,8 @@ typedef struct fly_args {
     double duration_s, rate_hz, csv_rate_hz, speed_kt, dir_deg, wave_dir_deg, ship_speed_kt, seed;
     double hold_after_s, state_rate_hz;
     double snapshot_max_s;    /* the longest flight disim ios takes a snapshot of */
+    int change_burst;         /* the world changes disim ios may ask at once */
+    double change_interval_s; /* and one more each (0: no limit) */
     const char *pilot, *task; /* --pilot auto --task FILE: the automated pilot flies */
     const char *task_result;  /* --task-result PREFIX: PREFIX.csv and PREFIX.json (sim_task_result_write) */
     int duration_set;
@@ -150,6 +152,8 @@ static const fly_flag fly_flags[] = {
     {.name = "--state-rate-hz", F_DOUBLE, FA(state_rate_hz), 1.0, 10000.0},
     {.name = "--hold-after-s", F_DOUBLE, FA(hold_after_s), 0.01, 60.0, .given = FA(hold_set)},
     {.name = "--snapshot-max-s", F_DOUBLE, FA(snapshot_max_s), 0.0, 86400.0},
+    {.name = "--change-burst", F_INT, FA(change_burst), 1, 1000},
+    {.name = "--change-interval-s", F_DOUBLE, FA(change_interval_s), 0.0, 3600.0},
     {.name = "--wod-speed-kt", F_DOUBLE, FA(speed_kt), 0.0, 100.0},
     {.name = "--wod-dir-deg", F_DOUBLE, FA(dir_deg), -360.0, 360.0},
     {.name = "--sea-state", F_INT, FA(sea_state), 0, 6},
@@ -240,6 +244,8 @@ static void fly_defaults(fly_args *o)
     o->lcm = -1;
     o->hold_after_s = 0.5;
     o->snapshot_max_s = 600.0;
+    o->change_burst = 5;
+    o->change_interval_s = 1.0;
     o->state_rate_hz = 50.0;
     o->render_rate_hz = 10.0;
     o->render_w = 640;
@@ -833,6 +839,8 @@ static int fly_loop_opts(const fly_args *o, double duration_s, const char *sourc
     lo->builder.install = loop_install;
     lo->builder.drop = loop_drop;
     lo->snapshot_max_s = o->snapshot_max_s;
+    lo->change_burst = o->change_burst;
+    lo->change_interval_s = o->change_interval_s;
     lo->wait_after_end = o->wait_after_crash;
     return o->stations ? sim_pilots_opts_parse(&lo->pilots, o->stations, err) : 0;
 }

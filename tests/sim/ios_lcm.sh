@@ -80,6 +80,19 @@ awk -F, "NR > 1 && \$1 < 0.05 && \$4 > -3 && \$4 < 0 { f = 1 } END { exit !f }" 
 "$disim" fly "$scen" --fast --duration 20 --db "$tmp/db" --replay-inputs "$tmp/run.lcmlog" --csv "$tmp/fast.csv" \
     2> "$tmp/fast.log" && ok || { bad "replay --fast failed"; cat "$tmp/fast.log"; }
 cmp -s "$tmp/live.csv" "$tmp/fast.csv" && ok || bad "the replay of the session differs from the live run"
+# the rate limit of world changes set on the command line: one at once, the
+# next after 1000 s of run time
+"$disim" fly "$scen" --change-burst 0 --fast --duration 1 --no-lcm > "$tmp/lim.txt" 2>&1
+[ $? -eq 1 ] && grep -q -- "--change-burst: expected a whole number in \[1, 1000\]" "$tmp/lim.txt" && ok || { bad "--change-burst 0 not refused"; cat "$tmp/lim.txt"; }
+"$disim" fly "$scen" --realtime --duration 8 --db "$tmp/db" --change-burst 1 --change-interval-s 1000 \
+    2> "$tmp/lim.log" & fly=$!
+for i in 1 2 3 4 5 6 7 8 9 10; do
+    "$disim" ios --timeout-s 1 --cmd status > /dev/null 2>&1 && break
+done
+ios "reset hover" 0 "^ok: reset hover"
+ios "reset deck" 1 "rate limit: at most 1 world changes at once and one more every 1000 s"
+wait $fly && ok || bad "disim fly --change-burst 1 failed"
 echo "ios_lcm: $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+# every check ran (a script cut short by a quoting slip must not pass)
+[ "$fail" -eq 0 ] && [ "$pass" -eq 34 ]
 ' sh "$1" "$2" "$tmp"
