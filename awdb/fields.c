@@ -125,7 +125,10 @@ const cfd_field *awdb_fields_get(awdb_fields *fc, awdb_key *key, core_err *err)
             break;
         }
         if (st == AWDB_FAILED) {
-            core_err_set(err, -1, "airwake %s failed to build (see %s/failed/%s.txt)", name, awdb_dir(fc->db), name);
+            core_err_set(err, -1,
+                         "airwake %s failed to build: the reason is in %s/failed/%s.txt; remove that file (or queue "
+                         "the field again with disim airwake --queue) and it is built again when next asked for",
+                         name, awdb_dir(fc->db), name);
             break;
         }
         if (st == AWDB_ABSENT && awdb_submit(fc->db, key, NULL, err) != 0)

@@ -548,6 +548,19 @@ static void test_flow(const char *dir)
     if (f)
         fclose(f);
     CHECK(strstr(line, "diverged at iteration 17") != NULL);
+    /* a reader asking for it is told where the reason is and how to build
+     * it again, and waits for nothing */
+    awdb_fields_opts fo;
+    awdb_fields_opts_default(&fo);
+    awdb_fields *fc = awdb_fields_create(db, &fo, NULL, &err);
+    CHECK(fc != NULL);
+    if (fc) {
+        awdb_key k4b = k4;
+        err.msg[0] = '\0';
+        CHECK(awdb_fields_get(fc, &k4b, &err) == NULL && strstr(err.msg, fp) != NULL &&
+              strstr(err.msg, "remove that file") != NULL);
+        awdb_fields_destroy(fc);
+    }
     te.fail_speed_cmps = -1;
     CHECK(awdb_submit(db, &k4, &st, &err) == 0 && st == AWDB_FAILED);
     CHECK(run_builder(db, &te, 1, &err) == 0);
