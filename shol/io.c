@@ -227,3 +227,56 @@ void shol_io_band_json(FILE *f, const shol_band *b, const char *fmt)
     fprintf(f, "\", \"open_above\": %s, \"widest\": \"%s\", \"low_confidence\": %s}", b->open_above ? "true" : "false",
             shol_band_source_name(b->widest), b->low_confidence ? "true" : "false");
 }
+
+/* Length of the well-formed UTF-8 sequence at s (RFC 3629: no overlong
+ * forms, no surrogates, at most U+10FFFF), or 0. */
+static int utf8_len(const unsigned char *s)
+{
+    if (s[0] < 0x80)
+        return 1;
+    int n = s[0] >= 0xc2 && s[0] <= 0xdf ? 2 : s[0] >= 0xe0 && s[0] <= 0xef ? 3 : s[0] >= 0xf0 && s[0] <= 0xf4 ? 4 : 0;
+    for (int i = 1; i < n; i++)
+        if ((s[i] & 0xc0) != 0x80)
+            return 0;
+    if ((s[0] == 0xe0 && s[1] < 0xa0) || (s[0] == 0xed && s[1] > 0x9f) || (s[0] == 0xf0 && s[1] < 0x90) ||
+        (s[0] == 0xf4 && s[1] > 0x8f))
+        return 0;
+    return n;
+}
+
+/* JSON string with the escapes JSON needs. JSON text is UTF-8 (RFC 8259
+ * section 8.1): a byte that is not part of a well-formed sequence (a path
+ * in Latin-1) becomes U+FFFD, so that a JSON reader takes the file. */
+void shol_io_json_str(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; s && *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c >= 0x80) {
+            int n = utf8_len((const unsigned char *)s);
+            if (n == 0)
+                fputs("\\ufffd", f);
+            else
+                fwrite(s, 1, (size_t)n, f);
+            s += n > 0 ? n - 1 : 0;
+            continue;
+        }
+        if (c == '"' || c == '\\')
+            fprintf(f, "\\%c", c);
+        else if (c == '\n')
+            fputs("\\n", f);
+        else if (c < 0x20)
+            fprintf(f, "\\u%04x", c);
+        else
+            fputc(c, f);
+    }
+    fputc('"', f);
+}
+
+void shol_io_json_num(FILE *f, const char *fmt, double v)
+{
+    if (isfinite(v))
+        fprintf(f, fmt, v);
+    else
+        fputs("null", f);
+}

@@ -30,6 +30,12 @@ FILE *shol_io_open(const char *tmp, core_err *err);
 int shol_io_commit(FILE *f, const char *tmp, const char *final, core_err *err);
 /* Remove tmp after a failed write. */
 void shol_io_abort(FILE *f, const char *tmp);
+/* A JSON string with the escapes JSON needs; text that is not
+ * well-formed UTF-8 (a path in Latin-1) written as U+FFFD, byte by byte,
+ * so that a JSON reader takes the file (RFC 8259 section 8.1). */
+void shol_io_json_str(FILE *f, const char *s);
+/* A JSON number: printf(fmt, v), or null where v is not finite. */
+void shol_io_json_num(FILE *f, const char *fmt, double v);
 /* Write "nan" for a non-finite value, else printf(fmt, v). */
 void shol_io_num(FILE *f, const char *fmt, double v);
 /* A direction's band as CSV columns (each preceded by its comma):

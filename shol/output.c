@@ -273,59 +273,6 @@ int shol_read_csv(const char *path, shol_result *r, core_err *err)
     return 0;
 }
 
-/* Length of the well-formed UTF-8 sequence at s (RFC 3629: no overlong
- * forms, no surrogates, at most U+10FFFF), or 0. */
-static int utf8_len(const unsigned char *s)
-{
-    if (s[0] < 0x80)
-        return 1;
-    int n = s[0] >= 0xc2 && s[0] <= 0xdf ? 2 : s[0] >= 0xe0 && s[0] <= 0xef ? 3 : s[0] >= 0xf0 && s[0] <= 0xf4 ? 4 : 0;
-    for (int i = 1; i < n; i++)
-        if ((s[i] & 0xc0) != 0x80)
-            return 0;
-    if ((s[0] == 0xe0 && s[1] < 0xa0) || (s[0] == 0xed && s[1] > 0x9f) || (s[0] == 0xf0 && s[1] < 0x90) ||
-        (s[0] == 0xf4 && s[1] > 0x8f))
-        return 0;
-    return n;
-}
-
-/* JSON string with the escapes JSON needs. JSON text is UTF-8 (RFC 8259
- * section 8.1): a byte that is not part of a well-formed sequence (a path
- * in Latin-1) becomes U+FFFD, so that a JSON reader takes the file. */
-static void json_str(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; s && *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c >= 0x80) {
-            int n = utf8_len((const unsigned char *)s);
-            if (n == 0)
-                fputs("\\ufffd", f);
-            else
-                fwrite(s, 1, (size_t)n, f);
-            s += n > 0 ? n - 1 : 0;
-            continue;
-        }
-        if (c == '"' || c == '\\')
-            fprintf(f, "\\%c", c);
-        else if (c == '\n')
-            fputs("\\n", f);
-        else if (c < 0x20)
-            fprintf(f, "\\u%04x", c);
-        else
-            fputc(c, f);
-    }
-    fputc('"', f);
-}
-
-static void json_num(FILE *f, double v)
-{
-    if (isfinite(v))
-        fprintf(f, "%.9g", v);
-    else
-        fputs("null", f);
-}
-
 /* A direction's attribution (shol_envelope_attribution) in budget (-1:
  * the criterion's primary one), or null where it is not defined. Forces
  * in N, moments in N m, power in W; the control at both trims in deg for
@@ -343,33 +290,33 @@ static void json_attribution(FILE *f, const shol_dir_result *d, int budget)
             a.budget >= SHOL_BUDGET_L ? "N m" : "N");
     fprintf(f, "\"effector\": \"%s\", \"driver\": \"%s\", \"ref_speed_kmh\": ", shol_comp_name(a.effector),
             shol_comp_name(a.driver));
-    json_num(f, a.ref_speed_mps / CORE_KMH_TO_MPS);
+    shol_io_json_num(f, "%.9g", a.ref_speed_mps / CORE_KMH_TO_MPS);
     fputs(", \"speed_kmh\": ", f);
-    json_num(f, a.at_speed_mps / CORE_KMH_TO_MPS);
+    shol_io_json_num(f, "%.9g", a.at_speed_mps / CORE_KMH_TO_MPS);
     fputs(", \"value_ref\": ", f);
-    json_num(f, a.control_ref * k);
+    shol_io_json_num(f, "%.9g", a.control_ref * k);
     fputs(", \"value\": ", f);
-    json_num(f, a.control_at * k);
+    shol_io_json_num(f, "%.9g", a.control_at * k);
     fputs(", \"effector_ref\": ", f);
-    json_num(f, a.effector_ref);
+    shol_io_json_num(f, "%.9g", a.effector_ref);
     fputs(", \"effector_change\": ", f);
-    json_num(f, a.effector_change);
+    shol_io_json_num(f, "%.9g", a.effector_change);
     fputs(", \"closure\": ", f);
-    json_num(f, a.closure);
+    shol_io_json_num(f, "%.9g", a.closure);
     fputs(",\n       \"components\": {", f);
     for (int c = 0; c < SHOL_NCOMP; c++) {
         fprintf(f, "%s\"%s\": {\"ref\": ", c ? ", " : "", shol_comp_name(c));
-        json_num(f, a.value_ref[c]);
+        shol_io_json_num(f, "%.9g", a.value_ref[c]);
         fputs(", \"change\": ", f);
-        json_num(f, a.change[c]);
+        shol_io_json_num(f, "%.9g", a.change[c]);
         fputs(", \"share\": ", f);
-        json_num(f, a.share[c]);
+        shol_io_json_num(f, "%.9g", a.share[c]);
         fputc('}', f);
     }
     fputs("},\n       \"mr_power_change_W\": ", f);
-    json_num(f, a.mr_power_change_W);
+    shol_io_json_num(f, "%.9g", a.mr_power_change_W);
     fputs(", \"tr_power_change_W\": ", f);
-    json_num(f, a.tr_power_change_W);
+    shol_io_json_num(f, "%.9g", a.tr_power_change_W);
     fputc('}', f);
 }
 
@@ -380,7 +327,7 @@ static void json_margins(FILE *f, const shol_eval *e)
     fputc('{', f);
     for (int k = 0; k < SHOL_NCRIT; k++) {
         fprintf(f, "%s\"%s\": ", k ? ", " : "", key[k]);
-        json_num(f, margin_out(e, k));
+        shol_io_json_num(f, "%.9g", margin_out(e, k));
     }
     fputc('}', f);
 }
@@ -400,29 +347,29 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
     if (!info)
         info = &none;
     fputs("{\n  \"title\": ", f);
-    json_str(f, info->title ? info->title : "Candidate SHOL");
+    shol_io_json_str(f, info->title ? info->title : "Candidate SHOL");
     fputs(",\n  \"label\": ", f);
-    json_str(f, info->label ? info->label : "");
+    shol_io_json_str(f, info->label ? info->label : "");
     fputs(",\n  \"scenario\": ", f);
-    json_str(f, info->scenario_path ? info->scenario_path : "");
+    shol_io_json_str(f, info->scenario_path ? info->scenario_path : "");
     fputs(",\n  \"aircraft\": ", f);
-    json_str(f, info->aircraft_path ? info->aircraft_path : "");
+    shol_io_json_str(f, info->aircraft_path ? info->aircraft_path : "");
     fputs(",\n  \"grid\": ", f);
-    json_str(f, info->grid ? info->grid : "");
+    shol_io_json_str(f, info->grid ? info->grid : "");
     fputs(",\n  \"coupling\": ", f);
-    json_str(f, info->coupling ? info->coupling : "");
+    shol_io_json_str(f, info->coupling ? info->coupling : "");
     fprintf(f, ",\n  \"settings\": {\"speed_step_kmh\": ");
-    json_num(f, s->speed_step_mps / CORE_KMH_TO_MPS);
+    shol_io_json_num(f, "%.9g", s->speed_step_mps / CORE_KMH_TO_MPS);
     fputs(", \"speed_max_kmh\": ", f);
-    json_num(f, s->speed_max_mps / CORE_KMH_TO_MPS);
+    shol_io_json_num(f, "%.9g", s->speed_max_mps / CORE_KMH_TO_MPS);
     fputs(", \"bisect_tol_kmh\": ", f);
-    json_num(f, s->bisect_tol_mps / CORE_KMH_TO_MPS);
+    shol_io_json_num(f, "%.9g", s->bisect_tol_mps / CORE_KMH_TO_MPS);
     fputs(", \"dirs_deg\": [", f);
     for (int i = 0; i < s->n_dirs; i++) {
         fputs(i ? ", " : "", f);
-        json_num(f, s->dirs_rad[i] * CORE_RAD_TO_DEG);
+        shol_io_json_num(f, "%.9g", s->dirs_rad[i] * CORE_RAD_TO_DEG);
     }
-    /* Through json_num like every other number: %g would write nan or inf,
+    /* Through shol_io_json_num like every other number: %g would write nan or inf,
      * which no JSON reader accepts. */
     const char *ckey[SHOL_NCRIT] = {"roll_deg",       "pitch_deg",      "long_cyclic_pct",
                                     "lat_cyclic_pct", "collective_pct", "pedal_pct"};
@@ -432,26 +379,26 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
     fputs("]},\n  \"criteria\": {", f);
     for (int k = 0; k < SHOL_NCRIT; k++) {
         fprintf(f, "%s\"%s\": ", k ? ", " : "", ckey[k]);
-        json_num(f, cval[k]);
+        shol_io_json_num(f, "%.9g", cval[k]);
     }
     char reading[256];
     shol_criteria_reading(c, reading, sizeof reading);
     fputs("},\n  \"criteria_reading\": ", f);
-    json_str(f, reading);
+    shol_io_json_str(f, reading);
     fputs(",\n", f);
     /* how the bands were made */
     const shol_band_rule br = shol_band_rule_of(r);
     fputs("  \"band_rule\": {\"low_confidence_width_kmh\": ", f);
-    json_num(f, br.width_mps / CORE_KMH_TO_MPS);
+    shol_io_json_num(f, "%.9g", br.width_mps / CORE_KMH_TO_MPS);
     fputs(", \"low_confidence_frac\": ", f);
-    json_num(f, br.frac);
+    shol_io_json_num(f, "%.9g", br.frac);
     fputs(", \"grid\": ", f);
-    json_str(f, r->band_grid_label);
+    shol_io_json_str(f, r->band_grid_label);
     fputs(", \"model_reference\": ", f);
-    json_str(f, r->band_model_label);
+    shol_io_json_str(f, r->band_model_label);
     fputs("},\n", f);
     fprintf(f, "  \"n_trims\": %d,\n  \"wall_s\": ", r->n_trims);
-    json_num(f, r->wall_s);
+    shol_io_json_num(f, "%.9g", r->wall_s);
     fputs(",\n  \"directions\": [", f);
     for (int i = 0; i < r->n_dirs; i++) {
         const shol_dir_result *d = &r->dirs[i];
@@ -459,15 +406,15 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
         core_wod_name(d->dir_rad * CORE_RAD_TO_DEG, name, sizeof name);
         double v = d->has_pass ? d->max_speed_mps : NAN;
         fprintf(f, "%s\n    {\"wod_dir_deg\": ", i ? "," : "");
-        json_num(f, d->dir_rad * CORE_RAD_TO_DEG);
+        shol_io_json_num(f, "%.9g", d->dir_rad * CORE_RAD_TO_DEG);
         fputs(", \"name\": ", f);
-        json_str(f, name);
+        shol_io_json_str(f, name);
         fputs(", \"max_speed_kt\": ", f);
-        json_num(f, v / CORE_KT_TO_MPS);
+        shol_io_json_num(f, "%.9g", v / CORE_KT_TO_MPS);
         fputs(", \"max_speed_kmh\": ", f);
-        json_num(f, v / CORE_KMH_TO_MPS);
+        shol_io_json_num(f, "%.9g", v / CORE_KMH_TO_MPS);
         fputs(", \"fail_speed_kmh\": ", f);
-        json_num(f, d->fail_speed_mps / CORE_KMH_TO_MPS);
+        shol_io_json_num(f, "%.9g", d->fail_speed_mps / CORE_KMH_TO_MPS);
         fprintf(f, ", \"limit\": \"%s\",\n     \"margins\": ", shol_limit_name(d->limit));
         json_margins(f, &d->margins);
         /* how far the limit would move for a small error in the limiting
@@ -478,11 +425,11 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
             const double k = ang ? CORE_RAD_TO_DEG : 1.0;
             fprintf(f, ",\n     \"sensitivity\": {\"criterion\": \"%s\", \"unit\": \"%s\", \"margin_slope_per_kmh\": ",
                     shol_limit_name(se.crit), ang ? "deg" : "pct");
-            json_num(f, se.slope_per_mps * k * CORE_KMH_TO_MPS);
+            shol_io_json_num(f, "%.9g", se.slope_per_mps * k * CORE_KMH_TO_MPS);
             fputs(", \"ref_error\": ", f);
-            json_num(f, se.ref_error * k);
+            shol_io_json_num(f, "%.9g", se.ref_error * k);
             fputs(", \"limit_shift_kmh\": ", f);
-            json_num(f, se.shift_mps / CORE_KMH_TO_MPS);
+            shol_io_json_num(f, "%.9g", se.shift_mps / CORE_KMH_TO_MPS);
             fputs("}", f);
         } else {
             fputs(",\n     \"sensitivity\": null", f);
@@ -511,9 +458,9 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
         for (int j = 0; j < d->n_samples; j++) {
             const shol_sample *sm = &d->samples[j];
             fprintf(f, "%s\n       {\"speed_kmh\": ", j ? "," : "");
-            json_num(f, sm->speed_mps / CORE_KMH_TO_MPS);
+            shol_io_json_num(f, "%.9g", sm->speed_mps / CORE_KMH_TO_MPS);
             fputs(", \"speed_kt\": ", f);
-            json_num(f, sm->speed_mps / CORE_KT_TO_MPS);
+            shol_io_json_num(f, "%.9g", sm->speed_mps / CORE_KT_TO_MPS);
             /* limit: what rejected this trim ("none" when it passed);
              * closest: the criterion nearest its limit (the rejecting one
              * when rejected). */
@@ -525,17 +472,17 @@ int shol_write_json(const char *dir, const shol_result *r, const shol_report_inf
                     shol_limit_name(sm->eval.limit));
             if (sm->trim_status == 0) {
                 fputs(", \"roll_deg\": ", f);
-                json_num(f, sm->trim.phi_rad * CORE_RAD_TO_DEG);
+                shol_io_json_num(f, "%.9g", sm->trim.phi_rad * CORE_RAD_TO_DEG);
                 fputs(", \"pitch_deg\": ", f);
-                json_num(f, sm->trim.theta_rad * CORE_RAD_TO_DEG);
+                shol_io_json_num(f, "%.9g", sm->trim.theta_rad * CORE_RAD_TO_DEG);
                 fputs(", \"long_cyclic_pct\": ", f);
-                json_num(f, sm->trim.long_cyclic_pct);
+                shol_io_json_num(f, "%.9g", sm->trim.long_cyclic_pct);
                 fputs(", \"lat_cyclic_pct\": ", f);
-                json_num(f, sm->trim.lat_cyclic_pct);
+                shol_io_json_num(f, "%.9g", sm->trim.lat_cyclic_pct);
                 fputs(", \"collective_pct\": ", f);
-                json_num(f, sm->trim.collective_pct);
+                shol_io_json_num(f, "%.9g", sm->trim.collective_pct);
                 fputs(", \"pedal_pct\": ", f);
-                json_num(f, sm->trim.pedal_pct);
+                shol_io_json_num(f, "%.9g", sm->trim.pedal_pct);
                 fputs(", \"margins\": ", f);
                 json_margins(f, &sm->eval);
             }

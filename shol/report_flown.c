@@ -26,30 +26,6 @@ static void csv_str(FILE *f, const char *s)
     fputc('"', f);
 }
 
-static void json_str(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(f, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(f, "\\u%04x", c);
-        else
-            fputc(c, f);
-    }
-    fputc('"', f);
-}
-
-/* A number, null where not finite. */
-static void json_num(FILE *f, double v)
-{
-    if (isfinite(v))
-        fprintf(f, "%.4f", v);
-    else
-        fputs("null", f);
-}
-
 /* A direction's band: the one shol_flown_run (or shol_flown_bands_update)
  * filled, else one without sources. */
 static void band_of(const shol_flown_result *fr, int i, shol_band *b)
@@ -130,7 +106,7 @@ int shol_flown_write_json(const char *dir, const shol_flown_result *fr, const sh
     if (!f)
         return -1;
     fprintf(f, "{\n  \"title\": ");
-    json_str(f, info && info->title ? info->title : "Candidate SHOL");
+    shol_io_json_str(f, info && info->title ? info->title : "Candidate SHOL");
     fprintf(f, ",\n  \"method\": \"pilot\",\n  \"settings\": {\"seeds\": %d, \"seed0\": %llu, \"pass_rate_min\": %.3f, "
                "\"start_steps_below\": %d, \"bisect_tol_kmh\": %.2f, \"speed_step_kmh\": %.2f, "
                "\"speed_max_kmh\": %.2f, \"criteria_window_s\": %.3f, \"transient_frac\": %.3f, "
@@ -150,16 +126,16 @@ int shol_flown_write_json(const char *dir, const shol_flown_result *fr, const sh
         else
             fprintf(f, "%.3f", kt(d->fail_speed_mps));
         fprintf(f, ", \"cause\": ");
-        json_str(f, d->cause);
+        shol_io_json_str(f, d->cause);
         fputs(", \"rate_band_lo_kt\": ", f);
-        json_num(f, kt(d->rate_band_lo_mps));
+        shol_io_json_num(f, "%.4f", kt(d->rate_band_lo_mps));
         fputs(", \"rate_band_hi_kt\": ", f);
-        json_num(f, kt(d->rate_band_hi_mps));
+        shol_io_json_num(f, "%.4f", kt(d->rate_band_hi_mps));
         fprintf(f, ", \"rate_band_open_above\": %d", d->rate_band_open_above);
         fputs(", \"hub_speed_frac\": ", f);
-        json_num(f, d->hub_speed_frac);
+        shol_io_json_num(f, "%.4f", d->hub_speed_frac);
         fputs(", \"hub_ti_frac\": ", f);
-        json_num(f, d->hub_ti_frac);
+        shol_io_json_num(f, "%.4f", d->hub_ti_frac);
         shol_band b;
         band_of(fr, i, &b);
         fputs(", \"band\": ", f);
@@ -172,13 +148,13 @@ int shol_flown_write_json(const char *dir, const shol_flown_result *fr, const sh
             fprintf(f, "%s\n      {\"speed_kt\": %.3f, \"flights\": %d, \"passed\": %d, \"pass_rate\": %.4f, "
                        "\"pass\": %d, \"cause\": ",
                     k ? "," : "", kt(q->speed_mps), q->n_flights, q->n_pass, q->pass_rate, q->pass);
-            json_str(f, q->cause);
+            shol_io_json_str(f, q->cause);
             fprintf(f, ", \"cause_flights\": %d, \"flown_s\": %.1f, \"pass_rate_lo\": %.4f, \"pass_rate_hi\": %.4f, "
                        "\"verdict\": \"%s\", \"track_rms_m\": ",
                     q->n_cause, q->flown_s, q->rate_lo, q->rate_hi, shol_flown_verdict_name(q->verdict));
-            json_num(f, q->track_rms_m);
+            shol_io_json_num(f, "%.4f", q->track_rms_m);
             fputs(", \"track_max_m\": ", f);
-            json_num(f, q->track_max_m);
+            shol_io_json_num(f, "%.4f", q->track_max_m);
             if (q->n_tracked >= 0)
                 fprintf(f, ", \"tracked\": %d}", q->n_tracked);
             else
