@@ -46,6 +46,15 @@
 const char *disim_lcm_url(const char *given);
 
 int disim_lcm_check_pilot_input(const disim_pilot_input_t *m, char *err, size_t n);
+/* The loop's states as every receiver takes them (the view, the stations,
+ * the log reader): utime >= 0, positions, velocities, angles and rates
+ * finite and within physical bounds, the quaternion of unit norm (within
+ * 1e-6 of its square), the controls 0 to 100 %, thrust, power and every
+ * gear load finite. 0, or -1 with err "heli_state_t.FIELD (expected ...)". */
+int disim_lcm_check_heli_state(const disim_heli_state_t *m, char *err, size_t n);
+/* The same for a ship state: position, velocity, rates finite and within
+ * bounds, the quaternion of unit norm, the spot's motion finite. */
+int disim_lcm_check_ship_state(const disim_ship_state_t *m, char *err, size_t n);
 int disim_lcm_check_sim_control(const disim_sim_control_t *m, char *err, size_t n);
 int disim_lcm_check_airwake_request(const disim_airwake_request_t *m, char *err, size_t n);
 

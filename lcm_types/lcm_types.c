@@ -62,6 +62,78 @@ int disim_lcm_check_sim_control(const disim_sim_control_t *m, char *err, size_t 
     return 0;
 }
 
+/* 1 when v[0..n-1] are within [-lim, lim] (NaN is not). */
+static int within(const double *v, int n, double lim)
+{
+    for (int i = 0; i < n; i++)
+        if (!(fabs(v[i]) <= lim))
+            return 0;
+    return 1;
+}
+
+/* 1 when q (w, x, y, z) is a unit quaternion within 1e-6 of its square. */
+static int unit_quat(const double q[4])
+{
+    double qn = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    return fabs(qn - 1.0) < 1e-6;
+}
+
+int disim_lcm_check_heli_state(const disim_heli_state_t *h, char *err, size_t n)
+{
+    const double att[3] = {h->roll_rad, h->pitch_rad, h->yaw_rad};
+    const double c[4] = {h->collective_pct, h->long_cyclic_pct, h->lat_cyclic_pct, h->pedal_pct};
+    const double rotor[2] = {h->rotor_thrust_N, h->rotor_power_W};
+    const char *bad = NULL;
+    if (h->utime < 0)
+        bad = "utime (expected >= 0)";
+    else if (!within(h->pos_S_m, 3, 1e6) || !within(h->pos_E_m, 3, 1e7))
+        bad = "pos_S_m / pos_E_m (expected finite positions)";
+    else if (!within(h->vel_E_mps, 3, 1e4) || !within(h->vel_S_mps, 3, 1e4))
+        bad = "vel_E_mps / vel_S_mps (expected finite velocities)";
+    else if (!within(att, 3, 4.0))
+        bad = "roll_rad / pitch_rad / yaw_rad (expected finite angles within -pi to pi)";
+    else if (!within(h->rates_B_radps, 3, 1e3))
+        bad = "rates_B_radps (expected finite rates)";
+    else if (!unit_quat(h->quat_EB)) /* NaN and infinities too: as the renderer checks a pose */
+        bad = "quat_EB (expected a finite unit quaternion)";
+    else if (!within(rotor, 2, 1e12))
+        bad = "rotor_thrust_N / rotor_power_W (expected finite values)";
+    else if (h->n_gear < 0 || (h->n_gear > 0 && !h->gear_load_N) || !within(h->gear_load_N, h->n_gear, 1e12))
+        bad = "gear_load_N (expected a finite load on each leg)";
+    for (int i = 0; !bad && i < 4; i++)
+        if (!(c[i] >= 0.0 && c[i] <= 100.0))
+            bad = "the controls (expected finite percentages 0 to 100)";
+    if (!bad)
+        return 0;
+    if (err)
+        snprintf(err, n, "heli_state_t.%s", bad);
+    return -1;
+}
+
+int disim_lcm_check_ship_state(const disim_ship_state_t *m, char *err, size_t n)
+{
+    const double att[3] = {m->roll_rad, m->pitch_rad, m->yaw_rad};
+    const char *bad = NULL;
+    if (m->utime < 0)
+        bad = "utime (expected >= 0)";
+    else if (!within(m->pos_E_m, 3, 1e7) || !within(m->vel_E_mps, 3, 1e4))
+        bad = "pos_E_m / vel_E_mps (expected finite values)";
+    else if (!unit_quat(m->quat_ES))
+        bad = "quat_ES (expected a unit quaternion)";
+    else if (!within(att, 3, 1e3)) /* the ship's heading need not be wrapped */
+        bad = "roll_rad / pitch_rad / yaw_rad (expected finite angles)";
+    else if (!within(m->rates_S_radps, 3, 1e3))
+        bad = "rates_S_radps (expected finite rates)";
+    else if (!within(m->spot_pos_E_m, 3, 1e7) || !within(m->spot_vel_E_mps, 3, 1e4) ||
+             !within(m->spot_acc_E_mps2, 3, 1e5))
+        bad = "spot_pos_E_m / spot_vel_E_mps / spot_acc_E_mps2 (expected finite values)";
+    if (!bad)
+        return 0;
+    if (err)
+        snprintf(err, n, "ship_state_t.%s", bad);
+    return -1;
+}
+
 int disim_lcm_check_airwake_request(const disim_airwake_request_t *m, char *err, size_t n)
 {
     const char *bad = NULL, *want = NULL;

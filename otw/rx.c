@@ -28,14 +28,6 @@ static void refuse(otw *w, const char *ch, const char *why)
     pthread_mutex_unlock(&w->mu);
 }
 
-static int finite_n(const double *x, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (!isfinite(x[i]))
-            return 0;
-    return 1;
-}
-
 static core_quat quat(const double q[4])
 {
     core_quat r = {q[0], q[1], q[2], q[3]};
@@ -78,16 +70,12 @@ static void rx_heli(otw *w, const char *ch, const void *buf, int size, double no
         refuse(w, ch, "heli_state_t: cannot decode");
         return;
     }
-    double ctl[5] = {m.collective_pct, m.long_cyclic_pct, m.lat_cyclic_pct, m.pedal_pct, m.rotor_thrust_N};
-    double att[3] = {m.roll_rad, m.pitch_rad, m.yaw_rad};
-    int ok = finite_n(m.pos_E_m, 3) && finite_n(m.pos_S_m, 3) && finite_n(m.vel_S_mps, 3) && finite_n(m.quat_EB, 4) &&
-             finite_n(att, 3) && finite_n(ctl, 5) && m.n_gear >= 0 && finite_n(m.gear_load_N, m.n_gear) &&
-             fabs(m.quat_EB[0]) + fabs(m.quat_EB[1]) + fabs(m.quat_EB[2]) + fabs(m.quat_EB[3]) > 0.5;
-    if (!ok) {
-        refuse(w, ch, "heli_state_t: a position, velocity, attitude, control or gear load is not finite");
+    if (disim_lcm_check_heli_state(&m, e, sizeof e) != 0) {
+        refuse(w, ch, e);
         disim_heli_state_t_decode_cleanup(&m);
         return;
     }
+    double ctl[5] = {m.collective_pct, m.long_cyclic_pct, m.lat_cyclic_pct, m.pedal_pct, m.rotor_thrust_N};
     pthread_mutex_lock(&w->mu);
     render_state *s = &w->next;
     s->t_s = 1e-6 * (double)m.utime;
@@ -122,9 +110,8 @@ static void rx_ship(otw *w, const char *ch, const void *buf, int size, double no
         refuse(w, ch, "ship_state_t: cannot decode");
         return;
     }
-    if (!finite_n(m.pos_E_m, 3) || !finite_n(m.quat_ES, 4) || !isfinite(m.yaw_rad) ||
-        !(fabs(m.quat_ES[0]) + fabs(m.quat_ES[1]) + fabs(m.quat_ES[2]) + fabs(m.quat_ES[3]) > 0.5)) {
-        refuse(w, ch, "ship_state_t: the position or attitude is not finite");
+    if (disim_lcm_check_ship_state(&m, e, sizeof e) != 0) {
+        refuse(w, ch, e);
         disim_ship_state_t_decode_cleanup(&m);
         return;
     }

@@ -141,7 +141,6 @@ static uint32_t be32u(const unsigned char *b)
     return (uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | b[3];
 }
 
-static int fin3(const double v[3], double lim) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]) && fabs(v[0]) <= lim && fabs(v[1]) <= lim && fabs(v[2]) <= lim; }
 
 
 /* C_ES (row major) of a unit quaternion q_ES (w, x, y, z). */
@@ -185,48 +184,6 @@ static void make_state(const disim_heli_state_t *h, const ship_rec *sh, rec_stat
     memcpy(s->q_ES, sh->q, sizeof s->q_ES);
     s->thrust_N = h->rotor_thrust_N;
     s->power_W = h->rotor_power_W;
-}
-
-static int heli_ok(const disim_heli_state_t *h, const char **bad)
-{
-    const double c[4] = {h->collective_pct, h->long_cyclic_pct, h->lat_cyclic_pct, h->pedal_pct};
-    double qn = 0.0;
-    for (int i = 0; i < 4; i++)
-        qn += h->quat_EB[i] * h->quat_EB[i];
-    *bad = NULL;
-    if (h->utime < 0)
-        *bad = "utime (expected >= 0)";
-    else if (!fin3(h->pos_S_m, 1e6) || !fin3(h->pos_E_m, 1e7))
-        *bad = "pos_S_m / pos_E_m (expected finite positions)";
-    else if (!fin3(h->vel_E_mps, 1e4) || !fin3(h->vel_S_mps, 1e4))
-        *bad = "vel_E_mps / vel_S_mps (expected finite velocities)";
-    else if (!(fabs(h->roll_rad) <= 4.0 && fabs(h->pitch_rad) <= 4.0 && fabs(h->yaw_rad) <= 4.0))
-        *bad = "roll_rad / pitch_rad / yaw_rad (expected finite angles within -pi to pi)";
-    else if (!fin3(h->rates_B_radps, 1e3))
-        *bad = "rates_B_radps (expected finite rates)";
-    else if (!(fabs(qn - 1.0) < 1e-6)) /* NaN and infinities too: as the renderer checks a pose */
-        *bad = "quat_EB (expected a finite unit quaternion)";
-    else if (!isfinite(h->rotor_thrust_N) || !isfinite(h->rotor_power_W))
-        *bad = "rotor_thrust_N / rotor_power_W (expected finite values)";
-    for (int i = 0; !*bad && i < 4; i++)
-        if (!(c[i] >= 0.0 && c[i] <= 100.0))
-            *bad = "the controls (expected finite percentages 0 to 100)";
-    return *bad == NULL;
-}
-
-static int ship_ok(const disim_ship_state_t *m, const char **bad)
-{
-    double qn = 0.0;
-    for (int i = 0; i < 4; i++)
-        qn += m->quat_ES[i] * m->quat_ES[i];
-    *bad = NULL;
-    if (!fin3(m->pos_E_m, 1e7) || !fin3(m->vel_E_mps, 1e4))
-        *bad = "pos_E_m / vel_E_mps (expected finite values)";
-    else if (!(fabs(qn - 1.0) < 1e-6))
-        *bad = "quat_ES (expected a unit quaternion)";
-    else if (!fin3(m->rates_S_radps, 1e3))
-        *bad = "rates_S_radps (expected finite rates)";
-    return *bad == NULL;
 }
 
 /* A run_info_t's fields in range (the paths fit, the sea is one sim_ship_motion takes). */
@@ -436,7 +393,6 @@ static int take_heli(loader *ld, const lcm_eventlog_event_t *ev)
 {
     const reader *R = &ld->R;
     disim_heli_state_t h;
-    const char *why;
     char e[256];
     if (disim_lcm_check_raw("heli_state_t", ev->data, ev->datalen, e, sizeof e) != 0)
         return ev_err(R, e);
@@ -444,8 +400,7 @@ static int take_heli(loader *ld, const lcm_eventlog_event_t *ev)
         return ev_err(R, "heli_state_t: not decoded");
     int bad = 0;
     long n = ld->nheli;
-    if (!heli_ok(&h, &why)) {
-        snprintf(e, sizeof e, "heli_state_t.%s", why);
+    if (disim_lcm_check_heli_state(&h, e, sizeof e) != 0) {
         bad = ev_err(R, e);
     } else if (n > 0 && h.utime <= ld->heli[n - 1].utime) {
         snprintf(e, sizeof e, "heli_state_t.utime %lld us not after the last state's %lld us (a reset or a load in "
@@ -476,16 +431,13 @@ static int take_ship(loader *ld, const lcm_eventlog_event_t *ev)
 {
     const reader *R = &ld->R;
     disim_ship_state_t m;
-    const char *why;
     char e[256];
     if (disim_lcm_check_raw("ship_state_t", ev->data, ev->datalen, e, sizeof e) != 0)
         return ev_err(R, e);
     if (disim_ship_state_t_decode(ev->data, 0, ev->datalen, &m) != ev->datalen)
         return ev_err(R, "ship_state_t: not decoded");
-    if (!ship_ok(&m, &why)) {
-        snprintf(e, sizeof e, "ship_state_t.%s", why);
+    if (disim_lcm_check_ship_state(&m, e, sizeof e) != 0)
         return ev_err(R, e);
-    }
     if (grow((void **)&ld->ships, &ld->capship, ld->nship + 1, sizeof *ld->ships))
         return ev_err(R, "out of memory");
     ship_rec *s = &ld->ships[ld->nship++];

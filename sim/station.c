@@ -738,9 +738,8 @@ static void rx_heli(sim_station *st, const char *ch, const void *buf, int size)
         return;
     }
     double ctl[4] = {m.collective_pct, m.long_cyclic_pct, m.lat_cyclic_pct, m.pedal_pct};
-    double att[3] = {m.roll_rad, m.pitch_rad, m.yaw_rad};
-    if (!all_finite(m.pos_S_m, 3) || !all_finite(m.vel_S_mps, 3) || !all_finite(att, 3) || !all_finite(ctl, 4)) {
-        refuse(st, ch, "heli_state_t: a position, velocity, attitude or control is not finite");
+    if (disim_lcm_check_heli_state(&m, err, sizeof err) != 0) {
+        refuse(st, ch, err);
     } else {
         sim_station_view *v = &st->v;
         v->heli_rx++;

@@ -85,14 +85,6 @@ static double wall_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static int finite_n(const double *x, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (!isfinite(x[i]))
-            return 0;
-    return 1;
-}
-
 /* The state's heli and ship messages as the flight's output the pilot reads. */
 static void rebuild_out(const disim_heli_state_t *h, const disim_ship_state_t *sh, int64_t utime0,
                         sim_flight_out *out)
@@ -185,10 +177,7 @@ static void rx_heli(auto_st *a, const void *buf, int size)
         a->s->bad_rx++;
         return;
     }
-    double att[3] = {m.roll_rad, m.pitch_rad, m.yaw_rad};
-    double ctl[4] = {m.collective_pct, m.long_cyclic_pct, m.lat_cyclic_pct, m.pedal_pct};
-    if (!finite_n(m.pos_S_m, 3) || !finite_n(m.vel_S_mps, 3) || !finite_n(m.pos_E_m, 3) || !finite_n(att, 3) ||
-        !finite_n(m.rates_B_radps, 3) || !finite_n(ctl, 4)) {
+    if (disim_lcm_check_heli_state(&m, NULL, 0) != 0) {
         a->s->bad_rx++;
     } else {
         if (a->pending && a->p)
@@ -211,8 +200,7 @@ static void rx_ship(auto_st *a, const void *buf, int size)
         a->s->bad_rx++;
         return;
     }
-    if (!finite_n(m.pos_E_m, 3) || !finite_n(m.quat_ES, 4) || !(fabs(m.quat_ES[0]) + fabs(m.quat_ES[1]) +
-                                                                    fabs(m.quat_ES[2]) + fabs(m.quat_ES[3]) > 0.5)) {
+    if (disim_lcm_check_ship_state(&m, NULL, 0) != 0) {
         a->s->bad_rx++;
     } else {
         a->ship = m;

@@ -5,6 +5,7 @@
 #include "disim_lcm.h"
 
 #include <lcm/lcm.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -343,6 +344,35 @@ int main(void)
 
     /* Checks of received messages. */
     char err[160];
+    /* the loop's states: a good one taken, each kind of damage named */
+    double qn = sqrt(0.95);
+    for (int i = 0; i < 4; i++)
+        h.quat_EB[i] = q[i] / qn, s.quat_ES[i] = q[i] / qn;
+    CHECK(disim_lcm_check_heli_state(&h, err, sizeof err) == 0);
+    CHECK(disim_lcm_check_ship_state(&s, err, sizeof err) == 0);
+    h.quat_EB[0] = 0.9; /* |q|^2 0.95 */
+    CHECK(disim_lcm_check_heli_state(&h, err, sizeof err) < 0 && strstr(err, "heli_state_t.quat_EB (expected"));
+    h.quat_EB[0] = q[0] / qn;
+    h.pitch_rad = NAN;
+    CHECK(disim_lcm_check_heli_state(&h, err, sizeof err) < 0 && strstr(err, "heli_state_t.roll_rad / pitch_rad"));
+    h.pitch_rad = 0.06;
+    gear[1] = INFINITY;
+    CHECK(disim_lcm_check_heli_state(&h, err, sizeof err) < 0 && strstr(err, "heli_state_t.gear_load_N"));
+    gear[1] = 2000.0;
+    h.pedal_pct = 100.5;
+    CHECK(disim_lcm_check_heli_state(&h, err, sizeof err) < 0 && strstr(err, "the controls (expected finite"));
+    h.pedal_pct = 44.4;
+    h.pos_E_m[2] = 2e7;
+    CHECK(disim_lcm_check_heli_state(&h, err, sizeof err) < 0 && strstr(err, "pos_S_m / pos_E_m"));
+    h.pos_E_m[2] = 1.0;
+    CHECK(disim_lcm_check_heli_state(&h, NULL, 0) == 0);
+    s.yaw_rad = 7.0; /* a heading not wrapped: taken */
+    CHECK(disim_lcm_check_ship_state(&s, err, sizeof err) == 0);
+    s.spot_acc_E_mps2[1] = NAN;
+    CHECK(disim_lcm_check_ship_state(&s, err, sizeof err) < 0 && strstr(err, "ship_state_t.spot_pos_E_m"));
+    s.spot_acc_E_mps2[1] = -0.2;
+    s.quat_ES[3] = 0.0;
+    CHECK(disim_lcm_check_ship_state(&s, err, sizeof err) < 0 && strstr(err, "ship_state_t.quat_ES"));
     CHECK(disim_lcm_check_pilot_input(&p, err, sizeof err) == 0);
     p.pedal_pct = 120.0;
     CHECK(disim_lcm_check_pilot_input(&p, err, sizeof err) < 0);

@@ -452,7 +452,7 @@ static void test_station_rx(void)
     n = enc_heli(&h, buf, sizeof buf);
     sim_station_receive(st, DISIM_CH_HELI_STATE, buf, n);
     CHECK(v->bad_rx == 2 && v->heli_rx == 1 && v->heli_pos_S_m[2] == -7.25);
-    CHECK(strstr(v->bad_last, "not finite") != NULL);
+    CHECK(strstr(v->bad_last, "heli_state_t.roll_rad / pitch_rad / yaw_rad (expected finite angles") != NULL);
     /* a status on the heli channel: the wrong fingerprint */
     char *ids[2] = {"other", "me"};
     int64_t last[2] = {5, 1}, rx[2] = {6, 2}, refused[2] = {0, 4}, gaps[2] = {0, 7};
