@@ -2,7 +2,9 @@
  * that arrives on an LCM channel, for every type it receives:
  * disim_lcm_upgrade (an older sim_control_t / sim_status_t read as the
  * newest), disim_lcm_check_raw, lcm-gen's decoder, the type's own check
- * (pilot_input_t, sim_control_t, airwake_request_t) and, for
+ * (heli_state_t and ship_state_t, as the view, the stations and the log
+ * reader check them; pilot_input_t, sim_control_t, airwake_request_t)
+ * and, for
  * pilot_input_t, the pilot stations' rules (sim_pilots_offer, which peeks
  * at the station id of a refused buffer and does the seq arithmetic); a
  * heli_state_t or sim_status_t also goes to a pilot station as its LCM
@@ -147,8 +149,8 @@ static void strings_shol_point_t(const disim_shol_point_t *m)
     s_(m->limit);
 }
 
-ROUND_TRIP(heli_state_t, (void)0)
-ROUND_TRIP(ship_state_t, (void)0)
+ROUND_TRIP(heli_state_t, disim_lcm_check_heli_state(&m, e, sizeof e))
+ROUND_TRIP(ship_state_t, disim_lcm_check_ship_state(&m, e, sizeof e))
 ROUND_TRIP(pilot_input_t, disim_lcm_check_pilot_input(&m, e, sizeof e))
 ROUND_TRIP(sim_control_t, disim_lcm_check_sim_control(&m, e, sizeof e))
 ROUND_TRIP(sim_status_t, (void)0)
