@@ -4,6 +4,9 @@
  *       [--np N] [--threads N] [--max-iter N] [--keep-case] [--out DIR]
  *       The embedded solver and OpenFOAM on the same case to the same
  *       criterion (sidebyside.c; docs/openfoam.md, "Side by side").
+ *   bench_cfd fieldload [--ship NAME] [--grid coarse|default|fine] [--rounds N]
+ *       What reading a sealed field costs, and its two checksums' share,
+ *       against the baseline CRC-64 in the same run (fieldload.c).
  *   bench_cfd throughput [--threads N] [--iters N]
  *       SFS2 at 0 deg on the coarse grid, a fixed number of SIMPLEC
  *       iterations with 1 thread and with N threads: cell-updates per
@@ -329,7 +332,7 @@ static int compare(const bench_case *bc, int threads, int rounds)
 int main(int argc, char **argv)
 {
     if (argc < 2) {
-        fprintf(stderr, "usage: bench_cfd throughput|airwake|compare|warmstart|sidebyside [options]\n");
+        fprintf(stderr, "usage: bench_cfd throughput|airwake|compare|warmstart|sidebyside|fieldload [options]\n");
         return 2;
     }
     if (!strcmp(argv[1], "sidebyside")) {
@@ -344,8 +347,9 @@ int main(int argc, char **argv)
     double tl = 0.0, dir = 0.0, speed = 15.0, h_fine = 0.0, h_max = 0.0;
     const char *ship_name = "sfs2";
     if (strcmp(argv[1], "throughput") && strcmp(argv[1], "airwake") && strcmp(argv[1], "compare") &&
-        strcmp(argv[1], "warmstart")) {
-        fprintf(stderr, "bench_cfd: unknown mode '%s' (expected throughput, airwake, compare, warmstart or sidebyside)\n",
+        strcmp(argv[1], "warmstart") && strcmp(argv[1], "fieldload")) {
+        fprintf(stderr, "bench_cfd: unknown mode '%s' (expected throughput, airwake, compare, warmstart, sidebyside "
+                        "or fieldload)\n",
                 argv[1]);
         return 2;
     }
@@ -396,6 +400,8 @@ int main(int argc, char **argv)
             return 2;
         }
     }
+    if (!strcmp(argv[1], "fieldload"))
+        return bench_cfd_fieldload(ship_name, (core_grid_level)lv, rounds);
     if (!strcmp(argv[1], "warmstart"))
         return warmstart(ship_name, speed, dir, lv, rotor, threads, max_iter);
     if (!strcmp(argv[1], "compare")) {

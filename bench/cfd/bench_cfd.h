@@ -1,6 +1,6 @@
 /* bench_cfd.h -- what bench_cfd's modes share across its files: the
- * benchmark case (a ship in a wind, the UH-60A's uniform disk) and the
- * side-by-side mode (sidebyside.c). */
+ * benchmark case (a ship in a wind, the UH-60A's uniform disk), the
+ * side-by-side mode (sidebyside.c) and the field-load mode (fieldload.c). */
 #ifndef DISIM_BENCH_CFD_H
 #define DISIM_BENCH_CFD_H
 
@@ -17,5 +17,10 @@ int bench_cfd_setup_ship(core_ship *ship, cfd_airwake_spec *sp, const char *name
  * embedded solver and OpenFOAM on the same case (sidebyside.c). The exit
  * status: 0 done, 1 failed, 2 bad options. */
 int bench_cfd_sidebyside(int argc, char **argv);
+
+/* bench_cfd fieldload: cfd_field_load's time on a sealed field of ship on
+ * level lv, and its two checksums' share, against the baseline CRC-64 in
+ * the same run (fieldload.c). 0, or 1 with the error printed. */
+int bench_cfd_fieldload(const char *ship_name, core_grid_level lv, int rounds);
 
 #endif
