@@ -18,10 +18,11 @@
 # 2 GB that a damaged superblock asks for in H5Fopen: docs/validation.md,
 # Fuzzing) stop a run within seconds: it runs in fork mode past crashes,
 # hangs and running out of memory, and each input kept is then run alone
-# and classed by its report's innermost frame that is not the sanitizer's,
-# libFuzzer's, an allocator's or the signal trampoline's: in libhdf5, the
-# library's own (counted, kept); anywhere else, or no frame to tell,
-# fails the run. Fork mode's own exit status is that of its last job,
+# and classed by its report's innermost frame that is either disim's or
+# libhdf5's (the sanitizer's, libFuzzer's, the allocators' and other
+# libraries' frames, libc's and zlib's, left out): libhdf5's, the
+# library's own (counted, kept); disim's, or no frame to tell, fails the
+# run. Fork mode's own exit status is that of its last job,
 # crashed or not: what the inputs kept say decides. A disim defect that
 # shows first inside libhdf5 would be classed as the library's: the cost
 # of going on.
@@ -40,12 +41,15 @@ fi
 sh "$src/tests/fuzz/seeds.sh" "$build" "$corpus/seeds" > /dev/null
 mkdir -p "$corpus/logs" "$corpus/artifacts"
 failed=""
-# innermost LOG: the innermost frame of the report in LOG that is not the
-# sanitizer's, libFuzzer's, an allocator's or the signal trampoline's
+# innermost LOG BIN LIB: the innermost frame of the report in LOG that is
+# disim's (in BIN, or a source file of this tree) or LIB's, leaving out the
+# sanitizer's, libFuzzer's and the allocators' frames and every other
+# library's (libc's, zlib's, the signal trampoline): which of disim and LIB
+# is nearest the fault
 innermost() {
     sed -n '/ERROR\|runtime error\|ALARM/,$p' "$1" | grep '^ *#[0-9]' |
         grep -v -E ' in (fuzzer::|__sanitizer|__asan|__lsan|__ubsan|__interceptor_|(malloc|calloc|realloc|free|operator new) )' |
-        grep -v -E '^ *#[0-9]+ 0x[0-9a-f]+ +\(/lib/x86_64-linux-gnu/libc\.so' | head -1
+        grep -F -e "$src/" -e "$2+" -e "$3" | head -1
 }
 printf '%-22s %12s %8s %9s %7s %7s  %s\n' harness executions time_s exec/s cov ft result
 for h in "$@"; do
@@ -77,7 +81,7 @@ for h in "$@"; do
             esac
             alone="$corpus/logs/$a.log"
             "$bin" -timeout="${FUZZ_TIMEOUT:-20}" -rss_limit_mb=2048 "$corpus/artifacts/$a" > "$alone" 2>&1 && continue
-            if innermost "$alone" | grep -q "$lib"; then
+            if innermost "$alone" "$bin" "$lib" | grep -q "$lib"; then
                 libs=$((libs + 1))
             else
                 echo "run.sh: $h: $a stopped outside $lib, see $alone" >> "$log"
