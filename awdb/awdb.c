@@ -199,19 +199,10 @@ static int file_crc64(const char *path, uint64_t *crc, uint64_t *size, core_err 
     FILE *f = fopen(path, "rb");
     if (!f)
         return core_err_set(err, errno == ENOENT ? -1 : -2, "%s: cannot open: %s", path, strerror(errno));
-    uint64_t c = 0, total = 0;
-    unsigned char buf[1 << 16];
-    size_t got;
-    while ((got = fread(buf, 1, sizeof buf, f)) > 0) {
-        c = core_crc64(c, buf, got);
-        total += got;
-    }
-    int bad = ferror(f);
+    int bad = core_crc64_file(f, crc, size);
     fclose(f);
     if (bad)
         return core_err_set(err, -2, "%s: read error", path);
-    *crc = c;
-    *size = total;
     return 0;
 }
 

@@ -120,8 +120,6 @@ static int write_xmf(const char *tmp, const char *h5name, const int n[3])
     return (fclose(f) || bad) ? -1 : 0;
 }
 
-/* The whole file, from either a solver or a loaded field: grid, arrays,
- * optional residual history (nh rows), metadata. */
 /* The checksum a field file carries in its data_crc64 attribute: the
  * nodes, the solid flags and every variable, as stored (little-endian
  * doubles on the machines disim runs on), CRC-64/XZ (core_crc64). */
@@ -154,23 +152,9 @@ static const unsigned char hdf5_sig[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a,
 
 /* CRC-64 of fp's bytes from SEAL_BYTES to its end, and their count: 0, or
  * -1 on a read error. */
-static int crc_after_seal(FILE *fp, uint64_t *crc, unsigned long long *bytes)
+static int crc_after_seal(FILE *fp, uint64_t *crc, uint64_t *bytes)
 {
-    unsigned char buf[1 << 16];
-    uint64_t c = 0;
-    unsigned long long n = 0;
-    size_t got;
-    if (fseek(fp, SEAL_BYTES, SEEK_SET) != 0)
-        return -1;
-    while ((got = fread(buf, 1, sizeof buf, fp)) > 0) {
-        c = core_crc64(c, buf, got);
-        n += got;
-    }
-    if (ferror(fp))
-        return -1;
-    *crc = c;
-    *bytes = n;
-    return 0;
+    return fseek(fp, SEAL_BYTES, SEEK_SET) != 0 || core_crc64_file(fp, crc, bytes) != 0 ? -1 : 0;
 }
 
 int cfd_field_seal(const char *path, core_err *err)
@@ -179,8 +163,7 @@ int cfd_field_seal(const char *path, core_err *err)
     if (!fp)
         return core_err_set(err, -1, "%s: cannot open to seal: %s", path, strerror(errno));
     unsigned char sig[8];
-    uint64_t crc = 0;
-    unsigned long long rest = 0;
+    uint64_t crc = 0, rest = 0;
     int rc = 0;
     if (fseek(fp, SEAL_BYTES, SEEK_SET) != 0 || fread(sig, 1, sizeof sig, fp) != sizeof sig ||
         memcmp(sig, hdf5_sig, sizeof sig) != 0)
@@ -190,7 +173,7 @@ int cfd_field_seal(const char *path, core_err *err)
         rc = core_err_set(err, -1, "%s: read error while sealing", path);
     char head[SEAL_BYTES];
     memset(head, 0, sizeof head);
-    snprintf(head, sizeof head, "%sbytes %llu\ncrc64 %016llx\n", seal_magic, rest + SEAL_BYTES,
+    snprintf(head, sizeof head, "%sbytes %llu\ncrc64 %016llx\n", seal_magic, (unsigned long long)rest + SEAL_BYTES,
              (unsigned long long)crc);
     if (!rc && (fseek(fp, 0, SEEK_SET) != 0 || fwrite(head, 1, sizeof head, fp) != sizeof head))
         rc = core_err_set(err, -1, "%s: cannot write its seal: %s", path, strerror(errno));
@@ -210,8 +193,8 @@ static int seal_check(const char *path, unsigned long long size, core_err *err)
     size_t got = fread(head, 1, SEAL_BYTES, fp);
     head[got] = '\0';
     int rc;
-    unsigned long long want_bytes = 0, want_crc = 0, bytes = 0;
-    uint64_t crc = 0;
+    unsigned long long want_bytes = 0, want_crc = 0;
+    uint64_t crc = 0, bytes = 0;
     int used = 0;
     if (got >= sizeof hdf5_sig && memcmp(head, hdf5_sig, sizeof hdf5_sig) == 0)
         rc = 0;
@@ -237,6 +220,8 @@ static int seal_check(const char *path, unsigned long long size, core_err *err)
     return rc;
 }
 
+/* The whole file, from either a solver or a loaded field: grid, arrays,
+ * optional residual history (nh rows), metadata. */
 static int write_field(const cfd_grid *g, double *const *var, const double *hist, int nh, double rho,
                        double nu, const cfd_meta *meta, const char *path, core_err *err)
 {

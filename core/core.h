@@ -20,6 +20,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdarg.h>
+#include <stdio.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -211,6 +212,9 @@ size_t core_escape(const char *in, char *out, size_t n);
  * the bytes before to go on): core_crc64(core_crc64(0, a, na), b, nb) is
  * the checksum of a then b. */
 uint64_t core_crc64(uint64_t crc, const void *data, size_t n);
+/* The CRC-64/XZ of the stream f's bytes from where it stands to its end
+ * (*crc), and their count (*bytes): 0, or -1 on a read error (ferror). */
+int core_crc64_file(FILE *f, uint64_t *crc, uint64_t *bytes);
 
 /* ------------------------------------------------------------ input files */
 struct stat;

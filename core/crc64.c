@@ -559,3 +559,19 @@ uint64_t core_crc64(uint64_t crc, const void *data, size_t n)
         c = tab[0][(c ^ *p) & 0xFF] ^ (c >> 8);
     return ~c;
 }
+
+int core_crc64_file(FILE *f, uint64_t *crc, uint64_t *bytes)
+{
+    unsigned char buf[1 << 16];
+    uint64_t c = 0, n = 0;
+    size_t got;
+    while ((got = fread(buf, 1, sizeof buf, f)) > 0) {
+        c = core_crc64(c, buf, got);
+        n += got;
+    }
+    if (ferror(f))
+        return -1;
+    *crc = c;
+    *bytes = n;
+    return 0;
+}

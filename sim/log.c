@@ -141,8 +141,6 @@ static uint32_t be32u(const unsigned char *b)
     return (uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | b[3];
 }
 
-
-
 /* C_ES (row major) of a unit quaternion q_ES (w, x, y, z). */
 static void quat_dcm(const double q[4], double C[9])
 {
