@@ -104,9 +104,7 @@ cfd_solver *cfd_airwake_create(const cfd_airwake_spec *sp, const core_log *log, 
     double U = sp->wod_speed_mps;
     core_vec3 V = core_wod_vel_S_mps(U, sp->wod_dir_rad);
     /* the ideal hover induced velocity sqrt(T / (2 rho A)) */
-    const double vh = sp->rotor && sp->disk.thrust_N > 0.0 && sp->disk.radius_m > 0.0
-                          ? sqrt(sp->disk.thrust_N / (2.0 * CORE_RHO_SL_KGPM3 * M_PI * sp->disk.radius_m * sp->disk.radius_m))
-                          : 0.0;
+    const double vh = sp->rotor ? cfd_disk_hover_vi_mps(&sp->disk, CORE_RHO_SL_KGPM3) : 0.0;
     /* a wind slower than the rotor's induced velocity: the rotor's wake is most of the flow */
     const int rotor_dominated = !calm && U < vh;
     if (calm) /* the reference speed */

@@ -229,6 +229,10 @@ typedef struct cfd_disk {
  * rotor shaft frame in S, shaft along -z of that frame): psi = 0 points aft. */
 void cfd_disk_from_attitude(cfd_disk *d, const double centre_S_m[3], core_euler att,
                             double radius_m, double thrust_N);
+/* The disk's ideal hover induced velocity sqrt(T / (2 rho A)) (momentum
+ * theory) in air of density rho_kgpm3; 0 for a disk without thrust or
+ * radius. */
+double cfd_disk_hover_vi_mps(const cfd_disk *d, double rho_kgpm3);
 
 /* ------------------------------------------------------------------ solver */
 typedef struct cfd_solver cfd_solver;

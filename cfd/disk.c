@@ -21,6 +21,13 @@
 
 #define NS 4
 
+double cfd_disk_hover_vi_mps(const cfd_disk *d, double rho_kgpm3)
+{
+    return d->thrust_N > 0.0 && d->radius_m > 0.0
+               ? sqrt(d->thrust_N / (2.0 * rho_kgpm3 * CORE_PI * d->radius_m * d->radius_m))
+               : 0.0;
+}
+
 void cfd_disk_from_attitude(cfd_disk *d, const double c[3], core_euler att, double radius_m, double thrust_N)
 {
     memset(d, 0, sizeof *d);

@@ -672,9 +672,7 @@ int foam_case_files(const cfd_solver *s, const cfd_airwake_spec *sp, const hfm_b
         open &= cfg->bc[f].type != CFD_BC_INLET;
     /* the rotor's flow dominates: calm air, or a wind below the disk's
      * hover induced velocity */
-    double vi = sp->rotor != CORE_ROTOR_OFF && sp->disk.radius_m > 0.0 && sp->disk.thrust_N > 0.0
-                    ? sqrt(sp->disk.thrust_N / (2.0 * cfg->rho_kgpm3 * CORE_PI * sp->disk.radius_m * sp->disk.radius_m))
-                    : 0.0;
+    double vi = sp->rotor != CORE_ROTOR_OFF ? cfd_disk_hover_vi_mps(&sp->disk, cfg->rho_kgpm3) : 0.0;
     int stiff = open || sp->wod_speed_mps < vi;
     int rc = make_dirs(dir, err);
     if (!rc)
